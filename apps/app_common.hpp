@@ -1,0 +1,48 @@
+#pragma once
+// Shared plumbing of the command-line apps: exit codes and error lines
+// (DESIGN.md, app conventions): 0 success, 2 bad usage or input, 3 internal.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <string>
+
+#include "touchdown/core/error.hpp"
+#include "touchdown/core/version.hpp"
+
+namespace touchdown::app {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitBadInput = 2;
+inline constexpr int kExitInternal = 3;
+
+/// Parses the command line and runs `body`, mapping exceptions to one line
+/// on stderr and the conventional exit codes.
+template <typename Body>
+int run(CLI::App& app, int argc, char** argv, Body&& body) {
+  app.set_version_flag("--version", "touchdown " + touchdown::version());
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << app.get_name() << ": " << e.what() << " (see --help)\n";
+    return kExitBadInput;
+  }
+  try {
+    return body();
+  } catch (const touchdown::Error& e) {
+    std::cerr << app.get_name() << ": " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << app.get_name() << ": internal error: " << e.what() << "\n";
+    return kExitInternal;
+  }
+}
+
+}  // namespace touchdown::app

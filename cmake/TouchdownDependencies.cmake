@@ -1,0 +1,16 @@
+# Third-party dependencies, all from Debian's archive (scripts/setup-deps.sh).
+# Only Eigen is part of the public interface; the rest stays behind .cpp files.
+find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+find_package(assimp REQUIRED)
+find_package(yaml-cpp REQUIRED)
+find_package(Threads REQUIRED)
+if(TOUCHDOWN_BUILD_APPS OR TOUCHDOWN_BUILD_BENCHMARKS OR TOUCHDOWN_BUILD_TESTS)
+  find_package(nlohmann_json 3 REQUIRED)
+  find_package(CLI11 REQUIRED)
+endif()
+if(TOUCHDOWN_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()
+if(TOUCHDOWN_BUILD_BENCHMARKS)
+  find_package(benchmark REQUIRED)
+endif()

@@ -1,0 +1,93 @@
+#pragma once
+/// \file
+/// 2.5-D height map of world-frame points, hole filling, and its
+/// triangulation into a closed solid.
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "touchdown/core/mesh.hpp"
+#include "touchdown/core/point_cloud.hpp"
+
+namespace touchdown::terrain {
+
+enum class CellAggregate { Max, Median };
+
+struct HeightMapOptions {
+  double cell = 0.02;                          ///< cell edge, metres
+  CellAggregate aggregate = CellAggregate::Median;
+  double max_hole = 0.10;                      ///< widest gap filled by interpolation, metres
+  double max_fill_slope = 1.0;                 ///< steeper gaps are shadows: filled at the lower side
+  std::size_t max_cells = 50'000'000;          ///< refuse grids larger than this
+};
+
+enum class CellState : std::uint8_t { Empty, Measured, Filled };
+
+/// Regular grid of heights. Cell (i, j) covers x ∈ [x0 + i·cell, x0 + (i+1)·cell)
+/// and the same in y; its height is attached to the cell centre.
+class HeightMap {
+ public:
+  HeightMap() = default;
+  HeightMap(double x0, double y0, double cell, int nx, int ny);
+
+  [[nodiscard]] int nx() const { return nx_; }
+  [[nodiscard]] int ny() const { return ny_; }
+  [[nodiscard]] double cell() const { return cell_; }
+  [[nodiscard]] double x0() const { return x0_; }
+  [[nodiscard]] double y0() const { return y0_; }
+  [[nodiscard]] double centre_x(int i) const { return x0_ + (i + 0.5) * cell_; }
+  [[nodiscard]] double centre_y(int j) const { return y0_ + (j + 0.5) * cell_; }
+  [[nodiscard]] std::size_t index(int i, int j) const { return static_cast<std::size_t>(j) * nx_ + i; }
+
+  [[nodiscard]] CellState state(int i, int j) const { return state_[index(i, j)]; }
+  [[nodiscard]] bool valid(int i, int j) const { return state(i, j) != CellState::Empty; }
+  [[nodiscard]] float height(int i, int j) const { return z_[index(i, j)]; }
+  void set(int i, int j, float z, CellState s) {
+    z_[index(i, j)] = z;
+    state_[index(i, j)] = s;
+  }
+  [[nodiscard]] std::size_t count(CellState s) const;
+
+  /// Height at (x, y) by bilinear interpolation of the surrounding valid
+  /// cell centres (the nearest valid centre when some are missing); empty
+  /// outside the grid or when no neighbouring cell is valid.
+  [[nodiscard]] std::optional<double> height_at(double x, double y) const;
+
+ private:
+  double x0_ = 0, y0_ = 0, cell_ = 1;
+  int nx_ = 0, ny_ = 0;
+  std::vector<float> z_;
+  std::vector<CellState> state_;
+};
+
+/// Bins world-frame points (z up) into cells of `options.cell`, aggregating
+/// each cell's z by max or median. Throws InvalidArgument when the grid
+/// would exceed `options.max_cells` or the cloud is empty.
+HeightMap build_height_map(const PointCloud& cloud_world, const HeightMapOptions& options);
+
+struct HoleReport {
+  std::size_t filled_cells = 0;      ///< empty cells filled by interpolation
+  std::size_t large_holes = 0;       ///< enclosed empty regions left unfilled
+  std::size_t large_hole_cells = 0;  ///< cells in those regions
+};
+
+/// Fills each empty cell that lies between measured cells no more than
+/// `max_gap` apart along a row, column or diagonal, by linear interpolation
+/// between them (averaged over the directions that bracket it). Where the
+/// height changes across the gap by more than `max_fill_slope` × its length,
+/// the gap is an occlusion shadow behind an edge (a depth camera cannot see
+/// the ground just behind a box) and is filled at the lower side's height
+/// instead of with a ramp. Only measured cells are used as sources, so the
+/// result does not depend on the scan order. Enclosed regions that stay
+/// empty are reported.
+HoleReport fill_holes(HeightMap& map, double max_gap, double max_fill_slope = 1.0);
+
+/// Triangulates the valid cells into a closed solid: the top surface through
+/// the cell centres (two triangles per 2×2 block of valid cells), vertical
+/// walls along every boundary, and a flat bottom `base_thickness` below the
+/// lowest cell. Every edge is shared by exactly two triangles and all
+/// triangles face outwards, so it is usable as a physics trimesh.
+TriangleMesh triangulate_solid(const HeightMap& map, double base_thickness);
+
+}  // namespace touchdown::terrain

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Installs touchdown's build and test dependencies from Debian's archive.
+# Idempotent: packages already present are not reinstalled, and nothing is
+# fetched when everything is there. Needs root (or sudo) only when something
+# is missing.
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libeigen3-dev
+  libode-dev
+  libfcl-dev libccd-dev
+  libopencv-dev libopencv-contrib-dev
+  libceres-dev
+  libnlopt-cxx-dev
+  libassimp-dev
+  libtbb-dev
+  libyaml-cpp-dev
+  nlohmann-json3-dev
+  libcli11-dev
+  libgtest-dev libgmock-dev
+  libbenchmark-dev
+  # libFuzzer and the sanitizer runtimes for clang
+  clang libclang-rt-14-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup-deps: all ${#packages[@]} packages present" >&2
+  exit 0
+fi
+
+echo "setup-deps: installing ${missing[*]}" >&2
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "setup-deps: done" >&2

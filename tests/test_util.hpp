@@ -1,0 +1,117 @@
+#pragma once
+// Helpers shared by the tests.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstring>
+#include <limits>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+
+#include "touchdown/core/mesh.hpp"
+#include "touchdown/core/point_cloud.hpp"
+
+namespace touchdown::test {
+
+/// A fresh empty directory under the build tree, removed at destruction.
+class TempDir {
+ public:
+  TempDir() {
+    static std::atomic<int> counter{0};
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "tmp";
+    for (auto& c : name) {
+      if (c == '/') c = '_';
+    }
+    path_ = std::filesystem::path(TOUCHDOWN_BINARY_DIR) / "test-tmp" /
+            (name + "-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+  [[nodiscard]] std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+  /// Names of the files in the directory.
+  [[nodiscard]] std::vector<std::string> files() const {
+    std::vector<std::string> out;
+    for (const auto& e : std::filesystem::directory_iterator(path_)) out.push_back(e.path().filename().string());
+    return out;
+  }
+
+ private:
+  std::filesystem::path path_;
+};
+
+inline std::filesystem::path data_path(const std::string& rel) { return std::filesystem::path(TOUCHDOWN_TEST_DATA) / rel; }
+
+inline void write_text(const std::filesystem::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary);
+  out << text;
+}
+
+inline std::string read_text(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Bitwise equality of two clouds (NaN == NaN when the bits match).
+inline ::testing::AssertionResult same_points(const PointCloud& a, const PointCloud& b) {
+  if (a.size() != b.size()) {
+    return ::testing::AssertionFailure() << "sizes differ: " << a.size() << " vs " << b.size();
+  }
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (std::memcmp(a.points[i].data(), b.points[i].data(), 12) != 0) {
+      return ::testing::AssertionFailure() << "point " << i << " differs: " << a.points[i].transpose() << " vs "
+                                           << b.points[i].transpose();
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+/// A random cloud with some NaNs and awkward values.
+inline PointCloud random_cloud(std::size_t n, unsigned seed, bool with_nan = true) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-100.f, 100.f);
+  PointCloud c;
+  for (std::size_t i = 0; i < n; ++i) {
+    Eigen::Vector3f p(u(rng), u(rng), u(rng));
+    if (with_nan && i % 17 == 3) p.x() = std::numeric_limits<float>::quiet_NaN();
+    if (i % 23 == 5) p.z() = std::numeric_limits<float>::denorm_min();
+    if (i % 29 == 7) p.y() = 1e-30f;
+    c.points.push_back(p);
+  }
+  c.mark_unorganized();
+  return c;
+}
+
+/// Highest z where a vertical line at (x, y) meets an upward-facing triangle
+/// of `mesh`; NaN when it meets none. Independent of how the mesh was built.
+inline double mesh_top_z(const TriangleMesh& mesh, double x, double y) {
+  double best = std::numeric_limits<double>::quiet_NaN();
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d a = mesh.vertices[t[0]].cast<double>(), b = mesh.vertices[t[1]].cast<double>(),
+                          c = mesh.vertices[t[2]].cast<double>();
+    const double det = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
+    if (det <= 1e-14) continue;  // vertical or downward-facing
+    const double l1 = ((x - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (y - a.y())) / det;
+    const double l2 = ((b.x() - a.x()) * (y - a.y()) - (x - a.x()) * (b.y() - a.y())) / det;
+    const double l0 = 1 - l1 - l2;
+    if (l0 < -1e-9 || l1 < -1e-9 || l2 < -1e-9) continue;
+    const double z = l0 * a.z() + l1 * b.z() + l2 * c.z();
+    if (std::isnan(best) || z > best) best = z;
+  }
+  return best;
+}
+
+}  // namespace touchdown::test
