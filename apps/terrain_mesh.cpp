@@ -1,5 +1,6 @@
 // terrain_mesh: depth-camera point cloud → closed terrain mesh (issue 2).
 #include <chrono>
+#include <cmath>
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -90,8 +91,9 @@ int main(int argc, char** argv) {
       j["large_holes"] = r.large_holes;
       j["large_hole_cells"] = r.large_hole_cells;
       j["triangles"] = r.triangles;
-      j["bounds"] = {{"min", {r.bounds.min.x(), r.bounds.min.y(), r.bounds.min.z()}},
-                     {"max", {r.bounds.max.x(), r.bounds.max.y(), r.bounds.max.z()}}};
+      auto um = [](double v) { return std::round(v * 1e6) / 1e6 + 0.0; };  // micrometres are plenty
+      j["bounds"] = {{"min", {um(r.bounds.min.x()), um(r.bounds.min.y()), um(r.bounds.min.z())}},
+                     {"max", {um(r.bounds.max.x()), um(r.bounds.max.y()), um(r.bounds.max.z())}}};
       j["seconds"] = seconds;
       std::cout << j.dump() << "\n";
     } else {

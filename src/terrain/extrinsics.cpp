@@ -159,8 +159,10 @@ std::string format_extrinsics(const Extrinsics& e, bool with_body) {
       yaw = std::atan2(-R(0, 1), R(1, 1));
     }
     os << std::setprecision(17);
-    os << indent << "xyz: [" << T.translation().x() << ", " << T.translation().y() << ", " << T.translation().z() << "]\n";
-    os << indent << "rpy: [" << roll / kDeg << ", " << pitch / kDeg << ", " << yaw / kDeg << "]\n";
+    auto v = [](double x) { return x + 0.0; };  // no "-0"
+    os << indent << "xyz: [" << v(T.translation().x()) << ", " << v(T.translation().y()) << ", "
+       << v(T.translation().z()) << "]\n";
+    os << indent << "rpy: [" << v(roll / kDeg) << ", " << v(pitch / kDeg) << ", " << v(yaw / kDeg) << "]\n";
   };
   std::ostringstream os;
   os << "# camera pose in the world (T_world_camera); rpy in degrees, R = Rz(yaw) Ry(pitch) Rx(roll)\n";

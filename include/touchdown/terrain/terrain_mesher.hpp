@@ -20,7 +20,7 @@ struct TerrainOptions {
   Eigen::Isometry3d T_body_camera = Eigen::Isometry3d::Identity();
   /// Jump-edge filter threshold at 1 m depth (metres, scaled by z²) for
   /// organized clouds; 0 = off. See remove_flying_pixels.
-  double flying_pixel_threshold = 0.02;
+  double flying_pixel_threshold = 0.03;
   double crop_radius = 0.0;                        ///< metres, 0 = off
   std::optional<Eigen::AlignedBox3d> crop_box_body;
   /// Voxel edge for downsampling; < 0 means half the height-map cell, 0 off.
