@@ -31,6 +31,7 @@ if [ "${SKIP_ASAN:-0}" != "1" ]; then
   cmake --build build-asan -j"$jobs"
   step "Tests (ASan+UBSan)"
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    LSAN_OPTIONS="suppressions=$root/tests/lsan.supp:print_suppressions=0" \
     ctest --test-dir build-asan -j"$jobs" --output-on-failure
 fi
 

@@ -149,19 +149,19 @@ PointCloud voxel_downsample(const PointCloud& cloud, double voxel) {
     detail::ColumnGrid grid;
     grid.build(cloud.points, base.x() * voxel, base.y() * voxel, voxel, static_cast<int>(span.x()),
                static_cast<int>(span.y()));
-    std::vector<std::uint32_t> cell;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> cell;  // (layer, point index)
+    std::vector<std::uint32_t> members;
     for (std::size_t c = 0; c < grid.columns(); ++c) {
       const std::uint32_t b = grid.start[c], e = grid.start[c + 1];
       if (b == e) continue;
-      cell.assign(grid.order.begin() + b, grid.order.begin() + e);
-      std::stable_sort(cell.begin(), cell.end(), [&](std::uint32_t i, std::uint32_t j) {
-        return voxel_z(cloud.points[i]) < voxel_z(cloud.points[j]);
-      });
+      cell.clear();
+      for (std::uint32_t s = b; s < e; ++s) cell.emplace_back(voxel_z(cloud.points[grid.order[s]]), grid.order[s]);
+      std::sort(cell.begin(), cell.end());
       for (std::size_t s = 0; s < cell.size();) {
         std::size_t t = s;
-        const auto z = voxel_z(cloud.points[cell[s]]);
-        while (t < cell.size() && voxel_z(cloud.points[cell[t]]) == z) ++t;
-        emit(cell.data() + s, cell.data() + t);
+        members.clear();
+        while (t < cell.size() && cell[t].first == cell[s].first) members.push_back(cell[t++].second);
+        emit(members.data(), members.data() + members.size());
         s = t;
       }
     }
@@ -194,8 +194,8 @@ std::size_t remove_statistical_outliers(PointCloud& cloud, const OutlierOptions&
   if (o.k <= 0 || n < 2) return 0;
   const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(o.k), n - 1);
   const auto& pts = cloud.points;
-  // Columns sized to hold about k/2 points each, so that a 3x3 block
-  // usually holds the k nearest neighbours.
+  // Columns sized to hold about k points each, so that the 3x3 block
+  // around a point almost always holds its k nearest neighbours.
   Eigen::Vector2f lo = Eigen::Vector2f::Constant(std::numeric_limits<float>::max());
   Eigen::Vector2f hi = -lo;
   for (const auto& p : pts) {
@@ -204,7 +204,7 @@ std::size_t remove_statistical_outliers(PointCloud& cloud, const OutlierOptions&
   }
   const double area = std::max(1e-12, static_cast<double>(hi.x() - lo.x()) * (hi.y() - lo.y()));
   double size = o.search_cell > 0 ? o.search_cell
-                                  : std::sqrt(area * static_cast<double>(k) / (2.0 * static_cast<double>(n)));
+                                  : std::sqrt(area * static_cast<double>(k) / static_cast<double>(n));
   size = std::max(size, 1e-6);
   const double cols = std::ceil((hi.x() - lo.x()) / size + 1) * std::ceil((hi.y() - lo.y()) / size + 1);
   const double max_cols = 4.0 * static_cast<double>(n) + (1 << 20);
