@@ -14,3 +14,9 @@ endif()
 if(TOUCHDOWN_BUILD_BENCHMARKS)
   find_package(benchmark REQUIRED)
 endif()
+# Landing twin: ODE (double precision) for dynamics, libccd for convex
+# contact generation, oneTBB for parallel runs.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(ODE REQUIRED IMPORTED_TARGET ode)
+pkg_check_modules(CCD REQUIRED IMPORTED_TARGET ccd)
+find_package(TBB REQUIRED)

@@ -15,3 +15,8 @@
 #include "touchdown/terrain/height_map.hpp"
 #include "touchdown/terrain/synthetic.hpp"
 #include "touchdown/terrain/terrain_mesher.hpp"
+#include "touchdown/twin/airframe.hpp"
+#include "touchdown/twin/landing.hpp"
+#include "touchdown/twin/sweep.hpp"
+#include "touchdown/twin/terrain_model.hpp"
+#include "touchdown/twin/threshold.hpp"

@@ -1,0 +1,228 @@
+// landing_sweep: land the drone's digital twin on a terrain at n headings ×
+// m noisy runs and pick the safest heading (issue 3).
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <sstream>
+
+#include "app_common.hpp"
+#include "touchdown/core/atomic_file.hpp"
+#include "touchdown/terrain/extrinsics.hpp"
+#include "touchdown/twin/sweep.hpp"
+
+namespace {
+
+namespace td = touchdown;
+namespace tw = touchdown::twin;
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+double round6(double v) { return std::round(v * 1e6) / 1e6 + 0.0; }
+
+void write_text_atomically(const std::string& path, const std::string& text) {
+  td::write_file_atomically(path, [&](const std::filesystem::path& tmp) {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    out.flush();
+    if (!out) throw td::IoError(path + ": write failed");
+  });
+}
+
+std::string runs_csv(const tw::SweepResult& r) {
+  std::ostringstream os;
+  os << std::setprecision(9);
+  os << "heading_deg,run,status,final_nutation_rad,final_roll_rad,final_pitch_rad,max_touchdown_nutation_rad,"
+        "offset_m,prop_strike,arm_strike,body_strike,tipped,all_feet_down,start_dx_m,start_dy_m,heading_error_deg,"
+        "roll0_deg,pitch0_deg,land_speed_mps,friction,sim_seconds\n";
+  for (const auto& run : r.runs) {
+    const auto& c = run.conditions;
+    const auto& x = run.result;
+    os << c.heading / kDeg << "," << run.run << "," << tw::to_string(x.status) << "," << x.nutation << "," << x.roll << ","
+       << x.pitch << "," << x.max_touchdown_nutation << "," << x.offset << "," << x.prop_strike << "," << x.arm_strike << ","
+       << x.body_strike << "," << x.tipped << "," << x.all_feet_in_contact << "," << c.start_offset.x() << ","
+       << c.start_offset.y() << "," << c.heading_error / kDeg << "," << c.roll / kDeg << "," << c.pitch / kDeg << ","
+       << c.land_speed << "," << c.friction << "," << x.sim_time << "\n";
+  }
+  return os.str();
+}
+
+// S(ψ) against heading with the threshold, like the paper's figure of final
+// nutation per heading; every run's final nutation as a dot.
+std::string plot_svg(const tw::SweepResult& r, double yaw_max_deg) {
+  const double W = 720, H = 400, L = 70, R = 20, T = 30, B = 50;
+  double ymax = r.threshold.value() * 1.3 / kDeg;
+  for (const auto& h : r.headings) ymax = std::max(ymax, std::min(h.score, 1.6) / kDeg * 1.1);
+  auto X = [&](double deg) { return L + (W - L - R) * deg / yaw_max_deg; };
+  auto Y = [&](double deg) { return H - B - (H - T - B) * std::min(deg, ymax) / ymax; };
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(1);
+  os << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H << "' font-family='sans-serif' font-size='12'>\n"
+     << "<rect width='100%' height='100%' fill='white'/>\n"
+     << "<text x='" << W / 2 << "' y='18' text-anchor='middle'>Landing sweep: worst final nutation S(psi) per heading</text>\n"
+     << "<line x1='" << L << "' y1='" << H - B << "' x2='" << W - R << "' y2='" << H - B << "' stroke='black'/>\n"
+     << "<line x1='" << L << "' y1='" << T << "' x2='" << L << "' y2='" << H - B << "' stroke='black'/>\n";
+  for (int k = 0; k <= 6; ++k) {
+    const double deg = yaw_max_deg * k / 6, v = ymax * k / 6;
+    os << "<text x='" << X(deg) << "' y='" << H - B + 16 << "' text-anchor='middle'>" << deg << "</text>\n"
+       << "<text x='" << L - 6 << "' y='" << Y(v) + 4 << "' text-anchor='end'>" << v << "</text>\n";
+  }
+  os << "<text x='" << W / 2 << "' y='" << H - 12 << "' text-anchor='middle'>heading [deg]</text>\n"
+     << "<text x='16' y='" << H / 2 << "' transform='rotate(-90 16," << H / 2 << ")' text-anchor='middle'>nutation [deg]</text>\n";
+  const double thr = r.threshold.value() / kDeg;
+  os << "<line x1='" << L << "' y1='" << Y(thr) << "' x2='" << W - R << "' y2='" << Y(thr)
+     << "' stroke='red' stroke-dasharray='6,4'/>\n<text x='" << W - R - 4 << "' y='" << Y(thr) - 5
+     << "' text-anchor='end' fill='red'>safety threshold " << thr << " deg</text>\n";
+  for (const auto& run : r.runs) {
+    if (!run.result.valid()) continue;
+    os << "<circle cx='" << X(run.conditions.heading / kDeg) << "' cy='" << Y(run.result.nutation / kDeg)
+       << "' r='2' fill='#999'/>\n";
+  }
+  os << "<polyline fill='none' stroke='#1f5fbf' stroke-width='2' points='";
+  for (const auto& h : r.headings) os << X(h.yaw / kDeg) << "," << Y(h.score / kDeg) << " ";
+  os << "'/>\n";
+  for (std::size_t j = 0; j < r.headings.size(); ++j) {
+    const auto& h = r.headings[j];
+    os << "<circle cx='" << X(h.yaw / kDeg) << "' cy='" << Y(h.score / kDeg) << "' r='" << (static_cast<int>(j) == r.best ? 6 : 3.5)
+       << "' fill='" << (h.safe ? "#2a9d3a" : "#d62728") << "'/>\n";
+  }
+  os << "</svg>\n";
+  return os.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Land the drone's digital twin on a terrain at n headings x m noisy runs and pick the safest heading.",
+               "landing_sweep"};
+  std::string terrain_path, airframe_path, extrinsics_path, metric = "full", runs_csv_path, plot_path;
+  tw::SweepOptions o;
+  std::vector<double> landing_point, friction;
+  double sigma_speed = o.perturbation.sigma_land_speed;
+  bool json = false;
+  app.add_option("TERRAIN", terrain_path,
+                 "terrain mesh (.stl .obj .ply) or point cloud (.pcd .ply .xyz .csv), world frame z up")
+      ->required();
+  app.add_option("--airframe", airframe_path, "airframe YAML (default: the built-in DJI F450, data/airframes/f450.yaml)");
+  app.add_option("--extrinsics", extrinsics_path, "camera pose YAML when TERRAIN is a camera-frame point cloud");
+  app.add_option("--headings", o.headings, "number of headings n")->capture_default_str();
+  app.add_option("--runs", o.runs, "runs per heading m")->capture_default_str();
+  app.add_option("--yaw-max", o.yaw_max_deg, "psi_max [deg]; 0 = 180 for half-turn-symmetric airframes, else 360")
+      ->capture_default_str();
+  app.add_option("--landing-point", landing_point, "x,y of the landing point [m]")->delimiter(',')->expected(2);
+  app.add_option("--hover-offset", o.hover_offset, "start this high above the terrain under the footprint [m]")
+      ->capture_default_str();
+  app.add_option("--land-speed", o.land_speed, "descent speed, PX4 MPC_LAND_SPEED [m/s]")->capture_default_str();
+  app.add_option("--sigma-xy", o.perturbation.sigma_xy, "start position sigma [m]")->capture_default_str();
+  app.add_option("--sigma-yaw-deg", o.perturbation.sigma_yaw_deg, "heading sigma [deg]")->capture_default_str();
+  app.add_option("--sigma-tilt-deg", o.perturbation.sigma_tilt_deg, "initial roll/pitch sigma [deg]")->capture_default_str();
+  app.add_option("--sigma-speed", sigma_speed, "land speed sigma [m/s]")->capture_default_str();
+  app.add_option("--friction", friction, "ground friction range min,max (drawn uniformly per run)")
+      ->delimiter(',')
+      ->expected(2);
+  app.add_option("--metric", metric, "full: strikes and tip-overs are unsafe; seed: the paper's final-nutation rule")
+      ->check(CLI::IsMember({"full", "seed"}))
+      ->capture_default_str();
+  app.add_option("--seed", o.seed, "random seed (same seed -> same result for any thread count)")->capture_default_str();
+  app.add_option("--threads", o.threads, "worker threads, 0 = all cores")->capture_default_str();
+  app.add_option("--time-budget", o.time_budget, "anytime: stop after the round that passes this many seconds, 0 = off")
+      ->capture_default_str();
+  app.add_option("--step", o.simulation.step, "physics step [s]")->capture_default_str();
+  app.add_option("--runs-csv", runs_csv_path, "write one CSV row per run");
+  app.add_option("--plot", plot_path, "write an SVG of S(psi) per heading with the threshold");
+  app.add_flag("--json", json, "print one JSON object on stdout");
+
+  return td::app::run(app, argc, argv, [&]() -> int {
+    if (landing_point.size() == 2) o.landing_point = {landing_point[0], landing_point[1]};
+    if (friction.size() == 2) {
+      o.perturbation.friction_min = friction[0];
+      o.perturbation.friction_max = friction[1];
+    }
+    o.perturbation.sigma_land_speed = sigma_speed;
+    o.metric = metric == "seed" ? tw::SafetyMetric::Seed : tw::SafetyMetric::Full;
+    std::string why;
+    if (!o.validate(&why)) throw td::InvalidArgument(why);
+    const tw::Airframe airframe = airframe_path.empty() ? tw::Airframe::f450() : tw::load_airframe(airframe_path);
+    td::terrain::TerrainOptions cloud_options;
+    if (!extrinsics_path.empty()) {
+      const auto e = td::terrain::load_extrinsics(extrinsics_path);
+      cloud_options.T_world_camera = e.T_world_camera;
+      cloud_options.T_body_camera = e.T_body_camera;
+    }
+    const auto terrain = tw::load_terrain_model(terrain_path, cloud_options);
+    if (isatty(STDERR_FILENO)) {
+      o.progress = [](std::size_t done, std::size_t total) {
+        if (done % 5 != 0 && done != total) return;
+        const int width = 40, filled = static_cast<int>(width * done / total);
+        std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
+                  << std::string(static_cast<std::size_t>(width - filled), '.') << "] " << done << "/" << total
+                  << (done == total ? "\n" : "") << std::flush;
+      };
+    }
+    const tw::SweepResult r = tw::run_sweep(airframe, terrain, o);
+    const double yaw_max_deg =
+        o.yaw_max_deg > 0 ? o.yaw_max_deg : (airframe.symmetric_under_half_turn() ? 180.0 : 360.0);
+    if (!runs_csv_path.empty()) write_text_atomically(runs_csv_path, runs_csv(r));
+    if (!plot_path.empty()) write_text_atomically(plot_path, plot_svg(r, yaw_max_deg));
+
+    const auto& best = r.headings[static_cast<std::size_t>(r.best)];
+    const double lps = static_cast<double>(r.landings()) / r.seconds;
+    if (json) {
+      nlohmann::json j;
+      j["terrain"] = terrain_path;
+      j["airframe"] = airframe_path.empty() ? "built-in f450" : airframe_path;
+      j["threshold_rad"] = round6(r.threshold.value());
+      j["threshold_parts"] = {{"tip_rad", round6(r.threshold.tip_rad)}, {"prop_strike_rad", round6(r.threshold.prop_strike_rad)}};
+      j["ground_z"] = round6(r.ground_z);
+      j["best"] = {{"yaw_deg", round6(best.yaw / kDeg)}, {"score_rad", round6(best.score)}, {"safe", r.safe},
+                   {"x", round6(o.landing_point.x())}, {"y", round6(o.landing_point.y())}};
+      nlohmann::json safe = nlohmann::json::array();
+      nlohmann::json hs = nlohmann::json::array();
+      for (const auto& h : r.headings) {
+        if (h.safe) safe.push_back(round6(h.yaw / kDeg));
+        hs.push_back({{"yaw_deg", round6(h.yaw / kDeg)}, {"score_rad", round6(h.score)}, {"mean_rad", round6(h.mean)},
+                      {"max_touchdown_rad", round6(h.max_touchdown)}, {"prop_strike_runs", h.prop_strike_runs},
+                      {"arm_strike_runs", h.arm_strike_runs}, {"body_strike_runs", h.body_strike_runs},
+                      {"tipped_runs", h.tipped_runs}, {"invalid_runs", h.invalid_runs},
+                      {"feet_not_all_down_runs", h.feet_not_all_down_runs}, {"max_offset_m", round6(h.max_offset)},
+                      {"safe", h.safe}});
+      }
+      j["safe_headings_deg"] = safe;
+      j["headings"] = hs;
+      j["runs"] = r.landings();
+      j["completeness"] = round6(r.completeness);
+      j["seconds"] = round6(r.seconds);
+      j["landings_per_second"] = round6(lps);
+      j["simulated_to_wall"] = round6(r.simulated_seconds / r.seconds);
+      std::cout << j.dump() << "\n";
+    } else {
+      std::cout << std::fixed << std::setprecision(3);
+      std::cout << "landing_sweep: " << terrain_path << ", " << r.landings() << " landings (" << r.headings.size()
+                << " headings x " << r.rounds_completed << " runs) in " << r.seconds << " s (" << std::setprecision(0)
+                << lps << " landings/s)\n"
+                << std::setprecision(3) << "  safety threshold " << r.threshold.value() << " rad (tip-over "
+                << r.threshold.tip_rad << ", propeller strike " << r.threshold.prop_strike_rad << ")\n"
+                << "  heading   S(psi)   mean    touchdown  strikes tipped invalid  safe\n";
+      for (const auto& h : r.headings) {
+        std::cout << "  " << std::setw(6) << std::setprecision(1) << h.yaw / kDeg << std::setprecision(3) << "  "
+                  << std::setw(7) << h.score << "  " << std::setw(6) << h.mean << "  " << std::setw(8) << h.max_touchdown
+                  << "  " << std::setw(7) << h.prop_strike_runs + h.arm_strike_runs + h.body_strike_runs << " "
+                  << std::setw(6) << h.tipped_runs << " " << std::setw(7) << h.invalid_runs << "  "
+                  << (h.safe ? "yes" : "no") << "\n";
+      }
+      if (r.safe) {
+        std::cout << "  decision: land at heading " << std::setprecision(1) << best.yaw / kDeg << " deg (S = "
+                  << std::setprecision(3) << best.score << " rad)\n";
+      } else {
+        std::cout << "  decision: do not land here (best heading " << std::setprecision(1) << best.yaw / kDeg
+                  << " deg has S = " << std::setprecision(3) << best.score << " rad, threshold "
+                  << r.threshold.value() << " rad)\n";
+      }
+    }
+    return td::app::kExitOk;
+  });
+}

@@ -1,0 +1,93 @@
+#pragma once
+/// \file
+/// The drone's digital twin: geometry, masses and motors of an airframe, as
+/// read from an airframe YAML (data/airframes/f450.yaml, docs/formats.md).
+/// Body frame: x forward, y left, z up, origin at the centre of the body box.
+#include <Eigen/Core>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace touchdown::twin {
+
+/// Collision primitives of the twin, in the body frame.
+struct Sphere {
+  Eigen::Vector3d centre;
+  double radius;
+};
+struct Capsule {
+  Eigen::Vector3d a, b;  ///< segment end points
+  double radius;
+};
+struct Box {
+  Eigen::Vector3d centre;
+  Eigen::Vector3d half_extents;  ///< axis-aligned in the body frame
+};
+struct Disk {
+  Eigen::Vector3d centre;
+  Eigen::Vector3d axis;  ///< unit normal
+  double radius;
+  double half_thickness;
+};
+
+struct Airframe {
+  std::string name = "unnamed";
+  // body box
+  Eigen::Vector3d body_size{0.14, 0.14, 0.06};
+  double body_mass = 0.95;
+  // arms and motors
+  std::vector<double> arm_angles_deg{45, 135, 225, 315};
+  double motor_radius = 0.225;
+  double motor_z = 0.03;
+  double arm_radius = 0.012;
+  double motor_mass = 0.05;
+  std::vector<int> spin{1, -1, 1, -1};  ///< +1 counter-clockwise seen from above
+  double max_thrust = 8.0;              ///< N per motor
+  double motor_time_constant = 0.04;    ///< s
+  double torque_coefficient = 0.016;    ///< m, yaw reaction torque per newton of thrust
+  // propellers
+  double prop_radius = 0.127;
+  double prop_thickness = 0.01;
+  double prop_height = 0.02;  ///< disk centre above the motor
+  // landing gear
+  double gear_mass = 0.35;
+  double gear_top_z = -0.03;
+  double foot_z = -0.17;
+  double leg_radius = 0.008;
+  double foot_radius = 0.01;
+  std::vector<Eigen::Vector2d> legs{{0.15, 0.08}, {0.15, -0.08}, {-0.15, -0.08}, {-0.15, 0.08}};
+
+  /// The default airframe (a DJI F450; the numbers of data/airframes/f450.yaml).
+  static Airframe f450();
+
+  /// False, with "key: problem", when the airframe is not physical: a
+  /// non-positive mass or size, legs not below the body, feet above the
+  /// propellers, fewer than 3 legs, a non-convex support set, the centre of
+  /// mass outside it, mismatched motor lists.
+  [[nodiscard]] bool validate(std::string* why) const;
+
+  [[nodiscard]] std::size_t motor_count() const { return arm_angles_deg.size(); }
+  [[nodiscard]] double total_mass() const;
+  [[nodiscard]] Eigen::Vector3d centre_of_mass() const;   ///< body frame
+  [[nodiscard]] Eigen::Matrix3d inertia_about_com() const;  ///< body axes, kg m²
+  [[nodiscard]] Eigen::Vector3d motor_position(std::size_t i) const;
+  /// Lowest point of the feet (z of the ground plane when standing level).
+  [[nodiscard]] double ground_z() const { return foot_z - foot_radius; }
+  /// True when a half turn about z maps the airframe onto itself, so that
+  /// headings ψ and ψ + 180° are equivalent.
+  [[nodiscard]] bool symmetric_under_half_turn() const;
+
+  [[nodiscard]] Box body_box() const;
+  [[nodiscard]] Capsule arm(std::size_t i) const;
+  [[nodiscard]] Disk propeller(std::size_t i) const;
+  [[nodiscard]] Capsule leg(std::size_t i) const;
+  [[nodiscard]] Sphere foot(std::size_t i) const;
+};
+
+/// Parses an airframe YAML; throws touchdown::ParseError naming the file,
+/// line and key (also for values that fail validate()).
+Airframe parse_airframe(std::string_view yaml_text, std::string_view source);
+Airframe load_airframe(const std::filesystem::path& path);
+
+}  // namespace touchdown::twin

@@ -1,0 +1,70 @@
+#pragma once
+/// \file
+/// The terrain as the twin sees it: a triangle mesh (world frame, z up) with
+/// a 2-D bucket grid for fast, thread-safe spatial queries (surface height,
+/// candidate triangles for contact generation).
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "touchdown/core/mesh.hpp"
+#include "touchdown/terrain/terrain_mesher.hpp"
+
+#include <filesystem>
+#include <memory>
+
+namespace touchdown::twin {
+
+/// Immutable after construction; every const member is safe to call from
+/// many threads at once.
+class TerrainModel {
+ public:
+  /// Throws touchdown::InvalidArgument for a mesh without triangles.
+  explicit TerrainModel(TriangleMesh mesh);
+
+  [[nodiscard]] const TriangleMesh& mesh() const { return mesh_; }
+  [[nodiscard]] const Bounds3& bounds() const { return bounds_; }
+
+  /// Highest surface point on the vertical line through (x, y), if any.
+  [[nodiscard]] std::optional<double> top_z(double x, double y) const;
+
+  /// Highest surface point over the disk of `radius` around `centre`
+  /// (sampled every `step` metres, plus every mesh vertex inside). Empty if
+  /// any sample has no surface under it (the terrain does not cover the disk).
+  [[nodiscard]] std::optional<double> max_top_z(const Eigen::Vector2d& centre, double radius, double step = 0.01) const;
+
+  /// Appends the indices of triangles whose bounding box overlaps `box`
+  /// (sorted, unique).
+  void triangles_overlapping(const Eigen::AlignedBox3d& box, std::vector<std::uint32_t>& out) const;
+
+  /// Highest terrain point (over whole buckets, so possibly a little more)
+  /// whose bucket overlaps the x-y extent of `box`; -inf where there is none.
+  /// A cheap test whether anything at all can touch a body in `box`.
+  [[nodiscard]] double max_z_near(const Eigen::AlignedBox3d& box) const;
+
+  /// Triangle vertices as doubles.
+  [[nodiscard]] Eigen::Vector3d vertex(std::uint32_t tri, int k) const {
+    return mesh_.vertices[mesh_.triangles[tri][static_cast<std::size_t>(k)]].cast<double>();
+  }
+
+ private:
+  TriangleMesh mesh_;
+  Bounds3 bounds_;
+  double x0_ = 0, y0_ = 0, cell_ = 1;
+  int nx_ = 1, ny_ = 1;
+  std::vector<std::uint32_t> start_;  // per cell offsets into items_
+  std::vector<std::uint32_t> items_;  // triangle indices
+  std::vector<Eigen::AlignedBox3f> tri_box_;
+  std::vector<float> cell_max_z_;  // per bucket: highest point of its triangles
+};
+
+/// Loads a terrain for the twin: a mesh file (.stl, .obj, .ply with faces)
+/// as is, or a point cloud (.pcd, .ply without faces, .xyz/.csv/.txt) meshed
+/// by the terrain stage with `cloud_options` (its camera pose included).
+/// Throws touchdown::Error subclasses naming the file.
+std::shared_ptr<const TerrainModel> load_terrain_model(const std::filesystem::path& path,
+                                                       const terrain::TerrainOptions& cloud_options = {});
+
+}  // namespace touchdown::twin

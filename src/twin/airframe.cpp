@@ -1,0 +1,317 @@
+#include "touchdown/twin/airframe.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include "../core/io_util.hpp"
+#include "touchdown/core/error.hpp"
+
+namespace touchdown::twin {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+std::string fmt(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+double cross2(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+// Indices of the convex hull (counter-clockwise, no collinear points);
+// Andrew's monotone chain.
+std::vector<std::size_t> hull_indices(const std::vector<Eigen::Vector2d>& p) {
+  std::vector<std::size_t> idx(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) idx[i] = i;
+  std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
+    return p[a].x() < p[b].x() || (p[a].x() == p[b].x() && p[a].y() < p[b].y());
+  });
+  std::vector<std::size_t> h(2 * p.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < idx.size(); ++i) {
+    while (k >= 2 && cross2(p[h[k - 2]], p[h[k - 1]], p[idx[i]]) <= 1e-12) --k;
+    h[k++] = idx[i];
+  }
+  for (std::size_t i = idx.size() - 1, t = k + 1; i-- > 0;) {
+    while (k >= t && cross2(p[h[k - 2]], p[h[k - 1]], p[idx[i]]) <= 1e-12) --k;
+    h[k++] = idx[i];
+  }
+  h.resize(k > 1 ? k - 1 : k);
+  return h;
+}
+
+}  // namespace
+
+Airframe Airframe::f450() { return Airframe{}; }
+
+double Airframe::total_mass() const {
+  return body_mass + motor_mass * static_cast<double>(motor_count()) + gear_mass;
+}
+
+Eigen::Vector3d Airframe::motor_position(std::size_t i) const {
+  const double a = arm_angles_deg[i] * kDeg;
+  return {motor_radius * std::cos(a), motor_radius * std::sin(a), motor_z};
+}
+
+Eigen::Vector3d Airframe::centre_of_mass() const {
+  Eigen::Vector3d s = Eigen::Vector3d::Zero();  // body box at the origin
+  for (std::size_t i = 0; i < motor_count(); ++i) s += motor_mass * motor_position(i);
+  const double leg_mass = legs.empty() ? 0.0 : gear_mass / static_cast<double>(legs.size());
+  for (const auto& l : legs) s += leg_mass * Eigen::Vector3d(l.x(), l.y(), 0.5 * (gear_top_z + foot_z));
+  return s / total_mass();
+}
+
+Eigen::Matrix3d Airframe::inertia_about_com() const {
+  const Eigen::Vector3d c = centre_of_mass();
+  // Parallel-axis shift of an inertia `I0` about a part's own centre `p`.
+  auto shifted = [&](double m, const Eigen::Matrix3d& I0, const Eigen::Vector3d& p) {
+    const Eigen::Vector3d d = p - c;
+    return Eigen::Matrix3d(I0 + m * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose()));
+  };
+  const Eigen::Vector3d s2 = body_size.cwiseAbs2();
+  Eigen::Matrix3d I = shifted(body_mass,
+                              Eigen::Vector3d(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y()).asDiagonal() *
+                                  (body_mass / 12.0),
+                              Eigen::Vector3d::Zero());
+  for (std::size_t i = 0; i < motor_count(); ++i) I += shifted(motor_mass, Eigen::Matrix3d::Zero(), motor_position(i));
+  if (!legs.empty()) {
+    const double m = gear_mass / static_cast<double>(legs.size());
+    const double L = gear_top_z - foot_z;
+    const Eigen::Matrix3d rod = Eigen::Vector3d(m * L * L / 12.0, m * L * L / 12.0, 0.0).asDiagonal();
+    for (const auto& l : legs) I += shifted(m, rod, Eigen::Vector3d(l.x(), l.y(), 0.5 * (gear_top_z + foot_z)));
+  }
+  return I;
+}
+
+bool Airframe::symmetric_under_half_turn() const {
+  auto has_leg = [&](const Eigen::Vector2d& q) {
+    return std::any_of(legs.begin(), legs.end(), [&](const Eigen::Vector2d& l) { return (l - q).norm() < 1e-9; });
+  };
+  for (const auto& l : legs) {
+    if (!has_leg(-l)) return false;
+  }
+  for (std::size_t i = 0; i < motor_count(); ++i) {
+    const Eigen::Vector3d m = motor_position(i);
+    bool found = false;
+    for (std::size_t j = 0; j < motor_count(); ++j) {
+      const Eigen::Vector3d n = motor_position(j);
+      if (std::abs(m.x() + n.x()) < 1e-9 && std::abs(m.y() + n.y()) < 1e-9 && spin[i] == spin[j]) found = true;
+    }
+    if (!found) return false;
+  }
+  return true;
+}
+
+Box Airframe::body_box() const { return {Eigen::Vector3d::Zero(), 0.5 * body_size}; }
+
+Capsule Airframe::arm(std::size_t i) const {
+  const Eigen::Vector3d m = motor_position(i);
+  // From the edge of the body box to the motor.
+  const Eigen::Vector3d dir(m.x(), m.y(), 0.0);
+  const double inner = std::min(0.5 * body_size.x() / std::max(1e-9, std::abs(dir.normalized().x())),
+                                0.5 * body_size.y() / std::max(1e-9, std::abs(dir.normalized().y())));
+  const Eigen::Vector3d a = dir.normalized() * std::min(inner, dir.norm()) + Eigen::Vector3d(0, 0, motor_z);
+  return {a, m, arm_radius};
+}
+
+Disk Airframe::propeller(std::size_t i) const {
+  return {motor_position(i) + Eigen::Vector3d(0, 0, prop_height), Eigen::Vector3d::UnitZ(), prop_radius,
+          0.5 * prop_thickness};
+}
+
+Capsule Airframe::leg(std::size_t i) const {
+  return {Eigen::Vector3d(legs[i].x(), legs[i].y(), gear_top_z), Eigen::Vector3d(legs[i].x(), legs[i].y(), foot_z),
+          leg_radius};
+}
+
+Sphere Airframe::foot(std::size_t i) const {
+  return {Eigen::Vector3d(legs[i].x(), legs[i].y(), foot_z), foot_radius};
+}
+
+bool Airframe::validate(std::string* why) const {
+  auto fail = [&](const std::string& w) {
+    if (why) *why = w;
+    return false;
+  };
+  auto positive = [](double v) { return v > 0 && std::isfinite(v); };
+  if (!positive(body_mass)) return fail("body.mass: must be positive, got " + fmt(body_mass));
+  if (!(body_size.array() > 0).all() || !body_size.allFinite()) return fail("body.size: all three sizes must be positive");
+  if (motor_count() < 3) return fail("arms.angles_deg: need at least 3 arms");
+  if (!positive(motor_radius)) return fail("arms.motor_radius: must be positive");
+  if (!(arm_radius >= 0)) return fail("arms.capsule_radius: must be >= 0");
+  if (!positive(motor_mass)) return fail("motors.mass: must be positive, got " + fmt(motor_mass));
+  if (spin.size() != motor_count()) {
+    return fail("motors.spin: expected " + std::to_string(motor_count()) + " entries (one per arm), got " +
+                std::to_string(spin.size()));
+  }
+  for (int s : spin) {
+    if (s != 1 && s != -1) return fail("motors.spin: entries must be 1 or -1");
+  }
+  if (!positive(max_thrust)) return fail("motors.max_thrust: must be positive");
+  if (max_thrust * static_cast<double>(motor_count()) < 1.2 * total_mass() * 9.80665) {
+    return fail("motors.max_thrust: the motors cannot lift the airframe with a 20% margin");
+  }
+  if (!positive(motor_time_constant)) return fail("motors.time_constant: must be positive");
+  if (!(torque_coefficient >= 0)) return fail("motors.torque_coefficient: must be >= 0");
+  if (!positive(prop_radius)) return fail("propellers.radius: must be positive");
+  if (!positive(prop_thickness)) return fail("propellers.thickness: must be positive");
+  if (!positive(gear_mass)) return fail("landing_gear.mass: must be positive, got " + fmt(gear_mass));
+  if (!positive(foot_radius)) return fail("landing_gear.foot_radius: must be positive");
+  if (!(leg_radius >= 0)) return fail("landing_gear.leg_radius: must be >= 0");
+  if (!(foot_z < gear_top_z)) return fail("landing_gear.foot_z: the feet must be below the legs' top_z");
+  if (!(gear_top_z <= 0.5 * body_size.z() + 1e-12)) return fail("landing_gear.top_z: the legs start above the body");
+  if (!(ground_z() < -0.5 * body_size.z())) return fail("landing_gear.foot_z: the feet are not below the body");
+  for (std::size_t i = 0; i < motor_count(); ++i) {
+    const Disk d = propeller(i);
+    if (!(ground_z() < d.centre.z() - d.half_thickness - 1e-3)) {
+      return fail("landing_gear.foot_z: the feet do not reach below the propellers");
+    }
+    if (!(ground_z() < motor_z - arm_radius)) return fail("landing_gear.foot_z: the feet do not reach below the arms");
+  }
+  if (legs.size() < 3) return fail("landing_gear.legs: need at least 3 legs, got " + std::to_string(legs.size()));
+  const auto hull = hull_indices(legs);
+  if (hull.size() < 3) return fail("landing_gear.legs: the legs are collinear: no support polygon");
+  if (hull.size() != legs.size()) {
+    for (std::size_t i = 0; i < legs.size(); ++i) {
+      if (std::find(hull.begin(), hull.end(), i) == hull.end()) {
+        return fail("landing_gear.legs: the support set is not convex (leg " + std::to_string(i + 1) + " at (" +
+                    fmt(legs[i].x()) + ", " + fmt(legs[i].y()) + ") lies inside the others)");
+      }
+    }
+  }
+  const Eigen::Vector2d c = centre_of_mass().head<2>();
+  for (std::size_t k = 0; k < hull.size(); ++k) {
+    if (cross2(legs[hull[k]], legs[hull[(k + 1) % hull.size()]], c) <= 1e-9) {
+      return fail("landing_gear.legs: the centre of mass (" + fmt(c.x()) + ", " + fmt(c.y()) +
+                  ") is not inside the support polygon");
+    }
+  }
+  return true;
+}
+
+namespace {
+
+struct Reader {
+  std::string_view source;
+
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& what) const {
+    std::string where(source);
+    if (node.IsDefined() && node.Mark().line >= 0) where += ":" + std::to_string(node.Mark().line + 1);
+    throw ParseError(where + ": " + key + ": " + what);
+  }
+  YAML::Node child(const YAML::Node& map, const std::string& prefix, const std::string& key) const {
+    const YAML::Node n = map[key];
+    if (!n) fail(map, prefix + key, "missing");
+    return n;
+  }
+  double number(const YAML::Node& n, const std::string& key) const {
+    double v = 0;
+    if (!n.IsScalar() || !detail::parse_double(detail::trim(n.Scalar()), v) || !std::isfinite(v)) {
+      fail(n, key, "expected a number");
+    }
+    return v;
+  }
+  std::vector<double> numbers(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsSequence()) fail(n, key, "expected a list of numbers");
+    std::vector<double> out;
+    for (std::size_t i = 0; i < n.size(); ++i) out.push_back(number(n[i], key));
+    return out;
+  }
+  void only(const YAML::Node& map, const std::string& prefix, std::initializer_list<const char*> keys) const {
+    if (!map.IsMap()) fail(map, prefix.empty() ? "<document>" : prefix.substr(0, prefix.size() - 1), "expected a mapping");
+    for (const auto& kv : map) {
+      const auto k = kv.first.as<std::string>();
+      if (std::none_of(keys.begin(), keys.end(), [&](const char* x) { return k == x; })) {
+        fail(kv.first, prefix + k, "unknown key");
+      }
+    }
+  }
+};
+
+}  // namespace
+
+Airframe parse_airframe(std::string_view yaml_text, std::string_view source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(std::string(yaml_text));
+  } catch (const YAML::Exception& e) {
+    throw ParseError(std::string(source) + ":" + std::to_string(e.mark.line + 1) + ": invalid YAML: " + e.msg);
+  }
+  const Reader r{source};
+  Airframe a;
+  try {
+    r.only(root, "", {"name", "body", "arms", "motors", "propellers", "landing_gear"});
+    if (root["name"]) a.name = root["name"].as<std::string>();
+    const auto body = r.child(root, "", "body");
+    r.only(body, "body.", {"size", "mass"});
+    const auto size = r.numbers(r.child(body, "body.", "size"), "body.size");
+    if (size.size() != 3) r.fail(body["size"], "body.size", "expected 3 numbers");
+    a.body_size = {size[0], size[1], size[2]};
+    a.body_mass = r.number(r.child(body, "body.", "mass"), "body.mass");
+
+    const auto arms = r.child(root, "", "arms");
+    r.only(arms, "arms.", {"angles_deg", "motor_radius", "motor_z", "capsule_radius"});
+    a.arm_angles_deg = r.numbers(r.child(arms, "arms.", "angles_deg"), "arms.angles_deg");
+    a.motor_radius = r.number(r.child(arms, "arms.", "motor_radius"), "arms.motor_radius");
+    a.motor_z = r.number(r.child(arms, "arms.", "motor_z"), "arms.motor_z");
+    a.arm_radius = r.number(r.child(arms, "arms.", "capsule_radius"), "arms.capsule_radius");
+
+    const auto motors = r.child(root, "", "motors");
+    r.only(motors, "motors.", {"mass", "spin", "max_thrust", "time_constant", "torque_coefficient"});
+    a.motor_mass = r.number(r.child(motors, "motors.", "mass"), "motors.mass");
+    if (motors["spin"]) {
+      a.spin.clear();
+      for (double s : r.numbers(motors["spin"], "motors.spin")) a.spin.push_back(static_cast<int>(s));
+    } else {
+      a.spin.clear();
+      for (std::size_t i = 0; i < a.arm_angles_deg.size(); ++i) a.spin.push_back(i % 2 ? -1 : 1);
+    }
+    a.max_thrust = r.number(r.child(motors, "motors.", "max_thrust"), "motors.max_thrust");
+    a.motor_time_constant = r.number(r.child(motors, "motors.", "time_constant"), "motors.time_constant");
+    a.torque_coefficient = r.number(r.child(motors, "motors.", "torque_coefficient"), "motors.torque_coefficient");
+
+    const auto props = r.child(root, "", "propellers");
+    r.only(props, "propellers.", {"radius", "thickness", "height"});
+    a.prop_radius = r.number(r.child(props, "propellers.", "radius"), "propellers.radius");
+    a.prop_thickness = r.number(r.child(props, "propellers.", "thickness"), "propellers.thickness");
+    a.prop_height = r.number(r.child(props, "propellers.", "height"), "propellers.height");
+
+    const auto gear = r.child(root, "", "landing_gear");
+    r.only(gear, "landing_gear.", {"mass", "top_z", "foot_z", "leg_radius", "foot_radius", "legs"});
+    a.gear_mass = r.number(r.child(gear, "landing_gear.", "mass"), "landing_gear.mass");
+    a.gear_top_z = r.number(r.child(gear, "landing_gear.", "top_z"), "landing_gear.top_z");
+    a.foot_z = r.number(r.child(gear, "landing_gear.", "foot_z"), "landing_gear.foot_z");
+    a.leg_radius = r.number(r.child(gear, "landing_gear.", "leg_radius"), "landing_gear.leg_radius");
+    a.foot_radius = r.number(r.child(gear, "landing_gear.", "foot_radius"), "landing_gear.foot_radius");
+    const auto legs = r.child(gear, "landing_gear.", "legs");
+    if (!legs.IsSequence()) r.fail(legs, "landing_gear.legs", "expected a list of [x, y] pairs");
+    a.legs.clear();
+    for (std::size_t i = 0; i < legs.size(); ++i) {
+      const auto xy = r.numbers(legs[i], "landing_gear.legs");
+      if (xy.size() != 2) r.fail(legs[i], "landing_gear.legs", "each leg is [x, y]");
+      a.legs.emplace_back(xy[0], xy[1]);
+    }
+  } catch (const YAML::Exception& e) {
+    throw ParseError(std::string(source) + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  std::string why;
+  if (!a.validate(&why)) throw ParseError(std::string(source) + ": " + why);
+  return a;
+}
+
+Airframe load_airframe(const std::filesystem::path& path) {
+  std::ifstream in = detail::open_for_read(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_airframe(text.str(), path.string());
+}
+
+}  // namespace touchdown::twin

@@ -1,0 +1,285 @@
+#include "contacts.hpp"
+
+#include <ccd/ccd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace touchdown::twin::detail {
+namespace {
+
+// Keeps contacts of one primitive distinct: a sphere resting on a vertex
+// touches six triangles at the same point.
+void push_unique(std::vector<Contact>& out, std::size_t first, const Contact& c) {
+  for (std::size_t i = first; i < out.size(); ++i) {
+    if ((out[i].position - c.position).squaredNorm() < 1e-6 && out[i].normal.dot(c.normal) > 0.995) {
+      if (c.depth > out[i].depth) out[i] = c;
+      return;
+    }
+  }
+  out.push_back(c);
+}
+
+Eigen::Vector3d face_normal(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  const double len = n.norm();
+  return len > 0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::UnitZ();
+}
+
+// Closest points of segments p1-q1 and p2-q2 (Ericson, Real-Time Collision
+// Detection, sec. 5.1.9); returns the squared distance.
+double closest_segment_segment(const Eigen::Vector3d& p1, const Eigen::Vector3d& q1, const Eigen::Vector3d& p2,
+                               const Eigen::Vector3d& q2, Eigen::Vector3d& c1, Eigen::Vector3d& c2) {
+  const Eigen::Vector3d d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0, t = 0;
+  constexpr double eps = 1e-18;
+  if (a <= eps && e <= eps) {
+    s = t = 0;
+  } else if (a <= eps) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e <= eps) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2), denom = a * e - b * b;
+      s = denom > eps ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0) {
+        t = 0;
+        s = std::clamp(-c / a, 0.0, 1.0);
+      } else if (t > 1) {
+        t = 1;
+        s = std::clamp((b - c) / a, 0.0, 1.0);
+      }
+    }
+  }
+  c1 = p1 + d1 * s;
+  c2 = p2 + d2 * t;
+  return (c1 - c2).squaredNorm();
+}
+
+// ---- libccd adapters (support and centre functions of convex shapes) ----
+
+struct Tri {
+  Eigen::Vector3d v[3];
+};
+struct DiskShape {
+  Eigen::Vector3d c, n;
+  double r, h;
+};
+struct BoxShape {
+  Eigen::Vector3d c;
+  Eigen::Matrix3d axes;  // columns
+  Eigen::Vector3d half;
+};
+
+Eigen::Vector3d to_eigen(const ccd_vec3_t* v) { return {v->v[0], v->v[1], v->v[2]}; }
+void to_ccd(const Eigen::Vector3d& e, ccd_vec3_t* v) {
+  v->v[0] = e.x();
+  v->v[1] = e.y();
+  v->v[2] = e.z();
+}
+
+void tri_support(const void* obj, const ccd_vec3_t* dir, ccd_vec3_t* out) {
+  const auto* t = static_cast<const Tri*>(obj);
+  const Eigen::Vector3d d = to_eigen(dir);
+  int best = 0;
+  for (int k = 1; k < 3; ++k) {
+    if (t->v[k].dot(d) > t->v[best].dot(d)) best = k;
+  }
+  to_ccd(t->v[best], out);
+}
+void tri_center(const void* obj, ccd_vec3_t* out) {
+  const auto* t = static_cast<const Tri*>(obj);
+  to_ccd((t->v[0] + t->v[1] + t->v[2]) / 3.0, out);
+}
+void disk_support(const void* obj, const ccd_vec3_t* dir, ccd_vec3_t* out) {
+  const auto* s = static_cast<const DiskShape*>(obj);
+  const Eigen::Vector3d d = to_eigen(dir);
+  const double dn = d.dot(s->n);
+  Eigen::Vector3d p = s->c + (dn >= 0 ? s->h : -s->h) * s->n;
+  const Eigen::Vector3d radial = d - dn * s->n;
+  const double len = radial.norm();
+  if (len > 1e-12) p += s->r * radial / len;
+  to_ccd(p, out);
+}
+void disk_center(const void* obj, ccd_vec3_t* out) { to_ccd(static_cast<const DiskShape*>(obj)->c, out); }
+void box_support(const void* obj, const ccd_vec3_t* dir, ccd_vec3_t* out) {
+  const auto* b = static_cast<const BoxShape*>(obj);
+  const Eigen::Vector3d d = to_eigen(dir);
+  Eigen::Vector3d p = b->c;
+  for (int k = 0; k < 3; ++k) p += (b->axes.col(k).dot(d) >= 0 ? 1.0 : -1.0) * b->half[k] * b->axes.col(k);
+  to_ccd(p, out);
+}
+void box_center(const void* obj, ccd_vec3_t* out) { to_ccd(static_cast<const BoxShape*>(obj)->c, out); }
+
+template <typename Shape>
+void collide_convex(const TerrainModel& terrain, const Shape& shape, const Eigen::AlignedBox3d& aabb,
+                    ccd_support_fn support, ccd_center_fn center, Scratch& scratch, std::vector<Contact>& out) {
+  scratch.triangles.clear();
+  terrain.triangles_overlapping(aabb, scratch.triangles);
+  const std::size_t first = out.size();
+  ccd_t ccd;
+  CCD_INIT(&ccd);
+  ccd.support1 = support;
+  ccd.center1 = center;
+  ccd.support2 = tri_support;
+  ccd.center2 = tri_center;
+  ccd.max_iterations = 100;
+  ccd.mpr_tolerance = 1e-6;
+  for (std::uint32_t t : scratch.triangles) {
+    Tri tri{{terrain.vertex(t, 0), terrain.vertex(t, 1), terrain.vertex(t, 2)}};
+    ccd_real_t depth;
+    ccd_vec3_t dir, pos;
+    if (ccdMPRPenetration(&shape, &tri, &ccd, &depth, &dir, &pos) != 0) continue;
+    if (!(depth > 0) || !std::isfinite(depth)) continue;
+    Contact c;
+    c.position = to_eigen(&pos);
+    c.normal = to_eigen(&dir).normalized();
+    // Orient from the terrain into the part.
+    if (c.normal.dot(shape.c - c.position) < 0) c.normal = -c.normal;
+    c.depth = depth;
+    push_unique(out, first, c);
+  }
+}
+
+}  // namespace
+
+Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                          const Eigen::Vector3d& c) {
+  // Voronoi-region walk (Ericson, sec. 5.1.5).
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+double closest_segment_triangle(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& a,
+                                const Eigen::Vector3d& b, const Eigen::Vector3d& c, Eigen::Vector3d& on_segment,
+                                Eigen::Vector3d& on_triangle) {
+  // Does the segment cross the triangle? (Möller–Trumbore)
+  const Eigen::Vector3d d = p1 - p0, e1 = b - a, e2 = c - a;
+  const Eigen::Vector3d h = d.cross(e2);
+  const double det = e1.dot(h);
+  if (std::abs(det) > 1e-15) {
+    const Eigen::Vector3d s = p0 - a;
+    const double u = s.dot(h) / det;
+    const Eigen::Vector3d q = s.cross(e1);
+    const double v = d.dot(q) / det, t = e2.dot(q) / det;
+    if (u >= 0 && v >= 0 && u + v <= 1 && t >= 0 && t <= 1) {
+      on_segment = on_triangle = p0 + t * d;
+      return 0.0;
+    }
+  }
+  double best = std::numeric_limits<double>::infinity();
+  auto consider = [&](const Eigen::Vector3d& ps, const Eigen::Vector3d& pt) {
+    const double d2 = (ps - pt).squaredNorm();
+    if (d2 < best) {
+      best = d2;
+      on_segment = ps;
+      on_triangle = pt;
+    }
+  };
+  consider(p0, closest_point_on_triangle(p0, a, b, c));
+  consider(p1, closest_point_on_triangle(p1, a, b, c));
+  const Eigen::Vector3d* v[3] = {&a, &b, &c};
+  for (int k = 0; k < 3; ++k) {
+    Eigen::Vector3d cs, ct;
+    closest_segment_segment(p0, p1, *v[k], *v[(k + 1) % 3], cs, ct);
+    consider(cs, ct);
+  }
+  return best;
+}
+
+void collide_sphere(const TerrainModel& terrain, const Eigen::Vector3d& centre, double radius, Scratch& scratch,
+                    std::vector<Contact>& out) {
+  scratch.triangles.clear();
+  const Eigen::Vector3d r = Eigen::Vector3d::Constant(radius);
+  terrain.triangles_overlapping(Eigen::AlignedBox3d(centre - r, centre + r), scratch.triangles);
+  const std::size_t first = out.size();
+  for (std::uint32_t t : scratch.triangles) {
+    const Eigen::Vector3d a = terrain.vertex(t, 0), b = terrain.vertex(t, 1), c = terrain.vertex(t, 2);
+    const Eigen::Vector3d q = closest_point_on_triangle(centre, a, b, c);
+    const Eigen::Vector3d delta = centre - q;
+    const double d2 = delta.squaredNorm();
+    if (d2 >= radius * radius) continue;
+    const double dist = std::sqrt(d2);
+    Contact ct;
+    ct.position = q;
+    ct.normal = dist > 1e-9 ? Eigen::Vector3d(delta / dist) : face_normal(a, b, c);
+    ct.depth = radius - dist;
+    push_unique(out, first, ct);
+  }
+}
+
+void collide_capsule(const TerrainModel& terrain, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double radius,
+                     Scratch& scratch, std::vector<Contact>& out) {
+  scratch.triangles.clear();
+  Eigen::AlignedBox3d box(a.cwiseMin(b), a.cwiseMax(b));
+  box.min().array() -= radius;
+  box.max().array() += radius;
+  terrain.triangles_overlapping(box, scratch.triangles);
+  const std::size_t first = out.size();
+  for (std::uint32_t t : scratch.triangles) {
+    const Eigen::Vector3d v0 = terrain.vertex(t, 0), v1 = terrain.vertex(t, 1), v2 = terrain.vertex(t, 2);
+    const Eigen::Vector3d n = face_normal(v0, v1, v2);
+    // The segment's closest point, plus both end caps so that a capsule
+    // lying on one large triangle rests on two points.
+    Eigen::Vector3d ps, pt;
+    const double d2 = closest_segment_triangle(a, b, v0, v1, v2, ps, pt);
+    auto add = [&](const Eigen::Vector3d& on_seg, const Eigen::Vector3d& on_tri, double dist2) {
+      if (dist2 >= radius * radius) return;
+      const double dist = std::sqrt(dist2);
+      Contact c;
+      c.position = on_tri;
+      if (dist > 1e-9) {
+        c.normal = (on_seg - on_tri) / dist;
+        c.depth = radius - dist;
+      } else {  // the axis pierces the triangle: push out along the face normal
+        c.normal = n;
+        const double below = std::max(0.0, -std::min((a - v0).dot(n), (b - v0).dot(n)));
+        c.depth = radius + below;
+      }
+      push_unique(out, first, c);
+    };
+    add(ps, pt, d2);
+    for (const Eigen::Vector3d* end : {&a, &b}) {
+      const Eigen::Vector3d q = closest_point_on_triangle(*end, v0, v1, v2);
+      add(*end, q, (*end - q).squaredNorm());
+    }
+  }
+}
+
+void collide_disk(const TerrainModel& terrain, const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius,
+                  double half_thickness, Scratch& scratch, std::vector<Contact>& out) {
+  const DiskShape s{centre, axis.normalized(), radius, half_thickness};
+  // AABB of a disk: radius·sqrt(1 - n_i²) + h·|n_i| per axis.
+  const Eigen::Array3d n2 = s.n.array().square();
+  const Eigen::Vector3d ext = (radius * (1.0 - n2).max(0.0).sqrt() + half_thickness * s.n.array().abs()).matrix();
+  collide_convex(terrain, s, Eigen::AlignedBox3d(centre - ext, centre + ext), disk_support, disk_center, scratch, out);
+}
+
+void collide_box(const TerrainModel& terrain, const Eigen::Vector3d& centre, const Eigen::Matrix3d& axes,
+                 const Eigen::Vector3d& half_extents, Scratch& scratch, std::vector<Contact>& out) {
+  const BoxShape s{centre, axes, half_extents};
+  const Eigen::Vector3d ext = axes.cwiseAbs() * half_extents;
+  collide_convex(terrain, s, Eigen::AlignedBox3d(centre - ext, centre + ext), box_support, box_center, scratch, out);
+}
+
+}  // namespace touchdown::twin::detail

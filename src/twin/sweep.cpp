@@ -1,0 +1,188 @@
+#include "touchdown/twin/sweep.hpp"
+
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <numbers>
+
+#include "touchdown/core/error.hpp"
+#include "touchdown/core/random.hpp"
+
+namespace touchdown::twin {
+namespace {
+constexpr double kDeg = std::numbers::pi / 180.0;
+}
+
+bool SweepOptions::validate(std::string* why) const {
+  auto fail = [&](const std::string& w) {
+    if (why) *why = w;
+    return false;
+  };
+  if (headings < 1) return fail("headings must be >= 1");
+  if (runs < 1) return fail("runs must be >= 1");
+  if (!(yaw_max_deg >= 0 && yaw_max_deg <= 360)) return fail("yaw-max must be in [0, 360] degrees (0 = automatic)");
+  if (!landing_point.allFinite()) return fail("landing point must be finite");
+  if (!(hover_offset > 0)) return fail("hover-offset must be positive");
+  if (!(land_speed > 0 && land_speed < 5)) return fail("land-speed must be in (0, 5) m/s");
+  const auto& p = perturbation;
+  if (!(p.sigma_xy >= 0 && p.sigma_yaw_deg >= 0 && p.sigma_tilt_deg >= 0 && p.sigma_land_speed >= 0)) {
+    return fail("perturbation sigmas must be >= 0");
+  }
+  if (!(p.friction_min > 0 && p.friction_max >= p.friction_min)) return fail("friction range must be 0 < min <= max");
+  if (threads < 0) return fail("threads must be >= 0");
+  if (!(time_budget >= 0)) return fail("time budget must be >= 0");
+  return true;
+}
+
+LandingConditions sweep_conditions(const SweepOptions& o, double ground_z, double yaw, int heading, int run) {
+  // One stream per (heading, run): results do not depend on scheduling.
+  Rng rng(o.seed, static_cast<std::uint64_t>(heading) * 1000003ull + static_cast<std::uint64_t>(run));
+  const auto& p = o.perturbation;
+  LandingConditions c;
+  c.landing_point = o.landing_point;
+  c.ground_z = ground_z;
+  c.hover_offset = o.hover_offset;
+  c.heading = yaw;
+  c.start_offset = Eigen::Vector2d(rng.normal(0, p.sigma_xy), rng.normal(0, p.sigma_xy));
+  c.heading_error = rng.normal(0, p.sigma_yaw_deg * kDeg);
+  c.roll = rng.normal(0, p.sigma_tilt_deg * kDeg);
+  c.pitch = rng.normal(0, p.sigma_tilt_deg * kDeg);
+  c.land_speed = std::max(0.1, o.land_speed + rng.normal(0, p.sigma_land_speed));
+  c.friction = rng.uniform(p.friction_min, p.friction_max);
+  return c;
+}
+
+SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainModel> terrain, const SweepOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::string why;
+  if (!o.validate(&why)) throw InvalidArgument("sweep options: " + why);
+  if (!airframe.validate(&why)) throw InvalidArgument("airframe: " + why);
+  if (!terrain) throw InvalidArgument("sweep: no terrain");
+
+  SweepResult out;
+  out.threshold = compute_safety_threshold(airframe);
+  // Footprint: everything the twin covers seen from above.
+  double footprint = 0;
+  for (std::size_t i = 0; i < airframe.motor_count(); ++i) {
+    footprint = std::max(footprint, airframe.motor_position(i).head<2>().norm() + airframe.prop_radius);
+  }
+  for (const auto& l : airframe.legs) footprint = std::max(footprint, l.norm() + airframe.foot_radius);
+  const auto zlp = terrain->max_top_z(o.landing_point, footprint);
+  if (!zlp) {
+    throw InvalidArgument("terrain does not cover the footprint (radius " + std::to_string(footprint) +
+                          " m) around the landing point (" + std::to_string(o.landing_point.x()) + ", " +
+                          std::to_string(o.landing_point.y()) + ")");
+  }
+  out.ground_z = *zlp;
+
+  SimulationOptions sim_opt = o.simulation;
+  sim_opt.tip_nutation = out.threshold.tip_rad;
+  sim_opt.controller.land_speed = o.land_speed;
+  const LandingSimulator sim(airframe, terrain, sim_opt);
+
+  const double yaw_max =
+      (o.yaw_max_deg > 0 ? o.yaw_max_deg : (airframe.symmetric_under_half_turn() ? 180.0 : 360.0)) * kDeg;
+  const int n = o.headings, m = o.runs;
+  out.runs.resize(static_cast<std::size_t>(n) * m);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < m; ++i) {
+      auto& r = out.runs[static_cast<std::size_t>(j) * m + i];
+      r.heading = j;
+      r.run = i;
+      r.conditions = sweep_conditions(o, out.ground_z, j * yaw_max / n, j, i);  // ψ_j = j ψ_max / n
+    }
+  }
+
+  std::mutex progress_mutex;
+  std::size_t done = 0;
+  const std::size_t total = out.runs.size();
+  auto fly = [&](std::size_t k) {
+    auto& r = out.runs[k];
+    r.result = sim.land(r.conditions);
+    if (o.progress) {
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      o.progress(++done, total);
+    }
+  };
+  const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
+  tbb::task_arena arena(threads);
+  // Rounds: run i of every heading, so that an interrupted (anytime) sweep
+  // has the same number of runs at every heading.
+  int rounds = 0;
+  if (o.time_budget > 0) {
+    for (int i = 0; i < m; ++i) {
+      arena.execute([&] {
+        tbb::parallel_for(0, n, [&](int j) { fly(static_cast<std::size_t>(j) * m + i); });
+      });
+      ++rounds;
+      if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > o.time_budget) break;
+    }
+  } else {
+    arena.execute([&] {
+      tbb::parallel_for(std::size_t{0}, total, [&](std::size_t k) { fly(k); });
+    });
+    rounds = m;
+  }
+  if (rounds < m) {
+    std::vector<RunRecord> kept;
+    for (const auto& r : out.runs) {
+      if (r.run < rounds) kept.push_back(r);
+    }
+    out.runs = std::move(kept);
+  }
+  out.rounds_completed = rounds;
+  out.completeness = static_cast<double>(rounds) / m;
+
+  // Scores (eq. 3 per run, eq. 6 per heading, eq. 7 overall).
+  const double threshold = out.threshold.value();
+  out.headings.resize(static_cast<std::size_t>(n));
+  for (int j = 0; j < n; ++j) out.headings[static_cast<std::size_t>(j)].yaw = j * yaw_max / n;
+  for (const auto& r : out.runs) {
+    auto& h = out.headings[static_cast<std::size_t>(r.heading)];
+    const RunResult& res = r.result;
+    ++h.runs;
+    out.simulated_seconds += res.sim_time;
+    if (!res.valid()) {
+      ++h.invalid_runs;
+      h.score = std::max(h.score, std::numbers::pi);  // never safe
+      continue;
+    }
+    h.score = std::max(h.score, res.nutation);
+    h.mean += res.nutation;
+    h.max_touchdown = std::max(h.max_touchdown, res.max_touchdown_nutation);
+    h.prop_strike_runs += res.prop_strike;
+    h.arm_strike_runs += res.arm_strike;
+    h.body_strike_runs += res.body_strike;
+    h.tipped_runs += res.tipped;
+    h.feet_not_all_down_runs += !res.all_feet_in_contact;
+    h.max_offset = std::max(h.max_offset, res.offset);
+  }
+  for (auto& h : out.headings) {
+    const int valid = h.runs - h.invalid_runs;
+    if (valid > 0) h.mean /= valid;
+    h.safe = h.runs > 0 && h.invalid_runs == 0 && h.score < threshold;
+    if (o.metric == SafetyMetric::Full) {
+      h.safe = h.safe && h.prop_strike_runs == 0 && h.arm_strike_runs == 0 && h.body_strike_runs == 0 &&
+               h.tipped_runs == 0;
+    }
+  }
+  // ψ* = argmin S over safe headings (ties: the lowest heading); if none is
+  // safe, the lowest score overall, reported as unsafe.
+  for (int pass = 0; pass < 2 && out.best < 0; ++pass) {
+    for (int j = 0; j < n; ++j) {
+      const auto& h = out.headings[static_cast<std::size_t>(j)];
+      if (pass == 0 && !h.safe) continue;
+      if (out.best < 0 || h.score < out.headings[static_cast<std::size_t>(out.best)].score) out.best = j;
+    }
+  }
+  out.safe = out.best >= 0 && out.headings[static_cast<std::size_t>(out.best)].safe;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace touchdown::twin

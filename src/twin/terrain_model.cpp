@@ -1,0 +1,175 @@
+#include "touchdown/twin/terrain_model.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+
+#include "touchdown/core/cloud_io.hpp"
+#include "touchdown/core/error.hpp"
+#include "touchdown/core/mesh_io.hpp"
+
+namespace touchdown::twin {
+
+TerrainModel::TerrainModel(TriangleMesh mesh) : mesh_(std::move(mesh)) {
+  if (mesh_.triangles.empty()) throw InvalidArgument("terrain mesh has no triangles");
+  bounds_ = bounds_of(mesh_);
+  const std::size_t n = mesh_.triangles.size();
+  tri_box_.resize(n);
+  double edge_sum = 0;
+  for (std::size_t t = 0; t < n; ++t) {
+    Eigen::AlignedBox3f b;
+    for (int k = 0; k < 3; ++k) b.extend(mesh_.vertices[mesh_.triangles[t][static_cast<std::size_t>(k)]]);
+    tri_box_[t] = b;
+    edge_sum += std::max(b.sizes().x(), b.sizes().y());
+  }
+  // Buckets about twice the typical triangle extent, and not too many.
+  const double span_x = bounds_.max.x() - bounds_.min.x(), span_y = bounds_.max.y() - bounds_.min.y();
+  cell_ = std::max({2.0 * edge_sum / static_cast<double>(n), 1e-3, std::sqrt(span_x * span_y / 4e6)});
+  x0_ = bounds_.min.x();
+  y0_ = bounds_.min.y();
+  nx_ = static_cast<int>(span_x / cell_) + 1;
+  ny_ = static_cast<int>(span_y / cell_) + 1;
+  const std::size_t cells = static_cast<std::size_t>(nx_) * ny_;
+  std::vector<std::uint32_t> count(cells + 1, 0);
+  auto range = [&](const Eigen::AlignedBox3f& b, int& i0, int& i1, int& j0, int& j1) {
+    i0 = std::clamp(static_cast<int>((b.min().x() - x0_) / cell_), 0, nx_ - 1);
+    i1 = std::clamp(static_cast<int>((b.max().x() - x0_) / cell_), 0, nx_ - 1);
+    j0 = std::clamp(static_cast<int>((b.min().y() - y0_) / cell_), 0, ny_ - 1);
+    j1 = std::clamp(static_cast<int>((b.max().y() - y0_) / cell_), 0, ny_ - 1);
+  };
+  for (std::size_t t = 0; t < n; ++t) {
+    int i0, i1, j0, j1;
+    range(tri_box_[t], i0, i1, j0, j1);
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) ++count[static_cast<std::size_t>(j) * nx_ + i + 1];
+  }
+  for (std::size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
+  start_ = count;
+  items_.resize(count.back());
+  cell_max_z_.assign(cells, -std::numeric_limits<float>::infinity());
+  for (std::size_t t = 0; t < n; ++t) {
+    int i0, i1, j0, j1;
+    range(tri_box_[t], i0, i1, j0, j1);
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        const std::size_t c = static_cast<std::size_t>(j) * nx_ + i;
+        items_[count[c]++] = static_cast<std::uint32_t>(t);
+        cell_max_z_[c] = std::max(cell_max_z_[c], tri_box_[t].max().z());
+      }
+  }
+}
+
+double TerrainModel::max_z_near(const Eigen::AlignedBox3d& box) const {
+  if (box.max().x() < bounds_.min.x() || box.min().x() > bounds_.max.x() || box.max().y() < bounds_.min.y() ||
+      box.min().y() > bounds_.max.y()) {
+    return -std::numeric_limits<double>::infinity();
+  }
+  const int i0 = std::clamp(static_cast<int>((box.min().x() - x0_) / cell_), 0, nx_ - 1);
+  const int i1 = std::clamp(static_cast<int>((box.max().x() - x0_) / cell_), 0, nx_ - 1);
+  const int j0 = std::clamp(static_cast<int>((box.min().y() - y0_) / cell_), 0, ny_ - 1);
+  const int j1 = std::clamp(static_cast<int>((box.max().y() - y0_) / cell_), 0, ny_ - 1);
+  float z = -std::numeric_limits<float>::infinity();
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) z = std::max(z, cell_max_z_[static_cast<std::size_t>(j) * nx_ + i]);
+  return z;
+}
+
+void TerrainModel::triangles_overlapping(const Eigen::AlignedBox3d& box, std::vector<std::uint32_t>& out) const {
+  const std::size_t first = out.size();
+  if (box.max().x() < bounds_.min.x() || box.min().x() > bounds_.max.x() || box.max().y() < bounds_.min.y() ||
+      box.min().y() > bounds_.max.y() || box.min().z() > bounds_.max.z() || box.max().z() < bounds_.min.z()) {
+    return;
+  }
+  const int i0 = std::clamp(static_cast<int>((box.min().x() - x0_) / cell_), 0, nx_ - 1);
+  const int i1 = std::clamp(static_cast<int>((box.max().x() - x0_) / cell_), 0, nx_ - 1);
+  const int j0 = std::clamp(static_cast<int>((box.min().y() - y0_) / cell_), 0, ny_ - 1);
+  const int j1 = std::clamp(static_cast<int>((box.max().y() - y0_) / cell_), 0, ny_ - 1);
+  const Eigen::AlignedBox3f fb = box.cast<float>();
+  for (int j = j0; j <= j1; ++j) {
+    for (int i = i0; i <= i1; ++i) {
+      const std::size_t c = static_cast<std::size_t>(j) * nx_ + i;
+      if (cell_max_z_[c] < fb.min().z()) continue;
+      for (std::uint32_t s = start_[c]; s < start_[c + 1]; ++s) {
+        const std::uint32_t t = items_[s];
+        if (tri_box_[t].intersects(fb)) out.push_back(t);
+      }
+    }
+  }
+  if (i0 != i1 || j0 != j1) {
+    std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end());
+    out.erase(std::unique(out.begin() + static_cast<std::ptrdiff_t>(first), out.end()), out.end());
+  }
+}
+
+std::optional<double> TerrainModel::top_z(double x, double y) const {
+  std::vector<std::uint32_t> tris;
+  const Eigen::AlignedBox3d column(Eigen::Vector3d(x, y, bounds_.min.z() - 1), Eigen::Vector3d(x, y, bounds_.max.z() + 1));
+  triangles_overlapping(column, tris);
+  std::optional<double> best;
+  for (std::uint32_t t : tris) {
+    const Eigen::Vector3d a = vertex(t, 0), b = vertex(t, 1), c = vertex(t, 2);
+    const double det = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
+    if (std::abs(det) < 1e-15) continue;  // vertical
+    const double l1 = ((x - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (y - a.y())) / det;
+    const double l2 = ((b.x() - a.x()) * (y - a.y()) - (x - a.x()) * (b.y() - a.y())) / det;
+    const double l0 = 1 - l1 - l2;
+    constexpr double eps = -1e-9;
+    if (l0 < eps || l1 < eps || l2 < eps) continue;
+    const double z = l0 * a.z() + l1 * b.z() + l2 * c.z();
+    if (!best || z > *best) best = z;
+  }
+  return best;
+}
+
+std::optional<double> TerrainModel::max_top_z(const Eigen::Vector2d& centre, double radius, double step) const {
+  std::optional<double> best;
+  const int n = std::max(1, static_cast<int>(std::ceil(radius / step)));
+  for (int j = -n; j <= n; ++j) {
+    for (int i = -n; i <= n; ++i) {
+      const Eigen::Vector2d p = centre + Eigen::Vector2d(i, j) * (radius / n);
+      if ((p - centre).norm() > radius + 1e-12) continue;
+      const auto z = top_z(p.x(), p.y());
+      if (!z) return std::nullopt;
+      if (!best || *z > *best) best = z;
+    }
+  }
+  // Peaks between the samples: any vertex inside the disk that lies on the top surface.
+  std::vector<std::uint32_t> tris;
+  triangles_overlapping(Eigen::AlignedBox3d(Eigen::Vector3d(centre.x() - radius, centre.y() - radius, bounds_.min.z()),
+                                            Eigen::Vector3d(centre.x() + radius, centre.y() + radius, bounds_.max.z())),
+                        tris);
+  for (std::uint32_t t : tris) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d v = vertex(t, k);
+      if ((v.head<2>() - centre).norm() <= radius && v.z() > *best) {
+        const auto z = top_z(v.x(), v.y());
+        if (z && *z > *best) best = z;
+      }
+    }
+  }
+  return best;
+}
+
+std::shared_ptr<const TerrainModel> load_terrain_model(const std::filesystem::path& path,
+                                                       const terrain::TerrainOptions& cloud_options) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const bool mesh_ext = ext == ".stl" || ext == ".obj";
+  const bool ply = ext == ".ply";
+  if (mesh_ext) return std::make_shared<const TerrainModel>(read_mesh(path));
+  if (ply) {
+    try {
+      return std::make_shared<const TerrainModel>(read_mesh(path));
+    } catch (const ParseError&) {
+      // A PLY without faces is a point cloud: mesh it below.
+    }
+  }
+  PointCloud cloud = read_cloud(path);
+  if (cloud.empty()) throw ParseError(path.string() + ": the point cloud is empty");
+  auto result = terrain::mesh_terrain(std::move(cloud), cloud_options);
+  if (!result.ok()) throw InvalidArgument(path.string() + ": " + result.message);
+  return std::make_shared<const TerrainModel>(std::move(result.mesh));
+}
+
+}  // namespace touchdown::twin
