@@ -14,6 +14,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <cstdarg>
 #include <mutex>
 #include <numbers>
 
@@ -28,7 +29,13 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 
 void ensure_ode() {
   static std::once_flag once;
-  std::call_once(once, [] { dInitODE2(0); });
+  std::call_once(once, [] {
+    dInitODE2(0);
+    // ODE prints solver notes (e.g. "LCP internal error, s <= 0" when a
+    // pivot degenerates; the step still completes) to stderr, which would
+    // corrupt the apps' output. Instability is detected from the state instead.
+    dSetMessageHandler([](int, const char*, va_list) {});
+  });
   dAllocateODEDataForThread(dAllocateMaskAll);
 }
 

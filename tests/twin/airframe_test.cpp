@@ -1,0 +1,100 @@
+#include "touchdown/twin/airframe.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <fstream>
+#include <sstream>
+
+#include "test_util.hpp"
+#include "touchdown/core/error.hpp"
+
+namespace td = touchdown;
+namespace tw = touchdown::twin;
+
+namespace {
+
+std::string f450_yaml() { return td::test::read_text(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/airframes/f450.yaml"); }
+
+std::string error_of(const std::string& yaml) {
+  try {
+    tw::parse_airframe(yaml, "af.yaml");
+  } catch (const td::ParseError& e) {
+    return e.what();
+  }
+  return "<no error>";
+}
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) s.replace(at, from.size(), to);
+  return s;
+}
+
+}  // namespace
+
+TEST(Airframe, BundledF450MatchesTheBuiltInDefault) {
+  const auto a = tw::parse_airframe(f450_yaml(), "f450.yaml");
+  const auto b = tw::Airframe::f450();
+  EXPECT_EQ(a.body_size, b.body_size);
+  EXPECT_EQ(a.legs, b.legs);
+  EXPECT_EQ(a.arm_angles_deg, b.arm_angles_deg);
+  EXPECT_EQ(a.spin, b.spin);
+  EXPECT_DOUBLE_EQ(a.total_mass(), b.total_mass());
+  EXPECT_TRUE(a.centre_of_mass().isApprox(b.centre_of_mass()));
+  EXPECT_TRUE(a.inertia_about_com().isApprox(b.inertia_about_com()));
+}
+
+TEST(Airframe, MassCentreAndInertiaFromTheParts) {
+  const auto a = tw::Airframe::f450();
+  EXPECT_NEAR(a.total_mass(), 1.50, 1e-12);
+  // Body box at z = 0, motors at z = 0.03, legs centred at z = -0.10.
+  const double zc = (0.95 * 0 + 0.2 * 0.03 + 0.35 * -0.10) / 1.5;
+  EXPECT_TRUE(a.centre_of_mass().isApprox(Eigen::Vector3d(0, 0, zc), 1e-12)) << a.centre_of_mass().transpose();
+  const Eigen::Matrix3d I = a.inertia_about_com();
+  EXPECT_TRUE(I.isApprox(I.transpose()));
+  EXPECT_GT(I.eigenvalues().real().minCoeff(), 0);
+  // Iz: box (0.95/12 (0.14² + 0.14²)) + motors 4·0.05·0.225² + legs 0.35·(0.15² + 0.08²).
+  const double iz = 0.95 / 12 * (2 * 0.14 * 0.14) + 4 * 0.05 * 0.225 * 0.225 + 0.35 * (0.15 * 0.15 + 0.08 * 0.08);
+  EXPECT_NEAR(I(2, 2), iz, 1e-12);
+  EXPECT_TRUE(a.symmetric_under_half_turn());
+  EXPECT_NEAR(a.ground_z(), -0.18, 1e-12);
+}
+
+TEST(Airframe, AsymmetricGearIsNotHalfTurnSymmetric) {
+  auto a = tw::Airframe::f450();
+  a.legs = {{0.15, 0.08}, {0.15, -0.08}, {-0.10, -0.08}, {-0.10, 0.08}};
+  std::string why;
+  EXPECT_TRUE(a.validate(&why)) << why;
+  EXPECT_FALSE(a.symmetric_under_half_turn());
+}
+
+TEST(AirframeBadInput, ErrorsNameTheKey) {
+  const std::string y = f450_yaml();
+  EXPECT_NE(error_of(replace(y, "  mass: 0.95", "  mass: -0.95")).find("body.mass: must be positive"), std::string::npos);
+  EXPECT_NE(error_of(replace(y, "  foot_z: -0.17", "  foot_z: 0.10")).find("landing_gear.foot_z"), std::string::npos);
+  EXPECT_NE(error_of(replace(y, "  top_z: -0.03", "  top_z: 0.20")).find("landing_gear.top_z: the legs start above the body"),
+            std::string::npos);
+  // A fifth leg inside the other four: a non-convex support set.
+  EXPECT_NE(error_of(replace(y, "    - [-0.15, 0.08]", "    - [-0.15, 0.08]\n    - [0.0, 0.02]")).find("not convex"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(y, "  radius: 0.127", "  radius: 0.127\n  colour: red")).find("propellers.colour: unknown key"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(y, "  max_thrust: 8.0", "")).find("motors.max_thrust: missing"), std::string::npos);
+  EXPECT_NE(error_of(replace(y, "  max_thrust: 8.0", "  max_thrust: 2.0")).find("cannot lift"), std::string::npos);
+  EXPECT_NE(error_of(replace(y, "  spin: [1, -1, 1, -1]", "  spin: [1, -1]")).find("motors.spin: expected 4"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(y, "  mass: 0.35", "  mass: heavy")).find("landing_gear.mass: expected a number"),
+            std::string::npos);
+  EXPECT_NE(error_of("body: [1\n").find("invalid YAML"), std::string::npos);
+  // Legs all on one line.
+  EXPECT_NE(error_of(replace(replace(replace(replace(y, "    - [0.15, 0.08]", "    - [0.15, 0.0]"), "    - [0.15, -0.08]",
+                                                     "    - [0.05, 0.0]"),
+                                     "    - [-0.15, -0.08]", "    - [-0.05, 0.0]"),
+                             "    - [-0.15, 0.08]", "    - [-0.15, 0.0]"))
+                .find("collinear"),
+            std::string::npos);
+}
+
+TEST(AirframeBadInput, MissingFile) { EXPECT_THROW(tw::load_airframe("/nonexistent/af.yaml"), td::IoError); }

@@ -1,0 +1,111 @@
+// Physics oracle tests of one landing (issue 3, "Done when").
+#include "touchdown/twin/landing.hpp"
+
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "touchdown/twin/threshold.hpp"
+#include "twin_test_util.hpp"
+
+namespace tw = touchdown::twin;
+using touchdown::test::analytic_terrain;
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180;
+
+tw::RunResult land(const std::shared_ptr<const tw::TerrainModel>& terrain, double heading, double ground_z,
+                   tw::SimulationOptions opt = {}, double friction = 1.0) {
+  const auto af = tw::Airframe::f450();
+  opt.tip_nutation = tw::compute_safety_threshold(af).tip_rad;
+  const tw::LandingSimulator sim(af, terrain, opt);
+  tw::LandingConditions c;
+  c.heading = heading;
+  c.ground_z = ground_z;
+  c.friction = friction;
+  return sim.land(c);
+}
+
+}  // namespace
+
+TEST(Landing, FlatGroundGivesNoNutationAtEveryHeading) {
+  const auto flat = touchdown::test::flat_terrain(0.0);
+  for (double h : {0.0, 30.0, 77.0, 135.0}) {
+    const auto r = land(flat, h * kDeg, 0.0);
+    ASSERT_EQ(r.status, tw::RunStatus::Settled) << h;
+    EXPECT_LT(r.nutation, 0.02) << h;
+    EXPECT_TRUE(r.all_feet_in_contact);
+    EXPECT_FALSE(r.strike());
+    EXPECT_LT(r.offset, 0.02);
+    EXPECT_NEAR(std::remainder(r.yaw - h * kDeg, 2 * std::numbers::pi), 0.0, 0.03) << "heading held";
+    // The feet rest on the ground: the CoM sits at -(ground_z - com_z) above it.
+    const auto af = tw::Airframe::f450();
+    EXPECT_NEAR(r.final_position.z(), af.centre_of_mass().z() - af.ground_z(), 0.003);
+  }
+}
+
+TEST(Landing, InclineGivesItsAngle) {
+  for (double alpha : {5.0, 10.0, 15.0}) {
+    const auto slope = touchdown::test::incline_terrain(alpha * kDeg);
+    for (double h : {0.0, 60.0, 90.0}) {
+      const auto r = land(slope, h * kDeg, std::tan(alpha * kDeg) * 0.35);
+      ASSERT_EQ(r.status, tw::RunStatus::Settled) << alpha << " " << h;
+      EXPECT_NEAR(r.nutation, alpha * kDeg, 0.02) << "incline " << alpha << " deg, heading " << h;
+    }
+  }
+}
+
+TEST(Landing, StepUnderTheLongAxisTiltsByAtanOfHeightOverSpacing) {
+  // Front feet (x = +0.15) on a ledge h higher than the rear feet (x = -0.15).
+  for (double h : {0.03, 0.06}) {
+    const auto step = analytic_terrain([h](double x, double) { return x > 0 ? h : 0.0; }, 1.0, 0.01);
+    const auto r = land(step, 0.0, h);
+    ASSERT_EQ(r.status, tw::RunStatus::Settled);
+    EXPECT_NEAR(r.nutation, std::atan(h / 0.30), 0.03) << "step " << h;
+    EXPECT_LT(r.pitch, 0.0) << "nose up: front feet higher";
+    EXPECT_FALSE(r.strike());
+  }
+}
+
+TEST(Landing, HalvingTheTimeStepChangesTheNutationLittle) {
+  const auto slope = touchdown::test::incline_terrain(8 * kDeg);
+  tw::SimulationOptions coarse, fine;
+  fine.step = coarse.step / 2;
+  const auto a = land(slope, 0.5, 0.06, coarse), b = land(slope, 0.5, 0.06, fine);
+  ASSERT_TRUE(a.valid());
+  ASSERT_TRUE(b.valid());
+  EXPECT_LT(std::abs(a.nutation - b.nutation), 0.01);
+}
+
+TEST(Landing, SteepSlopeTipsTheTwinOver) {
+  // 35° is beyond the F450's 28° tip-over angle: it tips, strikes or tumbles
+  // off the mapped terrain (an invalid run), never a clean landing.
+  const auto steep = analytic_terrain([](double x, double) { return std::tan(35 * kDeg) * x; }, 2.0, 0.05);
+  const auto r = land(steep, 90 * kDeg, std::tan(35 * kDeg) * 0.35, {}, 1.0);
+  EXPECT_TRUE(r.status == tw::RunStatus::Unstable || r.tipped || r.strike()) << r.nutation;
+  EXPECT_FALSE(r.valid() && !r.tipped && !r.strike() && r.nutation < 0.5);
+}
+
+TEST(Landing, PostUnderAPropellerIsAStrike) {
+  // A thin 25 cm post under the outer half of the front-left propeller
+  // (motor at 45°, 0.225 m out; the disk reaches 0.127 m further), beyond
+  // the end of the arm: only the propeller can touch it.
+  const auto post = analytic_terrain(
+      [](double x, double y) { return std::hypot(x - 0.223, y - 0.223) < 0.02 ? 0.25 : 0.0; }, 1.0, 0.01);
+  const auto r = land(post, 0.0, 0.0);
+  EXPECT_TRUE(r.prop_strike);
+  EXPECT_FALSE(r.arm_strike);
+  // Turned by 45° the propellers sit on the axes and nothing touches the post.
+  const auto clear = land(post, 45 * kDeg, 0.0);
+  EXPECT_FALSE(clear.strike());
+  EXPECT_LT(clear.nutation, 0.02);
+}
+
+TEST(Landing, DeterministicForTheSameConditions) {
+  const auto slope = touchdown::test::incline_terrain(7 * kDeg);
+  const auto a = land(slope, 0.3, 0.05), b = land(slope, 0.3, 0.05);
+  EXPECT_EQ(a.nutation, b.nutation);
+  EXPECT_EQ(a.steps, b.steps);
+  EXPECT_EQ(a.final_position, b.final_position);
+}

@@ -1,0 +1,104 @@
+#include "touchdown/twin/sweep.hpp"
+
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "touchdown/core/error.hpp"
+#include "twin_test_util.hpp"
+
+namespace td = touchdown;
+namespace tw = touchdown::twin;
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180;
+
+tw::SweepOptions small(int headings, int runs) {
+  tw::SweepOptions o;
+  o.headings = headings;
+  o.runs = runs;
+  return o;
+}
+}  // namespace
+
+TEST(Sweep, SameSeedSameResultForOneAndTwoThreads) {
+  const auto slope = td::test::incline_terrain(6 * kDeg);
+  auto o = small(4, 3);
+  o.threads = 1;
+  const auto a = tw::run_sweep(tw::Airframe::f450(), slope, o);
+  o.threads = 2;
+  const auto b = tw::run_sweep(tw::Airframe::f450(), slope, o);
+  ASSERT_EQ(a.runs.size(), b.runs.size());
+  for (std::size_t k = 0; k < a.runs.size(); ++k) {
+    EXPECT_EQ(a.runs[k].result.nutation, b.runs[k].result.nutation) << k;
+    EXPECT_EQ(a.runs[k].result.final_position, b.runs[k].result.final_position) << k;
+    EXPECT_EQ(a.runs[k].result.steps, b.runs[k].result.steps) << k;
+  }
+  EXPECT_EQ(a.best, b.best);
+  o.seed = 2;
+  const auto c = tw::run_sweep(tw::Airframe::f450(), slope, o);
+  EXPECT_NE(a.runs[0].result.nutation, c.runs[0].result.nutation);
+}
+
+TEST(Sweep, HeadingsAndScoresFollowTheMethod) {
+  const auto flat = td::test::flat_terrain(0.0);
+  const auto r = tw::run_sweep(tw::Airframe::f450(), flat, small(6, 2));
+  ASSERT_EQ(r.headings.size(), 6u);
+  for (int j = 0; j < 6; ++j) {
+    const auto& h = r.headings[static_cast<std::size_t>(j)];
+    EXPECT_NEAR(h.yaw, j * 180.0 / 6 * kDeg, 1e-12);  // psi_max = 180 for the symmetric F450
+    double worst = 0;
+    for (const auto& run : r.runs) {
+      if (run.heading == j) worst = std::max(worst, run.result.nutation);
+    }
+    EXPECT_EQ(h.score, worst);  // eq. (6)
+    EXPECT_LT(h.score, 0.02);
+    EXPECT_TRUE(h.safe);
+  }
+  EXPECT_TRUE(r.safe);
+  EXPECT_EQ(r.completeness, 1.0);
+  EXPECT_NEAR(r.ground_z, 0.0, 1e-9);
+}
+
+TEST(Sweep, SteepSlopeHasNoSafeHeading) {
+  const auto steep = td::test::incline_terrain(32 * kDeg);
+  const auto r = tw::run_sweep(tw::Airframe::f450(), steep, small(4, 2));
+  EXPECT_FALSE(r.safe);
+  for (const auto& h : r.headings) EXPECT_FALSE(h.safe);
+}
+
+TEST(Sweep, StepOnlyTheAlignedHeadingClears) {
+  // A 10 cm ledge 0.12 m from the landing point: across the short axis
+  // (heading 90°) all four feet stand on the ledge; along the long axis
+  // (heading 0°) the rear feet hang below it.
+  const auto step = td::test::analytic_terrain([](double x, double) { return x > -0.12 ? 0.1 : 0.0; }, 1.0, 0.01);
+  auto o = small(4, 2);
+  const auto r = tw::run_sweep(tw::Airframe::f450(), step, o);
+  ASSERT_TRUE(r.safe);
+  EXPECT_NEAR(r.headings[static_cast<std::size_t>(r.best)].yaw, 90 * kDeg, 1e-9);
+  EXPECT_LT(r.headings[2].score, 0.02);
+  EXPECT_GT(r.headings[0].score, 0.1);
+}
+
+TEST(Sweep, AnytimeBudgetGivesFewerRunsAndSaysSo) {
+  const auto flat = td::test::flat_terrain(0.0);
+  auto o = small(3, 50);
+  o.time_budget = 1e-6;  // stop after the first round
+  const auto r = tw::run_sweep(tw::Airframe::f450(), flat, o);
+  EXPECT_EQ(r.rounds_completed, 1);
+  EXPECT_NEAR(r.completeness, 1.0 / 50, 1e-12);
+  EXPECT_EQ(r.runs.size(), 3u);
+  for (const auto& h : r.headings) EXPECT_EQ(h.runs, 1);
+}
+
+TEST(SweepBadInput, TerrainMustCoverTheFootprint) {
+  const auto small_patch = td::test::analytic_terrain([](double, double) { return 0.0; }, 0.2, 0.02);
+  try {
+    tw::run_sweep(tw::Airframe::f450(), small_patch, small(2, 1));
+    FAIL();
+  } catch (const td::InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("does not cover the footprint"), std::string::npos) << e.what();
+  }
+  auto o = small(0, 1);
+  EXPECT_THROW(tw::run_sweep(tw::Airframe::f450(), td::test::flat_terrain(), o), td::InvalidArgument);
+}
