@@ -116,6 +116,14 @@ void box_support(const void* obj, const ccd_vec3_t* dir, ccd_vec3_t* out) {
 }
 void box_center(const void* obj, ccd_vec3_t* out) { to_ccd(static_cast<const BoxShape*>(obj)->c, out); }
 
+double extent_along(const DiskShape& s, const Eigen::Vector3d& n) {
+  const double c = std::min(1.0, std::abs(n.dot(s.n)));
+  return s.r * std::sqrt(std::max(0.0, 1.0 - c * c)) + s.h * c;
+}
+double extent_along(const BoxShape& s, const Eigen::Vector3d& n) {
+  return (s.axes.transpose() * n).cwiseAbs().dot(s.half);
+}
+
 template <typename Shape>
 void collide_convex(const TerrainModel& terrain, const Shape& shape, const Eigen::AlignedBox3d& aabb,
                     ccd_support_fn support, ccd_center_fn center, Scratch& scratch, std::vector<Contact>& out) {
@@ -132,6 +140,10 @@ void collide_convex(const TerrainModel& terrain, const Shape& shape, const Eigen
   ccd.mpr_tolerance = 1e-6;
   for (std::uint32_t t : scratch.triangles) {
     Tri tri{{terrain.vertex(t, 0), terrain.vertex(t, 1), terrain.vertex(t, 2)}};
+    // Cheap separation test before MPR: the shape's extent along the
+    // triangle's normal must reach the triangle's plane.
+    const Eigen::Vector3d n = face_normal(tri.v[0], tri.v[1], tri.v[2]);
+    if (std::abs(n.dot(shape.c - tri.v[0])) > extent_along(shape, n)) continue;
     ccd_real_t depth;
     ccd_vec3_t dir, pos;
     if (ccdMPRPenetration(&shape, &tri, &ccd, &depth, &dir, &pos) != 0) continue;

@@ -38,9 +38,11 @@ TerrainModel::TerrainModel(TriangleMesh mesh) : mesh_(std::move(mesh)) {
     j0 = std::clamp(static_cast<int>((b.min().y() - y0_) / cell_), 0, ny_ - 1);
     j1 = std::clamp(static_cast<int>((b.max().y() - y0_) / cell_), 0, ny_ - 1);
   };
+  tri_cell_.resize(n);
   for (std::size_t t = 0; t < n; ++t) {
     int i0, i1, j0, j1;
     range(tri_box_[t], i0, i1, j0, j1);
+    tri_cell_[t] = {i0, j0};
     for (int j = j0; j <= j1; ++j)
       for (int i = i0; i <= i1; ++i) ++count[static_cast<std::size_t>(j) * nx_ + i + 1];
   }
@@ -92,14 +94,15 @@ void TerrainModel::triangles_overlapping(const Eigen::AlignedBox3d& box, std::ve
       if (cell_max_z_[c] < fb.min().z()) continue;
       for (std::uint32_t s = start_[c]; s < start_[c + 1]; ++s) {
         const std::uint32_t t = items_[s];
-        if (tri_box_[t].intersects(fb)) out.push_back(t);
+        if (!tri_box_[t].intersects(fb)) continue;
+        // A triangle listed in several buckets is reported once: from the
+        // first bucket of the query that it occupies.
+        const auto& cell0 = tri_cell_[t];
+        if (std::max(i0, cell0[0]) == i && std::max(j0, cell0[1]) == j) out.push_back(t);
       }
     }
   }
-  if (i0 != i1 || j0 != j1) {
-    std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end());
-    out.erase(std::unique(out.begin() + static_cast<std::ptrdiff_t>(first), out.end()), out.end());
-  }
+  (void)first;
 }
 
 std::optional<double> TerrainModel::top_z(double x, double y) const {

@@ -5,6 +5,7 @@
 /// candidate triangles for contact generation).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -36,7 +37,7 @@ class TerrainModel {
   [[nodiscard]] std::optional<double> max_top_z(const Eigen::Vector2d& centre, double radius, double step = 0.01) const;
 
   /// Appends the indices of triangles whose bounding box overlaps `box`
-  /// (sorted, unique).
+  /// (each once, in a deterministic order).
   void triangles_overlapping(const Eigen::AlignedBox3d& box, std::vector<std::uint32_t>& out) const;
 
   /// Highest terrain point (over whole buckets, so possibly a little more)
@@ -58,6 +59,7 @@ class TerrainModel {
   std::vector<std::uint32_t> items_;  // triangle indices
   std::vector<Eigen::AlignedBox3f> tri_box_;
   std::vector<float> cell_max_z_;  // per bucket: highest point of its triangles
+  std::vector<std::array<int, 2>> tri_cell_;  // first bucket of each triangle
 };
 
 /// Loads a terrain for the twin: a mesh file (.stl, .obj, .ply with faces)
