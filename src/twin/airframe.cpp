@@ -128,7 +128,10 @@ Disk Airframe::propeller(std::size_t i) const {
 }
 
 Capsule Airframe::leg(std::size_t i) const {
-  return {Eigen::Vector3d(legs[i].x(), legs[i].y(), gear_top_z), Eigen::Vector3d(legs[i].x(), legs[i].y(), foot_z),
+  // The leg ends where the foot sphere begins to cover it: below, the foot
+  // makes every contact, and the leg would only repeat them.
+  const double bottom = std::min(gear_top_z, foot_z + foot_radius);
+  return {Eigen::Vector3d(legs[i].x(), legs[i].y(), gear_top_z), Eigen::Vector3d(legs[i].x(), legs[i].y(), bottom),
           leg_radius};
 }
 

@@ -100,6 +100,15 @@ class Run {
     alloc_pinv_ = alloc_.transpose() * (alloc_ * alloc_.transpose()).inverse();
     hover_thrust_ = af_.total_mass() * kGravity;
     motor_.assign(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      motor_r_.push_back(af_.motor_position(i) - com_);
+      arms_.push_back(af_.arm(i));
+      props_.push_back(af_.propeller(i));
+    }
+    for (std::size_t i = 0; i < af_.legs.size(); ++i) {
+      feet_.push_back(af_.foot(i));
+      legs_.push_back(af_.leg(i));
+    }
     // Radius of a sphere about the CoM holding every collision part.
     reach_ = 0;
     for (std::size_t i = 0; i < n; ++i) {
@@ -250,7 +259,7 @@ class Run {
       }
       v_prev = v;
       for (std::size_t i = 0; i < motor_.size(); ++i) {
-        const Eigen::Vector3d r = af_.motor_position(i) - com_;
+        const Eigen::Vector3d& r = motor_r_[i];
         dBodyAddRelForceAtRelPos(body_, 0, 0, motor_[i], r.x(), r.y(), r.z());
         dBodyAddRelTorque(body_, 0, 0, -af_.spin[i] * af_.torque_coefficient * motor_[i]);
       }
@@ -261,6 +270,15 @@ class Run {
       contact_foot.clear();
       auto world = [&](const Eigen::Vector3d& q) { return Eigen::Vector3d(p + R * (q - com_)); };
       auto tag = [&](std::size_t before, PartKind kind, int foot) {
+        // At most kMaxContactsPerPart per part, the deepest: enough for a
+        // stable support, and ODE's LCP cost grows with the cube of the
+        // contact count.
+        constexpr std::size_t kMaxContactsPerPart = 4;
+        if (contacts.size() - before > kMaxContactsPerPart) {
+          std::stable_sort(contacts.begin() + static_cast<std::ptrdiff_t>(before), contacts.end(),
+                           [](const detail::Contact& a, const detail::Contact& b) { return a.depth > b.depth; });
+          contacts.resize(before + kMaxContactsPerPart);
+        }
         for (std::size_t k = before; k < contacts.size(); ++k) {
           contact_kind.push_back(kind);
           contact_foot.push_back(foot);
@@ -273,21 +291,21 @@ class Run {
       const bool near = terrain.max_z_near(Eigen::AlignedBox3d(p - reach, p + reach)) >= p.z() - reach_;
       for (std::size_t i = 0; near && i < af_.legs.size(); ++i) {
         std::size_t before = contacts.size();
-        const Sphere s = af_.foot(i);
+        const Sphere& s = feet_[i];
         detail::collide_sphere(terrain, world(s.centre), s.radius, scratch, contacts);
         tag(before, PartKind::Foot, static_cast<int>(i));
         before = contacts.size();
-        const Capsule c = af_.leg(i);
+        const Capsule& c = legs_[i];
         detail::collide_capsule(terrain, world(c.a), world(c.b), c.radius, scratch, contacts);
         tag(before, PartKind::Leg, static_cast<int>(i));
       }
       for (std::size_t i = 0; near && i < af_.motor_count(); ++i) {
         std::size_t before = contacts.size();
-        const Capsule a = af_.arm(i);
+        const Capsule& a = arms_[i];
         detail::collide_capsule(terrain, world(a.a), world(a.b), a.radius, scratch, contacts);
         tag(before, PartKind::Arm, -1);
         before = contacts.size();
-        const Disk d = af_.propeller(i);
+        const Disk& d = props_[i];
         detail::collide_disk(terrain, world(d.centre), R * d.axis, d.radius, d.half_thickness, scratch, contacts);
         tag(before, PartKind::Propeller, -1);
       }
@@ -371,6 +389,11 @@ class Run {
   double hover_thrust_ = 0;
   double reach_ = 0;
   std::vector<double> motor_;
+  // Parts in the airframe's body frame, computed once.
+  std::vector<Eigen::Vector3d> motor_r_;
+  std::vector<Capsule> arms_, legs_;
+  std::vector<Disk> props_;
+  std::vector<Sphere> feet_;
 };
 
 }  // namespace

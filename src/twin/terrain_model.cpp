@@ -60,6 +60,14 @@ TerrainModel::TerrainModel(TriangleMesh mesh) : mesh_(std::move(mesh)) {
         cell_max_z_[c] = std::max(cell_max_z_[c], tri_box_[t].max().z());
       }
   }
+  // Highest triangles first in each bucket: a query stops at the first one
+  // entirely below it (the terrain solid's bottom is never visited).
+  for (std::size_t c = 0; c < cells; ++c) {
+    std::sort(items_.begin() + start_[c], items_.begin() + start_[c + 1], [&](std::uint32_t a, std::uint32_t b) {
+      const float za = tri_box_[a].max().z(), zb = tri_box_[b].max().z();
+      return za > zb || (za == zb && a < b);
+    });
+  }
 }
 
 double TerrainModel::max_z_near(const Eigen::AlignedBox3d& box) const {
@@ -94,6 +102,7 @@ void TerrainModel::triangles_overlapping(const Eigen::AlignedBox3d& box, std::ve
       if (cell_max_z_[c] < fb.min().z()) continue;
       for (std::uint32_t s = start_[c]; s < start_[c + 1]; ++s) {
         const std::uint32_t t = items_[s];
+        if (tri_box_[t].max().z() < fb.min().z()) break;  // sorted: the rest are lower
         if (!tri_box_[t].intersects(fb)) continue;
         // A triangle listed in several buckets is reported once: from the
         // first bucket of the query that it occupies.

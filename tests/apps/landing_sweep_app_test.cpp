@@ -1,0 +1,107 @@
+// landing_sweep end to end: JSON schema, CSV and SVG outputs, bad input.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <nlohmann/json.hpp>
+
+#include "test_util.hpp"
+#include "touchdown/core/mesh_io.hpp"
+#include "touchdown/terrain/height_map.hpp"
+
+namespace td = touchdown;
+using td::test::TempDir;
+
+namespace {
+
+struct AppRun {
+  int code = -1;
+  std::string out, err;
+};
+
+AppRun run(const std::string& args, const TempDir& dir) {
+  const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const std::string cmd = std::string(LANDING_SWEEP_EXE) + " " + args + " >" + out.string() + " 2>" + err.string();
+  const int status = std::system(cmd.c_str());
+  AppRun r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = td::test::read_text(out);
+  r.err = td::test::read_text(err);
+  std::filesystem::remove(out);
+  std::filesystem::remove(err);
+  return r;
+}
+
+// A flat 1.6 m square terrain mesh written as STL.
+std::string flat_stl(const TempDir& dir) {
+  td::terrain::HeightMap m(-0.8, -0.8, 0.05, 32, 32);
+  for (int j = 0; j < 32; ++j)
+    for (int i = 0; i < 32; ++i) m.set(i, j, 0.0f, td::terrain::CellState::Measured);
+  const auto path = dir / "flat.stl";
+  td::write_mesh(td::terrain::triangulate_solid(m, 0.1), path);
+  return path.string();
+}
+
+}  // namespace
+
+TEST(LandingSweepApp, JsonCsvAndPlot) {
+  TempDir dir;
+  const auto terrain = flat_stl(dir);
+  const AppRun r = run(terrain + " --headings 4 --runs 2 --json --runs-csv " + (dir / "runs.csv").string() +
+                           " --plot " + (dir / "s.svg").string(),
+                       dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* key : {"terrain", "airframe", "threshold_rad", "threshold_parts", "best", "safe_headings_deg",
+                          "headings", "runs", "seconds", "landings_per_second"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_EQ(j["runs"], 8);
+  EXPECT_EQ(j["headings"].size(), 4u);
+  EXPECT_EQ(j["safe_headings_deg"].size(), 4u);
+  EXPECT_TRUE(j["best"]["safe"].get<bool>());
+  EXPECT_LT(j["best"]["score_rad"].get<double>(), 0.02);
+  EXPECT_NEAR(j["threshold_rad"].get<double>(),
+              std::min(j["threshold_parts"]["tip_rad"].get<double>(), j["threshold_parts"]["prop_strike_rad"].get<double>()),
+              1e-9);
+  const std::string csv = td::test::read_text(dir / "runs.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 9);  // header + 8 runs
+  const std::string svg = td::test::read_text(dir / "s.svg");
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  EXPECT_NE(svg.find("safety threshold"), std::string::npos);
+}
+
+TEST(LandingSweepAppBadInput, AirframeKeyIsNamed) {
+  TempDir dir;
+  const auto terrain = flat_stl(dir);
+  td::test::write_text(dir / "af.yaml", td::test::read_text(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) /
+                                                            "data/airframes/f450.yaml"));
+  std::string y = td::test::read_text(dir / "af.yaml");
+  y.replace(y.find("  mass: 0.95"), 11, "  mass: -1.0");
+  td::test::write_text(dir / "af.yaml", y);
+  const AppRun r = run(terrain + " --airframe " + (dir / "af.yaml").string() + " --runs-csv " +
+                           (dir / "runs.csv").string(),
+                       dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("af.yaml: body.mass: must be positive"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
+  EXPECT_FALSE(std::filesystem::exists(dir / "runs.csv"));
+}
+
+TEST(LandingSweepAppBadInput, TerrainNotCoveringTheFootprint) {
+  TempDir dir;
+  const auto terrain = flat_stl(dir);
+  const AppRun r = run(terrain + " --landing-point 0.7,0", dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("does not cover the footprint"), std::string::npos) << r.err;
+}
+
+TEST(LandingSweepAppBadInput, BadOptionsAndFiles) {
+  TempDir dir;
+  const auto terrain = flat_stl(dir);
+  EXPECT_EQ(run(terrain + " --headings 0", dir).code, 2);
+  EXPECT_EQ(run(terrain + " --metric best", dir).code, 2);
+  EXPECT_EQ(run(terrain + " --friction 1.0,0.5", dir).code, 2);
+  const AppRun r = run((dir / "missing.stl").string(), dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("missing.stl: cannot open"), std::string::npos) << r.err;
+}
