@@ -15,7 +15,7 @@
 int main(int argc, char** argv) {
   namespace td = touchdown;
   namespace syn = td::terrain::synthetic;
-  CLI::App app{"Scan a synthetic terrain (flat, incline, step, plateau, rubble) with a simulated depth camera.",
+  CLI::App app{"Scan a synthetic terrain (flat, incline, step, plateau, rubble, post) with a simulated depth camera.",
                "terrain_synth"};
   std::string kind, output, extrinsics_out, frame = "camera", encoding = "binary";
   syn::Shape shape;
@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
   std::vector<double> plateau_size;
   std::uint64_t seed = 1;
   bool json = false;
-  app.add_option("KIND", kind, "flat, incline, step, plateau or rubble")->required();
+  app.add_option("KIND", kind, "flat, incline, step, plateau, rubble or post")->required();
   app.add_option("-o,--output", output, "cloud to write: .pcd, .ply, .xyz")->required();
   app.add_option("--extrinsics-out", extrinsics_out, "write the camera pose YAML here (for terrain_mesh --extrinsics)");
   app.add_option("--frame", frame, "camera (organized, optical frame) or world")
@@ -49,12 +49,19 @@ int main(int argc, char** argv) {
   app.add_option("--plateau-size", plateau_size, "plateau length,width [m]")->delimiter(',')->expected(2);
   app.add_option("--rubble-count", shape.rubble_count, "number of rocks")->capture_default_str();
   app.add_option("--rubble-height", shape.rubble_max_height, "tallest rock [m]")->capture_default_str();
+  std::vector<double> post;
+  app.add_option("--post", post, "post: x,y,radius,height [m]")->delimiter(',')->expected(4);
   app.add_option("--seed", seed, "random seed")->capture_default_str();
   app.add_flag("--json", json, "print one JSON object on stdout");
 
   return td::app::run(app, argc, argv, [&]() -> int {
     shape.kind = syn::shape_kind_from_string(kind);
     if (plateau_size.size() == 2) shape.plateau_size = {plateau_size[0], plateau_size[1]};
+    if (post.size() == 4) {
+      shape.post_xy = {post[0], post[1]};
+      shape.post_radius = post[2];
+      shape.post_height = post[3];
+    }
     shape.rubble_seed = seed;
     shape.prepare();
     if (cam.width <= 0 || cam.height <= 0 || !(cam.fx > 0)) throw td::InvalidArgument("--width, --height and --fx must be positive");

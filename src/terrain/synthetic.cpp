@@ -28,8 +28,9 @@ ShapeKind shape_kind_from_string(std::string_view name) {
   if (name == "step") return ShapeKind::Step;
   if (name == "plateau") return ShapeKind::Plateau;
   if (name == "rubble") return ShapeKind::Rubble;
+  if (name == "post") return ShapeKind::Post;
   throw InvalidArgument("unknown terrain shape '" + std::string(name) +
-                        "' (expected flat, incline, step, plateau or rubble)");
+                        "' (expected flat, incline, step, plateau, rubble or post)");
 }
 
 std::string to_string(ShapeKind kind) {
@@ -39,6 +40,7 @@ std::string to_string(ShapeKind kind) {
     case ShapeKind::Step: return "step";
     case ShapeKind::Plateau: return "plateau";
     case ShapeKind::Rubble: return "rubble";
+    case ShapeKind::Post: return "post";
   }
   return "?";
 }
@@ -66,6 +68,8 @@ double Shape::height(double x, double y) const {
       return base_z + (std::abs(p.x()) < 0.5 * plateau_size.x() && std::abs(p.y()) < 0.5 * plateau_size.y()
                            ? plateau_height
                            : 0.0);
+    case ShapeKind::Post:
+      return base_z + ((Eigen::Vector2d(x, y) - post_xy).norm() < post_radius ? post_height : 0.0);
     case ShapeKind::Rubble: {
       double z = 0.0;
       for (const Rock& r : rocks) {
@@ -90,6 +94,7 @@ double Shape::distance_to_edge(double x, double y) const {
       if (dx < 0 && dy < 0) return std::min(-dx, -dy);
       return std::hypot(std::max(dx, 0.0), std::max(dy, 0.0));
     }
+    case ShapeKind::Post: return std::abs((Eigen::Vector2d(x, y) - post_xy).norm() - post_radius);
     case ShapeKind::Rubble: {
       double d = kInf;
       for (const Rock& r : rocks) {
@@ -122,6 +127,7 @@ PointCloud render_depth_scan(const Shape& shape, const DepthCamera& cam, const E
     case ShapeKind::Step: zhi += std::max(0.0, shape.step_height); zlo += std::min(0.0, shape.step_height); break;
     case ShapeKind::Plateau: zhi += std::max(0.0, shape.plateau_height); zlo += std::min(0.0, shape.plateau_height); break;
     case ShapeKind::Rubble: zhi += shape.rubble_max_height; break;
+    case ShapeKind::Post: zhi += std::max(0.0, shape.post_height); zlo += std::min(0.0, shape.post_height); break;
     default: break;
   }
   const Eigen::Matrix3d R = T_world_camera.linear();

@@ -157,7 +157,7 @@ class Run {
     const double motor_alpha = 1.0 - std::exp(-dt / af_.motor_time_constant);
     Eigen::Vector2d vel_int = Eigen::Vector2d::Zero();
     double vz_int = 0;
-    Eigen::Vector3d v_prev = Eigen::Vector3d::Zero();
+    Eigen::Vector3d v_prev = Eigen::Vector3d::Zero(), accel_lp = Eigen::Vector3d::Zero();
     int stage = armed ? 0 : 3;
     double stage_timer = 0, still_timer = 0, ramp = 1.0, thrust_at_contact = hover_thrust_;
     bool touched = false;
@@ -173,7 +173,9 @@ class Run {
       const Eigen::Vector3d v = vec_of(dBodyGetLinearVel(body_));
       const Eigen::Vector3d w_world = vec_of(dBodyGetAngularVel(body_));
       const Eigen::Matrix3d R = rotation_of(body_);
-      if (!p.allFinite() || !v.allFinite() || !R.allFinite() || p.z() < terrain_floor || v.norm() > 30.0 ||
+      const auto& tb = sim_.terrain().bounds();
+      const bool off_map = p.x() < tb.min.x() || p.x() > tb.max.x() || p.y() < tb.min.y() || p.y() > tb.max.y();
+      if (!p.allFinite() || !v.allFinite() || !R.allFinite() || p.z() < terrain_floor || off_map || v.norm() > 30.0 ||
           w_world.norm() > 200.0) {
         res.status = RunStatus::Unstable;
         res.steps = step;
@@ -190,8 +192,12 @@ class Run {
         Eigen::Vector2d v_sp = cp.xy_p * (lc.landing_point - p.head<2>());
         if (v_sp.norm() > cp.xy_vel_max) v_sp *= cp.xy_vel_max / v_sp.norm();
         const double vz_sp = -lc.land_speed;
-        // Velocity → acceleration (PositionControl::_velocityControl), PID.
-        const Eigen::Vector3d accel = (v - v_prev) / dt;
+        // Velocity → acceleration (PositionControl::_velocityControl), PID
+        // with the derivative low-passed at MPC_VELD_LP (touchdown shocks
+        // must not become tilt commands).
+        const double lp = 1.0 - std::exp(-2.0 * std::numbers::pi * cp.vel_deriv_lp_hz * dt);
+        accel_lp += lp * ((v - v_prev) / dt - accel_lp);
+        const Eigen::Vector3d& accel = accel_lp;
         const Eigen::Vector2d e_xy = v_sp - v.head<2>();
         vel_int += e_xy * dt;
         vel_int = vel_int.cwiseMax(-2.0).cwiseMin(2.0);
@@ -214,6 +220,15 @@ class Run {
         Rd.col(1) = yb;
         Rd.col(2) = zb;
         // Attitude → rates (geometric error), rates → torque.
+        if (stage >= 1) {
+          // After ground contact PX4 (mc_pos_control limit_thrust_during_landing)
+          // takes the collective thrust to zero, commands a level attitude at
+          // the current heading and resets the integrators.
+          const Eigen::Vector3d xc2(std::cos(lc.heading), std::sin(lc.heading), 0.0);
+          Rd.col(2) = Eigen::Vector3d::UnitZ();
+          Rd.col(1) = Eigen::Vector3d::UnitZ().cross(xc2).normalized();
+          Rd.col(0) = Rd.col(1).cross(Rd.col(2));
+        }
         const Eigen::Vector3d e_R = 0.5 * vee(Rd.transpose() * R - R.transpose() * Rd);
         Eigen::Vector3d w_sp(-cp.roll_p * e_R.x(), -cp.pitch_p * e_R.y(), -cp.yaw_p * e_R.z());
         const double yaw_rate_max = cp.yaw_rate_max_deg * kDeg;
@@ -233,6 +248,7 @@ class Run {
           if (stage_timer >= stage_time) {
             stage = 1;  // ground contact: start the thrust ramp-down
             stage_timer = 0;
+            vel_int.setZero();
             thrust_at_contact = thrust;
           }
         } else {
@@ -245,10 +261,19 @@ class Run {
           }
         }
         if (stage >= 1) thrust = std::min(thrust, ramp * thrust_at_contact);
-        // Allocation, saturation, motor commands.
-        Eigen::Vector4d wrench(thrust, tau.x(), tau.y(), tau.z());
-        if (stage >= 1) wrench.tail<3>() *= ramp;  // attitude authority fades with the thrust
-        Eigen::VectorXd f = alloc_pinv_ * wrench;
+        // Allocation with saturation as PX4's mixer without airmode: keep the
+        // collective thrust, scale the torques down until every motor command
+        // is within [0, max_thrust] (so torque authority fades with thrust).
+        thrust = std::min(thrust, af_.max_thrust * static_cast<double>(motor_.size()));
+        const Eigen::VectorXd f_thrust = alloc_pinv_ * Eigen::Vector4d(thrust, 0, 0, 0);
+        const Eigen::VectorXd f_torque = alloc_pinv_ * Eigen::Vector4d(0, tau.x(), tau.y(), tau.z());
+        double scale = 1.0;
+        for (Eigen::Index i = 0; i < f_thrust.size(); ++i) {
+          const double ft = f_thrust[i], fq = f_torque[i];
+          if (fq < 0 && ft + scale * fq < 0) scale = std::max(0.0, -ft / fq);
+          if (fq > 0 && ft + scale * fq > af_.max_thrust) scale = std::max(0.0, (af_.max_thrust - ft) / fq);
+        }
+        Eigen::VectorXd f = f_thrust + scale * f_torque;
         for (Eigen::Index i = 0; i < f.size(); ++i) f[i] = std::clamp(f[i], 0.0, af_.max_thrust);
         for (std::size_t i = 0; i < motor_.size(); ++i) {
           const double cmd = stage >= 3 ? 0.0 : f[static_cast<Eigen::Index>(i)];

@@ -37,7 +37,7 @@ td::PointCloud world_scan(const syn::Shape& s, const syn::DepthCamera& cam, std:
 
 TEST(Synthetic, NoiselessScansLieOnTheSurface) {
   for (auto kind : {syn::ShapeKind::Flat, syn::ShapeKind::Incline, syn::ShapeKind::Step, syn::ShapeKind::Plateau,
-                    syn::ShapeKind::Rubble}) {
+                    syn::ShapeKind::Rubble, syn::ShapeKind::Post}) {
     SCOPED_TRACE(syn::to_string(kind));
     syn::Shape s;
     s.kind = kind;

@@ -13,9 +13,9 @@
 
 namespace touchdown::terrain::synthetic {
 
-enum class ShapeKind { Flat, Incline, Step, Plateau, Rubble };
+enum class ShapeKind { Flat, Incline, Step, Plateau, Rubble, Post };
 
-/// "flat", "incline", "step", "plateau", "rubble"; throws InvalidArgument otherwise.
+/// "flat", "incline", "step", "plateau", "rubble", "post"; throws InvalidArgument otherwise.
 ShapeKind shape_kind_from_string(std::string_view name);
 std::string to_string(ShapeKind kind);
 
@@ -35,6 +35,9 @@ struct Shape {
   double rubble_max_height = 0.08;
   double rubble_extent = 1.5;
   std::uint64_t rubble_seed = 1;
+  Eigen::Vector2d post_xy{0.205, 0.205};   ///< post: a vertical cylinder on flat ground
+  double post_radius = 0.04;
+  double post_height = 0.25;
 
   /// Builds internal data (rubble rocks); call after changing parameters.
   void prepare();

@@ -25,7 +25,8 @@ struct ControllerParams {
   double xy_vel_max = 12.0;        ///< MPC_XY_VEL_MAX [m/s]
   double z_vel_p = 4.0;            ///< MPC_Z_VEL_P_ACC [1/s]
   double z_vel_i = 2.0;            ///< MPC_Z_VEL_I_ACC [1/s²]
-  double tilt_max_deg = 45.0;      ///< MPC_TILTMAX_AIR
+  double tilt_max_deg = 12.0;      ///< MPC_TILTMAX_LND (the tilt limit of land mode)
+  double vel_deriv_lp_hz = 5.0;    ///< MPC_VELD_LP: low-pass of the velocity derivative [Hz]
   double roll_p = 6.5;             ///< MC_ROLL_P [1/s]
   double pitch_p = 6.5;            ///< MC_PITCH_P [1/s]
   double yaw_p = 2.8;              ///< MC_YAW_P [1/s]
@@ -40,7 +41,7 @@ struct ControllerParams {
   double land_rot_max_deg = 20.0;  ///< LNDMC_ROT_MAX [deg/s]
   double land_trigger_time = 1.0;  ///< LNDMC_TRIG_TIME [s]: each of the three stages is held a third of it
   double low_thrust_fraction = 0.3;  ///< LNDMC_LOW_T_THR: "low thrust" below this fraction of hover thrust
-  double thrust_ramp_time = 0.5;   ///< [s] thrust ramps to zero after ground contact
+  double thrust_ramp_time = 0.25;  ///< [s] thrust ramps to zero after ground contact
 };
 
 /// Physics settings of a run.
@@ -75,7 +76,7 @@ struct LandingConditions {
 enum class RunStatus {
   Settled,   ///< came to rest after disarm
   Timeout,   ///< did not settle in time (reported, never scored as safe)
-  Unstable,  ///< NaN, fell through the terrain or blew up (invalid, never safe)
+  Unstable,  ///< NaN, fell through or off the mapped terrain, or blew up (invalid, never safe)
 };
 std::string to_string(RunStatus status);
 
