@@ -105,3 +105,57 @@ TEST(LandingSweepAppBadInput, BadOptionsAndFiles) {
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("missing.stl: cannot open"), std::string::npos) << r.err;
 }
+
+// ---- the bundled terrains with a known answer (data/terrains/regenerate.sh) ----
+
+namespace {
+
+nlohmann::json sweep_bundled(const std::string& name, const std::string& extra, const TempDir& dir,
+                             const std::string& size = "--runs 3") {
+  const auto data = std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/terrains";
+  const AppRun r = run((data / (name + ".pcd")).string() + " --extrinsics " +
+                           (data / (name + ".extrinsics.yaml")).string() + " " + size + " --json " + extra,
+                       dir);
+  EXPECT_EQ(r.code, 0) << r.err;
+  return nlohmann::json::parse(r.out);
+}
+
+}  // namespace
+
+TEST(LandingSweepKnownAnswers, StepOnlyTheAlignedHeadingClears) {
+  TempDir dir;
+  const auto j = sweep_bundled("step", "--landing-point 0.12,0", dir);
+  EXPECT_TRUE(j["best"]["safe"].get<bool>());
+  EXPECT_NEAR(j["best"]["yaw_deg"].get<double>(), 90.0, 9.0);
+  EXPECT_LT(j["best"]["score_rad"].get<double>(), 0.05);
+  // Diagonal headings leave one foot hanging over the edge: they tip or strike.
+  EXPECT_FALSE(j["headings"][5]["safe"].get<bool>());  // 45 deg
+}
+
+TEST(LandingSweepKnownAnswers, SteepSlopeNothingIsSafe) {
+  TempDir dir;
+  // Tumbling twins are slow to simulate: fewer headings and runs suffice.
+  const auto j = sweep_bundled("slope_steep", "", dir, "--headings 10 --runs 2");
+  EXPECT_FALSE(j["best"]["safe"].get<bool>());
+  EXPECT_TRUE(j["safe_headings_deg"].empty());
+}
+
+TEST(LandingSweepKnownAnswers, GentleSlopeEverythingIsSafe) {
+  TempDir dir;
+  const auto j = sweep_bundled("slope_gentle", "", dir);
+  EXPECT_TRUE(j["best"]["safe"].get<bool>());
+  EXPECT_EQ(j["safe_headings_deg"].size(), 20u);
+  for (const auto& h : j["headings"]) EXPECT_NEAR(h["score_rad"].get<double>(), 5 * M_PI / 180, 0.08);
+}
+
+TEST(LandingSweepKnownAnswers, PostStrikesAPropellerAtSomeHeadings) {
+  TempDir dir;
+  const auto j = sweep_bundled("post", "", dir);
+  EXPECT_TRUE(j["best"]["safe"].get<bool>());
+  const double best = j["best"]["yaw_deg"].get<double>();
+  EXPECT_TRUE((best >= 36 && best <= 54) || (best >= 126 && best <= 144)) << best;
+  // Headings 0 and 90: a propeller sits over the post.
+  EXPECT_GT(j["headings"][0]["prop_strike_runs"].get<int>(), 0);
+  EXPECT_GT(j["headings"][10]["prop_strike_runs"].get<int>(), 0);
+  EXPECT_FALSE(j["headings"][0]["safe"].get<bool>());
+}
