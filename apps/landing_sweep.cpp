@@ -131,6 +131,11 @@ int main(int argc, char** argv) {
   app.add_option("--threads", o.threads, "worker threads, 0 = all cores")->capture_default_str();
   app.add_option("--time-budget", o.time_budget, "anytime: stop after the round that passes this many seconds, 0 = off")
       ->capture_default_str();
+  double search_radius = 0, search_spacing = 0;
+  app.add_option("--search-radius", search_radius,
+                 "also try landing points on a grid within this radius [m] and report the best (x, y, psi)")
+      ->capture_default_str();
+  app.add_option("--search-spacing", search_spacing, "grid spacing of the search [m], 0 = radius/2")->capture_default_str();
   app.add_option("--step", o.simulation.step, "physics step [s]")->capture_default_str();
   app.add_option("--runs-csv", runs_csv_path, "write one CSV row per run");
   app.add_option("--plot", plot_path, "write an SVG of S(psi) per heading with the threshold");
@@ -163,7 +168,14 @@ int main(int argc, char** argv) {
                   << (done == total ? "\n" : "") << std::flush;
       };
     }
-    const tw::SweepResult r = tw::run_sweep(airframe, terrain, o);
+    tw::SearchResult search;
+    if (search_radius > 0) {
+      search = tw::search_landing_point(airframe, terrain, o, search_radius, search_spacing);
+      o.landing_point = search.candidates[static_cast<std::size_t>(search.best)].xy;
+    } else {
+      search.sweep = tw::run_sweep(airframe, terrain, o);
+    }
+    const tw::SweepResult& r = search.sweep;
     const double yaw_max_deg =
         o.yaw_max_deg > 0 ? o.yaw_max_deg : (airframe.symmetric_under_half_turn() ? 180.0 : 360.0);
     if (!runs_csv_path.empty()) write_text_atomically(runs_csv_path, runs_csv(r));
@@ -193,6 +205,15 @@ int main(int argc, char** argv) {
       }
       j["safe_headings_deg"] = safe;
       j["headings"] = hs;
+      if (!search.candidates.empty()) {
+        nlohmann::json cs = nlohmann::json::array();
+        for (const auto& c : search.candidates) {
+          if (!c.covered) continue;
+          cs.push_back({{"x", round6(c.xy.x())}, {"y", round6(c.xy.y())}, {"yaw_deg", round6(c.yaw / kDeg)},
+                        {"score_rad", round6(c.score)}, {"safe", c.safe}});
+        }
+        j["search"] = cs;
+      }
       j["runs"] = r.landings();
       j["completeness"] = round6(r.completeness);
       j["seconds"] = round6(r.seconds);
@@ -214,11 +235,18 @@ int main(int argc, char** argv) {
                   << std::setw(6) << h.tipped_runs << " " << std::setw(7) << h.invalid_runs << "  "
                   << (h.safe ? "yes" : "no") << "\n";
       }
+      for (const auto& c : search.candidates) {
+        if (!c.covered) continue;
+        std::cout << "  search: (" << c.xy.x() << ", " << c.xy.y() << ") best heading " << std::setprecision(1)
+                  << c.yaw / kDeg << std::setprecision(3) << " deg, S = " << c.score << " rad" << (c.safe ? "" : " (unsafe)")
+                  << "\n";
+      }
       if (r.safe) {
-        std::cout << "  decision: land at heading " << std::setprecision(1) << best.yaw / kDeg << " deg (S = "
+        std::cout << "  decision: land at (" << o.landing_point.x() << ", " << o.landing_point.y() << "), heading " << std::setprecision(1) << best.yaw / kDeg << " deg (S = "
                   << std::setprecision(3) << best.score << " rad)\n";
       } else {
-        std::cout << "  decision: do not land here (best heading " << std::setprecision(1) << best.yaw / kDeg
+        std::cout << "  decision: do not land at (" << o.landing_point.x() << ", " << o.landing_point.y()
+                  << ") (best heading " << std::setprecision(1) << best.yaw / kDeg
                   << " deg has S = " << std::setprecision(3) << best.score << " rad, threshold "
                   << r.threshold.value() << " rad)\n";
       }

@@ -185,4 +185,57 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
   return out;
 }
 
+SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<const TerrainModel> terrain,
+                                  const SweepOptions& options, double radius, double spacing) {
+  if (!(radius >= 0) || !std::isfinite(radius)) throw InvalidArgument("search radius must be >= 0");
+  if (spacing <= 0) spacing = radius > 0 ? radius / 2 : 1.0;
+  if (!(spacing > 0) || !std::isfinite(spacing)) throw InvalidArgument("search spacing must be positive");
+  SearchResult out;
+  const int n = static_cast<int>(std::floor(radius / spacing + 1e-9));
+  for (int j = -n; j <= n; ++j) {
+    for (int i = -n; i <= n; ++i) {
+      const Eigen::Vector2d d(i * spacing, j * spacing);
+      if (d.norm() > radius + 1e-9) continue;
+      SearchCandidate c;
+      c.xy = options.landing_point + d;
+      out.candidates.push_back(c);
+    }
+  }
+  // Nearest to the requested point first (stable: row-major within a ring).
+  std::stable_sort(out.candidates.begin(), out.candidates.end(), [&](const SearchCandidate& a, const SearchCandidate& b) {
+    return (a.xy - options.landing_point).norm() < (b.xy - options.landing_point).norm() - 1e-12;
+  });
+  for (std::size_t k = 0; k < out.candidates.size(); ++k) {
+    auto& c = out.candidates[k];
+    SweepOptions o = options;
+    o.landing_point = c.xy;
+    SweepResult r;
+    try {
+      r = run_sweep(airframe, terrain, o);
+    } catch (const InvalidArgument& e) {
+      if (std::string(e.what()).find("does not cover the footprint") == std::string::npos) throw;
+      continue;  // off the map
+    }
+    c.covered = true;
+    c.best = r.best;
+    c.yaw = r.headings[static_cast<std::size_t>(r.best)].yaw;
+    c.score = r.headings[static_cast<std::size_t>(r.best)].score;
+    c.safe = r.safe;
+    const bool better = out.best < 0 ||
+                        (c.safe && !out.candidates[static_cast<std::size_t>(out.best)].safe) ||
+                        (c.safe == out.candidates[static_cast<std::size_t>(out.best)].safe &&
+                         c.score < out.candidates[static_cast<std::size_t>(out.best)].score);
+    if (better) {
+      out.best = static_cast<int>(k);
+      out.sweep = std::move(r);
+    }
+  }
+  if (out.best < 0) {
+    throw InvalidArgument("terrain does not cover the footprint at any landing point within " + std::to_string(radius) +
+                          " m of (" + std::to_string(options.landing_point.x()) + ", " +
+                          std::to_string(options.landing_point.y()) + ")");
+  }
+  return out;
+}
+
 }  // namespace touchdown::twin

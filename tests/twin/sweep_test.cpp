@@ -102,3 +102,21 @@ TEST(SweepBadInput, TerrainMustCoverTheFootprint) {
   auto o = small(0, 1);
   EXPECT_THROW(tw::run_sweep(tw::Airframe::f450(), td::test::flat_terrain(), o), td::InvalidArgument);
 }
+
+TEST(Search, MovesOffAStepEdgeToASafePoint) {
+  // The requested point straddles a 15 cm step at every heading; within
+  // 0.3 m there are points where all four feet stand on one level.
+  const auto step = td::test::analytic_terrain([](double x, double) { return x > 0 ? 0.15 : 0.0; }, 1.2, 0.02);
+  auto o = small(4, 1);
+  o.perturbation.sigma_xy = 0;
+  const auto plain = tw::run_sweep(tw::Airframe::f450(), step, o);
+  const auto s = tw::search_landing_point(tw::Airframe::f450(), step, o, 0.3, 0.3);
+  ASSERT_GE(s.best, 0);
+  const auto& best = s.candidates[static_cast<std::size_t>(s.best)];
+  EXPECT_TRUE(best.safe);
+  EXPECT_GT(std::abs(best.xy.x()), 0.2);  // off the edge
+  EXPECT_LT(best.score, 0.03);
+  EXPECT_LT(best.score, plain.headings[static_cast<std::size_t>(plain.best)].score);
+  EXPECT_EQ(s.candidates.size(), 5u);  // centre and four neighbours at 0.3 m
+  EXPECT_EQ(s.sweep.headings[static_cast<std::size_t>(s.sweep.best)].score, best.score);
+}

@@ -91,6 +91,30 @@ struct SweepResult {
 /// footprint around the landing point).
 SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainModel> terrain, const SweepOptions& options);
 
+/// One candidate landing point of a search.
+struct SearchCandidate {
+  Eigen::Vector2d xy = Eigen::Vector2d::Zero();
+  bool covered = false;  ///< the terrain covers the footprint there
+  int best = -1;         ///< best heading index at this point
+  double yaw = 0;        ///< its heading [rad]
+  double score = 0;      ///< its S(ψ) [rad]
+  bool safe = false;
+};
+
+struct SearchResult {
+  std::vector<SearchCandidate> candidates;
+  int best = -1;          ///< index into candidates
+  SweepResult sweep;      ///< the full sweep at the best candidate
+};
+
+/// Beyond the paper: also explores landing points on a square grid of
+/// `spacing` (0: radius / 2) within `radius` of options.landing_point, runs
+/// the sweep at each, and returns the best (x, y, ψ): the lowest score among
+/// safe points, ties going to the point nearer the requested one. Points
+/// where the terrain does not cover the footprint are skipped.
+SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<const TerrainModel> terrain,
+                                  const SweepOptions& options, double radius, double spacing = 0);
+
 /// The conditions of run `run` at heading `heading` (what run_sweep flies).
 LandingConditions sweep_conditions(const SweepOptions& options, double ground_z, double yaw, int heading, int run);
 
