@@ -66,9 +66,7 @@ int main(int argc, char** argv) {
     shape.prepare();
     if (cam.width <= 0 || cam.height <= 0 || !(cam.fx > 0)) throw td::InvalidArgument("--width, --height and --fx must be positive");
     if (!(noise_scale >= 0)) throw td::InvalidArgument("--noise-scale must be >= 0");
-    cam.fy = cam.fx;
-    cam.cx = cam.width / 2.0;
-    cam.cy = cam.height / 2.0;
+    cam = syn::DepthCamera::centred(cam.width, cam.height, cam.fx);
     cam.subpixel *= noise_scale;
     cam.dropout_fraction *= noise_scale;
     cam.outlier_fraction *= noise_scale;

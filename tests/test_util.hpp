@@ -10,7 +10,10 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <cstdlib>
 
 #include "touchdown/core/mesh.hpp"
 #include "touchdown/core/point_cloud.hpp"
@@ -63,6 +66,26 @@ inline std::string read_text(const std::filesystem::path& p) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+/// Exit code and output of an app run as `exe args` (stdout and stderr
+/// captured through files in `dir`, removed afterwards).
+struct AppRun {
+  int code = -1;
+  std::string out, err;
+};
+
+inline AppRun run_app(const std::string& exe, const std::string& args, const TempDir& dir) {
+  const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const std::string cmd = exe + " " + args + " >" + out.string() + " 2>" + err.string();
+  const int status = std::system(cmd.c_str());
+  AppRun r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_text(out);
+  r.err = read_text(err);
+  std::filesystem::remove(out);
+  std::filesystem::remove(err);
+  return r;
 }
 
 /// Bitwise equality of two clouds (NaN == NaN when the bits match).

@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <iterator>
 
 namespace touchdown::detail {
 
@@ -19,6 +20,13 @@ std::ifstream open_for_read(const std::filesystem::path& path) {
     throw IoError(path.string() + ": cannot open: " + std::strerror(errno));
   }
   return in;
+}
+
+std::string read_text_file(const std::filesystem::path& path) {
+  std::ifstream in = open_for_read(path);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw IoError(path.string() + ": read error");
+  return text;
 }
 
 }  // namespace touchdown::detail

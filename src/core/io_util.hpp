@@ -78,6 +78,9 @@ inline std::uint64_t remaining_bytes(std::istream& in) {
 /// Opens a regular file for binary reading or throws IoError naming it.
 std::ifstream open_for_read(const std::filesystem::path& path);
 
+/// The whole content of a file (IoError naming it when unreadable).
+std::string read_text_file(const std::filesystem::path& path);
+
 /// Reads one line (without '\n' or a trailing '\r'); false at end of stream.
 inline bool read_line(std::istream& in, std::string& line) {
   if (!std::getline(in, line)) return false;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "../core/io_util.hpp"
+#include "yaml_util.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::terrain {
@@ -123,12 +124,7 @@ Eigen::Isometry3d pose_from_xyz_rpy(const Eigen::Vector3d& xyz, const Eigen::Vec
 }
 
 Extrinsics parse_extrinsics(std::string_view yaml_text, std::string_view source) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(std::string(yaml_text));
-  } catch (const YAML::Exception& e) {
-    throw ParseError(std::string(source) + ":" + std::to_string(e.mark.line + 1) + ": invalid YAML: " + e.msg);
-  }
+  const YAML::Node root = detail::load_yaml(yaml_text, source);
   if (!root.IsMap()) throw ParseError(std::string(source) + ": expected a YAML mapping with xyz/rpy or matrix");
   Extrinsics e;
   try {
@@ -141,10 +137,7 @@ Extrinsics parse_extrinsics(std::string_view yaml_text, std::string_view source)
 }
 
 Extrinsics load_extrinsics(const std::filesystem::path& path) {
-  std::ifstream in = detail::open_for_read(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_extrinsics(text.str(), path.string());
+  return parse_extrinsics(detail::read_text_file(path), path.string());
 }
 
 std::string format_extrinsics(const Extrinsics& e, bool with_body) {

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "../core/io_util.hpp"
+#include "../terrain/yaml_util.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::twin {
@@ -242,12 +243,7 @@ struct Reader {
 }  // namespace
 
 Airframe parse_airframe(std::string_view yaml_text, std::string_view source) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(std::string(yaml_text));
-  } catch (const YAML::Exception& e) {
-    throw ParseError(std::string(source) + ":" + std::to_string(e.mark.line + 1) + ": invalid YAML: " + e.msg);
-  }
+  const YAML::Node root = detail::load_yaml(yaml_text, source);
   const Reader r{source};
   Airframe a;
   try {
@@ -311,10 +307,7 @@ Airframe parse_airframe(std::string_view yaml_text, std::string_view source) {
 }
 
 Airframe load_airframe(const std::filesystem::path& path) {
-  std::ifstream in = detail::open_for_read(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_airframe(text.str(), path.string());
+  return parse_airframe(detail::read_text_file(path), path.string());
 }
 
 }  // namespace touchdown::twin

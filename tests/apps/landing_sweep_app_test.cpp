@@ -13,23 +13,9 @@ using td::test::TempDir;
 
 namespace {
 
-struct AppRun {
-  int code = -1;
-  std::string out, err;
-};
+using td::test::AppRun;
 
-AppRun run(const std::string& args, const TempDir& dir) {
-  const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = std::string(LANDING_SWEEP_EXE) + " " + args + " >" + out.string() + " 2>" + err.string();
-  const int status = std::system(cmd.c_str());
-  AppRun r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = td::test::read_text(out);
-  r.err = td::test::read_text(err);
-  std::filesystem::remove(out);
-  std::filesystem::remove(err);
-  return r;
-}
+AppRun run(const std::string& args, const TempDir& dir) { return td::test::run_app(LANDING_SWEEP_EXE, args, dir); }
 
 // A flat 1.6 m square terrain mesh written as STL.
 std::string flat_stl(const TempDir& dir) {

@@ -14,23 +14,9 @@ using td::test::TempDir;
 
 namespace {
 
-struct AppRun {
-  int code = -1;
-  std::string out, err;
-};
+using td::test::AppRun;
 
-AppRun run(const std::string& args, const TempDir& dir) {
-  const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = std::string(TERRAIN_MESH_EXE) + " " + args + " >" + out.string() + " 2>" + err.string();
-  const int status = std::system(cmd.c_str());
-  AppRun r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = td::test::read_text(out);
-  r.err = td::test::read_text(err);
-  std::filesystem::remove(out);
-  std::filesystem::remove(err);
-  return r;
-}
+AppRun run(const std::string& args, const TempDir& dir) { return td::test::run_app(TERRAIN_MESH_EXE, args, dir); }
 
 // Expects exit 2, exactly one stderr line mentioning `file` and `problem`,
 // and no output file (nor a temporary) in the directory.

@@ -27,12 +27,7 @@ const Frame& frame() {
     syn::Shape shape;
     shape.kind = syn::ShapeKind::Rubble;
     shape.prepare();
-    syn::DepthCamera cam;
-    cam.width = 1280;
-    cam.height = 800;
-    cam.fx = cam.fy = 640;
-    cam.cx = 640;
-    cam.cy = 400;
+    const auto cam = syn::DepthCamera::centred(1280, 800, 640);
     fr.T_world_camera = syn::nadir_camera_pose(0, 0, 1.5);
     fr.camera = syn::render_depth_scan(shape, cam, fr.T_world_camera, 1);
     fr.world = fr.camera;

@@ -12,12 +12,7 @@ namespace syn = touchdown::terrain::synthetic;
 namespace {
 
 syn::DepthCamera ideal_camera() {
-  syn::DepthCamera cam;
-  cam.width = 160;
-  cam.height = 120;
-  cam.fx = cam.fy = 100;
-  cam.cx = 80;
-  cam.cy = 60;
+  auto cam = syn::DepthCamera::centred(160, 120, 100);
   cam.subpixel = 0;
   cam.dropout_fraction = 0;
   cam.outlier_fraction = 0;

@@ -89,12 +89,8 @@ TEST(TerrainMesher, PlateauMatchesAnalyticSurface) {
 TEST(TerrainMesher, RubbleGivesAClosedSolid) {
   syn::Shape s;
   s.kind = syn::ShapeKind::Rubble;
-  syn::DepthCamera half;  // the D435's 424 x 240 mode: ray-marching rubble is slow
-  half.width = 424;
-  half.height = 240;
-  half.fx = half.fy = 215;
-  half.cx = 212;
-  half.cy = 120;
+  // The D435's 424 x 240 mode: ray-marching rubble is slow.
+  const auto half = syn::DepthCamera::centred(424, 240, 215);
   const auto sc = scan(s, 4, half);
   tt::TerrainOptions o;
   o.T_world_camera = sc.T_world_camera;

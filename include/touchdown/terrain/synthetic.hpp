@@ -68,6 +68,18 @@ struct DepthCamera {
   double dropout_fraction = 0.01;  ///< pixels with no depth (NaN)
   double outlier_fraction = 0.002; ///< pixels with a spurious depth between the camera and the surface
   bool flying_pixels = true;       ///< mix depths across depth discontinuities
+
+  /// The same camera model at another resolution: `width` × `height` pixels,
+  /// focal length `focal` (fx = fy), principal point at the image centre.
+  [[nodiscard]] static DepthCamera centred(int width, int height, double focal) {
+    DepthCamera c;
+    c.width = width;
+    c.height = height;
+    c.fx = c.fy = focal;
+    c.cx = width / 2.0;
+    c.cy = height / 2.0;
+    return c;
+  }
 };
 
 /// Camera at `height_m` above (x, y) looking straight down, image x along

@@ -11,12 +11,7 @@ int main(int argc, char** argv) {
   }
   syn::Shape flat;
   flat.prepare();
-  syn::DepthCamera cam;
-  cam.width = 160;
-  cam.height = 120;
-  cam.fx = cam.fy = 100;
-  cam.cx = 80;
-  cam.cy = 60;
+  const auto cam = syn::DepthCamera::centred(160, 120, 100);
   touchdown::terrain::TerrainOptions options;
   options.T_world_camera = syn::nadir_camera_pose(0, 0, 1.0);
   const auto result =
