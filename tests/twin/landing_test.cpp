@@ -109,3 +109,16 @@ TEST(Landing, DeterministicForTheSameConditions) {
   EXPECT_EQ(a.steps, b.steps);
   EXPECT_EQ(a.final_position, b.final_position);
 }
+
+TEST(Landing, LeavingTheMappedTerrainIsInvalid) {
+  // A 0.5 m patch, and the twin started beside it over unmapped ground: the
+  // run is invalid at once (nothing is known there), never a landing.
+  const auto patch = analytic_terrain([](double, double) { return 0.0; }, 0.25, 0.05);
+  const auto af = tw::Airframe::f450();
+  const tw::LandingSimulator sim(af, patch, {});
+  tw::LandingConditions c;
+  c.landing_point = {0.6, 0.0};
+  const auto r = sim.land(c);
+  EXPECT_EQ(r.status, tw::RunStatus::Unstable);
+  EXPECT_FALSE(r.valid());
+}

@@ -120,3 +120,13 @@ TEST(Search, MovesOffAStepEdgeToASafePoint) {
   EXPECT_EQ(s.candidates.size(), 5u);  // centre and four neighbours at 0.3 m
   EXPECT_EQ(s.sweep.headings[static_cast<std::size_t>(s.sweep.best)].score, best.score);
 }
+
+TEST(Sweep, InclineScoresItsAngleAtEveryHeadingWithPerturbations) {
+  const double alpha = 10 * kDeg;
+  const auto slope = td::test::incline_terrain(alpha);
+  const auto r = tw::run_sweep(tw::Airframe::f450(), slope, small(5, 2));
+  for (const auto& h : r.headings) {
+    EXPECT_NEAR(h.score, alpha, 0.02) << h.yaw;
+    EXPECT_TRUE(h.safe);
+  }
+}
