@@ -219,12 +219,13 @@ int main(int argc, char** argv) {
       j["seconds"] = round6(r.seconds);
       j["landings_per_second"] = round6(lps);
       j["simulated_to_wall"] = round6(r.simulated_seconds / r.seconds);
+      j["run_simulated_to_wall"] = round6(r.run_sim_to_wall);
       std::cout << j.dump() << "\n";
     } else {
       std::cout << std::fixed << std::setprecision(3);
       std::cout << "landing_sweep: " << terrain_path << ", " << r.landings() << " landings (" << r.headings.size()
                 << " headings x " << r.rounds_completed << " runs) in " << r.seconds << " s (" << std::setprecision(0)
-                << lps << " landings/s)\n"
+                << lps << " landings/s; one landing simulates " << r.run_sim_to_wall << "x faster than real time)\n"
                 << std::setprecision(3) << "  safety threshold " << r.threshold.value() << " rad (tip-over "
                 << r.threshold.tip_rad << ", propeller strike " << r.threshold.prop_strike_rad << ")\n"
                 << "  heading   S(psi)   mean    touchdown  strikes tipped invalid  safe\n";

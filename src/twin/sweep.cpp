@@ -103,7 +103,9 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
   const std::size_t total = out.runs.size();
   auto fly = [&](std::size_t k) {
     auto& r = out.runs[k];
+    const auto start = std::chrono::steady_clock::now();
     r.result = sim.land(r.conditions);
+    r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (o.progress) {
       std::lock_guard<std::mutex> lock(progress_mutex);
       o.progress(++done, total);
@@ -181,6 +183,14 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
     }
   }
   out.safe = out.best >= 0 && out.headings[static_cast<std::size_t>(out.best)].safe;
+  std::vector<double> ratios;
+  for (const auto& r : out.runs) {
+    if (r.wall_seconds > 0) ratios.push_back(r.result.sim_time / r.wall_seconds);
+  }
+  if (!ratios.empty()) {
+    std::nth_element(ratios.begin(), ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2), ratios.end());
+    out.run_sim_to_wall = ratios[ratios.size() / 2];
+  }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

@@ -69,6 +69,7 @@ struct RunRecord {
   int heading = 0, run = 0;
   LandingConditions conditions;
   RunResult result;
+  double wall_seconds = 0;  ///< wall time of this run on its thread (not deterministic)
 };
 
 struct SweepResult {
@@ -82,6 +83,7 @@ struct SweepResult {
   double completeness = 0;             ///< rounds_completed / runs
   double seconds = 0;                  ///< wall time
   double simulated_seconds = 0;        ///< sum over runs
+  double run_sim_to_wall = 0;          ///< median over runs of simulated / wall time of one run
   [[nodiscard]] std::size_t landings() const { return runs.size(); }
 };
 
