@@ -10,6 +10,8 @@
 #include "touchdown/core/point_cloud.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/core/version.hpp"
+#include "touchdown/pose/gauss_newton.hpp"
+#include "touchdown/pose/se3.hpp"
 #include "touchdown/terrain/extrinsics.hpp"
 #include "touchdown/terrain/filters.hpp"
 #include "touchdown/terrain/height_map.hpp"

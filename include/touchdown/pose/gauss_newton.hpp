@@ -1,0 +1,58 @@
+#pragma once
+/// \file
+/// Gauss–Newton refinement of a camera pose from 2-D/3-D correspondences on
+/// SE(3) with the exponential-map parametrisation and analytic Jacobians
+/// (the non-robocentric landing paper's eq. 8), optionally with a Huber
+/// loss; reports the reprojection RMS and the pose covariance.
+///
+/// Allocation: none inside the iterations (normal equations are accumulated
+/// point by point into fixed-size 6×6 matrices). Thread-safe: pure functions.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <span>
+
+#include "touchdown/pose/se3.hpp"
+
+namespace touchdown::pose {
+
+/// Pinhole intrinsics in pixels (undistorted image coordinates).
+struct PinholeCamera {
+  double fx = 1, fy = 1, cx = 0, cy = 0;
+  [[nodiscard]] Eigen::Vector2d project(const Eigen::Vector3d& p_camera) const {
+    return {fx * p_camera.x() / p_camera.z() + cx, fy * p_camera.y() / p_camera.z() + cy};
+  }
+};
+
+struct GaussNewtonOptions {
+  int max_iterations = 20;
+  double step_tolerance = 1e-12;  ///< stop when |Δξ| falls below this
+  double huber_px = 0;            ///< Huber threshold [px]; 0 = plain least squares
+};
+
+enum class RefineStatus {
+  Converged,
+  MaxIterations,
+  Degenerate,  ///< fewer than 3 points, a point behind the camera, or singular normal equations
+};
+
+struct PoseRefinement {
+  RefineStatus status = RefineStatus::Degenerate;
+  Eigen::Isometry3d T_camera_body = Eigen::Isometry3d::Identity();
+  double rms_px = 0;       ///< reprojection RMS after the last step [px]
+  int iterations = 0;
+  Matrix6d covariance = Matrix6d::Zero();  ///< of the left-perturbation twist, σ² (JᵀWJ)⁻¹
+  [[nodiscard]] bool ok() const { return status != RefineStatus::Degenerate; }
+};
+
+/// Residual r = π(T p) − uv [px] and its Jacobian with respect to a left
+/// perturbation T ← exp(ξ^) T (2×6). False if p is behind the camera.
+bool reprojection_residual(const PinholeCamera& camera, const Eigen::Isometry3d& T_camera_body,
+                           const Eigen::Vector3d& p_body, const Eigen::Vector2d& uv_px, Eigen::Vector2d& residual,
+                           Eigen::Matrix<double, 2, 6>* jacobian);
+
+/// Refines `initial` (body → camera) to minimise the reprojection error.
+PoseRefinement refine_pose_gauss_newton(const PinholeCamera& camera, std::span<const Eigen::Vector3d> p_body,
+                                        std::span<const Eigen::Vector2d> uv_px, const Eigen::Isometry3d& initial,
+                                        const GaussNewtonOptions& options = {});
+
+}  // namespace touchdown::pose

@@ -1,0 +1,90 @@
+#include "touchdown/pose/gauss_newton.hpp"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+
+namespace touchdown::pose {
+
+bool reprojection_residual(const PinholeCamera& cam, const Eigen::Isometry3d& T, const Eigen::Vector3d& p_body,
+                           const Eigen::Vector2d& uv, Eigen::Vector2d& r, Eigen::Matrix<double, 2, 6>* J) {
+  const Eigen::Vector3d p = T * p_body;
+  if (!(p.z() > 1e-9)) return false;
+  const double iz = 1.0 / p.z();
+  r = Eigen::Vector2d(cam.fx * p.x() * iz + cam.cx, cam.fy * p.y() * iz + cam.cy) - uv;
+  if (J) {
+    // ∂π/∂p · ∂p/∂ξ, with ∂p/∂ξ = [I | −[p]×] for T ← exp(ξ^) T (eq. 8).
+    Eigen::Matrix<double, 2, 3> dpi;
+    dpi << cam.fx * iz, 0, -cam.fx * p.x() * iz * iz, 0, cam.fy * iz, -cam.fy * p.y() * iz * iz;
+    J->leftCols<3>() = dpi;
+    J->rightCols<3>() = -dpi * hat(p);
+  }
+  return true;
+}
+
+PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<const Eigen::Vector3d> p_body,
+                                        std::span<const Eigen::Vector2d> uv, const Eigen::Isometry3d& initial,
+                                        const GaussNewtonOptions& o) {
+  PoseRefinement out;
+  out.T_camera_body = initial;
+  const std::size_t n = p_body.size();
+  if (n < 3 || uv.size() != n) return out;
+  Eigen::Isometry3d T = initial;
+  Matrix6d H;
+  Vector6d g;
+  Eigen::Vector2d r;
+  Eigen::Matrix<double, 2, 6> J;
+  auto accumulate = [&](const Eigen::Isometry3d& pose, double& cost, bool with_jacobian) {
+    H.setZero();
+    g.setZero();
+    cost = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!reprojection_residual(cam, pose, p_body[i], uv[i], r, with_jacobian ? &J : nullptr)) return false;
+      const double e = r.norm();
+      double w = 1.0;
+      if (o.huber_px > 0 && e > o.huber_px) w = o.huber_px / e;  // IRLS weight of the Huber loss
+      cost += w * r.squaredNorm();
+      if (with_jacobian) {
+        H.noalias() += w * J.transpose() * J;
+        g.noalias() += w * J.transpose() * r;
+      }
+    }
+    return true;
+  };
+  double cost = 0;
+  out.status = RefineStatus::MaxIterations;
+  for (int it = 0; it < o.max_iterations; ++it) {
+    if (!accumulate(T, cost, true)) {
+      out.status = RefineStatus::Degenerate;
+      return out;
+    }
+    const Eigen::LDLT<Matrix6d> ldlt(H);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 1e-12 * H.diagonal().maxCoeff()).all()) {
+      out.status = RefineStatus::Degenerate;
+      return out;
+    }
+    const Vector6d dx = -ldlt.solve(g);
+    T = se3_exp(dx) * T;
+    out.iterations = it + 1;
+    if (dx.norm() < o.step_tolerance) {
+      out.status = RefineStatus::Converged;
+      break;
+    }
+  }
+  if (!accumulate(T, cost, true)) {
+    out.status = RefineStatus::Degenerate;
+    return out;
+  }
+  out.T_camera_body = T;
+  double sq = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    reprojection_residual(cam, T, p_body[i], uv[i], r, nullptr);
+    sq += r.squaredNorm();
+  }
+  out.rms_px = std::sqrt(sq / static_cast<double>(n));
+  const double dof = 2.0 * static_cast<double>(n) - 6.0;
+  const double sigma2 = dof > 0 ? cost / dof : 0.0;
+  out.covariance = sigma2 * H.ldlt().solve(Matrix6d::Identity());
+  return out;
+}
+
+}  // namespace touchdown::pose

@@ -1,0 +1,158 @@
+#include "touchdown/pose/gauss_newton.hpp"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+#include <vector>
+
+#include "touchdown/core/random.hpp"
+
+namespace tp = touchdown::pose;
+
+namespace {
+
+const tp::PinholeCamera kCamera{615.0, 612.0, 424.0, 240.0};
+
+enum class Shape { NonPlanar, Planar, QuasiPlanar };
+
+// An LED constellation on a drone (body frame, metres).
+std::vector<Eigen::Vector3d> constellation(Shape shape, touchdown::Rng& rng, int n = 6) {
+  std::vector<Eigen::Vector3d> p;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * i / n;
+    double z = 0;
+    if (shape == Shape::NonPlanar) z = rng.uniform(-0.08, 0.08);
+    if (shape == Shape::QuasiPlanar) z = rng.uniform(-0.003, 0.003);
+    p.emplace_back(0.2 * std::cos(a) + rng.uniform(-0.02, 0.02), 0.15 * std::sin(a) + rng.uniform(-0.02, 0.02), z);
+  }
+  return p;
+}
+
+Eigen::Isometry3d random_pose(touchdown::Rng& rng) {
+  tp::Vector6d xi;
+  xi << rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), 0, rng.uniform(-0.6, 0.6), rng.uniform(-0.6, 0.6),
+      rng.uniform(-3, 3);
+  Eigen::Isometry3d T = tp::se3_exp(xi);
+  T.translation().z() += rng.uniform(0.6, 3.0);  // 0.6 - 3 m in front of the camera
+  return T;
+}
+
+std::vector<Eigen::Vector2d> observe(const Eigen::Isometry3d& T, const std::vector<Eigen::Vector3d>& p,
+                                     touchdown::Rng& rng, double noise_px) {
+  std::vector<Eigen::Vector2d> uv;
+  for (const auto& q : p) uv.push_back(kCamera.project(T * q) + noise_px * Eigen::Vector2d(rng.normal(), rng.normal()));
+  return uv;
+}
+
+Eigen::Isometry3d perturb(const Eigen::Isometry3d& T, touchdown::Rng& rng) {
+  tp::Vector6d d;
+  for (int i = 0; i < 3; ++i) d[i] = rng.uniform(-0.05, 0.05);
+  for (int i = 3; i < 6; ++i) d[i] = rng.uniform(-0.12, 0.12);  // about 7°
+  return tp::se3_exp(d) * T;
+}
+
+}  // namespace
+
+TEST(GaussNewton, JacobianMatchesFiniteDifferences) {
+  touchdown::Rng rng(1);
+  for (int k = 0; k < 50; ++k) {
+    const auto T = random_pose(rng);
+    const Eigen::Vector3d p(rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2), rng.uniform(-0.1, 0.1));
+    const Eigen::Vector2d uv(rng.uniform(0, 848), rng.uniform(0, 480));
+    Eigen::Vector2d r;
+    Eigen::Matrix<double, 2, 6> J;
+    ASSERT_TRUE(tp::reprojection_residual(kCamera, T, p, uv, r, &J));
+    for (int i = 0; i < 6; ++i) {
+      tp::Vector6d d = tp::Vector6d::Zero();
+      d[i] = 1e-6;
+      Eigen::Vector2d rp, rm;
+      tp::reprojection_residual(kCamera, tp::se3_exp(d) * T, p, uv, rp, nullptr);
+      tp::reprojection_residual(kCamera, tp::se3_exp(-d) * T, p, uv, rm, nullptr);
+      const Eigen::Vector2d fd = (rp - rm) / 2e-6;
+      EXPECT_LT((fd - J.col(i)).norm(), 1e-5 * (1 + fd.norm())) << "column " << i;
+    }
+  }
+}
+
+TEST(GaussNewton, NoiselessPointsRecoverThePoseForEveryConstellationShape) {
+  touchdown::Rng rng(2);
+  for (Shape shape : {Shape::NonPlanar, Shape::Planar, Shape::QuasiPlanar}) {
+    for (int k = 0; k < 20; ++k) {
+      const auto p = constellation(shape, rng);
+      const auto T = random_pose(rng);
+      const auto uv = observe(T, p, rng, 0.0);
+      const auto r = tp::refine_pose_gauss_newton(kCamera, p, uv, perturb(T, rng));
+      ASSERT_EQ(r.status, tp::RefineStatus::Converged) << static_cast<int>(shape) << " " << k;
+      EXPECT_LT(r.rms_px, 1e-8);
+      EXPECT_LT((r.T_camera_body.translation() - T.translation()).norm(), 1e-9);
+      EXPECT_LT(tp::se3_log(r.T_camera_body * T.inverse()).tail<3>().norm(), 1e-9);
+    }
+  }
+}
+
+TEST(GaussNewton, AgreesWithOpenCvIterativeOnNoisyData) {
+  touchdown::Rng rng(4);
+  const cv::Matx33d K(kCamera.fx, 0, kCamera.cx, 0, kCamera.fy, kCamera.cy, 0, 0, 1);
+  for (int k = 0; k < 30; ++k) {
+    const auto p = constellation(Shape::NonPlanar, rng, 8);
+    const auto T = random_pose(rng);
+    const auto uv = observe(T, p, rng, 0.5);
+    const auto init = perturb(T, rng);
+    const auto ours = tp::refine_pose_gauss_newton(kCamera, p, uv, init);
+    ASSERT_TRUE(ours.ok());
+    // OpenCV's Levenberg–Marquardt (SOLVEPNP_ITERATIVE) from the same start.
+    std::vector<cv::Point3d> obj;
+    std::vector<cv::Point2d> img;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      obj.emplace_back(p[i].x(), p[i].y(), p[i].z());
+      img.emplace_back(uv[i].x(), uv[i].y());
+    }
+    cv::Mat R0, rvec, tvec;
+    cv::eigen2cv(Eigen::Matrix3d(init.linear()), R0);
+    cv::Rodrigues(R0, rvec);
+    tvec = (cv::Mat_<double>(3, 1) << init.translation().x(), init.translation().y(), init.translation().z());
+    ASSERT_TRUE(cv::solvePnP(obj, img, K, cv::noArray(), rvec, tvec, true, cv::SOLVEPNP_ITERATIVE));
+    cv::Mat Rcv;
+    cv::Rodrigues(rvec, Rcv);
+    Eigen::Matrix3d R;
+    cv::cv2eigen(Rcv, R);
+    Eigen::Isometry3d Tcv = Eigen::Isometry3d::Identity();
+    Tcv.linear() = R;
+    Tcv.translation() = Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+    EXPECT_LT((ours.T_camera_body.translation() - Tcv.translation()).norm(), 1e-6) << k;
+    EXPECT_LT(tp::se3_log(ours.T_camera_body * Tcv.inverse()).tail<3>().norm(), 1e-6) << k;
+    // The reported covariance is that of a real estimate: positive definite.
+    EXPECT_GT(ours.covariance.ldlt().vectorD().minCoeff(), 0);
+  }
+}
+
+TEST(GaussNewton, HuberLossResistsAnOutlier) {
+  touchdown::Rng rng(5);
+  const auto p = constellation(Shape::NonPlanar, rng, 8);
+  const auto T = random_pose(rng);
+  auto uv = observe(T, p, rng, 0.3);
+  uv[3] += Eigen::Vector2d(40, -25);  // a wrong correspondence
+  tp::GaussNewtonOptions robust;
+  robust.huber_px = 2.0;
+  robust.max_iterations = 50;
+  const auto plain = tp::refine_pose_gauss_newton(kCamera, p, uv, perturb(T, rng));
+  const auto huber = tp::refine_pose_gauss_newton(kCamera, p, uv, perturb(T, rng), robust);
+  ASSERT_TRUE(plain.ok());
+  ASSERT_TRUE(huber.ok());
+  EXPECT_LT((huber.T_camera_body.translation() - T.translation()).norm(),
+            0.5 * (plain.T_camera_body.translation() - T.translation()).norm());
+}
+
+TEST(GaussNewton, DegenerateInputIsAStatus) {
+  const std::vector<Eigen::Vector3d> two{{0, 0, 0}, {0.1, 0, 0}};
+  const std::vector<Eigen::Vector2d> uv{{424, 240}, {480, 240}};
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation().z() = 1;
+  EXPECT_EQ(tp::refine_pose_gauss_newton(kCamera, two, uv, T).status, tp::RefineStatus::Degenerate);
+  // Behind the camera.
+  const std::vector<Eigen::Vector3d> p{{0, 0, 0}, {0.1, 0, 0}, {0, 0.1, 0}, {0.1, 0.1, 0.05}};
+  const std::vector<Eigen::Vector2d> uv4{{424, 240}, {480, 240}, {424, 300}, {470, 290}};
+  T.translation().z() = -1;
+  EXPECT_EQ(tp::refine_pose_gauss_newton(kCamera, p, uv4, T).status, tp::RefineStatus::Degenerate);
+}
