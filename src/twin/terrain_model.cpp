@@ -86,7 +86,6 @@ double TerrainModel::max_z_near(const Eigen::AlignedBox3d& box) const {
 }
 
 void TerrainModel::triangles_overlapping(const Eigen::AlignedBox3d& box, std::vector<std::uint32_t>& out) const {
-  const std::size_t first = out.size();
   if (box.max().x() < bounds_.min.x() || box.min().x() > bounds_.max.x() || box.max().y() < bounds_.min.y() ||
       box.min().y() > bounds_.max.y() || box.min().z() > bounds_.max.z() || box.max().z() < bounds_.min.z()) {
     return;
@@ -111,7 +110,6 @@ void TerrainModel::triangles_overlapping(const Eigen::AlignedBox3d& box, std::ve
       }
     }
   }
-  (void)first;
 }
 
 std::optional<double> TerrainModel::top_z(double x, double y) const {
