@@ -1,6 +1,5 @@
 #include "touchdown/twin/sweep.hpp"
 
-#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
