@@ -20,3 +20,7 @@ find_package(PkgConfig REQUIRED)
 pkg_check_modules(ODE REQUIRED IMPORTED_TARGET ode)
 pkg_check_modules(CCD REQUIRED IMPORTED_TARGET ccd)
 find_package(TBB REQUIRED)
+# LED pose: OpenCV for image I/O, rendering and the ArUco baseline; Ceres
+# for the constellation bundle adjustment.
+find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs calib3d aruco)
+find_package(Ceres 2 REQUIRED)

@@ -94,4 +94,11 @@ inline std::string_view format_exact(float v, char (&buf)[32]) {
   return {buf, static_cast<std::size_t>(r.ptr - buf)};
 }
 
+/// Shortest decimal text that reads back to exactly `v`.
+inline std::string format_exact(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof(buf), v);
+  return {buf, static_cast<std::size_t>(r.ptr - buf)};
+}
+
 }  // namespace touchdown::detail

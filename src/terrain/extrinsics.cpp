@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "../core/io_util.hpp"
-#include "yaml_util.hpp"
+#include "../core/yaml_util.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::terrain {

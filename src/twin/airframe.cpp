@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "../core/io_util.hpp"
-#include "../terrain/yaml_util.hpp"
+#include "../core/yaml_util.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::twin {
@@ -200,50 +200,9 @@ bool Airframe::validate(std::string* why) const {
   return true;
 }
 
-namespace {
-
-struct Reader {
-  std::string_view source;
-
-  [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& what) const {
-    std::string where(source);
-    if (node.IsDefined() && node.Mark().line >= 0) where += ":" + std::to_string(node.Mark().line + 1);
-    throw ParseError(where + ": " + key + ": " + what);
-  }
-  YAML::Node child(const YAML::Node& map, const std::string& prefix, const std::string& key) const {
-    const YAML::Node n = map[key];
-    if (!n) fail(map, prefix + key, "missing");
-    return n;
-  }
-  double number(const YAML::Node& n, const std::string& key) const {
-    double v = 0;
-    if (!n.IsScalar() || !detail::parse_double(detail::trim(n.Scalar()), v) || !std::isfinite(v)) {
-      fail(n, key, "expected a number");
-    }
-    return v;
-  }
-  std::vector<double> numbers(const YAML::Node& n, const std::string& key) const {
-    if (!n.IsSequence()) fail(n, key, "expected a list of numbers");
-    std::vector<double> out;
-    for (std::size_t i = 0; i < n.size(); ++i) out.push_back(number(n[i], key));
-    return out;
-  }
-  void only(const YAML::Node& map, const std::string& prefix, std::initializer_list<const char*> keys) const {
-    if (!map.IsMap()) fail(map, prefix.empty() ? "<document>" : prefix.substr(0, prefix.size() - 1), "expected a mapping");
-    for (const auto& kv : map) {
-      const auto k = kv.first.as<std::string>();
-      if (std::none_of(keys.begin(), keys.end(), [&](const char* x) { return k == x; })) {
-        fail(kv.first, prefix + k, "unknown key");
-      }
-    }
-  }
-};
-
-}  // namespace
-
 Airframe parse_airframe(std::string_view yaml_text, std::string_view source) {
   const YAML::Node root = detail::load_yaml(yaml_text, source);
-  const Reader r{source};
+  const detail::YamlReader r{source};
   Airframe a;
   try {
     r.only(root, "", {"name", "body", "arms", "motors", "propellers", "landing_gear"});

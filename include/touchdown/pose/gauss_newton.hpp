@@ -11,17 +11,10 @@
 #include <Eigen/Geometry>
 #include <span>
 
+#include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/se3.hpp"
 
 namespace touchdown::pose {
-
-/// Pinhole intrinsics in pixels (undistorted image coordinates).
-struct PinholeCamera {
-  double fx = 1, fy = 1, cx = 0, cy = 0;
-  [[nodiscard]] Eigen::Vector2d project(const Eigen::Vector3d& p_camera) const {
-    return {fx * p_camera.x() / p_camera.z() + cx, fy * p_camera.y() / p_camera.z() + cy};
-  }
-};
 
 struct GaussNewtonOptions {
   int max_iterations = 20;

@@ -1,0 +1,63 @@
+#pragma once
+/// \file
+/// The LED constellation carried by the drone: LED positions in the body
+/// frame with their colour class, and where the ArUco marker of the baseline
+/// sits (docs/formats.md). Thread-safe: plain values.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace touchdown::pose {
+
+/// LED colour classes used to prune correspondences. `Unknown` is only a
+/// detection outcome (a blob whose hue fits no class); it matches any LED.
+enum class LedColor : std::uint8_t { Red, Green, Blue, White, Unknown };
+
+std::string_view to_string(LedColor color);
+std::optional<LedColor> led_color_from_string(std::string_view name);
+/// True if a blob classified as `detected` may be the LED of colour `led`.
+inline bool colors_compatible(LedColor led, LedColor detected) {
+  return detected == LedColor::Unknown || led == detected;
+}
+
+struct Led {
+  Eigen::Vector3d p_body = Eigen::Vector3d::Zero();  ///< [m], body frame
+  LedColor color = LedColor::White;
+};
+
+/// Largest constellation the tracker handles (fixed-size buffers).
+inline constexpr std::size_t kMaxLeds = 16;
+
+struct Constellation {
+  std::vector<Led> leds;
+  /// Pose of the baseline's ArUco marker in the body frame (marker frame as
+  /// OpenCV's aruco: z out of the marker face, x right, y up). Default: at
+  /// the body origin facing down (body z is up).
+  Eigen::Isometry3d T_body_marker = default_marker_pose();
+
+  static Eigen::Isometry3d default_marker_pose();
+  [[nodiscard]] Eigen::Vector3d centroid() const;
+  /// Mean distance of the LEDs from their centroid [m] (the scale the
+  /// detector's outlier test compares the detections' spread with).
+  [[nodiscard]] double mean_absolute_deviation() const;
+  /// Largest distance of an LED from the centroid [m].
+  [[nodiscard]] double radius() const;
+  /// True if all LEDs lie within `tolerance` [m] of one plane.
+  [[nodiscard]] bool planar(double tolerance = 1e-6) const;
+  /// Rejects fewer than 4 or more than kMaxLeds LEDs, duplicates (closer
+  /// than 1 mm) and collinear sets, naming the LED.
+  bool validate(std::string* why) const;
+};
+
+/// Parses the constellation YAML; throws ParseError "source:line: key: what".
+Constellation parse_constellation(std::string_view yaml_text, std::string_view source);
+Constellation load_constellation(const std::filesystem::path& path);
+/// The constellation as YAML (round-trips through parse_constellation).
+std::string constellation_to_yaml(const Constellation& constellation);
+
+}  // namespace touchdown::pose

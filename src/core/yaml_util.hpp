@@ -1,0 +1,73 @@
+#pragma once
+// yaml-cpp helpers shared by the YAML config readers (internal).
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <initializer_list>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "io_util.hpp"
+#include "touchdown/core/error.hpp"
+
+namespace touchdown::detail {
+
+/// Parses YAML text; syntax errors become ParseError "source:line: invalid YAML: ...".
+inline YAML::Node load_yaml(std::string_view text, std::string_view source) {
+  try {
+    return YAML::Load(std::string(text));
+  } catch (const YAML::Exception& e) {
+    throw ParseError(std::string(source) + ":" + std::to_string(e.mark.line + 1) + ": invalid YAML: " + e.msg);
+  }
+}
+
+/// Reads typed values out of a YAML tree; every failure is a ParseError
+/// "source:line: key: what".
+struct YamlReader {
+  std::string_view source;
+
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& what) const {
+    std::string where(source);
+    if (node.IsDefined() && node.Mark().line >= 0) where += ":" + std::to_string(node.Mark().line + 1);
+    throw ParseError(where + ": " + key + ": " + what);
+  }
+  YAML::Node child(const YAML::Node& map, const std::string& prefix, const std::string& key) const {
+    const YAML::Node n = map[key];
+    if (!n) fail(map, prefix + key, "missing");
+    return n;
+  }
+  double number(const YAML::Node& n, const std::string& key) const {
+    double v = 0;
+    if (!n.IsScalar() || !parse_double(trim(n.Scalar()), v) || !std::isfinite(v)) fail(n, key, "expected a number");
+    return v;
+  }
+  int integer(const YAML::Node& n, const std::string& key) const {
+    const double v = number(n, key);
+    if (v != std::floor(v) || std::abs(v) > 1e9) fail(n, key, "expected an integer");
+    return static_cast<int>(v);
+  }
+  std::vector<double> numbers(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsSequence()) fail(n, key, "expected a list of numbers");
+    std::vector<double> out;
+    for (std::size_t i = 0; i < n.size(); ++i) out.push_back(number(n[i], key));
+    return out;
+  }
+  std::string text(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsScalar()) fail(n, key, "expected a string");
+    return n.Scalar();
+  }
+  /// Fails on any key of `map` not in `keys` (catches typos).
+  void only(const YAML::Node& map, const std::string& prefix, std::initializer_list<const char*> keys) const {
+    if (!map.IsMap()) fail(map, prefix.empty() ? "<document>" : prefix.substr(0, prefix.size() - 1), "expected a mapping");
+    for (const auto& kv : map) {
+      const auto k = kv.first.as<std::string>();
+      if (std::none_of(keys.begin(), keys.end(), [&](const char* x) { return k == x; })) {
+        fail(kv.first, prefix + k, "unknown key");
+      }
+    }
+  }
+};
+
+}  // namespace touchdown::detail

@@ -1,0 +1,175 @@
+#include "touchdown/pose/constellation.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "../core/io_util.hpp"
+#include "../core/yaml_util.hpp"
+#include "touchdown/core/error.hpp"
+
+namespace touchdown::pose {
+
+std::string_view to_string(LedColor c) {
+  switch (c) {
+    case LedColor::Red: return "red";
+    case LedColor::Green: return "green";
+    case LedColor::Blue: return "blue";
+    case LedColor::White: return "white";
+    case LedColor::Unknown: break;
+  }
+  return "unknown";
+}
+
+std::optional<LedColor> led_color_from_string(std::string_view s) {
+  if (s == "red") return LedColor::Red;
+  if (s == "green") return LedColor::Green;
+  if (s == "blue") return LedColor::Blue;
+  if (s == "white") return LedColor::White;
+  return std::nullopt;
+}
+
+Eigen::Isometry3d Constellation::default_marker_pose() {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  return T;
+}
+
+Eigen::Vector3d Constellation::centroid() const {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& l : leds) c += l.p_body;
+  return leds.empty() ? c : Eigen::Vector3d(c / static_cast<double>(leds.size()));
+}
+
+double Constellation::mean_absolute_deviation() const {
+  if (leds.empty()) return 0;
+  const Eigen::Vector3d c = centroid();
+  double s = 0;
+  for (const auto& l : leds) s += (l.p_body - c).norm();
+  return s / static_cast<double>(leds.size());
+}
+
+double Constellation::radius() const {
+  const Eigen::Vector3d c = centroid();
+  double r = 0;
+  for (const auto& l : leds) r = std::max(r, (l.p_body - c).norm());
+  return r;
+}
+
+namespace {
+// Eigenvalues (ascending) of the LEDs' scatter matrix about the centroid.
+Eigen::Vector3d scatter_eigenvalues(const Constellation& k) {
+  const Eigen::Vector3d c = k.centroid();
+  Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+  for (const auto& l : k.leds) S += (l.p_body - c) * (l.p_body - c).transpose();
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(S, Eigen::EigenvaluesOnly).eigenvalues();
+}
+}  // namespace
+
+bool Constellation::planar(double tolerance) const {
+  if (leds.size() < 4) return true;
+  // Smallest eigenvalue = sum of squared distances to the best plane.
+  return scatter_eigenvalues(*this)(0) <= tolerance * tolerance * static_cast<double>(leds.size());
+}
+
+bool Constellation::validate(std::string* why) const {
+  auto fail = [&](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (leds.size() < 4) return fail("leds: need at least 4 LEDs for a pose, got " + std::to_string(leds.size()));
+  if (leds.size() > kMaxLeds) {
+    return fail("leds: at most " + std::to_string(kMaxLeds) + " LEDs are supported, got " + std::to_string(leds.size()));
+  }
+  for (std::size_t i = 0; i < leds.size(); ++i) {
+    if (!leds[i].p_body.allFinite()) return fail("leds[" + std::to_string(i) + "].xyz: not finite");
+    if (leds[i].color == LedColor::Unknown) return fail("leds[" + std::to_string(i) + "].color: must be a colour class");
+    for (std::size_t j = 0; j < i; ++j) {
+      if ((leds[i].p_body - leds[j].p_body).norm() < 1e-3) {
+        return fail("leds[" + std::to_string(i) + "]: duplicates leds[" + std::to_string(j) + "] (closer than 1 mm)");
+      }
+    }
+  }
+  // Collinear: all the spread along one axis (second eigenvalue ~ 0).
+  const Eigen::Vector3d ev = scatter_eigenvalues(*this);
+  if (ev(1) <= 1e-6 * ev(2) || ev(1) < 1e-8) return fail("leds: the LEDs are collinear: the pose about their line is unobservable");
+  return true;
+}
+
+Constellation parse_constellation(std::string_view yaml_text, std::string_view source) {
+  const YAML::Node root = detail::load_yaml(yaml_text, source);
+  const detail::YamlReader r{source};
+  Constellation k;
+  try {
+    r.only(root, "", {"name", "leds", "marker"});
+    const auto leds = r.child(root, "", "leds");
+    if (!leds.IsSequence()) r.fail(leds, "leds", "expected a list of {xyz: [x, y, z], color: red|green|blue|white}");
+    for (std::size_t i = 0; i < leds.size(); ++i) {
+      const std::string key = "leds[" + std::to_string(i) + "]";
+      r.only(leds[i], key + ".", {"xyz", "color"});
+      const auto xyz = r.numbers(r.child(leds[i], key + ".", "xyz"), key + ".xyz");
+      if (xyz.size() != 3) r.fail(leds[i]["xyz"], key + ".xyz", "expected 3 numbers");
+      Led led;
+      led.p_body = {xyz[0], xyz[1], xyz[2]};
+      if (leds[i]["color"]) {
+        const auto name = r.text(leds[i]["color"], key + ".color");
+        const auto c = led_color_from_string(name);
+        if (!c) r.fail(leds[i]["color"], key + ".color", "'" + name + "' is not red, green, blue or white");
+        led.color = *c;
+      }
+      k.leds.push_back(led);
+    }
+    if (root["marker"]) {
+      const auto m = root["marker"];
+      r.only(m, "marker.", {"xyz", "rpy_deg"});
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      if (m["xyz"]) {
+        const auto xyz = r.numbers(m["xyz"], "marker.xyz");
+        if (xyz.size() != 3) r.fail(m["xyz"], "marker.xyz", "expected 3 numbers");
+        T.translation() = Eigen::Vector3d(xyz[0], xyz[1], xyz[2]);
+      }
+      if (m["rpy_deg"]) {
+        const auto rpy = r.numbers(m["rpy_deg"], "marker.rpy_deg");
+        if (rpy.size() != 3) r.fail(m["rpy_deg"], "marker.rpy_deg", "expected 3 numbers");
+        constexpr double d = std::numbers::pi / 180.0;
+        T.linear() = (Eigen::AngleAxisd(rpy[2] * d, Eigen::Vector3d::UnitZ()) *
+                      Eigen::AngleAxisd(rpy[1] * d, Eigen::Vector3d::UnitY()) *
+                      Eigen::AngleAxisd(rpy[0] * d, Eigen::Vector3d::UnitX()))
+                         .toRotationMatrix();
+      } else {
+        T.linear() = Constellation::default_marker_pose().linear();
+      }
+      k.T_body_marker = T;
+    }
+  } catch (const YAML::Exception& e) {
+    throw ParseError(std::string(source) + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  std::string why;
+  if (!k.validate(&why)) throw ParseError(std::string(source) + ": " + why);
+  return k;
+}
+
+Constellation load_constellation(const std::filesystem::path& path) {
+  return parse_constellation(detail::read_text_file(path), path.string());
+}
+
+std::string constellation_to_yaml(const Constellation& k) {
+  using detail::format_exact;
+  std::ostringstream os;
+  os << "leds:\n";
+  for (const auto& l : k.leds) {
+    os << "  - {xyz: [" << format_exact(l.p_body.x()) << ", " << format_exact(l.p_body.y()) << ", "
+       << format_exact(l.p_body.z()) << "], color: " << to_string(l.color) << "}\n";
+  }
+  const Eigen::Vector3d t = k.T_body_marker.translation();
+  const Eigen::Vector3d ypr = k.T_body_marker.linear().eulerAngles(2, 1, 0) * (180.0 / std::numbers::pi);
+  os << "marker: {xyz: [" << format_exact(t.x()) << ", " << format_exact(t.y()) << ", " << format_exact(t.z())
+     << "], rpy_deg: [" << format_exact(ypr(2)) << ", " << format_exact(ypr(1)) << ", " << format_exact(ypr(0))
+     << "]}\n";
+  return os.str();
+}
+
+}  // namespace touchdown::pose
