@@ -6,53 +6,11 @@
 #include <opencv2/core/eigen.hpp>
 #include <vector>
 
+#include "pose/pose_test_util.hpp"
 #include "touchdown/core/random.hpp"
 
-namespace tp = touchdown::pose;
 
-namespace {
-
-const tp::PinholeCamera kCamera{615.0, 612.0, 424.0, 240.0};
-
-enum class Shape { NonPlanar, Planar, QuasiPlanar };
-
-// An LED constellation on a drone (body frame, metres).
-std::vector<Eigen::Vector3d> constellation(Shape shape, touchdown::Rng& rng, int n = 6) {
-  std::vector<Eigen::Vector3d> p;
-  for (int i = 0; i < n; ++i) {
-    const double a = 2 * M_PI * i / n;
-    double z = 0;
-    if (shape == Shape::NonPlanar) z = rng.uniform(-0.08, 0.08);
-    if (shape == Shape::QuasiPlanar) z = rng.uniform(-0.003, 0.003);
-    p.emplace_back(0.2 * std::cos(a) + rng.uniform(-0.02, 0.02), 0.15 * std::sin(a) + rng.uniform(-0.02, 0.02), z);
-  }
-  return p;
-}
-
-Eigen::Isometry3d random_pose(touchdown::Rng& rng) {
-  tp::Vector6d xi;
-  xi << rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), 0, rng.uniform(-0.6, 0.6), rng.uniform(-0.6, 0.6),
-      rng.uniform(-3, 3);
-  Eigen::Isometry3d T = tp::se3_exp(xi);
-  T.translation().z() += rng.uniform(0.6, 3.0);  // 0.6 - 3 m in front of the camera
-  return T;
-}
-
-std::vector<Eigen::Vector2d> observe(const Eigen::Isometry3d& T, const std::vector<Eigen::Vector3d>& p,
-                                     touchdown::Rng& rng, double noise_px) {
-  std::vector<Eigen::Vector2d> uv;
-  for (const auto& q : p) uv.push_back(kCamera.project(T * q) + noise_px * Eigen::Vector2d(rng.normal(), rng.normal()));
-  return uv;
-}
-
-Eigen::Isometry3d perturb(const Eigen::Isometry3d& T, touchdown::Rng& rng) {
-  tp::Vector6d d;
-  for (int i = 0; i < 3; ++i) d[i] = rng.uniform(-0.05, 0.05);
-  for (int i = 3; i < 6; ++i) d[i] = rng.uniform(-0.12, 0.12);  // about 7°
-  return tp::se3_exp(d) * T;
-}
-
-}  // namespace
+using namespace touchdown::pose_test;
 
 TEST(GaussNewton, JacobianMatchesFiniteDifferences) {
   touchdown::Rng rng(1);
