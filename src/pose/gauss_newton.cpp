@@ -74,6 +74,7 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
     out.status = RefineStatus::Degenerate;
     return out;
   }
+  T.linear() = Eigen::Quaterniond(T.linear()).normalized().toRotationMatrix();  // shed rounding drift
   out.T_camera_body = T;
   double sq = 0;
   for (std::size_t i = 0; i < n; ++i) {

@@ -1,0 +1,72 @@
+#pragma once
+/// \file
+/// LED blob detection in a low-exposure colour image (issue 4, item 1):
+/// threshold on the brightest channel, connected blobs (8-connectivity) by
+/// run-length labelling, sub-pixel centre by intensity weighting, mean colour
+/// as HSV and its LED colour class, and — with an aligned depth image — a
+/// distance gate and the back-projected 3-D centre.
+///
+/// Allocation: the detector keeps its buffers; once they have grown to the
+/// scene's needs, detect() does not allocate. Thread-safety: one detector
+/// per thread.
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "touchdown/pose/camera.hpp"
+#include "touchdown/pose/constellation.hpp"
+#include "touchdown/pose/image.hpp"
+
+namespace touchdown::pose {
+
+struct Blob {
+  Eigen::Vector2d uv_px = Eigen::Vector2d::Zero();           ///< centre in the (distorted) image [px]
+  Eigen::Vector2d uv_undistorted = Eigen::Vector2d::Zero();  ///< the same through the inverse distortion
+  double area = 0;       ///< pixels at or above the threshold
+  double intensity = 0;  ///< summed brightness above the background (the centre's weights)
+  Eigen::Vector3d hsv = Eigen::Vector3d::Zero();  ///< mean colour: H in degrees, S and V in [0, 1]
+  LedColor color = LedColor::Unknown;
+  bool has_point = false;                              ///< a valid depth was found at the centre
+  Eigen::Vector3d p_camera = Eigen::Vector3d::Zero();  ///< back-projected centre [m]
+};
+
+struct DetectorOptions {
+  int threshold = 200;          ///< a pixel is lit if its brightest channel reaches this [DN]
+  int background = 24;          ///< brightness subtracted for the centre's weights [DN]
+  int min_area = 1;             ///< smaller blobs are noise [px]
+  int max_area = 5000;          ///< larger blobs are lamps or reflections [px]
+  int refine_margin = 2;        ///< the centre and colour use the bounding box grown by this [px]
+  double white_saturation = 0.3;  ///< mean colour saturation below this is white
+  double min_depth = 0.15;      ///< depth gate [m] (blobs with a valid depth outside it are dropped)
+  double max_depth = 4.0;
+  int depth_window = 2;         ///< median of the valid depths in a (2w+1)² window
+  std::size_t max_blobs = 64;   ///< keep at most this many (the brightest)
+  bool validate(std::string* why) const;
+};
+
+/// Colour class of a mean colour (H in degrees, S, V in [0, 1]).
+LedColor classify_color(const Eigen::Vector3d& hsv, double white_saturation);
+/// HSV (H in degrees) of a BGR colour in [0, 255].
+Eigen::Vector3d bgr_to_hsv(const Eigen::Vector3d& bgr);
+
+class LedDetector {
+ public:
+  LedDetector(const CameraModel& camera, const DetectorOptions& options = {});
+  ~LedDetector();
+  LedDetector(LedDetector&&) noexcept;
+  LedDetector& operator=(LedDetector&&) noexcept;
+
+  /// Detects blobs, brightest first, into `out` (its storage is reused).
+  /// `depth` may be null; if given, it must have the colour image's size
+  /// (InvalidArgument otherwise).
+  void detect(const BgrImageView& colour, const DepthImageView* depth, std::vector<Blob>& out);
+
+  [[nodiscard]] const DetectorOptions& options() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace touchdown::pose

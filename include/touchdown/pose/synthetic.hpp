@@ -1,0 +1,197 @@
+#pragma once
+/// \file
+/// A synthetic camera for the LED pose pipeline: renders what the ground
+/// vehicle's low-exposure colour camera (with an aligned 16-bit depth image,
+/// RealSense-like) sees of a drone carrying an LED constellation, for tests,
+/// benchmarks and users without hardware; plus trajectories to render and a
+/// writer for image sequences (read back with sequence.hpp).
+///
+/// Image model (all in the struct defaults of RenderOptions):
+/// - background: a dark, noisy frame (level + Gaussian sensor noise);
+/// - LEDs: a Gaussian spot per LED whose sigma combines the optics blur and
+///   the LED's projected physical radius (so spots grow as the drone comes
+///   close), soft-saturating so that the core reaches the LED's core colour
+///   (255 in its dominant channel) and the fringe is dimmer; a wide faint
+///   bloom halo; smeared along the image motion during the exposure;
+/// - the ArUco marker of the baseline as a planar, ambient-lit printed card
+///   (dim: white ≈ 110 DN, below the LED threshold);
+/// - ceiling lamps as distractors: large bright blobs 4–6 m away;
+/// - depth: ceiling plane, the drone body (box + a disc around each LED),
+///   lamps; noise sigma = k·z², quantised to the camera's depth_scale, a
+///   fraction of invalid (zero) pixels.
+/// No occlusion model for LEDs (the body never hides an LED); lamps are hidden
+/// behind the drone's body.
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "touchdown/pose/camera.hpp"
+#include "touchdown/pose/constellation.hpp"
+#include "touchdown/pose/image.hpp"
+
+namespace touchdown::pose {
+
+/// Rendering parameters. Intensities in digital numbers (DN, 0–255),
+/// lengths in metres, image sizes in pixels.
+struct RenderOptions {
+  // --- sensor ---
+  double noise_sigma = 2.0;       ///< [DN] additive Gaussian sensor noise per channel
+  double background_level = 6.0;  ///< [DN] dark background (low exposure)
+
+  // --- LEDs ---
+  /// [m] physical radius of an LED's emitting area: its image radius
+  /// f·r/z widens the spot at short range.
+  double led_radius = 0.0025;
+  double optics_blur_sigma = 0.8;  ///< [px] smallest spot sigma (lens blur)
+  /// Unclipped spot peak relative to saturation (> 1: the core saturates to
+  /// the LED's core colour, the fringe falls off as a Gaussian). Core colours
+  /// (BGR): red (40, 50, 255), green (70, 255, 60), blue (255, 110, 40),
+  /// white (255, 255, 255).
+  double led_gain = 4.0;
+  double bloom_fraction = 0.1;  ///< peak of the wide halo relative to saturation
+  double bloom_sigma = 4.0;     ///< [px] halo sigma
+  /// Probability that an LED is missing from a frame (flicker, occlusion,
+  /// a lost detection); drawn per LED per frame.
+  double led_dropout_probability = 0.01;
+
+  // --- motion blur ---
+  /// [s] exposure time; the exposure is centred on the frame's pose and the
+  /// motion between the previous and the current pose is extrapolated at
+  /// constant velocity over it.
+  double exposure_s = 0.004;
+  double frame_rate_hz = 30.0;   ///< frame rate the previous pose was taken at
+  int motion_blur_samples = 5;   ///< poses summed over the exposure (1 = no blur)
+
+  // --- depth ---
+  /// Depth noise sigma = k·z² [m]; 0.0025 = 2.5 mm at 1 m (stereo depth).
+  double depth_noise_k = 0.0025;
+  double depth_invalid_fraction = 0.02;  ///< fraction of pixels with no depth (0)
+  double ceiling_distance = 5.5;         ///< [m] background plane (beyond the depth gate)
+  double body_half_size = 0.075;         ///< [m] the body box is 2·this square in x, y
+  double body_z_min = -0.05;             ///< [m] body box extent along body z
+  double body_z_max = 0.0;
+  double led_disc_radius = 0.015;  ///< [m] depth disc around each LED (its housing)
+
+  // --- distractors ---
+  /// Bright ceiling lamps (white or yellowish, larger than an LED, some
+  /// saturating) at random image positions fixed per seed, depth in
+  /// [distractor_min_depth, distractor_max_depth].
+  int distractor_count = 2;
+  double distractor_min_depth = 4.0;
+  double distractor_max_depth = 6.0;
+
+  // --- ArUco marker (baseline) ---
+  /// Rendered at Constellation::T_body_marker when it faces the camera, as a
+  /// printed card: the marker (side aruco_size, black border included, OpenCV
+  /// aruco's convention) on a white margin one cell wide.
+  bool render_marker = true;
+  std::string aruco_dictionary = "4X4_50";  ///< "NXN_M" (N 4–7, M 50/100/250/1000) or "ARUCO_ORIGINAL"
+  int aruco_id = 3;
+  double aruco_size = 0.10;     ///< [m] side of the marker's outer black square
+  double marker_white = 110.0;  ///< [DN] white of the card (below the LED threshold)
+  double marker_black = 12.0;   ///< [DN]
+
+  /// False with a reason naming the option if a value is out of range.
+  bool validate(std::string* why) const;
+};
+
+/// One rendered frame.
+struct RenderedFrame {
+  BgrImage colour;
+  DepthImage depth;              ///< aligned with `colour`, units of CameraModel::depth_scale
+  std::vector<bool> led_visible;  ///< per LED: drawn in this frame
+  bool marker_visible = false;    ///< the marker faces the camera and all its corners are in the image
+};
+
+/// Renders frames of a drone's constellation seen by a camera.
+///
+/// An LED is drawn when it is in front of the camera, projects (through
+/// CameraModel::project, i.e. with lens distortion) inside the image, was not
+/// dropped this frame, and emits toward the camera: LEDs emit into the
+/// hemisphere around body −z (downward, toward a camera below the drone).
+///
+/// Thread-safety: render() is const and may run concurrently on one
+/// instance (each thread uses its own scratch buffers). Allocation: after
+/// the first frame of a given size on a thread, render() reuses `out`'s and
+/// its scratch storage.
+class SyntheticCamera {
+ public:
+  /// Throws InvalidArgument naming the option when the camera, the
+  /// constellation or the options are invalid.
+  SyntheticCamera(CameraModel camera, Constellation constellation, RenderOptions options = {});
+  ~SyntheticCamera();
+  SyntheticCamera(SyntheticCamera&&) noexcept;
+  SyntheticCamera& operator=(SyntheticCamera&&) noexcept;
+  SyntheticCamera(const SyntheticCamera&) = delete;
+  SyntheticCamera& operator=(const SyntheticCamera&) = delete;
+
+  /// Renders the frame at `T_camera_body`. `T_camera_body_previous` is the
+  /// pose one frame earlier (1 / frame_rate_hz), for motion blur; pass the
+  /// same pose for none. Deterministic: the same (seed, frame_index) gives
+  /// byte-identical images on every platform (touchdown::Rng(seed,
+  /// frame_index)); lamp positions depend on the seed only.
+  void render(const Eigen::Isometry3d& T_camera_body, const Eigen::Isometry3d& T_camera_body_previous,
+              std::uint64_t seed, std::uint64_t frame_index, RenderedFrame& out) const;
+
+  [[nodiscard]] const CameraModel& camera() const;
+  [[nodiscard]] const Constellation& constellation() const;
+  [[nodiscard]] const RenderOptions& options() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// ---- trajectories -----------------------------------------------------------
+
+enum class TrajectoryKind {
+  /// The camera stands still; the drone hovers at ~6 hold points whose
+  /// distances spread evenly over [min_distance, max_distance] (frames split
+  /// evenly among them), with a few mm and ~0.5° of hovering jitter.
+  Static,
+  /// The distance sweeps smoothly min → max → min over the sequence, with
+  /// lateral motion, continuous yaw rotation and tilt up to ~20°, fast enough
+  /// to blur at short range.
+  Moving,
+};
+
+struct TrajectoryOptions {
+  double min_distance = 0.4;  ///< [m] camera–body distance
+  double max_distance = 3.0;  ///< [m]
+  double fps = 30;            ///< [Hz] sample rate
+  double margin_px = 16;      ///< every LED stays this far inside the image
+};
+
+struct TrajectorySample {
+  double t = 0;  ///< [s]
+  Eigen::Isometry3d T_camera_body = Eigen::Isometry3d::Identity();
+};
+
+/// A trajectory of the drone seen from a camera below it (body z ≈ camera
+/// +z, the drone's underside toward the camera) that keeps every LED inside
+/// the image by `margin_px` (the lateral offset, then the tilt, shrink where
+/// needed). Deterministic in `seed`. Throws InvalidArgument for invalid
+/// options (frames < 1, distances not 0 < min ≤ max, fps ≤ 0) or when the
+/// constellation cannot fit in the image at min_distance.
+std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, std::uint64_t seed,
+                                              const CameraModel& camera, const Constellation& constellation,
+                                              const TrajectoryOptions& options = {});
+
+// ---- sequences --------------------------------------------------------------
+
+/// Renders `samples` (frame i with Rng stream i, motion blur from sample
+/// i−1 unless the pose jumps by more than 0.1 m or 10° between samples) and
+/// writes into `out_dir`: NNNNNN.png (8-bit BGR), NNNNNN.depth.png (16-bit),
+/// ground_truth.jsonl (sequence.hpp), camera.yaml and constellation.yaml.
+/// The files are rendered into a staging directory next to `out_dir` and
+/// moved into place at the end, so a failure leaves no partial files.
+/// Throws InvalidArgument for invalid inputs, IoError when writing fails.
+void write_sequence(const std::filesystem::path& out_dir, const CameraModel& camera,
+                    const Constellation& constellation, std::span<const TrajectorySample> samples,
+                    const RenderOptions& options, std::uint64_t seed);
+
+}  // namespace touchdown::pose

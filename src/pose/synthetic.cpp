@@ -1,0 +1,938 @@
+#include "touchdown/pose/synthetic.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <numbers>
+#include <opencv2/aruco.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+#include <utility>
+
+#include "touchdown/core/error.hpp"
+#include "touchdown/core/random.hpp"
+#include "touchdown/pose/se3.hpp"
+#include "touchdown/pose/sequence.hpp"
+
+namespace touchdown::pose {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kMaxBlurSamples = 32;
+constexpr double kMinDepth = 0.01;  // [m] points closer to the camera plane are not drawn
+
+struct Bgr {
+  float b, g, r;
+};
+
+// Core colours of the LED classes at saturation (BGR, DN).
+Bgr core_colour(LedColor c) {
+  switch (c) {
+    case LedColor::Red: return {40, 50, 255};
+    case LedColor::Green: return {70, 255, 60};
+    case LedColor::Blue: return {255, 110, 40};
+    case LedColor::White:
+    case LedColor::Unknown: break;
+  }
+  return {255, 255, 255};
+}
+
+struct ArucoDictionary {
+  int cv_id = 0;    // cv::aruco::PREDEFINED_DICTIONARY_NAME
+  int codes = 0;    // markers in the dictionary
+  int bits = 0;     // marker side in bits (without the border)
+};
+
+// "4X4_50" (optionally "DICT_4X4_50"), ... "7X7_1000", "ARUCO_ORIGINAL".
+std::optional<ArucoDictionary> parse_aruco_dictionary(std::string_view name) {
+  if (name.substr(0, 5) == "DICT_") name.remove_prefix(5);
+  if (name == "ARUCO_ORIGINAL") return ArucoDictionary{cv::aruco::DICT_ARUCO_ORIGINAL, 1024, 5};
+  if (name.size() < 6 || name[1] != 'X' || name[0] != name[2] || name[3] != '_') return std::nullopt;
+  const int bits = name[0] - '0';
+  if (bits < 4 || bits > 7) return std::nullopt;
+  const std::string_view count = name.substr(4);
+  constexpr std::array<std::pair<std::string_view, int>, 4> counts{
+      {{"50", 50}, {"100", 100}, {"250", 250}, {"1000", 1000}}};
+  for (int i = 0; i < 4; ++i) {
+    if (counts[static_cast<std::size_t>(i)].first == count) {
+      // The enum lists 4X4_50, 4X4_100, 4X4_250, 4X4_1000, 5X5_50, ...
+      return ArucoDictionary{(bits - 4) * 4 + i, counts[static_cast<std::size_t>(i)].second, bits};
+    }
+  }
+  return std::nullopt;
+}
+
+// 4096 standard normal draws: per-pixel noise is a table lookup indexed by
+// 12 random bits (the table stays in L1 cache), much faster than
+// Box–Muller per pixel and as deterministic (a fixed-seed Rng fills it).
+constexpr std::size_t kTableMask = 4095;
+const std::vector<float>& normal_table() {
+  static const std::vector<float> table = [] {
+    std::vector<float> t(kTableMask + 1);
+    Rng rng(0x6e6f697365ull /* "noise" */, 0);
+    double mean = 0, var = 0;
+    std::vector<double> d(t.size());
+    for (auto& v : d) v = rng.normal(), mean += v;
+    mean /= static_cast<double>(d.size());
+    for (double v : d) var += (v - mean) * (v - mean);
+    const double sd = std::sqrt(var / static_cast<double>(d.size()));
+    // Exactly zero mean and unit variance, so that noise_sigma is what it says.
+    for (std::size_t i = 0; i < d.size(); ++i) t[i] = static_cast<float>((d[i] - mean) / sd);
+    return t;
+  }();
+  return table;
+}
+
+// Per-thread scratch buffers, so that render() is const, thread-safe and
+// allocation-free in steady state.
+struct Scratch {
+  std::vector<float> signal;  // BGR light added to the background [DN]
+  std::vector<float> zbuf;    // nearest body/lamp depth [m]; +inf = none
+  cv::Mat window;             // CV_32F marker window
+  cv::Mat blurred;
+  bool clean = false;  // signal all 0 and zbuf all +inf
+};
+
+Scratch& scratch() {
+  thread_local Scratch s;
+  return s;
+}
+
+// One colour value: background + light + noise, rounded and clipped [DN].
+inline std::uint8_t colour_dn(float background, float light, float noise) {
+  const float v = std::clamp(background + light + noise, 0.0f, 255.0f);
+  return static_cast<std::uint8_t>(v + 0.5f);
+}
+
+// One depth value: z + k·z²·n quantised to the depth unit; 0 (invalid) when
+// not positive, saturating at 65535.
+inline std::uint16_t depth_units(float z, float k, float n, float inv_scale) {
+  z += k * z * z * n;
+  const float q = z * inv_scale + 0.5f;
+  return q < 1 ? std::uint16_t{0} : q >= 65535 ? std::uint16_t{65535} : static_cast<std::uint16_t>(q);
+}
+
+struct Window {
+  int x0 = 0, y0 = 0, x1 = -1, y1 = -1;  // inclusive
+  [[nodiscard]] bool empty() const { return x1 < x0 || y1 < y0; }
+};
+
+Window clip_window(double umin, double vmin, double umax, double vmax, int w, int h) {
+  Window r;
+  if (!(umin <= umax) || !(vmin <= vmax)) return r;  // also NaN
+  const double lo_u = std::max(umin, -1.0), lo_v = std::max(vmin, -1.0);
+  const double hi_u = std::min(umax, static_cast<double>(w)), hi_v = std::min(vmax, static_cast<double>(h));
+  if (lo_u > hi_u || lo_v > hi_v) return r;
+  r.x0 = std::max(0, static_cast<int>(std::floor(lo_u)));
+  r.y0 = std::max(0, static_cast<int>(std::floor(lo_v)));
+  r.x1 = std::min(w - 1, static_cast<int>(std::ceil(hi_u)));
+  r.y1 = std::min(h - 1, static_cast<int>(std::ceil(hi_v)));
+  return r;
+}
+
+}  // namespace
+
+// ---- options -----------------------------------------------------------------
+
+bool RenderOptions::validate(std::string* why) const {
+  auto fail = [&](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  auto finite_nonneg = [](double v) { return std::isfinite(v) && v >= 0; };
+  auto positive = [](double v) { return std::isfinite(v) && v > 0; };
+  if (!finite_nonneg(noise_sigma) || noise_sigma > 100) return fail("noise_sigma: must be in [0, 100] DN");
+  if (!finite_nonneg(background_level) || background_level > 255) return fail("background_level: must be in [0, 255] DN");
+  if (!finite_nonneg(led_radius) || led_radius > 0.1) return fail("led_radius: must be in [0, 0.1] m");
+  if (!positive(optics_blur_sigma) || optics_blur_sigma > 20) return fail("optics_blur_sigma: must be in (0, 20] px");
+  if (!positive(led_gain) || led_gain > 1000) return fail("led_gain: must be in (0, 1000]");
+  if (!finite_nonneg(bloom_fraction) || bloom_fraction > 1) return fail("bloom_fraction: must be in [0, 1]");
+  if (!positive(bloom_sigma) || bloom_sigma > 50) return fail("bloom_sigma: must be in (0, 50] px");
+  if (!(led_dropout_probability >= 0 && led_dropout_probability <= 1)) {
+    return fail("led_dropout_probability: must be in [0, 1]");
+  }
+  if (!finite_nonneg(exposure_s) || exposure_s > 1) return fail("exposure_s: must be in [0, 1] s");
+  if (!positive(frame_rate_hz) || frame_rate_hz > 10000) return fail("frame_rate_hz: must be in (0, 10000] Hz");
+  if (exposure_s * frame_rate_hz > 1) return fail("exposure_s: longer than the frame interval 1/frame_rate_hz");
+  if (motion_blur_samples < 1 || motion_blur_samples > kMaxBlurSamples) {
+    return fail("motion_blur_samples: must be in 1.." + std::to_string(kMaxBlurSamples));
+  }
+  if (!finite_nonneg(depth_noise_k) || depth_noise_k > 1) return fail("depth_noise_k: must be in [0, 1] 1/m");
+  if (!(depth_invalid_fraction >= 0 && depth_invalid_fraction <= 1)) {
+    return fail("depth_invalid_fraction: must be in [0, 1]");
+  }
+  if (!positive(ceiling_distance) || ceiling_distance > 1000) return fail("ceiling_distance: must be in (0, 1000] m");
+  if (!finite_nonneg(body_half_size) || body_half_size > 10) return fail("body_half_size: must be in [0, 10] m");
+  if (!std::isfinite(body_z_min) || !std::isfinite(body_z_max) || body_z_min > body_z_max) {
+    return fail("body_z_min: must be finite and <= body_z_max");
+  }
+  if (!finite_nonneg(led_disc_radius) || led_disc_radius > 1) return fail("led_disc_radius: must be in [0, 1] m");
+  if (distractor_count < 0 || distractor_count > 100) return fail("distractor_count: must be in 0..100");
+  if (!positive(distractor_min_depth) || !std::isfinite(distractor_max_depth) ||
+      distractor_max_depth < distractor_min_depth) {
+    return fail("distractor_min_depth: must be positive and <= distractor_max_depth");
+  }
+  const auto dict = parse_aruco_dictionary(aruco_dictionary);
+  if (!dict) {
+    return fail("aruco_dictionary: unknown dictionary '" + aruco_dictionary +
+                "' (expected e.g. 4X4_50, 5X5_100, 6X6_250, 7X7_1000 or ARUCO_ORIGINAL)");
+  }
+  if (aruco_id < 0 || aruco_id >= dict->codes) {
+    return fail("aruco_id: must be in 0.." + std::to_string(dict->codes - 1) + " for " + aruco_dictionary);
+  }
+  if (!positive(aruco_size) || aruco_size > 10) return fail("aruco_size: must be in (0, 10] m");
+  if (!finite_nonneg(marker_white) || marker_white > 255) return fail("marker_white: must be in [0, 255] DN");
+  if (!finite_nonneg(marker_black) || marker_black > marker_white) {
+    return fail("marker_black: must be in [0, marker_white] DN");
+  }
+  return true;
+}
+
+// ---- the camera ----------------------------------------------------------------
+
+struct SyntheticCamera::Impl {
+  CameraModel camera;
+  Constellation constellation;
+  RenderOptions options;
+  /// Undistorted normalised ray (x/z, y/z) of every pixel centre; only with
+  /// lens distortion (otherwise computed on the fly).
+  std::vector<float> rays;
+  /// The printed card, one byte per cell (255 white, 0 black): the marker
+  /// with its black border, surrounded by one white cell.
+  std::vector<std::uint8_t> card;
+  int card_cells = 0;
+  /// Precomputed outputs for the common pixels, indexed like the normal
+  /// table: background + noise (no light), and the ceiling's noisy depth.
+  std::array<std::uint8_t, 4096> background_dn{};
+  std::array<std::uint16_t, 4096> ceiling_depth{};
+  double cell_size = 0;  // [m]
+
+  /// Normalised ray through the (sub)pixel (u, v).
+  [[nodiscard]] Eigen::Vector2d ray(double u, double v) const {
+    if (rays.empty()) return {(u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy};
+    // Bilinear interpolation of the per-pixel map (smooth, so exact enough
+    // for sub-pixel samples); clamped at the image border.
+    const int w = camera.width, h = camera.height;
+    const double uc = std::clamp(u, 0.0, static_cast<double>(w - 1));
+    const double vc = std::clamp(v, 0.0, static_cast<double>(h - 1));
+    const int x0 = std::min(static_cast<int>(uc), std::max(w - 2, 0));
+    const int y0 = std::min(static_cast<int>(vc), std::max(h - 2, 0));
+    const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
+    const double fx = uc - x0, fy = vc - y0;
+    auto at = [&](int x, int y, int c) {
+      return static_cast<double>(rays[2 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + x) + c]);
+    };
+    Eigen::Vector2d r;
+    for (int c = 0; c < 2; ++c) {
+      r[c] = (1 - fy) * ((1 - fx) * at(x0, y0, c) + fx * at(x1, y0, c)) + fy * ((1 - fx) * at(x0, y1, c) + fx * at(x1, y1, c));
+    }
+    return r;
+  }
+
+  [[nodiscard]] bool in_image(const Eigen::Vector2d& uv) const {
+    return uv.x() >= 0 && uv.y() >= 0 && uv.x() <= camera.width - 1 && uv.y() <= camera.height - 1;
+  }
+
+  void render_depth_body(const Eigen::Isometry3d& T, std::vector<float>& zbuf) const;
+  void render_lamps(std::uint64_t seed, std::vector<float>& signal, std::vector<float>& zbuf) const;
+  void render_leds(const Eigen::Isometry3d* poses, int n, Rng& dropout_rng, std::vector<float>& signal,
+                   std::vector<bool>& visible) const;
+  bool render_marker(const Eigen::Isometry3d* poses, int n, std::vector<float>& signal, Scratch& s) const;
+};
+
+SyntheticCamera::SyntheticCamera(CameraModel camera, Constellation constellation, RenderOptions options)
+    : impl_(std::make_unique<Impl>()) {
+  std::string why;
+  if (!camera.validate(&why)) throw InvalidArgument("SyntheticCamera: camera: " + why);
+  if (!constellation.validate(&why)) throw InvalidArgument("SyntheticCamera: constellation: " + why);
+  if (!options.validate(&why)) throw InvalidArgument("SyntheticCamera: options: " + why);
+  impl_->camera = std::move(camera);
+  impl_->constellation = std::move(constellation);
+  impl_->options = std::move(options);
+  const CameraModel& c = impl_->camera;
+  if (c.has_distortion()) {
+    impl_->rays.resize(2 * static_cast<std::size_t>(c.width) * static_cast<std::size_t>(c.height));
+    std::size_t i = 0;
+    for (int y = 0; y < c.height; ++y) {
+      for (int x = 0; x < c.width; ++x) {
+        const Eigen::Vector2d p = c.undistort(Eigen::Vector2d(x, y));
+        impl_->rays[i++] = static_cast<float>((p.x() - c.cx) / c.fx);
+        impl_->rays[i++] = static_cast<float>((p.y() - c.cy) / c.fy);
+      }
+    }
+  }
+  const RenderOptions& o = impl_->options;
+  const std::vector<float>& table = normal_table();
+  for (std::size_t i = 0; i < table.size(); ++i) {
+    impl_->background_dn[i] = colour_dn(static_cast<float>(o.background_level), 0.0f, static_cast<float>(o.noise_sigma) * table[i]);
+    impl_->ceiling_depth[i] = depth_units(static_cast<float>(o.ceiling_distance), static_cast<float>(o.depth_noise_k),
+                                          table[i], static_cast<float>(1 / c.depth_scale));
+  }
+  const ArucoDictionary dict = *parse_aruco_dictionary(o.aruco_dictionary);
+  const int side = dict.bits + 2;  // marker cells including the black border
+  cv::Mat marker;
+  cv::aruco::drawMarker(cv::aruco::getPredefinedDictionary(dict.cv_id), o.aruco_id, side, marker, 1);
+  impl_->card_cells = side + 2;
+  impl_->cell_size = o.aruco_size / side;
+  impl_->card.assign(static_cast<std::size_t>(impl_->card_cells * impl_->card_cells), 255);
+  for (int r = 0; r < side; ++r) {
+    for (int col = 0; col < side; ++col) {
+      impl_->card[static_cast<std::size_t>((r + 1) * impl_->card_cells + col + 1)] = marker.at<std::uint8_t>(r, col);
+    }
+  }
+}
+
+SyntheticCamera::~SyntheticCamera() = default;
+SyntheticCamera::SyntheticCamera(SyntheticCamera&&) noexcept = default;
+SyntheticCamera& SyntheticCamera::operator=(SyntheticCamera&&) noexcept = default;
+const CameraModel& SyntheticCamera::camera() const { return impl_->camera; }
+const Constellation& SyntheticCamera::constellation() const { return impl_->constellation; }
+const RenderOptions& SyntheticCamera::options() const { return impl_->options; }
+
+void SyntheticCamera::Impl::render_depth_body(const Eigen::Isometry3d& T, std::vector<float>& zbuf) const {
+  const RenderOptions& o = options;
+  const int w = camera.width, h = camera.height;
+  // The body box, by ray–box intersection in the body frame (slab method,
+  // Kay & Kajiya 1986) over the bounding box of its projected corners.
+  const Eigen::Vector3d lo(-o.body_half_size, -o.body_half_size, o.body_z_min);
+  const Eigen::Vector3d hi(o.body_half_size, o.body_half_size, o.body_z_max);
+  double umin = 1e300, vmin = 1e300, umax = -1e300, vmax = -1e300;
+  bool in_front = o.body_half_size > 0;
+  for (int i = 0; i < 8 && in_front; ++i) {
+    const Eigen::Vector3d p_body(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+    const Eigen::Vector3d p = T * p_body;
+    if (p.z() < kMinDepth) {
+      in_front = false;
+      break;
+    }
+    const Eigen::Vector2d uv = camera.project(p);
+    umin = std::min(umin, uv.x()), umax = std::max(umax, uv.x());
+    vmin = std::min(vmin, uv.y()), vmax = std::max(vmax, uv.y());
+  }
+  if (in_front) {
+    // A few pixels of slack: with distortion the box's edges bow outward.
+    const Window win = clip_window(umin - 3, vmin - 3, umax + 3, vmax + 3, w, h);
+    const Eigen::Matrix3d Rt = T.linear().transpose();
+    const Eigen::Vector3d o_body = -(Rt * T.translation());
+    for (int y = win.y0; y <= win.y1; ++y) {
+      for (int x = win.x0; x <= win.x1; ++x) {
+        const Eigen::Vector2d r = ray(x, y);
+        const Eigen::Vector3d d = Rt * Eigen::Vector3d(r.x(), r.y(), 1.0);  // camera z = 1: t is the depth
+        double t0 = -1e300, t1 = 1e300;
+        bool hit = true;
+        for (int a = 0; a < 3 && hit; ++a) {
+          if (std::abs(d[a]) < 1e-12) {
+            hit = o_body[a] >= lo[a] && o_body[a] <= hi[a];
+            continue;
+          }
+          double ta = (lo[a] - o_body[a]) / d[a], tb = (hi[a] - o_body[a]) / d[a];
+          if (ta > tb) std::swap(ta, tb);
+          t0 = std::max(t0, ta);
+          t1 = std::min(t1, tb);
+          hit = t0 <= t1;
+        }
+        if (!hit || t0 <= kMinDepth) continue;
+        float& z = zbuf[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + x];
+        z = std::min(z, static_cast<float>(t0));
+      }
+    }
+  }
+  // A fronto-parallel disc around each LED at the LED's depth (its housing
+  // and the arm under it), whether or not the LED is lit.
+  for (const Led& led : constellation.leds) {
+    const Eigen::Vector3d p = T * led.p_body;
+    if (p.z() < kMinDepth || o.led_disc_radius <= 0) continue;
+    const Eigen::Vector2d uv = camera.project(p);
+    const double r = camera.fx * o.led_disc_radius / p.z();
+    const Window win = clip_window(uv.x() - r, uv.y() - r, uv.x() + r, uv.y() + r, w, h);
+    const auto z = static_cast<float>(p.z());
+    for (int y = win.y0; y <= win.y1; ++y) {
+      for (int x = win.x0; x <= win.x1; ++x) {
+        const double dx = x - uv.x(), dy = y - uv.y();
+        if (dx * dx + dy * dy > r * r) continue;
+        float& zb = zbuf[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + x];
+        zb = std::min(zb, z);
+      }
+    }
+  }
+}
+
+void SyntheticCamera::Impl::render_lamps(std::uint64_t seed, std::vector<float>& signal,
+                                         std::vector<float>& zbuf) const {
+  const RenderOptions& o = options;
+  const int w = camera.width, h = camera.height;
+  // Lamps are fixed per seed (a stream no frame index uses in practice).
+  Rng rng(seed, 0xFFFFFFFFFFFF1A3Bull);
+  for (int i = 0; i < o.distractor_count; ++i) {
+    const double u = rng.uniform(0, w), v = rng.uniform(0, h);
+    const double z = rng.uniform(o.distractor_min_depth, o.distractor_max_depth);
+    const double radius = rng.uniform(6, 14);  // [px] larger than any LED spot
+    const double gain = rng.uniform(0.6, 3.0);  // >= 1 saturates the core
+    const bool yellowish = rng.uniform() < 0.5;
+    const Bgr c = yellowish ? Bgr{150, 225, 255} : Bgr{255, 255, 255};
+    const double sigma = radius / 2;
+    const double inv2s2 = 1 / (2 * sigma * sigma);
+    const double extent = 3 * sigma;
+    const Window win = clip_window(u - extent, v - extent, u + extent, v + extent, w, h);
+    const auto zf = static_cast<float>(z);
+    for (int y = win.y0; y <= win.y1; ++y) {
+      for (int x = win.x0; x <= win.x1; ++x) {
+        const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + x;
+        if (zbuf[p] < zf) continue;  // hidden behind the drone (or a nearer lamp)
+        const double d2 = (x - u) * (x - u) + (y - v) * (y - v);
+        const auto e = static_cast<float>(std::min(1.0, gain * std::exp(-d2 * inv2s2)));
+        signal[3 * p] += c.b * e;
+        signal[3 * p + 1] += c.g * e;
+        signal[3 * p + 2] += c.r * e;
+      }
+    }
+    for (int y = win.y0; y <= win.y1; ++y) {
+      for (int x = win.x0; x <= win.x1; ++x) {
+        const double d2 = (x - u) * (x - u) + (y - v) * (y - v);
+        if (d2 > radius * radius) continue;
+        float& zb = zbuf[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + x];
+        zb = std::min(zb, zf);
+      }
+    }
+  }
+}
+
+void SyntheticCamera::Impl::render_leds(const Eigen::Isometry3d* poses, int n, Rng& dropout_rng,
+                                        std::vector<float>& signal, std::vector<bool>& visible) const {
+  const RenderOptions& o = options;
+  const int w = camera.width, h = camera.height;
+  const Eigen::Isometry3d& T = poses[n / 2];  // the frame's pose (centre of the exposure)
+  std::array<Eigen::Vector2d, kMaxBlurSamples> centres;
+  visible.assign(constellation.leds.size(), false);
+  for (std::size_t i = 0; i < constellation.leds.size(); ++i) {
+    const Led& led = constellation.leds[i];
+    const bool dropped = dropout_rng.uniform() < o.led_dropout_probability;  // drawn for every LED: stable streams
+    const Eigen::Vector3d p = T * led.p_body;
+    if (dropped || p.z() < kMinDepth) continue;
+    const Eigen::Vector2d uv = camera.project(p);
+    if (!in_image(uv)) continue;
+    // Emission into the hemisphere around body −z: the direction from the
+    // LED to the camera, in the body frame, must point down.
+    if ((T.linear().transpose() * (-p)).z() >= 0) continue;
+    visible[i] = true;
+    // Spot: the LED's image disc (radius f·r/z, variance r²/4 per axis)
+    // convolved with the optics' Gaussian blur.
+    const double r_px = camera.fx * o.led_radius / p.z();
+    const double sigma = std::sqrt(o.optics_blur_sigma * o.optics_blur_sigma + r_px * r_px / 4);
+    double umin = uv.x(), umax = uv.x(), vmin = uv.y(), vmax = uv.y();
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector3d pk = poses[k] * led.p_body;
+      centres[static_cast<std::size_t>(k)] = pk.z() >= kMinDepth ? camera.project(pk) : uv;
+      umin = std::min(umin, centres[static_cast<std::size_t>(k)].x());
+      umax = std::max(umax, centres[static_cast<std::size_t>(k)].x());
+      vmin = std::min(vmin, centres[static_cast<std::size_t>(k)].y());
+      vmax = std::max(vmax, centres[static_cast<std::size_t>(k)].y());
+    }
+    const double extent = 3.5 * std::max(sigma, o.bloom_fraction > 0 ? o.bloom_sigma : 0.0);
+    const Window win = clip_window(umin - extent, vmin - extent, umax + extent, vmax + extent, w, h);
+    const Bgr c = core_colour(led.color);
+    const double inv2s2 = 1 / (2 * sigma * sigma), inv2b2 = 1 / (2 * o.bloom_sigma * o.bloom_sigma);
+    const double gain = o.led_gain / n, bloom = o.bloom_fraction / n;
+    for (int y = win.y0; y <= win.y1; ++y) {
+      for (int x = win.x0; x <= win.x1; ++x) {
+        double e = 0, b = 0;
+        for (int k = 0; k < n; ++k) {
+          const double dx = x - centres[static_cast<std::size_t>(k)].x(), dy = y - centres[static_cast<std::size_t>(k)].y();
+          const double d2 = dx * dx + dy * dy;
+          e += std::exp(-d2 * inv2s2);
+          if (bloom > 0) b += std::exp(-d2 * inv2b2);
+        }
+        // Saturation: exposure beyond full well clips to the core colour.
+        const auto v = static_cast<float>(std::min(1.0, gain * e) + bloom * b);
+        if (v < 1e-4f) continue;
+        const std::size_t p3 = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + x);
+        signal[p3] += c.b * v;
+        signal[p3 + 1] += c.g * v;
+        signal[p3 + 2] += c.r * v;
+      }
+    }
+  }
+}
+
+bool SyntheticCamera::Impl::render_marker(const Eigen::Isometry3d* poses, int n, std::vector<float>& signal,
+                                          Scratch& s) const {
+  const RenderOptions& o = options;
+  const int w = camera.width, h = camera.height;
+  const double half = o.aruco_size / 2;             // the marker's outer black square
+  const double card_half = half + cell_size;        // with the white margin
+  const Eigen::Isometry3d T_cm = poses[n / 2] * constellation.T_body_marker;
+  // Drawn only when its face (marker +z) points toward the camera.
+  if (!(T_cm.linear().col(2).dot(T_cm.translation()) < 0)) return false;
+  double umin = 1e300, vmin = 1e300, umax = -1e300, vmax = -1e300;
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Isometry3d Tk = poses[k] * constellation.T_body_marker;
+    for (int c = 0; c < 4; ++c) {
+      const Eigen::Vector3d p = Tk * Eigen::Vector3d(c & 1 ? card_half : -card_half, c & 2 ? card_half : -card_half, 0);
+      if (p.z() < kMinDepth) return false;
+      const Eigen::Vector2d uv = camera.project(p);
+      umin = std::min(umin, uv.x()), umax = std::max(umax, uv.x());
+      vmin = std::min(vmin, uv.y()), vmax = std::max(vmax, uv.y());
+    }
+  }
+  bool visible = true;  // OpenCV's corner order: (-s/2, s/2), (s/2, s/2), (s/2, -s/2), (-s/2, -s/2)
+  for (const auto& corner : {Eigen::Vector3d(-half, half, 0), Eigen::Vector3d(half, half, 0),
+                             Eigen::Vector3d(half, -half, 0), Eigen::Vector3d(-half, -half, 0)}) {
+    visible = visible && in_image(camera.project(T_cm * corner));
+  }
+  const double pad = 3 + 3 * o.optics_blur_sigma;
+  const Window win = clip_window(umin - pad, vmin - pad, umax + pad, vmax + pad, w, h);
+  if (win.empty()) return visible;
+
+  // Per exposure sample: the inverse of the homography H = [c·r1, −c·r2,
+  // t + h·(r2 − r1)] that maps card cell coordinates (column, row, 1) to the
+  // normalised ray of their point (Hartley & Zisserman 2004, sec. 2.3 and
+  // 8.1.1: a plane's image is a homography); G·ray = (column, row, 1)/z, so
+  // the third component is positive exactly in front of the camera.
+  std::array<Eigen::Matrix3d, kMaxBlurSamples> G;
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Isometry3d Tk = poses[k] * constellation.T_body_marker;
+    const Eigen::Vector3d r1 = Tk.linear().col(0), r2 = Tk.linear().col(1);
+    Eigen::Matrix3d H;
+    H.col(0) = cell_size * r1;
+    H.col(1) = -cell_size * r2;
+    H.col(2) = Tk.translation() + card_half * (r2 - r1);
+    G[static_cast<std::size_t>(k)] = H.inverse();
+  }
+  // Area sampling (antialiasing) spread over space and exposure time: 3×3
+  // sub-pixel rays without motion, else 2 per exposure sample (alternating
+  // diagonals).
+  struct Sample {
+    double du, dv;
+    int k;
+  };
+  std::array<Sample, 2 * kMaxBlurSamples> samples{};
+  int count = 0;
+  if (n == 1) {
+    for (int i = 0; i < 9; ++i) samples[static_cast<std::size_t>(count++)] = {(i % 3 - 1) / 3.0, (i / 3 - 1) / 3.0, 0};
+  } else {
+    for (int k = 0; k < n; ++k) {
+      const double flip = k % 2 ? -0.25 : 0.25;
+      samples[static_cast<std::size_t>(count++)] = {-0.25, -flip, k};
+      samples[static_cast<std::size_t>(count++)] = {0.25, flip, k};
+    }
+  }
+  const int ww = win.x1 - win.x0 + 1, wh = win.y1 - win.y0 + 1;
+  s.window.create(wh, ww, CV_32F);
+  const auto bg = static_cast<float>(o.background_level);
+  const float white = static_cast<float>(o.marker_white), black = static_cast<float>(o.marker_black);
+  const double inv_samples = 1.0 / count;
+  const double cells = card_cells;
+  for (int y = win.y0; y <= win.y1; ++y) {
+    auto* row = s.window.ptr<float>(y - win.y0);
+    for (int x = win.x0; x <= win.x1; ++x) {
+      // The pixel's ray and its derivatives along u and v, for sub-pixel rays.
+      Eigen::Vector2d r, ru, rv;
+      if (rays.empty()) {
+        r = ray(x, y);
+        ru = {1 / camera.fx, 0};
+        rv = {0, 1 / camera.fy};
+      } else {
+        auto at = [&](int xx, int yy) {
+          const std::size_t i = 2 * (static_cast<std::size_t>(yy) * static_cast<std::size_t>(w) + xx);
+          return Eigen::Vector2d(rays[i], rays[i + 1]);
+        };
+        r = at(x, y);
+        ru = x + 1 < w ? Eigen::Vector2d(at(x + 1, y) - r) : Eigen::Vector2d(r - at(x - 1, y));
+        rv = y + 1 < h ? Eigen::Vector2d(at(x, y + 1) - r) : Eigen::Vector2d(r - at(x, y - 1));
+      }
+      double acc = 0;
+      for (int i = 0; i < count; ++i) {
+        const Sample& smp = samples[static_cast<std::size_t>(i)];
+        const Eigen::Vector2d q = r + smp.du * ru + smp.dv * rv;
+        const Eigen::Vector3d m = G[static_cast<std::size_t>(smp.k)] * Eigen::Vector3d(q.x(), q.y(), 1.0);
+        float value = bg;
+        if (m.z() > 0) {
+          const double col = m.x() / m.z(), rw = m.y() / m.z();
+          if (col >= 0 && rw >= 0 && col < cells && rw < cells) {
+            value = card[static_cast<std::size_t>(rw) * static_cast<std::size_t>(card_cells) + static_cast<std::size_t>(col)]
+                        ? white
+                        : black;
+          }
+        }
+        acc += value;
+      }
+      row[x - win.x0] = static_cast<float>(acc * inv_samples) - bg;
+    }
+  }
+  // The same optics blur as the LEDs (a thin lens blurs the whole image).
+  cv::GaussianBlur(s.window, s.blurred, cv::Size(0, 0), o.optics_blur_sigma, o.optics_blur_sigma,
+                   cv::BORDER_REPLICATE);
+  for (int y = win.y0; y <= win.y1; ++y) {
+    const auto* row = s.blurred.ptr<float>(y - win.y0);
+    for (int x = win.x0; x <= win.x1; ++x) {
+      const float v = row[x - win.x0];
+      const std::size_t p3 = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + x);
+      signal[p3] += v;
+      signal[p3 + 1] += v;
+      signal[p3 + 2] += v;
+    }
+  }
+  return visible;
+}
+
+void SyntheticCamera::render(const Eigen::Isometry3d& T_camera_body, const Eigen::Isometry3d& T_camera_body_previous,
+                             std::uint64_t seed, std::uint64_t frame_index, RenderedFrame& out) const {
+  const Impl& im = *impl_;
+  const RenderOptions& o = im.options;
+  const int w = im.camera.width, h = im.camera.height;
+  const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  Rng rng(seed, frame_index);
+  // Independent streams per piece, so that changing one option (e.g. the
+  // noise) never changes another piece's draws (e.g. the dropouts).
+  Rng dropout_rng(rng.next()), noise_rng(rng.next()), depth_rng(rng.next());
+
+  // Poses over the exposure, centred on the frame's pose: T(s) =
+  // T·exp((s−1)ξ) with exp(ξ) = T_prev⁻¹·T, i.e. constant body velocity
+  // (Barfoot 2017, sec. 7.1), s ∈ [1 − f/2, 1 + f/2], f = exposure·rate.
+  std::array<Eigen::Isometry3d, kMaxBlurSamples> poses;
+  int n = 1;
+  poses[0] = T_camera_body;
+  const Vector6d xi = se3_log(T_camera_body_previous.inverse() * T_camera_body);
+  const double f = o.exposure_s * o.frame_rate_hz;
+  if (o.motion_blur_samples > 1 && xi.norm() * f > 1e-9) {
+    n = o.motion_blur_samples | 1;  // odd: the middle sample is the frame's pose
+    if (n > kMaxBlurSamples) n -= 2;
+    for (int k = 0; k < n; ++k) {
+      const double s = f * (static_cast<double>(k) / (n - 1) - 0.5);
+      poses[static_cast<std::size_t>(k)] = k == n / 2 ? T_camera_body : Eigen::Isometry3d(T_camera_body * se3_exp(s * xi));
+    }
+  }
+
+  Scratch& s = scratch();
+  // The buffers are left cleared by the previous frame's final passes
+  // (saves a pass over 6 MB); re-clear after a size change or an exception.
+  if (!s.clean || s.signal.size() != 3 * pixels) {
+    s.signal.assign(3 * pixels, 0.0f);
+    s.zbuf.assign(pixels, std::numeric_limits<float>::infinity());
+  }
+  s.clean = false;
+
+  im.render_depth_body(T_camera_body, s.zbuf);
+  im.render_lamps(seed, s.signal, s.zbuf);
+  im.render_leds(poses.data(), n, dropout_rng, s.signal, out.led_visible);
+  out.marker_visible = o.render_marker && im.render_marker(poses.data(), n, s.signal, s);
+
+  const std::vector<float>& table = normal_table();
+  // Colour: background + light + sensor noise, rounded and clipped.
+  out.colour.resize(w, h);
+  {
+    const auto bg = static_cast<float>(o.background_level), sigma = static_cast<float>(o.noise_sigma);
+    std::uint8_t* dst = out.colour.pixels.data();
+    float* src = s.signal.data();
+    const std::size_t count = 3 * pixels;
+    // Most pixels get no light: their value is a lookup.
+    auto store = [&](std::size_t j, std::size_t noise_index) {
+      if (src[j] == 0.0f) {
+        dst[j] = im.background_dn[noise_index];
+        return;
+      }
+      dst[j] = colour_dn(bg, src[j], sigma * table[noise_index]);
+      src[j] = 0;
+    };
+    std::size_t i = 0;
+    if (sigma > 0) {
+      // Five 12-bit table indices per 64 random bits.
+      for (; i + 5 <= count; i += 5) {
+        const std::uint64_t r = noise_rng.next();
+        for (std::size_t j = 0; j < 5; ++j) store(i + j, (r >> (12 * j)) & kTableMask);
+      }
+      const std::uint64_t r = noise_rng.next();
+      for (std::size_t j = 0; i < count; ++i, ++j) store(i, (r >> (12 * j)) & kTableMask);
+    } else {
+      for (; i < count; ++i) store(i, 0);
+    }
+  }
+
+  // Depth: nearest surface (body, lamp or ceiling) + noise σ = k·z²,
+  // quantised to depth_scale; a fraction of pixels invalid (0).
+  out.depth.resize(w, h);
+  {
+    const auto inv_scale = static_cast<float>(1 / im.camera.depth_scale);
+    const auto invalid_below = static_cast<std::uint32_t>(std::min(65536.0, o.depth_invalid_fraction * 65536.0));
+    const auto k = static_cast<float>(o.depth_noise_k);
+    const bool noisy = k > 0 || invalid_below > 0;
+    std::uint16_t* dst = out.depth.pixels.data();
+    float* zbuf = s.zbuf.data();
+    std::uint64_t r = 0;
+    for (std::size_t i = 0; i < pixels; ++i) {
+      // Per pixel 32 random bits: 16 for validity, 12 for the noise.
+      if (noisy && (i & 1) == 0) r = depth_rng.next();
+      const auto bits = static_cast<std::uint32_t>(r >> (32 * (i & 1)));
+      const float zb = zbuf[i];
+      zbuf[i] = std::numeric_limits<float>::infinity();
+      if ((bits & 0xFFFF) < invalid_below) {
+        dst[i] = 0;
+        continue;
+      }
+      const std::size_t noise_index = (bits >> 16) & kTableMask;
+      dst[i] = std::isinf(zb) ? im.ceiling_depth[noise_index] : depth_units(zb, k, table[noise_index], inv_scale);
+    }
+  }
+  s.clean = true;
+}
+
+// ---- trajectories ------------------------------------------------------------------
+
+namespace {
+
+bool fits(const CameraModel& camera, const Constellation& k, const Eigen::Isometry3d& T, double margin) {
+  for (const Led& led : k.leds) {
+    const Eigen::Vector3d p = T * led.p_body;
+    if (p.z() < 0.05) return false;
+    const Eigen::Vector2d uv = camera.project(p);
+    if (!(uv.x() >= margin && uv.y() >= margin && uv.x() <= camera.width - 1 - margin &&
+          uv.y() <= camera.height - 1 - margin)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Largest s in [0, 1] with ok(s) (bisection; ok assumed monotone), or −1
+// when even ok(0) fails.
+double largest_fitting(const std::function<bool(double)>& ok) {
+  if (ok(1)) return 1;
+  if (!ok(0)) return -1;
+  double lo = 0, hi = 1;
+  for (int i = 0; i < 30; ++i) {
+    const double mid = (lo + hi) / 2;
+    (ok(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+// The drone at distance d from the camera in the direction of the
+// normalised image offset (a, b), body z ≈ camera z (camera below, looking
+// up), rotated by yaw about camera z and tilted by (roll, pitch).
+Eigen::Isometry3d drone_pose(double d, double a, double b, double yaw, double roll, double pitch) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()) *
+                Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()))
+                   .toRotationMatrix();
+  T.translation() = d * Eigen::Vector3d(a, b, 1).normalized();
+  return T;
+}
+
+// Shrinks tilt, then lateral offset, until the constellation fits; throws
+// when it cannot fit even centred and level.
+Eigen::Isometry3d fitted_pose(const CameraModel& camera, const Constellation& k, double margin, double d, double a,
+                              double b, double yaw, double roll, double pitch,
+                              const Eigen::Isometry3d& jitter = Eigen::Isometry3d::Identity()) {
+  const double tilt_scale = largest_fitting(
+      [&](double s) { return fits(camera, k, drone_pose(d, 0, 0, yaw, s * roll, s * pitch) * jitter, margin); });
+  if (tilt_scale < 0) {
+    throw InvalidArgument("make_trajectory: the constellation does not fit in the " + std::to_string(camera.width) +
+                          "x" + std::to_string(camera.height) + " image at " + std::to_string(d) +
+                          " m (increase min_distance or reduce margin_px)");
+  }
+  const double lateral_scale = largest_fitting([&](double s) {
+    return fits(camera, k, drone_pose(d, s * a, s * b, yaw, tilt_scale * roll, tilt_scale * pitch) * jitter, margin);
+  });
+  return drone_pose(d, lateral_scale * a, lateral_scale * b, yaw, tilt_scale * roll, tilt_scale * pitch) * jitter;
+}
+
+constexpr double kDeg = std::numbers::pi / 180;
+
+}  // namespace
+
+std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, std::uint64_t seed,
+                                              const CameraModel& camera, const Constellation& constellation,
+                                              const TrajectoryOptions& o) {
+  if (frames < 1) throw InvalidArgument("make_trajectory: frames must be >= 1");
+  if (!(o.min_distance > 0) || !(o.max_distance >= o.min_distance) || !std::isfinite(o.max_distance)) {
+    throw InvalidArgument("make_trajectory: need 0 < min_distance <= max_distance (finite)");
+  }
+  if (!(o.fps > 0) || !std::isfinite(o.fps)) throw InvalidArgument("make_trajectory: fps must be positive");
+  if (!(o.margin_px >= 0) || !std::isfinite(o.margin_px)) throw InvalidArgument("make_trajectory: margin_px must be >= 0");
+  std::string why;
+  if (!camera.validate(&why)) throw InvalidArgument("make_trajectory: camera: " + why);
+  if (!constellation.validate(&why)) throw InvalidArgument("make_trajectory: constellation: " + why);
+
+  Rng rng(seed, 0);
+  // Lateral offsets are fractions of the half field of view.
+  const double half_u = std::min(camera.cx, camera.width - 1 - camera.cx) / camera.fx;
+  const double half_v = std::min(camera.cy, camera.height - 1 - camera.cy) / camera.fy;
+  std::vector<TrajectorySample> out(static_cast<std::size_t>(frames));
+  const double two_pi = 2 * std::numbers::pi;
+
+  if (kind == TrajectoryKind::Static) {
+    const int holds = std::min(6, frames);
+    struct Hold {
+      Eigen::Isometry3d T;
+      std::array<double, 6> amp, freq, phase;  // jitter per axis (x, y, z, roll, pitch, yaw)
+    };
+    std::vector<Hold> hold(static_cast<std::size_t>(holds));
+    // Allowance for the jitter when fitting the hold pose.
+    const double margin = o.margin_px + 8;
+    for (int j = 0; j < holds; ++j) {
+      const double d = holds == 1 ? o.min_distance
+                                  : o.min_distance + (o.max_distance - o.min_distance) * j / (holds - 1);
+      const double a = rng.uniform(-0.6, 0.6) * half_u, b = rng.uniform(-0.6, 0.6) * half_v;
+      const double yaw = rng.uniform(-std::numbers::pi, std::numbers::pi);
+      const double roll = rng.uniform(-6, 6) * kDeg, pitch = rng.uniform(-6, 6) * kDeg;
+      Hold& hj = hold[static_cast<std::size_t>(j)];
+      hj.T = fitted_pose(camera, constellation, margin, d, a, b, yaw, roll, pitch);
+      for (std::size_t axis = 0; axis < 6; ++axis) {
+        hj.amp[axis] = (axis < 3 ? 0.003 : 0.5 * kDeg) * rng.uniform(0.5, 1.0);  // a few mm, ~0.5°
+        hj.freq[axis] = rng.uniform(0.7, 2.3);                                     // [Hz] hovering sway
+        hj.phase[axis] = rng.uniform(0, two_pi);
+      }
+    }
+    for (int i = 0; i < frames; ++i) {
+      const double t = i / o.fps;
+      const Hold& hj = hold[static_cast<std::size_t>(static_cast<long long>(i) * holds / frames)];
+      Vector6d xi;
+      for (std::size_t axis = 0; axis < 6; ++axis) {
+        xi[static_cast<Eigen::Index>(axis)] = hj.amp[axis] * std::sin(two_pi * hj.freq[axis] * t + hj.phase[axis]);
+      }
+      Eigen::Isometry3d T = hj.T * se3_exp(xi);  // jitter in the body frame
+      if (!fits(camera, constellation, T, o.margin_px)) T = hj.T;
+      out[static_cast<std::size_t>(i)] = {t, T};
+    }
+    return out;
+  }
+
+  // Moving: distance d(u) = min + (max − min)(1 − cos 2πu)/2, u ∈ [0, 1].
+  const double f_a = rng.uniform(0.35, 0.55), f_b = rng.uniform(0.25, 0.45);  // [Hz] lateral
+  const double ph_a = rng.uniform(0, two_pi), ph_b = rng.uniform(0, two_pi);
+  const double yaw0 = rng.uniform(-std::numbers::pi, std::numbers::pi);
+  const double yaw_rate = (rng.uniform() < 0.5 ? -1 : 1) * rng.uniform(60, 120) * kDeg;  // [rad/s]
+  const double f_r = rng.uniform(0.2, 0.35), f_p = rng.uniform(0.25, 0.4);               // [Hz] tilt
+  const double ph_r = rng.uniform(0, two_pi), ph_p = rng.uniform(0, two_pi);
+  const double tilt = 20 * kDeg / std::numbers::sqrt2;  // per axis: |tilt| <= 20°
+  for (int i = 0; i < frames; ++i) {
+    const double t = i / o.fps;
+    const double u = frames > 1 ? static_cast<double>(i) / (frames - 1) : 0.0;
+    const double d = o.min_distance + (o.max_distance - o.min_distance) * (1 - std::cos(two_pi * u)) / 2;
+    const double a = 0.6 * half_u * std::sin(two_pi * f_a * t + ph_a);
+    const double b = 0.6 * half_v * std::sin(two_pi * f_b * t + ph_b);
+    const double roll = tilt * std::sin(two_pi * f_r * t + ph_r), pitch = tilt * std::sin(two_pi * f_p * t + ph_p);
+    out[static_cast<std::size_t>(i)] = {
+        t, fitted_pose(camera, constellation, o.margin_px, d, a, b, yaw0 + yaw_rate * t, roll, pitch)};
+  }
+  return out;
+}
+
+// ---- sequence writer ---------------------------------------------------------------
+
+namespace {
+
+std::string frame_name(std::size_t i) {
+  std::string s = std::to_string(i);
+  return std::string(6 - std::min<std::size_t>(6, s.size()), '0') + s;
+}
+
+void write_png(const fs::path& path, const cv::Mat& image) {
+  bool ok = false;
+  try {
+    ok = cv::imwrite(path.string(), image);
+  } catch (const cv::Exception& e) {
+    throw IoError(path.string() + ": cannot write the image: " + e.what());
+  }
+  if (!ok) throw IoError(path.string() + ": cannot write the image");
+}
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary);
+  if (!f) throw IoError(path.string() + ": cannot open for writing");
+  f << text;
+  f.close();
+  if (!f) throw IoError(path.string() + ": write error");
+}
+
+// True when the motion between two samples is a cut (a jump between hold
+// points), not motion to blur.
+bool is_cut(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  const Vector6d xi = se3_log(a.inverse() * b);
+  return xi.head<3>().norm() > 0.1 || xi.tail<3>().norm() > 10 * kDeg;
+}
+
+}  // namespace
+
+void write_sequence(const fs::path& out_dir, const CameraModel& camera, const Constellation& constellation,
+                    std::span<const TrajectorySample> samples, const RenderOptions& options, std::uint64_t seed) {
+  if (samples.empty()) throw InvalidArgument("write_sequence: no samples to render");
+  if (samples.size() > 1000000) throw InvalidArgument("write_sequence: more than 1000000 frames (names are 6 digits)");
+  const SyntheticCamera renderer(camera, constellation, options);  // validates
+
+  fs::path target = out_dir.lexically_normal();
+  if (!target.has_filename()) target = target.parent_path();
+  if (target.empty()) throw InvalidArgument("write_sequence: empty output directory");
+  std::error_code ec;
+  if (fs::exists(target, ec) && !fs::is_directory(target, ec)) {
+    throw IoError(target.string() + ": exists and is not a directory");
+  }
+  const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  fs::create_directories(parent, ec);
+  if (ec) throw IoError(parent.string() + ": cannot create the directory: " + ec.message());
+  static std::atomic<unsigned> counter{0};
+  const fs::path staging = parent / ("." + target.filename().string() + ".partial-" + std::to_string(::getpid()) +
+                                     "-" + std::to_string(counter++));
+  fs::remove_all(staging, ec);
+  if (!fs::create_directory(staging, ec) || ec) {
+    throw IoError(staging.string() + ": cannot create the staging directory: " + ec.message());
+  }
+  std::vector<std::string> files;
+  try {
+    RenderedFrame frame;
+    std::string ground_truth;
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      const Eigen::Isometry3d& T = samples[i].T_camera_body;
+      const Eigen::Isometry3d& T_prev =
+          i > 0 && !is_cut(samples[i - 1].T_camera_body, T) ? samples[i - 1].T_camera_body : T;
+      renderer.render(T, T_prev, seed, i, frame);
+      const std::string name = frame_name(i);
+      write_png(staging / (name + ".png"),
+                cv::Mat(frame.colour.height, frame.colour.width, CV_8UC3, frame.colour.pixels.data()));
+      write_png(staging / (name + ".depth.png"),
+                cv::Mat(frame.depth.height, frame.depth.width, CV_16UC1, frame.depth.pixels.data()));
+      files.push_back(name + ".png");
+      files.push_back(name + ".depth.png");
+      GroundTruthSample g;
+      g.frame = name;
+      g.t_s = samples[i].t;
+      g.T_camera_body = T;
+      g.leds_visible = frame.led_visible;
+      g.marker_visible = frame.marker_visible;
+      ground_truth += ground_truth_to_json(g) + "\n";
+    }
+    write_text(staging / "ground_truth.jsonl", ground_truth);
+    write_text(staging / "camera.yaml", camera_to_yaml(camera));
+    write_text(staging / "constellation.yaml", constellation_to_yaml(constellation));
+    files.insert(files.end(), {"ground_truth.jsonl", "camera.yaml", "constellation.yaml"});
+
+    // Into place: one rename of the whole directory when the target is new;
+    // otherwise file by file (each rename atomic; the ground truth last).
+    if (!fs::exists(target, ec)) {
+      fs::rename(staging, target, ec);
+      if (!ec) return;
+      fs::create_directory(target, ec);
+    }
+    std::stable_partition(files.begin(), files.end(), [](const std::string& f) { return f != "ground_truth.jsonl"; });
+    for (const auto& f : files) {
+      fs::rename(staging / f, target / f, ec);
+      if (ec) throw IoError((target / f).string() + ": cannot move the finished file into place: " + ec.message());
+    }
+  } catch (...) {
+    fs::remove_all(staging, ec);
+    throw;
+  }
+  fs::remove_all(staging, ec);
+}
+
+}  // namespace touchdown::pose

@@ -1,0 +1,143 @@
+#include "touchdown/pose/led_detector.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <vector>
+
+#include "touchdown/core/error.hpp"
+#include "touchdown/core/random.hpp"
+
+namespace tp = touchdown::pose;
+
+namespace {
+
+tp::CameraModel camera() { return tp::load_camera(TOUCHDOWN_SOURCE_DIR "/data/cameras/d435_848x480.yaml"); }
+
+// Adds a Gaussian spot of colour `bgr` (peak, saturating at 255).
+void spot(tp::BgrImage& img, Eigen::Vector2d c, double sigma, Eigen::Vector3d bgr) {
+  const int r = static_cast<int>(std::ceil(4 * sigma));
+  for (int y = static_cast<int>(c.y()) - r; y <= static_cast<int>(c.y()) + r; ++y) {
+    for (int x = static_cast<int>(c.x()) - r; x <= static_cast<int>(c.x()) + r; ++x) {
+      if (x < 0 || y < 0 || x >= img.width || y >= img.height) continue;
+      const double g = std::exp(-((x - c.x()) * (x - c.x()) + (y - c.y()) * (y - c.y())) / (2 * sigma * sigma));
+      for (int ch = 0; ch < 3; ++ch) {
+        auto& v = img.row(y)[3 * x + ch];
+        v = static_cast<std::uint8_t>(std::min(255.0, v + g * bgr(ch)));
+      }
+    }
+  }
+}
+
+tp::BgrImage dark(touchdown::Rng& rng) {
+  tp::BgrImage img;
+  img.resize(848, 480);
+  for (auto& v : img.pixels) v = static_cast<std::uint8_t>(std::clamp(6 + 2 * rng.normal(), 0.0, 255.0));
+  return img;
+}
+
+}  // namespace
+
+TEST(LedDetector, SubPixelCentresAndColourClasses) {
+  touchdown::Rng rng(31);
+  auto img = dark(rng);
+  struct Truth {
+    Eigen::Vector2d c;
+    tp::LedColor color;
+  };
+  std::vector<Truth> truth;
+  const Eigen::Vector3d bgr[4] = {{40, 50, 300}, {70, 300, 60}, {300, 110, 40}, {300, 300, 300}};
+  const tp::LedColor colors[4] = {tp::LedColor::Red, tp::LedColor::Green, tp::LedColor::Blue, tp::LedColor::White};
+  for (int i = 0; i < 12; ++i) {
+    const Eigen::Vector2d c(60 + 60 * i + rng.uniform(0, 1), 100 + 25 * (i % 5) + rng.uniform(0, 1));
+    spot(img, c, 1.2 + 0.1 * i, bgr[i % 4]);
+    truth.push_back({c, colors[i % 4]});
+  }
+  tp::LedDetector det(camera());
+  std::vector<tp::Blob> blobs;
+  det.detect(img.view(), nullptr, blobs);
+  ASSERT_EQ(blobs.size(), truth.size());
+  for (const auto& t : truth) {
+    const auto it = std::min_element(blobs.begin(), blobs.end(), [&](const tp::Blob& a, const tp::Blob& b) {
+      return (a.uv_px - t.c).norm() < (b.uv_px - t.c).norm();
+    });
+    EXPECT_LT((it->uv_px - t.c).norm(), 0.1);
+    EXPECT_EQ(it->color, t.color);
+  }
+  // Brightest first.
+  for (std::size_t i = 1; i < blobs.size(); ++i) EXPECT_GE(blobs[i - 1].intensity, blobs[i].intensity);
+  // Same blob count as OpenCV's connected components on the thresholded image.
+  cv::Mat m(img.height, img.width, CV_8UC3, img.pixels.data());
+  std::vector<cv::Mat> ch;
+  cv::split(m, ch);
+  cv::Mat mx = cv::max(cv::max(ch[0], ch[1]), ch[2]), bin, labels;
+  cv::threshold(mx, bin, 199, 255, cv::THRESH_BINARY);
+  EXPECT_EQ(cv::connectedComponents(bin, labels, 8) - 1, static_cast<int>(blobs.size()));
+}
+
+TEST(LedDetector, ConnectivityAndAreaLimits) {
+  tp::BgrImage img;
+  img.resize(64, 32);
+  std::fill(img.pixels.begin(), img.pixels.end(), 0);
+  auto set = [&](int x, int y) { img.row(y)[3 * x + 2] = 255; };
+  set(10, 10);
+  set(11, 11);  // diagonal: one 8-connected blob
+  set(20, 5);
+  set(21, 5);
+  set(22, 6);
+  set(19, 6);  // U-shape joined from below
+  for (int x = 30; x < 60; ++x) {
+    for (int y = 0; y < 30; ++y) set(x, y);  // 900 px
+  }
+  tp::DetectorOptions o;
+  o.max_area = 100;
+  tp::CameraModel cam = camera();
+  cam.width = 64;
+  cam.height = 32;
+  cam.cx = 31.5;
+  cam.cy = 15.5;
+  tp::LedDetector det(cam, o);
+  std::vector<tp::Blob> blobs;
+  det.detect(img.view(), nullptr, blobs);
+  ASSERT_EQ(blobs.size(), 2u);  // the big one exceeds max_area
+  EXPECT_EQ(blobs[0].area + blobs[1].area, 6.0);
+}
+
+TEST(LedDetector, DepthGateAndBackProjection) {
+  touchdown::Rng rng(32);
+  auto img = dark(rng);
+  const auto cam = camera();
+  spot(img, {200, 200}, 1.5, {300, 300, 300});  // the drone's LED at 1.2 m
+  spot(img, {600, 100}, 3.0, {300, 300, 300});  // a ceiling lamp at 5.5 m
+  tp::DepthImage depth;
+  depth.resize(848, 480);
+  std::fill(depth.pixels.begin(), depth.pixels.end(), 5500);
+  for (int y = 195; y <= 205; ++y) {
+    for (int x = 195; x <= 205; ++x) depth.row(y)[x] = 1200;
+  }
+  depth.row(200)[200] = 0;  // invalid at the centre: the median of the rest is used
+  tp::LedDetector det(cam);
+  std::vector<tp::Blob> blobs;
+  det.detect(img.view(), nullptr, blobs);
+  EXPECT_EQ(blobs.size(), 2u);
+  const auto dv = depth.view();
+  det.detect(img.view(), &dv, blobs);
+  ASSERT_EQ(blobs.size(), 1u);
+  ASSERT_TRUE(blobs[0].has_point);
+  EXPECT_NEAR(blobs[0].p_camera.z(), 1.2, 1e-9);
+  EXPECT_NEAR(blobs[0].p_camera.x(), (200 - cam.cx) / cam.fx * 1.2, 1e-3);
+  // Depth of another size is misuse.
+  tp::DepthImage small;
+  small.resize(424, 240);
+  const auto sv = small.view();
+  EXPECT_THROW(det.detect(img.view(), &sv, blobs), touchdown::InvalidArgument);
+}
+
+TEST(LedDetector, UndistortsCentres) {
+  auto cam = camera();
+  cam.distortion = {-0.12, 0.05, 0.001, -0.0005, 0.0};
+  const Eigen::Vector3d p(0.4, -0.25, 1.0);
+  const Eigen::Vector2d distorted = cam.project(p);
+  EXPECT_LT((cam.undistort(distorted) - cam.pinhole().project(p)).norm(), 1e-6);
+}

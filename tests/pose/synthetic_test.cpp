@@ -1,0 +1,435 @@
+#include "touchdown/pose/synthetic.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <opencv2/aruco.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "touchdown/core/error.hpp"
+
+namespace tp = touchdown::pose;
+
+namespace {
+
+tp::Constellation f450() {
+  return tp::load_constellation(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/constellations/f450_leds.yaml");
+}
+
+tp::CameraModel d435() {
+  return tp::load_camera(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/cameras/d435_848x480.yaml");
+}
+
+tp::CameraModel distorted() {
+  tp::CameraModel c = d435();
+  c.distortion = {-0.12, 0.03, 0.0015, -0.001, 0.0};
+  return c;
+}
+
+// Everything random switched off: exact spots on a flat background.
+tp::RenderOptions clean() {
+  tp::RenderOptions o;
+  o.noise_sigma = 0;
+  o.led_dropout_probability = 0;
+  o.distractor_count = 0;
+  o.depth_noise_k = 0;
+  o.depth_invalid_fraction = 0;
+  o.render_marker = false;
+  return o;
+}
+
+// The drone above the camera: body z ≈ camera z, yawed, slightly tilted.
+Eigen::Isometry3d below(double distance, double yaw_deg = 30, double tilt_deg = 5, double lateral = 0.03) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = (Eigen::AngleAxisd(yaw_deg * std::numbers::pi / 180, Eigen::Vector3d::UnitZ()) *
+                Eigen::AngleAxisd(tilt_deg * std::numbers::pi / 180, Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix();
+  T.translation() = Eigen::Vector3d(lateral, -lateral, distance);
+  return T;
+}
+
+int channel_of(tp::LedColor c) {
+  switch (c) {
+    case tp::LedColor::Blue: return 0;
+    case tp::LedColor::Green: return 1;
+    default: return 2;
+  }
+}
+
+// Intensity-weighted centroid of channel `ch` (minus the background) over
+// the pixels above `threshold` within `radius` of `near`.
+Eigen::Vector2d blob_centroid(const tp::BgrImage& img, const Eigen::Vector2d& near, int ch, double bg,
+                              double threshold = 8, int radius = 14) {
+  double sw = 0, su = 0, sv = 0;
+  const int u0 = static_cast<int>(std::lround(near.x())), v0 = static_cast<int>(std::lround(near.y()));
+  for (int v = std::max(0, v0 - radius); v <= std::min(img.height - 1, v0 + radius); ++v) {
+    for (int u = std::max(0, u0 - radius); u <= std::min(img.width - 1, u0 + radius); ++u) {
+      const double w = img.pixels[3 * (static_cast<std::size_t>(v) * img.width + u) + ch] - bg;
+      if (w < threshold) continue;
+      sw += w, su += w * u, sv += w * v;
+    }
+  }
+  return sw > 0 ? Eigen::Vector2d(su / sw, sv / sw) : Eigen::Vector2d(-1e9, -1e9);
+}
+
+const std::uint8_t* pixel(const tp::BgrImage& img, const Eigen::Vector2d& uv) {
+  const auto u = static_cast<std::size_t>(std::lround(uv.x())), v = static_cast<std::size_t>(std::lround(uv.y()));
+  return img.pixels.data() + 3 * (v * img.width + u);
+}
+
+class SyntheticCentroid : public ::testing::TestWithParam<bool> {};
+
+}  // namespace
+
+TEST(RenderOptions, DefaultsValidAndBadValuesNamed) {
+  std::string why;
+  EXPECT_TRUE(tp::RenderOptions{}.validate(&why)) << why;
+  tp::RenderOptions o;
+  o.noise_sigma = -1;
+  EXPECT_FALSE(o.validate(&why));
+  EXPECT_NE(why.find("noise_sigma"), std::string::npos);
+  o = {};
+  o.aruco_dictionary = "3X3_7";
+  EXPECT_FALSE(o.validate(&why));
+  EXPECT_NE(why.find("aruco_dictionary"), std::string::npos);
+  o = {};
+  o.aruco_id = 50;  // 4X4_50 has ids 0..49
+  EXPECT_FALSE(o.validate(&why));
+  EXPECT_NE(why.find("aruco_id"), std::string::npos);
+  o = {};
+  o.motion_blur_samples = 0;
+  EXPECT_FALSE(o.validate(&why));
+  o = {};
+  o.led_dropout_probability = std::nan("");
+  EXPECT_FALSE(o.validate(&why));
+  EXPECT_THROW(tp::SyntheticCamera(d435(), f450(), o), touchdown::InvalidArgument);
+}
+
+// Oracle: a noise-free spot is centred on CameraModel::project of its LED
+// (with and without lens distortion), in the LED's colour.
+TEST_P(SyntheticCentroid, SpotCentroidIsTheProjection) {
+  const tp::CameraModel cam = GetParam() ? distorted() : d435();
+  const tp::Constellation k = f450();
+  tp::RenderOptions o = clean();
+  o.bloom_fraction = 0;  // the halo of a neighbouring LED would bias the centroid
+  const tp::SyntheticCamera renderer(cam, k, o);
+  tp::RenderedFrame frame;
+  int checked = 0;
+  for (const double d : {0.5, 1.0, 2.0}) {
+    for (const double yaw : {0.0, 37.0, 200.0}) {
+      const Eigen::Isometry3d T = below(d, yaw, 8, 0.04 * d);
+      renderer.render(T, T, 1, 0, frame);
+      ASSERT_EQ(frame.led_visible.size(), k.leds.size());
+      for (std::size_t i = 0; i < k.leds.size(); ++i) {
+        ASSERT_TRUE(frame.led_visible[i]) << "LED " << i;
+        const Eigen::Vector2d uv = cam.project(T * k.leds[i].p_body);
+        const int ch = channel_of(k.leds[i].color);
+        // Window: half-way to the nearest other LED, so that no other spot leaks in.
+        double nearest = 1e9;
+        for (std::size_t j = 0; j < k.leds.size(); ++j) {
+          if (j != i) nearest = std::min(nearest, (cam.project(T * k.leds[j].p_body) - uv).norm());
+        }
+        const int radius = std::min(14, static_cast<int>(nearest / 2));
+        ASSERT_GE(radius, 5) << "LED " << i << ": test pose puts LEDs too close together";
+        const Eigen::Vector2d c = blob_centroid(frame.colour, uv, ch, o.background_level, 8, radius);
+        EXPECT_LT((c - uv).norm(), 0.3) << "LED " << i << " at d=" << d << " yaw=" << yaw << ": " << c.transpose()
+                                        << " vs " << uv.transpose();
+        // The saturated core in the LED's colour.
+        const std::uint8_t* p = pixel(frame.colour, uv);
+        if (k.leds[i].color == tp::LedColor::White) {
+          EXPECT_GE(std::min({p[0], p[1], p[2]}), 250);
+        } else {
+          EXPECT_EQ(p[ch], 255);
+          for (int other = 0; other < 3; ++other) {
+            if (other != ch) {
+              EXPECT_LT(p[other], 200) << "LED " << i << " channel " << other;
+            }
+          }
+        }
+        ++checked;
+      }
+    }
+  }
+  EXPECT_EQ(checked, 9 * 6);
+}
+INSTANTIATE_TEST_SUITE_P(Distortion, SyntheticCentroid, ::testing::Values(false, true));
+
+TEST(SyntheticCamera, SpotsGrowAsTheDroneComesClose) {
+  const tp::CameraModel cam = d435();
+  const tp::Constellation k = f450();
+  const tp::SyntheticCamera renderer(cam, k, clean());
+  tp::RenderedFrame frame;
+  auto saturated_pixels = [&](double d) {
+    const Eigen::Isometry3d T = below(d, 0, 0, 0);
+    renderer.render(T, T, 1, 0, frame);
+    int n = 0;
+    for (std::size_t i = 2; i < frame.colour.pixels.size(); i += 3) n += frame.colour.pixels[i] == 255;
+    return n;
+  };
+  const int near = saturated_pixels(0.5), far = saturated_pixels(2.5);
+  EXPECT_GT(far, 0);
+  EXPECT_GT(near, 2 * far);
+}
+
+TEST(SyntheticCamera, DepthAtAnLedIsItsDepth) {
+  const tp::CameraModel cam = d435();
+  const tp::Constellation k = f450();
+  tp::RenderOptions o = clean();
+  o.depth_noise_k = 0.0025;
+  o.distractor_count = 3;
+  const tp::SyntheticCamera renderer(cam, k, o);
+  tp::RenderedFrame frame;
+  for (const double d : {0.6, 1.5, 3.0}) {
+    const Eigen::Isometry3d T = below(d, 20, 0, 0.02);
+    renderer.render(T, T, 5, 1, frame);
+    ASSERT_EQ(frame.depth.width, cam.width);
+    ASSERT_EQ(frame.depth.height, cam.height);
+    for (const auto& led : k.leds) {
+      const Eigen::Vector3d p = T * led.p_body;
+      const Eigen::Vector2d uv = cam.project(p);
+      const auto u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
+      const double z = frame.depth.pixels[static_cast<std::size_t>(v) * cam.width + u] * cam.depth_scale;
+      const double sigma = o.depth_noise_k * p.z() * p.z();
+      EXPECT_NEAR(z, p.z(), 5 * sigma + cam.depth_scale) << "d=" << d;
+    }
+    // Far corners of the image see the ceiling (or a lamp), beyond 4 m.
+    const double corner = frame.depth.pixels[0] * cam.depth_scale;
+    EXPECT_GT(corner, 3.5);
+  }
+}
+
+TEST(SyntheticCamera, DepthNoiseAndInvalidPixels) {
+  const tp::CameraModel cam = d435();
+  tp::RenderOptions o = clean();
+  o.depth_noise_k = 0.0025;
+  o.depth_invalid_fraction = 0.05;
+  const tp::SyntheticCamera renderer(cam, f450(), o);
+  tp::RenderedFrame frame;
+  const Eigen::Isometry3d T = below(1.0);
+  renderer.render(T, T, 9, 0, frame);
+  std::size_t invalid = 0;
+  double sum = 0, sum2 = 0;
+  std::size_t n = 0;
+  for (int v = 0; v < 40; ++v) {  // the top rows: ceiling only
+    for (int u = 0; u < cam.width; ++u) {
+      const std::uint16_t q = frame.depth.pixels[static_cast<std::size_t>(v) * cam.width + u];
+      if (q == 0) {
+        ++invalid;
+        continue;
+      }
+      const double z = q * cam.depth_scale;
+      sum += z, sum2 += z * z, ++n;
+    }
+  }
+  const double frac = static_cast<double>(invalid) / (40.0 * cam.width);
+  EXPECT_NEAR(frac, 0.05, 0.01);
+  const double mean = sum / n, sd = std::sqrt(sum2 / n - mean * mean);
+  EXPECT_NEAR(mean, o.ceiling_distance, 0.01);
+  EXPECT_NEAR(sd, o.depth_noise_k * o.ceiling_distance * o.ceiling_distance, 0.01);
+}
+
+TEST(SyntheticCamera, DeterministicInSeedAndFrame) {
+  const tp::SyntheticCamera renderer(d435(), f450(), tp::RenderOptions{});
+  tp::RenderedFrame a, b, c, d;
+  const Eigen::Isometry3d T = below(0.8), T_prev = below(0.82, 27, 6, 0.02);
+  renderer.render(T, T_prev, 42, 7, a);
+  renderer.render(T, T_prev, 42, 7, b);
+  EXPECT_EQ(a.colour.pixels, b.colour.pixels);
+  EXPECT_EQ(a.depth.pixels, b.depth.pixels);
+  EXPECT_EQ(a.led_visible, b.led_visible);
+  renderer.render(T, T_prev, 43, 7, c);
+  EXPECT_NE(a.colour.pixels, c.colour.pixels);
+  EXPECT_NE(a.depth.pixels, c.depth.pixels);
+  renderer.render(T, T_prev, 42, 8, d);
+  EXPECT_NE(a.colour.pixels, d.colour.pixels);
+}
+
+TEST(SyntheticCamera, DropoutProbabilityOneDrawsNoLed) {
+  tp::RenderOptions o = clean();
+  o.led_dropout_probability = 1;
+  const tp::SyntheticCamera renderer(d435(), f450(), o);
+  tp::RenderedFrame frame;
+  const Eigen::Isometry3d T = below(1.0);
+  renderer.render(T, T, 3, 0, frame);
+  for (bool v : frame.led_visible) EXPECT_FALSE(v);
+  EXPECT_EQ(*std::max_element(frame.colour.pixels.begin(), frame.colour.pixels.end()), 6);
+}
+
+TEST(SyntheticCamera, DropoutRateIsRespected) {
+  tp::RenderOptions o = clean();
+  o.led_dropout_probability = 0.25;
+  const tp::SyntheticCamera renderer(d435(), f450(), o);
+  tp::RenderedFrame frame;
+  const Eigen::Isometry3d T = below(1.0);
+  int dropped = 0, total = 0;
+  for (std::uint64_t f = 0; f < 200; ++f) {
+    renderer.render(T, T, 11, f, frame);
+    for (bool v : frame.led_visible) dropped += !v, ++total;
+  }
+  EXPECT_NEAR(static_cast<double>(dropped) / total, 0.25, 0.04);
+}
+
+TEST(SyntheticCamera, LedsEmitOnlyDownward) {
+  const tp::SyntheticCamera renderer(d435(), f450(), clean());
+  tp::RenderedFrame frame;
+  // Upside down: the camera sees the drone's top, the LEDs shine away.
+  Eigen::Isometry3d T = below(1.0, 0, 0, 0);
+  T.linear() = Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  renderer.render(T, T, 1, 0, frame);
+  for (bool v : frame.led_visible) EXPECT_FALSE(v);
+  // Behind the camera: nothing.
+  T = below(-1.0, 0, 0, 0);
+  renderer.render(T, T, 1, 0, frame);
+  for (bool v : frame.led_visible) EXPECT_FALSE(v);
+}
+
+TEST(SyntheticCamera, MotionBlurSmearsAlongTheMotion) {
+  const tp::CameraModel cam = d435();
+  const tp::Constellation k = f450();
+  tp::RenderOptions o = clean();
+  o.bloom_fraction = 0;
+  const tp::SyntheticCamera renderer(cam, k, o);
+  tp::RenderedFrame still, moving;
+  const Eigen::Isometry3d T = below(0.5, 0, 0, 0);
+  Eigen::Isometry3d T_prev = T;
+  T_prev.translation().x() -= 0.1;  // 3 m/s sideways at 30 fps
+  renderer.render(T, T, 1, 0, still);
+  renderer.render(T, T_prev, 1, 0, moving);
+  const Eigen::Vector2d uv = cam.project(T * k.leds[0].p_body);
+  // Horizontal extent of the red spot (pixels above 128) along its row.
+  auto extent = [&](const tp::BgrImage& img, int dir) {
+    int u = static_cast<int>(std::lround(uv.x()));
+    const auto v = static_cast<std::size_t>(std::lround(uv.y()));
+    int n = 0;
+    while (img.pixels[3 * (v * img.width + static_cast<std::size_t>(u)) + 2] > 128) u += dir, ++n;
+    return n;
+  };
+  const int still_width = extent(still.colour, 1) + extent(still.colour, -1);
+  const int moving_width = extent(moving.colour, 1) + extent(moving.colour, -1);
+  // Smear ≈ f·v·exposure / z = 615 · 3 m/s · 4 ms / 0.47 m ≈ 16 px.
+  EXPECT_GT(moving_width, still_width + 8);
+  // Centred on the frame's pose.
+  const Eigen::Vector2d c = blob_centroid(moving.colour, uv, 2, o.background_level, 8, 24);
+  EXPECT_LT((c - uv).norm(), 0.5);
+}
+
+TEST(SyntheticCamera, DistractorLampsAreFarAndBright) {
+  const tp::CameraModel cam = d435();
+  tp::RenderOptions o = clean();
+  o.distractor_count = 4;
+  o.led_dropout_probability = 1;
+  const tp::SyntheticCamera renderer(cam, f450(), o);
+  tp::RenderedFrame frame;
+  const Eigen::Isometry3d T = below(1.0);
+  renderer.render(T, T, 77, 0, frame);
+  int bright = 0;
+  for (std::size_t p = 0; p < frame.depth.pixels.size(); ++p) {
+    const std::uint8_t* px = frame.colour.pixels.data() + 3 * p;
+    if (std::min({px[0], px[1], px[2]}) < 200) continue;
+    ++bright;
+    const double z = frame.depth.pixels[p] * cam.depth_scale;
+    EXPECT_GE(z, o.distractor_min_depth - 1e-3);
+    EXPECT_LE(z, std::max(o.ceiling_distance, o.distractor_max_depth) + 1e-3);
+  }
+  EXPECT_GT(bright, 30);  // a few lamps, larger than LED spots
+  // Lamps stay put from frame to frame (fixed per seed).
+  tp::RenderedFrame next;
+  renderer.render(T, T, 77, 1, next);
+  EXPECT_EQ(frame.colour.pixels, next.colour.pixels);
+}
+
+// The baseline's marker: found by cv::aruco at short range, corners where the
+// camera model puts them, and too dim to pass the LED threshold.
+TEST(SyntheticCamera, MarkerIsDetectedWhereProjected) {
+  const tp::CameraModel cam = d435();
+  const tp::Constellation k = f450();
+  tp::RenderOptions o;  // noise on
+  o.led_dropout_probability = 1;
+  o.distractor_count = 0;
+  const tp::SyntheticCamera renderer(cam, k, o);
+  tp::RenderedFrame frame;
+  const auto dict = cv::aruco::getPredefinedDictionary(cv::aruco::DICT_4X4_50);
+  auto params = cv::aruco::DetectorParameters::create();
+  params->cornerRefinementMethod = cv::aruco::CORNER_REFINE_SUBPIX;
+  for (const double yaw : {0.0, 70.0, 160.0}) {
+    const Eigen::Isometry3d T = below(0.6, yaw, 10, 0.03);
+    renderer.render(T, T, 2, 0, frame);
+    ASSERT_TRUE(frame.marker_visible);
+    const cv::Mat bgr(frame.colour.height, frame.colour.width, CV_8UC3, frame.colour.pixels.data());
+    double max_value = 0;
+    cv::minMaxLoc(bgr.reshape(1), nullptr, &max_value);
+    EXPECT_LT(max_value, 200);  // below the LED threshold
+    cv::Mat grey;
+    cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+    std::vector<std::vector<cv::Point2f>> corners;
+    std::vector<int> ids;
+    cv::aruco::detectMarkers(grey, dict, corners, ids, params);
+    ASSERT_EQ(ids.size(), 1u) << "yaw " << yaw;
+    EXPECT_EQ(ids[0], o.aruco_id);
+    const double s = o.aruco_size / 2;
+    const Eigen::Vector3d model[4] = {{-s, s, 0}, {s, s, 0}, {s, -s, 0}, {-s, -s, 0}};
+    for (int c = 0; c < 4; ++c) {
+      const Eigen::Vector2d uv = cam.project(T * k.T_body_marker * model[c]);
+      EXPECT_NEAR(corners[0][static_cast<std::size_t>(c)].x, uv.x(), 1.0) << "yaw " << yaw << " corner " << c;
+      EXPECT_NEAR(corners[0][static_cast<std::size_t>(c)].y, uv.y(), 1.0) << "yaw " << yaw << " corner " << c;
+    }
+  }
+  // Seen from above, the marker faces away: not drawn.
+  Eigen::Isometry3d T = below(0.6, 0, 0, 0);
+  T.linear() = Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  renderer.render(T, T, 2, 0, frame);
+  EXPECT_FALSE(frame.marker_visible);
+}
+
+TEST(Trajectory, KeepsLedsInsideAndSpansTheDistances) {
+  const tp::CameraModel cam = d435();
+  const tp::Constellation k = f450();
+  const tp::TrajectoryOptions o;
+  for (const auto kind : {tp::TrajectoryKind::Static, tp::TrajectoryKind::Moving}) {
+    const auto traj = tp::make_trajectory(kind, 181, 4, cam, k, o);
+    ASSERT_EQ(traj.size(), 181u);
+    double dmin = 1e9, dmax = 0, max_step = 0, max_tilt = 0;
+    for (std::size_t i = 0; i < traj.size(); ++i) {
+      const auto& T = traj[i].T_camera_body;
+      EXPECT_NEAR(traj[i].t, static_cast<double>(i) / o.fps, 1e-12);
+      const double d = T.translation().norm();
+      dmin = std::min(dmin, d), dmax = std::max(dmax, d);
+      for (const auto& led : k.leds) {
+        const Eigen::Vector2d uv = cam.project(T * led.p_body);
+        EXPECT_GE(uv.x(), o.margin_px - 1e-9);
+        EXPECT_GE(uv.y(), o.margin_px - 1e-9);
+        EXPECT_LE(uv.x(), cam.width - 1 - o.margin_px + 1e-9);
+        EXPECT_LE(uv.y(), cam.height - 1 - o.margin_px + 1e-9);
+      }
+      // Underside toward the camera.
+      const double tilt = std::acos(std::clamp(T.linear()(2, 2), -1.0, 1.0)) * 180 / std::numbers::pi;
+      max_tilt = std::max(max_tilt, tilt);
+      if (i > 0) max_step = std::max(max_step, (T.translation() - traj[i - 1].T_camera_body.translation()).norm());
+    }
+    EXPECT_NEAR(dmin, o.min_distance, 0.02 * o.min_distance) << static_cast<int>(kind);
+    EXPECT_NEAR(dmax, o.max_distance, 0.02 * o.max_distance) << static_cast<int>(kind);
+    EXPECT_LE(max_tilt, 21.0);
+    if (kind == tp::TrajectoryKind::Moving) {
+      EXPECT_LT(max_step, 0.3);  // smooth
+      EXPECT_GT(max_tilt, 8.0);
+    }
+  }
+  // Deterministic in the seed.
+  const auto a = tp::make_trajectory(tp::TrajectoryKind::Moving, 30, 9, cam, k);
+  const auto b = tp::make_trajectory(tp::TrajectoryKind::Moving, 30, 9, cam, k);
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(a[i].T_camera_body.isApprox(b[i].T_camera_body, 0));
+}
+
+TEST(Trajectory, BadOptionsThrow) {
+  const tp::CameraModel cam = d435();
+  const tp::Constellation k = f450();
+  EXPECT_THROW(tp::make_trajectory(tp::TrajectoryKind::Static, 0, 1, cam, k), touchdown::InvalidArgument);
+  tp::TrajectoryOptions o;
+  o.min_distance = 2, o.max_distance = 1;
+  EXPECT_THROW(tp::make_trajectory(tp::TrajectoryKind::Moving, 10, 1, cam, k, o), touchdown::InvalidArgument);
+  o = {};
+  o.min_distance = 0.05;  // the constellation cannot fit
+  EXPECT_THROW(tp::make_trajectory(tp::TrajectoryKind::Moving, 10, 1, cam, k, o), touchdown::InvalidArgument);
+}
