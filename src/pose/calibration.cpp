@@ -10,6 +10,7 @@
 
 #include "touchdown/core/error.hpp"
 #include "touchdown/pose/epnp.hpp"
+#include "touchdown/pose/se3.hpp"
 
 namespace touchdown::pose {
 
@@ -230,7 +231,8 @@ CalibrationResult calibrate_constellation(const PinholeCamera& camera, const Con
   // Gauge (see the header). Camera centres in the body frame: c = −Rᵀ t.
   std::vector<Eigen::Vector3d> known_centres;
   for (const auto& v : views) {
-    if (v.T_camera_body) known_centres.push_back(-(v.T_camera_body->linear().transpose() * v.T_camera_body->translation()));
+    if (v.T_camera_body)
+      known_centres.push_back(-(v.T_camera_body->linear().transpose() * v.T_camera_body->translation()));
   }
   Gauge gauge = Gauge::Similarity;
   Eigen::Vector3d scale_centre = Eigen::Vector3d::Zero();
@@ -336,14 +338,43 @@ CalibrationResult calibrate_constellation(const PinholeCamera& camera, const Con
     ceres::Covariance::Options co;
     co.num_threads = 1;
     ceres::Covariance covariance(co);
+    std::vector<const double*> blocks;
+    for (const auto& q : leds) blocks.push_back(q.data());
     std::vector<std::pair<const double*, const double*>> pairs;
-    for (const auto& q : leds) pairs.emplace_back(q.data(), q.data());
-    if (covariance.Compute(pairs, &problem)) {
-      const double variance_factor = 2.0 * summary.final_cost / dof;
-      for (const auto& q : leds) {
-        Eigen::Matrix3d C;
-        covariance.GetCovarianceBlock(q.data(), q.data(), C.data());
-        sigma.push_back(std::sqrt(std::max(0.0, variance_factor * C.trace())));
+    for (std::size_t i = 0; i < num_leds; ++i) {
+      for (std::size_t j = i; j < num_leds; ++j) pairs.emplace_back(blocks[i], blocks[j]);
+    }
+    const auto n3 = static_cast<Eigen::Index>(3 * num_leds);
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> C(n3, n3);
+    if (covariance.Compute(pairs, &problem) && covariance.GetCovarianceMatrix(blocks, C.data())) {
+      C *= 2.0 * summary.final_cost / dof;
+      if (gauge != Gauge::None) {
+        // Where the gauge is free, the covariance above depends on the
+        // gauge held during the solve (the reference pose's own error shows
+        // up in every LED). The result is returned aligned (least squares)
+        // to the initial LEDs, which to first order removes its components
+        // along the gauge directions G: its covariance is P C P with P the
+        // orthogonal projector off span(G) (Triggs et al. 2000, sec. 9).
+        const Eigen::Index cols = gauge == Gauge::Similarity ? 7 : 1;
+        Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n3, cols);
+        for (std::size_t k = 0; k < num_leds; ++k) {
+          const auto row = static_cast<Eigen::Index>(3 * k);
+          const Eigen::Vector3d p(leds[k][0], leds[k][1], leds[k][2]);
+          if (gauge == Gauge::Similarity) {
+            G.block<3, 3>(row, 0).setIdentity();  // translation
+            G.block<3, 3>(row, 3) = -hat(p);      // rotation: ω × p
+            G.block<3, 1>(row, 6) = p;            // scale about the origin
+          } else {
+            G.block<3, 1>(row, 0) = p - scale_centre;  // scale about the camera centre
+          }
+        }
+        const Eigen::MatrixXd P =
+            Eigen::MatrixXd::Identity(n3, n3) - G * (G.transpose() * G).ldlt().solve(G.transpose());
+        C = P * C * P.transpose();
+      }
+      for (std::size_t k = 0; k < num_leds; ++k) {
+        const auto row = static_cast<Eigen::Index>(3 * k);
+        sigma.push_back(std::sqrt(std::max(0.0, C.block<3, 3>(row, row).trace())));
       }
     }
   }
@@ -408,8 +439,8 @@ CalibrationResult calibrate_constellation(const PinholeCamera& camera, const Con
       break;
     case ceres::NO_CONVERGENCE:
       out.status = CalibrationStatus::NoConvergence;
-      out.message = "no convergence within max_iterations = " + std::to_string(options.max_iterations) + ": " +
-                    summary.message;
+      out.message =
+          "no convergence within max_iterations = " + std::to_string(options.max_iterations) + ": " + summary.message;
       break;
     default:
       out.status = CalibrationStatus::NoConvergence;

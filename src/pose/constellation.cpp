@@ -152,6 +152,16 @@ Constellation parse_constellation(std::string_view yaml_text, std::string_view s
   return k;
 }
 
+Constellation default_constellation() {
+  Constellation k;
+  k.leds = {{{0.0849, 0.0849, -0.030}, LedColor::Red},   {{0.0849, -0.0849, -0.030}, LedColor::Red},
+            {{-0.0849, -0.0849, -0.030}, LedColor::Green}, {{-0.0849, 0.0849, -0.030}, LedColor::Green},
+            {{0.090, -0.040, -0.110}, LedColor::Blue},   {{-0.090, 0.030, -0.110}, LedColor::White}};
+  k.T_body_marker = Constellation::default_marker_pose();
+  k.T_body_marker.translation() = Eigen::Vector3d(0, 0, -0.045);
+  return k;
+}
+
 Constellation load_constellation(const std::filesystem::path& path) {
   return parse_constellation(detail::read_text_file(path), path.string());
 }

@@ -148,9 +148,11 @@ class Epnp {
     if constexpr (K == 4) {
       // N = 4 (four points: the null space is 4-dimensional), solved by
       // relinearisation (sec. 3.3), and the cheap β_0a-only guess of the
-      // authors' reference code; each refined over all four betas.
+      // authors' reference code; each refined over all four betas. With
+      // five or more points the null space is 1-dimensional up to noise and
+      // N ≤ 3 suffices, so the costlier relinearisation is skipped.
       Eigen::Vector4d beta;
-      if (relinearised_betas(beta)) {
+      if (p_.size() == 4 && relinearised_betas(beta)) {
         refine_betas(4, beta);
         consider(beta, best);
       }

@@ -139,7 +139,19 @@ struct LedDetector::Impl {
     const int m = options.refine_margin;
     const int x0 = std::max(0, c.x0 - m), x1 = std::min(img.width - 1, c.x1 + m);
     const int y0 = std::max(0, c.y0 - m), y1 = std::min(img.height - 1, c.y1 + m);
-    const int bg = options.background;
+    // Local background: the mean brightness on the window's border (a lit
+    // card or body behind the LED would otherwise pull the centre).
+    double ring = 0;
+    int ring_n = 0;
+    for (int y = y0; y <= y1; ++y) {
+      const std::uint8_t* p = img.row(y);
+      const bool edge_row = y == y0 || y == y1;
+      for (int x = x0; x <= x1; x += (edge_row || x == x1) ? 1 : std::max(1, x1 - x0)) {
+        ring += std::max({p[3 * x], p[3 * x + 1], p[3 * x + 2]});
+        ++ring_n;
+      }
+    }
+    const int bg = std::max(options.background, ring_n ? static_cast<int>(ring / ring_n) + 4 : 0);
     double sw = 0, sx = 0, sy = 0;
     Eigen::Vector3d sbgr = Eigen::Vector3d::Zero();
     for (int y = y0; y <= y1; ++y) {

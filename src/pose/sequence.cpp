@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -35,9 +34,7 @@ std::string describe_type(int type) {
 // cv::imread returns an empty Mat for both unreadable and corrupt files:
 // tell them apart by opening the file first.
 cv::Mat read_image(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw IoError(path.string() + ": no such file");
-  { (void)detail::open_for_read(path); }  // IoError naming the file when unreadable
+  { (void)detail::open_for_read(path); }  // IoError naming the file when missing or unreadable
   cv::Mat m;
   try {
     m = cv::imread(path.string(), cv::IMREAD_UNCHANGED);

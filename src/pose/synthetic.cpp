@@ -110,7 +110,8 @@ Scratch& scratch() {
 
 // One colour value: background + light + noise, rounded and clipped [DN].
 inline std::uint8_t colour_dn(float background, float light, float noise) {
-  const float v = std::clamp(background + light + noise, 0.0f, 255.0f);
+  float v = background + light + noise;
+  v = v > 0 ? (v < 255 ? v : 255.0f) : 0.0f;  // NaN → 0: never an undefined conversion
   return static_cast<std::uint8_t>(v + 0.5f);
 }
 
@@ -119,7 +120,7 @@ inline std::uint8_t colour_dn(float background, float light, float noise) {
 inline std::uint16_t depth_units(float z, float k, float n, float inv_scale) {
   z += k * z * z * n;
   const float q = z * inv_scale + 0.5f;
-  return q < 1 ? std::uint16_t{0} : q >= 65535 ? std::uint16_t{65535} : static_cast<std::uint16_t>(q);
+  return !(q >= 1) ? std::uint16_t{0} : q >= 65535 ? std::uint16_t{65535} : static_cast<std::uint16_t>(q);
 }
 
 struct Window {
@@ -587,6 +588,9 @@ bool SyntheticCamera::Impl::render_marker(const Eigen::Isometry3d* poses, int n,
 
 void SyntheticCamera::render(const Eigen::Isometry3d& T_camera_body, const Eigen::Isometry3d& T_camera_body_previous,
                              std::uint64_t seed, std::uint64_t frame_index, RenderedFrame& out) const {
+  if (!T_camera_body.matrix().allFinite() || !T_camera_body_previous.matrix().allFinite()) {
+    throw InvalidArgument("SyntheticCamera::render: the pose is not finite");
+  }
   const Impl& im = *impl_;
   const RenderOptions& o = im.options;
   const int w = im.camera.width, h = im.camera.height;

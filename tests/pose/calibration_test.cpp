@@ -127,7 +127,8 @@ TEST(Calibration, KnownPosesNoiseFreeRecoversTheLedsExactly) {
     EXPECT_TRUE(r.T_camera_body[i].isApprox(*s.views[i].T_camera_body, 0)) << "known poses are returned unchanged";
   }
   // Colours and the marker pose come from the initial constellation.
-  for (std::size_t k = 0; k < s.truth.leds.size(); ++k) EXPECT_EQ(r.constellation.leds[k].color, s.initial.leds[k].color);
+  for (std::size_t k = 0; k < s.truth.leds.size(); ++k)
+    EXPECT_EQ(r.constellation.leds[k].color, s.initial.leds[k].color);
   EXPECT_TRUE(r.constellation.T_body_marker.isApprox(s.initial.T_body_marker));
 }
 
@@ -170,6 +171,24 @@ TEST(Calibration, UnknownPosesNoiseFreeRecoversTheShapeInTheInitialGauge) {
   EXPECT_LT(Eigen::AngleAxisd(h.R).angle(), 1e-9);
   EXPECT_LT(h.t.norm(), 1e-9);
   EXPECT_LT((r.constellation.centroid() - s.initial.centroid()).norm(), 1e-12);
+}
+
+TEST(Calibration, UnknownPosesWithPixelNoiseReportTheShapeUncertainty) {
+  const Scene s = make_scene(11, 0.3, 0);
+  const auto r = tp::calibrate_constellation(kCamera, s.initial, s.views);
+  ASSERT_EQ(r.status, tp::CalibrationStatus::Converged) << r.message;
+  EXPECT_LT(r.final_rms_px, r.initial_rms_px);
+  const tp::Constellation aligned = apply(align(r.constellation, s.truth), r.constellation);
+  EXPECT_LT(max_led_error(aligned, s.truth), 2e-3);
+  // σ describes the shape (gauge projected out), so it is of the size of the
+  // aligned error, not of the unobservable placement.
+  ASSERT_EQ(r.led_sigma_m.size(), s.truth.leds.size());
+  for (std::size_t k = 0; k < s.truth.leds.size(); ++k) {
+    const double error = (aligned.leds[k].p_body - s.truth.leds[k].p_body).norm();
+    EXPECT_GT(r.led_sigma_m[k], 1e-5) << k;
+    EXPECT_LT(r.led_sigma_m[k], 2e-3) << k;
+    EXPECT_LT(error, 5 * r.led_sigma_m[k]) << k;
+  }
 }
 
 TEST(Calibration, OneKnownPoseFixesAllButTheScale) {
@@ -217,7 +236,8 @@ TEST(Calibration, IsDeterministic) {
   const auto a = tp::calibrate_constellation(kCamera, s.initial, s.views);
   const auto b = tp::calibrate_constellation(kCamera, s.initial, s.views);
   ASSERT_EQ(a.status, tp::CalibrationStatus::Converged) << a.message;
-  for (std::size_t k = 0; k < s.truth.leds.size(); ++k) EXPECT_EQ(a.constellation.leds[k].p_body, b.constellation.leds[k].p_body);
+  for (std::size_t k = 0; k < s.truth.leds.size(); ++k)
+    EXPECT_EQ(a.constellation.leds[k].p_body, b.constellation.leds[k].p_body);
   EXPECT_EQ(a.iterations, b.iterations);
   EXPECT_EQ(a.led_sigma_m, b.led_sigma_m);
 }

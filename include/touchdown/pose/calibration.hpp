@@ -43,7 +43,7 @@ namespace touchdown::pose {
 
 /// One LED seen in one view.
 struct LedObservation {
-  int led = 0;                                    ///< index into Constellation::leds
+  int led = 0;                                      ///< index into Constellation::leds
   Eigen::Vector2d uv_px = Eigen::Vector2d::Zero();  ///< undistorted pixel
 };
 
@@ -55,8 +55,8 @@ struct CalibrationView {
 };
 
 struct CalibrationOptions {
-  int max_iterations = 100;          ///< Levenberg–Marquardt iterations
-  double huber_px = 2.0;             ///< Huber threshold on the reprojection error [px]; 0 = squared loss
+  int max_iterations = 100;           ///< Levenberg–Marquardt iterations
+  double huber_px = 2.0;              ///< Huber threshold on the reprojection error [px]; 0 = squared loss
   double function_tolerance = 1e-12;  ///< Ceres' relative cost-change stopping threshold
   /// False with a reason naming the option if a value is out of range.
   bool validate(std::string* why) const;
@@ -65,7 +65,7 @@ struct CalibrationOptions {
 enum class CalibrationStatus {
   Converged,
   NoConvergence,     ///< iteration limit, solver failure, or an invalid (degenerate) result; see message
-  InsufficientData,  ///< an LED seen in < 2 views, < 2 views with ≥ 4 LEDs, an unknown pose with < 4 LEDs or no PnP solution
+  InsufficientData,  ///< see calibrate_constellation: too few views per LED, unknown pose with < 4 LEDs, no PnP
 };
 
 struct CalibrationResult {
@@ -82,8 +82,10 @@ struct CalibrationResult {
   int iterations = 0;
   /// Per LED, sqrt(σx² + σy² + σz²) [m]: the position's standard deviation
   /// from the Ceres covariance of the solution, scaled by the a-posteriori
-  /// residual variance. Where the gauge is free it is the covariance in the
-  /// gauge used during the solve (reference pose and scale held). Empty if
+  /// residual variance. Where the gauge is free it is the first-order
+  /// covariance of the returned (aligned) LEDs: the gauge directions are
+  /// projected out, so it describes the shape, not the unobservable
+  /// placement and scale. Empty if
   /// the covariance could not be computed (too few redundant observations,
   /// rank-deficient Jacobian).
   std::vector<double> led_sigma_m;

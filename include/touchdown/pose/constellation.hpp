@@ -54,6 +54,10 @@ struct Constellation {
   bool validate(std::string* why) const;
 };
 
+/// The six-LED F450 constellation of data/constellations/f450_leds.yaml
+/// (built in, for the benchmark and examples).
+Constellation default_constellation();
+
 /// Parses the constellation YAML; throws ParseError "source:line: key: what".
 Constellation parse_constellation(std::string_view yaml_text, std::string_view source);
 Constellation load_constellation(const std::filesystem::path& path);

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// Image sequences on disk (written by write_sequence in synthetic.hpp, or
-/// recorded from a camera; docs/formats.md):
+/// recorded from a camera):
 ///
 ///     NNNNNN.png          colour frame: 8-bit BGR (8-bit grey and BGRA accepted)
 ///     NNNNNN.depth.png    optional aligned depth: 16-bit, one channel

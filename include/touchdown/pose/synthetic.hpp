@@ -64,7 +64,7 @@ struct RenderOptions {
   /// constant velocity over it.
   double exposure_s = 0.004;
   double frame_rate_hz = 30.0;   ///< frame rate the previous pose was taken at
-  int motion_blur_samples = 5;   ///< poses summed over the exposure (1 = no blur)
+  int motion_blur_samples = 5;   ///< poses summed over the exposure (1 = no blur; rounded up to odd)
 
   // --- depth ---
   /// Depth noise sigma = k·z² [m]; 0.0025 = 2.5 mm at 1 m (stereo depth).
@@ -117,7 +117,8 @@ struct RenderedFrame {
 /// Thread-safety: render() is const and may run concurrently on one
 /// instance (each thread uses its own scratch buffers). Allocation: after
 /// the first frame of a given size on a thread, render() reuses `out`'s and
-/// its scratch storage.
+/// its scratch storage; only the marker's window (and OpenCV's blur inside
+/// it) may allocate.
 class SyntheticCamera {
  public:
   /// Throws InvalidArgument naming the option when the camera, the
@@ -133,7 +134,8 @@ class SyntheticCamera {
   /// pose one frame earlier (1 / frame_rate_hz), for motion blur; pass the
   /// same pose for none. Deterministic: the same (seed, frame_index) gives
   /// byte-identical images on every platform (touchdown::Rng(seed,
-  /// frame_index)); lamp positions depend on the seed only.
+  /// frame_index)); lamp positions depend on the seed only. Throws
+  /// InvalidArgument when a pose is not finite.
   void render(const Eigen::Isometry3d& T_camera_body, const Eigen::Isometry3d& T_camera_body_previous,
               std::uint64_t seed, std::uint64_t frame_index, RenderedFrame& out) const;
 

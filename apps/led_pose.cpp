@@ -1,0 +1,268 @@
+// led_pose: the drone's 6-DoF pose from its LEDs seen by a ground camera
+// (or from an ArUco marker, the baseline), over a sequence of frames; and
+// the synthetic camera (`render`) and the LED-vs-ArUco table (`benchmark`).
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+
+#include "app_common.hpp"
+#include "touchdown/pose/aruco_baseline.hpp"
+#include "touchdown/pose/camera.hpp"
+#include "touchdown/pose/constellation.hpp"
+#include "touchdown/pose/led_tracker.hpp"
+#include "touchdown/pose/pose_benchmark.hpp"
+#include "touchdown/pose/sequence.hpp"
+#include "touchdown/pose/synthetic.hpp"
+
+namespace {
+
+namespace td = touchdown;
+namespace tp = touchdown::pose;
+namespace fs = std::filesystem;
+
+// The camera/constellation YAML given, else the one a rendered sequence carries.
+fs::path config_path(const std::string& given, const fs::path& dir, const char* file, const char* option) {
+  if (!given.empty()) return given;
+  if (!dir.empty() && fs::exists(dir / file)) return dir / file;
+  throw td::InvalidArgument(std::string(option) + " is required (no " + file + " in the sequence directory)");
+}
+
+double round_to(double v, double q) { return std::round(v / q) * q; }
+
+nlohmann::json pose_json(const std::string& frame, const tp::PoseEstimate& e, double ms) {
+  nlohmann::json j;
+  j["frame"] = frame;
+  j["ok"] = e.ok();
+  if (e.ok()) {
+    const Eigen::Vector3d t = e.T_camera_body.translation();
+    const Eigen::Quaterniond q(e.T_camera_body.linear());
+    j["t"] = {round_to(t.x(), 1e-6), round_to(t.y(), 1e-6), round_to(t.z(), 1e-6)};
+    j["q"] = {round_to(q.w(), 1e-7), round_to(q.x(), 1e-7), round_to(q.y(), 1e-7), round_to(q.z(), 1e-7)};
+    j["reproj_px"] = round_to(e.rms_px, 1e-3);
+    j["leds"] = e.points;
+  } else {
+    j["reason"] = std::string(tp::to_string(e.status));
+  }
+  j["blobs"] = e.blobs;
+  j["ms"] = round_to(ms, 1e-3);
+  return j;
+}
+
+std::string fixed(double v, int digits) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(digits) << v;
+  return os.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Estimate the drone's pose from its LEDs (or an ArUco marker) in a sequence of camera frames.\n"
+               "Subcommands: render (synthetic sequence), benchmark (LED vs ArUco table).",
+               "led_pose"};
+  app.require_subcommand(0, 1);
+  // --- sequence mode ---
+  std::string sequence_dir, camera_file, constellation_file, method = "led";
+  tp::ArucoOptions aruco;
+  bool no_depth = false, jsonl = false;
+  app.add_option("SEQUENCE_DIR", sequence_dir, "directory of NNNNNN.png frames (+ NNNNNN.depth.png)");
+  app.add_option("--camera", camera_file, "camera YAML (default: SEQUENCE_DIR/camera.yaml)");
+  app.add_option("--constellation", constellation_file, "LED constellation YAML (default: SEQUENCE_DIR/constellation.yaml)");
+  app.add_option("--method", method, "led or aruco")->check(CLI::IsMember({"led", "aruco"}))->capture_default_str();
+  app.add_option("--aruco-dict", aruco.dictionary, "ArUco dictionary (4X4_50, 6X6_250, APRILTAG_36h11, ...)")
+      ->capture_default_str();
+  app.add_option("--aruco-id", aruco.marker_id, "ArUco marker id on the airframe")->capture_default_str();
+  app.add_option("--aruco-size", aruco.marker_size, "ArUco marker edge [m]")->capture_default_str();
+  app.add_flag("--no-depth", no_depth, "ignore depth images (2-D gating only)");
+  app.add_flag("--jsonl", jsonl, "one JSON object per frame on stdout");
+
+  // --- render ---
+  auto* render = app.add_subcommand("render", "write a synthetic sequence (colour + depth PNGs, ground_truth.jsonl)");
+  std::string out_dir, r_camera, r_constellation, trajectory = "static";
+  int frames = 300;
+  std::uint64_t seed = 1;
+  double min_distance = 0.4, max_distance = 3.0;
+  tp::RenderOptions ropt;
+  render->add_option("OUT_DIR", out_dir, "directory to create")->required();
+  render->add_option("--camera", r_camera, "camera YAML (default: a D435 colour stream at 848x480)");
+  render->add_option("--constellation", r_constellation, "constellation YAML (default: the built-in F450 six-LED set)");
+  render->add_option("--trajectory", trajectory, "static or moving")
+      ->check(CLI::IsMember({"static", "moving"}))
+      ->capture_default_str();
+  render->add_option("--frames", frames, "number of frames")->capture_default_str();
+  render->add_option("--seed", seed, "random seed")->capture_default_str();
+  render->add_option("--min-distance", min_distance, "closest camera-drone distance [m]")->capture_default_str();
+  render->add_option("--max-distance", max_distance, "farthest camera-drone distance [m]")->capture_default_str();
+  render->add_option("--noise", ropt.noise_sigma, "sensor noise [DN]")->capture_default_str();
+  render->add_option("--distractors", ropt.distractor_count, "bright lamps in view")->capture_default_str();
+  render->add_option("--dropout", ropt.led_dropout_probability, "per-LED per-frame dropout probability")
+      ->capture_default_str();
+  render->add_option("--aruco-dict", aruco.dictionary, "ArUco dictionary of the rendered marker")->capture_default_str();
+  render->add_option("--aruco-id", aruco.marker_id, "ArUco id")->capture_default_str();
+  render->add_option("--aruco-size", aruco.marker_size, "ArUco marker edge [m]")->capture_default_str();
+
+  // --- benchmark ---
+  auto* bench = app.add_subcommand("benchmark", "render static and moving sequences and compare LED and ArUco");
+  bool json = false;
+  int bench_frames = 300;
+  bench->add_option("--frames", bench_frames, "frames per sequence")->capture_default_str();
+  bench->add_option("--seed", seed, "random seed")->capture_default_str();
+  bench->add_option("--camera", r_camera, "camera YAML (default: a D435 colour stream at 848x480)");
+  bench->add_option("--constellation", r_constellation, "constellation YAML (default: the built-in F450 six-LED set)");
+  bench->add_flag("--no-depth", no_depth, "LED method without depth");
+  bench->add_flag("--json", json, "print one JSON object on stdout");
+
+  return td::app::run(app, argc, argv, [&]() -> int {
+    const tp::CameraModel default_camera;
+    auto camera_or_default = [&](const std::string& f) { return f.empty() ? default_camera : tp::load_camera(f); };
+    auto constellation_or_default = [&](const std::string& f) {
+      return f.empty() ? tp::default_constellation() : tp::load_constellation(f);
+    };
+    if (*render) {
+      const auto camera = camera_or_default(r_camera);
+      const auto k = constellation_or_default(r_constellation);
+      ropt.aruco_dictionary = aruco.dictionary;
+      ropt.aruco_id = aruco.marker_id;
+      ropt.aruco_size = aruco.marker_size;
+      std::string why;
+      if (!ropt.validate(&why)) throw td::InvalidArgument(why);
+      tp::TrajectoryOptions to;
+      to.min_distance = min_distance;
+      to.max_distance = max_distance;
+      const auto samples = tp::make_trajectory(trajectory == "static" ? tp::TrajectoryKind::Static
+                                                                       : tp::TrajectoryKind::Moving,
+                                               frames, seed, camera, k, to);
+      tp::write_sequence(out_dir, camera, k, samples, ropt, seed);
+      std::cerr << "led_pose: wrote " << samples.size() << " frames to " << out_dir << "\n";
+      return td::app::kExitOk;
+    }
+    if (*bench) {
+      tp::PoseBenchmarkOptions o;
+      o.camera = camera_or_default(r_camera);
+      o.constellation = constellation_or_default(r_constellation);
+      o.frames = bench_frames;
+      o.seed = seed;
+      o.use_depth = !no_depth;
+      o.aruco = aruco;
+      const auto r = tp::run_pose_benchmark(o);
+      if (json) {
+        nlohmann::json j;
+        j["frames_per_sequence"] = bench_frames;
+        j["seed"] = seed;
+        for (const auto& row : r.rows) {
+          j["rows"].push_back({{"method", row.method},
+                               {"sequence", row.sequence},
+                               {"frames", row.frames},
+                               {"success_rate", row.success_rate},
+                               {"position_mean_m", row.position_mean_m},
+                               {"position_std_m", row.position_std_m},
+                               {"position_max_m", row.position_max_m},
+                               {"orientation_mean_rad", row.orientation_mean_rad},
+                               {"orientation_std_rad", row.orientation_std_rad},
+                               {"ms_median", row.ms_median},
+                               {"ms_p90", row.ms_p90}});
+        }
+        j["solvers_us_median"] = {{"epnp_gauss_newton", r.epnp_gn_us_median},
+                                  {"opencv_iterative", r.opencv_iterative_us_median},
+                                  {"opencv_sqpnp", r.opencv_sqpnp_us_median},
+                                  {"opencv_epnp", r.opencv_epnp_us_median},
+                                  {"samples", r.solver_samples}};
+        std::cout << j.dump(2) << "\n";
+        return td::app::kExitOk;
+      }
+      std::cout << "sequence  method  frames  success  pos mean [m]  pos std [m]  rot mean [rad]  rot std [rad]  "
+                   "ms/frame (median)\n";
+      for (const auto& row : r.rows) {
+        std::cout << std::left << std::setw(10) << row.sequence << std::setw(8) << row.method << std::right
+                  << std::setw(6) << row.frames << std::setw(9) << fixed(row.success_rate, 3) << std::setw(14)
+                  << fixed(row.position_mean_m, 4) << std::setw(13) << fixed(row.position_std_m, 4)
+                  << std::setw(16) << fixed(row.orientation_mean_rad, 4) << std::setw(15)
+                  << fixed(row.orientation_std_rad, 4) << std::setw(19) << fixed(row.ms_median, 3) << "\n";
+      }
+      std::cout << "solvers on the tracked LEDs (median, " << r.solver_samples << " frames): EPnP+GN "
+                << fixed(r.epnp_gn_us_median, 1) << " us, OpenCV ITERATIVE " << fixed(r.opencv_iterative_us_median, 1)
+                << " us, SQPNP " << fixed(r.opencv_sqpnp_us_median, 1) << " us, EPNP "
+                << fixed(r.opencv_epnp_us_median, 1) << " us\n";
+      return td::app::kExitOk;
+    }
+    // Sequence mode.
+    if (sequence_dir.empty()) throw td::InvalidArgument("SEQUENCE_DIR is required (or a subcommand; see --help)");
+    const fs::path dir(sequence_dir);
+    const auto frames_list = tp::list_sequence(dir);
+    const auto camera = tp::load_camera(config_path(camera_file, dir, "camera.yaml", "--camera"));
+    const auto k = tp::load_constellation(config_path(constellation_file, dir, "constellation.yaml", "--constellation"));
+    std::optional<tp::LedTracker> tracker;
+    std::optional<tp::ArucoPoseEstimator> marker;
+    if (method == "led") {
+      tp::TrackerOptions to;
+      to.use_depth = !no_depth;
+      tracker.emplace(camera, k, to);
+    } else {
+      marker.emplace(camera, k.T_body_marker, aruco);
+    }
+    // Ground truth, when the sequence carries it (a rendered one does).
+    std::vector<tp::GroundTruthSample> truth;
+    if (fs::exists(dir / "ground_truth.jsonl")) truth = tp::read_ground_truth(dir / "ground_truth.jsonl");
+    tp::BgrImage colour;
+    tp::DepthImage depth;
+    std::string out;  // printed at the end: a bad frame leaves no partial output
+    int ok = 0;
+    std::vector<double> ms, rms, pos_err, rot_err;
+    std::size_t ti = 0;
+    for (const auto& f : frames_list) {
+      const bool want_depth = method == "led" && !no_depth && f.depth;
+      tp::read_frame(f, colour, want_depth ? &depth : nullptr);
+      if (colour.width != camera.width || colour.height != camera.height) {
+        throw td::ParseError(f.colour.string() + ": image is " + std::to_string(colour.width) + "x" +
+                             std::to_string(colour.height) + " but the camera is " + std::to_string(camera.width) +
+                             "x" + std::to_string(camera.height));
+      }
+      const tp::DepthImageView dv = depth.view();
+      const auto t0 = std::chrono::steady_clock::now();
+      const tp::PoseEstimate e = tracker ? tracker->track(colour.view(), want_depth ? &dv : nullptr)
+                                         : marker->estimate(colour.view());
+      const double elapsed = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      ms.push_back(elapsed);
+      if (e.ok()) {
+        ++ok;
+        rms.push_back(e.rms_px);
+        while (ti < truth.size() && truth[ti].frame < f.name) ++ti;
+        if (ti < truth.size() && truth[ti].frame == f.name) {
+          const auto [p, r] = tp::pose_error(e.T_camera_body, truth[ti].T_camera_body);
+          pos_err.push_back(p);
+          rot_err.push_back(r);
+        }
+      }
+      if (jsonl) out += pose_json(f.name, e, elapsed).dump() + "\n";
+    }
+    if (jsonl) {
+      std::cout << out;
+      return td::app::kExitOk;
+    }
+    auto median = [](std::vector<double> v) {
+      if (v.empty()) return 0.0;
+      std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+      return v[v.size() / 2];
+    };
+    auto mean = [](const std::vector<double>& v) {
+      double s = 0;
+      for (double x : v) s += x;
+      return v.empty() ? 0.0 : s / static_cast<double>(v.size());
+    };
+    std::cout << "led_pose: " << method << " on " << frames_list.size() << " frames of " << sequence_dir << "\n"
+              << "  pose found      " << ok << " / " << frames_list.size() << " ("
+              << fixed(100.0 * ok / static_cast<double>(std::max<std::size_t>(1, frames_list.size())), 1) << "%)\n"
+              << "  reprojection    median " << fixed(median(rms), 3) << " px\n"
+              << "  time per frame  median " << fixed(median(ms), 3) << " ms\n";
+    if (!pos_err.empty()) {
+      std::cout << "  vs ground truth mean position error " << fixed(mean(pos_err), 4) << " m, orientation "
+                << fixed(mean(rot_err), 4) << " rad (" << pos_err.size() << " frames)\n";
+    }
+    return td::app::kExitOk;
+  });
+}

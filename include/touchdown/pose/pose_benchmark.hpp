@@ -1,0 +1,66 @@
+#pragma once
+/// \file
+/// The LED-vs-ArUco benchmark of `led_pose benchmark` (the paper's table):
+/// renders static and moving-camera sequences with the synthetic camera,
+/// runs the LED tracker and the ArUco baseline on the same frames and
+/// reports, per method and sequence, the mean and standard deviation of the
+/// position error [m] and orientation error [rad, angle-axis] over the
+/// successful frames, the detection success rate (frames with a pose whose
+/// reprojection error is below `success_px`) and the per-frame time.
+/// It also times EPnP + Gauss–Newton against OpenCV's solvePnP on the
+/// tracker's matched LEDs.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "touchdown/pose/aruco_baseline.hpp"
+#include "touchdown/pose/camera.hpp"
+#include "touchdown/pose/constellation.hpp"
+#include "touchdown/pose/led_tracker.hpp"
+#include "touchdown/pose/synthetic.hpp"
+
+namespace touchdown::pose {
+
+struct PoseBenchmarkOptions {
+  CameraModel camera;
+  Constellation constellation;  ///< must be set (e.g. data/constellations/f450_leds.yaml)
+  int frames = 300;             ///< per sequence
+  std::uint64_t seed = 1;
+  double min_distance = 0.4, max_distance = 3.0;  ///< [m]
+  double success_px = 10.0;     ///< success: a pose with reprojection RMS below this [px]
+  bool use_depth = true;
+  RenderOptions render;
+  TrackerOptions tracker;
+  ArucoOptions aruco;  ///< dictionary/id/size are copied into the render options
+  bool validate(std::string* why) const;
+};
+
+struct MethodStats {
+  std::string method;    ///< "led" or "aruco"
+  std::string sequence;  ///< "static" or "moving"
+  int frames = 0;
+  int successes = 0;
+  double success_rate = 0;
+  double position_mean_m = 0, position_std_m = 0;
+  double orientation_mean_rad = 0, orientation_std_rad = 0;
+  double position_max_m = 0;
+  double ms_median = 0, ms_p90 = 0;  ///< per-frame time of the whole method
+};
+
+struct PoseBenchmarkResult {
+  std::vector<MethodStats> rows;
+  int solver_samples = 0;             ///< frames where the solvers were timed
+  double epnp_gn_us_median = 0;       ///< our EPnP + Gauss–Newton on the matched LEDs
+  double opencv_iterative_us_median = 0;  ///< cv::solvePnP SOLVEPNP_ITERATIVE on the same points
+  double opencv_sqpnp_us_median = 0;      ///< cv::solvePnP SOLVEPNP_SQPNP
+  double opencv_epnp_us_median = 0;       ///< cv::solvePnP SOLVEPNP_EPNP
+};
+
+/// Runs the benchmark (single-threaded, deterministic in everything but
+/// the timings). Throws InvalidArgument on invalid options.
+PoseBenchmarkResult run_pose_benchmark(const PoseBenchmarkOptions& options);
+
+/// Position error [m] and angle-axis orientation error [rad] of `estimate`.
+std::pair<double, double> pose_error(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth);
+
+}  // namespace touchdown::pose

@@ -1,0 +1,165 @@
+#include "touchdown/pose/pose_benchmark.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <opencv2/calib3d.hpp>
+
+#include "touchdown/core/error.hpp"
+#include "touchdown/pose/epnp.hpp"
+
+namespace touchdown::pose {
+
+bool PoseBenchmarkOptions::validate(std::string* why) const {
+  auto fail = [&](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  std::string w;
+  if (!camera.validate(&w)) return fail("camera: " + w);
+  if (!constellation.validate(&w)) return fail("constellation: " + w);
+  if (frames < 1 || frames > 100000) return fail("frames: must be in 1..100000");
+  if (!(min_distance > 0 && max_distance > min_distance)) return fail("distances: need 0 < min < max");
+  if (!(success_px > 0)) return fail("success_px: must be positive");
+  if (!render.validate(&w)) return fail("render: " + w);
+  if (!tracker.validate(&w)) return fail("tracker: " + w);
+  if (!aruco.validate(&w)) return fail("aruco: " + w);
+  return true;
+}
+
+std::pair<double, double> pose_error(const Eigen::Isometry3d& e, const Eigen::Isometry3d& t) {
+  return {(e.translation() - t.translation()).norm(),
+          Eigen::AngleAxisd(e.linear().transpose() * t.linear()).angle()};
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  const auto k = static_cast<std::size_t>(std::clamp(q, 0.0, 1.0) * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+struct Accumulator {
+  MethodStats s;
+  std::vector<double> pos, rot, ms;
+  void add(const PoseEstimate& e, const Eigen::Isometry3d& truth, double elapsed_ms, double success_px) {
+    ++s.frames;
+    ms.push_back(elapsed_ms);
+    if (!e.ok() || !(e.rms_px < success_px)) return;
+    ++s.successes;
+    const auto [p, r] = pose_error(e.T_camera_body, truth);
+    pos.push_back(p);
+    rot.push_back(r);
+  }
+  MethodStats finish() {
+    auto mean_std = [](const std::vector<double>& v, double& mean, double& sd) {
+      mean = sd = 0;
+      if (v.empty()) return;
+      for (double x : v) mean += x;
+      mean /= static_cast<double>(v.size());
+      for (double x : v) sd += (x - mean) * (x - mean);
+      sd = std::sqrt(sd / static_cast<double>(v.size()));
+    };
+    mean_std(pos, s.position_mean_m, s.position_std_m);
+    mean_std(rot, s.orientation_mean_rad, s.orientation_std_rad);
+    s.position_max_m = pos.empty() ? 0 : *std::max_element(pos.begin(), pos.end());
+    s.success_rate = s.frames ? static_cast<double>(s.successes) / s.frames : 0;
+    s.ms_median = percentile(ms, 0.5);
+    s.ms_p90 = percentile(ms, 0.9);
+    return s;
+  }
+};
+
+template <typename F>
+double time_us(F&& f) {
+  const auto t0 = Clock::now();
+  f();
+  return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+}
+
+}  // namespace
+
+PoseBenchmarkResult run_pose_benchmark(const PoseBenchmarkOptions& o) {
+  std::string why;
+  if (!o.validate(&why)) throw InvalidArgument("benchmark options: " + why);
+  RenderOptions render = o.render;
+  render.aruco_dictionary = o.aruco.dictionary;
+  render.aruco_id = o.aruco.marker_id;
+  render.aruco_size = o.aruco.marker_size;
+  const SyntheticCamera synth(o.camera, o.constellation, render);
+  TrajectoryOptions to;
+  to.min_distance = o.min_distance;
+  to.max_distance = o.max_distance;
+  PoseBenchmarkResult result;
+  std::vector<double> ours_us, iter_us, sqp_us, epnp_us;
+  const PinholeCamera pin = o.camera.pinhole();
+  const cv::Matx33d K(pin.fx, 0, pin.cx, 0, pin.fy, pin.cy, 0, 0, 1);
+  RenderedFrame frame;
+  int sequence_index = 0;
+  for (const TrajectoryKind kind : {TrajectoryKind::Static, TrajectoryKind::Moving}) {
+    const std::string name = kind == TrajectoryKind::Static ? "static" : "moving";
+    const std::uint64_t seed = o.seed * 1000003ull + static_cast<std::uint64_t>(sequence_index++);
+    const auto trajectory = make_trajectory(kind, o.frames, seed, o.camera, o.constellation, to);
+    LedTracker tracker(o.camera, o.constellation, o.tracker);
+    ArucoPoseEstimator aruco(o.camera, o.constellation.T_body_marker, o.aruco);
+    Accumulator led, marker;
+    led.s.method = "led";
+    marker.s.method = "aruco";
+    led.s.sequence = marker.s.sequence = name;
+    for (std::size_t i = 0; i < trajectory.size(); ++i) {
+      // Motion blur from the previous sample, unless the trajectory jumps
+      // (between the static sequence's hold points).
+      Eigen::Isometry3d previous = trajectory[i > 0 ? i - 1 : 0].T_camera_body;
+      const auto [dp, dr] = pose_error(previous, trajectory[i].T_camera_body);
+      if (dp > 0.1 || dr > 10.0 * 3.14159265358979 / 180.0) previous = trajectory[i].T_camera_body;
+      synth.render(trajectory[i].T_camera_body, previous, seed, i, frame);
+      const DepthImageView depth = frame.depth.view();
+      auto t0 = Clock::now();
+      const PoseEstimate& e = tracker.track(frame.colour.view(), o.use_depth ? &depth : nullptr);
+      led.add(e, trajectory[i].T_camera_body, ms_since(t0), o.success_px);
+      // Solver comparison on the matched LEDs (undistorted pixels).
+      if (e.ok()) {
+        std::vector<Eigen::Vector3d> p;
+        std::vector<Eigen::Vector2d> uv;
+        std::vector<cv::Point3d> obj;
+        std::vector<cv::Point2d> img;
+        for (std::size_t l = 0; l < o.constellation.leds.size(); ++l) {
+          const int b = tracker.led_to_blob()[l];
+          if (b < 0) continue;
+          p.push_back(o.constellation.leds[l].p_body);
+          uv.push_back(tracker.blobs()[static_cast<std::size_t>(b)].uv_undistorted);
+          obj.emplace_back(p.back().x(), p.back().y(), p.back().z());
+          img.emplace_back(uv.back().x(), uv.back().y());
+        }
+        if (p.size() >= 6) {  // OpenCV's ITERATIVE needs 6 non-coplanar points
+          ++result.solver_samples;
+          ours_us.push_back(time_us([&] { (void)solve_pnp(pin, p, uv, o.tracker.correspondence.refine); }));
+          cv::Mat rvec, tvec;
+          iter_us.push_back(time_us([&] { cv::solvePnP(obj, img, K, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_ITERATIVE); }));
+          sqp_us.push_back(time_us([&] { cv::solvePnP(obj, img, K, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_SQPNP); }));
+          epnp_us.push_back(time_us([&] { cv::solvePnP(obj, img, K, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_EPNP); }));
+        }
+      }
+      t0 = Clock::now();
+      const PoseEstimate a = aruco.estimate(frame.colour.view());
+      marker.add(a, trajectory[i].T_camera_body, ms_since(t0), o.success_px);
+    }
+    result.rows.push_back(led.finish());
+    result.rows.push_back(marker.finish());
+  }
+  result.epnp_gn_us_median = percentile(ours_us, 0.5);
+  result.opencv_iterative_us_median = percentile(iter_us, 0.5);
+  result.opencv_sqpnp_us_median = percentile(sqp_us, 0.5);
+  result.opencv_epnp_us_median = percentile(epnp_us, 0.5);
+  return result;
+}
+
+}  // namespace touchdown::pose
