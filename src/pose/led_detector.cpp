@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include "touchdown/core/error.hpp"
 
@@ -90,17 +91,36 @@ struct LedDetector::Impl {
     runs.clear();
     row_start.resize(static_cast<std::size_t>(img.height) + 1);
     const auto thr = static_cast<std::uint8_t>(options.threshold);
+    const bool word_skip = options.threshold >= 128;
     for (int y = 0; y < img.height; ++y) {
       row_start[static_cast<std::size_t>(y)] = static_cast<int>(runs.size());
       const std::uint8_t* p = img.row(y);
       int x = 0;
       const int w = img.width;
+      auto dark = [&](int i) { return p[3 * i] < thr && p[3 * i + 1] < thr && p[3 * i + 2] < thr; };
+      const std::size_t end = 3 * static_cast<std::size_t>(w);
       while (x < w) {
-        // Skip dark pixels quickly.
-        while (x < w && p[3 * x] < thr && p[3 * x + 1] < thr && p[3 * x + 2] < thr) ++x;
-        if (x >= w) break;
+        if (word_skip) {
+          // A low-exposure frame is almost all dark: skip 8 bytes at a time
+          // while no byte has its high bit set (all < 128 <= threshold).
+          std::size_t i = 3 * static_cast<std::size_t>(x);
+          while (i + 8 <= end) {
+            std::uint64_t v;
+            std::memcpy(&v, p + i, 8);
+            if (v & 0x8080808080808080ull) break;
+            i += 8;
+          }
+          x = static_cast<int>(i / 3);
+          const int stop = std::min(w, static_cast<int>((i + 8) / 3) + 1);
+          while (x < stop && dark(x)) ++x;
+          if (x >= w) break;
+          if (x == stop) continue;  // only bright-ish bytes below the threshold: skip on
+        } else {
+          while (x < w && dark(x)) ++x;
+          if (x >= w) break;
+        }
         const int x0 = x;
-        while (x < w && (p[3 * x] >= thr || p[3 * x + 1] >= thr || p[3 * x + 2] >= thr)) ++x;
+        while (x < w && !dark(x)) ++x;
         const int id = static_cast<int>(runs.size());
         runs.push_back({y, x0, x, id});
       }

@@ -31,6 +31,8 @@ bool CorrespondenceOptions::validate(std::string* why) const {
   if (max_blobs < 4 || max_blobs > 32) return fail("max_blobs: must be in 4..32");
   if (max_hypotheses < 1) return fail("max_hypotheses: must be positive");
   if (min_leds < 4) return fail("min_leds: must be at least 4");
+  if (!(max_view_angle_deg > 0 && max_view_angle_deg <= 180)) return fail("max_view_angle_deg: must be in (0, 180]");
+  if (!(minimal_fit_rms_px > 0)) return fail("minimal_fit_rms_px: must be positive");
   if (!(missing_penalty_px > 0)) return fail("missing_penalty_px: must be positive");
   if (!(min_distance >= 0 && max_distance > min_distance)) return fail("min_distance/max_distance: need 0 <= min < max");
   if (refine.max_iterations < 1) return fail("refine.max_iterations: must be positive");
@@ -230,6 +232,7 @@ Correspondence find_correspondences(const PinholeCamera& cam, const Constellatio
   const double penalty2 = o.missing_penalty_px * o.missing_penalty_px;
   double best_score = kInf;
   const Eigen::Vector3d centroid = k.centroid();
+  const double cos_view = std::cos(o.max_view_angle_deg * 3.14159265358979323846 / 180.0);
   bool done = false;
   // Every 4-subset of LEDs (non-degenerate) against every ordered 4-tuple
   // of distinct, colour-compatible blobs.
@@ -287,6 +290,14 @@ Correspondence find_correspondences(const PinholeCamera& cam, const Constellatio
                   }
                   const double depth = (fit.T_camera_body * centroid).z();
                   if (depth < o.min_distance || depth > o.max_distance) continue;
+                  // The LEDs shine into the hemisphere around body −z: the
+                  // camera must lie inside the emission cone.
+                  const Eigen::Vector3d cam_in_body = fit.T_camera_body.inverse().translation() - centroid;
+                  if (-cam_in_body.z() < cos_view * cam_in_body.norm()) continue;
+                  // Four LEDs leave 2 redundant measurements: random blobs
+                  // can fit them, so a four-LED pose (of a larger
+                  // constellation) must fit tightly.
+                  if (set.n == 4 && n > 4 && fit.rms_px > o.minimal_fit_rms_px) continue;
                   const double count = static_cast<double>(set.n);
                   const double score = fit.rms_px * fit.rms_px * count + (static_cast<double>(n) - count) * penalty2;
                   if (score < best_score) {

@@ -141,3 +141,34 @@ TEST(LedDetector, UndistortsCentres) {
   const Eigen::Vector2d distorted = cam.project(p);
   EXPECT_LT((cam.undistort(distorted) - cam.pinhole().project(p)).norm(), 1e-6);
 }
+
+TEST(LedDetector, BlobCountMatchesOpenCvOnRandomSparseImages) {
+  // Random lit pixels anywhere (incl. across the 8-byte skipping words and
+  // row ends), dim pixels with the high bit set but below the threshold.
+  touchdown::Rng rng(33);
+  tp::CameraModel cam = camera();
+  tp::DetectorOptions o;
+  o.min_area = 1;
+  o.max_blobs = 100000;
+  tp::LedDetector det(cam, o);
+  for (int trial = 0; trial < 20; ++trial) {
+    tp::BgrImage img;
+    img.resize(848, 480);
+    std::fill(img.pixels.begin(), img.pixels.end(), 0);
+    for (int k = 0; k < 3000; ++k) {
+      const auto x = static_cast<int>(rng.next() % 848), y = static_cast<int>(rng.next() % 480);
+      img.row(y)[3 * x + rng.next() % 3] = static_cast<std::uint8_t>(k % 3 == 0 ? 150 : 230);
+    }
+    std::vector<tp::Blob> blobs;
+    det.detect(img.view(), nullptr, blobs);
+    cv::Mat m(img.height, img.width, CV_8UC3, img.pixels.data());
+    std::vector<cv::Mat> ch;
+    cv::split(m, ch);
+    cv::Mat mx = cv::max(cv::max(ch[0], ch[1]), ch[2]), bin, labels;
+    cv::threshold(mx, bin, 199, 255, cv::THRESH_BINARY);
+    ASSERT_EQ(cv::connectedComponents(bin, labels, 8) - 1, static_cast<int>(blobs.size())) << trial;
+    double area = 0;
+    for (const auto& b : blobs) area += b.area;
+    EXPECT_EQ(area, cv::countNonZero(bin));
+  }
+}

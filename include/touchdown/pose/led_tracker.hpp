@@ -44,6 +44,12 @@ struct CorrespondenceOptions {
   double missing_penalty_px = 3.0; ///< score charged per unexplained LED, as a reprojection error [px]
   double min_distance = 0.1;       ///< plausible range of the constellation's distance [m]
   double max_distance = 10.0;
+  /// Largest angle between body −z (where the LEDs shine) and the direction
+  /// to the camera for a pose to be plausible [deg]; 180 = any.
+  double max_view_angle_deg = 90.0;
+  /// A pose resting on exactly four LEDs of a larger constellation must
+  /// reproject better than this [px] (four points leave little redundancy).
+  double minimal_fit_rms_px = 0.5;
   GaussNewtonOptions refine{20, 1e-10, 2.0};
   bool validate(std::string* why) const;
 };

@@ -1,0 +1,328 @@
+// led_pose end to end: render → track against the rendered ground truth
+// (LED with and without depth, ArUco), determinism, the benchmark table, and
+// one test per bad-input case (exit 2, one line on stderr, nothing on stdout).
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "test_util.hpp"
+
+namespace td = touchdown;
+namespace fs = std::filesystem;
+using td::test::AppRun;
+using td::test::TempDir;
+
+namespace {
+
+AppRun run(const std::string& args, const TempDir& dir) { return td::test::run_app(LED_POSE_EXE, args, dir); }
+
+// Renders the 12-frame sequence of the tests into dir/name.
+fs::path render(const TempDir& dir, const std::string& name = "seq", const std::string& extra = "") {
+  const fs::path out = dir / name;
+  const AppRun r = run("render " + out.string() + " --frames 12 --seed 3 " + extra, dir);
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  return out;
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty()) out.push_back(line);
+  }
+  return out;
+}
+
+struct Truth {
+  Eigen::Vector3d t;
+  Eigen::Quaterniond q;
+};
+
+std::map<std::string, Truth> read_truth(const fs::path& seq) {
+  std::map<std::string, Truth> out;
+  for (const auto& line : lines_of(td::test::read_text(seq / "ground_truth.jsonl"))) {
+    const auto j = nlohmann::json::parse(line);
+    Truth tr;
+    tr.t = {j["t"][0].get<double>(), j["t"][1].get<double>(), j["t"][2].get<double>()};
+    tr.q = Eigen::Quaterniond(j["q"][0].get<double>(), j["q"][1].get<double>(), j["q"][2].get<double>(),
+                              j["q"][3].get<double>());
+    out[j["frame"].get<std::string>()] = tr;
+  }
+  return out;
+}
+
+// Checks the JSON Lines of a tracking run against the ground truth; returns the frames with a pose.
+int check_jsonl(const std::string& out, const fs::path& seq, bool compare_truth) {
+  const auto truth = read_truth(seq);
+  EXPECT_EQ(truth.size(), 12u);
+  const auto lines = lines_of(out);
+  EXPECT_EQ(lines.size(), 12u) << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 12);
+  int ok = 0;
+  for (const auto& line : lines) {
+    const auto j = nlohmann::json::parse(line);
+    ASSERT_TRUE(j.is_object()) << line;
+    for (const char* key : {"frame", "ok", "ms"}) EXPECT_TRUE(j.contains(key)) << key << " in " << line;
+    EXPECT_GE(j["ms"].get<double>(), 0.0);
+    if (!j["ok"].get<bool>()) {
+      EXPECT_TRUE(j.contains("reason")) << line;
+      EXPECT_TRUE(j["reason"].is_string()) << line;
+      continue;
+    }
+    ++ok;
+    for (const char* key : {"t", "q", "reproj_px", "leds"}) EXPECT_TRUE(j.contains(key)) << key << " in " << line;
+    ASSERT_EQ(j["t"].size(), 3u);
+    ASSERT_EQ(j["q"].size(), 4u);
+    EXPECT_GE(j["reproj_px"].get<double>(), 0.0);
+    EXPECT_GE(j["leds"].get<int>(), 4);
+    if (!compare_truth) continue;
+    const auto it = truth.find(j["frame"].get<std::string>());
+    if (it == truth.end()) {
+      ADD_FAILURE() << "no ground truth for " << line;
+      continue;
+    }
+    const Eigen::Vector3d t(j["t"][0].get<double>(), j["t"][1].get<double>(), j["t"][2].get<double>());
+    const Eigen::Quaterniond q(j["q"][0].get<double>(), j["q"][1].get<double>(), j["q"][2].get<double>(),
+                               j["q"][3].get<double>());  // [w, x, y, z]
+    EXPECT_NEAR(q.norm(), 1.0, 1e-5) << line;
+    EXPECT_LT((t - it->second.t).norm(), 0.02) << line;
+    EXPECT_LT(q.normalized().angularDistance(it->second.q.normalized()), 0.02) << line;
+  }
+  return ok;
+}
+
+// The output of a --jsonl run with the timing field removed.
+std::vector<nlohmann::json> without_ms(const std::string& out) {
+  std::vector<nlohmann::json> v;
+  for (const auto& line : lines_of(out)) {
+    auto j = nlohmann::json::parse(line);
+    EXPECT_TRUE(j.contains("ms"));
+    j.erase("ms");
+    v.push_back(std::move(j));
+  }
+  return v;
+}
+
+// A bad-input run: exit 2, exactly one line on stderr containing `needle`, nothing on stdout.
+void expect_bad_input(const AppRun& r, const std::string& needle) {
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_TRUE(r.out.empty()) << "stdout: " << r.out;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find(needle), std::string::npos) << "stderr lacks '" << needle << "': " << r.err;
+}
+
+std::string file_bytes(const fs::path& p) { return td::test::read_text(p); }
+
+}  // namespace
+
+// ---- tracking a rendered sequence -------------------------------------------------
+
+TEST(LedPoseApp, RenderWritesASequence) {
+  TempDir dir;
+  const auto seq = render(dir);
+  for (const char* f : {"camera.yaml", "constellation.yaml", "ground_truth.jsonl", "000000.png", "000011.png",
+                        "000000.depth.png", "000011.depth.png"}) {
+    EXPECT_TRUE(fs::exists(seq / f)) << f;
+  }
+  EXPECT_FALSE(fs::exists(seq / "000012.png"));
+}
+
+TEST(LedPoseApp, LedJsonlMatchesGroundTruth) {
+  TempDir dir;
+  const auto seq = render(dir);
+  const AppRun r = run(seq.string() + " --jsonl", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_GE(check_jsonl(r.out, seq, true), 11);
+}
+
+TEST(LedPoseApp, LedWithoutDepthMatchesGroundTruth) {
+  TempDir dir;
+  const auto seq = render(dir);
+  const AppRun r = run(seq.string() + " --jsonl --no-depth", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_GE(check_jsonl(r.out, seq, true), 11);
+}
+
+TEST(LedPoseApp, ArucoRuns) {
+  TempDir dir;
+  const auto seq = render(dir);
+  const AppRun r = run(seq.string() + " --jsonl --method aruco", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  check_jsonl(r.out, seq, false);
+}
+
+TEST(LedPoseApp, HumanSummaryReportsGroundTruthErrors) {
+  TempDir dir;
+  const auto seq = render(dir);
+  const AppRun r = run(seq.string(), dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("pose found"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("ground truth"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("position error"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("orientation"), std::string::npos) << r.out;
+}
+
+TEST(LedPoseApp, RenderAndTrackingAreDeterministic) {
+  TempDir dir;
+  const auto a = render(dir, "a");
+  const auto b = render(dir, "b");
+  int pngs = 0;
+  for (const auto& e : fs::directory_iterator(a)) {
+    const auto name = e.path().filename();
+    ASSERT_TRUE(fs::exists(b / name)) << name;
+    if (name.extension() == ".png") ++pngs;
+    EXPECT_TRUE(file_bytes(e.path()) == file_bytes(b / name)) << name << " differs";
+  }
+  EXPECT_EQ(pngs, 24);
+  const AppRun r1 = run(a.string() + " --jsonl", dir);
+  const AppRun r2 = run(a.string() + " --jsonl", dir);
+  ASSERT_EQ(r1.code, 0) << r1.err;
+  ASSERT_EQ(r2.code, 0) << r2.err;
+  const auto j1 = without_ms(r1.out), j2 = without_ms(r2.out);
+  ASSERT_EQ(j1.size(), 12u);
+  EXPECT_EQ(j1, j2);
+}
+
+TEST(LedPoseApp, BenchmarkJson) {
+  TempDir dir;
+  const AppRun r = run("benchmark --frames 20 --json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);  // exactly one JSON object
+  ASSERT_TRUE(j.is_object());
+  ASSERT_EQ(j["rows"].size(), 4u);
+  std::set<std::string> seen;
+  for (const auto& row : j["rows"]) {
+    const auto method = row["method"].get<std::string>(), sequence = row["sequence"].get<std::string>();
+    seen.insert(method + "/" + sequence);
+    EXPECT_EQ(row["frames"].get<int>(), 20);
+    if (method == "led") {
+      EXPECT_GE(row["success_rate"].get<double>(), 0.95) << row.dump();
+      EXPECT_LE(row["position_mean_m"].get<double>(), 0.02) << row.dump();
+    }
+  }
+  EXPECT_EQ(seen, (std::set<std::string>{"led/static", "led/moving", "aruco/static", "aruco/moving"}));
+}
+
+// ---- bad input --------------------------------------------------------------------------
+
+TEST(LedPoseAppBadInput, MissingSequenceDirectory) {
+  TempDir dir;
+  expect_bad_input(run((dir / "nope").string() + " --jsonl", dir), "nope");
+}
+
+TEST(LedPoseAppBadInput, EmptyDirectory) {
+  TempDir dir;
+  fs::create_directories(dir / "empty");
+  expect_bad_input(run((dir / "empty").string() + " --jsonl", dir), "no frames");
+}
+
+TEST(LedPoseAppBadInput, CorruptFrameLeavesNoPartialOutput) {
+  TempDir dir;
+  const auto seq = render(dir);
+  static const char garbage[] = "\x13\x37 this is not a PNG \x00\xff garbage";
+  td::test::write_text(seq / "000001.png", std::string(garbage, sizeof garbage - 1));
+  expect_bad_input(run(seq.string() + " --jsonl", dir), "000001.png");
+  // Frame 000000 was fine, but its line must not have been printed either.
+  expect_bad_input(run(seq.string(), dir), "000001.png");
+}
+
+TEST(LedPoseAppBadInput, DepthOfAnotherSize) {
+  TempDir dir;
+  const auto seq = render(dir);
+  ASSERT_TRUE(cv::imwrite((seq / "000002.depth.png").string(), cv::Mat(100, 120, CV_16UC1, cv::Scalar(1000))));
+  expect_bad_input(run(seq.string() + " --jsonl", dir), "000002.depth.png");
+  // Without depth the sequence is fine.
+  const AppRun r = run(seq.string() + " --jsonl --no-depth", dir);
+  EXPECT_EQ(r.code, 0) << r.err;
+}
+
+TEST(LedPoseAppBadInput, CameraWithNegativeFocalLength) {
+  TempDir dir;
+  const auto seq = render(dir);
+  const std::string yaml = std::regex_replace(td::test::read_text(seq / "camera.yaml"),
+                                              std::regex("(^|\n)fx: [^\n]*"), "$1fx: -1");
+  ASSERT_NE(yaml.find("fx: -1"), std::string::npos);
+  td::test::write_text(dir / "cam.yaml", yaml);
+  const AppRun r = run(seq.string() + " --jsonl --camera " + (dir / "cam.yaml").string(), dir);
+  expect_bad_input(r, "cam.yaml");
+  EXPECT_NE(r.err.find("fx"), std::string::npos) << r.err;
+}
+
+namespace {
+
+std::string constellation_yaml(const std::vector<std::string>& xyz) {
+  std::string y = "leds:\n";
+  const char* colours[] = {"red", "red", "green", "green", "blue", "white"};
+  for (std::size_t i = 0; i < xyz.size(); ++i) y += "  - {xyz: [" + xyz[i] + "], color: " + colours[i % 6] + "}\n";
+  return y;
+}
+
+AppRun run_with_constellation(const TempDir& dir, const fs::path& seq, const std::string& yaml) {
+  td::test::write_text(dir / "k.yaml", yaml);
+  return run(seq.string() + " --jsonl --constellation " + (dir / "k.yaml").string(), dir);
+}
+
+}  // namespace
+
+TEST(LedPoseAppBadInput, ConstellationWithDuplicateLeds) {
+  TempDir dir;
+  const auto seq = render(dir);
+  const AppRun r = run_with_constellation(
+      dir, seq, constellation_yaml({"0.1, 0.1, 0", "0.1, -0.1, 0", "-0.1, -0.1, 0", "0.1, -0.1, 0", "0, 0, -0.1"}));
+  expect_bad_input(r, "k.yaml");
+  EXPECT_NE(r.err.find("leds[3]"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("duplicate"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("leds[1]"), std::string::npos) << r.err;
+}
+
+TEST(LedPoseAppBadInput, CollinearConstellation) {
+  TempDir dir;
+  const auto seq = render(dir);
+  const AppRun r =
+      run_with_constellation(dir, seq, constellation_yaml({"0, 0, 0", "0.1, 0, 0", "0.2, 0, 0", "0.3, 0, 0"}));
+  expect_bad_input(r, "k.yaml");
+  EXPECT_NE(r.err.find("collinear"), std::string::npos) << r.err;
+}
+
+TEST(LedPoseAppBadInput, ConstellationWithThreeLeds) {
+  TempDir dir;
+  const auto seq = render(dir);
+  const AppRun r = run_with_constellation(dir, seq, constellation_yaml({"0, 0, 0", "0.1, 0, 0", "0, 0.1, 0"}));
+  expect_bad_input(r, "k.yaml");
+  EXPECT_NE(r.err.find("leds"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("at least 4"), std::string::npos) << r.err;
+}
+
+TEST(LedPoseAppBadInput, UnknownArucoDictionary) {
+  TempDir dir;
+  const auto seq = render(dir);
+  const AppRun r = run(seq.string() + " --jsonl --method aruco --aruco-dict 9X9_7", dir);
+  expect_bad_input(r, "9X9_7");
+  EXPECT_NE(r.err.find("dictionary"), std::string::npos) << r.err;
+}
+
+TEST(LedPoseAppBadInput, FramesOfAnotherSizeThanTheCamera) {
+  TempDir dir;
+  const auto seq = render(dir);
+  const std::string yaml = std::regex_replace(td::test::read_text(seq / "camera.yaml"),
+                                              std::regex("(^|\n)width: [^\n]*"), "$1width: 640");
+  ASSERT_NE(yaml.find("width: 640"), std::string::npos);
+  td::test::write_text(dir / "cam640.yaml", yaml);
+  const AppRun r = run(seq.string() + " --jsonl --camera " + (dir / "cam640.yaml").string(), dir);
+  expect_bad_input(r, "000000.png");
+  EXPECT_NE(r.err.find("848x480"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("640x480"), std::string::npos) << r.err;
+}
