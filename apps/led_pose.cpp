@@ -32,25 +32,23 @@ fs::path config_path(const std::string& given, const fs::path& dir, const char* 
   throw td::InvalidArgument(std::string(option) + " is required (no " + file + " in the sequence directory)");
 }
 
-double round_to(double v, double q) { return std::round(v / q) * q; }
-
-nlohmann::json pose_json(const std::string& frame, const tp::PoseEstimate& e, double ms) {
-  nlohmann::json j;
-  j["frame"] = frame;
-  j["ok"] = e.ok();
+// One JSON line by hand: fixed decimals (nlohmann would print the binary
+// value of a rounded double in full), q with w >= 0.
+std::string pose_json(const std::string& frame, const tp::PoseEstimate& e, double ms) {
+  char buf[512];
   if (e.ok()) {
     const Eigen::Vector3d t = e.T_camera_body.translation();
-    const Eigen::Quaterniond q(e.T_camera_body.linear());
-    j["t"] = {round_to(t.x(), 1e-6), round_to(t.y(), 1e-6), round_to(t.z(), 1e-6)};
-    j["q"] = {round_to(q.w(), 1e-7), round_to(q.x(), 1e-7), round_to(q.y(), 1e-7), round_to(q.z(), 1e-7)};
-    j["reproj_px"] = round_to(e.rms_px, 1e-3);
-    j["leds"] = e.points;
+    Eigen::Quaterniond q(e.T_camera_body.linear());
+    if (q.w() < 0) q.coeffs() = -q.coeffs();
+    std::snprintf(buf, sizeof(buf),
+                  "{\"frame\": \"%s\", \"ok\": true, \"t\": [%.6f, %.6f, %.6f], \"q\": [%.7f, %.7f, %.7f, %.7f], "
+                  "\"reproj_px\": %.3f, \"leds\": %d, \"blobs\": %d, \"ms\": %.3f}",
+                  frame.c_str(), t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z(), e.rms_px, e.points, e.blobs, ms);
   } else {
-    j["reason"] = std::string(tp::to_string(e.status));
+    std::snprintf(buf, sizeof(buf), "{\"frame\": \"%s\", \"ok\": false, \"reason\": \"%s\", \"blobs\": %d, \"ms\": %.3f}",
+                  frame.c_str(), std::string(tp::to_string(e.status)).c_str(), e.blobs, ms);
   }
-  j["blobs"] = e.blobs;
-  j["ms"] = round_to(ms, 1e-3);
-  return j;
+  return buf;
 }
 
 std::string fixed(double v, int digits) {
@@ -238,7 +236,7 @@ int main(int argc, char** argv) {
           rot_err.push_back(r);
         }
       }
-      if (jsonl) out += pose_json(f.name, e, elapsed).dump() + "\n";
+      if (jsonl) out += pose_json(f.name, e, elapsed) + "\n";
     }
     if (jsonl) {
       std::cout << out;
@@ -257,7 +255,8 @@ int main(int argc, char** argv) {
     std::cout << "led_pose: " << method << " on " << frames_list.size() << " frames of " << sequence_dir << "\n"
               << "  pose found      " << ok << " / " << frames_list.size() << " ("
               << fixed(100.0 * ok / static_cast<double>(std::max<std::size_t>(1, frames_list.size())), 1) << "%)\n"
-              << "  reprojection    median " << fixed(median(rms), 3) << " px\n"
+              << "  reprojection    median " << (rms.empty() ? std::string("n/a") : fixed(median(rms), 3) + " px")
+              << "\n"
               << "  time per frame  median " << fixed(median(ms), 3) << " ms\n";
     if (!pos_err.empty()) {
       std::cout << "  vs ground truth mean position error " << fixed(mean(pos_err), 4) << " m, orientation "

@@ -1,7 +1,9 @@
 // Track the drone's LEDs through a recorded sequence with the library API —
 // what a ground-vehicle integrator copies. Here the "recording" is a
-// synthetic one (moving camera, 0.4–3 m) written to a temporary directory;
-// point `dir` at your own NNNNNN.png (+ NNNNNN.depth.png) frames instead.
+// synthetic one (moving camera, 0.4–3 m) written to a scratch directory
+// (argument 1, which must not exist yet; default: under the temp dir) and
+// removed at the end. For your own NNNNNN.png (+ NNNNNN.depth.png) frames,
+// skip step 1 and list your directory instead.
 #include <cstdio>
 #include <filesystem>
 
@@ -16,11 +18,14 @@ int main(int argc, char** argv) {
   namespace tp = touchdown::pose;
   namespace fs = std::filesystem;
   const fs::path dir = argc > 1 ? fs::path(argv[1]) : fs::temp_directory_path() / "touchdown_led_example";
+  if (fs::exists(dir)) {
+    std::fprintf(stderr, "%s exists: give a scratch directory that does not exist yet\n", dir.string().c_str());
+    return 2;
+  }
   const tp::CameraModel camera;                          // or tp::load_camera("camera.yaml")
   const tp::Constellation leds = tp::default_constellation();  // or tp::load_constellation("leds.yaml")
 
   // 1. A recording: 90 frames of a moving camera, with ground truth.
-  fs::remove_all(dir);
   const auto trajectory = tp::make_trajectory(tp::TrajectoryKind::Moving, 90, /*seed=*/7, camera, leds);
   tp::write_sequence(dir, camera, leds, trajectory, tp::RenderOptions{}, /*seed=*/7);
   const auto truth = tp::read_ground_truth(dir / "ground_truth.jsonl");

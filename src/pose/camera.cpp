@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <Eigen/LU>
 #include <cmath>
 #include <sstream>
 
@@ -38,17 +39,23 @@ Eigen::Vector2d CameraModel::project(const Eigen::Vector3d& p) const {
 Eigen::Vector2d CameraModel::undistort(const Eigen::Vector2d& uv) const {
   if (!has_distortion()) return uv;
   const Eigen::Vector2d target((uv.x() - cx) / fx, (uv.y() - cy) / fy);
-  // Fixed-point iteration xy ← target − (distort(xy) − xy); converges for
-  // the moderate distortion of real lenses.
+  // Newton's method on distort(xy) = target with the analytic 2×2
+  // Jacobian (quadratic convergence, also for wide-angle coefficients where
+  // OpenCV-style fixed-point iteration converges slowly).
+  const auto& k = distortion;
   Eigen::Vector2d xy = target;
   for (int i = 0; i < 20; ++i) {
-    const Eigen::Vector2d d = distort_normalised(distortion, xy);
-    const Eigen::Vector2d next = xy + (target - d);
-    if ((next - xy).squaredNorm() < 1e-24) {
-      xy = next;
-      break;
-    }
-    xy = next;
+    const double x = xy.x(), y = xy.y(), r2 = x * x + y * y;
+    const double radial = 1 + r2 * (k[0] + r2 * (k[1] + r2 * k[4]));
+    const double g = 2 * k[0] + r2 * (4 * k[1] + 6 * k[4] * r2);  // d radial / d(x or y) = g · (x or y)
+    Eigen::Matrix2d J;
+    J << radial + g * x * x + 2 * k[2] * y + 6 * k[3] * x, g * x * y + 2 * k[2] * x + 2 * k[3] * y,
+        g * x * y + 2 * k[2] * x + 2 * k[3] * y, radial + g * y * y + 6 * k[2] * y + 2 * k[3] * x;
+    const Eigen::Vector2d r = distort_normalised(k, xy) - target;
+    const Eigen::Vector2d step = J.partialPivLu().solve(r);
+    if (!step.allFinite()) break;
+    xy -= step;
+    if (step.squaredNorm() < 1e-30) break;
   }
   return {fx * xy.x() + cx, fy * xy.y() + cy};
 }

@@ -485,6 +485,8 @@ struct LedTracker::Impl {
     estimate.status = s;
     estimate.points = 0;
     estimate.rms_px = 0;
+    estimate.T_camera_body = Eigen::Isometry3d::Identity();  // never a stale pose
+    estimate.covariance.setZero();
     tracking = false;
     have_velocity = false;
     led_to_blob.fill(-1);

@@ -10,7 +10,7 @@
 /// Modern Synthesis", 2000): unknown poses are initialised with `solve_pnp`
 /// from the initial constellation, then LED positions and unknown poses
 /// minimise the reprojection error (optionally Huber-robustified) with
-/// Ceres' Levenberg–Marquardt and a Schur-complement solver.
+/// Ceres' Levenberg–Marquardt with a Schur-complement solver (dense QR when every pose is known).
 ///
 /// Gauge (Triggs et al. sec. 9): the images determine the LEDs only up to
 /// the transforms the unknown poses can absorb.

@@ -18,7 +18,7 @@
 namespace touchdown::pose {
 
 struct EpnpResult {
-  bool ok = false;  ///< false for fewer than 4 points (3 if planar), degenerate geometry or no solution in front
+  bool ok = false;  ///< false for fewer than 4 points, collinear points or no solution in front
   Eigen::Isometry3d T_camera_body = Eigen::Isometry3d::Identity();
   double rms_px = 0;    ///< reprojection RMS [px]
   bool planar = false;  ///< the three-control-point case was used
