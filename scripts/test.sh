@@ -40,8 +40,9 @@ if [ "$fuzz_seconds" != "0" ] && command -v clang++ >/dev/null 2>&1; then
   cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
         -DTOUCHDOWN_BUILD_FUZZERS=ON -DTOUCHDOWN_BUILD_TESTS=OFF -DTOUCHDOWN_BUILD_APPS=OFF \
         -DTOUCHDOWN_BUILD_EXAMPLES=OFF -DTOUCHDOWN_BUILD_BENCHMARKS=OFF >/dev/null
-  cmake --build build-fuzz -j"$jobs" --target fuzz_pcd fuzz_ply fuzz_xyz fuzz_extrinsics
-  for target in fuzz_pcd fuzz_ply fuzz_xyz fuzz_extrinsics; do
+  cmake --build build-fuzz -j"$jobs" --target fuzz_pcd fuzz_ply fuzz_xyz fuzz_extrinsics fuzz_ground_truth \
+    fuzz_camera fuzz_constellation
+  for target in fuzz_pcd fuzz_ply fuzz_xyz fuzz_extrinsics fuzz_ground_truth fuzz_camera fuzz_constellation; do
     corpus="build-fuzz/corpus/$target"
     rm -rf "$corpus" && mkdir -p "$corpus"
     seeds="$root/tests/fuzz/seeds/${target#fuzz_}"
