@@ -1,6 +1,9 @@
 #include "touchdown/pose/sequence.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
+#include <iterator>
 #include <cmath>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -31,13 +34,62 @@ std::string describe_type(int type) {
   return d + " with " + std::to_string(CV_MAT_CN(type)) + " channel(s)";
 }
 
-// cv::imread returns an empty Mat for both unreadable and corrupt files:
-// tell them apart by opening the file first.
+// CRC-32 as used by PNG chunks (ISO 3309 polynomial, PNG spec sec. 5.5).
+std::uint32_t crc32(const unsigned char* p, std::size_t n) {
+  static const auto table = [] {
+    std::array<std::uint32_t, 256> t{};
+    for (std::uint32_t i = 0; i < 256; ++i) {
+      std::uint32_t c = i;
+      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[i] = c;
+    }
+    return t;
+  }();
+  std::uint32_t c = 0xFFFFFFFFu;
+  for (std::size_t i = 0; i < n; ++i) c = table[(c ^ p[i]) & 0xFFu] ^ (c >> 8);
+  return c ^ 0xFFFFFFFFu;
+}
+
+std::uint32_t be32(const unsigned char* p) {
+  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | p[3];
+}
+
+// Checks a PNG's chunk structure and CRCs before decoding, so that a
+// truncated or damaged file is one clear error (libpng would print its own
+// message on stderr). Returns false if the bytes are not a PNG at all.
+bool check_png(const std::vector<unsigned char>& b, const fs::path& path) {
+  static constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+  if (b.size() < 8 || !std::equal(kSignature, kSignature + 8, b.begin())) return false;
+  std::size_t at = 8;
+  bool first = true;
+  while (true) {
+    if (b.size() - at < 12) throw ParseError(path.string() + ": truncated PNG (chunk header at byte " + std::to_string(at) + ")");
+    const std::uint32_t len = be32(&b[at]);
+    if (len > b.size() - at - 12) throw ParseError(path.string() + ": truncated PNG (chunk at byte " + std::to_string(at) + " runs past the end)");
+    const unsigned char* type = &b[at + 4];
+    const std::string name(reinterpret_cast<const char*>(type), 4);
+    if (first && name != "IHDR") throw ParseError(path.string() + ": corrupt PNG (first chunk is not IHDR)");
+    first = false;
+    if (crc32(type, 4 + std::size_t{len}) != be32(&b[at + 8 + len])) {
+      throw ParseError(path.string() + ": corrupt PNG (CRC mismatch in " + name + " chunk at byte " + std::to_string(at) + ")");
+    }
+    at += 12 + std::size_t{len};
+    if (name == "IEND") return true;
+  }
+}
+
+// Reads and decodes an image; IoError when unreadable, ParseError when
+// corrupt (cv::imread alone returns an empty Mat for both).
 cv::Mat read_image(const fs::path& path) {
-  { (void)detail::open_for_read(path); }  // IoError naming the file when missing or unreadable
+  std::vector<unsigned char> bytes;
+  {
+    auto in = detail::open_for_read(path);  // IoError naming the file when missing or unreadable
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  check_png(bytes, path);
   cv::Mat m;
   try {
-    m = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+    m = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
   } catch (const cv::Exception& e) {
     throw ParseError(path.string() + ": cannot decode the image: " + e.what());
   }

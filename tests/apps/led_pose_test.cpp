@@ -257,8 +257,8 @@ TEST(LedPoseAppBadInput, DepthOfAnotherSize) {
 TEST(LedPoseAppBadInput, CameraWithNegativeFocalLength) {
   TempDir dir;
   const auto seq = render(dir);
-  const std::string yaml = std::regex_replace(td::test::read_text(seq / "camera.yaml"),
-                                              std::regex("(^|\n)fx: [^\n]*"), "$1fx: -1");
+  const std::string yaml =
+      std::regex_replace(td::test::read_text(seq / "camera.yaml"), std::regex("(^|\n)fx: [^\n]*"), "$1fx: -1");
   ASSERT_NE(yaml.find("fx: -1"), std::string::npos);
   td::test::write_text(dir / "cam.yaml", yaml);
   const AppRun r = run(seq.string() + " --jsonl --camera " + (dir / "cam.yaml").string(), dir);
@@ -322,12 +322,29 @@ TEST(LedPoseAppBadInput, UnknownArucoDictionary) {
 TEST(LedPoseAppBadInput, FramesOfAnotherSizeThanTheCamera) {
   TempDir dir;
   const auto seq = render(dir);
-  const std::string yaml = std::regex_replace(td::test::read_text(seq / "camera.yaml"),
-                                              std::regex("(^|\n)width: [^\n]*"), "$1width: 640");
+  const std::string yaml =
+      std::regex_replace(td::test::read_text(seq / "camera.yaml"), std::regex("(^|\n)width: [^\n]*"), "$1width: 640");
   ASSERT_NE(yaml.find("width: 640"), std::string::npos);
   td::test::write_text(dir / "cam640.yaml", yaml);
   const AppRun r = run(seq.string() + " --jsonl --camera " + (dir / "cam640.yaml").string(), dir);
   expect_bad_input(r, "000000.png");
   EXPECT_NE(r.err.find("848x480"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("640x480"), std::string::npos) << r.err;
+}
+
+// A PNG whose signature is intact but whose data is cut short, or damaged
+// inside: read_frame checks the chunks and CRCs first, so libpng never gets
+// to print its own message: one line on stderr.
+TEST(LedPoseAppBadInput, TruncatedPngFrame) {
+  TempDir dir;
+  const auto seq = render(dir);
+  const std::string png = td::test::read_text(seq / "000001.png");
+  td::test::write_text(seq / "000001.png", png.substr(0, png.size() / 3));
+  expect_bad_input(run(seq.string() + " --jsonl", dir), "000001.png");
+  std::string damaged = png;
+  damaged[damaged.size() / 2] = static_cast<char>(damaged[damaged.size() / 2] ^ 0x5A);
+  td::test::write_text(seq / "000001.png", damaged);
+  const AppRun r = run(seq.string() + " --jsonl", dir);
+  expect_bad_input(r, "000001.png");
+  EXPECT_NE(r.err.find("CRC"), std::string::npos) << r.err;
 }

@@ -9,8 +9,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {
-    const auto c = touchdown::pose::parse_camera(std::string_view(reinterpret_cast<const char*>(data), size),
-                                                 "fuzz.yaml");
+    const auto c =
+        touchdown::pose::parse_camera(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.yaml");
     // A parsed camera is always valid ...
     std::string why;
     if (!c.validate(&why)) __builtin_trap();

@@ -9,8 +9,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {
-    const auto k = touchdown::pose::parse_constellation(
-        std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.yaml");
+    const auto k =
+        touchdown::pose::parse_constellation(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.yaml");
     // A parsed constellation is always valid, with a rigid marker pose ...
     std::string why;
     if (!k.validate(&why)) __builtin_trap();

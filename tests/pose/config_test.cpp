@@ -49,7 +49,8 @@ const std::string kCamera =
 
 // kCamera with the line of `key` replaced by `line` (or removed when empty).
 std::string camera_with(const std::string& key, const std::string& line) {
-  return std::regex_replace(kCamera, std::regex("(^|\n)" + key + ":[^\n]*\n"), line.empty() ? "$1" : "$1" + line + "\n");
+  return std::regex_replace(kCamera, std::regex("(^|\n)" + key + ":[^\n]*\n"),
+                            line.empty() ? "$1" : "$1" + line + "\n");
 }
 
 std::string leds_yaml(const std::vector<std::string>& xyz) {
@@ -229,9 +230,10 @@ TEST(ConstellationYaml, BundledBoardLoads) {
 }
 
 TEST(ConstellationYaml, MarkerDefaultsAndColourDefault) {
-  const auto k = tp::parse_constellation("leds:\n  - {xyz: [0.1, 0.1, 0]}\n  - {xyz: [0.1, -0.1, 0]}\n"
-                                         "  - {xyz: [-0.1, -0.1, 0]}\n  - {xyz: [0, 0, -0.1]}\n",
-                                         "no marker");
+  const auto k = tp::parse_constellation(
+      "leds:\n  - {xyz: [0.1, 0.1, 0]}\n  - {xyz: [0.1, -0.1, 0]}\n"
+      "  - {xyz: [-0.1, -0.1, 0]}\n  - {xyz: [0, 0, -0.1]}\n",
+      "no marker");
   EXPECT_EQ(k.leds[0].color, tp::LedColor::White);
   EXPECT_EQ(k.T_body_marker.matrix(), tp::Constellation::default_marker_pose().matrix());
   const auto m = tp::parse_constellation(leds_yaml(kFourLeds) + "marker: {xyz: [0, 0, -0.05]}\n", "marker xyz only");
@@ -262,8 +264,7 @@ TEST(ConstellationYamlBadInput, XyzWithTwoNumbers) {
 
 TEST(ConstellationYamlBadInput, MarkerXyzWithTwoNumbers) {
   EXPECT_CONTAINS(constellation_error(leds_yaml(kFourLeds) + "marker: {xyz: [0, 0]}\n"), "marker.xyz");
-  EXPECT_CONTAINS(constellation_error(leds_yaml(kFourLeds) + "marker: {rpy_deg: [0, 0, 0, 1]}\n"),
-                  "marker.rpy_deg");
+  EXPECT_CONTAINS(constellation_error(leds_yaml(kFourLeds) + "marker: {rpy_deg: [0, 0, 0, 1]}\n"), "marker.rpy_deg");
 }
 
 TEST(ConstellationYamlBadInput, MissingLeds) {
@@ -272,8 +273,8 @@ TEST(ConstellationYamlBadInput, MissingLeds) {
 }
 
 TEST(ConstellationYamlBadInput, DuplicateLeds) {
-  const auto m = constellation_error(leds_yaml({"0.1, 0.1, 0", "0.1, -0.1, 0", "-0.1, -0.1, 0", "0.1, -0.1, 0.0005",
-                                                "0, 0, -0.1"}));
+  const auto m = constellation_error(
+      leds_yaml({"0.1, 0.1, 0", "0.1, -0.1, 0", "-0.1, -0.1, 0", "0.1, -0.1, 0.0005", "0, 0, -0.1"}));
   EXPECT_CONTAINS(m, "cfg.yaml");
   EXPECT_CONTAINS(m, "leds[3]: duplicates leds[1]");
 }
