@@ -75,6 +75,26 @@ struct AppRun {
   std::string out, err;
 };
 
+/// `yaml` with the line starting with "key:" replaced by `line` (removed
+/// when `line` is empty). Plain string search: std::regex trips GCC 12's
+/// -Wmaybe-uninitialized under the sanitizer build.
+inline std::string replace_key_line(const std::string& yaml, const std::string& key, const std::string& line) {
+  std::string out;
+  std::size_t at = 0;
+  while (at < yaml.size()) {
+    std::size_t end = yaml.find('\n', at);
+    if (end == std::string::npos) end = yaml.size();
+    const std::string l = yaml.substr(at, end - at);
+    if (l.rfind(key + ":", 0) == 0) {
+      if (!line.empty()) out += line + "\n";
+    } else {
+      out += l + "\n";
+    }
+    at = end + 1;
+  }
+  return out;
+}
+
 inline AppRun run_app(const std::string& exe, const std::string& args, const TempDir& dir) {
   const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
   const std::string cmd = exe + " " + args + " >" + out.string() + " 2>" + err.string();
