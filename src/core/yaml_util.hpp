@@ -54,13 +54,20 @@ struct YamlReader {
     for (std::size_t i = 0; i < n.size(); ++i) out.push_back(number(n[i], key));
     return out;
   }
+  /// Exactly three numbers.
+  std::vector<double> vec3(const YAML::Node& n, const std::string& key) const {
+    auto v = numbers(n, key);
+    if (v.size() != 3) fail(n, key, "expected 3 numbers");
+    return v;
+  }
   std::string text(const YAML::Node& n, const std::string& key) const {
     if (!n.IsScalar()) fail(n, key, "expected a string");
     return n.Scalar();
   }
   /// Fails on any key of `map` not in `keys` (catches typos).
   void only(const YAML::Node& map, const std::string& prefix, std::initializer_list<const char*> keys) const {
-    if (!map.IsMap()) fail(map, prefix.empty() ? "<document>" : prefix.substr(0, prefix.size() - 1), "expected a mapping");
+    if (!map.IsMap())
+      fail(map, prefix.empty() ? "<document>" : prefix.substr(0, prefix.size() - 1), "expected a mapping");
     for (const auto& kv : map) {
       const auto k = kv.first.as<std::string>();
       if (std::none_of(keys.begin(), keys.end(), [&](const char* x) { return k == x; })) {
@@ -69,5 +76,24 @@ struct YamlReader {
     }
   }
 };
+
+/// The frame of every validated YAML config reader: parses `text`, lets
+/// `read(reader, root, value)` fill a default `T`, turns yaml-cpp's own
+/// exceptions into "source:line: what" and rejects a value whose
+/// `validate(&why)` fails with "source: why".
+template <typename T, typename Read>
+T parse_validated(std::string_view text, std::string_view source, Read&& read) {
+  const YAML::Node root = load_yaml(text, source);
+  const YamlReader reader{source};
+  T value;
+  try {
+    read(reader, root, value);
+  } catch (const YAML::Exception& e) {
+    throw ParseError(std::string(source) + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  std::string why;
+  if (!value.validate(&why)) throw ParseError(std::string(source) + ": " + why);
+  return value;
+}
 
 }  // namespace touchdown::detail

@@ -79,33 +79,26 @@ bool CameraModel::validate(std::string* why) const {
 }
 
 CameraModel parse_camera(std::string_view yaml_text, std::string_view source) {
-  const YAML::Node root = detail::load_yaml(yaml_text, source);
-  const detail::YamlReader r{source};
-  CameraModel c;
-  try {
-    r.only(root, "", {"width", "height", "fx", "fy", "cx", "cy", "distortion", "depth_scale"});
-    c.width = r.integer(r.child(root, "", "width"), "width");
-    c.height = r.integer(r.child(root, "", "height"), "height");
-    c.fx = r.number(r.child(root, "", "fx"), "fx");
-    c.fy = r.number(r.child(root, "", "fy"), "fy");
-    c.cx = r.number(r.child(root, "", "cx"), "cx");
-    c.cy = r.number(r.child(root, "", "cy"), "cy");
-    if (root["distortion"]) {
-      const auto d = r.numbers(root["distortion"], "distortion");
-      if (d.size() != 4 && d.size() != 5) {
-        r.fail(root["distortion"], "distortion", "expected [k1, k2, p1, p2] or [k1, k2, p1, p2, k3], got " +
-                                                     std::to_string(d.size()) + " numbers");
-      }
-      c.distortion = {};
-      for (std::size_t i = 0; i < d.size(); ++i) c.distortion[i] = d[i];
-    }
-    if (root["depth_scale"]) c.depth_scale = r.number(root["depth_scale"], "depth_scale");
-  } catch (const YAML::Exception& e) {
-    throw ParseError(std::string(source) + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
-  std::string why;
-  if (!c.validate(&why)) throw ParseError(std::string(source) + ": " + why);
-  return c;
+  return detail::parse_validated<CameraModel>(
+      yaml_text, source, [](const detail::YamlReader& r, const YAML::Node& root, CameraModel& c) {
+        r.only(root, "", {"width", "height", "fx", "fy", "cx", "cy", "distortion", "depth_scale"});
+        c.width = r.integer(r.child(root, "", "width"), "width");
+        c.height = r.integer(r.child(root, "", "height"), "height");
+        c.fx = r.number(r.child(root, "", "fx"), "fx");
+        c.fy = r.number(r.child(root, "", "fy"), "fy");
+        c.cx = r.number(r.child(root, "", "cx"), "cx");
+        c.cy = r.number(r.child(root, "", "cy"), "cy");
+        if (root["distortion"]) {
+          const auto d = r.numbers(root["distortion"], "distortion");
+          if (d.size() != 4 && d.size() != 5) {
+            r.fail(root["distortion"], "distortion",
+                   "expected [k1, k2, p1, p2] or [k1, k2, p1, p2, k3], got " + std::to_string(d.size()) + " numbers");
+          }
+          c.distortion = {};
+          for (std::size_t i = 0; i < d.size(); ++i) c.distortion[i] = d[i];
+        }
+        if (root["depth_scale"]) c.depth_scale = r.number(root["depth_scale"], "depth_scale");
+      });
 }
 
 CameraModel load_camera(const std::filesystem::path& path) {

@@ -15,11 +15,16 @@ namespace touchdown::pose {
 
 std::string_view to_string(LedColor c) {
   switch (c) {
-    case LedColor::Red: return "red";
-    case LedColor::Green: return "green";
-    case LedColor::Blue: return "blue";
-    case LedColor::White: return "white";
-    case LedColor::Unknown: break;
+    case LedColor::Red:
+      return "red";
+    case LedColor::Green:
+      return "green";
+    case LedColor::Blue:
+      return "blue";
+    case LedColor::White:
+      return "white";
+    case LedColor::Unknown:
+      break;
   }
   return "unknown";
 }
@@ -82,11 +87,13 @@ bool Constellation::validate(std::string* why) const {
   };
   if (leds.size() < 4) return fail("leds: need at least 4 LEDs for a pose, got " + std::to_string(leds.size()));
   if (leds.size() > kMaxLeds) {
-    return fail("leds: at most " + std::to_string(kMaxLeds) + " LEDs are supported, got " + std::to_string(leds.size()));
+    return fail("leds: at most " + std::to_string(kMaxLeds) + " LEDs are supported, got " +
+                std::to_string(leds.size()));
   }
   for (std::size_t i = 0; i < leds.size(); ++i) {
     if (!leds[i].p_body.allFinite()) return fail("leds[" + std::to_string(i) + "].xyz: not finite");
-    if (leds[i].color == LedColor::Unknown) return fail("leds[" + std::to_string(i) + "].color: must be a colour class");
+    if (leds[i].color == LedColor::Unknown)
+      return fail("leds[" + std::to_string(i) + "].color: must be a colour class");
     for (std::size_t j = 0; j < i; ++j) {
       if ((leds[i].p_body - leds[j].p_body).norm() < 1e-3) {
         return fail("leds[" + std::to_string(i) + "]: duplicates leds[" + std::to_string(j) + "] (closer than 1 mm)");
@@ -95,68 +102,60 @@ bool Constellation::validate(std::string* why) const {
   }
   // Collinear: all the spread along one axis (second eigenvalue ~ 0).
   const Eigen::Vector3d ev = scatter_eigenvalues(*this);
-  if (ev(1) <= 1e-6 * ev(2) || ev(1) < 1e-8) return fail("leds: the LEDs are collinear: the pose about their line is unobservable");
+  if (ev(1) <= 1e-6 * ev(2) || ev(1) < 1e-8)
+    return fail("leds: the LEDs are collinear: the pose about their line is unobservable");
   return true;
 }
 
 Constellation parse_constellation(std::string_view yaml_text, std::string_view source) {
-  const YAML::Node root = detail::load_yaml(yaml_text, source);
-  const detail::YamlReader r{source};
-  Constellation k;
-  try {
-    r.only(root, "", {"name", "leds", "marker"});
-    const auto leds = r.child(root, "", "leds");
-    if (!leds.IsSequence()) r.fail(leds, "leds", "expected a list of {xyz: [x, y, z], color: red|green|blue|white}");
-    for (std::size_t i = 0; i < leds.size(); ++i) {
-      const std::string key = "leds[" + std::to_string(i) + "]";
-      r.only(leds[i], key + ".", {"xyz", "color"});
-      const auto xyz = r.numbers(r.child(leds[i], key + ".", "xyz"), key + ".xyz");
-      if (xyz.size() != 3) r.fail(leds[i]["xyz"], key + ".xyz", "expected 3 numbers");
-      Led led;
-      led.p_body = {xyz[0], xyz[1], xyz[2]};
-      if (leds[i]["color"]) {
-        const auto name = r.text(leds[i]["color"], key + ".color");
-        const auto c = led_color_from_string(name);
-        if (!c) r.fail(leds[i]["color"], key + ".color", "'" + name + "' is not red, green, blue or white");
-        led.color = *c;
-      }
-      k.leds.push_back(led);
-    }
-    if (root["marker"]) {
-      const auto m = root["marker"];
-      r.only(m, "marker.", {"xyz", "rpy_deg"});
-      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-      if (m["xyz"]) {
-        const auto xyz = r.numbers(m["xyz"], "marker.xyz");
-        if (xyz.size() != 3) r.fail(m["xyz"], "marker.xyz", "expected 3 numbers");
-        T.translation() = Eigen::Vector3d(xyz[0], xyz[1], xyz[2]);
-      }
-      if (m["rpy_deg"]) {
-        const auto rpy = r.numbers(m["rpy_deg"], "marker.rpy_deg");
-        if (rpy.size() != 3) r.fail(m["rpy_deg"], "marker.rpy_deg", "expected 3 numbers");
-        constexpr double d = std::numbers::pi / 180.0;
-        T.linear() = (Eigen::AngleAxisd(rpy[2] * d, Eigen::Vector3d::UnitZ()) *
-                      Eigen::AngleAxisd(rpy[1] * d, Eigen::Vector3d::UnitY()) *
-                      Eigen::AngleAxisd(rpy[0] * d, Eigen::Vector3d::UnitX()))
-                         .toRotationMatrix();
-      } else {
-        T.linear() = Constellation::default_marker_pose().linear();
-      }
-      k.T_body_marker = T;
-    }
-  } catch (const YAML::Exception& e) {
-    throw ParseError(std::string(source) + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
-  std::string why;
-  if (!k.validate(&why)) throw ParseError(std::string(source) + ": " + why);
-  return k;
+  return detail::parse_validated<Constellation>(
+      yaml_text, source, [](const detail::YamlReader& r, const YAML::Node& root, Constellation& k) {
+        r.only(root, "", {"name", "leds", "marker"});
+        const auto leds = r.child(root, "", "leds");
+        if (!leds.IsSequence())
+          r.fail(leds, "leds", "expected a list of {xyz: [x, y, z], color: red|green|blue|white}");
+        for (std::size_t i = 0; i < leds.size(); ++i) {
+          const std::string key = "leds[" + std::to_string(i) + "]";
+          r.only(leds[i], key + ".", {"xyz", "color"});
+          const auto xyz = r.vec3(r.child(leds[i], key + ".", "xyz"), key + ".xyz");
+          Led led;
+          led.p_body = {xyz[0], xyz[1], xyz[2]};
+          if (leds[i]["color"]) {
+            const auto name = r.text(leds[i]["color"], key + ".color");
+            const auto c = led_color_from_string(name);
+            if (!c) r.fail(leds[i]["color"], key + ".color", "'" + name + "' is not red, green, blue or white");
+            led.color = *c;
+          }
+          k.leds.push_back(led);
+        }
+        if (root["marker"]) {
+          const auto m = root["marker"];
+          r.only(m, "marker.", {"xyz", "rpy_deg"});
+          Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+          if (m["xyz"]) {
+            const auto xyz = r.vec3(m["xyz"], "marker.xyz");
+            T.translation() = Eigen::Vector3d(xyz[0], xyz[1], xyz[2]);
+          }
+          if (m["rpy_deg"]) {
+            const auto rpy = r.vec3(m["rpy_deg"], "marker.rpy_deg");
+            constexpr double d = std::numbers::pi / 180.0;
+            T.linear() = (Eigen::AngleAxisd(rpy[2] * d, Eigen::Vector3d::UnitZ()) *
+                          Eigen::AngleAxisd(rpy[1] * d, Eigen::Vector3d::UnitY()) *
+                          Eigen::AngleAxisd(rpy[0] * d, Eigen::Vector3d::UnitX()))
+                             .toRotationMatrix();
+          } else {
+            T.linear() = Constellation::default_marker_pose().linear();
+          }
+          k.T_body_marker = T;
+        }
+      });
 }
 
 Constellation default_constellation() {
   Constellation k;
-  k.leds = {{{0.0849, 0.0849, -0.030}, LedColor::Red},   {{0.0849, -0.0849, -0.030}, LedColor::Red},
+  k.leds = {{{0.0849, 0.0849, -0.030}, LedColor::Red},     {{0.0849, -0.0849, -0.030}, LedColor::Red},
             {{-0.0849, -0.0849, -0.030}, LedColor::Green}, {{-0.0849, 0.0849, -0.030}, LedColor::Green},
-            {{0.090, -0.040, -0.110}, LedColor::Blue},   {{-0.090, 0.030, -0.110}, LedColor::White}};
+            {{0.090, -0.040, -0.110}, LedColor::Blue},     {{-0.090, 0.030, -0.110}, LedColor::White}};
   k.T_body_marker = Constellation::default_marker_pose();
   k.T_body_marker.translation() = Eigen::Vector3d(0, 0, -0.045);
   return k;

@@ -28,17 +28,14 @@ bool PoseBenchmarkOptions::validate(std::string* why) const {
 }
 
 std::pair<double, double> pose_error(const Eigen::Isometry3d& e, const Eigen::Isometry3d& t) {
-  return {(e.translation() - t.translation()).norm(),
-          Eigen::AngleAxisd(e.linear().transpose() * t.linear()).angle()};
+  return {(e.translation() - t.translation()).norm(), Eigen::AngleAxisd(e.linear().transpose() * t.linear()).angle()};
 }
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 double percentile(std::vector<double> v, double q) {
   if (v.empty()) return 0;
@@ -115,12 +112,7 @@ PoseBenchmarkResult run_pose_benchmark(const PoseBenchmarkOptions& o) {
     marker.s.method = "aruco";
     led.s.sequence = marker.s.sequence = name;
     for (std::size_t i = 0; i < trajectory.size(); ++i) {
-      // Motion blur from the previous sample, unless the trajectory jumps
-      // (between the static sequence's hold points).
-      Eigen::Isometry3d previous = trajectory[i > 0 ? i - 1 : 0].T_camera_body;
-      const auto [dp, dr] = pose_error(previous, trajectory[i].T_camera_body);
-      if (dp > 0.1 || dr > 10.0 * 3.14159265358979 / 180.0) previous = trajectory[i].T_camera_body;
-      synth.render(trajectory[i].T_camera_body, previous, seed, i, frame);
+      synth.render(trajectory[i].T_camera_body, motion_blur_start(trajectory, i), seed, i, frame);
       const DepthImageView depth = frame.depth.view();
       auto t0 = Clock::now();
       const PoseEstimate& e = tracker.track(frame.colour.view(), o.use_depth ? &depth : nullptr);
@@ -143,9 +135,12 @@ PoseBenchmarkResult run_pose_benchmark(const PoseBenchmarkOptions& o) {
           ++result.solver_samples;
           ours_us.push_back(time_us([&] { (void)solve_pnp(pin, p, uv, o.tracker.correspondence.refine); }));
           cv::Mat rvec, tvec;
-          iter_us.push_back(time_us([&] { cv::solvePnP(obj, img, K, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_ITERATIVE); }));
-          sqp_us.push_back(time_us([&] { cv::solvePnP(obj, img, K, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_SQPNP); }));
-          epnp_us.push_back(time_us([&] { cv::solvePnP(obj, img, K, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_EPNP); }));
+          iter_us.push_back(
+              time_us([&] { cv::solvePnP(obj, img, K, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_ITERATIVE); }));
+          sqp_us.push_back(
+              time_us([&] { cv::solvePnP(obj, img, K, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_SQPNP); }));
+          epnp_us.push_back(
+              time_us([&] { cv::solvePnP(obj, img, K, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_EPNP); }));
         }
       }
       t0 = Clock::now();

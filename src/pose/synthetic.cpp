@@ -38,19 +38,23 @@ struct Bgr {
 // Core colours of the LED classes at saturation (BGR, DN).
 Bgr core_colour(LedColor c) {
   switch (c) {
-    case LedColor::Red: return {40, 50, 255};
-    case LedColor::Green: return {70, 255, 60};
-    case LedColor::Blue: return {255, 110, 40};
+    case LedColor::Red:
+      return {40, 50, 255};
+    case LedColor::Green:
+      return {70, 255, 60};
+    case LedColor::Blue:
+      return {255, 110, 40};
     case LedColor::White:
-    case LedColor::Unknown: break;
+    case LedColor::Unknown:
+      break;
   }
   return {255, 255, 255};
 }
 
 struct ArucoDictionary {
-  int cv_id = 0;    // cv::aruco::PREDEFINED_DICTIONARY_NAME
-  int codes = 0;    // markers in the dictionary
-  int bits = 0;     // marker side in bits (without the border)
+  int cv_id = 0;  // cv::aruco::PREDEFINED_DICTIONARY_NAME
+  int codes = 0;  // markers in the dictionary
+  int bits = 0;   // marker side in bits (without the border)
 };
 
 // "4X4_50" (optionally "DICT_4X4_50"), ... "7X7_1000", "ARUCO_ORIGINAL".
@@ -153,7 +157,8 @@ bool RenderOptions::validate(std::string* why) const {
   auto finite_nonneg = [](double v) { return std::isfinite(v) && v >= 0; };
   auto positive = [](double v) { return std::isfinite(v) && v > 0; };
   if (!finite_nonneg(noise_sigma) || noise_sigma > 100) return fail("noise_sigma: must be in [0, 100] DN");
-  if (!finite_nonneg(background_level) || background_level > 255) return fail("background_level: must be in [0, 255] DN");
+  if (!finite_nonneg(background_level) || background_level > 255)
+    return fail("background_level: must be in [0, 255] DN");
   if (!finite_nonneg(led_radius) || led_radius > 0.1) return fail("led_radius: must be in [0, 0.1] m");
   if (!positive(optics_blur_sigma) || optics_blur_sigma > 20) return fail("optics_blur_sigma: must be in (0, 20] px");
   if (!positive(led_gain) || led_gain > 1000) return fail("led_gain: must be in (0, 1000]");
@@ -235,7 +240,8 @@ struct SyntheticCamera::Impl {
     };
     Eigen::Vector2d r;
     for (int c = 0; c < 2; ++c) {
-      r[c] = (1 - fy) * ((1 - fx) * at(x0, y0, c) + fx * at(x1, y0, c)) + fy * ((1 - fx) * at(x0, y1, c) + fx * at(x1, y1, c));
+      r[c] = (1 - fy) * ((1 - fx) * at(x0, y0, c) + fx * at(x1, y0, c)) +
+             fy * ((1 - fx) * at(x0, y1, c) + fx * at(x1, y1, c));
     }
     return r;
   }
@@ -275,7 +281,8 @@ SyntheticCamera::SyntheticCamera(CameraModel camera, Constellation constellation
   const RenderOptions& o = impl_->options;
   const std::vector<float>& table = normal_table();
   for (std::size_t i = 0; i < table.size(); ++i) {
-    impl_->background_dn[i] = colour_dn(static_cast<float>(o.background_level), 0.0f, static_cast<float>(o.noise_sigma) * table[i]);
+    impl_->background_dn[i] =
+        colour_dn(static_cast<float>(o.background_level), 0.0f, static_cast<float>(o.noise_sigma) * table[i]);
     impl_->ceiling_depth[i] = depth_units(static_cast<float>(o.ceiling_distance), static_cast<float>(o.depth_noise_k),
                                           table[i], static_cast<float>(1 / c.depth_scale));
   }
@@ -377,7 +384,7 @@ void SyntheticCamera::Impl::render_lamps(std::uint64_t seed, std::vector<float>&
   for (int i = 0; i < o.distractor_count; ++i) {
     const double u = rng.uniform(0, w), v = rng.uniform(0, h);
     const double z = rng.uniform(o.distractor_min_depth, o.distractor_max_depth);
-    const double radius = rng.uniform(6, 14);  // [px] larger than any LED spot
+    const double radius = rng.uniform(6, 14);   // [px] larger than any LED spot
     const double gain = rng.uniform(0.6, 3.0);  // >= 1 saturates the core
     const bool yellowish = rng.uniform() < 0.5;
     const Bgr c = yellowish ? Bgr{150, 225, 255} : Bgr{255, 255, 255};
@@ -448,7 +455,8 @@ void SyntheticCamera::Impl::render_leds(const Eigen::Isometry3d* poses, int n, R
       for (int x = win.x0; x <= win.x1; ++x) {
         double e = 0, b = 0;
         for (int k = 0; k < n; ++k) {
-          const double dx = x - centres[static_cast<std::size_t>(k)].x(), dy = y - centres[static_cast<std::size_t>(k)].y();
+          const double dx = x - centres[static_cast<std::size_t>(k)].x(),
+                       dy = y - centres[static_cast<std::size_t>(k)].y();
           const double d2 = dx * dx + dy * dy;
           e += std::exp(-d2 * inv2s2);
           if (bloom > 0) b += std::exp(-d2 * inv2b2);
@@ -469,8 +477,8 @@ bool SyntheticCamera::Impl::render_marker(const Eigen::Isometry3d* poses, int n,
                                           Scratch& s) const {
   const RenderOptions& o = options;
   const int w = camera.width, h = camera.height;
-  const double half = o.aruco_size / 2;             // the marker's outer black square
-  const double card_half = half + cell_size;        // with the white margin
+  const double half = o.aruco_size / 2;       // the marker's outer black square
+  const double card_half = half + cell_size;  // with the white margin
   const Eigen::Isometry3d T_cm = poses[n / 2] * constellation.T_body_marker;
   // Drawn only when its face (marker +z) points toward the camera.
   if (!(T_cm.linear().col(2).dot(T_cm.translation()) < 0)) return false;
@@ -560,7 +568,8 @@ bool SyntheticCamera::Impl::render_marker(const Eigen::Isometry3d* poses, int n,
         if (m.z() > 0) {
           const double col = m.x() / m.z(), rw = m.y() / m.z();
           if (col >= 0 && rw >= 0 && col < cells && rw < cells) {
-            value = card[static_cast<std::size_t>(rw) * static_cast<std::size_t>(card_cells) + static_cast<std::size_t>(col)]
+            value = card[static_cast<std::size_t>(rw) * static_cast<std::size_t>(card_cells) +
+                         static_cast<std::size_t>(col)]
                         ? white
                         : black;
           }
@@ -571,8 +580,7 @@ bool SyntheticCamera::Impl::render_marker(const Eigen::Isometry3d* poses, int n,
     }
   }
   // The same optics blur as the LEDs (a thin lens blurs the whole image).
-  cv::GaussianBlur(s.window, s.blurred, cv::Size(0, 0), o.optics_blur_sigma, o.optics_blur_sigma,
-                   cv::BORDER_REPLICATE);
+  cv::GaussianBlur(s.window, s.blurred, cv::Size(0, 0), o.optics_blur_sigma, o.optics_blur_sigma, cv::BORDER_REPLICATE);
   for (int y = win.y0; y <= win.y1; ++y) {
     const auto* row = s.blurred.ptr<float>(y - win.y0);
     for (int x = win.x0; x <= win.x1; ++x) {
@@ -613,7 +621,8 @@ void SyntheticCamera::render(const Eigen::Isometry3d& T_camera_body, const Eigen
     if (n > kMaxBlurSamples) n -= 2;
     for (int k = 0; k < n; ++k) {
       const double s = f * (static_cast<double>(k) / (n - 1) - 0.5);
-      poses[static_cast<std::size_t>(k)] = k == n / 2 ? T_camera_body : Eigen::Isometry3d(T_camera_body * se3_exp(s * xi));
+      poses[static_cast<std::size_t>(k)] =
+          k == n / 2 ? T_camera_body : Eigen::Isometry3d(T_camera_body * se3_exp(s * xi));
     }
   }
 
@@ -762,7 +771,8 @@ std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, s
     throw InvalidArgument("make_trajectory: need 0 < min_distance <= max_distance (finite)");
   }
   if (!(o.fps > 0) || !std::isfinite(o.fps)) throw InvalidArgument("make_trajectory: fps must be positive");
-  if (!(o.margin_px >= 0) || !std::isfinite(o.margin_px)) throw InvalidArgument("make_trajectory: margin_px must be >= 0");
+  if (!(o.margin_px >= 0) || !std::isfinite(o.margin_px))
+    throw InvalidArgument("make_trajectory: margin_px must be >= 0");
   std::string why;
   if (!camera.validate(&why)) throw InvalidArgument("make_trajectory: camera: " + why);
   if (!constellation.validate(&why)) throw InvalidArgument("make_trajectory: constellation: " + why);
@@ -784,8 +794,8 @@ std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, s
     // Allowance for the jitter when fitting the hold pose.
     const double margin = o.margin_px + 8;
     for (int j = 0; j < holds; ++j) {
-      const double d = holds == 1 ? o.min_distance
-                                  : o.min_distance + (o.max_distance - o.min_distance) * j / (holds - 1);
+      const double d =
+          holds == 1 ? o.min_distance : o.min_distance + (o.max_distance - o.min_distance) * j / (holds - 1);
       const double a = rng.uniform(-0.6, 0.6) * half_u, b = rng.uniform(-0.6, 0.6) * half_v;
       const double yaw = rng.uniform(-std::numbers::pi, std::numbers::pi);
       const double roll = rng.uniform(-6, 6) * kDeg, pitch = rng.uniform(-6, 6) * kDeg;
@@ -793,7 +803,7 @@ std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, s
       hj.T = fitted_pose(camera, constellation, margin, d, a, b, yaw, roll, pitch);
       for (std::size_t axis = 0; axis < 6; ++axis) {
         hj.amp[axis] = (axis < 3 ? 0.003 : 0.5 * kDeg) * rng.uniform(0.5, 1.0);  // a few mm, ~0.5°
-        hj.freq[axis] = rng.uniform(0.7, 2.3);                                     // [Hz] hovering sway
+        hj.freq[axis] = rng.uniform(0.7, 2.3);                                   // [Hz] hovering sway
         hj.phase[axis] = rng.uniform(0, two_pi);
       }
     }
@@ -859,14 +869,16 @@ void write_text(const fs::path& path, const std::string& text) {
   if (!f) throw IoError(path.string() + ": write error");
 }
 
-// True when the motion between two samples is a cut (a jump between hold
-// points), not motion to blur.
-bool is_cut(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
-  const Vector6d xi = se3_log(a.inverse() * b);
-  return xi.head<3>().norm() > 0.1 || xi.tail<3>().norm() > 10 * kDeg;
-}
-
 }  // namespace
+
+const Eigen::Isometry3d& motion_blur_start(std::span<const TrajectorySample> samples, std::size_t i) {
+  const Eigen::Isometry3d& T = samples[i].T_camera_body;
+  if (i == 0) return T;
+  const Eigen::Isometry3d& prev = samples[i - 1].T_camera_body;
+  // A jump between hold points is a cut, not motion to blur.
+  const Vector6d xi = se3_log(prev.inverse() * T);
+  return xi.head<3>().norm() > 0.1 || xi.tail<3>().norm() > 10 * kDeg ? T : prev;
+}
 
 void write_sequence(const fs::path& out_dir, const CameraModel& camera, const Constellation& constellation,
                     std::span<const TrajectorySample> samples, const RenderOptions& options, std::uint64_t seed) {
@@ -885,8 +897,8 @@ void write_sequence(const fs::path& out_dir, const CameraModel& camera, const Co
   fs::create_directories(parent, ec);
   if (ec) throw IoError(parent.string() + ": cannot create the directory: " + ec.message());
   static std::atomic<unsigned> counter{0};
-  const fs::path staging = parent / ("." + target.filename().string() + ".partial-" + std::to_string(::getpid()) +
-                                     "-" + std::to_string(counter++));
+  const fs::path staging = parent / ("." + target.filename().string() + ".partial-" + std::to_string(::getpid()) + "-" +
+                                     std::to_string(counter++));
   fs::remove_all(staging, ec);
   if (!fs::create_directory(staging, ec) || ec) {
     throw IoError(staging.string() + ": cannot create the staging directory: " + ec.message());
@@ -897,9 +909,7 @@ void write_sequence(const fs::path& out_dir, const CameraModel& camera, const Co
     std::string ground_truth;
     for (std::size_t i = 0; i < samples.size(); ++i) {
       const Eigen::Isometry3d& T = samples[i].T_camera_body;
-      const Eigen::Isometry3d& T_prev =
-          i > 0 && !is_cut(samples[i - 1].T_camera_body, T) ? samples[i - 1].T_camera_body : T;
-      renderer.render(T, T_prev, seed, i, frame);
+      renderer.render(T, motion_blur_start(samples, i), seed, i, frame);
       const std::string name = frame_name(i);
       write_png(staging / (name + ".png"),
                 cv::Mat(frame.colour.height, frame.colour.width, CV_8UC3, frame.colour.pixels.data()));

@@ -52,9 +52,7 @@ std::vector<std::size_t> hull_indices(const std::vector<Eigen::Vector2d>& p) {
 
 Airframe Airframe::f450() { return Airframe{}; }
 
-double Airframe::total_mass() const {
-  return body_mass + motor_mass * static_cast<double>(motor_count()) + gear_mass;
-}
+double Airframe::total_mass() const { return body_mass + motor_mass * static_cast<double>(motor_count()) + gear_mass; }
 
 Eigen::Vector3d Airframe::motor_position(std::size_t i) const {
   const double a = arm_angles_deg[i] * kDeg;
@@ -77,10 +75,9 @@ Eigen::Matrix3d Airframe::inertia_about_com() const {
     return Eigen::Matrix3d(I0 + m * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose()));
   };
   const Eigen::Vector3d s2 = body_size.cwiseAbs2();
-  Eigen::Matrix3d I = shifted(body_mass,
-                              Eigen::Vector3d(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y()).asDiagonal() *
-                                  (body_mass / 12.0),
-                              Eigen::Vector3d::Zero());
+  Eigen::Matrix3d I = shifted(
+      body_mass, Eigen::Vector3d(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y()).asDiagonal() * (body_mass / 12.0),
+      Eigen::Vector3d::Zero());
   for (std::size_t i = 0; i < motor_count(); ++i) I += shifted(motor_mass, Eigen::Matrix3d::Zero(), motor_position(i));
   if (!legs.empty()) {
     const double m = gear_mass / static_cast<double>(legs.size());
@@ -135,9 +132,7 @@ Capsule Airframe::leg(std::size_t i) const {
           leg_radius};
 }
 
-Sphere Airframe::foot(std::size_t i) const {
-  return {Eigen::Vector3d(legs[i].x(), legs[i].y(), foot_z), foot_radius};
-}
+Sphere Airframe::foot(std::size_t i) const { return {Eigen::Vector3d(legs[i].x(), legs[i].y(), foot_z), foot_radius}; }
 
 bool Airframe::validate(std::string* why) const {
   auto fail = [&](const std::string& w) {
@@ -146,7 +141,8 @@ bool Airframe::validate(std::string* why) const {
   };
   auto positive = [](double v) { return v > 0 && std::isfinite(v); };
   if (!positive(body_mass)) return fail("body.mass: must be positive, got " + fmt(body_mass));
-  if (!(body_size.array() > 0).all() || !body_size.allFinite()) return fail("body.size: all three sizes must be positive");
+  if (!(body_size.array() > 0).all() || !body_size.allFinite())
+    return fail("body.size: all three sizes must be positive");
   if (motor_count() < 3) return fail("arms.angles_deg: need at least 3 arms");
   if (!positive(motor_radius)) return fail("arms.motor_radius: must be positive");
   if (!(arm_radius >= 0)) return fail("arms.capsule_radius: must be >= 0");
@@ -201,67 +197,59 @@ bool Airframe::validate(std::string* why) const {
 }
 
 Airframe parse_airframe(std::string_view yaml_text, std::string_view source) {
-  const YAML::Node root = detail::load_yaml(yaml_text, source);
-  const detail::YamlReader r{source};
-  Airframe a;
-  try {
-    r.only(root, "", {"name", "body", "arms", "motors", "propellers", "landing_gear"});
-    if (root["name"]) a.name = root["name"].as<std::string>();
-    const auto body = r.child(root, "", "body");
-    r.only(body, "body.", {"size", "mass"});
-    const auto size = r.numbers(r.child(body, "body.", "size"), "body.size");
-    if (size.size() != 3) r.fail(body["size"], "body.size", "expected 3 numbers");
-    a.body_size = {size[0], size[1], size[2]};
-    a.body_mass = r.number(r.child(body, "body.", "mass"), "body.mass");
+  return detail::parse_validated<Airframe>(
+      yaml_text, source, [](const detail::YamlReader& r, const YAML::Node& root, Airframe& a) {
+        r.only(root, "", {"name", "body", "arms", "motors", "propellers", "landing_gear"});
+        if (root["name"]) a.name = root["name"].as<std::string>();
+        const auto body = r.child(root, "", "body");
+        r.only(body, "body.", {"size", "mass"});
+        const auto size = r.vec3(r.child(body, "body.", "size"), "body.size");
+        a.body_size = {size[0], size[1], size[2]};
+        a.body_mass = r.number(r.child(body, "body.", "mass"), "body.mass");
 
-    const auto arms = r.child(root, "", "arms");
-    r.only(arms, "arms.", {"angles_deg", "motor_radius", "motor_z", "capsule_radius"});
-    a.arm_angles_deg = r.numbers(r.child(arms, "arms.", "angles_deg"), "arms.angles_deg");
-    a.motor_radius = r.number(r.child(arms, "arms.", "motor_radius"), "arms.motor_radius");
-    a.motor_z = r.number(r.child(arms, "arms.", "motor_z"), "arms.motor_z");
-    a.arm_radius = r.number(r.child(arms, "arms.", "capsule_radius"), "arms.capsule_radius");
+        const auto arms = r.child(root, "", "arms");
+        r.only(arms, "arms.", {"angles_deg", "motor_radius", "motor_z", "capsule_radius"});
+        a.arm_angles_deg = r.numbers(r.child(arms, "arms.", "angles_deg"), "arms.angles_deg");
+        a.motor_radius = r.number(r.child(arms, "arms.", "motor_radius"), "arms.motor_radius");
+        a.motor_z = r.number(r.child(arms, "arms.", "motor_z"), "arms.motor_z");
+        a.arm_radius = r.number(r.child(arms, "arms.", "capsule_radius"), "arms.capsule_radius");
 
-    const auto motors = r.child(root, "", "motors");
-    r.only(motors, "motors.", {"mass", "spin", "max_thrust", "time_constant", "torque_coefficient"});
-    a.motor_mass = r.number(r.child(motors, "motors.", "mass"), "motors.mass");
-    if (motors["spin"]) {
-      a.spin.clear();
-      for (double s : r.numbers(motors["spin"], "motors.spin")) a.spin.push_back(static_cast<int>(s));
-    } else {
-      a.spin.clear();
-      for (std::size_t i = 0; i < a.arm_angles_deg.size(); ++i) a.spin.push_back(i % 2 ? -1 : 1);
-    }
-    a.max_thrust = r.number(r.child(motors, "motors.", "max_thrust"), "motors.max_thrust");
-    a.motor_time_constant = r.number(r.child(motors, "motors.", "time_constant"), "motors.time_constant");
-    a.torque_coefficient = r.number(r.child(motors, "motors.", "torque_coefficient"), "motors.torque_coefficient");
+        const auto motors = r.child(root, "", "motors");
+        r.only(motors, "motors.", {"mass", "spin", "max_thrust", "time_constant", "torque_coefficient"});
+        a.motor_mass = r.number(r.child(motors, "motors.", "mass"), "motors.mass");
+        if (motors["spin"]) {
+          a.spin.clear();
+          for (double s : r.numbers(motors["spin"], "motors.spin")) a.spin.push_back(static_cast<int>(s));
+        } else {
+          a.spin.clear();
+          for (std::size_t i = 0; i < a.arm_angles_deg.size(); ++i) a.spin.push_back(i % 2 ? -1 : 1);
+        }
+        a.max_thrust = r.number(r.child(motors, "motors.", "max_thrust"), "motors.max_thrust");
+        a.motor_time_constant = r.number(r.child(motors, "motors.", "time_constant"), "motors.time_constant");
+        a.torque_coefficient = r.number(r.child(motors, "motors.", "torque_coefficient"), "motors.torque_coefficient");
 
-    const auto props = r.child(root, "", "propellers");
-    r.only(props, "propellers.", {"radius", "thickness", "height"});
-    a.prop_radius = r.number(r.child(props, "propellers.", "radius"), "propellers.radius");
-    a.prop_thickness = r.number(r.child(props, "propellers.", "thickness"), "propellers.thickness");
-    a.prop_height = r.number(r.child(props, "propellers.", "height"), "propellers.height");
+        const auto props = r.child(root, "", "propellers");
+        r.only(props, "propellers.", {"radius", "thickness", "height"});
+        a.prop_radius = r.number(r.child(props, "propellers.", "radius"), "propellers.radius");
+        a.prop_thickness = r.number(r.child(props, "propellers.", "thickness"), "propellers.thickness");
+        a.prop_height = r.number(r.child(props, "propellers.", "height"), "propellers.height");
 
-    const auto gear = r.child(root, "", "landing_gear");
-    r.only(gear, "landing_gear.", {"mass", "top_z", "foot_z", "leg_radius", "foot_radius", "legs"});
-    a.gear_mass = r.number(r.child(gear, "landing_gear.", "mass"), "landing_gear.mass");
-    a.gear_top_z = r.number(r.child(gear, "landing_gear.", "top_z"), "landing_gear.top_z");
-    a.foot_z = r.number(r.child(gear, "landing_gear.", "foot_z"), "landing_gear.foot_z");
-    a.leg_radius = r.number(r.child(gear, "landing_gear.", "leg_radius"), "landing_gear.leg_radius");
-    a.foot_radius = r.number(r.child(gear, "landing_gear.", "foot_radius"), "landing_gear.foot_radius");
-    const auto legs = r.child(gear, "landing_gear.", "legs");
-    if (!legs.IsSequence()) r.fail(legs, "landing_gear.legs", "expected a list of [x, y] pairs");
-    a.legs.clear();
-    for (std::size_t i = 0; i < legs.size(); ++i) {
-      const auto xy = r.numbers(legs[i], "landing_gear.legs");
-      if (xy.size() != 2) r.fail(legs[i], "landing_gear.legs", "each leg is [x, y]");
-      a.legs.emplace_back(xy[0], xy[1]);
-    }
-  } catch (const YAML::Exception& e) {
-    throw ParseError(std::string(source) + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
-  std::string why;
-  if (!a.validate(&why)) throw ParseError(std::string(source) + ": " + why);
-  return a;
+        const auto gear = r.child(root, "", "landing_gear");
+        r.only(gear, "landing_gear.", {"mass", "top_z", "foot_z", "leg_radius", "foot_radius", "legs"});
+        a.gear_mass = r.number(r.child(gear, "landing_gear.", "mass"), "landing_gear.mass");
+        a.gear_top_z = r.number(r.child(gear, "landing_gear.", "top_z"), "landing_gear.top_z");
+        a.foot_z = r.number(r.child(gear, "landing_gear.", "foot_z"), "landing_gear.foot_z");
+        a.leg_radius = r.number(r.child(gear, "landing_gear.", "leg_radius"), "landing_gear.leg_radius");
+        a.foot_radius = r.number(r.child(gear, "landing_gear.", "foot_radius"), "landing_gear.foot_radius");
+        const auto legs = r.child(gear, "landing_gear.", "legs");
+        if (!legs.IsSequence()) r.fail(legs, "landing_gear.legs", "expected a list of [x, y] pairs");
+        a.legs.clear();
+        for (std::size_t i = 0; i < legs.size(); ++i) {
+          const auto xy = r.numbers(legs[i], "landing_gear.legs");
+          if (xy.size() != 2) r.fail(legs[i], "landing_gear.legs", "each leg is [x, y]");
+          a.legs.emplace_back(xy[0], xy[1]);
+        }
+      });
 }
 
 Airframe load_airframe(const std::filesystem::path& path) {

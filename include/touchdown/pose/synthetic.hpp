@@ -183,6 +183,11 @@ std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, s
                                               const CameraModel& camera, const Constellation& constellation,
                                               const TrajectoryOptions& options = {});
 
+/// The pose to smear sample i's motion blur from: sample i−1, unless the
+/// pose jumps by more than 0.1 m or 10° (a cut between hold points), then
+/// sample i itself (no blur).
+const Eigen::Isometry3d& motion_blur_start(std::span<const TrajectorySample> samples, std::size_t i);
+
 // ---- sequences --------------------------------------------------------------
 
 /// Renders `samples` (frame i with Rng stream i, motion blur from sample
