@@ -4,14 +4,32 @@
 #include "touchdown/pose/epnp.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <Eigen/SVD>
+#include <utility>
+#include <array>
 #include <cmath>
 #include <limits>
 
+#include "dense_solvers.hpp"
+
 namespace touchdown::pose {
 namespace {
+
+// Build cost: each of Eigen's decompositions is instantiated, unrolled and
+// vectorised per matrix type; with six fixed-size ones (three eigensolvers,
+// three SVDs, an LU) this file took about a minute to compile. The symmetric
+// eigenproblems and the relinearisation's SVDs now go through
+// dense_solvers.cpp, compiled once and in parallel with this file.
+using detail::SymmetricMatrix;
+using detail::SymmetricVector;
+
+struct SymmetricEigen {
+  SymmetricVector eigenvalues;   // ascending
+  SymmetricMatrix eigenvectors;  // columns
+  bool ok = false;
+  explicit SymmetricEigen(const SymmetricMatrix& a) { ok = detail::symmetric_eigen(a, eigenvalues, eigenvectors); }
+};
 
 // Control points in the body frame (sec. 3.1): the centroid and, per
 // principal axis of the points, the centroid plus sqrt(λ/n) along it. `K`
@@ -35,9 +53,15 @@ PointStats point_stats(std::span<const Eigen::Vector3d> p) {
   s.centroid /= static_cast<double>(p.size());
   Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
   for (const auto& q : p) S.noalias() += (q - s.centroid) * (q - s.centroid).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(S / static_cast<double>(p.size()));
-  s.eigenvalues = es.eigenvalues().cwiseMax(0.0);
-  s.eigenvectors = es.eigenvectors();
+  SymmetricVector eigenvalues;
+  SymmetricMatrix eigenvectors;
+  if (!detail::symmetric_eigen(S / static_cast<double>(p.size()), eigenvalues, eigenvectors)) {
+    s.eigenvalues.setZero();  // reads as collinear: no solution
+    s.eigenvectors.setIdentity();
+    return s;
+  }
+  s.eigenvalues = eigenvalues.cwiseMax(0.0);
+  s.eigenvectors = eigenvectors;
   return s;
 }
 
@@ -98,6 +122,39 @@ double reprojection_rms(const PinholeCamera& cam, const Eigen::Isometry3d& T, st
   return std::sqrt(s / static_cast<double>(p.size()));
 }
 
+// Index of β_ab (a ≤ b < 4) in the 10-vector (β00, β01, β02, β03, β11, ...).
+constexpr int pair_index(int a, int b) {
+  if (a > b) std::swap(a, b);
+  constexpr int kStart[4] = {0, 4, 7, 9};
+  return kStart[a] + (b - a);
+}
+
+// The identities β_x0 β_y0 = β_x1 β_y1 between the ten products β_ab used
+// by the relinearisation (sec. 3.3): β_aa β_bb = β_ab² (6), β_aa β_bd =
+// β_ab β_ad (12), β_01 β_23 = β_02 β_13 = β_03 β_12 (2).
+struct ProductIdentity {
+  int x0, y0, x1, y1;
+};
+constexpr std::array<ProductIdentity, 20> make_product_identities() {
+  std::array<ProductIdentity, 20> t{};
+  int row = 0;
+  for (int a = 0; a < 4; ++a) {
+    for (int b = a + 1; b < 4; ++b) t[row++] = {pair_index(a, a), pair_index(b, b), pair_index(a, b), pair_index(a, b)};
+  }
+  for (int a = 0; a < 4; ++a) {
+    for (int b = 0; b < 4; ++b) {
+      for (int d = b + 1; d < 4; ++d) {
+        if (b == a || d == a) continue;
+        t[row++] = {pair_index(a, a), pair_index(b, d), pair_index(a, b), pair_index(a, d)};
+      }
+    }
+  }
+  t[row++] = {pair_index(0, 1), pair_index(2, 3), pair_index(0, 2), pair_index(1, 3)};
+  t[row++] = {pair_index(0, 1), pair_index(2, 3), pair_index(0, 3), pair_index(1, 2)};
+  return t;
+}
+constexpr std::array<ProductIdentity, 20> kProductIdentities = make_product_identities();
+
 // The solver for K control points (3K unknowns: their camera coordinates).
 template <int K>
 class Epnp {
@@ -123,9 +180,9 @@ class Epnp {
       MtM.noalias() += ru * ru.transpose();
       MtM.noalias() += rv * rv.transpose();
     }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, kDim, kDim>> es(MtM);
-    if (es.info() != Eigen::Success) return {};
-    for (int k = 0; k < 4; ++k) v_[k] = es.eigenvectors().col(k);  // smallest eigenvalues first
+    const SymmetricEigen es{SymmetricMatrix(MtM)};
+    if (!es.ok) return {};
+    for (int k = 0; k < 4; ++k) v_[k] = es.eigenvectors.col(k);  // smallest eigenvalues first
     // Squared control-point distances in the body frame (ρ of sec. 3.3).
     int q = 0;
     for (int i = 0; i < K; ++i) {
@@ -222,13 +279,6 @@ class Epnp {
     return true;
   }
 
-  // Index of β_ab (a ≤ b < 4) in the 10-vector (β00, β01, β02, β03, β11, ...).
-  static int pair_index(int a, int b) {
-    if (a > b) std::swap(a, b);
-    static constexpr int kStart[4] = {0, 4, 7, 9};
-    return kStart[a] + (b - a);
-  }
-
   // Relinearisation for N = 4: the 6 linear equations in the 10 products
   // β_ab leave β̄ = β̄_p + Σ λ_i n_i (4 null vectors n_i); the identities
   // β_ab β_cd = β_ac β_bd between products are then linear in (λ_i, λ_iλ_j)
@@ -242,18 +292,19 @@ class Epnp {
       }
       rho(q) = rho_[q];
     }
-    const Eigen::JacobiSVD<Eigen::Matrix<double, 6, 10>> svd(L, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    const auto& sv = svd.singularValues();
+    detail::SvdLeftMatrix U;
+    detail::SvdVector sv;
+    detail::SvdRightMatrix V;
+    detail::svd(L, U, sv, V);
     if (!(sv(5) > 1e-12 * sv(0))) return false;
     const Eigen::Matrix<double, 10, 1> bp =
-        svd.matrixV().template leftCols<6>() * (sv.cwiseInverse().asDiagonal() * (svd.matrixU().transpose() * rho));
-    const Eigen::Matrix<double, 10, 4> N = svd.matrixV().template rightCols<4>();
+        V.leftCols(6) * (sv.head(6).cwiseInverse().asDiagonal() * (U.topLeftCorner(6, 6).transpose() * rho));
+    const Eigen::Matrix<double, 10, 4> N = V.rightCols(4);
     // z = (λ_0..λ_3, λ_00, λ_01, λ_02, λ_03, λ_11, λ_12, λ_13, λ_22, λ_23, λ_33).
     Eigen::Matrix<double, 20, 14> A = Eigen::Matrix<double, 20, 14>::Zero();
     Eigen::Matrix<double, 20, 1> c = Eigen::Matrix<double, 20, 1>::Zero();
-    int row = 0;
     // Adds +sign · β̄_X β̄_Y to equation `row`.
-    auto add_product = [&](int X, int Y, double sign) {
+    auto add_product = [&](int row, int X, int Y, double sign) {
       c(row) += sign * bp(X) * bp(Y);
       for (int i = 0; i < 4; ++i) {
         A(row, i) += sign * (bp(X) * N(Y, i) + bp(Y) * N(X, i));
@@ -263,28 +314,16 @@ class Epnp {
         }
       }
     };
-    for (int a = 0; a < 4; ++a) {
-      for (int b = a + 1; b < 4; ++b, ++row) {  // β_aa β_bb = β_ab²
-        add_product(pair_index(a, a), pair_index(b, b), 1);
-        add_product(pair_index(a, b), pair_index(a, b), -1);
-      }
+    // One loop over the table (rather than a call per identity) keeps the
+    // compiler from unrolling twenty copies of add_product.
+    for (int row = 0; row < 20; ++row) {
+      const ProductIdentity& e = kProductIdentities[row];
+      add_product(row, e.x0, e.y0, 1);
+      add_product(row, e.x1, e.y1, -1);
     }
-    for (int a = 0; a < 4; ++a) {
-      for (int b = 0; b < 4; ++b) {
-        for (int d = b + 1; d < 4; ++d) {
-          if (b == a || d == a) continue;
-          add_product(pair_index(a, a), pair_index(b, d), 1);  // β_aa β_bd = β_ab β_ad
-          add_product(pair_index(a, b), pair_index(a, d), -1);
-          ++row;
-        }
-      }
-    }
-    add_product(pair_index(0, 1), pair_index(2, 3), 1);  // β_01 β_23 = β_02 β_13
-    add_product(pair_index(0, 2), pair_index(1, 3), -1);
-    ++row;
-    add_product(pair_index(0, 1), pair_index(2, 3), 1);  // β_01 β_23 = β_03 β_12
-    add_product(pair_index(0, 3), pair_index(1, 2), -1);
-    const Eigen::Matrix<double, 14, 1> z = A.jacobiSvd(Eigen::ComputeFullU | Eigen::ComputeFullV).solve(-c);
+    detail::SvdVector z_solution;
+    detail::least_squares(A, -c, z_solution);
+    const Eigen::Matrix<double, 14, 1> z = z_solution;
     if (!z.allFinite()) return false;
     const Eigen::Matrix<double, 10, 1> b = bp + N * z.template head<4>();
     // β_a = ±sqrt(β_aa), signs relative to the largest.
