@@ -6,8 +6,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "../core/io_util.hpp"
-#include "../core/yaml_util.hpp"
+#include "core/io_util.hpp"
+#include "core/yaml_util.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::pose {

@@ -7,8 +7,8 @@
 #include <numbers>
 #include <sstream>
 
-#include "../core/io_util.hpp"
-#include "../core/yaml_util.hpp"
+#include "core/io_util.hpp"
+#include "core/yaml_util.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::pose {

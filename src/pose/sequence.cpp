@@ -10,7 +10,7 @@
 #include <opencv2/imgproc.hpp>
 #include <system_error>
 
-#include "../core/io_util.hpp"
+#include "core/io_util.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::pose {

@@ -9,8 +9,8 @@
 #include <sstream>
 #include <vector>
 
-#include "../core/io_util.hpp"
-#include "../core/yaml_util.hpp"
+#include "core/io_util.hpp"
+#include "core/yaml_util.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::terrain {

@@ -36,6 +36,20 @@ fs::path render(const TempDir& dir, const std::string& name = "seq", const std::
   return out;
 }
 
+// The same sequence, rendered once per ctest run by the fixture test
+// led_pose_render_fixture (tests/apps/CMakeLists.txt) and copied here, so a
+// test may damage its copy. Rendered afresh when the fixture is missing or
+// older than the app (the test binary run by hand).
+fs::path rendered_sequence(const TempDir& dir) {
+  const fs::path fixture = LED_POSE_FIXTURE;
+  std::error_code ec;
+  const auto fixture_time = fs::last_write_time(fixture / "ground_truth.jsonl", ec);
+  if (ec || fixture_time < fs::last_write_time(LED_POSE_EXE)) return render(dir);
+  const fs::path out = dir / "seq";
+  fs::copy(fixture, out, fs::copy_options::recursive);
+  return out;
+}
+
 std::vector<std::string> lines_of(const std::string& text) {
   std::vector<std::string> out;
   std::istringstream in(text);
@@ -146,7 +160,7 @@ TEST(LedPoseApp, RenderWritesASequence) {
 
 TEST(LedPoseApp, LedJsonlMatchesGroundTruth) {
   TempDir dir;
-  const auto seq = render(dir);
+  const auto seq = rendered_sequence(dir);
   const AppRun r = run(seq.string() + " --jsonl", dir);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_GE(check_jsonl(r.out, seq, true), 11);
@@ -154,7 +168,7 @@ TEST(LedPoseApp, LedJsonlMatchesGroundTruth) {
 
 TEST(LedPoseApp, LedWithoutDepthMatchesGroundTruth) {
   TempDir dir;
-  const auto seq = render(dir);
+  const auto seq = rendered_sequence(dir);
   const AppRun r = run(seq.string() + " --jsonl --no-depth", dir);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_GE(check_jsonl(r.out, seq, true), 11);
@@ -162,7 +176,7 @@ TEST(LedPoseApp, LedWithoutDepthMatchesGroundTruth) {
 
 TEST(LedPoseApp, ArucoRuns) {
   TempDir dir;
-  const auto seq = render(dir);
+  const auto seq = rendered_sequence(dir);
   const AppRun r = run(seq.string() + " --jsonl --method aruco", dir);
   ASSERT_EQ(r.code, 0) << r.err;
   check_jsonl(r.out, seq, false);
@@ -170,7 +184,7 @@ TEST(LedPoseApp, ArucoRuns) {
 
 TEST(LedPoseApp, HumanSummaryReportsGroundTruthErrors) {
   TempDir dir;
-  const auto seq = render(dir);
+  const auto seq = rendered_sequence(dir);
   const AppRun r = run(seq.string(), dir);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("pose found"), std::string::npos) << r.out;
@@ -235,7 +249,7 @@ TEST(LedPoseAppBadInput, EmptyDirectory) {
 
 TEST(LedPoseAppBadInput, CorruptFrameLeavesNoPartialOutput) {
   TempDir dir;
-  const auto seq = render(dir);
+  const auto seq = rendered_sequence(dir);
   static const char garbage[] = "\x13\x37 this is not a PNG \x00\xff garbage";
   td::test::write_text(seq / "000001.png", std::string(garbage, sizeof garbage - 1));
   expect_bad_input(run(seq.string() + " --jsonl", dir), "000001.png");
@@ -245,7 +259,7 @@ TEST(LedPoseAppBadInput, CorruptFrameLeavesNoPartialOutput) {
 
 TEST(LedPoseAppBadInput, DepthOfAnotherSize) {
   TempDir dir;
-  const auto seq = render(dir);
+  const auto seq = rendered_sequence(dir);
   ASSERT_TRUE(cv::imwrite((seq / "000002.depth.png").string(), cv::Mat(100, 120, CV_16UC1, cv::Scalar(1000))));
   expect_bad_input(run(seq.string() + " --jsonl", dir), "000002.depth.png");
   // Without depth the sequence is fine.
@@ -255,7 +269,7 @@ TEST(LedPoseAppBadInput, DepthOfAnotherSize) {
 
 TEST(LedPoseAppBadInput, CameraWithNegativeFocalLength) {
   TempDir dir;
-  const auto seq = render(dir);
+  const auto seq = rendered_sequence(dir);
   const std::string yaml =
       td::test::replace_key_line(td::test::read_text(seq / "camera.yaml"), "fx", "fx: -1");
   ASSERT_NE(yaml.find("fx: -1"), std::string::npos);
@@ -283,7 +297,7 @@ AppRun run_with_constellation(const TempDir& dir, const fs::path& seq, const std
 
 TEST(LedPoseAppBadInput, ConstellationWithDuplicateLeds) {
   TempDir dir;
-  const auto seq = render(dir);
+  const auto seq = rendered_sequence(dir);
   const AppRun r = run_with_constellation(
       dir, seq, constellation_yaml({"0.1, 0.1, 0", "0.1, -0.1, 0", "-0.1, -0.1, 0", "0.1, -0.1, 0", "0, 0, -0.1"}));
   expect_bad_input(r, "k.yaml");
@@ -294,7 +308,7 @@ TEST(LedPoseAppBadInput, ConstellationWithDuplicateLeds) {
 
 TEST(LedPoseAppBadInput, CollinearConstellation) {
   TempDir dir;
-  const auto seq = render(dir);
+  const auto seq = rendered_sequence(dir);
   const AppRun r =
       run_with_constellation(dir, seq, constellation_yaml({"0, 0, 0", "0.1, 0, 0", "0.2, 0, 0", "0.3, 0, 0"}));
   expect_bad_input(r, "k.yaml");
@@ -303,7 +317,7 @@ TEST(LedPoseAppBadInput, CollinearConstellation) {
 
 TEST(LedPoseAppBadInput, ConstellationWithThreeLeds) {
   TempDir dir;
-  const auto seq = render(dir);
+  const auto seq = rendered_sequence(dir);
   const AppRun r = run_with_constellation(dir, seq, constellation_yaml({"0, 0, 0", "0.1, 0, 0", "0, 0.1, 0"}));
   expect_bad_input(r, "k.yaml");
   EXPECT_NE(r.err.find("leds"), std::string::npos) << r.err;
@@ -312,7 +326,7 @@ TEST(LedPoseAppBadInput, ConstellationWithThreeLeds) {
 
 TEST(LedPoseAppBadInput, UnknownArucoDictionary) {
   TempDir dir;
-  const auto seq = render(dir);
+  const auto seq = rendered_sequence(dir);
   const AppRun r = run(seq.string() + " --jsonl --method aruco --aruco-dict 9X9_7", dir);
   expect_bad_input(r, "9X9_7");
   EXPECT_NE(r.err.find("dictionary"), std::string::npos) << r.err;
@@ -320,7 +334,7 @@ TEST(LedPoseAppBadInput, UnknownArucoDictionary) {
 
 TEST(LedPoseAppBadInput, FramesOfAnotherSizeThanTheCamera) {
   TempDir dir;
-  const auto seq = render(dir);
+  const auto seq = rendered_sequence(dir);
   const std::string yaml =
       td::test::replace_key_line(td::test::read_text(seq / "camera.yaml"), "width", "width: 640");
   ASSERT_NE(yaml.find("width: 640"), std::string::npos);
@@ -336,7 +350,7 @@ TEST(LedPoseAppBadInput, FramesOfAnotherSizeThanTheCamera) {
 // to print its own message: one line on stderr.
 TEST(LedPoseAppBadInput, TruncatedPngFrame) {
   TempDir dir;
-  const auto seq = render(dir);
+  const auto seq = rendered_sequence(dir);
   const std::string png = td::test::read_text(seq / "000001.png");
   td::test::write_text(seq / "000001.png", png.substr(0, png.size() / 3));
   expect_bad_input(run(seq.string() + " --jsonl", dir), "000001.png");
