@@ -5,7 +5,7 @@
 #include <string_view>
 
 #include "touchdown/core/error.hpp"
-#include "touchdown/pose/sequence.hpp"
+#include "touchdown/pose/ground_truth.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {

@@ -1,0 +1,38 @@
+#pragma once
+/// \file
+/// Ground-truth and pose files in JSON Lines (touchdown::pose; no OpenCV).
+///
+/// A ground-truth line: {"frame":"000000","t_s":0.0,"t":[x,y,z],
+/// "q":[w,x,y,z],"leds_visible":[true,...],"marker_visible":true} with
+/// T_camera_body = (q, t) (metres; q a unit quaternion). "leds_visible" and
+/// "marker_visible" are optional; unknown keys are ignored.
+/// Thread-safety: free functions without shared state.
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace touchdown::pose {
+
+struct GroundTruthSample {
+  std::string frame;  ///< frame name ("000042")
+  double t_s = 0;     ///< [s]
+  Eigen::Isometry3d T_camera_body = Eigen::Isometry3d::Identity();
+  std::vector<bool> leds_visible;  ///< empty when not recorded
+  bool marker_visible = false;
+};
+
+/// One ground-truth JSON line (no newline), doubles printed so that they read
+/// back exactly.
+std::string ground_truth_to_json(const GroundTruthSample& sample);
+
+/// Parses ground_truth.jsonl text; blank lines are skipped. Throws
+/// ParseError "source:line: what" on a malformed line (bad JSON, missing or
+/// mistyped key, non-finite number, quaternion far from unit norm).
+std::vector<GroundTruthSample> parse_ground_truth(std::string_view text, std::string_view source);
+
+/// Reads ground_truth.jsonl; IoError if unreadable, ParseError if malformed.
+std::vector<GroundTruthSample> read_ground_truth(const std::filesystem::path& path);
+
+}  // namespace touchdown::pose
