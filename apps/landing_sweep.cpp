@@ -15,12 +15,12 @@
 #include "touchdown/core/atomic_file.hpp"
 #include "touchdown/terrain/extrinsics.hpp"
 #include "touchdown/twin/sweep.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace {
 
 namespace td = touchdown;
 namespace tw = touchdown::twin;
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 double round6(double v) { return std::round(v * 1e6) / 1e6 + 0.0; }
 
@@ -42,10 +42,10 @@ std::string runs_csv(const tw::SweepResult& r) {
   for (const auto& run : r.runs) {
     const auto& c = run.conditions;
     const auto& x = run.result;
-    os << c.heading / kDeg << "," << run.run << "," << tw::to_string(x.status) << "," << x.nutation << "," << x.roll << ","
+    os << td::rad_to_deg(c.heading) << "," << run.run << "," << tw::to_string(x.status) << "," << x.nutation << "," << x.roll << ","
        << x.pitch << "," << x.max_touchdown_nutation << "," << x.offset << "," << x.prop_strike << "," << x.arm_strike << ","
        << x.body_strike << "," << x.tipped << "," << x.all_feet_in_contact << "," << c.start_offset.x() << ","
-       << c.start_offset.y() << "," << c.heading_error / kDeg << "," << c.roll / kDeg << "," << c.pitch / kDeg << ","
+       << c.start_offset.y() << "," << td::rad_to_deg(c.heading_error) << "," << td::rad_to_deg(c.roll) << "," << td::rad_to_deg(c.pitch) << ","
        << c.land_speed << "," << c.friction << "," << x.sim_time << "\n";
   }
   return os.str();
@@ -55,8 +55,8 @@ std::string runs_csv(const tw::SweepResult& r) {
 // nutation per heading; every run's final nutation as a dot.
 std::string plot_svg(const tw::SweepResult& r, double yaw_max_deg) {
   const double W = 720, H = 400, L = 70, R = 20, T = 30, B = 50;
-  double ymax = r.threshold.value() * 1.3 / kDeg;
-  for (const auto& h : r.headings) ymax = std::max(ymax, std::min(h.score, 1.6) / kDeg * 1.1);
+  double ymax = td::rad_to_deg(r.threshold.value() * 1.3);
+  for (const auto& h : r.headings) ymax = std::max(ymax, td::rad_to_deg(std::min(h.score, 1.6)) * 1.1);
   auto X = [&](double deg) { return L + (W - L - R) * deg / yaw_max_deg; };
   auto Y = [&](double deg) { return H - B - (H - T - B) * std::min(deg, ymax) / ymax; };
   std::ostringstream os;
@@ -73,21 +73,21 @@ std::string plot_svg(const tw::SweepResult& r, double yaw_max_deg) {
   }
   os << "<text x='" << W / 2 << "' y='" << H - 12 << "' text-anchor='middle'>heading [deg]</text>\n"
      << "<text x='16' y='" << H / 2 << "' transform='rotate(-90 16," << H / 2 << ")' text-anchor='middle'>nutation [deg]</text>\n";
-  const double thr = r.threshold.value() / kDeg;
+  const double thr = td::rad_to_deg(r.threshold.value());
   os << "<line x1='" << L << "' y1='" << Y(thr) << "' x2='" << W - R << "' y2='" << Y(thr)
      << "' stroke='red' stroke-dasharray='6,4'/>\n<text x='" << W - R - 4 << "' y='" << Y(thr) - 5
      << "' text-anchor='end' fill='red'>safety threshold " << thr << " deg</text>\n";
   for (const auto& run : r.runs) {
     if (!run.result.valid()) continue;
-    os << "<circle cx='" << X(run.conditions.heading / kDeg) << "' cy='" << Y(run.result.nutation / kDeg)
+    os << "<circle cx='" << X(td::rad_to_deg(run.conditions.heading)) << "' cy='" << Y(td::rad_to_deg(run.result.nutation))
        << "' r='2' fill='#999'/>\n";
   }
   os << "<polyline fill='none' stroke='#1f5fbf' stroke-width='2' points='";
-  for (const auto& h : r.headings) os << X(h.yaw / kDeg) << "," << Y(h.score / kDeg) << " ";
+  for (const auto& h : r.headings) os << X(td::rad_to_deg(h.yaw)) << "," << Y(td::rad_to_deg(h.score)) << " ";
   os << "'/>\n";
   for (std::size_t j = 0; j < r.headings.size(); ++j) {
     const auto& h = r.headings[j];
-    os << "<circle cx='" << X(h.yaw / kDeg) << "' cy='" << Y(h.score / kDeg) << "' r='" << (static_cast<int>(j) == r.best ? 6 : 3.5)
+    os << "<circle cx='" << X(td::rad_to_deg(h.yaw)) << "' cy='" << Y(td::rad_to_deg(h.score)) << "' r='" << (static_cast<int>(j) == r.best ? 6 : 3.5)
        << "' fill='" << (h.safe ? "#2a9d3a" : "#d62728") << "'/>\n";
   }
   os << "</svg>\n";
@@ -171,9 +171,12 @@ int main(int argc, char** argv) {
     tw::SearchResult search;
     if (search_radius > 0) {
       search = tw::search_landing_point(airframe, terrain, o, search_radius, search_spacing);
+      if (!search.ok()) throw td::InvalidArgument(search.message);
       o.landing_point = search.candidates[static_cast<std::size_t>(search.best)].xy;
     } else {
       search.sweep = tw::run_sweep(airframe, terrain, o);
+      // The user's landing point is off the terrain: bad input for the app.
+      if (!search.sweep.ok()) throw td::InvalidArgument(search.sweep.message);
     }
     const tw::SweepResult& r = search.sweep;
     const double yaw_max_deg =
@@ -190,13 +193,13 @@ int main(int argc, char** argv) {
       j["threshold_rad"] = round6(r.threshold.value());
       j["threshold_parts"] = {{"tip_rad", round6(r.threshold.tip_rad)}, {"prop_strike_rad", round6(r.threshold.prop_strike_rad)}};
       j["ground_z"] = round6(r.ground_z);
-      j["best"] = {{"yaw_deg", round6(best.yaw / kDeg)}, {"score_rad", round6(best.score)}, {"safe", r.safe},
+      j["best"] = {{"yaw_deg", round6(td::rad_to_deg(best.yaw))}, {"score_rad", round6(best.score)}, {"safe", r.safe},
                    {"x", round6(o.landing_point.x())}, {"y", round6(o.landing_point.y())}};
       nlohmann::json safe = nlohmann::json::array();
       nlohmann::json hs = nlohmann::json::array();
       for (const auto& h : r.headings) {
-        if (h.safe) safe.push_back(round6(h.yaw / kDeg));
-        hs.push_back({{"yaw_deg", round6(h.yaw / kDeg)}, {"score_rad", round6(h.score)}, {"mean_rad", round6(h.mean)},
+        if (h.safe) safe.push_back(round6(td::rad_to_deg(h.yaw)));
+        hs.push_back({{"yaw_deg", round6(td::rad_to_deg(h.yaw))}, {"score_rad", round6(h.score)}, {"mean_rad", round6(h.mean)},
                       {"max_touchdown_rad", round6(h.max_touchdown)}, {"prop_strike_runs", h.prop_strike_runs},
                       {"arm_strike_runs", h.arm_strike_runs}, {"body_strike_runs", h.body_strike_runs},
                       {"tipped_runs", h.tipped_runs}, {"invalid_runs", h.invalid_runs},
@@ -209,7 +212,7 @@ int main(int argc, char** argv) {
         nlohmann::json cs = nlohmann::json::array();
         for (const auto& c : search.candidates) {
           if (!c.covered) continue;
-          cs.push_back({{"x", round6(c.xy.x())}, {"y", round6(c.xy.y())}, {"yaw_deg", round6(c.yaw / kDeg)},
+          cs.push_back({{"x", round6(c.xy.x())}, {"y", round6(c.xy.y())}, {"yaw_deg", round6(td::rad_to_deg(c.yaw))},
                         {"score_rad", round6(c.score)}, {"safe", c.safe}});
         }
         j["search"] = cs;
@@ -230,7 +233,7 @@ int main(int argc, char** argv) {
                 << r.threshold.tip_rad << ", propeller strike " << r.threshold.prop_strike_rad << ")\n"
                 << "  heading   S(psi)   mean    touchdown  strikes tipped invalid  safe\n";
       for (const auto& h : r.headings) {
-        std::cout << "  " << std::setw(6) << std::setprecision(1) << h.yaw / kDeg << std::setprecision(3) << "  "
+        std::cout << "  " << std::setw(6) << std::setprecision(1) << td::rad_to_deg(h.yaw) << std::setprecision(3) << "  "
                   << std::setw(7) << h.score << "  " << std::setw(6) << h.mean << "  " << std::setw(8) << h.max_touchdown
                   << "  " << std::setw(7) << h.prop_strike_runs + h.arm_strike_runs + h.body_strike_runs << " "
                   << std::setw(6) << h.tipped_runs << " " << std::setw(7) << h.invalid_runs << "  "
@@ -239,15 +242,15 @@ int main(int argc, char** argv) {
       for (const auto& c : search.candidates) {
         if (!c.covered) continue;
         std::cout << "  search: (" << c.xy.x() << ", " << c.xy.y() << ") best heading " << std::setprecision(1)
-                  << c.yaw / kDeg << std::setprecision(3) << " deg, S = " << c.score << " rad" << (c.safe ? "" : " (unsafe)")
+                  << td::rad_to_deg(c.yaw) << std::setprecision(3) << " deg, S = " << c.score << " rad" << (c.safe ? "" : " (unsafe)")
                   << "\n";
       }
       if (r.safe) {
-        std::cout << "  decision: land at (" << o.landing_point.x() << ", " << o.landing_point.y() << "), heading " << std::setprecision(1) << best.yaw / kDeg << " deg (S = "
+        std::cout << "  decision: land at (" << o.landing_point.x() << ", " << o.landing_point.y() << "), heading " << std::setprecision(1) << td::rad_to_deg(best.yaw) << " deg (S = "
                   << std::setprecision(3) << best.score << " rad)\n";
       } else {
         std::cout << "  decision: do not land at (" << o.landing_point.x() << ", " << o.landing_point.y()
-                  << ") (best heading " << std::setprecision(1) << best.yaw / kDeg
+                  << ") (best heading " << std::setprecision(1) << td::rad_to_deg(best.yaw)
                   << " deg has S = " << std::setprecision(3) << best.score << " rad, threshold "
                   << r.threshold.value() << " rad)\n";
       }

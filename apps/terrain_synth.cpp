@@ -11,6 +11,7 @@
 #include "touchdown/terrain/extrinsics.hpp"
 #include "touchdown/terrain/filters.hpp"
 #include "touchdown/terrain/synthetic.hpp"
+#include "touchdown/core/units.hpp"
 
 int main(int argc, char** argv) {
   namespace td = touchdown;
@@ -71,7 +72,7 @@ int main(int argc, char** argv) {
     cam.dropout_fraction *= noise_scale;
     cam.outlier_fraction *= noise_scale;
     cam.flying_pixels = noise_scale > 0;
-    const Eigen::Isometry3d T = syn::nadir_camera_pose(cam_x, cam_y, cam_height, cam_yaw_deg * std::numbers::pi / 180.0);
+    const Eigen::Isometry3d T = syn::nadir_camera_pose(cam_x, cam_y, cam_height, touchdown::deg_to_rad(cam_yaw_deg));
     td::PointCloud cloud = syn::render_depth_scan(shape, cam, T, seed);
     if (frame == "world") {
       td::terrain::remove_non_finite(cloud);

@@ -36,6 +36,10 @@ int main(int argc, char** argv) {
   options.landing_point = {0.12, 0.0};  // 12 cm from the step's edge
   options.time_budget = budget;
   const auto result = td::twin::run_sweep(td::twin::Airframe::f450(), terrain, options);
+  if (!result.ok()) {
+    std::cout << "do not land here: " << result.message << "\n";
+    return 0;
+  }
 
   const auto& best = result.headings[static_cast<std::size_t>(result.best)];
   std::cout << result.landings() << " landings in " << result.seconds << " s, " << 100 * result.completeness

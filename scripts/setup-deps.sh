@@ -21,7 +21,7 @@ packages=(
   libgtest-dev libgmock-dev
   libbenchmark-dev
   # libFuzzer and the sanitizer runtimes for clang
-  clang libclang-rt-14-dev
+  clang libclang-rt-14-dev clang-format
 )
 
 missing=()

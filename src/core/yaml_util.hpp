@@ -1,5 +1,7 @@
 #pragma once
-// yaml-cpp helpers shared by the YAML config readers (internal).
+// The one YAML config reader of every module (internal; the CMake target
+// touchdown_yaml makes it available and links yaml-cpp). Every message reads
+// "source:line: key: what" (docs/formats.md).
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -40,7 +42,10 @@ struct YamlReader {
   }
   double number(const YAML::Node& n, const std::string& key) const {
     double v = 0;
-    if (!n.IsScalar() || !parse_double(trim(n.Scalar()), v) || !std::isfinite(v)) fail(n, key, "expected a number");
+    if (!n.IsScalar()) fail(n, key, "expected a number");
+    if (!parse_double(trim(n.Scalar()), v) || !std::isfinite(v)) {
+      fail(n, key, "expected a number, got '" + n.Scalar() + "'");
+    }
     return v;
   }
   int integer(const YAML::Node& n, const std::string& key) const {
@@ -57,7 +62,7 @@ struct YamlReader {
   /// Exactly three numbers.
   std::vector<double> vec3(const YAML::Node& n, const std::string& key) const {
     auto v = numbers(n, key);
-    if (v.size() != 3) fail(n, key, "expected 3 numbers");
+    if (v.size() != 3) fail(n, key, "expected 3 numbers, got " + std::to_string(v.size()));
     return v;
   }
   std::string text(const YAML::Node& n, const std::string& key) const {
@@ -71,7 +76,9 @@ struct YamlReader {
     for (const auto& kv : map) {
       const auto k = kv.first.as<std::string>();
       if (std::none_of(keys.begin(), keys.end(), [&](const char* x) { return k == x; })) {
-        fail(kv.first, prefix + k, "unknown key");
+        std::string known;
+        for (const char* x : keys) known += (known.empty() ? "" : ", ") + std::string(x);
+        fail(kv.first, prefix + k, "unknown key (expected " + known + ")");
       }
     }
   }

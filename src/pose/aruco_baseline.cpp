@@ -14,60 +14,13 @@
 #include <sstream>
 #include <string_view>
 
+#include "aruco_dictionary.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/pose/gauss_newton.hpp"
 
 namespace touchdown::pose {
 
 namespace {
-
-struct DictionaryEntry {
-  std::string_view name;
-  cv::aruco::PREDEFINED_DICTIONARY_NAME id;
-};
-
-// OpenCV 4.6 aruco/dictionary.hpp, enum PREDEFINED_DICTIONARY_NAME, in its order.
-constexpr std::array<DictionaryEntry, 21> kDictionaries{{
-    {"4X4_50", cv::aruco::DICT_4X4_50},
-    {"4X4_100", cv::aruco::DICT_4X4_100},
-    {"4X4_250", cv::aruco::DICT_4X4_250},
-    {"4X4_1000", cv::aruco::DICT_4X4_1000},
-    {"5X5_50", cv::aruco::DICT_5X5_50},
-    {"5X5_100", cv::aruco::DICT_5X5_100},
-    {"5X5_250", cv::aruco::DICT_5X5_250},
-    {"5X5_1000", cv::aruco::DICT_5X5_1000},
-    {"6X6_50", cv::aruco::DICT_6X6_50},
-    {"6X6_100", cv::aruco::DICT_6X6_100},
-    {"6X6_250", cv::aruco::DICT_6X6_250},
-    {"6X6_1000", cv::aruco::DICT_6X6_1000},
-    {"7X7_50", cv::aruco::DICT_7X7_50},
-    {"7X7_100", cv::aruco::DICT_7X7_100},
-    {"7X7_250", cv::aruco::DICT_7X7_250},
-    {"7X7_1000", cv::aruco::DICT_7X7_1000},
-    {"ARUCO_ORIGINAL", cv::aruco::DICT_ARUCO_ORIGINAL},
-    {"APRILTAG_16h5", cv::aruco::DICT_APRILTAG_16h5},
-    {"APRILTAG_25h9", cv::aruco::DICT_APRILTAG_25h9},
-    {"APRILTAG_36h10", cv::aruco::DICT_APRILTAG_36h10},
-    {"APRILTAG_36h11", cv::aruco::DICT_APRILTAG_36h11},
-}};
-
-std::string upper(std::string_view s) {
-  std::string out(s);
-  for (auto& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return out;
-}
-
-const DictionaryEntry* find_dictionary(std::string_view name) {
-  std::string key = upper(name);
-  if (key.rfind("DICT_", 0) == 0) key.erase(0, 5);
-  for (const auto& d : kDictionaries) {
-    if (upper(d.name) == key) return &d;
-  }
-  return nullptr;
-}
-
-// Number of markers in a predefined dictionary (rows of its code table).
-int dictionary_size(const DictionaryEntry& d) { return cv::aruco::getPredefinedDictionary(d.id)->bytesList.rows; }
 
 std::string format_number(double v) {
   std::ostringstream os;
@@ -77,25 +30,16 @@ std::string format_number(double v) {
 
 }  // namespace
 
-std::vector<std::string> aruco_dictionary_names() {
-  std::vector<std::string> out;
-  out.reserve(kDictionaries.size());
-  for (const auto& d : kDictionaries) out.emplace_back(d.name);
-  return out;
-}
+std::vector<std::string> aruco_dictionary_names() { return detail::aruco_dictionary_name_list(); }
 
 bool ArucoOptions::validate(std::string* why) const {
   auto fail = [&](const std::string& m) {
     if (why) *why = m;
     return false;
   };
-  const DictionaryEntry* dict = find_dictionary(dictionary);
-  if (!dict) {
-    std::string known;
-    for (const auto& d : kDictionaries) known += (known.empty() ? "" : ", ") + std::string(d.name);
-    return fail("dictionary: unknown ArUco dictionary '" + dictionary + "' (known: " + known + ")");
-  }
-  const int n = dictionary_size(*dict);
+  const auto* dict = detail::find_aruco_dictionary(dictionary);
+  if (!dict) return fail("dictionary: unknown ArUco dictionary " + detail::unknown_aruco_dictionary(dictionary));
+  const int n = dict->codes;
   if (marker_id < 0 || marker_id >= n) {
     return fail("marker_id: " + std::to_string(marker_id) + " is not in dictionary " + std::string(dict->name) +
                 " (ids 0.." + std::to_string(n - 1) + ")");
@@ -142,7 +86,7 @@ ArucoPoseEstimator::ArucoPoseEstimator(const CameraModel& camera, const Eigen::I
   impl->T_body_marker = T_body_marker;
   impl->T_marker_body = T_body_marker.inverse(Eigen::Isometry);
   impl->options = options;
-  impl->dictionary = cv::aruco::getPredefinedDictionary(find_dictionary(options.dictionary)->id);
+  impl->dictionary = cv::aruco::getPredefinedDictionary(detail::find_aruco_dictionary(options.dictionary)->id);
   impl->parameters = cv::aruco::DetectorParameters::create();
   // Otherwise aruco's defaults: the baseline is the pipeline people run.
   if (options.corner_refinement) impl->parameters->cornerRefinementMethod = cv::aruco::CORNER_REFINE_SUBPIX;

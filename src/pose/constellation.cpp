@@ -10,6 +10,8 @@
 #include "core/io_util.hpp"
 #include "core/yaml_util.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/rotation.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::pose {
 
@@ -138,11 +140,7 @@ Constellation parse_constellation(std::string_view yaml_text, std::string_view s
           }
           if (m["rpy_deg"]) {
             const auto rpy = r.vec3(m["rpy_deg"], "marker.rpy_deg");
-            constexpr double d = std::numbers::pi / 180.0;
-            T.linear() = (Eigen::AngleAxisd(rpy[2] * d, Eigen::Vector3d::UnitZ()) *
-                          Eigen::AngleAxisd(rpy[1] * d, Eigen::Vector3d::UnitY()) *
-                          Eigen::AngleAxisd(rpy[0] * d, Eigen::Vector3d::UnitX()))
-                             .toRotationMatrix();
+            T.linear() = rotation_from_rpy(deg_to_rad(rpy[0]), deg_to_rad(rpy[1]), deg_to_rad(rpy[2]));
           } else {
             T.linear() = Constellation::default_marker_pose().linear();
           }

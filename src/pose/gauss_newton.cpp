@@ -2,6 +2,9 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <string>
+
+#include "touchdown/core/error.hpp"
 
 namespace touchdown::pose {
 
@@ -21,9 +24,21 @@ bool reprojection_residual(const PinholeCamera& cam, const Eigen::Isometry3d& T,
   return true;
 }
 
+bool GaussNewtonOptions::validate(std::string* why) const {
+  if (max_iterations < 1 || max_iterations > 1000) return invalid(why, "max_iterations: must be in 1..1000");
+  if (!(step_tolerance >= 0) || !std::isfinite(step_tolerance)) return invalid(why, "step_tolerance: must be >= 0");
+  if (!(huber_px >= 0) || !std::isfinite(huber_px)) return invalid(why, "huber_px: must be >= 0 px (0 = off)");
+  return true;
+}
+
 PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<const Eigen::Vector3d> p_body,
                                         std::span<const Eigen::Vector2d> uv, const Eigen::Isometry3d& initial,
                                         const GaussNewtonOptions& o) {
+  if (!o.validate(nullptr)) {  // cheap on the hot path; the message only on failure
+    std::string why;
+    o.validate(&why);
+    throw InvalidArgument("gauss-newton options: " + why);
+  }
   PoseRefinement out;
   out.T_camera_body = initial;
   const std::size_t n = p_body.size();

@@ -6,6 +6,7 @@
 
 #include "touchdown/core/error.hpp"
 #include "touchdown/pose/epnp.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::pose {
 
@@ -232,7 +233,7 @@ Correspondence find_correspondences(const PinholeCamera& cam, const Constellatio
   const double penalty2 = o.missing_penalty_px * o.missing_penalty_px;
   double best_score = kInf;
   const Eigen::Vector3d centroid = k.centroid();
-  const double cos_view = std::cos(o.max_view_angle_deg * 3.14159265358979323846 / 180.0);
+  const double cos_view = std::cos(deg_to_rad(o.max_view_angle_deg));
   bool done = false;
   // Every 4-subset of LEDs (non-degenerate) against every ordered 4-tuple
   // of distinct, colour-compatible blobs.

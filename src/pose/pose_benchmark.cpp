@@ -21,10 +21,18 @@ bool PoseBenchmarkOptions::validate(std::string* why) const {
   if (frames < 1 || frames > 100000) return fail("frames: must be in 1..100000");
   if (!(min_distance > 0 && max_distance > min_distance)) return fail("distances: need 0 < min < max");
   if (!(success_px > 0)) return fail("success_px: must be positive");
-  if (!render.validate(&w)) return fail("render: " + w);
-  if (!tracker.validate(&w)) return fail("tracker: " + w);
   if (!aruco.validate(&w)) return fail("aruco: " + w);
+  if (!rendered_options().validate(&w)) return fail("render: " + w);
+  if (!tracker.validate(&w)) return fail("tracker: " + w);
   return true;
+}
+
+RenderOptions PoseBenchmarkOptions::rendered_options() const {
+  RenderOptions r = render;
+  r.aruco_dictionary = aruco.dictionary;
+  r.aruco_id = aruco.marker_id;
+  r.aruco_size = aruco.marker_size;
+  return r;
 }
 
 std::pair<double, double> pose_error(const Eigen::Isometry3d& e, const Eigen::Isometry3d& t) {
@@ -87,11 +95,7 @@ double time_us(F&& f) {
 PoseBenchmarkResult run_pose_benchmark(const PoseBenchmarkOptions& o) {
   std::string why;
   if (!o.validate(&why)) throw InvalidArgument("benchmark options: " + why);
-  RenderOptions render = o.render;
-  render.aruco_dictionary = o.aruco.dictionary;
-  render.aruco_id = o.aruco.marker_id;
-  render.aruco_size = o.aruco.marker_size;
-  const SyntheticCamera synth(o.camera, o.constellation, render);
+  const SyntheticCamera synth(o.camera, o.constellation, o.rendered_options());
   TrajectoryOptions to;
   to.min_distance = o.min_distance;
   to.max_distance = o.max_distance;

@@ -17,10 +17,12 @@
 #include <optional>
 #include <utility>
 
+#include "aruco_dictionary.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/pose/se3.hpp"
 #include "touchdown/pose/sequence.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::pose {
 
@@ -49,31 +51,6 @@ Bgr core_colour(LedColor c) {
       break;
   }
   return {255, 255, 255};
-}
-
-struct ArucoDictionary {
-  int cv_id = 0;  // cv::aruco::PREDEFINED_DICTIONARY_NAME
-  int codes = 0;  // markers in the dictionary
-  int bits = 0;   // marker side in bits (without the border)
-};
-
-// "4X4_50" (optionally "DICT_4X4_50"), ... "7X7_1000", "ARUCO_ORIGINAL".
-std::optional<ArucoDictionary> parse_aruco_dictionary(std::string_view name) {
-  if (name.substr(0, 5) == "DICT_") name.remove_prefix(5);
-  if (name == "ARUCO_ORIGINAL") return ArucoDictionary{cv::aruco::DICT_ARUCO_ORIGINAL, 1024, 5};
-  if (name.size() < 6 || name[1] != 'X' || name[0] != name[2] || name[3] != '_') return std::nullopt;
-  const int bits = name[0] - '0';
-  if (bits < 4 || bits > 7) return std::nullopt;
-  const std::string_view count = name.substr(4);
-  constexpr std::array<std::pair<std::string_view, int>, 4> counts{
-      {{"50", 50}, {"100", 100}, {"250", 250}, {"1000", 1000}}};
-  for (int i = 0; i < 4; ++i) {
-    if (counts[static_cast<std::size_t>(i)].first == count) {
-      // The enum lists 4X4_50, 4X4_100, 4X4_250, 4X4_1000, 5X5_50, ...
-      return ArucoDictionary{(bits - 4) * 4 + i, counts[static_cast<std::size_t>(i)].second, bits};
-    }
-  }
-  return std::nullopt;
 }
 
 // 4096 standard normal draws: per-pixel noise is a table lookup indexed by
@@ -188,11 +165,8 @@ bool RenderOptions::validate(std::string* why) const {
       distractor_max_depth < distractor_min_depth) {
     return fail("distractor_min_depth: must be positive and <= distractor_max_depth");
   }
-  const auto dict = parse_aruco_dictionary(aruco_dictionary);
-  if (!dict) {
-    return fail("aruco_dictionary: unknown dictionary '" + aruco_dictionary +
-                "' (expected e.g. 4X4_50, 5X5_100, 6X6_250, 7X7_1000 or ARUCO_ORIGINAL)");
-  }
+  const auto* dict = detail::find_aruco_dictionary(aruco_dictionary);
+  if (!dict) return fail("aruco_dictionary: unknown dictionary " + detail::unknown_aruco_dictionary(aruco_dictionary));
   if (aruco_id < 0 || aruco_id >= dict->codes) {
     return fail("aruco_id: must be in 0.." + std::to_string(dict->codes - 1) + " for " + aruco_dictionary);
   }
@@ -286,10 +260,10 @@ SyntheticCamera::SyntheticCamera(CameraModel camera, Constellation constellation
     impl_->ceiling_depth[i] = depth_units(static_cast<float>(o.ceiling_distance), static_cast<float>(o.depth_noise_k),
                                           table[i], static_cast<float>(1 / c.depth_scale));
   }
-  const ArucoDictionary dict = *parse_aruco_dictionary(o.aruco_dictionary);
+  const detail::ArucoDictionaryInfo& dict = *detail::find_aruco_dictionary(o.aruco_dictionary);
   const int side = dict.bits + 2;  // marker cells including the black border
   cv::Mat marker;
-  cv::aruco::drawMarker(cv::aruco::getPredefinedDictionary(dict.cv_id), o.aruco_id, side, marker, 1);
+  cv::aruco::drawMarker(cv::aruco::getPredefinedDictionary(dict.id), o.aruco_id, side, marker, 1);
   impl_->card_cells = side + 2;
   impl_->cell_size = o.aruco_size / side;
   impl_->card.assign(static_cast<std::size_t>(impl_->card_cells * impl_->card_cells), 255);
@@ -759,21 +733,24 @@ Eigen::Isometry3d fitted_pose(const CameraModel& camera, const Constellation& k,
   return drone_pose(d, lateral_scale * a, lateral_scale * b, yaw, tilt_scale * roll, tilt_scale * pitch) * jitter;
 }
 
-constexpr double kDeg = std::numbers::pi / 180;
 
 }  // namespace
+
+bool TrajectoryOptions::validate(std::string* why) const {
+  if (!(min_distance > 0) || !(max_distance >= min_distance) || !std::isfinite(max_distance)) {
+    return invalid(why, "min_distance, max_distance: need 0 < min_distance <= max_distance (finite) [m]");
+  }
+  if (!(fps > 0) || !std::isfinite(fps)) return invalid(why, "fps: must be positive [Hz]");
+  if (!(margin_px >= 0) || !std::isfinite(margin_px)) return invalid(why, "margin_px: must be >= 0 px");
+  return true;
+}
 
 std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, std::uint64_t seed,
                                               const CameraModel& camera, const Constellation& constellation,
                                               const TrajectoryOptions& o) {
   if (frames < 1) throw InvalidArgument("make_trajectory: frames must be >= 1");
-  if (!(o.min_distance > 0) || !(o.max_distance >= o.min_distance) || !std::isfinite(o.max_distance)) {
-    throw InvalidArgument("make_trajectory: need 0 < min_distance <= max_distance (finite)");
-  }
-  if (!(o.fps > 0) || !std::isfinite(o.fps)) throw InvalidArgument("make_trajectory: fps must be positive");
-  if (!(o.margin_px >= 0) || !std::isfinite(o.margin_px))
-    throw InvalidArgument("make_trajectory: margin_px must be >= 0");
   std::string why;
+  if (!o.validate(&why)) throw InvalidArgument("make_trajectory: " + why);
   if (!camera.validate(&why)) throw InvalidArgument("make_trajectory: camera: " + why);
   if (!constellation.validate(&why)) throw InvalidArgument("make_trajectory: constellation: " + why);
 
@@ -798,11 +775,11 @@ std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, s
           holds == 1 ? o.min_distance : o.min_distance + (o.max_distance - o.min_distance) * j / (holds - 1);
       const double a = rng.uniform(-0.6, 0.6) * half_u, b = rng.uniform(-0.6, 0.6) * half_v;
       const double yaw = rng.uniform(-std::numbers::pi, std::numbers::pi);
-      const double roll = rng.uniform(-6, 6) * kDeg, pitch = rng.uniform(-6, 6) * kDeg;
+      const double roll = deg_to_rad(rng.uniform(-6, 6)), pitch = deg_to_rad(rng.uniform(-6, 6));
       Hold& hj = hold[static_cast<std::size_t>(j)];
       hj.T = fitted_pose(camera, constellation, margin, d, a, b, yaw, roll, pitch);
       for (std::size_t axis = 0; axis < 6; ++axis) {
-        hj.amp[axis] = (axis < 3 ? 0.003 : 0.5 * kDeg) * rng.uniform(0.5, 1.0);  // a few mm, ~0.5°
+        hj.amp[axis] = (axis < 3 ? 0.003 : deg_to_rad(0.5)) * rng.uniform(0.5, 1.0);  // a few mm, ~0.5°
         hj.freq[axis] = rng.uniform(0.7, 2.3);                                   // [Hz] hovering sway
         hj.phase[axis] = rng.uniform(0, two_pi);
       }
@@ -825,10 +802,10 @@ std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, s
   const double f_a = rng.uniform(0.35, 0.55), f_b = rng.uniform(0.25, 0.45);  // [Hz] lateral
   const double ph_a = rng.uniform(0, two_pi), ph_b = rng.uniform(0, two_pi);
   const double yaw0 = rng.uniform(-std::numbers::pi, std::numbers::pi);
-  const double yaw_rate = (rng.uniform() < 0.5 ? -1 : 1) * rng.uniform(60, 120) * kDeg;  // [rad/s]
+  const double yaw_rate = (rng.uniform() < 0.5 ? -1 : 1) * deg_to_rad(rng.uniform(60, 120));  // [rad/s]
   const double f_r = rng.uniform(0.2, 0.35), f_p = rng.uniform(0.25, 0.4);               // [Hz] tilt
   const double ph_r = rng.uniform(0, two_pi), ph_p = rng.uniform(0, two_pi);
-  const double tilt = 20 * kDeg / std::numbers::sqrt2;  // per axis: |tilt| <= 20°
+  const double tilt = deg_to_rad(20) / std::numbers::sqrt2;  // per axis: |tilt| <= 20°
   for (int i = 0; i < frames; ++i) {
     const double t = i / o.fps;
     const double u = frames > 1 ? static_cast<double>(i) / (frames - 1) : 0.0;
@@ -877,7 +854,7 @@ const Eigen::Isometry3d& motion_blur_start(std::span<const TrajectorySample> sam
   const Eigen::Isometry3d& prev = samples[i - 1].T_camera_body;
   // A jump between hold points is a cut, not motion to blur.
   const Vector6d xi = se3_log(prev.inverse() * T);
-  return xi.head<3>().norm() > 0.1 || xi.tail<3>().norm() > 10 * kDeg ? T : prev;
+  return xi.head<3>().norm() > 0.1 || xi.tail<3>().norm() > deg_to_rad(10) ? T : prev;
 }
 
 void write_sequence(const fs::path& out_dir, const CameraModel& camera, const Constellation& constellation,

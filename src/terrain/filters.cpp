@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 #include <numeric>
+#include <string>
 #include <vector>
 
 #include "column_grid.hpp"
@@ -102,7 +103,25 @@ void transform_cloud(PointCloud& cloud, const Eigen::Isometry3d& T) {
   for (auto& p : cloud.points) p = R * p + t;
 }
 
+bool CropOptions::validate(std::string* why) const {
+  if (!(radius >= 0) || !std::isfinite(radius)) return invalid(why, "radius: must be >= 0 m (0 = off)");
+  if (box_body && ((box_body->min().array() > box_body->max().array()).any() || !box_body->min().allFinite() ||
+                   !box_body->max().allFinite())) {
+    return invalid(why, "box_body: min must not exceed max (finite, metres)");
+  }
+  return true;
+}
+
+bool OutlierOptions::validate(std::string* why) const {
+  if (k < 0) return invalid(why, "k: must be >= 0 (0 = off)");
+  if (!(std_ratio > 0) || !std::isfinite(std_ratio)) return invalid(why, "std_ratio: must be positive");
+  if (!(search_cell >= 0) || !std::isfinite(search_cell)) return invalid(why, "search_cell: must be >= 0 m (0 = auto)");
+  return true;
+}
+
 std::size_t crop_near_camera(PointCloud& cloud, const CropOptions& o) {
+  std::string why;
+  if (!o.validate(&why)) throw InvalidArgument("crop options: " + why);
   const float r2 = static_cast<float>(o.radius * o.radius);
   const bool use_radius = o.radius > 0;
   if (!use_radius && !o.box_body) return 0;
@@ -190,6 +209,8 @@ PointCloud voxel_downsample(const PointCloud& cloud, double voxel) {
 }
 
 std::size_t remove_statistical_outliers(PointCloud& cloud, const OutlierOptions& o) {
+  std::string why;
+  if (!o.validate(&why)) throw InvalidArgument("outlier options: " + why);
   const std::size_t n = cloud.size();
   if (o.k <= 0 || n < 2) return 0;
   const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(o.k), n - 1);

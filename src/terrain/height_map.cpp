@@ -48,8 +48,17 @@ std::optional<double> HeightMap::height_at(double x, double y) const {
   return nearest;
 }
 
+bool HeightMapOptions::validate(std::string* why) const {
+  if (!(cell > 0) || !std::isfinite(cell)) return invalid(why, "cell: must be a positive number of metres");
+  if (!(max_hole >= 0) || !std::isfinite(max_hole)) return invalid(why, "max_hole: must be >= 0 m");
+  if (!(max_fill_slope > 0)) return invalid(why, "max_fill_slope: must be positive");
+  if (max_cells == 0) return invalid(why, "max_cells: must be positive");
+  return true;
+}
+
 HeightMap build_height_map(const PointCloud& cloud, const HeightMapOptions& o) {
-  if (!(o.cell > 0) || !std::isfinite(o.cell)) throw InvalidArgument("height map cell must be positive");
+  std::string why;
+  if (!o.validate(&why)) throw InvalidArgument("height map options: " + why);
   if (cloud.empty()) throw InvalidArgument("height map of an empty cloud");
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
   Eigen::Vector2d hi = -lo;

@@ -7,16 +7,16 @@
 
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::terrain::synthetic {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // (along, across) coordinates of (x, y) for the shape's azimuth.
 Eigen::Vector2d local(const Shape& s, double x, double y) {
-  const double c = std::cos(s.azimuth_deg * kDeg), sn = std::sin(s.azimuth_deg * kDeg);
+  const double c = std::cos(deg_to_rad(s.azimuth_deg)), sn = std::sin(deg_to_rad(s.azimuth_deg));
   return {c * x + sn * y, -sn * x + c * y};
 }
 
@@ -62,7 +62,7 @@ double Shape::height(double x, double y) const {
   const Eigen::Vector2d p = local(*this, x, y);
   switch (kind) {
     case ShapeKind::Flat: return base_z;
-    case ShapeKind::Incline: return base_z + std::tan(slope_deg * kDeg) * p.x();
+    case ShapeKind::Incline: return base_z + std::tan(deg_to_rad(slope_deg)) * p.x();
     case ShapeKind::Step: return base_z + (p.x() > edge_offset ? step_height : 0.0);
     case ShapeKind::Plateau:
       return base_z + (std::abs(p.x()) < 0.5 * plateau_size.x() && std::abs(p.y()) < 0.5 * plateau_size.y()
@@ -146,8 +146,8 @@ PointCloud render_depth_scan(const Shape& shape, const DepthCamera& cam, const E
       };
       if (shape.kind == ShapeKind::Flat || shape.kind == ShapeKind::Incline) {
         // A plane n·p = base_z with n = (-slope·cos az, -slope·sin az, 1).
-        const double az = shape.azimuth_deg * kDeg;
-        const double sl = shape.kind == ShapeKind::Incline ? std::tan(shape.slope_deg * kDeg) : 0.0;
+        const double az = deg_to_rad(shape.azimuth_deg);
+        const double sl = shape.kind == ShapeKind::Incline ? std::tan(deg_to_rad(shape.slope_deg)) : 0.0;
         const Eigen::Vector3d n(-sl * std::cos(az), -sl * std::sin(az), 1.0);
         const double nd = n.dot(d);
         if (std::abs(nd) < 1e-12) continue;

@@ -10,11 +10,11 @@
 #include "core/io_util.hpp"
 #include "core/yaml_util.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::twin {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 std::string fmt(double v) {
   std::ostringstream os;
@@ -55,7 +55,7 @@ Airframe Airframe::f450() { return Airframe{}; }
 double Airframe::total_mass() const { return body_mass + motor_mass * static_cast<double>(motor_count()) + gear_mass; }
 
 Eigen::Vector3d Airframe::motor_position(std::size_t i) const {
-  const double a = arm_angles_deg[i] * kDeg;
+  const double a = deg_to_rad(arm_angles_deg[i]);
   return {motor_radius * std::cos(a), motor_radius * std::sin(a), motor_z};
 }
 

@@ -20,12 +20,13 @@
 
 #include "contacts.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/rotation.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::twin {
 namespace {
 
 constexpr double kGravity = 9.80665;
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 void ensure_ode() {
   static std::once_flag once;
@@ -209,7 +210,7 @@ class Run {
         Eigen::Vector3d F(a_xy.x(), a_xy.y(), a_z + kGravity);
         F *= af_.total_mass();
         F.z() = std::max(F.z(), 0.1 * hover_thrust_);
-        const double max_h = F.z() * std::tan(cp.tilt_max_deg * kDeg);
+        const double max_h = F.z() * std::tan(deg_to_rad(cp.tilt_max_deg));
         if (F.head<2>().norm() > max_h) F.head<2>() *= max_h / F.head<2>().norm();
         // Desired attitude: body z along F, heading ψ.
         const Eigen::Vector3d zb = F.normalized();
@@ -231,7 +232,7 @@ class Run {
         }
         const Eigen::Vector3d e_R = 0.5 * vee(Rd.transpose() * R - R.transpose() * Rd);
         Eigen::Vector3d w_sp(-cp.roll_p * e_R.x(), -cp.pitch_p * e_R.y(), -cp.yaw_p * e_R.z());
-        const double yaw_rate_max = cp.yaw_rate_max_deg * kDeg;
+        const double yaw_rate_max = deg_to_rad(cp.yaw_rate_max_deg);
         w_sp.z() = std::clamp(w_sp.z(), -yaw_rate_max, yaw_rate_max);
         const Eigen::Vector3d alpha(cp.rate_p_roll_pitch * (w_sp.x() - w.x()), cp.rate_p_roll_pitch * (w_sp.y() - w.y()),
                                     cp.rate_p_yaw * (w_sp.z() - w.z()));
@@ -242,7 +243,7 @@ class Run {
         // ---- land detector (three stages, each held a third of LNDMC_TRIG_TIME)
         const bool slow_vertical = std::abs(v.z()) < cp.land_z_vel_max;
         const bool low_thrust = thrust * ramp < cp.low_thrust_fraction * hover_thrust_;
-        const bool low_rotation = w.norm() < cp.land_rot_max_deg * kDeg;
+        const bool low_rotation = w.norm() < deg_to_rad(cp.land_rot_max_deg);
         if (stage == 0) {
           stage_timer = slow_vertical && vz_sp < 0 ? stage_timer + dt : 0.0;
           if (stage_timer >= stage_time) {
@@ -438,17 +439,33 @@ LandingSimulator::LandingSimulator(Airframe airframe, std::shared_ptr<const Terr
   std::string why;
   if (!airframe_.validate(&why)) throw InvalidArgument("airframe: " + why);
   if (!terrain_) throw InvalidArgument("landing simulator: no terrain");
-  if (!(options_.step > 0 && options_.step <= 0.01)) throw InvalidArgument("simulation step must be in (0, 0.01] s");
-  if (!(options_.timeout > 0)) throw InvalidArgument("simulation timeout must be positive");
+  if (!options_.validate(&why)) throw InvalidArgument("simulation options: " + why);
+}
+
+bool SimulationOptions::validate(std::string* why) const {
+  if (!(step > 0 && step <= 0.01)) return invalid(why, "step: must be in (0, 0.01] s");
+  if (!(timeout > 0) || !std::isfinite(timeout)) return invalid(why, "timeout: must be positive [s]");
+  if (!(still_time >= 0) || !std::isfinite(still_time)) return invalid(why, "still_time: must be >= 0 s");
+  if (!(still_linear > 0) || !std::isfinite(still_linear)) return invalid(why, "still_linear: must be positive [m/s]");
+  if (!(still_angular > 0) || !std::isfinite(still_angular)) {
+    return invalid(why, "still_angular: must be positive [rad/s]");
+  }
+  if (!(contact_stiffness > 0) || !std::isfinite(contact_stiffness)) {
+    return invalid(why, "contact_stiffness: must be positive [N/m]");
+  }
+  if (!(contact_damping >= 0) || !std::isfinite(contact_damping)) {
+    return invalid(why, "contact_damping: must be >= 0 [N s/m]");
+  }
+  if (solver_iterations < 1) return invalid(why, "solver_iterations: must be >= 1");
+  if (!(tip_nutation > 0 && tip_nutation <= std::numbers::pi)) return invalid(why, "tip_nutation: must be in (0, pi] rad");
+  return true;
 }
 
 RunResult LandingSimulator::land(const LandingConditions& lc) const {
   Run run(*this, lc.friction);
   const Eigen::Vector2d xy = lc.landing_point + lc.start_offset;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = (Eigen::AngleAxisd(lc.heading + lc.heading_error, Eigen::Vector3d::UnitZ()) *
-                Eigen::AngleAxisd(lc.pitch, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(lc.roll, Eigen::Vector3d::UnitX()))
-                   .toRotationMatrix();
+  T.linear() = rotation_from_rpy(lc.roll, lc.pitch, lc.heading + lc.heading_error);
   T.translation() = Eigen::Vector3d(xy.x(), xy.y(), lc.ground_z + lc.hover_offset - airframe_.ground_z());
   run.place(T);
   run.set_motors_hover();

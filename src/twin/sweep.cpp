@@ -11,10 +11,10 @@
 
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::twin {
 namespace {
-constexpr double kDeg = std::numbers::pi / 180.0;
 }
 
 bool SweepOptions::validate(std::string* why) const {
@@ -48,9 +48,9 @@ LandingConditions sweep_conditions(const SweepOptions& o, double ground_z, doubl
   c.hover_offset = o.hover_offset;
   c.heading = yaw;
   c.start_offset = Eigen::Vector2d(rng.normal(0, p.sigma_xy), rng.normal(0, p.sigma_xy));
-  c.heading_error = rng.normal(0, p.sigma_yaw_deg * kDeg);
-  c.roll = rng.normal(0, p.sigma_tilt_deg * kDeg);
-  c.pitch = rng.normal(0, p.sigma_tilt_deg * kDeg);
+  c.heading_error = rng.normal(0, deg_to_rad(p.sigma_yaw_deg));
+  c.roll = rng.normal(0, deg_to_rad(p.sigma_tilt_deg));
+  c.pitch = rng.normal(0, deg_to_rad(p.sigma_tilt_deg));
   c.land_speed = std::max(0.1, o.land_speed + rng.normal(0, p.sigma_land_speed));
   c.friction = rng.uniform(p.friction_min, p.friction_max);
   return c;
@@ -73,9 +73,11 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
   for (const auto& l : airframe.legs) footprint = std::max(footprint, l.norm() + airframe.foot_radius);
   const auto zlp = terrain->max_top_z(o.landing_point, footprint);
   if (!zlp) {
-    throw InvalidArgument("terrain does not cover the footprint (radius " + std::to_string(footprint) +
-                          " m) around the landing point (" + std::to_string(o.landing_point.x()) + ", " +
-                          std::to_string(o.landing_point.y()) + ")");
+    out.status = SweepStatus::FootprintNotCovered;
+    out.message = "terrain does not cover the footprint (radius " + std::to_string(footprint) +
+                  " m) around the landing point (" + std::to_string(o.landing_point.x()) + ", " +
+                  std::to_string(o.landing_point.y()) + ")";
+    return out;
   }
   out.ground_z = *zlp;
 
@@ -85,7 +87,7 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
   const LandingSimulator sim(airframe, terrain, sim_opt);
 
   const double yaw_max =
-      (o.yaw_max_deg > 0 ? o.yaw_max_deg : (airframe.symmetric_under_half_turn() ? 180.0 : 360.0)) * kDeg;
+      deg_to_rad(o.yaw_max_deg > 0 ? o.yaw_max_deg : (airframe.symmetric_under_half_turn() ? 180.0 : 360.0));
   const int n = o.headings, m = o.runs;
   out.runs.resize(static_cast<std::size_t>(n) * m);
   for (int j = 0; j < n; ++j) {
@@ -194,6 +196,14 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
   return out;
 }
 
+std::string_view to_string(SweepStatus status) {
+  switch (status) {
+    case SweepStatus::Ok: return "ok";
+    case SweepStatus::FootprintNotCovered: return "footprint_not_covered";
+  }
+  return "unknown";
+}
+
 SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<const TerrainModel> terrain,
                                   const SweepOptions& options, double radius, double spacing) {
   if (!(radius >= 0) || !std::isfinite(radius)) throw InvalidArgument("search radius must be >= 0");
@@ -218,13 +228,8 @@ SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<cons
     auto& c = out.candidates[k];
     SweepOptions o = options;
     o.landing_point = c.xy;
-    SweepResult r;
-    try {
-      r = run_sweep(airframe, terrain, o);
-    } catch (const InvalidArgument& e) {
-      if (std::string(e.what()).find("does not cover the footprint") == std::string::npos) throw;
-      continue;  // off the map
-    }
+    SweepResult r = run_sweep(airframe, terrain, o);
+    if (r.status == SweepStatus::FootprintNotCovered) continue;  // off the map
     c.covered = true;
     c.best = r.best;
     c.yaw = r.headings[static_cast<std::size_t>(r.best)].yaw;
@@ -240,9 +245,12 @@ SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<cons
     }
   }
   if (out.best < 0) {
-    throw InvalidArgument("terrain does not cover the footprint at any landing point within " + std::to_string(radius) +
-                          " m of (" + std::to_string(options.landing_point.x()) + ", " +
-                          std::to_string(options.landing_point.y()) + ")");
+    out.status = SweepStatus::FootprintNotCovered;
+    out.message = "terrain does not cover the footprint at any landing point within " + std::to_string(radius) +
+                  " m of (" + std::to_string(options.landing_point.x()) + ", " +
+                  std::to_string(options.landing_point.y()) + ")";
+    out.sweep.status = out.status;
+    out.sweep.message = out.message;
   }
   return out;
 }

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cmath>
 #include <numbers>
 #include <opencv2/aruco.hpp>
@@ -9,6 +10,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "touchdown/core/error.hpp"
+#include "touchdown/pose/aruco_baseline.hpp"
+#include "touchdown/pose/pose_benchmark.hpp"
 
 namespace tp = touchdown::pose;
 
@@ -385,6 +388,67 @@ TEST(SyntheticCamera, MarkerIsDetectedWhereProjected) {
   T.linear() = Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX()).toRotationMatrix();
   renderer.render(T, T, 2, 0, frame);
   EXPECT_FALSE(frame.marker_visible);
+}
+
+// The renderer and the ArUco baseline share one dictionary table: every
+// name the baseline lists, in any letter case and with or without "DICT_",
+// is accepted by both, and the rendered marker is found by cv::aruco with
+// the dictionary of that name and the right id.
+TEST(SyntheticCamera, EveryBaselineDictionaryRendersADetectableMarker) {
+  const tp::CameraModel cam = d435();
+  const tp::Constellation k = f450();
+  const auto names = tp::aruco_dictionary_names();
+  ASSERT_EQ(names.size(), 21u);
+  for (std::size_t index = 0; index < names.size(); ++index) {
+    const std::string& name = names[index];
+    std::string lower = name;
+    for (auto& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    for (const std::string& spelling : {name, lower, "DICT_" + name}) {
+      tp::PoseBenchmarkOptions b;
+      b.camera = cam;
+      b.constellation = k;
+      b.aruco.dictionary = spelling;
+      std::string why;
+      EXPECT_TRUE(b.validate(&why)) << spelling << ": " << why;
+      EXPECT_TRUE(b.rendered_options().validate(&why)) << spelling << ": " << why;
+    }
+    tp::RenderOptions o;
+    o.led_dropout_probability = 1;
+    o.distractor_count = 0;
+    o.aruco_dictionary = lower;
+    const tp::SyntheticCamera renderer(cam, k, o);
+    tp::RenderedFrame frame;
+    // 1 m: at 0.4-0.5 m OpenCV's default detector misses the 7x7 markers
+    // (cells wider than its largest adaptive-threshold window); every
+    // dictionary is found at 1 m.
+    const Eigen::Isometry3d T = below(1.0, 30, 5, 0.02);
+    renderer.render(T, T, 2, 0, frame);
+    ASSERT_TRUE(frame.marker_visible) << name;
+    const cv::Mat bgr(frame.colour.height, frame.colour.width, CV_8UC3, frame.colour.pixels.data());
+    cv::Mat grey;
+    cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+    // The baseline lists the names in OpenCV's enum order.
+    const auto dict = cv::aruco::getPredefinedDictionary(static_cast<int>(index));
+    std::vector<std::vector<cv::Point2f>> corners;
+    std::vector<int> ids;
+    cv::aruco::detectMarkers(grey, dict, corners, ids);
+    EXPECT_EQ(ids.size(), 1u) << name;
+    if (!ids.empty()) {
+      EXPECT_EQ(ids[0], o.aruco_id) << name;
+    }
+  }
+  // An unknown name is refused by both, naming the key.
+  tp::PoseBenchmarkOptions b;
+  b.camera = cam;
+  b.constellation = k;
+  b.aruco.dictionary = "4X4_51";
+  std::string why;
+  EXPECT_FALSE(b.validate(&why));
+  EXPECT_NE(why.find("aruco: dictionary: unknown ArUco dictionary '4X4_51'"), std::string::npos) << why;
+  tp::RenderOptions o;
+  o.aruco_dictionary = "4X4_51";
+  EXPECT_FALSE(o.validate(&why));
+  EXPECT_NE(why.find("aruco_dictionary: unknown dictionary '4X4_51' (known: 4X4_50, "), std::string::npos) << why;
 }
 
 TEST(Trajectory, KeepsLedsInsideAndSpansTheDistances) {

@@ -93,12 +93,20 @@ TEST(Sweep, AnytimeBudgetGivesFewerRunsAndSaysSo) {
 
 TEST(SweepBadInput, TerrainMustCoverTheFootprint) {
   const auto small_patch = td::test::analytic_terrain([](double, double) { return 0.0; }, 0.2, 0.02);
-  try {
-    tw::run_sweep(tw::Airframe::f450(), small_patch, small(2, 1));
-    FAIL();
-  } catch (const td::InvalidArgument& e) {
-    EXPECT_NE(std::string(e.what()).find("does not cover the footprint"), std::string::npos) << e.what();
-  }
+  // An expected outcome, not an error: a status and a message, no runs.
+  const auto r = tw::run_sweep(tw::Airframe::f450(), small_patch, small(2, 1));
+  EXPECT_FALSE(r.ok());
+  EXPECT_EQ(r.status, tw::SweepStatus::FootprintNotCovered);
+  EXPECT_NE(r.message.find("does not cover the footprint"), std::string::npos) << r.message;
+  EXPECT_TRUE(r.headings.empty());
+  EXPECT_TRUE(r.runs.empty());
+  EXPECT_EQ(r.best, -1);
+  // The search skips uncovered points; with none covered it says so.
+  const auto s = tw::search_landing_point(tw::Airframe::f450(), small_patch, small(2, 1), 0.1, 0.1);
+  EXPECT_EQ(s.status, tw::SweepStatus::FootprintNotCovered);
+  EXPECT_EQ(s.best, -1);
+  EXPECT_NE(s.message.find("at any landing point within"), std::string::npos) << s.message;
+  for (const auto& c : s.candidates) EXPECT_FALSE(c.covered);
   auto o = small(0, 1);
   EXPECT_THROW(tw::run_sweep(tw::Airframe::f450(), td::test::flat_terrain(), o), td::InvalidArgument);
 }

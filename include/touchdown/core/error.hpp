@@ -6,6 +6,7 @@
 /// says what is wrong, on one line, so an app can print it as is.
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace touchdown {
 
@@ -32,5 +33,12 @@ class InvalidArgument : public Error {
  public:
   using Error::Error;
 };
+
+/// The failing tail of every Options::validate(std::string* why): stores
+/// `message` ("field: what is wrong") in *why when why is given, returns false.
+inline bool invalid(std::string* why, std::string message) {
+  if (why) *why = std::move(message);
+  return false;
+}
 
 }  // namespace touchdown

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <span>
+#include <string>
 
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/se3.hpp"
@@ -20,6 +21,8 @@ struct GaussNewtonOptions {
   int max_iterations = 20;
   double step_tolerance = 1e-12;  ///< stop when |Δξ| falls below this
   double huber_px = 0;            ///< Huber threshold [px]; 0 = plain least squares
+  /// False (with the offending field and why in *why) for an invalid value.
+  bool validate(std::string* why) const;
 };
 
 enum class RefineStatus {
@@ -34,6 +37,8 @@ struct PoseRefinement {
   double rms_px = 0;       ///< reprojection RMS after the last step [px]
   int iterations = 0;
   Matrix6d covariance = Matrix6d::Zero();  ///< of the left-perturbation twist, σ² (JᵀWJ)⁻¹
+  /// As every touchdown Result: true when it holds a usable answer (here a
+  /// pose, also when the iteration limit stopped it before step_tolerance).
   [[nodiscard]] bool ok() const { return status != RefineStatus::Degenerate; }
 };
 

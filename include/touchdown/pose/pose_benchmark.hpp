@@ -32,6 +32,9 @@ struct PoseBenchmarkOptions {
   RenderOptions render;
   TrackerOptions tracker;
   ArucoOptions aruco;  ///< dictionary/id/size are copied into the render options
+  /// `render` with the marker of `aruco` (dictionary, id, size): what the
+  /// benchmark renders, so what validate() checks.
+  [[nodiscard]] RenderOptions rendered_options() const;
   bool validate(std::string* why) const;
 };
 

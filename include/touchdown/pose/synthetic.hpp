@@ -166,6 +166,8 @@ struct TrajectoryOptions {
   double max_distance = 3.0;  ///< [m]
   double fps = 30;            ///< [Hz] sample rate
   double margin_px = 16;      ///< every LED stays this far inside the image
+  /// False (with the offending field and why in *why) for an invalid value.
+  bool validate(std::string* why) const;
 };
 
 struct TrajectorySample {

@@ -14,6 +14,8 @@
 #include <filesystem>
 #include <string_view>
 
+#include "touchdown/core/rotation.hpp"
+
 namespace touchdown::terrain {
 
 struct Extrinsics {
@@ -24,9 +26,9 @@ struct Extrinsics {
   Eigen::Isometry3d T_body_camera = Eigen::Isometry3d::Identity();
 };
 
-/// Rotation R = Rz(yaw) · Ry(pitch) · Rx(roll) (fixed axes x, y, z), radians.
-Eigen::Matrix3d rotation_from_rpy(double roll, double pitch, double yaw);
-Eigen::Isometry3d pose_from_xyz_rpy(const Eigen::Vector3d& xyz, const Eigen::Vector3d& rpy_rad);
+/// The rpy convention of every touchdown file (touchdown/core/rotation.hpp).
+using touchdown::pose_from_xyz_rpy;
+using touchdown::rotation_from_rpy;
 
 /// Parses extrinsics YAML text; `source` names it in errors. Throws
 /// touchdown::ParseError naming the key and the problem.

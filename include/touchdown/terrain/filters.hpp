@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <cstddef>
 #include <optional>
+#include <string>
 
 #include "touchdown/core/point_cloud.hpp"
 
@@ -34,6 +35,8 @@ struct CropOptions {
   std::optional<Eigen::AlignedBox3d> box_body;
   /// Camera → body transform used to test the box.
   Eigen::Isometry3d T_body_camera = Eigen::Isometry3d::Identity();
+  /// False (with the offending field and why in *why) for an invalid value.
+  bool validate(std::string* why) const;
 };
 
 /// Removes points of a camera-frame cloud near the camera or on the drone;
@@ -50,6 +53,8 @@ struct OutlierOptions {
   double std_ratio = 2.0;    ///< keep mean distance ≤ μ + std_ratio·σ
   /// Neighbour search cell (metres); 0 = derived from the point density.
   double search_cell = 0.0;
+  /// False (with the offending field and why in *why) for an invalid value.
+  bool validate(std::string* why) const;
 };
 
 /// Statistical outlier removal (as in PCL's StatisticalOutlierRemoval, Rusu

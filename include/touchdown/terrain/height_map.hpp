@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <vector>
+#include <string>
 
 #include "touchdown/core/mesh.hpp"
 #include "touchdown/core/point_cloud.hpp"
@@ -20,6 +21,8 @@ struct HeightMapOptions {
   double max_hole = 0.10;                      ///< widest gap filled by interpolation, metres
   double max_fill_slope = 1.0;                 ///< steeper gaps are shadows: filled at the lower side
   std::size_t max_cells = 50'000'000;          ///< refuse grids larger than this
+  /// False (with the offending field and why in *why) for an invalid value.
+  bool validate(std::string* why) const;
 };
 
 enum class CellState : std::uint8_t { Empty, Measured, Filled };

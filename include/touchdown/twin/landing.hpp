@@ -58,6 +58,8 @@ struct SimulationOptions {
   double tip_nutation = 0.5;
   ControllerParams controller{};
   bool record_trace = false;         ///< keep a 50 Hz trace of the run
+  /// False (with the offending field and why in *why) for an invalid value.
+  bool validate(std::string* why) const;
 };
 
 /// One run's (perturbed) conditions.

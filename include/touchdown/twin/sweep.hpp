@@ -8,6 +8,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "touchdown/twin/airframe.hpp"
@@ -72,7 +73,17 @@ struct RunRecord {
   double wall_seconds = 0;  ///< wall time of this run on its thread (not deterministic)
 };
 
+/// Expected outcomes of a sweep (not errors: the terrain is what it is).
+enum class SweepStatus {
+  Ok,                    ///< headings scored; `safe` says whether to land
+  FootprintNotCovered,   ///< the terrain does not cover the twin's footprint at the landing point
+};
+std::string_view to_string(SweepStatus status);
+
 struct SweepResult {
+  SweepStatus status = SweepStatus::Ok;
+  std::string message;                 ///< why, when status is not Ok
+  [[nodiscard]] bool ok() const { return status == SweepStatus::Ok; }
   SafetyThreshold threshold;
   double ground_z = 0;                 ///< z_lp used
   std::vector<HeadingScore> headings;
@@ -89,8 +100,8 @@ struct SweepResult {
 
 /// Runs the sweep. Deterministic: same options and seed → identical result
 /// for any thread count. Throws InvalidArgument for invalid options or an
-/// airframe/terrain that cannot be used (e.g. the terrain does not cover the
-/// footprint around the landing point).
+/// invalid airframe; a terrain that does not cover the footprint around the
+/// landing point is status FootprintNotCovered (no headings, no runs).
 SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainModel> terrain, const SweepOptions& options);
 
 /// One candidate landing point of a search.
@@ -104,6 +115,10 @@ struct SearchCandidate {
 };
 
 struct SearchResult {
+  /// FootprintNotCovered when no candidate is covered (then best is -1).
+  SweepStatus status = SweepStatus::Ok;
+  std::string message;
+  [[nodiscard]] bool ok() const { return status == SweepStatus::Ok; }
   std::vector<SearchCandidate> candidates;
   int best = -1;          ///< index into candidates
   SweepResult sweep;      ///< the full sweep at the best candidate
