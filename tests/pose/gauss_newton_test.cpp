@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "pose/pose_test_util.hpp"
+#include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 
 
@@ -113,4 +114,20 @@ TEST(GaussNewton, DegenerateInputIsAStatus) {
   const std::vector<Eigen::Vector2d> uv4{{424, 240}, {480, 240}, {424, 300}, {470, 290}};
   T.translation().z() = -1;
   EXPECT_EQ(tp::refine_pose_gauss_newton(kCamera, p, uv4, T).status, tp::RefineStatus::Degenerate);
+}
+
+TEST(GaussNewtonOptions, ValidateNamesTheFieldAndRefineRefusesBadOptions) {
+  std::string why;
+  EXPECT_TRUE(tp::GaussNewtonOptions{}.validate(&why)) << why;
+  tp::GaussNewtonOptions o;
+  o.max_iterations = 0;
+  EXPECT_FALSE(o.validate(&why));
+  EXPECT_EQ(why.rfind("max_iterations:", 0), 0u) << why;
+  o = {};
+  o.huber_px = -1;
+  EXPECT_FALSE(o.validate(&why));
+  EXPECT_EQ(why.rfind("huber_px:", 0), 0u) << why;
+  const std::vector<Eigen::Vector3d> p = {{0, 0, 0}, {0.1, 0, 0}, {0, 0.1, 0}, {0.1, 0.1, 0.02}};
+  const std::vector<Eigen::Vector2d> uv(4, Eigen::Vector2d(320, 240));
+  EXPECT_THROW(tp::refine_pose_gauss_newton(kCamera, p, uv, Eigen::Isometry3d::Identity(), o), touchdown::InvalidArgument);
 }

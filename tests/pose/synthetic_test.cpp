@@ -500,4 +500,15 @@ TEST(Trajectory, BadOptionsThrow) {
   o = {};
   o.min_distance = 0.05;  // the constellation cannot fit
   EXPECT_THROW(tp::make_trajectory(tp::TrajectoryKind::Moving, 10, 1, cam, k, o), touchdown::InvalidArgument);
+  // validate() names the field.
+  std::string why;
+  EXPECT_TRUE(tp::TrajectoryOptions{}.validate(&why)) << why;
+  o = {};
+  o.fps = 0;
+  EXPECT_FALSE(o.validate(&why));
+  EXPECT_EQ(why.rfind("fps:", 0), 0u) << why;
+  o = {};
+  o.margin_px = -1;
+  EXPECT_FALSE(o.validate(&why));
+  EXPECT_EQ(why.rfind("margin_px:", 0), 0u) << why;
 }

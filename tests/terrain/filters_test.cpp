@@ -5,6 +5,7 @@
 #include <set>
 
 #include "test_util.hpp"
+#include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 
 namespace td = touchdown;
@@ -142,4 +143,30 @@ TEST(Filters, FlyingPixelsAcrossADepthJumpAndLoneSpikesAreRemoved) {
   u.points = {{0, 0, 1}, {0, 0, 2}, {0, 0, 1}};
   u.mark_unorganized();
   EXPECT_EQ(tt::remove_flying_pixels(u, 0.02), 0u);
+}
+
+// Every Options struct validates its fields and names the one at fault.
+TEST(FilterOptions, ValidateNamesTheField) {
+  std::string why;
+  EXPECT_TRUE(tt::CropOptions{}.validate(&why)) << why;
+  EXPECT_TRUE(tt::OutlierOptions{}.validate(&why)) << why;
+  tt::CropOptions crop;
+  crop.radius = -0.1;
+  EXPECT_FALSE(crop.validate(&why));
+  EXPECT_EQ(why.rfind("radius:", 0), 0u) << why;
+  crop.radius = 0;
+  crop.box_body = Eigen::AlignedBox3d(Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 1, 0));
+  EXPECT_FALSE(crop.validate(&why));
+  EXPECT_EQ(why.rfind("box_body:", 0), 0u) << why;
+  td::PointCloud cloud;
+  EXPECT_THROW(tt::crop_near_camera(cloud, crop), td::InvalidArgument);
+  tt::OutlierOptions outliers;
+  outliers.std_ratio = 0;
+  EXPECT_FALSE(outliers.validate(&why));
+  EXPECT_EQ(why.rfind("std_ratio:", 0), 0u) << why;
+  outliers = {};
+  outliers.k = -1;
+  EXPECT_FALSE(outliers.validate(&why));
+  EXPECT_EQ(why.rfind("k:", 0), 0u) << why;
+  EXPECT_THROW(tt::remove_statistical_outliers(cloud, outliers), td::InvalidArgument);
 }

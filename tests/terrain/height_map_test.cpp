@@ -144,3 +144,21 @@ TEST(TriangulateSolid, TopSurfaceInterpolatesTheCells) {
   }
   EXPECT_TRUE(std::isnan(td::test::mesh_top_z(mesh, 0.005, 0.05)));  // outside the centres
 }
+
+TEST(HeightMapOptions, ValidateNamesTheField) {
+  std::string why;
+  EXPECT_TRUE(tt::HeightMapOptions{}.validate(&why)) << why;
+  const std::pair<const char*, void (*)(tt::HeightMapOptions&)> cases[] = {
+      {"cell:", [](tt::HeightMapOptions& o) { o.cell = 0; }},
+      {"cell:", [](tt::HeightMapOptions& o) { o.cell = std::numeric_limits<double>::infinity(); }},
+      {"max_hole:", [](tt::HeightMapOptions& o) { o.max_hole = -1; }},
+      {"max_fill_slope:", [](tt::HeightMapOptions& o) { o.max_fill_slope = 0; }},
+      {"max_cells:", [](tt::HeightMapOptions& o) { o.max_cells = 0; }},
+  };
+  for (const auto& [field, spoil] : cases) {
+    tt::HeightMapOptions o;
+    spoil(o);
+    EXPECT_FALSE(o.validate(&why)) << field;
+    EXPECT_EQ(why.rfind(field, 0), 0u) << why;
+  }
+}

@@ -122,3 +122,23 @@ TEST(Landing, LeavingTheMappedTerrainIsInvalid) {
   EXPECT_EQ(r.status, tw::RunStatus::Unstable);
   EXPECT_FALSE(r.valid());
 }
+
+TEST(SimulationOptions, ValidateNamesTheField) {
+  std::string why;
+  EXPECT_TRUE(tw::SimulationOptions{}.validate(&why)) << why;
+  const std::pair<const char*, void (*)(tw::SimulationOptions&)> cases[] = {
+      {"step:", [](tw::SimulationOptions& o) { o.step = 0.02; }},
+      {"timeout:", [](tw::SimulationOptions& o) { o.timeout = 0; }},
+      {"still_time:", [](tw::SimulationOptions& o) { o.still_time = -1; }},
+      {"contact_stiffness:", [](tw::SimulationOptions& o) { o.contact_stiffness = 0; }},
+      {"contact_damping:", [](tw::SimulationOptions& o) { o.contact_damping = -1; }},
+      {"solver_iterations:", [](tw::SimulationOptions& o) { o.solver_iterations = 0; }},
+      {"tip_nutation:", [](tw::SimulationOptions& o) { o.tip_nutation = 4; }},
+  };
+  for (const auto& [field, spoil] : cases) {
+    tw::SimulationOptions o;
+    spoil(o);
+    EXPECT_FALSE(o.validate(&why)) << field;
+    EXPECT_EQ(why.rfind(field, 0), 0u) << why;
+  }
+}
