@@ -2,7 +2,6 @@
 // Shared plumbing of the command-line apps: exit codes and error lines
 // (DESIGN.md, app conventions): 0 success, 2 bad usage or input, 3 internal.
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <exception>
 #include <iostream>

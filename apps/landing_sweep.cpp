@@ -13,9 +13,9 @@
 
 #include "app_common.hpp"
 #include "touchdown/core/atomic_file.hpp"
+#include "touchdown/core/units.hpp"
 #include "touchdown/terrain/extrinsics.hpp"
 #include "touchdown/twin/sweep.hpp"
-#include "touchdown/core/units.hpp"
 
 namespace {
 
@@ -42,11 +42,12 @@ std::string runs_csv(const tw::SweepResult& r) {
   for (const auto& run : r.runs) {
     const auto& c = run.conditions;
     const auto& x = run.result;
-    os << td::rad_to_deg(c.heading) << "," << run.run << "," << tw::to_string(x.status) << "," << x.nutation << "," << x.roll << ","
-       << x.pitch << "," << x.max_touchdown_nutation << "," << x.offset << "," << x.prop_strike << "," << x.arm_strike << ","
-       << x.body_strike << "," << x.tipped << "," << x.all_feet_in_contact << "," << c.start_offset.x() << ","
-       << c.start_offset.y() << "," << td::rad_to_deg(c.heading_error) << "," << td::rad_to_deg(c.roll) << "," << td::rad_to_deg(c.pitch) << ","
-       << c.land_speed << "," << c.friction << "," << x.sim_time << "\n";
+    os << td::rad_to_deg(c.heading) << "," << run.run << "," << tw::to_string(x.status) << "," << x.nutation << ","
+       << x.roll << "," << x.pitch << "," << x.max_touchdown_nutation << "," << x.offset << "," << x.prop_strike << ","
+       << x.arm_strike << "," << x.body_strike << "," << x.tipped << "," << x.all_feet_in_contact << ","
+       << c.start_offset.x() << "," << c.start_offset.y() << "," << td::rad_to_deg(c.heading_error) << ","
+       << td::rad_to_deg(c.roll) << "," << td::rad_to_deg(c.pitch) << "," << c.land_speed << "," << c.friction << ","
+       << x.sim_time << "\n";
   }
   return os.str();
 }
@@ -61,9 +62,11 @@ std::string plot_svg(const tw::SweepResult& r, double yaw_max_deg) {
   auto Y = [&](double deg) { return H - B - (H - T - B) * std::min(deg, ymax) / ymax; };
   std::ostringstream os;
   os << std::fixed << std::setprecision(1);
-  os << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H << "' font-family='sans-serif' font-size='12'>\n"
+  os << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H
+     << "' font-family='sans-serif' font-size='12'>\n"
      << "<rect width='100%' height='100%' fill='white'/>\n"
-     << "<text x='" << W / 2 << "' y='18' text-anchor='middle'>Landing sweep: worst final nutation S(psi) per heading</text>\n"
+     << "<text x='" << W / 2
+     << "' y='18' text-anchor='middle'>Landing sweep: worst final nutation S(psi) per heading</text>\n"
      << "<line x1='" << L << "' y1='" << H - B << "' x2='" << W - R << "' y2='" << H - B << "' stroke='black'/>\n"
      << "<line x1='" << L << "' y1='" << T << "' x2='" << L << "' y2='" << H - B << "' stroke='black'/>\n";
   for (int k = 0; k <= 6; ++k) {
@@ -72,23 +75,24 @@ std::string plot_svg(const tw::SweepResult& r, double yaw_max_deg) {
        << "<text x='" << L - 6 << "' y='" << Y(v) + 4 << "' text-anchor='end'>" << v << "</text>\n";
   }
   os << "<text x='" << W / 2 << "' y='" << H - 12 << "' text-anchor='middle'>heading [deg]</text>\n"
-     << "<text x='16' y='" << H / 2 << "' transform='rotate(-90 16," << H / 2 << ")' text-anchor='middle'>nutation [deg]</text>\n";
+     << "<text x='16' y='" << H / 2 << "' transform='rotate(-90 16," << H / 2
+     << ")' text-anchor='middle'>nutation [deg]</text>\n";
   const double thr = td::rad_to_deg(r.threshold.value());
   os << "<line x1='" << L << "' y1='" << Y(thr) << "' x2='" << W - R << "' y2='" << Y(thr)
      << "' stroke='red' stroke-dasharray='6,4'/>\n<text x='" << W - R - 4 << "' y='" << Y(thr) - 5
      << "' text-anchor='end' fill='red'>safety threshold " << thr << " deg</text>\n";
   for (const auto& run : r.runs) {
     if (!run.result.valid()) continue;
-    os << "<circle cx='" << X(td::rad_to_deg(run.conditions.heading)) << "' cy='" << Y(td::rad_to_deg(run.result.nutation))
-       << "' r='2' fill='#999'/>\n";
+    os << "<circle cx='" << X(td::rad_to_deg(run.conditions.heading)) << "' cy='"
+       << Y(td::rad_to_deg(run.result.nutation)) << "' r='2' fill='#999'/>\n";
   }
   os << "<polyline fill='none' stroke='#1f5fbf' stroke-width='2' points='";
   for (const auto& h : r.headings) os << X(td::rad_to_deg(h.yaw)) << "," << Y(td::rad_to_deg(h.score)) << " ";
   os << "'/>\n";
   for (std::size_t j = 0; j < r.headings.size(); ++j) {
     const auto& h = r.headings[j];
-    os << "<circle cx='" << X(td::rad_to_deg(h.yaw)) << "' cy='" << Y(td::rad_to_deg(h.score)) << "' r='" << (static_cast<int>(j) == r.best ? 6 : 3.5)
-       << "' fill='" << (h.safe ? "#2a9d3a" : "#d62728") << "'/>\n";
+    os << "<circle cx='" << X(td::rad_to_deg(h.yaw)) << "' cy='" << Y(td::rad_to_deg(h.score)) << "' r='"
+       << (static_cast<int>(j) == r.best ? 6 : 3.5) << "' fill='" << (h.safe ? "#2a9d3a" : "#d62728") << "'/>\n";
   }
   os << "</svg>\n";
   return os.str();
@@ -107,7 +111,8 @@ int main(int argc, char** argv) {
   app.add_option("TERRAIN", terrain_path,
                  "terrain mesh (.stl .obj .ply) or point cloud (.pcd .ply .xyz .csv), world frame z up")
       ->required();
-  app.add_option("--airframe", airframe_path, "airframe YAML (default: the built-in DJI F450, data/airframes/f450.yaml)");
+  app.add_option("--airframe", airframe_path,
+                 "airframe YAML (default: the built-in DJI F450, data/airframes/f450.yaml)");
   app.add_option("--extrinsics", extrinsics_path, "camera pose YAML when TERRAIN is a camera-frame point cloud");
   app.add_option("--headings", o.headings, "number of headings n")->capture_default_str();
   app.add_option("--runs", o.runs, "runs per heading m")->capture_default_str();
@@ -119,7 +124,8 @@ int main(int argc, char** argv) {
   app.add_option("--land-speed", o.land_speed, "descent speed, PX4 MPC_LAND_SPEED [m/s]")->capture_default_str();
   app.add_option("--sigma-xy", o.perturbation.sigma_xy, "start position sigma [m]")->capture_default_str();
   app.add_option("--sigma-yaw-deg", o.perturbation.sigma_yaw_deg, "heading sigma [deg]")->capture_default_str();
-  app.add_option("--sigma-tilt-deg", o.perturbation.sigma_tilt_deg, "initial roll/pitch sigma [deg]")->capture_default_str();
+  app.add_option("--sigma-tilt-deg", o.perturbation.sigma_tilt_deg, "initial roll/pitch sigma [deg]")
+      ->capture_default_str();
   app.add_option("--sigma-speed", sigma_speed, "land speed sigma [m/s]")->capture_default_str();
   app.add_option("--friction", friction, "ground friction range min,max (drawn uniformly per run)")
       ->delimiter(',')
@@ -127,7 +133,8 @@ int main(int argc, char** argv) {
   app.add_option("--metric", metric, "full: strikes and tip-overs are unsafe; seed: the paper's final-nutation rule")
       ->check(CLI::IsMember({"full", "seed"}))
       ->capture_default_str();
-  app.add_option("--seed", o.seed, "random seed (same seed -> same result for any thread count)")->capture_default_str();
+  app.add_option("--seed", o.seed, "random seed (same seed -> same result for any thread count)")
+      ->capture_default_str();
   app.add_option("--threads", o.threads, "worker threads, 0 = all cores")->capture_default_str();
   app.add_option("--time-budget", o.time_budget, "anytime: stop after the round that passes this many seconds, 0 = off")
       ->capture_default_str();
@@ -135,7 +142,8 @@ int main(int argc, char** argv) {
   app.add_option("--search-radius", search_radius,
                  "also try landing points on a grid within this radius [m] and report the best (x, y, psi)")
       ->capture_default_str();
-  app.add_option("--search-spacing", search_spacing, "grid spacing of the search [m], 0 = radius/2")->capture_default_str();
+  app.add_option("--search-spacing", search_spacing, "grid spacing of the search [m], 0 = radius/2")
+      ->capture_default_str();
   app.add_option("--step", o.simulation.step, "physics step [s]")->capture_default_str();
   app.add_option("--runs-csv", runs_csv_path, "write one CSV row per run");
   app.add_option("--plot", plot_path, "write an SVG of S(psi) per heading with the threshold");
@@ -191,19 +199,29 @@ int main(int argc, char** argv) {
       j["terrain"] = terrain_path;
       j["airframe"] = airframe_path.empty() ? "built-in f450" : airframe_path;
       j["threshold_rad"] = round6(r.threshold.value());
-      j["threshold_parts"] = {{"tip_rad", round6(r.threshold.tip_rad)}, {"prop_strike_rad", round6(r.threshold.prop_strike_rad)}};
+      j["threshold_parts"] = {{"tip_rad", round6(r.threshold.tip_rad)},
+                              {"prop_strike_rad", round6(r.threshold.prop_strike_rad)}};
       j["ground_z"] = round6(r.ground_z);
-      j["best"] = {{"yaw_deg", round6(td::rad_to_deg(best.yaw))}, {"score_rad", round6(best.score)}, {"safe", r.safe},
-                   {"x", round6(o.landing_point.x())}, {"y", round6(o.landing_point.y())}};
+      j["best"] = {{"yaw_deg", round6(td::rad_to_deg(best.yaw))},
+                   {"score_rad", round6(best.score)},
+                   {"safe", r.safe},
+                   {"x", round6(o.landing_point.x())},
+                   {"y", round6(o.landing_point.y())}};
       nlohmann::json safe = nlohmann::json::array();
       nlohmann::json hs = nlohmann::json::array();
       for (const auto& h : r.headings) {
         if (h.safe) safe.push_back(round6(td::rad_to_deg(h.yaw)));
-        hs.push_back({{"yaw_deg", round6(td::rad_to_deg(h.yaw))}, {"score_rad", round6(h.score)}, {"mean_rad", round6(h.mean)},
-                      {"max_touchdown_rad", round6(h.max_touchdown)}, {"prop_strike_runs", h.prop_strike_runs},
-                      {"arm_strike_runs", h.arm_strike_runs}, {"body_strike_runs", h.body_strike_runs},
-                      {"tipped_runs", h.tipped_runs}, {"invalid_runs", h.invalid_runs},
-                      {"feet_not_all_down_runs", h.feet_not_all_down_runs}, {"max_offset_m", round6(h.max_offset)},
+        hs.push_back({{"yaw_deg", round6(td::rad_to_deg(h.yaw))},
+                      {"score_rad", round6(h.score)},
+                      {"mean_rad", round6(h.mean)},
+                      {"max_touchdown_rad", round6(h.max_touchdown)},
+                      {"prop_strike_runs", h.prop_strike_runs},
+                      {"arm_strike_runs", h.arm_strike_runs},
+                      {"body_strike_runs", h.body_strike_runs},
+                      {"tipped_runs", h.tipped_runs},
+                      {"invalid_runs", h.invalid_runs},
+                      {"feet_not_all_down_runs", h.feet_not_all_down_runs},
+                      {"max_offset_m", round6(h.max_offset)},
                       {"safe", h.safe}});
       }
       j["safe_headings_deg"] = safe;
@@ -212,8 +230,11 @@ int main(int argc, char** argv) {
         nlohmann::json cs = nlohmann::json::array();
         for (const auto& c : search.candidates) {
           if (!c.covered) continue;
-          cs.push_back({{"x", round6(c.xy.x())}, {"y", round6(c.xy.y())}, {"yaw_deg", round6(td::rad_to_deg(c.yaw))},
-                        {"score_rad", round6(c.score)}, {"safe", c.safe}});
+          cs.push_back({{"x", round6(c.xy.x())},
+                        {"y", round6(c.xy.y())},
+                        {"yaw_deg", round6(td::rad_to_deg(c.yaw))},
+                        {"score_rad", round6(c.score)},
+                        {"safe", c.safe}});
         }
         j["search"] = cs;
       }
@@ -233,26 +254,27 @@ int main(int argc, char** argv) {
                 << r.threshold.tip_rad << ", propeller strike " << r.threshold.prop_strike_rad << ")\n"
                 << "  heading   S(psi)   mean    touchdown  strikes tipped invalid  safe\n";
       for (const auto& h : r.headings) {
-        std::cout << "  " << std::setw(6) << std::setprecision(1) << td::rad_to_deg(h.yaw) << std::setprecision(3) << "  "
-                  << std::setw(7) << h.score << "  " << std::setw(6) << h.mean << "  " << std::setw(8) << h.max_touchdown
-                  << "  " << std::setw(7) << h.prop_strike_runs + h.arm_strike_runs + h.body_strike_runs << " "
-                  << std::setw(6) << h.tipped_runs << " " << std::setw(7) << h.invalid_runs << "  "
-                  << (h.safe ? "yes" : "no") << "\n";
+        std::cout << "  " << std::setw(6) << std::setprecision(1) << td::rad_to_deg(h.yaw) << std::setprecision(3)
+                  << "  " << std::setw(7) << h.score << "  " << std::setw(6) << h.mean << "  " << std::setw(8)
+                  << h.max_touchdown << "  " << std::setw(7)
+                  << h.prop_strike_runs + h.arm_strike_runs + h.body_strike_runs << " " << std::setw(6) << h.tipped_runs
+                  << " " << std::setw(7) << h.invalid_runs << "  " << (h.safe ? "yes" : "no") << "\n";
       }
       for (const auto& c : search.candidates) {
         if (!c.covered) continue;
         std::cout << "  search: (" << c.xy.x() << ", " << c.xy.y() << ") best heading " << std::setprecision(1)
-                  << td::rad_to_deg(c.yaw) << std::setprecision(3) << " deg, S = " << c.score << " rad" << (c.safe ? "" : " (unsafe)")
-                  << "\n";
+                  << td::rad_to_deg(c.yaw) << std::setprecision(3) << " deg, S = " << c.score << " rad"
+                  << (c.safe ? "" : " (unsafe)") << "\n";
       }
       if (r.safe) {
-        std::cout << "  decision: land at (" << o.landing_point.x() << ", " << o.landing_point.y() << "), heading " << std::setprecision(1) << td::rad_to_deg(best.yaw) << " deg (S = "
-                  << std::setprecision(3) << best.score << " rad)\n";
+        std::cout << "  decision: land at (" << o.landing_point.x() << ", " << o.landing_point.y() << "), heading "
+                  << std::setprecision(1) << td::rad_to_deg(best.yaw) << " deg (S = " << std::setprecision(3)
+                  << best.score << " rad)\n";
       } else {
         std::cout << "  decision: do not land at (" << o.landing_point.x() << ", " << o.landing_point.y()
                   << ") (best heading " << std::setprecision(1) << td::rad_to_deg(best.yaw)
-                  << " deg has S = " << std::setprecision(3) << best.score << " rad, threshold "
-                  << r.threshold.value() << " rad)\n";
+                  << " deg has S = " << std::setprecision(3) << best.score << " rad, threshold " << r.threshold.value()
+                  << " rad)\n";
       }
     }
     return td::app::kExitOk;

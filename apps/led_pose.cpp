@@ -45,8 +45,9 @@ std::string pose_json(const std::string& frame, const tp::PoseEstimate& e, doubl
                   "\"reproj_px\": %.3f, \"leds\": %d, \"blobs\": %d, \"ms\": %.3f}",
                   frame.c_str(), t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z(), e.rms_px, e.points, e.blobs, ms);
   } else {
-    std::snprintf(buf, sizeof(buf), "{\"frame\": \"%s\", \"ok\": false, \"reason\": \"%s\", \"blobs\": %d, \"ms\": %.3f}",
-                  frame.c_str(), std::string(tp::to_string(e.status)).c_str(), e.blobs, ms);
+    std::snprintf(buf, sizeof(buf),
+                  "{\"frame\": \"%s\", \"ok\": false, \"reason\": \"%s\", \"blobs\": %d, \"ms\": %.3f}", frame.c_str(),
+                  std::string(tp::to_string(e.status)).c_str(), e.blobs, ms);
   }
   return buf;
 }
@@ -60,9 +61,10 @@ std::string fixed(double v, int digits) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Estimate the drone's pose from its LEDs (or an ArUco marker) in a sequence of camera frames.\n"
-               "Subcommands: render (synthetic sequence), benchmark (LED vs ArUco table).",
-               "led_pose"};
+  CLI::App app{
+      "Estimate the drone's pose from its LEDs (or an ArUco marker) in a sequence of camera frames.\n"
+      "Subcommands: render (synthetic sequence), benchmark (LED vs ArUco table).",
+      "led_pose"};
   app.require_subcommand(0, 1);
   // --- sequence mode ---
   std::string sequence_dir, camera_file, constellation_file, method = "led";
@@ -70,7 +72,8 @@ int main(int argc, char** argv) {
   bool no_depth = false, jsonl = false;
   app.add_option("SEQUENCE_DIR", sequence_dir, "directory of NNNNNN.png frames (+ NNNNNN.depth.png)");
   app.add_option("--camera", camera_file, "camera YAML (default: SEQUENCE_DIR/camera.yaml)");
-  app.add_option("--constellation", constellation_file, "LED constellation YAML (default: SEQUENCE_DIR/constellation.yaml)");
+  app.add_option("--constellation", constellation_file,
+                 "LED constellation YAML (default: SEQUENCE_DIR/constellation.yaml)");
   app.add_option("--method", method, "led or aruco")->check(CLI::IsMember({"led", "aruco"}))->capture_default_str();
   app.add_option("--aruco-dict", aruco.dictionary, "ArUco dictionary (4X4_50, 6X6_250, APRILTAG_36h11, ...)")
       ->capture_default_str();
@@ -100,7 +103,8 @@ int main(int argc, char** argv) {
   render->add_option("--distractors", ropt.distractor_count, "bright lamps in view")->capture_default_str();
   render->add_option("--dropout", ropt.led_dropout_probability, "per-LED per-frame dropout probability")
       ->capture_default_str();
-  render->add_option("--aruco-dict", aruco.dictionary, "ArUco dictionary of the rendered marker")->capture_default_str();
+  render->add_option("--aruco-dict", aruco.dictionary, "ArUco dictionary of the rendered marker")
+      ->capture_default_str();
   render->add_option("--aruco-id", aruco.marker_id, "ArUco id")->capture_default_str();
   render->add_option("--aruco-size", aruco.marker_size, "ArUco marker edge [m]")->capture_default_str();
 
@@ -132,9 +136,9 @@ int main(int argc, char** argv) {
       tp::TrajectoryOptions to;
       to.min_distance = min_distance;
       to.max_distance = max_distance;
-      const auto samples = tp::make_trajectory(trajectory == "static" ? tp::TrajectoryKind::Static
-                                                                       : tp::TrajectoryKind::Moving,
-                                               frames, seed, camera, k, to);
+      const auto samples =
+          tp::make_trajectory(trajectory == "static" ? tp::TrajectoryKind::Static : tp::TrajectoryKind::Moving, frames,
+                              seed, camera, k, to);
       tp::write_sequence(out_dir, camera, k, samples, ropt, seed);
       std::cerr << "led_pose: wrote " << samples.size() << " frames to " << out_dir << "\n";
       return td::app::kExitOk;
@@ -178,9 +182,9 @@ int main(int argc, char** argv) {
       for (const auto& row : r.rows) {
         std::cout << std::left << std::setw(10) << row.sequence << std::setw(8) << row.method << std::right
                   << std::setw(6) << row.frames << std::setw(9) << fixed(row.success_rate, 3) << std::setw(14)
-                  << fixed(row.position_mean_m, 4) << std::setw(13) << fixed(row.position_std_m, 4)
-                  << std::setw(16) << fixed(row.orientation_mean_rad, 4) << std::setw(15)
-                  << fixed(row.orientation_std_rad, 4) << std::setw(19) << fixed(row.ms_median, 3) << "\n";
+                  << fixed(row.position_mean_m, 4) << std::setw(13) << fixed(row.position_std_m, 4) << std::setw(16)
+                  << fixed(row.orientation_mean_rad, 4) << std::setw(15) << fixed(row.orientation_std_rad, 4)
+                  << std::setw(19) << fixed(row.ms_median, 3) << "\n";
       }
       std::cout << "solvers on the tracked LEDs (median, " << r.solver_samples << " frames): EPnP+GN "
                 << fixed(r.epnp_gn_us_median, 1) << " us, OpenCV ITERATIVE " << fixed(r.opencv_iterative_us_median, 1)
@@ -193,7 +197,8 @@ int main(int argc, char** argv) {
     const fs::path dir(sequence_dir);
     const auto frames_list = tp::list_sequence(dir);
     const auto camera = tp::load_camera(config_path(camera_file, dir, "camera.yaml", "--camera"));
-    const auto k = tp::load_constellation(config_path(constellation_file, dir, "constellation.yaml", "--constellation"));
+    const auto k =
+        tp::load_constellation(config_path(constellation_file, dir, "constellation.yaml", "--constellation"));
     std::optional<tp::LedTracker> tracker;
     std::optional<tp::ArucoPoseEstimator> marker;
     if (method == "led") {
@@ -222,8 +227,8 @@ int main(int argc, char** argv) {
       }
       const tp::DepthImageView dv = depth.view();
       const auto t0 = std::chrono::steady_clock::now();
-      const tp::PoseEstimate e = tracker ? tracker->track(colour.view(), want_depth ? &dv : nullptr)
-                                         : marker->estimate(colour.view());
+      const tp::PoseEstimate e =
+          tracker ? tracker->track(colour.view(), want_depth ? &dv : nullptr) : marker->estimate(colour.view());
       const double elapsed = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       ms.push_back(elapsed);
       if (e.ok()) {

@@ -31,20 +31,29 @@ int main(int argc, char** argv) {
   td::terrain::TerrainOptions opt;
   std::vector<double> crop_box;
   bool json = false;
-  app.add_option("INPUT", input, "point cloud: .pcd, .ply, .xyz, .csv, .txt (camera frame, or world frame without --extrinsics)")
+  app.add_option("INPUT", input,
+                 "point cloud: .pcd, .ply, .xyz, .csv, .txt (camera frame, or world frame without --extrinsics)")
       ->required();
   app.add_option("-o,--output", output, "terrain mesh to write: .stl (binary), .ply or .obj")->required();
-  app.add_option("--extrinsics", extrinsics_path, "camera pose YAML (xyz [m] + rpy [deg], or a 4x4 matrix); see docs/formats.md");
+  app.add_option("--extrinsics", extrinsics_path,
+                 "camera pose YAML (xyz [m] + rpy [deg], or a 4x4 matrix); see docs/formats.md");
   app.add_option("--cell", opt.height_map.cell, "height-map cell edge [m]")->capture_default_str();
-  app.add_option("--crop-radius", opt.crop_radius, "drop points closer than this to the camera [m], 0 = off")->capture_default_str();
+  app.add_option("--crop-radius", opt.crop_radius, "drop points closer than this to the camera [m], 0 = off")
+      ->capture_default_str();
   app.add_option("--crop-box", crop_box, "drop points inside this body-frame box [m]: xmin,ymin,zmin,xmax,ymax,zmax")
       ->delimiter(',')
       ->expected(6);
-  app.add_option("--agg", agg, "per-cell height: max or median")->check(CLI::IsMember({"max", "median"}))->capture_default_str();
-  app.add_option("--max-hole", opt.height_map.max_hole, "widest gap filled by interpolation [m]")->capture_default_str();
-  app.add_option("--voxel", opt.voxel, "voxel downsampling edge [m]; < 0 = half the cell, 0 = off")->capture_default_str();
-  app.add_option("--outlier-k", opt.outliers.k, "neighbours for statistical outlier removal, 0 = off")->capture_default_str();
-  app.add_option("--outlier-std", opt.outliers.std_ratio, "outlier threshold: mean + this many std devs")->capture_default_str();
+  app.add_option("--agg", agg, "per-cell height: max or median")
+      ->check(CLI::IsMember({"max", "median"}))
+      ->capture_default_str();
+  app.add_option("--max-hole", opt.height_map.max_hole, "widest gap filled by interpolation [m]")
+      ->capture_default_str();
+  app.add_option("--voxel", opt.voxel, "voxel downsampling edge [m]; < 0 = half the cell, 0 = off")
+      ->capture_default_str();
+  app.add_option("--outlier-k", opt.outliers.k, "neighbours for statistical outlier removal, 0 = off")
+      ->capture_default_str();
+  app.add_option("--outlier-std", opt.outliers.std_ratio, "outlier threshold: mean + this many std devs")
+      ->capture_default_str();
   app.add_option("--flying-threshold", opt.flying_pixel_threshold,
                  "jump-edge filter for organized clouds: depth jump [m] at 1 m range (scales with z^2), 0 = off")
       ->capture_default_str();
@@ -98,9 +107,9 @@ int main(int argc, char** argv) {
       std::cout << j.dump() << "\n";
     } else {
       std::cout << "terrain_mesh: " << input << " -> " << output << "\n"
-                << "  points:    " << r.points_read << " read, " << r.points_non_finite << " not finite, " << r.points_flying << " flying pixels, "
-                << r.points_cropped << " cropped, " << r.points_after_voxel << " after voxel grid, " << r.points_outliers
-                << " outliers, " << r.points_used << " used\n"
+                << "  points:    " << r.points_read << " read, " << r.points_non_finite << " not finite, "
+                << r.points_flying << " flying pixels, " << r.points_cropped << " cropped, " << r.points_after_voxel
+                << " after voxel grid, " << r.points_outliers << " outliers, " << r.points_used << " used\n"
                 << "  cells:     " << r.cells << " measured, " << r.holes_filled << " filled by interpolation, "
                 << r.large_holes << " larger holes left open (" << r.large_hole_cells << " cells)\n"
                 << "  mesh:      " << r.triangles << " triangles, closed solid, bounds " << fmt_vec(r.bounds.min)

@@ -8,10 +8,10 @@
 #include "app_common.hpp"
 #include "touchdown/core/atomic_file.hpp"
 #include "touchdown/core/cloud_io.hpp"
+#include "touchdown/core/units.hpp"
 #include "touchdown/terrain/extrinsics.hpp"
 #include "touchdown/terrain/filters.hpp"
 #include "touchdown/terrain/synthetic.hpp"
-#include "touchdown/core/units.hpp"
 
 int main(int argc, char** argv) {
   namespace td = touchdown;
@@ -41,8 +41,10 @@ int main(int argc, char** argv) {
   app.add_option("--width", cam.width, "image width [px]")->capture_default_str();
   app.add_option("--height", cam.height, "image height [px]")->capture_default_str();
   app.add_option("--fx", cam.fx, "focal length [px] (fy = fx; principal point at the centre)")->capture_default_str();
-  app.add_option("--noise-scale", noise_scale, "multiplies depth noise, dropouts and outliers (0 = ideal)")->capture_default_str();
-  app.add_option("--azimuth", shape.azimuth_deg, "direction the incline rises / the step goes up [deg]")->capture_default_str();
+  app.add_option("--noise-scale", noise_scale, "multiplies depth noise, dropouts and outliers (0 = ideal)")
+      ->capture_default_str();
+  app.add_option("--azimuth", shape.azimuth_deg, "direction the incline rises / the step goes up [deg]")
+      ->capture_default_str();
   app.add_option("--slope", shape.slope_deg, "incline angle [deg]")->capture_default_str();
   app.add_option("--step-height", shape.step_height, "step height [m]")->capture_default_str();
   app.add_option("--edge-offset", shape.edge_offset, "step edge distance from the origin [m]")->capture_default_str();
@@ -65,7 +67,8 @@ int main(int argc, char** argv) {
     }
     shape.rubble_seed = seed;
     shape.prepare();
-    if (cam.width <= 0 || cam.height <= 0 || !(cam.fx > 0)) throw td::InvalidArgument("--width, --height and --fx must be positive");
+    if (cam.width <= 0 || cam.height <= 0 || !(cam.fx > 0))
+      throw td::InvalidArgument("--width, --height and --fx must be positive");
     if (!(noise_scale >= 0)) throw td::InvalidArgument("--noise-scale must be >= 0");
     cam = syn::DepthCamera::centred(cam.width, cam.height, cam.fx);
     cam.subpixel *= noise_scale;
@@ -79,7 +82,7 @@ int main(int argc, char** argv) {
       td::terrain::transform_cloud(cloud, T);
     }
     if (td::cloud_format_from_path(output) == td::CloudFormat::Pcd) {
-      const auto enc = encoding == "ascii" ? td::PcdEncoding::Ascii
+      const auto enc = encoding == "ascii"    ? td::PcdEncoding::Ascii
                        : encoding == "binary" ? td::PcdEncoding::Binary
                                               : td::PcdEncoding::BinaryCompressed;
       td::write_pcd(cloud, output, enc);
@@ -97,8 +100,9 @@ int main(int argc, char** argv) {
       });
     }
     if (json) {
-      nlohmann::json j{{"kind", kind}, {"output", output}, {"points", cloud.size()}, {"width", cloud.width},
-                       {"height", cloud.height}, {"frame", frame}, {"seed", seed}};
+      nlohmann::json j{{"kind", kind},         {"output", output},       {"points", cloud.size()},
+                       {"width", cloud.width}, {"height", cloud.height}, {"frame", frame},
+                       {"seed", seed}};
       std::cout << j.dump() << "\n";
     } else {
       std::cout << "terrain_synth: " << kind << " -> " << output << " (" << cloud.size() << " points, " << frame

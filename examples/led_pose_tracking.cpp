@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s exists: give a scratch directory that does not exist yet\n", dir.string().c_str());
     return 2;
   }
-  const tp::CameraModel camera;                          // or tp::load_camera("camera.yaml")
+  const tp::CameraModel camera;                                // or tp::load_camera("camera.yaml")
   const tp::Constellation leds = tp::default_constellation();  // or tp::load_constellation("leds.yaml")
 
   // 1. A recording: 90 frames of a moving camera, with ground truth.

@@ -44,6 +44,20 @@ step() {
   return 0
 }
 
+step "Format (clang-format --dry-run -Werror)"
+# One style (.clang-format) over every C++ file; `clang-format -i` fixes it.
+if command -v clang-format >/dev/null 2>&1; then
+  if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
+    git ls-files -z '*.cpp' '*.hpp' | xargs -0 clang-format --dry-run -Werror
+  else
+    find src include apps tests examples \( -name '*.cpp' -o -name '*.hpp' \) -print0 |
+      xargs -0 clang-format --dry-run -Werror
+  fi
+else
+  echo "clang-format not installed: scripts/setup-deps.sh installs it" >&2
+  exit 1
+fi
+
 step "Configure + Release build"
 configure build -DCMAKE_BUILD_TYPE=Release -DTOUCHDOWN_WERROR=ON
 cmake --build build -j"$jobs"

@@ -1,19 +1,18 @@
 #pragma once
 // Helpers shared by the tests.
 #include <gtest/gtest.h>
-
-#include <atomic>
-#include <cstring>
-#include <limits>
-#include <filesystem>
-#include <fstream>
-#include <random>
-#include <sstream>
-#include <string>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <string>
 
 #include "touchdown/core/mesh.hpp"
 #include "touchdown/core/point_cloud.hpp"
@@ -54,7 +53,9 @@ class TempDir {
   std::filesystem::path path_;
 };
 
-inline std::filesystem::path data_path(const std::string& rel) { return std::filesystem::path(TOUCHDOWN_TEST_DATA) / rel; }
+inline std::filesystem::path data_path(const std::string& rel) {
+  return std::filesystem::path(TOUCHDOWN_TEST_DATA) / rel;
+}
 
 inline void write_text(const std::filesystem::path& p, const std::string& text) {
   std::ofstream out(p, std::ios::binary);
@@ -115,8 +116,8 @@ inline ::testing::AssertionResult same_points(const PointCloud& a, const PointCl
   }
   for (std::size_t i = 0; i < a.size(); ++i) {
     if (std::memcmp(a.points[i].data(), b.points[i].data(), 12) != 0) {
-      return ::testing::AssertionFailure() << "point " << i << " differs: " << a.points[i].transpose() << " vs "
-                                           << b.points[i].transpose();
+      return ::testing::AssertionFailure()
+             << "point " << i << " differs: " << a.points[i].transpose() << " vs " << b.points[i].transpose();
     }
   }
   return ::testing::AssertionSuccess();

@@ -24,8 +24,8 @@ void write_file_atomically(const std::filesystem::path& target,
     throw IoError(target.string() + ": is a directory");
   }
   static std::atomic<unsigned> counter{0};
-  const fs::path tmp = dir / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
-                              std::to_string(counter++));
+  const fs::path tmp =
+      dir / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
   try {
     write(tmp);
   } catch (...) {

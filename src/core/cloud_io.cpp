@@ -15,7 +15,8 @@ namespace {
 
 std::string lower_extension(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return ext;
 }
 
@@ -47,9 +48,15 @@ PointCloud read_cloud(const std::filesystem::path& path, CloudFormat format) {
   const std::string source = path.string();
   PointCloud cloud;
   switch (format) {
-    case CloudFormat::Pcd: cloud = read_pcd(in, source); break;
-    case CloudFormat::Ply: cloud = read_ply_cloud(in, source); break;
-    default: cloud = read_xyz(in, source); break;
+    case CloudFormat::Pcd:
+      cloud = read_pcd(in, source);
+      break;
+    case CloudFormat::Ply:
+      cloud = read_ply_cloud(in, source);
+      break;
+    default:
+      cloud = read_xyz(in, source);
+      break;
   }
   if (in.bad()) throw IoError(source + ": read error");
   return cloud;
@@ -69,9 +76,15 @@ void write_xyz(const PointCloud& cloud, const std::filesystem::path& path) {
 
 void write_cloud(const PointCloud& cloud, const std::filesystem::path& path) {
   switch (cloud_format_from_path(path)) {
-    case CloudFormat::Pcd: write_pcd(cloud, path); break;
-    case CloudFormat::Ply: write_ply_cloud(cloud, path); break;
-    default: write_xyz(cloud, path); break;
+    case CloudFormat::Pcd:
+      write_pcd(cloud, path);
+      break;
+    case CloudFormat::Ply:
+      write_ply_cloud(cloud, path);
+      break;
+    default:
+      write_xyz(cloud, path);
+      break;
   }
 }
 

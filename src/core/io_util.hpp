@@ -32,8 +32,7 @@ inline std::string_view trim(std::string_view s) {
 }
 
 /// Splits on any of `separators`, skipping empty tokens.
-inline void split(std::string_view s, std::vector<std::string_view>& out,
-                  std::string_view separators = " \t\r\n\v\f") {
+inline void split(std::string_view s, std::vector<std::string_view>& out, std::string_view separators = " \t\r\n\v\f") {
   out.clear();
   std::size_t i = 0;
   while (i < s.size()) {

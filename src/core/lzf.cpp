@@ -61,8 +61,7 @@ std::vector<std::uint8_t> lzf_compress(const std::uint8_t* in, std::size_t in_si
     const auto h = hash3(ip);
     const std::int64_t cand = table[h];
     table[h] = static_cast<std::int64_t>(ip);
-    if (cand >= 0 && ip - static_cast<std::size_t>(cand) <= kMaxOffset &&
-        std::memcmp(in + cand, in + ip, 3) == 0) {
+    if (cand >= 0 && ip - static_cast<std::size_t>(cand) <= kMaxOffset && std::memcmp(in + cand, in + ip, 3) == 0) {
       const std::size_t ref = static_cast<std::size_t>(cand);
       std::size_t len = 3;
       const std::size_t max_len = std::min(kMaxLen, in_size - ip);

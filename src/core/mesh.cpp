@@ -51,9 +51,12 @@ MeshClosedness check_closedness(const TriangleMesh& input) {
     while (j < edges.size() && edges[j].first == edges[i].first) balance += edges[j++].second;
     const std::size_t uses = j - i;
     ++c.edges;
-    if (uses == 1) ++c.boundary_edges;
-    else if (uses > 2) ++c.nonmanifold_edges;
-    else if (balance != 0) ++c.misoriented_edges;
+    if (uses == 1)
+      ++c.boundary_edges;
+    else if (uses > 2)
+      ++c.nonmanifold_edges;
+    else if (balance != 0)
+      ++c.misoriented_edges;
     i = j;
   }
   return c;

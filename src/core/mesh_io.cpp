@@ -2,12 +2,12 @@
 // Importer::ReadFile post-processing flags, Exporter::Export format ids).
 #include "touchdown/core/mesh_io.hpp"
 
-#include <assimp/Exporter.hpp>
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <assimp/Exporter.hpp>
+#include <assimp/Importer.hpp>
 #include <cctype>
 #include <memory>
 #include <string>
@@ -27,12 +27,18 @@ std::string one_line(std::string s) {
 
 const char* assimp_format_id(MeshFormat f) {
   switch (f) {
-    case MeshFormat::StlBinary: return "stlb";
-    case MeshFormat::StlAscii: return "stl";
-    case MeshFormat::PlyBinary: return "plyb";
-    case MeshFormat::PlyAscii: return "ply";
-    case MeshFormat::Obj: return "objnomtl";
-    case MeshFormat::Auto: break;
+    case MeshFormat::StlBinary:
+      return "stlb";
+    case MeshFormat::StlAscii:
+      return "stl";
+    case MeshFormat::PlyBinary:
+      return "plyb";
+    case MeshFormat::PlyAscii:
+      return "ply";
+    case MeshFormat::Obj:
+      return "objnomtl";
+    case MeshFormat::Auto:
+      break;
   }
   return "stlb";
 }
@@ -41,7 +47,8 @@ const char* assimp_format_id(MeshFormat f) {
 
 MeshFormat mesh_format_from_path(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ext == ".stl") return MeshFormat::StlBinary;
   if (ext == ".ply") return MeshFormat::PlyBinary;
   if (ext == ".obj") return MeshFormat::Obj;
@@ -53,9 +60,8 @@ TriangleMesh read_mesh(const std::filesystem::path& path) {
   Assimp::Importer importer;
   // Keep points and lines out of the scene; we want triangles only.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  const aiScene* scene = importer.ReadFile(
-      path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices |
-                         aiProcess_SortByPType);
+  const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                                                              aiProcess_PreTransformVertices | aiProcess_SortByPType);
   if (scene == nullptr) {
     throw ParseError(path.string() + ": cannot read mesh: " + one_line(importer.GetErrorString()));
   }
@@ -84,9 +90,9 @@ void write_mesh(const TriangleMesh& mesh, const std::filesystem::path& path, Mes
   // The aiScene owns everything below and frees it in its destructor.
   auto scene = std::make_unique<aiScene>();
   scene->mRootNode = new aiNode();
-  scene->mMaterials = new aiMaterial*[1]{new aiMaterial()};
+  scene->mMaterials = new aiMaterial* [1] { new aiMaterial() };
   scene->mNumMaterials = 1;
-  scene->mMeshes = new aiMesh*[1]{new aiMesh()};
+  scene->mMeshes = new aiMesh* [1] { new aiMesh() };
   scene->mNumMeshes = 1;
   scene->mRootNode->mMeshes = new unsigned[1]{0};
   scene->mRootNode->mNumMeshes = 1;

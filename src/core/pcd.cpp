@@ -60,17 +60,43 @@ double read_scalar(const std::uint8_t* p, char type, unsigned size) {
       }
     case 'I':
       switch (size) {
-        case 1: return static_cast<std::int8_t>(*p);
-        case 2: { std::int16_t v; std::memcpy(&v, p, 2); return v; }
-        case 4: { std::int32_t v; std::memcpy(&v, p, 4); return v; }
-        default: { std::int64_t v; std::memcpy(&v, p, 8); return static_cast<double>(v); }
+        case 1:
+          return static_cast<std::int8_t>(*p);
+        case 2: {
+          std::int16_t v;
+          std::memcpy(&v, p, 2);
+          return v;
+        }
+        case 4: {
+          std::int32_t v;
+          std::memcpy(&v, p, 4);
+          return v;
+        }
+        default: {
+          std::int64_t v;
+          std::memcpy(&v, p, 8);
+          return static_cast<double>(v);
+        }
       }
     default:  // 'U'
       switch (size) {
-        case 1: return *p;
-        case 2: { std::uint16_t v; std::memcpy(&v, p, 2); return v; }
-        case 4: { std::uint32_t v; std::memcpy(&v, p, 4); return v; }
-        default: { std::uint64_t v; std::memcpy(&v, p, 8); return static_cast<double>(v); }
+        case 1:
+          return *p;
+        case 2: {
+          std::uint16_t v;
+          std::memcpy(&v, p, 2);
+          return v;
+        }
+        case 4: {
+          std::uint32_t v;
+          std::memcpy(&v, p, 4);
+          return v;
+        }
+        default: {
+          std::uint64_t v;
+          std::memcpy(&v, p, 8);
+          return static_cast<double>(v);
+        }
       }
   }
 }
@@ -82,8 +108,9 @@ void parse_list(std::string_view source, std::size_t line_no, const std::vector<
   for (std::size_t i = 1; i < tok.size(); ++i) {
     T v{};
     if (!detail::parse_int(tok[i], v)) {
-      detail::parse_fail_line(source, line_no,
-                              "header " + std::string(key) + ": '" + std::string(tok[i]) + "' is not a non-negative integer");
+      detail::parse_fail_line(
+          source, line_no,
+          "header " + std::string(key) + ": '" + std::string(tok[i]) + "' is not a non-negative integer");
     }
     out.push_back(v);
   }
@@ -154,9 +181,9 @@ PcdHeader read_header(std::istream& in, std::string_view source) {
       } else if (tok[1] == "binary_compressed") {
         h.data = PcdData::BinaryCompressed;
       } else {
-        detail::parse_fail_line(source, line_no,
-                                "unknown DATA type '" + std::string(tok[1]) +
-                                    "' (expected ascii, binary or binary_compressed)");
+        detail::parse_fail_line(
+            source, line_no,
+            "unknown DATA type '" + std::string(tok[1]) + "' (expected ascii, binary or binary_compressed)");
       }
       have_data = true;
     } else {
@@ -183,7 +210,8 @@ PcdHeader read_header(std::istream& in, std::string_view source) {
       parse_fail(source, "PCD field '" + f.name + "' has SIZE " + std::to_string(f.size) + " (expected 1, 2, 4 or 8)");
     }
     if (f.type == 'F' && f.size != 4 && f.size != 8) {
-      parse_fail(source, "PCD field '" + f.name + "' is TYPE F with SIZE " + std::to_string(f.size) + " (expected 4 or 8)");
+      parse_fail(source,
+                 "PCD field '" + f.name + "' is TYPE F with SIZE " + std::to_string(f.size) + " (expected 4 or 8)");
     }
     if (f.count == 0 || f.count > 1u << 20) {
       parse_fail(source, "PCD field '" + f.name + "' has COUNT " + std::to_string(f.count));
@@ -247,8 +275,8 @@ void read_ascii(std::istream& in, std::string_view source, const PcdHeader& h, P
     for (int a = 0; a < 3; ++a) {
       double v;
       if (!detail::parse_double(tok[col[a]], v)) {
-        parse_fail(source, "data line " + std::to_string(line_no) + ": '" + std::string(tok[col[a]]) +
-                               "' is not a number");
+        parse_fail(source,
+                   "data line " + std::to_string(line_no) + ": '" + std::string(tok[col[a]]) + "' is not a number");
       }
       p[a] = static_cast<float>(v);
     }
@@ -273,13 +301,14 @@ void read_binary(std::istream& in, std::string_view source, const PcdHeader& h, 
   cloud.points.resize(static_cast<std::size_t>(h.points));
   constexpr std::size_t kChunkPoints = 1 << 14;
   std::vector<std::uint8_t> buf(kChunkPoints * h.point_size);
-  const bool fast = f[0]->type == 'F' && f[0]->size == 4 && f[1]->type == 'F' && f[1]->size == 4 &&
-                    f[2]->type == 'F' && f[2]->size == 4;
+  const bool fast = f[0]->type == 'F' && f[0]->size == 4 && f[1]->type == 'F' && f[1]->size == 4 && f[2]->type == 'F' &&
+                    f[2]->size == 4;
   for (std::size_t start = 0; start < cloud.points.size(); start += kChunkPoints) {
     const std::size_t n = std::min(kChunkPoints, cloud.points.size() - start);
     in.read(reinterpret_cast<char*>(buf.data()), static_cast<std::streamsize>(n * h.point_size));
     if (static_cast<std::size_t>(in.gcount()) != n * h.point_size) {
-      parse_fail(source, "truncated binary data at point " + std::to_string(start + static_cast<std::size_t>(in.gcount()) / h.point_size));
+      parse_fail(source, "truncated binary data at point " +
+                             std::to_string(start + static_cast<std::size_t>(in.gcount()) / h.point_size));
     }
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint8_t* rec = buf.data() + i * h.point_size;
@@ -313,7 +342,8 @@ void read_compressed(std::istream& in, std::string_view source, const PcdHeader&
   if (static_cast<std::uint64_t>(in.gcount()) != compressed) parse_fail(source, "truncated binary_compressed data");
   std::vector<std::uint8_t> raw(static_cast<std::size_t>(uncompressed));
   if (need > 0 && !detail::lzf_decompress(packed.data(), packed.size(), raw.data(), raw.size())) {
-    parse_fail(source, "corrupt binary_compressed data (LZF stream does not decode to " + std::to_string(need) + " bytes)");
+    parse_fail(source,
+               "corrupt binary_compressed data (LZF stream does not decode to " + std::to_string(need) + " bytes)");
   }
   packed = {};
   // Decompressed data is stored field by field: all x, then all y, ...
@@ -346,9 +376,15 @@ PointCloud read_pcd(std::istream& in, std::string_view source) {
   const PcdHeader h = read_header(in, source);
   PointCloud cloud = make_cloud(h);
   switch (h.data) {
-    case PcdData::Ascii: read_ascii(in, source, h, cloud); break;
-    case PcdData::Binary: read_binary(in, source, h, cloud); break;
-    case PcdData::BinaryCompressed: read_compressed(in, source, h, cloud); break;
+    case PcdData::Ascii:
+      read_ascii(in, source, h, cloud);
+      break;
+    case PcdData::Binary:
+      read_binary(in, source, h, cloud);
+      break;
+    case PcdData::BinaryCompressed:
+      read_compressed(in, source, h, cloud);
+      break;
   }
   if (!cloud.is_organized()) cloud.mark_unorganized();
   return cloud;
@@ -385,10 +421,12 @@ void write_pcd(const PointCloud& cloud, std::ostream& out, PcdEncoding encoding)
       const std::size_t n = cloud.size();
       std::vector<std::uint8_t> soa(n * 12);
       for (std::size_t i = 0; i < n; ++i) {
-        for (int a = 0; a < 3; ++a) std::memcpy(soa.data() + (static_cast<std::size_t>(a) * n + i) * 4, &cloud.points[i][a], 4);
+        for (int a = 0; a < 3; ++a)
+          std::memcpy(soa.data() + (static_cast<std::size_t>(a) * n + i) * 4, &cloud.points[i][a], 4);
       }
       const std::vector<std::uint8_t> packed = detail::lzf_compress(soa.data(), soa.size());
-      const std::uint32_t sizes[2] = {static_cast<std::uint32_t>(packed.size()), static_cast<std::uint32_t>(soa.size())};
+      const std::uint32_t sizes[2] = {static_cast<std::uint32_t>(packed.size()),
+                                      static_cast<std::uint32_t>(soa.size())};
       out.write(reinterpret_cast<const char*>(sizes), 8);
       out.write(reinterpret_cast<const char*>(packed.data()), static_cast<std::streamsize>(packed.size()));
       break;

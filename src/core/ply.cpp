@@ -38,10 +38,18 @@ std::optional<PlyType> ply_type(std::string_view s) {
 
 std::size_t type_size(PlyType t) {
   switch (t) {
-    case PlyType::I8: case PlyType::U8: return 1;
-    case PlyType::I16: case PlyType::U16: return 2;
-    case PlyType::I32: case PlyType::U32: case PlyType::F32: return 4;
-    case PlyType::F64: return 8;
+    case PlyType::I8:
+    case PlyType::U8:
+      return 1;
+    case PlyType::I16:
+    case PlyType::U16:
+      return 2;
+    case PlyType::I32:
+    case PlyType::U32:
+    case PlyType::F32:
+      return 4;
+    case PlyType::F64:
+      return 8;
   }
   return 0;
 }
@@ -70,14 +78,40 @@ double decode(const std::uint8_t* p, PlyType t, bool swap) {
   std::memcpy(b, p, n);
   if (swap) std::reverse(b, b + n);
   switch (t) {
-    case PlyType::I8: return static_cast<std::int8_t>(b[0]);
-    case PlyType::U8: return b[0];
-    case PlyType::I16: { std::int16_t v; std::memcpy(&v, b, 2); return v; }
-    case PlyType::U16: { std::uint16_t v; std::memcpy(&v, b, 2); return v; }
-    case PlyType::I32: { std::int32_t v; std::memcpy(&v, b, 4); return v; }
-    case PlyType::U32: { std::uint32_t v; std::memcpy(&v, b, 4); return v; }
-    case PlyType::F32: { float v; std::memcpy(&v, b, 4); return v; }
-    case PlyType::F64: { double v; std::memcpy(&v, b, 8); return v; }
+    case PlyType::I8:
+      return static_cast<std::int8_t>(b[0]);
+    case PlyType::U8:
+      return b[0];
+    case PlyType::I16: {
+      std::int16_t v;
+      std::memcpy(&v, b, 2);
+      return v;
+    }
+    case PlyType::U16: {
+      std::uint16_t v;
+      std::memcpy(&v, b, 2);
+      return v;
+    }
+    case PlyType::I32: {
+      std::int32_t v;
+      std::memcpy(&v, b, 4);
+      return v;
+    }
+    case PlyType::U32: {
+      std::uint32_t v;
+      std::memcpy(&v, b, 4);
+      return v;
+    }
+    case PlyType::F32: {
+      float v;
+      std::memcpy(&v, b, 4);
+      return v;
+    }
+    case PlyType::F64: {
+      double v;
+      std::memcpy(&v, b, 8);
+      return v;
+    }
   }
   return 0;
 }
@@ -93,7 +127,8 @@ PlyHeader read_header(std::istream& in, std::string_view source) {
   PlyHeader h;
   std::string line;
   std::vector<std::string_view> tok;
-  if (!detail::read_line(in, line) || detail::trim(line) != "ply") parse_fail(source, "not a PLY file (first line is not 'ply')");
+  if (!detail::read_line(in, line) || detail::trim(line) != "ply")
+    parse_fail(source, "not a PLY file (first line is not 'ply')");
   std::size_t line_no = 1;
   bool have_format = false;
   for (;;) {
@@ -106,10 +141,14 @@ PlyHeader read_header(std::istream& in, std::string_view source) {
     if (key == "comment" || key == "obj_info") continue;
     if (key == "format") {
       if (tok.size() != 3) detail::parse_fail_line(source, line_no, "PLY format line must be 'format <type> 1.0'");
-      if (tok[1] == "ascii") h.format = PlyFormat::Ascii;
-      else if (tok[1] == "binary_little_endian") h.format = PlyFormat::Little;
-      else if (tok[1] == "binary_big_endian") h.format = PlyFormat::Big;
-      else detail::parse_fail_line(source, line_no, "unknown PLY format '" + std::string(tok[1]) + "'");
+      if (tok[1] == "ascii")
+        h.format = PlyFormat::Ascii;
+      else if (tok[1] == "binary_little_endian")
+        h.format = PlyFormat::Little;
+      else if (tok[1] == "binary_big_endian")
+        h.format = PlyFormat::Big;
+      else
+        detail::parse_fail_line(source, line_no, "unknown PLY format '" + std::string(tok[1]) + "'");
       have_format = true;
     } else if (key == "element") {
       PlyElement e;
@@ -301,7 +340,7 @@ PointCloud read_ply_cloud(std::istream& in, std::string_view source) {
 }
 
 void write_ply_cloud(const PointCloud& cloud, std::ostream& out, PlyEncoding encoding) {
-  const char* fmt = encoding == PlyEncoding::Ascii               ? "ascii"
+  const char* fmt = encoding == PlyEncoding::Ascii                ? "ascii"
                     : encoding == PlyEncoding::BinaryLittleEndian ? "binary_little_endian"
                                                                   : "binary_big_endian";
   out << "ply\nformat " << fmt << " 1.0\ncomment written by touchdown\n"

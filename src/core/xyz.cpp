@@ -22,7 +22,8 @@ PointCloud read_xyz(std::istream& in, std::string_view source) {
     body = body.substr(0, body.find('#'));
     detail::split(body, tok, " \t\r\v\f,;");
     if (tok.empty()) continue;
-    if (line_no == 1 && line.find('\0') != std::string::npos) detail::parse_fail(source, "not a text point cloud (binary content)");
+    if (line_no == 1 && line.find('\0') != std::string::npos)
+      detail::parse_fail(source, "not a text point cloud (binary content)");
     if (tok.size() < 3) {
       detail::parse_fail_line(source, line_no, "expected 3 numbers (x y z), found " + std::to_string(tok.size()));
     }

@@ -1,16 +1,15 @@
 #include "touchdown/pose/aruco_baseline.hpp"
 
-#include <opencv2/aruco.hpp>
-#include <opencv2/calib3d.hpp>
-#include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <Eigen/Cholesky>
 #include <array>
 #include <cctype>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <opencv2/aruco.hpp>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <string_view>
 
@@ -181,10 +180,9 @@ PoseEstimate ArucoPoseEstimator::estimate_from_corners(const std::array<Eigen::V
   double best_sq = std::numeric_limits<double>::infinity();
   for (int flip = 0; flip < 2; ++flip) {
     for (int quarter = 0; quarter < 4; ++quarter) {
-      const Eigen::Matrix3d S =
-          (Eigen::AngleAxisd(flip ? std::numbers::pi : 0.0, Eigen::Vector3d::UnitX()) *
-           Eigen::AngleAxisd(quarter * std::numbers::pi / 2, Eigen::Vector3d::UnitZ()))
-              .toRotationMatrix();
+      const Eigen::Matrix3d S = (Eigen::AngleAxisd(flip ? std::numbers::pi : 0.0, Eigen::Vector3d::UnitX()) *
+                                 Eigen::AngleAxisd(quarter * std::numbers::pi / 2, Eigen::Vector3d::UnitZ()))
+                                    .toRotationMatrix();
       // Image point of canonical corner j: the detected corner at S·P_j.
       bool mapped = true;
       for (std::size_t j = 0; j < 4; ++j) {

@@ -6,10 +6,10 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <Eigen/SVD>
-#include <utility>
 #include <array>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "dense_solvers.hpp"
 
@@ -36,7 +36,7 @@ struct SymmetricEigen {
 // is 4 (general) or 3 (planar: the two in-plane axes).
 template <int K>
 struct ControlPoints {
-  Eigen::Matrix<double, 3, K> c;  // columns c_0 .. c_{K-1}
+  Eigen::Matrix<double, 3, K> c;             // columns c_0 .. c_{K-1}
   Eigen::Matrix<double, K - 1, 3> to_alpha;  // (α_1..α_{K-1}) = to_alpha (p − c_0)
 };
 

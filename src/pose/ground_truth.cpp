@@ -39,7 +39,8 @@ std::string ground_truth_to_json(const GroundTruthSample& s) {
   out += ",\"q\":[" + format_exact(q.w()) + "," + format_exact(q.x()) + "," + format_exact(q.y()) + "," +
          format_exact(q.z()) + "]";
   out += ",\"leds_visible\":[";
-  for (std::size_t i = 0; i < s.leds_visible.size(); ++i) out += (i ? "," : "") + std::string(s.leds_visible[i] ? "true" : "false");
+  for (std::size_t i = 0; i < s.leds_visible.size(); ++i)
+    out += (i ? "," : "") + std::string(s.leds_visible[i] ? "true" : "false");
   out += "],\"marker_visible\":";
   out += s.marker_visible ? "true" : "false";
   out += "}";
@@ -59,8 +60,7 @@ class LineParser {
 
   GroundTruthSample parse() {
     GroundTruthSample out;
-    bool have_frame = false, have_t_s = false, have_t = false, have_q = false, have_leds = false,
-         have_marker = false;
+    bool have_frame = false, have_t_s = false, have_t = false, have_q = false, have_leds = false, have_marker = false;
     double tq[7] = {};
     skip_ws();
     expect('{', "expected a JSON object");
@@ -209,14 +209,30 @@ class LineParser {
       if (i_ >= s_.size()) fail("unterminated string");
       const char e = s_[i_++];
       switch (e) {
-        case '"': out += '"'; break;
-        case '\\': out += '\\'; break;
-        case '/': out += '/'; break;
-        case 'b': out += '\b'; break;
-        case 'f': out += '\f'; break;
-        case 'n': out += '\n'; break;
-        case 'r': out += '\r'; break;
-        case 't': out += '\t'; break;
+        case '"':
+          out += '"';
+          break;
+        case '\\':
+          out += '\\';
+          break;
+        case '/':
+          out += '/';
+          break;
+        case 'b':
+          out += '\b';
+          break;
+        case 'f':
+          out += '\f';
+          break;
+        case 'n':
+          out += '\n';
+          break;
+        case 'r':
+          out += '\r';
+          break;
+        case 't':
+          out += '\t';
+          break;
         case 'u': {
           std::uint32_t cp = hex4();
           if (cp >= 0xD800 && cp < 0xDC00) {  // high surrogate: a low one must follow
@@ -230,7 +246,8 @@ class LineParser {
           append_utf8(out, cp);
           break;
         }
-        default: fail("bad escape in a string");
+        default:
+          fail("bad escape in a string");
       }
     }
   }

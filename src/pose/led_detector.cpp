@@ -130,7 +130,8 @@ struct LedDetector::Impl {
         const int a_end = row_start[static_cast<std::size_t>(y)];
         for (int b = a_end; b < static_cast<int>(runs.size()); ++b) {
           const Run& rb = runs[static_cast<std::size_t>(b)];
-          while (a < a_end && runs[static_cast<std::size_t>(a)].x1 < rb.x0) ++a;  // ends left of rb (x1 exclusive: touches diagonally if x1 == x0)
+          while (a < a_end && runs[static_cast<std::size_t>(a)].x1 < rb.x0)
+            ++a;  // ends left of rb (x1 exclusive: touches diagonally if x1 == x0)
           for (int k = a; k < a_end && runs[static_cast<std::size_t>(k)].x0 <= rb.x1; ++k) unite(b, k);
         }
       }
@@ -211,7 +212,8 @@ struct LedDetector::Impl {
       }
     }
     if (n == 0) return true;  // no measurement (common on bright LEDs): keep, without a 3-D point
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n / 2), v.begin() + static_cast<std::ptrdiff_t>(n));
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n / 2),
+                     v.begin() + static_cast<std::ptrdiff_t>(n));
     const double z = v[n / 2] * camera.depth_scale;
     if (z < options.min_depth || z > options.max_depth) return false;
     b.has_point = true;

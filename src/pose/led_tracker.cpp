@@ -5,19 +5,25 @@
 #include <limits>
 
 #include "touchdown/core/error.hpp"
-#include "touchdown/pose/epnp.hpp"
 #include "touchdown/core/units.hpp"
+#include "touchdown/pose/epnp.hpp"
 
 namespace touchdown::pose {
 
 std::string_view to_string(PoseStatus s) {
   switch (s) {
-    case PoseStatus::Ok: return "ok";
-    case PoseStatus::TooFewBlobs: return "too few blobs";
-    case PoseStatus::NoConsistentCorrespondence: return "no consistent correspondence";
-    case PoseStatus::ReprojectionTooLarge: return "reprojection error too large";
-    case PoseStatus::MarkerNotFound: return "marker not found";
-    case PoseStatus::Degenerate: return "degenerate geometry";
+    case PoseStatus::Ok:
+      return "ok";
+    case PoseStatus::TooFewBlobs:
+      return "too few blobs";
+    case PoseStatus::NoConsistentCorrespondence:
+      return "no consistent correspondence";
+    case PoseStatus::ReprojectionTooLarge:
+      return "reprojection error too large";
+    case PoseStatus::MarkerNotFound:
+      return "marker not found";
+    case PoseStatus::Degenerate:
+      return "degenerate geometry";
   }
   return "unknown";
 }
@@ -35,7 +41,8 @@ bool CorrespondenceOptions::validate(std::string* why) const {
   if (!(max_view_angle_deg > 0 && max_view_angle_deg <= 180)) return fail("max_view_angle_deg: must be in (0, 180]");
   if (!(minimal_fit_rms_px > 0)) return fail("minimal_fit_rms_px: must be positive");
   if (!(missing_penalty_px > 0)) return fail("missing_penalty_px: must be positive");
-  if (!(min_distance >= 0 && max_distance > min_distance)) return fail("min_distance/max_distance: need 0 <= min < max");
+  if (!(min_distance >= 0 && max_distance > min_distance))
+    return fail("min_distance/max_distance: need 0 <= min < max");
   if (refine.max_iterations < 1) return fail("refine.max_iterations: must be positive");
   return true;
 }
@@ -263,7 +270,8 @@ Correspondence find_correspondences(const PinholeCamera& cam, const Constellatio
                     break;
                   }
                   ++best.hypotheses;
-                  for (int i = 0; i < 4; ++i) uv4[static_cast<std::size_t>(i)] = blobs[B[static_cast<std::size_t>(i)]].uv_undistorted;
+                  for (int i = 0; i < 4; ++i)
+                    uv4[static_cast<std::size_t>(i)] = blobs[B[static_cast<std::size_t>(i)]].uv_undistorted;
                   const EpnpResult e = solve_epnp(cam, p4, uv4);
                   if (!e.ok || e.rms_px > o.inlier_px) continue;
                   double sq = 0;
@@ -283,9 +291,9 @@ Correspondence find_correspondences(const PinholeCamera& cam, const Constellatio
                   if (rematched >= o.min_leds && again != assign) {
                     assign = again;
                     gather(k, blobs, assign, set);
-                    const PoseRefinement f2 = refine_pose_gauss_newton(cam, std::span(set.p.data(), set.n),
-                                                                       std::span(set.uv.data(), set.n),
-                                                                       fit.T_camera_body, o.refine);
+                    const PoseRefinement f2 =
+                        refine_pose_gauss_newton(cam, std::span(set.p.data(), set.n), std::span(set.uv.data(), set.n),
+                                                 fit.T_camera_body, o.refine);
                     if (!f2.ok()) continue;
                     fit = f2;
                   }
@@ -354,7 +362,8 @@ struct LedTracker::Impl {
     keep.reserve(o.detector.max_blobs);
     min_led_spacing = kInf;
     for (std::size_t i = 0; i < k.leds.size(); ++i) {
-      for (std::size_t j = 0; j < i; ++j) min_led_spacing = std::min(min_led_spacing, (k.leds[i].p_body - k.leds[j].p_body).norm());
+      for (std::size_t j = 0; j < i; ++j)
+        min_led_spacing = std::min(min_led_spacing, (k.leds[i].p_body - k.leds[j].p_body).norm());
     }
     const_mad = k.mean_absolute_deviation();
     const_radius = k.radius();
@@ -514,9 +523,9 @@ struct LedTracker::Impl {
     if (matched >= options.correspondence.min_leds && again != led_to_blob) {
       led_to_blob = again;
       gather(constellation, work, led_to_blob, set);
-      const PoseRefinement f2 = refine_pose_gauss_newton(pin, std::span(set.p.data(), set.n),
-                                                         std::span(set.uv.data(), set.n), fit.T_camera_body,
-                                                         options.correspondence.refine);
+      const PoseRefinement f2 =
+          refine_pose_gauss_newton(pin, std::span(set.p.data(), set.n), std::span(set.uv.data(), set.n),
+                                   fit.T_camera_body, options.correspondence.refine);
       if (f2.ok()) fit = f2;
     }
     if (fit.rms_px > options.reinit_rms_px) return false;

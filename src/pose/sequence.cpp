@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <iterator>
-#include <cmath>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -29,7 +29,7 @@ bool is_frame_name(const std::string& file) {
 std::string describe_type(int type) {
   const int depth = CV_MAT_DEPTH(type);
   const char* names[] = {"8-bit unsigned", "8-bit signed", "16-bit unsigned", "16-bit signed",
-                         "32-bit integer", "32-bit float", "64-bit float", "16-bit float"};
+                         "32-bit integer", "32-bit float", "64-bit float",    "16-bit float"};
   const std::string d = depth >= 0 && depth < 8 ? names[depth] : "unknown";
   return d + " with " + std::to_string(CV_MAT_CN(type)) + " channel(s)";
 }
@@ -63,15 +63,18 @@ bool check_png(const std::vector<unsigned char>& b, const fs::path& path) {
   std::size_t at = 8;
   bool first = true;
   while (true) {
-    if (b.size() - at < 12) throw ParseError(path.string() + ": truncated PNG (chunk header at byte " + std::to_string(at) + ")");
+    if (b.size() - at < 12)
+      throw ParseError(path.string() + ": truncated PNG (chunk header at byte " + std::to_string(at) + ")");
     const std::uint32_t len = be32(&b[at]);
-    if (len > b.size() - at - 12) throw ParseError(path.string() + ": truncated PNG (chunk at byte " + std::to_string(at) + " runs past the end)");
+    if (len > b.size() - at - 12)
+      throw ParseError(path.string() + ": truncated PNG (chunk at byte " + std::to_string(at) + " runs past the end)");
     const unsigned char* type = &b[at + 4];
     const std::string name(reinterpret_cast<const char*>(type), 4);
     if (first && name != "IHDR") throw ParseError(path.string() + ": corrupt PNG (first chunk is not IHDR)");
     first = false;
     if (crc32(type, 4 + std::size_t{len}) != be32(&b[at + 8 + len])) {
-      throw ParseError(path.string() + ": corrupt PNG (CRC mismatch in " + name + " chunk at byte " + std::to_string(at) + ")");
+      throw ParseError(path.string() + ": corrupt PNG (CRC mismatch in " + name + " chunk at byte " +
+                       std::to_string(at) + ")");
     }
     at += 12 + std::size_t{len};
     if (name == "IEND") return true;
@@ -129,7 +132,7 @@ std::vector<SequenceFrame> list_sequence(const fs::path& dir) {
 
 void read_frame(const SequenceFrame& frame, BgrImage& colour, DepthImage* depth) {
   const cv::Mat m = read_image(frame.colour);
-  const int code = m.type() == CV_8UC3 ? -1
+  const int code = m.type() == CV_8UC3   ? -1
                    : m.type() == CV_8UC1 ? cv::COLOR_GRAY2BGR
                    : m.type() == CV_8UC4 ? cv::COLOR_BGRA2BGR
                                          : -2;

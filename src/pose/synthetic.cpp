@@ -20,9 +20,9 @@
 #include "aruco_dictionary.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
+#include "touchdown/core/units.hpp"
 #include "touchdown/pose/se3.hpp"
 #include "touchdown/pose/sequence.hpp"
-#include "touchdown/core/units.hpp"
 
 namespace touchdown::pose {
 
@@ -733,7 +733,6 @@ Eigen::Isometry3d fitted_pose(const CameraModel& camera, const Constellation& k,
   return drone_pose(d, lateral_scale * a, lateral_scale * b, yaw, tilt_scale * roll, tilt_scale * pitch) * jitter;
 }
 
-
 }  // namespace
 
 bool TrajectoryOptions::validate(std::string* why) const {
@@ -780,7 +779,7 @@ std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, s
       hj.T = fitted_pose(camera, constellation, margin, d, a, b, yaw, roll, pitch);
       for (std::size_t axis = 0; axis < 6; ++axis) {
         hj.amp[axis] = (axis < 3 ? 0.003 : deg_to_rad(0.5)) * rng.uniform(0.5, 1.0);  // a few mm, ~0.5°
-        hj.freq[axis] = rng.uniform(0.7, 2.3);                                   // [Hz] hovering sway
+        hj.freq[axis] = rng.uniform(0.7, 2.3);                                        // [Hz] hovering sway
         hj.phase[axis] = rng.uniform(0, two_pi);
       }
     }
@@ -803,7 +802,7 @@ std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, s
   const double ph_a = rng.uniform(0, two_pi), ph_b = rng.uniform(0, two_pi);
   const double yaw0 = rng.uniform(-std::numbers::pi, std::numbers::pi);
   const double yaw_rate = (rng.uniform() < 0.5 ? -1 : 1) * deg_to_rad(rng.uniform(60, 120));  // [rad/s]
-  const double f_r = rng.uniform(0.2, 0.35), f_p = rng.uniform(0.25, 0.4);               // [Hz] tilt
+  const double f_r = rng.uniform(0.2, 0.35), f_p = rng.uniform(0.25, 0.4);                    // [Hz] tilt
   const double ph_r = rng.uniform(0, two_pi), ph_p = rng.uniform(0, two_pi);
   const double tilt = deg_to_rad(20) / std::numbers::sqrt2;  // per axis: |tilt| <= 20°
   for (int i = 0; i < frames; ++i) {

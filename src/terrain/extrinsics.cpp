@@ -49,8 +49,9 @@ Eigen::Isometry3d parse_pose(const detail::YamlReader& r, const YAML::Node& map,
   if (matrix && (xyz || rpy)) r.fail(map, prefix + "matrix", "give either matrix or xyz/rpy, not both");
   if (!matrix && !xyz && !rpy) r.fail(map, prefix + "xyz", "missing: expected xyz/rpy or matrix");
   if (!matrix) {
-    return pose_from_xyz_rpy(xyz ? vec3(r, xyz, prefix + "xyz") : Eigen::Vector3d::Zero(),
-                             rpy ? Eigen::Vector3d(vec3(r, rpy, prefix + "rpy") * kRadPerDeg) : Eigen::Vector3d::Zero());
+    return pose_from_xyz_rpy(
+        xyz ? vec3(r, xyz, prefix + "xyz") : Eigen::Vector3d::Zero(),
+        rpy ? Eigen::Vector3d(vec3(r, rpy, prefix + "rpy") * kRadPerDeg) : Eigen::Vector3d::Zero());
   }
   const std::string key = prefix + "matrix";
   const auto v = flat_numbers(r, matrix, key);
@@ -62,8 +63,9 @@ Eigen::Isometry3d parse_pose(const detail::YamlReader& r, const YAML::Node& map,
   const Eigen::Matrix3d R = m.topLeftCorner<3, 3>();
   const double err = (R.transpose() * R - Eigen::Matrix3d::Identity()).norm();
   if (err > 1e-3 || R.determinant() < 0) {
-    r.fail(matrix, key, "top-left 3x3 is not a rotation (orthonormality error " + std::to_string(err) + ", det " +
-                            std::to_string(R.determinant()) + ")");
+    r.fail(matrix, key,
+           "top-left 3x3 is not a rotation (orthonormality error " + std::to_string(err) + ", det " +
+               std::to_string(R.determinant()) + ")");
   }
   // Re-orthonormalise hand-typed rotations (few decimals).
   Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
@@ -101,7 +103,8 @@ std::string format_extrinsics(const Extrinsics& e, bool with_body) {
     auto v = [](double x) { return x + 0.0; };  // no "-0"
     os << indent << "xyz: [" << v(T.translation().x()) << ", " << v(T.translation().y()) << ", "
        << v(T.translation().z()) << "]\n";
-    os << indent << "rpy: [" << v(rad_to_deg(roll)) << ", " << v(rad_to_deg(pitch)) << ", " << v(rad_to_deg(yaw)) << "]\n";
+    os << indent << "rpy: [" << v(rad_to_deg(roll)) << ", " << v(rad_to_deg(pitch)) << ", " << v(rad_to_deg(yaw))
+       << "]\n";
   };
   std::ostringstream os;
   os << "# camera pose in the world (T_world_camera); rpy in degrees, R = Rz(yaw) Ry(pitch) Rx(roll)\n";

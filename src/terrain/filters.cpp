@@ -224,8 +224,7 @@ std::size_t remove_statistical_outliers(PointCloud& cloud, const OutlierOptions&
     hi = hi.cwiseMax(p.head<2>());
   }
   const double area = std::max(1e-12, static_cast<double>(hi.x() - lo.x()) * (hi.y() - lo.y()));
-  double size = o.search_cell > 0 ? o.search_cell
-                                  : std::sqrt(area * static_cast<double>(k) / static_cast<double>(n));
+  double size = o.search_cell > 0 ? o.search_cell : std::sqrt(area * static_cast<double>(k) / static_cast<double>(n));
   size = std::max(size, 1e-6);
   const double cols = std::ceil((hi.x() - lo.x()) / size + 1) * std::ceil((hi.y() - lo.y()) / size + 1);
   const double max_cols = 4.0 * static_cast<double>(n) + (1 << 20);

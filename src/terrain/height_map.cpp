@@ -21,7 +21,9 @@ HeightMap::HeightMap(double x0, double y0, double cell, int nx, int ny)
       z_(static_cast<std::size_t>(nx) * ny, std::numeric_limits<float>::quiet_NaN()),
       state_(static_cast<std::size_t>(nx) * ny, CellState::Empty) {}
 
-std::size_t HeightMap::count(CellState s) const { return static_cast<std::size_t>(std::count(state_.begin(), state_.end(), s)); }
+std::size_t HeightMap::count(CellState s) const {
+  return static_cast<std::size_t>(std::count(state_.begin(), state_.end(), s));
+}
 
 std::optional<double> HeightMap::height_at(double x, double y) const {
   const double u = (x - x0_) / cell_ - 0.5, v = (y - y0_) / cell_ - 0.5;
@@ -141,9 +143,10 @@ HoleReport fill_holes(HeightMap& map, double max_gap, double max_fill_slope) {
           // A gap across which the height jumps steeply is an occlusion
           // shadow behind an edge: the hidden ground continues at the lower
           // side's height, so a ramp between the two would be made up.
-          const double z = std::abs(static_cast<double>(z1) - z2) > max_fill_slope * span
-                               ? std::min(z1, z2)
-                               : (static_cast<double>(z1) * d2 + static_cast<double>(z2) * d1) / static_cast<double>(d1 + d2);
+          const double z =
+              std::abs(static_cast<double>(z1) - z2) > max_fill_slope * span
+                  ? std::min(z1, z2)
+                  : (static_cast<double>(z1) * d2 + static_cast<double>(z2) * d1) / static_cast<double>(d1 + d2);
           const double w = 1.0 / span;  // shorter spans weigh more
           sum += w * z;
           wsum += w;
@@ -235,7 +238,8 @@ TriangleMesh triangulate_solid(const HeightMap& map, double base_thickness) {
           t = static_cast<std::int32_t>(mesh.vertices.size());
           const float z = map.height(i + di, j + dj);
           zmin = std::min(zmin, z);
-          mesh.vertices.emplace_back(static_cast<float>(map.centre_x(i + di)), static_cast<float>(map.centre_y(j + dj)), z);
+          mesh.vertices.emplace_back(static_cast<float>(map.centre_x(i + di)), static_cast<float>(map.centre_y(j + dj)),
+                                     z);
         }
       }
     }
@@ -247,7 +251,9 @@ TriangleMesh triangulate_solid(const HeightMap& map, double base_thickness) {
     mesh.vertices.emplace_back(mesh.vertices[v].x(), mesh.vertices[v].y(), zbase);
   }
   auto T = [&](int i, int j) { return static_cast<std::uint32_t>(top[map.index(i, j)]); };
-  auto B = [&](int i, int j) { return static_cast<std::uint32_t>(top[map.index(i, j)] + static_cast<std::int32_t>(ntop)); };
+  auto B = [&](int i, int j) {
+    return static_cast<std::uint32_t>(top[map.index(i, j)] + static_cast<std::int32_t>(ntop));
+  };
 
   for (int j = 0; j < qy; ++j) {
     for (int i = 0; i < qx; ++i) {

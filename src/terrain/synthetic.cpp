@@ -35,12 +35,18 @@ ShapeKind shape_kind_from_string(std::string_view name) {
 
 std::string to_string(ShapeKind kind) {
   switch (kind) {
-    case ShapeKind::Flat: return "flat";
-    case ShapeKind::Incline: return "incline";
-    case ShapeKind::Step: return "step";
-    case ShapeKind::Plateau: return "plateau";
-    case ShapeKind::Rubble: return "rubble";
-    case ShapeKind::Post: return "post";
+    case ShapeKind::Flat:
+      return "flat";
+    case ShapeKind::Incline:
+      return "incline";
+    case ShapeKind::Step:
+      return "step";
+    case ShapeKind::Plateau:
+      return "plateau";
+    case ShapeKind::Rubble:
+      return "rubble";
+    case ShapeKind::Post:
+      return "post";
   }
   return "?";
 }
@@ -61,9 +67,12 @@ void Shape::prepare() {
 double Shape::height(double x, double y) const {
   const Eigen::Vector2d p = local(*this, x, y);
   switch (kind) {
-    case ShapeKind::Flat: return base_z;
-    case ShapeKind::Incline: return base_z + std::tan(deg_to_rad(slope_deg)) * p.x();
-    case ShapeKind::Step: return base_z + (p.x() > edge_offset ? step_height : 0.0);
+    case ShapeKind::Flat:
+      return base_z;
+    case ShapeKind::Incline:
+      return base_z + std::tan(deg_to_rad(slope_deg)) * p.x();
+    case ShapeKind::Step:
+      return base_z + (p.x() > edge_offset ? step_height : 0.0);
     case ShapeKind::Plateau:
       return base_z + (std::abs(p.x()) < 0.5 * plateau_size.x() && std::abs(p.y()) < 0.5 * plateau_size.y()
                            ? plateau_height
@@ -87,14 +96,17 @@ double Shape::distance_to_edge(double x, double y) const {
   const Eigen::Vector2d p = local(*this, x, y);
   switch (kind) {
     case ShapeKind::Flat:
-    case ShapeKind::Incline: return kInf;
-    case ShapeKind::Step: return std::abs(p.x() - edge_offset);
+    case ShapeKind::Incline:
+      return kInf;
+    case ShapeKind::Step:
+      return std::abs(p.x() - edge_offset);
     case ShapeKind::Plateau: {
       const double dx = std::abs(p.x()) - 0.5 * plateau_size.x(), dy = std::abs(p.y()) - 0.5 * plateau_size.y();
       if (dx < 0 && dy < 0) return std::min(-dx, -dy);
       return std::hypot(std::max(dx, 0.0), std::max(dy, 0.0));
     }
-    case ShapeKind::Post: return std::abs((Eigen::Vector2d(x, y) - post_xy).norm() - post_radius);
+    case ShapeKind::Post:
+      return std::abs((Eigen::Vector2d(x, y) - post_xy).norm() - post_radius);
     case ShapeKind::Rubble: {
       double d = kInf;
       for (const Rock& r : rocks) {
@@ -124,11 +136,23 @@ PointCloud render_depth_scan(const Shape& shape, const DepthCamera& cam, const E
   // Height range of the shape bounds the ray march.
   double zlo = shape.base_z, zhi = shape.base_z;
   switch (shape.kind) {
-    case ShapeKind::Step: zhi += std::max(0.0, shape.step_height); zlo += std::min(0.0, shape.step_height); break;
-    case ShapeKind::Plateau: zhi += std::max(0.0, shape.plateau_height); zlo += std::min(0.0, shape.plateau_height); break;
-    case ShapeKind::Rubble: zhi += shape.rubble_max_height; break;
-    case ShapeKind::Post: zhi += std::max(0.0, shape.post_height); zlo += std::min(0.0, shape.post_height); break;
-    default: break;
+    case ShapeKind::Step:
+      zhi += std::max(0.0, shape.step_height);
+      zlo += std::min(0.0, shape.step_height);
+      break;
+    case ShapeKind::Plateau:
+      zhi += std::max(0.0, shape.plateau_height);
+      zlo += std::min(0.0, shape.plateau_height);
+      break;
+    case ShapeKind::Rubble:
+      zhi += shape.rubble_max_height;
+      break;
+    case ShapeKind::Post:
+      zhi += std::max(0.0, shape.post_height);
+      zlo += std::min(0.0, shape.post_height);
+      break;
+    default:
+      break;
   }
   const Eigen::Matrix3d R = T_world_camera.linear();
   const Eigen::Vector3d o = T_world_camera.translation();
@@ -137,7 +161,8 @@ PointCloud render_depth_scan(const Shape& shape, const DepthCamera& cam, const E
 
   for (std::size_t v = 0; v < h; ++v) {
     for (std::size_t u = 0; u < w; ++u) {
-      const Eigen::Vector3d ray_c((static_cast<double>(u) - cam.cx) / cam.fx, (static_cast<double>(v) - cam.cy) / cam.fy, 1.0);
+      const Eigen::Vector3d ray_c((static_cast<double>(u) - cam.cx) / cam.fx,
+                                  (static_cast<double>(v) - cam.cy) / cam.fy, 1.0);
       const Eigen::Vector3d d = R * ray_c;  // not unit: t is the optical depth
       if (d.z() >= -1e-9) continue;         // looks at or above the horizon
       auto f = [&](double t) {
@@ -172,7 +197,10 @@ PointCloud render_depth_scan(const Shape& shape, const DepthCamera& cam, const E
         if (fb <= 0) {
           for (int it = 0; it < 40; ++it) {  // bisect to well below a micrometre
             const double m = 0.5 * (a + b);
-            if (f(m) > 0) a = m; else b = m;
+            if (f(m) > 0)
+              a = m;
+            else
+              b = m;
           }
           const double t = 0.5 * (a + b);
           if (t >= cam.min_range && t <= cam.max_range) depth[v * w + u] = t;
@@ -216,9 +244,9 @@ PointCloud render_depth_scan(const Shape& shape, const DepthCamera& cam, const E
       } else {
         z += r_noise * z * z * cam.subpixel / (cam.fx * cam.baseline);
       }
-      cloud.points[v * w + u] = Eigen::Vector3f(static_cast<float>((static_cast<double>(u) - cam.cx) / cam.fx * z),
-                                                static_cast<float>((static_cast<double>(v) - cam.cy) / cam.fy * z),
-                                                static_cast<float>(z));
+      cloud.points[v * w + u] =
+          Eigen::Vector3f(static_cast<float>((static_cast<double>(u) - cam.cx) / cam.fx * z),
+                          static_cast<float>((static_cast<double>(v) - cam.cy) / cam.fy * z), static_cast<float>(z));
     }
   }
   return cloud;

@@ -12,7 +12,8 @@ bool TerrainOptions::validate(std::string* why) const {
     if (why) *why = w;
     return false;
   };
-  if (!(height_map.cell > 0) || !std::isfinite(height_map.cell)) return fail("cell must be a positive number of metres");
+  if (!(height_map.cell > 0) || !std::isfinite(height_map.cell))
+    return fail("cell must be a positive number of metres");
   if (!(height_map.max_hole >= 0) || !std::isfinite(height_map.max_hole)) return fail("max-hole must be >= 0 metres");
   if (!(height_map.max_fill_slope > 0)) return fail("max fill slope must be positive");
   if (!(flying_pixel_threshold >= 0) || !std::isfinite(flying_pixel_threshold)) {
@@ -24,7 +25,8 @@ bool TerrainOptions::validate(std::string* why) const {
   }
   if (!std::isfinite(voxel)) return fail("voxel must be a number of metres (< 0 auto, 0 off)");
   if (outliers.k < 0) return fail("outlier k must be >= 0");
-  if (!(outliers.std_ratio > 0) || !std::isfinite(outliers.std_ratio)) return fail("outlier std ratio must be positive");
+  if (!(outliers.std_ratio > 0) || !std::isfinite(outliers.std_ratio))
+    return fail("outlier std ratio must be positive");
   if (!(base_thickness > 0) || !std::isfinite(base_thickness)) return fail("base thickness must be positive");
   return true;
 }
@@ -51,10 +53,10 @@ TerrainResult mesh_terrain(PointCloud cloud, const TerrainOptions& o) {
   crop.T_body_camera = o.T_body_camera;
   r.points_cropped = crop_near_camera(cloud, crop);
   if (cloud.empty()) {
-    return finish(TerrainStatus::EmptyCloud,
-                  "no points left: " + std::to_string(r.points_read) + " read, " + std::to_string(r.points_non_finite) +
-                      " not finite, " + std::to_string(r.points_flying) + " flying pixels, " +
-                      std::to_string(r.points_cropped) + " cropped");
+    return finish(TerrainStatus::EmptyCloud, "no points left: " + std::to_string(r.points_read) + " read, " +
+                                                 std::to_string(r.points_non_finite) + " not finite, " +
+                                                 std::to_string(r.points_flying) + " flying pixels, " +
+                                                 std::to_string(r.points_cropped) + " cropped");
   }
   transform_cloud(cloud, o.T_world_camera);
   const double voxel = o.voxel < 0 ? 0.5 * o.height_map.cell : o.voxel;
@@ -80,16 +82,16 @@ TerrainResult mesh_terrain(PointCloud cloud, const TerrainOptions& o) {
   result.mesh = triangulate_solid(result.height_map, o.base_thickness);
   r.triangles = result.mesh.triangles.size();
   if (result.mesh.empty()) {
-    return finish(TerrainStatus::TooSmall,
-                  "the points cover " + std::to_string(r.cells) + " cell(s) of " + std::to_string(o.height_map.cell) +
-                      " m but a surface needs at least a 2 x 2 block of cells");
+    return finish(TerrainStatus::TooSmall, "the points cover " + std::to_string(r.cells) + " cell(s) of " +
+                                               std::to_string(o.height_map.cell) +
+                                               " m but a surface needs at least a 2 x 2 block of cells");
   }
   // Bounds of the top surface: x/y of all vertices, z of the top ones.
   r.bounds = Bounds3{};
   const std::size_t ntop = result.mesh.vertices.size() / 2;
   for (std::size_t k = 0; k < ntop; ++k) r.bounds.extend(result.mesh.vertices[k].cast<double>());
-  std::string msg = "terrain mesh of " + std::to_string(r.triangles) + " triangles from " +
-                    std::to_string(r.points_used) + " points";
+  std::string msg =
+      "terrain mesh of " + std::to_string(r.triangles) + " triangles from " + std::to_string(r.points_used) + " points";
   if (r.large_holes > 0) {
     msg += "; " + std::to_string(r.large_holes) + " hole(s) wider than " + std::to_string(o.height_map.max_hole) +
            " m left open (" + std::to_string(r.large_hole_cells) + " cells)";

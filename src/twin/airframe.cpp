@@ -15,7 +15,6 @@
 namespace touchdown::twin {
 namespace {
 
-
 std::string fmt(double v) {
   std::ostringstream os;
   os << v;

@@ -278,8 +278,8 @@ void collide_capsule(const TerrainModel& terrain, const Eigen::Vector3d& a, cons
   }
 }
 
-void collide_disk(const TerrainModel& terrain, const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius,
-                  double half_thickness, Scratch& scratch, std::vector<Contact>& out) {
+void collide_disk(const TerrainModel& terrain, const Eigen::Vector3d& centre, const Eigen::Vector3d& axis,
+                  double radius, double half_thickness, Scratch& scratch, std::vector<Contact>& out) {
   const DiskShape s{centre, axis.normalized(), radius, half_thickness};
   // AABB of a disk: radius·sqrt(1 - n_i²) + h·|n_i| per axis.
   const Eigen::Array3d n2 = s.n.array().square();

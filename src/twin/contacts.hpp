@@ -41,8 +41,8 @@ void collide_sphere(const TerrainModel& terrain, const Eigen::Vector3d& centre, 
                     std::vector<Contact>& out);
 void collide_capsule(const TerrainModel& terrain, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double radius,
                      Scratch& scratch, std::vector<Contact>& out);
-void collide_disk(const TerrainModel& terrain, const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius,
-                  double half_thickness, Scratch& scratch, std::vector<Contact>& out);
+void collide_disk(const TerrainModel& terrain, const Eigen::Vector3d& centre, const Eigen::Vector3d& axis,
+                  double radius, double half_thickness, Scratch& scratch, std::vector<Contact>& out);
 void collide_box(const TerrainModel& terrain, const Eigen::Vector3d& centre, const Eigen::Matrix3d& axes,
                  const Eigen::Vector3d& half_extents, Scratch& scratch, std::vector<Contact>& out);
 

@@ -94,8 +94,8 @@ class Run {
       const Eigen::Vector3d r = af_.motor_position(i) - com_;
       const auto c = static_cast<Eigen::Index>(i);
       alloc_(0, c) = 1.0;
-      alloc_(1, c) = r.y();   // roll torque of a thrust along +z at r
-      alloc_(2, c) = -r.x();  // pitch torque
+      alloc_(1, c) = r.y();                                  // roll torque of a thrust along +z at r
+      alloc_(2, c) = -r.x();                                 // pitch torque
       alloc_(3, c) = -af_.spin[i] * af_.torque_coefficient;  // reaction torque opposes the spin
     }
     alloc_pinv_ = alloc_.transpose() * (alloc_ * alloc_.transpose()).inverse();
@@ -147,7 +147,9 @@ class Run {
     dBodySetAngularVel(body_, 0, 0, 0);
   }
 
-  void set_motors_hover() { std::fill(motor_.begin(), motor_.end(), hover_thrust_ / static_cast<double>(motor_.size())); }
+  void set_motors_hover() {
+    std::fill(motor_.begin(), motor_.end(), hover_thrust_ / static_cast<double>(motor_.size()));
+  }
 
   RunResult fly(const LandingConditions& lc, bool armed) {
     RunResult res;
@@ -234,8 +236,8 @@ class Run {
         Eigen::Vector3d w_sp(-cp.roll_p * e_R.x(), -cp.pitch_p * e_R.y(), -cp.yaw_p * e_R.z());
         const double yaw_rate_max = deg_to_rad(cp.yaw_rate_max_deg);
         w_sp.z() = std::clamp(w_sp.z(), -yaw_rate_max, yaw_rate_max);
-        const Eigen::Vector3d alpha(cp.rate_p_roll_pitch * (w_sp.x() - w.x()), cp.rate_p_roll_pitch * (w_sp.y() - w.y()),
-                                    cp.rate_p_yaw * (w_sp.z() - w.z()));
+        const Eigen::Vector3d alpha(cp.rate_p_roll_pitch * (w_sp.x() - w.x()),
+                                    cp.rate_p_roll_pitch * (w_sp.y() - w.y()), cp.rate_p_yaw * (w_sp.z() - w.z()));
         const Eigen::Matrix3d J = af_.inertia_about_com();
         const Eigen::Vector3d tau = J * alpha + w.cross(J * w);
         double thrust = std::max(0.0, F.dot(R.col(2)));
@@ -345,10 +347,18 @@ class Run {
       for (std::size_t k = 0; k < contacts.size(); ++k) {
         switch (contact_kind[k]) {
           case PartKind::Foot:
-          case PartKind::Leg: foot_touch[static_cast<std::size_t>(contact_foot[k])] = true; break;
-          case PartKind::Arm: res.arm_strike = true; break;
-          case PartKind::Propeller: res.prop_strike = true; break;
-          case PartKind::Body: res.body_strike = true; break;
+          case PartKind::Leg:
+            foot_touch[static_cast<std::size_t>(contact_foot[k])] = true;
+            break;
+          case PartKind::Arm:
+            res.arm_strike = true;
+            break;
+          case PartKind::Propeller:
+            res.prop_strike = true;
+            break;
+          case PartKind::Body:
+            res.body_strike = true;
+            break;
         }
         dContact c{};
         c.surface.mode = dContactApprox1 | dContactSoftERP | dContactSoftCFM;
@@ -426,9 +436,12 @@ class Run {
 
 std::string to_string(RunStatus status) {
   switch (status) {
-    case RunStatus::Settled: return "settled";
-    case RunStatus::Timeout: return "timeout";
-    case RunStatus::Unstable: return "unstable";
+    case RunStatus::Settled:
+      return "settled";
+    case RunStatus::Timeout:
+      return "timeout";
+    case RunStatus::Unstable:
+      return "unstable";
   }
   return "?";
 }
@@ -457,7 +470,8 @@ bool SimulationOptions::validate(std::string* why) const {
     return invalid(why, "contact_damping: must be >= 0 [N s/m]");
   }
   if (solver_iterations < 1) return invalid(why, "solver_iterations: must be >= 1");
-  if (!(tip_nutation > 0 && tip_nutation <= std::numbers::pi)) return invalid(why, "tip_nutation: must be in (0, pi] rad");
+  if (!(tip_nutation > 0 && tip_nutation <= std::numbers::pi))
+    return invalid(why, "tip_nutation: must be in (0, pi] rad");
   return true;
 }
 

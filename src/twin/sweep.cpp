@@ -14,8 +14,7 @@
 #include "touchdown/core/units.hpp"
 
 namespace touchdown::twin {
-namespace {
-}
+namespace {}
 
 bool SweepOptions::validate(std::string* why) const {
   auto fail = [&](const std::string& w) {
@@ -119,16 +118,12 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
   int rounds = 0;
   if (o.time_budget > 0) {
     for (int i = 0; i < m; ++i) {
-      arena.execute([&] {
-        tbb::parallel_for(0, n, [&](int j) { fly(static_cast<std::size_t>(j) * m + i); });
-      });
+      arena.execute([&] { tbb::parallel_for(0, n, [&](int j) { fly(static_cast<std::size_t>(j) * m + i); }); });
       ++rounds;
       if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > o.time_budget) break;
     }
   } else {
-    arena.execute([&] {
-      tbb::parallel_for(std::size_t{0}, total, [&](std::size_t k) { fly(k); });
-    });
+    arena.execute([&] { tbb::parallel_for(std::size_t{0}, total, [&](std::size_t k) { fly(k); }); });
     rounds = m;
   }
   if (rounds < m) {
@@ -170,8 +165,8 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
     if (valid > 0) h.mean /= valid;
     h.safe = h.runs > 0 && h.invalid_runs == 0 && h.score < threshold;
     if (o.metric == SafetyMetric::Full) {
-      h.safe = h.safe && h.prop_strike_runs == 0 && h.arm_strike_runs == 0 && h.body_strike_runs == 0 &&
-               h.tipped_runs == 0;
+      h.safe =
+          h.safe && h.prop_strike_runs == 0 && h.arm_strike_runs == 0 && h.body_strike_runs == 0 && h.tipped_runs == 0;
     }
   }
   // ψ* = argmin S over safe headings (ties: the lowest heading); if none is
@@ -198,8 +193,10 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
 
 std::string_view to_string(SweepStatus status) {
   switch (status) {
-    case SweepStatus::Ok: return "ok";
-    case SweepStatus::FootprintNotCovered: return "footprint_not_covered";
+    case SweepStatus::Ok:
+      return "ok";
+    case SweepStatus::FootprintNotCovered:
+      return "footprint_not_covered";
   }
   return "unknown";
 }
@@ -221,9 +218,10 @@ SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<cons
     }
   }
   // Nearest to the requested point first (stable: row-major within a ring).
-  std::stable_sort(out.candidates.begin(), out.candidates.end(), [&](const SearchCandidate& a, const SearchCandidate& b) {
-    return (a.xy - options.landing_point).norm() < (b.xy - options.landing_point).norm() - 1e-12;
-  });
+  std::stable_sort(out.candidates.begin(), out.candidates.end(),
+                   [&](const SearchCandidate& a, const SearchCandidate& b) {
+                     return (a.xy - options.landing_point).norm() < (b.xy - options.landing_point).norm() - 1e-12;
+                   });
   for (std::size_t k = 0; k < out.candidates.size(); ++k) {
     auto& c = out.candidates[k];
     SweepOptions o = options;
@@ -235,8 +233,7 @@ SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<cons
     c.yaw = r.headings[static_cast<std::size_t>(r.best)].yaw;
     c.score = r.headings[static_cast<std::size_t>(r.best)].score;
     c.safe = r.safe;
-    const bool better = out.best < 0 ||
-                        (c.safe && !out.candidates[static_cast<std::size_t>(out.best)].safe) ||
+    const bool better = out.best < 0 || (c.safe && !out.candidates[static_cast<std::size_t>(out.best)].safe) ||
                         (c.safe == out.candidates[static_cast<std::size_t>(out.best)].safe &&
                          c.score < out.candidates[static_cast<std::size_t>(out.best)].score);
     if (better) {

@@ -114,7 +114,8 @@ void TerrainModel::triangles_overlapping(const Eigen::AlignedBox3d& box, std::ve
 
 std::optional<double> TerrainModel::top_z(double x, double y) const {
   std::vector<std::uint32_t> tris;
-  const Eigen::AlignedBox3d column(Eigen::Vector3d(x, y, bounds_.min.z() - 1), Eigen::Vector3d(x, y, bounds_.max.z() + 1));
+  const Eigen::AlignedBox3d column(Eigen::Vector3d(x, y, bounds_.min.z() - 1),
+                                   Eigen::Vector3d(x, y, bounds_.max.z() + 1));
   triangles_overlapping(column, tris);
   std::optional<double> best;
   for (std::uint32_t t : tris) {
@@ -164,7 +165,8 @@ std::optional<double> TerrainModel::max_top_z(const Eigen::Vector2d& centre, dou
 std::shared_ptr<const TerrainModel> load_terrain_model(const std::filesystem::path& path,
                                                        const terrain::TerrainOptions& cloud_options) {
   std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   const bool mesh_ext = ext == ".stl" || ext == ".obj";
   const bool ply = ext == ".ply";
   if (mesh_ext) return std::make_shared<const TerrainModel>(read_mesh(path));

@@ -102,7 +102,8 @@ SafetyThreshold compute_safety_threshold(const Airframe& af) {
         double lowest = std::numeric_limits<double>::infinity();
         for (std::size_t i = 0; i < af.motor_count(); ++i) {
           const Disk d = af.propeller(i);
-          lowest = std::min(lowest, disk_lowest_z(pivot + R * (d.centre - pivot), R * d.axis, d.radius, d.half_thickness));
+          lowest =
+              std::min(lowest, disk_lowest_z(pivot + R * (d.centre - pivot), R * d.axis, d.radius, d.half_thickness));
         }
         return lowest - af.ground_z();
       };

@@ -46,9 +46,10 @@ TEST(LandingSweepApp, JsonCsvAndPlot) {
   EXPECT_EQ(j["safe_headings_deg"].size(), 4u);
   EXPECT_TRUE(j["best"]["safe"].get<bool>());
   EXPECT_LT(j["best"]["score_rad"].get<double>(), 0.02);
-  EXPECT_NEAR(j["threshold_rad"].get<double>(),
-              std::min(j["threshold_parts"]["tip_rad"].get<double>(), j["threshold_parts"]["prop_strike_rad"].get<double>()),
-              1e-9);
+  EXPECT_NEAR(
+      j["threshold_rad"].get<double>(),
+      std::min(j["threshold_parts"]["tip_rad"].get<double>(), j["threshold_parts"]["prop_strike_rad"].get<double>()),
+      1e-9);
   const std::string csv = td::test::read_text(dir / "runs.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 9);  // header + 8 runs
   const std::string svg = td::test::read_text(dir / "s.svg");
@@ -59,14 +60,13 @@ TEST(LandingSweepApp, JsonCsvAndPlot) {
 TEST(LandingSweepAppBadInput, AirframeKeyIsNamed) {
   TempDir dir;
   const auto terrain = flat_stl(dir);
-  td::test::write_text(dir / "af.yaml", td::test::read_text(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) /
-                                                            "data/airframes/f450.yaml"));
+  td::test::write_text(dir / "af.yaml",
+                       td::test::read_text(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/airframes/f450.yaml"));
   std::string y = td::test::read_text(dir / "af.yaml");
   y.replace(y.find("  mass: 0.95"), 11, "  mass: -1.0");
   td::test::write_text(dir / "af.yaml", y);
-  const AppRun r = run(terrain + " --airframe " + (dir / "af.yaml").string() + " --runs-csv " +
-                           (dir / "runs.csv").string(),
-                       dir);
+  const AppRun r =
+      run(terrain + " --airframe " + (dir / "af.yaml").string() + " --runs-csv " + (dir / "runs.csv").string(), dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("af.yaml: body.mass: must be positive"), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);

@@ -270,8 +270,7 @@ TEST(LedPoseAppBadInput, DepthOfAnotherSize) {
 TEST(LedPoseAppBadInput, CameraWithNegativeFocalLength) {
   TempDir dir;
   const auto seq = rendered_sequence(dir);
-  const std::string yaml =
-      td::test::replace_key_line(td::test::read_text(seq / "camera.yaml"), "fx", "fx: -1");
+  const std::string yaml = td::test::replace_key_line(td::test::read_text(seq / "camera.yaml"), "fx", "fx: -1");
   ASSERT_NE(yaml.find("fx: -1"), std::string::npos);
   td::test::write_text(dir / "cam.yaml", yaml);
   const AppRun r = run(seq.string() + " --jsonl --camera " + (dir / "cam.yaml").string(), dir);
@@ -335,8 +334,7 @@ TEST(LedPoseAppBadInput, UnknownArucoDictionary) {
 TEST(LedPoseAppBadInput, FramesOfAnotherSizeThanTheCamera) {
   TempDir dir;
   const auto seq = rendered_sequence(dir);
-  const std::string yaml =
-      td::test::replace_key_line(td::test::read_text(seq / "camera.yaml"), "width", "width: 640");
+  const std::string yaml = td::test::replace_key_line(td::test::read_text(seq / "camera.yaml"), "width", "width: 640");
   ASSERT_NE(yaml.find("width: 640"), std::string::npos);
   td::test::write_text(dir / "cam640.yaml", yaml);
   const AppRun r = run(seq.string() + " --jsonl --camera " + (dir / "cam640.yaml").string(), dir);

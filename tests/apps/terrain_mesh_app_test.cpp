@@ -53,11 +53,12 @@ std::string small_step_pcd() {
 TEST(TerrainMeshApp, JsonReportAndClosedMesh) {
   TempDir dir;
   td::test::write_text(dir / "step.pcd", small_step_pcd());
-  const AppRun r = run((dir / "step.pcd").string() + " -o " + (dir / "step.stl").string() + " --json --outlier-k 0", dir);
+  const AppRun r =
+      run((dir / "step.pcd").string() + " -o " + (dir / "step.stl").string() + " --json --outlier-k 0", dir);
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
-  for (const char* key : {"input", "output", "points_read", "points_used", "cells", "holes_filled", "triangles",
-                          "bounds", "seconds"}) {
+  for (const char* key :
+       {"input", "output", "points_read", "points_used", "cells", "holes_filled", "triangles", "bounds", "seconds"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_EQ(j["points_read"], 2400);
@@ -73,8 +74,8 @@ TEST(TerrainMeshApp, SavesTheFilteredCloud) {
   TempDir dir;
   td::test::write_text(dir / "step.pcd", small_step_pcd());
   const AppRun r = run((dir / "step.pcd").string() + " -o " + (dir / "step.ply").string() + " --save-cloud " +
-                        (dir / "kept.pcd").string() + " --json",
-                    dir);
+                           (dir / "kept.pcd").string() + " --json",
+                       dir);
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(td::read_cloud(dir / "kept.pcd").size(), j["points_used"].get<std::size_t>());
@@ -88,7 +89,8 @@ TEST(TerrainMeshAppBadInput, TruncatedBinary) {
 
 TEST(TerrainMeshAppBadInput, HeaderCountMismatch) {
   TempDir dir;
-  expect_bad_input(dir, "count.pcd", kHead + "WIDTH 3\nHEIGHT 1\nPOINTS 3\nDATA ascii\n1 2 3\n", "header/count mismatch");
+  expect_bad_input(dir, "count.pcd", kHead + "WIDTH 3\nHEIGHT 1\nPOINTS 3\nDATA ascii\n1 2 3\n",
+                   "header/count mismatch");
 }
 
 TEST(TerrainMeshAppBadInput, UnknownDataType) {
@@ -141,9 +143,9 @@ TEST(TerrainMeshAppBadInput, BadOptionsAndExtrinsics) {
   TempDir dir;
   td::test::write_text(dir / "step.pcd", small_step_pcd());
   td::test::write_text(dir / "cam.yaml", "xyz: [0, 0]\n");
-  AppRun r = run((dir / "step.pcd").string() + " -o " + (dir / "o.stl").string() + " --extrinsics " +
-                  (dir / "cam.yaml").string(),
-              dir);
+  AppRun r = run(
+      (dir / "step.pcd").string() + " -o " + (dir / "o.stl").string() + " --extrinsics " + (dir / "cam.yaml").string(),
+      dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("cam.yaml:1: xyz: expected 3 numbers"), std::string::npos) << r.err;
   r = run((dir / "step.pcd").string() + " -o " + (dir / "o.stl").string() + " --cell -1", dir);

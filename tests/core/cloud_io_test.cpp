@@ -104,8 +104,9 @@ TEST(CloudIo, PcdAnyFieldOrderAndTypesWithExtraFields) {
   EXPECT_EQ(c.points[1], Eigen::Vector3f(2.5f, 12.f, -1.f));
 
   // The same as binary: rgb(4) z(4) normal(12) y(2) x(8) = 30 bytes a point.
-  std::string bin = "VERSION 0.7\nFIELDS rgb z normal y x\nSIZE 4 4 4 2 8\nTYPE F F F I F\nCOUNT 1 1 3 1 1\n"
-                    "WIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA binary\n";
+  std::string bin =
+      "VERSION 0.7\nFIELDS rgb z normal y x\nSIZE 4 4 4 2 8\nTYPE F F F I F\nCOUNT 1 1 3 1 1\n"
+      "WIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA binary\n";
   for (const auto& [x, y, z] : {std::tuple{1.25, std::int16_t{-7}, 3.5f}, std::tuple{2.5, std::int16_t{12}, -1.f}}) {
     char rec[30] = {};
     std::memcpy(rec + 4, &z, 4);
@@ -120,14 +121,16 @@ TEST(CloudIo, PcdAnyFieldOrderAndTypesWithExtraFields) {
 }
 
 TEST(CloudIo, PcdOldHeaderWithoutViewpointOrPoints) {
-  const auto c = parse_pcd("# .PCD v.5\nVERSION .5\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
-                           "WIDTH 1\nHEIGHT 1\nDATA ascii\n1 2 3\n");
+  const auto c = parse_pcd(
+      "# .PCD v.5\nVERSION .5\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+      "WIDTH 1\nHEIGHT 1\nDATA ascii\n1 2 3\n");
   ASSERT_EQ(c.size(), 1u);
   EXPECT_EQ(c.points[0], Eigen::Vector3f(1, 2, 3));
 }
 
 TEST(CloudIo, PcdAsciiNanValues) {
-  const auto c = parse_pcd("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\nnan nan nan\n1 2 3\n");
+  const auto c =
+      parse_pcd("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\nnan nan nan\n1 2 3\n");
   ASSERT_EQ(c.size(), 2u);
   EXPECT_TRUE(std::isnan(c.points[0].x()));
   EXPECT_EQ(c.points[1], Eigen::Vector3f(1, 2, 3));
@@ -290,9 +293,10 @@ TEST(CloudIo, PlyMixedTypesAndFacesBeforeVertices) {
   EXPECT_EQ(c.points[0], Eigen::Vector3f(1.5f, -3.f, 0.25f));
   EXPECT_EQ(c.points[1], Eigen::Vector3f(-2.f, 300.f, 8.f));
 
-  std::istringstream ascii("ply\nformat ascii 1.0\nelement vertex 2\nproperty float z\nproperty float y\n"
-                           "property float x\nproperty uchar alpha\nelement face 1\nproperty list uchar int vertex_indices\n"
-                           "end_header\n3 2 1 255\n6 5 4 0\n3 0 1 1\n");
+  std::istringstream ascii(
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty float z\nproperty float y\n"
+      "property float x\nproperty uchar alpha\nelement face 1\nproperty list uchar int vertex_indices\n"
+      "end_header\n3 2 1 255\n6 5 4 0\n3 0 1 1\n");
   const auto ca = td::read_ply_cloud(ascii, "mem.ply");
   ASSERT_EQ(ca.size(), 2u);
   EXPECT_EQ(ca.points[0], Eigen::Vector3f(1, 2, 3));
@@ -336,7 +340,8 @@ TEST(CloudIoBadInput, PlyErrors) {
 // ---- XYZ -----------------------------------------------------------------------
 
 TEST(CloudIo, XyzCommentsSeparatorsAndExtraColumns) {
-  std::istringstream in("# a comment\nx_is_not_here_either_but_commented # \n\n1 2 3\n4,5,6 # trailing\n 7\t8\t9 255\n");
+  std::istringstream in(
+      "# a comment\nx_is_not_here_either_but_commented # \n\n1 2 3\n4,5,6 # trailing\n 7\t8\t9 255\n");
   // The second line has no '#' before text: it must fail. Use a clean one instead.
   std::istringstream ok("# a comment\n\n1 2 3\n4,5,6 # trailing\n 7\t8\t9 255\n-1e-3;+2;3.5e2\n");
   const auto c = td::read_xyz(ok, "mem.xyz");

@@ -22,9 +22,8 @@ td::TriangleMesh tetra() {
 
 std::vector<Eigen::Vector3f> sorted_vertices(const td::TriangleMesh& m) {
   auto v = td::weld_vertices(m).vertices;
-  std::sort(v.begin(), v.end(), [](const auto& a, const auto& b) {
-    return std::tie(a.x(), a.y(), a.z()) < std::tie(b.x(), b.y(), b.z());
-  });
+  std::sort(v.begin(), v.end(),
+            [](const auto& a, const auto& b) { return std::tie(a.x(), a.y(), a.z()) < std::tie(b.x(), b.y(), b.z()); });
   return v;
 }
 
@@ -34,9 +33,11 @@ TEST(MeshIo, RoundTripEveryFormat) {
   TempDir dir;
   const auto m = tetra();
   ASSERT_GT(td::signed_volume(m), 0);
-  const std::vector<std::pair<std::string, td::MeshFormat>> cases = {
-      {"a.stl", td::MeshFormat::StlBinary}, {"b.stl", td::MeshFormat::StlAscii}, {"c.ply", td::MeshFormat::PlyBinary},
-      {"d.ply", td::MeshFormat::PlyAscii},  {"e.obj", td::MeshFormat::Obj}};
+  const std::vector<std::pair<std::string, td::MeshFormat>> cases = {{"a.stl", td::MeshFormat::StlBinary},
+                                                                     {"b.stl", td::MeshFormat::StlAscii},
+                                                                     {"c.ply", td::MeshFormat::PlyBinary},
+                                                                     {"d.ply", td::MeshFormat::PlyAscii},
+                                                                     {"e.obj", td::MeshFormat::Obj}};
   for (const auto& [name, fmt] : cases) {
     SCOPED_TRACE(name);
     td::write_mesh(m, dir / name, fmt);

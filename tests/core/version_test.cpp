@@ -1,5 +1,5 @@
-#include "touchdown/touchdown.hpp"
-
 #include <gtest/gtest.h>
+
+#include "touchdown/touchdown.hpp"
 
 TEST(Version, MatchesProjectVersion) { EXPECT_EQ(touchdown::version(), TOUCHDOWN_EXPECTED_VERSION); }

@@ -9,8 +9,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {
-    const auto samples = touchdown::pose::parse_ground_truth(
-        std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.jsonl");
+    const auto samples =
+        touchdown::pose::parse_ground_truth(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.jsonl");
     for (const auto& s : samples) {
       // A parsed pose is always a finite proper rigid transform.
       const double det = s.T_camera_body.linear().determinant();

@@ -7,16 +7,15 @@
 
 #include <gtest/gtest.h>
 
-#include <opencv2/aruco.hpp>
-#include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <opencv2/aruco.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 #include <vector>
 
 #include "touchdown/core/error.hpp"
@@ -249,8 +248,8 @@ TEST(ArucoPoseEstimator, ExactCornersGiveTheExactPose) {
   cases.push_back({"exactly fronto-parallel on the axis, 0.6 m", camera_marker({0, 0, 0.6}), 0});
   cases.push_back({"exactly fronto-parallel on the axis, 0.645 m", camera_marker({0, 0, 0.645}), 0});
   cases.push_back({"exactly fronto-parallel, 1 cm off the axis", camera_marker({0.01, 0, 0.645}), 0});
-  cases.push_back({"fronto-parallel turned 180 deg", camera_marker({0, 0, 0.7}, 0, Eigen::Vector3d::UnitX(),
-                                                                  std::numbers::pi), 0});
+  cases.push_back(
+      {"fronto-parallel turned 180 deg", camera_marker({0, 0, 0.7}, 0, Eigen::Vector3d::UnitX(), std::numbers::pi), 0});
   cases.push_back({"tilted 1e-4 rad", camera_marker({0.02, 0.01, 0.8}, 1e-4, Eigen::Vector3d::UnitY()), 0});
   for (const CameraModel& cam : {d435(), distorted}) {
     ArucoPoseEstimator estimator(cam, mount(), ArucoOptions{});
@@ -337,8 +336,7 @@ TEST(ArucoPoseEstimator, DeclaredMountDeterminesTheBodyPose) {
   ArucoPoseEstimator a(cam, mount(), ArucoOptions{});
   ArucoPoseEstimator b(cam, other, ArucoOptions{});
   ArucoPoseEstimator identity(cam, Eigen::Isometry3d::Identity(), ArucoOptions{});
-  const PoseEstimate ea = a.estimate(image.view()), eb = b.estimate(image.view()),
-                     ei = identity.estimate(image.view());
+  const PoseEstimate ea = a.estimate(image.view()), eb = b.estimate(image.view()), ei = identity.estimate(image.view());
   ASSERT_TRUE(ea.ok());
   ASSERT_TRUE(eb.ok());
   ASSERT_TRUE(ei.ok());

@@ -81,7 +81,9 @@ TEST(Epnp, AgreesWithOpenCvSolversOnNoisyWellConditionedCases) {
       const double d = T.translation().z();
       const double ours_err = (ours.T_camera_body.translation() - T.translation()).norm();
       const double cv_err = (cv_epnp.translation() - T.translation()).norm();
-      EXPECT_LT(ours_err, 1.5 * cv_err + 0.01 * d) << "shape " << int(shape) << " case " << k << " ours " << ours_err << " cv " << cv_err << " rms " << ours.rms_px << " planar " << ours.planar;
+      EXPECT_LT(ours_err, 1.5 * cv_err + 0.01 * d)
+          << "shape " << int(shape) << " case " << k << " ours " << ours_err << " cv " << cv_err << " rms "
+          << ours.rms_px << " planar " << ours.planar;
       // After Gauss–Newton we sit at the least-squares minimum, as
       // OpenCV's ITERATIVE (Levenberg–Marquardt) and SQPnP do.
       const auto refined = tp::solve_pnp(kCamera, p, uv);

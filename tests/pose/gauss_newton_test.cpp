@@ -10,7 +10,6 @@
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 
-
 using namespace touchdown::pose_test;
 
 TEST(GaussNewton, JacobianMatchesFiniteDifferences) {
@@ -129,5 +128,6 @@ TEST(GaussNewtonOptions, ValidateNamesTheFieldAndRefineRefusesBadOptions) {
   EXPECT_EQ(why.rfind("huber_px:", 0), 0u) << why;
   const std::vector<Eigen::Vector3d> p = {{0, 0, 0}, {0.1, 0, 0}, {0, 0.1, 0}, {0.1, 0.1, 0.02}};
   const std::vector<Eigen::Vector2d> uv(4, Eigen::Vector2d(320, 240));
-  EXPECT_THROW(tp::refine_pose_gauss_newton(kCamera, p, uv, Eigen::Isometry3d::Identity(), o), touchdown::InvalidArgument);
+  EXPECT_THROW(tp::refine_pose_gauss_newton(kCamera, p, uv, Eigen::Isometry3d::Identity(), o),
+               touchdown::InvalidArgument);
 }

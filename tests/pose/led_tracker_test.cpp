@@ -127,7 +127,8 @@ TEST(Correspondence, TooFewOrInconsistentBlobsGiveAStatusNotAPose) {
     noise[i].color = k.leds[i].color;
   }
   const auto c = tp::find_correspondences(cam, k, noise);
-  EXPECT_NE(c.status, tp::PoseStatus::Ok) << c.matched << " rms " << c.fit.rms_px << " z " << c.fit.T_camera_body.translation().transpose();
+  EXPECT_NE(c.status, tp::PoseStatus::Ok)
+      << c.matched << " rms " << c.fit.rms_px << " z " << c.fit.T_camera_body.translation().transpose();
 }
 
 TEST(LedTracker, TracksASmoothTrajectoryWithoutReinitialising) {

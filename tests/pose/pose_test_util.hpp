@@ -39,7 +39,7 @@ inline Eigen::Isometry3d random_pose(touchdown::Rng& rng) {
 }
 
 inline std::vector<Eigen::Vector2d> observe(const Eigen::Isometry3d& T, const std::vector<Eigen::Vector3d>& p,
-                                     touchdown::Rng& rng, double noise_px) {
+                                            touchdown::Rng& rng, double noise_px) {
   std::vector<Eigen::Vector2d> uv;
   for (const auto& q : p) uv.push_back(kCamera.project(T * q) + noise_px * Eigen::Vector2d(rng.normal(), rng.normal()));
   return uv;
@@ -51,6 +51,5 @@ inline Eigen::Isometry3d perturb(const Eigen::Isometry3d& T, touchdown::Rng& rng
   for (int i = 3; i < 6; ++i) d[i] = rng.uniform(-0.12, 0.12);  // about 7°
   return tp::se3_exp(d) * T;
 }
-
 
 }  // namespace touchdown::pose_test

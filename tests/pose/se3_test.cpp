@@ -24,5 +24,6 @@ TEST(Se3, ExpLogRoundTripAndKnownValues) {
   tp::Vector6d tr = tp::Vector6d::Zero();
   tr.head<3>() = Eigen::Vector3d(1, 2, 3);
   EXPECT_TRUE(tp::se3_exp(tr).translation().isApprox(Eigen::Vector3d(1, 2, 3)));
-  EXPECT_TRUE((tp::hat(Eigen::Vector3d(1, 2, 3)) * Eigen::Vector3d(4, 5, 6)).isApprox(Eigen::Vector3d(1, 2, 3).cross(Eigen::Vector3d(4, 5, 6))));
+  EXPECT_TRUE((tp::hat(Eigen::Vector3d(1, 2, 3)) * Eigen::Vector3d(4, 5, 6))
+                  .isApprox(Eigen::Vector3d(1, 2, 3).cross(Eigen::Vector3d(4, 5, 6))));
 }

@@ -55,9 +55,12 @@ Eigen::Isometry3d below(double distance, double yaw_deg = 30, double tilt_deg = 
 
 int channel_of(tp::LedColor c) {
   switch (c) {
-    case tp::LedColor::Blue: return 0;
-    case tp::LedColor::Green: return 1;
-    default: return 2;
+    case tp::LedColor::Blue:
+      return 0;
+    case tp::LedColor::Green:
+      return 1;
+    default:
+      return 2;
   }
 }
 

@@ -38,16 +38,17 @@ TEST(Extrinsics, XyzRpyDegrees) {
 TEST(Extrinsics, RpyOrderIsZYX) {
   const double d = std::numbers::pi / 180;
   const Eigen::Matrix3d R = tt::rotation_from_rpy(10 * d, 20 * d, 30 * d);
-  const Eigen::Matrix3d expected = (Eigen::AngleAxisd(30 * d, Eigen::Vector3d::UnitZ()) *
-                                    Eigen::AngleAxisd(20 * d, Eigen::Vector3d::UnitY()) *
-                                    Eigen::AngleAxisd(10 * d, Eigen::Vector3d::UnitX()))
-                                       .toRotationMatrix();
+  const Eigen::Matrix3d expected =
+      (Eigen::AngleAxisd(30 * d, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(20 * d, Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(10 * d, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
   EXPECT_TRUE(R.isApprox(expected, 1e-14));
 }
 
 TEST(Extrinsics, MatrixFlatOrNestedAndBody) {
-  const std::string flat = "matrix: [0, -1, 0, 0.5,  1, 0, 0, -0.25,  0, 0, 1, 2,  0, 0, 0, 1]\n"
-                           "body:\n  xyz: [0.1, 0, -0.05]\n  rpy: [0, 0, 0]\n";
+  const std::string flat =
+      "matrix: [0, -1, 0, 0.5,  1, 0, 0, -0.25,  0, 0, 1, 2,  0, 0, 0, 1]\n"
+      "body:\n  xyz: [0.1, 0, -0.05]\n  rpy: [0, 0, 0]\n";
   const std::string nested = "matrix:\n  - [0, -1, 0, 0.5]\n  - [1, 0, 0, -0.25]\n  - [0, 0, 1, 2]\n  - [0, 0, 0, 1]\n";
   const auto a = tt::parse_extrinsics(flat, "a.yaml");
   const auto b = tt::parse_extrinsics(nested, "b.yaml");
@@ -65,7 +66,8 @@ TEST(Extrinsics, FormatParseRoundTrip) {
   EXPECT_TRUE(back.T_body_camera.isApprox(e.T_body_camera, 1e-12));
   // Gimbal lock (pitch = 90 deg) still round-trips.
   e.T_world_camera = tt::pose_from_xyz_rpy({0, 0, 1}, {0.0, std::numbers::pi / 2, 0.7});
-  EXPECT_TRUE(tt::parse_extrinsics(tt::format_extrinsics(e, false), "x").T_world_camera.isApprox(e.T_world_camera, 1e-9));
+  EXPECT_TRUE(
+      tt::parse_extrinsics(tt::format_extrinsics(e, false), "x").T_world_camera.isApprox(e.T_world_camera, 1e-9));
 }
 
 TEST(ExtrinsicsBadInput, ErrorsNameTheKey) {
@@ -78,14 +80,14 @@ TEST(ExtrinsicsBadInput, ErrorsNameTheKey) {
   EXPECT_NE(error_of("matrix: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1]\n").find("last row must be 0 0 0 1"),
             std::string::npos);
   EXPECT_NE(error_of("matrix: [1, 0, 0]\n").find("expected 16 numbers"), std::string::npos);
-  EXPECT_NE(error_of("xyz: [0, 0, 0]\nmatrix: [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]\n").find("not both"), std::string::npos);
-  EXPECT_NE(error_of("body:\n  xyz: [0, 0]\nxyz: [0, 0, 1]\n").find("cam.yaml:2: body.xyz: expected 3 numbers"), std::string::npos);
+  EXPECT_NE(error_of("xyz: [0, 0, 0]\nmatrix: [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]\n").find("not both"),
+            std::string::npos);
+  EXPECT_NE(error_of("body:\n  xyz: [0, 0]\nxyz: [0, 0, 1]\n").find("cam.yaml:2: body.xyz: expected 3 numbers"),
+            std::string::npos);
   EXPECT_NE(error_of("xyz: [0, 0, 1\n").find("invalid YAML"), std::string::npos);
   EXPECT_NE(error_of("- 1\n- 2\n").find("expected a YAML mapping"), std::string::npos);
   EXPECT_NE(error_of("{}").find("xyz: missing"), std::string::npos);
   EXPECT_NE(error_of("xyz: [.nan, 0, 1]\n").find("xyz: expected a number, got '.nan'"), std::string::npos);
 }
 
-TEST(ExtrinsicsBadInput, MissingFile) {
-  EXPECT_THROW(tt::load_extrinsics("/nonexistent/cam.yaml"), td::IoError);
-}
+TEST(ExtrinsicsBadInput, MissingFile) { EXPECT_THROW(tt::load_extrinsics("/nonexistent/cam.yaml"), td::IoError); }

@@ -97,7 +97,8 @@ TEST(Filters, StatisticalOutliersAreRemoved) {
   td::PointCloud c;
   for (int i = 0; i < 100; ++i)
     for (int j = 0; j < 100; ++j)
-      c.points.emplace_back(static_cast<float>(i) * 0.01f, static_cast<float>(j) * 0.01f, static_cast<float>(rng.normal(0, 0.002)));
+      c.points.emplace_back(static_cast<float>(i) * 0.01f, static_cast<float>(j) * 0.01f,
+                            static_cast<float>(rng.normal(0, 0.002)));
   const std::size_t plane = c.size();
   for (int k = 0; k < 30; ++k)
     c.points.emplace_back(static_cast<float>(rng.uniform(0, 1)), static_cast<float>(rng.uniform(0, 1)),

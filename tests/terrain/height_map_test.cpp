@@ -42,8 +42,7 @@ TEST(HeightMap, MedianOfAPlaneIsThePlaneAtCellCentres) {
 
 TEST(HeightMap, MaxAndMedianAggregates) {
   td::PointCloud c;
-  c.points = {{0.005f, 0.005f, 1}, {0.006f, 0.004f, 5}, {0.004f, 0.006f, 2}, {0.003f, 0.003f, 4},
-              {0.031f, 0.031f, 7}};
+  c.points = {{0.005f, 0.005f, 1}, {0.006f, 0.004f, 5}, {0.004f, 0.006f, 2}, {0.003f, 0.003f, 4}, {0.031f, 0.031f, 7}};
   c.mark_unorganized();
   tt::HeightMapOptions o;
   o.cell = 0.02;
@@ -123,8 +122,8 @@ TEST(TriangulateSolid, RandomMasksAlwaysGiveClosedOrientedSolids) {
     const auto mesh = tt::triangulate_solid(m, 0.1);
     if (mesh.empty()) continue;
     const auto c = td::check_closedness(mesh);
-    ASSERT_TRUE(c.watertight()) << "seed " << seed << ": " << c.boundary_edges << " boundary, "
-                                << c.nonmanifold_edges << " non-manifold";
+    ASSERT_TRUE(c.watertight()) << "seed " << seed << ": " << c.boundary_edges << " boundary, " << c.nonmanifold_edges
+                                << " non-manifold";
     ASSERT_TRUE(c.consistently_oriented()) << "seed " << seed;
     ASSERT_EQ(c.degenerate_triangles, 0u);
     EXPECT_GT(td::signed_volume(mesh), 0) << "seed " << seed;

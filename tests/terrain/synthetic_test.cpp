@@ -83,8 +83,10 @@ TEST(Synthetic, DropoutsAndOutliers) {
   ASSERT_TRUE(c.is_organized());
   std::size_t nan = 0, above = 0;
   for (const auto& p : c.points) {
-    if (!p.allFinite()) ++nan;
-    else if (p.z() < 0.95f) ++above;  // depth < 0.95 m: well above the ground
+    if (!p.allFinite())
+      ++nan;
+    else if (p.z() < 0.95f)
+      ++above;  // depth < 0.95 m: well above the ground
   }
   const double n = static_cast<double>(c.size());
   EXPECT_NEAR(nan / n, 0.1, 0.01);

@@ -105,8 +105,8 @@ TEST(TerrainMesher, ReportCountsAddUp) {
   const auto sc = scan(s, 5);
   tt::TerrainOptions o;
   o.T_world_camera = sc.T_world_camera;
-  o.crop_radius = 0.3;            // only spurious returns are that close
-  o.flying_pixel_threshold = 0;   // keep them for the crop
+  o.crop_radius = 0.3;           // only spurious returns are that close
+  o.flying_pixel_threshold = 0;  // keep them for the crop
   o.keep_filtered_cloud = true;
   const auto r = tt::mesh_terrain(sc.cloud, o);
   ASSERT_TRUE(r.ok());

@@ -13,7 +13,9 @@ namespace tw = touchdown::twin;
 
 namespace {
 
-std::string f450_yaml() { return td::test::read_text(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/airframes/f450.yaml"); }
+std::string f450_yaml() {
+  return td::test::read_text(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/airframes/f450.yaml");
+}
 
 std::string error_of(const std::string& yaml) {
   try {
@@ -75,15 +77,18 @@ TEST(Airframe, AsymmetricGearIsNotHalfTurnSymmetric) {
 
 TEST(AirframeBadInput, ErrorsNameTheKey) {
   const std::string y = f450_yaml();
-  EXPECT_NE(error_of(replace(y, "  mass: 0.95", "  mass: -0.95")).find("body.mass: must be positive"), std::string::npos);
-  EXPECT_NE(error_of(replace(y, "  foot_z: -0.17", "  foot_z: 0.10")).find("landing_gear.foot_z"), std::string::npos);
-  EXPECT_NE(error_of(replace(y, "  top_z: -0.03", "  top_z: 0.20")).find("landing_gear.top_z: the legs start above the body"),
+  EXPECT_NE(error_of(replace(y, "  mass: 0.95", "  mass: -0.95")).find("body.mass: must be positive"),
             std::string::npos);
+  EXPECT_NE(error_of(replace(y, "  foot_z: -0.17", "  foot_z: 0.10")).find("landing_gear.foot_z"), std::string::npos);
+  EXPECT_NE(
+      error_of(replace(y, "  top_z: -0.03", "  top_z: 0.20")).find("landing_gear.top_z: the legs start above the body"),
+      std::string::npos);
   // A fifth leg inside the other four: a non-convex support set.
   EXPECT_NE(error_of(replace(y, "    - [-0.15, 0.08]", "    - [-0.15, 0.08]\n    - [0.0, 0.02]")).find("not convex"),
             std::string::npos);
-  EXPECT_NE(error_of(replace(y, "  radius: 0.127", "  radius: 0.127\n  colour: red")).find("propellers.colour: unknown key"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of(replace(y, "  radius: 0.127", "  radius: 0.127\n  colour: red")).find("propellers.colour: unknown key"),
+      std::string::npos);
   EXPECT_NE(error_of(replace(y, "  max_thrust: 8.0", "")).find("motors.max_thrust: missing"), std::string::npos);
   EXPECT_NE(error_of(replace(y, "  max_thrust: 8.0", "  max_thrust: 2.0")).find("cannot lift"), std::string::npos);
   EXPECT_NE(error_of(replace(y, "  spin: [1, -1, 1, -1]", "  spin: [1, -1]")).find("motors.spin: expected 4"),
@@ -92,8 +97,8 @@ TEST(AirframeBadInput, ErrorsNameTheKey) {
             std::string::npos);
   EXPECT_NE(error_of("body: [1\n").find("invalid YAML"), std::string::npos);
   // Legs all on one line.
-  EXPECT_NE(error_of(replace(replace(replace(replace(y, "    - [0.15, 0.08]", "    - [0.15, 0.0]"), "    - [0.15, -0.08]",
-                                                     "    - [0.05, 0.0]"),
+  EXPECT_NE(error_of(replace(replace(replace(replace(y, "    - [0.15, 0.08]", "    - [0.15, 0.0]"),
+                                             "    - [0.15, -0.08]", "    - [0.05, 0.0]"),
                                      "    - [-0.15, -0.08]", "    - [-0.05, 0.0]"),
                              "    - [-0.15, 0.08]", "    - [-0.15, 0.0]"))
                 .find("collinear"),

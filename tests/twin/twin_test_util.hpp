@@ -16,7 +16,8 @@ inline std::shared_ptr<const twin::TerrainModel> analytic_terrain(const std::fun
   const int n = static_cast<int>(std::round(2 * half / cell));
   terrain::HeightMap m(-half, -half, cell, n, n);
   for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) m.set(i, j, static_cast<float>(f(m.centre_x(i), m.centre_y(j))), terrain::CellState::Measured);
+    for (int i = 0; i < n; ++i)
+      m.set(i, j, static_cast<float>(f(m.centre_x(i), m.centre_y(j))), terrain::CellState::Measured);
   return std::make_shared<const twin::TerrainModel>(terrain::triangulate_solid(m, 0.1));
 }
 

@@ -36,8 +36,7 @@ PointCloud read_xyz(std::istream& in, std::string_view source);
 /// Writes by extension: .pcd (binary), .ply (binary little-endian),
 /// .xyz/.csv/.txt (text).
 void write_cloud(const PointCloud& cloud, const std::filesystem::path& path);
-void write_pcd(const PointCloud& cloud, const std::filesystem::path& path,
-               PcdEncoding encoding = PcdEncoding::Binary);
+void write_pcd(const PointCloud& cloud, const std::filesystem::path& path, PcdEncoding encoding = PcdEncoding::Binary);
 void write_ply_cloud(const PointCloud& cloud, const std::filesystem::path& path,
                      PlyEncoding encoding = PlyEncoding::BinaryLittleEndian);
 void write_xyz(const PointCloud& cloud, const std::filesystem::path& path);

@@ -20,7 +20,6 @@ MeshFormat mesh_format_from_path(const std::filesystem::path& path);
 TriangleMesh read_mesh(const std::filesystem::path& path);
 
 /// Writes atomically (temporary file + rename).
-void write_mesh(const TriangleMesh& mesh, const std::filesystem::path& path,
-                MeshFormat format = MeshFormat::Auto);
+void write_mesh(const TriangleMesh& mesh, const std::filesystem::path& path, MeshFormat format = MeshFormat::Auto);
 
 }  // namespace touchdown

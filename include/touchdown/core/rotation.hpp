@@ -11,7 +11,9 @@ namespace touchdown {
 
 /// R = Rz(yaw) · Ry(pitch) · Rx(roll) [rad].
 Eigen::Matrix3d rotation_from_rpy(double roll, double pitch, double yaw);
-inline Eigen::Matrix3d rotation_from_rpy(const Eigen::Vector3d& rpy) { return rotation_from_rpy(rpy.x(), rpy.y(), rpy.z()); }
+inline Eigen::Matrix3d rotation_from_rpy(const Eigen::Vector3d& rpy) {
+  return rotation_from_rpy(rpy.x(), rpy.y(), rpy.z());
+}
 
 /// The rigid transform with translation `xyz` [m] and rotation `rpy` [rad].
 Eigen::Isometry3d pose_from_xyz_rpy(const Eigen::Vector3d& xyz, const Eigen::Vector3d& rpy);

@@ -33,7 +33,7 @@ struct ArucoOptions {
   /// prefix ("4X4_50", "6X6_250", "ARUCO_ORIGINAL", "APRILTAG_36h11", ...;
   /// case-insensitive, a leading "DICT_" is accepted too).
   std::string dictionary = "4X4_50";
-  int marker_id = 3;         ///< the marker on the airframe; others in view are ignored
+  int marker_id = 3;  ///< the marker on the airframe; others in view are ignored
   /// [m] edge of the black square (border included, quiet zone excluded).
   /// Print the marker with a white margin of at least a quarter of this
   /// edge: with a narrower one on a darker background, aruco takes the

@@ -34,7 +34,7 @@ enum class RefineStatus {
 struct PoseRefinement {
   RefineStatus status = RefineStatus::Degenerate;
   Eigen::Isometry3d T_camera_body = Eigen::Isometry3d::Identity();
-  double rms_px = 0;       ///< reprojection RMS after the last step [px]
+  double rms_px = 0;  ///< reprojection RMS after the last step [px]
   int iterations = 0;
   Matrix6d covariance = Matrix6d::Zero();  ///< of the left-perturbation twist, σ² (JᵀWJ)⁻¹
   /// As every touchdown Result: true when it holds a usable answer (here a

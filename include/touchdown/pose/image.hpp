@@ -38,7 +38,9 @@ struct BgrImage {
     pixels.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3);
   }
   [[nodiscard]] BgrImageView view() const { return {pixels.data(), width, height, std::ptrdiff_t{3} * width}; }
-  [[nodiscard]] std::uint8_t* row(int y) { return pixels.data() + static_cast<std::size_t>(y) * 3 * static_cast<std::size_t>(width); }
+  [[nodiscard]] std::uint8_t* row(int y) {
+    return pixels.data() + static_cast<std::size_t>(y) * 3 * static_cast<std::size_t>(width);
+  }
 };
 
 /// An owning 16-bit depth image.
@@ -53,7 +55,9 @@ struct DepthImage {
   }
   [[nodiscard]] bool empty() const { return pixels.empty(); }
   [[nodiscard]] DepthImageView view() const { return {pixels.data(), width, height, width}; }
-  [[nodiscard]] std::uint16_t* row(int y) { return pixels.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(width); }
+  [[nodiscard]] std::uint16_t* row(int y) {
+    return pixels.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(width);
+  }
 };
 
 }  // namespace touchdown::pose

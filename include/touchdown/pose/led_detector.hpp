@@ -23,8 +23,8 @@ namespace touchdown::pose {
 struct Blob {
   Eigen::Vector2d uv_px = Eigen::Vector2d::Zero();           ///< centre in the (distorted) image [px]
   Eigen::Vector2d uv_undistorted = Eigen::Vector2d::Zero();  ///< the same through the inverse distortion
-  double area = 0;       ///< pixels at or above the threshold
-  double intensity = 0;  ///< summed brightness above the background (the centre's weights)
+  double area = 0;                                           ///< pixels at or above the threshold
+  double intensity = 0;                           ///< summed brightness above the background (the centre's weights)
   Eigen::Vector3d hsv = Eigen::Vector3d::Zero();  ///< mean colour: H in degrees, S and V in [0, 1]
   LedColor color = LedColor::Unknown;
   bool has_point = false;                              ///< a valid depth was found at the centre
@@ -32,16 +32,16 @@ struct Blob {
 };
 
 struct DetectorOptions {
-  int threshold = 200;          ///< a pixel is lit if its brightest channel reaches this [DN]
-  int background = 24;          ///< brightness subtracted for the centre's weights [DN]
-  int min_area = 1;             ///< smaller blobs are noise [px]
-  int max_area = 5000;          ///< larger blobs are lamps or reflections [px]
-  int refine_margin = 2;        ///< the centre and colour use the bounding box grown by this [px]
+  int threshold = 200;            ///< a pixel is lit if its brightest channel reaches this [DN]
+  int background = 24;            ///< brightness subtracted for the centre's weights [DN]
+  int min_area = 1;               ///< smaller blobs are noise [px]
+  int max_area = 5000;            ///< larger blobs are lamps or reflections [px]
+  int refine_margin = 2;          ///< the centre and colour use the bounding box grown by this [px]
   double white_saturation = 0.3;  ///< mean colour saturation below this is white
-  double min_depth = 0.15;      ///< depth gate [m] (blobs with a valid depth outside it are dropped)
+  double min_depth = 0.15;        ///< depth gate [m] (blobs with a valid depth outside it are dropped)
   double max_depth = 4.0;
-  int depth_window = 2;         ///< median of the valid depths in a (2w+1)² window
-  std::size_t max_blobs = 64;   ///< keep at most this many (the brightest)
+  int depth_window = 2;        ///< median of the valid depths in a (2w+1)² window
+  std::size_t max_blobs = 64;  ///< keep at most this many (the brightest)
   bool validate(std::string* why) const;
 };
 

@@ -36,13 +36,13 @@
 namespace touchdown::pose {
 
 struct CorrespondenceOptions {
-  double inlier_px = 6.0;          ///< a reprojected LED within this of a blob explains it [px]
-  double accept_rms_px = 3.0;      ///< the final fit must reproject better than this [px]
-  std::size_t max_blobs = 10;      ///< the search uses this many brightest blobs
+  double inlier_px = 6.0;              ///< a reprojected LED within this of a blob explains it [px]
+  double accept_rms_px = 3.0;          ///< the final fit must reproject better than this [px]
+  std::size_t max_blobs = 10;          ///< the search uses this many brightest blobs
   std::size_t max_hypotheses = 50000;  ///< bound on the EPnP solves of one search
-  int min_leds = 4;                ///< fewest LEDs a pose may rest on
-  double missing_penalty_px = 3.0; ///< score charged per unexplained LED, as a reprojection error [px]
-  double min_distance = 0.1;       ///< plausible range of the constellation's distance [m]
+  int min_leds = 4;                    ///< fewest LEDs a pose may rest on
+  double missing_penalty_px = 3.0;     ///< score charged per unexplained LED, as a reprojection error [px]
+  double min_distance = 0.1;           ///< plausible range of the constellation's distance [m]
   double max_distance = 10.0;
   /// Largest angle between body −z (where the LEDs shine) and the direction
   /// to the camera for a pose to be plausible [deg]; 180 = any.
@@ -59,7 +59,7 @@ struct Correspondence {
   PoseStatus status = PoseStatus::TooFewBlobs;
   std::array<int, kMaxLeds> blob_of_led{};  ///< blob index per LED, −1 if unseen
   int matched = 0;
-  PoseRefinement fit;  ///< the pose refined on the matched LEDs
+  PoseRefinement fit;          ///< the pose refined on the matched LEDs
   std::size_t hypotheses = 0;  ///< EPnP solves tried
 };
 

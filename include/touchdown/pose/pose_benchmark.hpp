@@ -27,7 +27,7 @@ struct PoseBenchmarkOptions {
   int frames = 300;             ///< per sequence
   std::uint64_t seed = 1;
   double min_distance = 0.4, max_distance = 3.0;  ///< [m]
-  double success_px = 10.0;     ///< success: a pose with reprojection RMS below this [px]
+  double success_px = 10.0;                       ///< success: a pose with reprojection RMS below this [px]
   bool use_depth = true;
   RenderOptions render;
   TrackerOptions tracker;
@@ -52,8 +52,8 @@ struct MethodStats {
 
 struct PoseBenchmarkResult {
   std::vector<MethodStats> rows;
-  int solver_samples = 0;             ///< frames where the solvers were timed
-  double epnp_gn_us_median = 0;       ///< our EPnP + Gauss–Newton on the matched LEDs
+  int solver_samples = 0;                 ///< frames where the solvers were timed
+  double epnp_gn_us_median = 0;           ///< our EPnP + Gauss–Newton on the matched LEDs
   double opencv_iterative_us_median = 0;  ///< cv::solvePnP SOLVEPNP_ITERATIVE on the same points
   double opencv_sqpnp_us_median = 0;      ///< cv::solvePnP SOLVEPNP_SQPNP
   double opencv_epnp_us_median = 0;       ///< cv::solvePnP SOLVEPNP_EPNP

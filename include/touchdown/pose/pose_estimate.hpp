@@ -25,10 +25,10 @@ std::string_view to_string(PoseStatus status);
 struct PoseEstimate {
   PoseStatus status = PoseStatus::TooFewBlobs;
   Eigen::Isometry3d T_camera_body = Eigen::Isometry3d::Identity();  ///< body frame in the camera frame
-  double rms_px = 0;           ///< reprojection RMS of the points used [px]
-  int points = 0;              ///< LEDs (or marker corners) used in the final fit
-  int blobs = 0;               ///< blobs detected (after gating)
-  bool reinitialised = false;  ///< the correspondences came from a full search this frame
+  double rms_px = 0;                                                ///< reprojection RMS of the points used [px]
+  int points = 0;                                                   ///< LEDs (or marker corners) used in the final fit
+  int blobs = 0;                                                    ///< blobs detected (after gating)
+  bool reinitialised = false;              ///< the correspondences came from a full search this frame
   Matrix6d covariance = Matrix6d::Zero();  ///< left-perturbation twist (ρ, φ) covariance
   [[nodiscard]] bool ok() const { return status == PoseStatus::Ok; }
 };

@@ -63,8 +63,8 @@ struct RenderOptions {
   /// motion between the previous and the current pose is extrapolated at
   /// constant velocity over it.
   double exposure_s = 0.004;
-  double frame_rate_hz = 30.0;   ///< frame rate the previous pose was taken at
-  int motion_blur_samples = 5;   ///< poses summed over the exposure (1 = no blur; rounded up to odd)
+  double frame_rate_hz = 30.0;  ///< frame rate the previous pose was taken at
+  int motion_blur_samples = 5;  ///< poses summed over the exposure (1 = no blur; rounded up to odd)
 
   // --- depth ---
   /// Depth noise sigma = k·z² [m]; 0.0025 = 2.5 mm at 1 m (stereo depth).
@@ -102,7 +102,7 @@ struct RenderOptions {
 /// One rendered frame.
 struct RenderedFrame {
   BgrImage colour;
-  DepthImage depth;              ///< aligned with `colour`, units of CameraModel::depth_scale
+  DepthImage depth;               ///< aligned with `colour`, units of CameraModel::depth_scale
   std::vector<bool> led_visible;  ///< per LED: drawn in this frame
   bool marker_visible = false;    ///< the marker faces the camera and all its corners are in the image
 };
@@ -199,8 +199,7 @@ const Eigen::Isometry3d& motion_blur_start(std::span<const TrajectorySample> sam
 /// The files are rendered into a staging directory next to `out_dir` and
 /// moved into place at the end, so a failure leaves no partial files.
 /// Throws InvalidArgument for invalid inputs, IoError when writing fails.
-void write_sequence(const std::filesystem::path& out_dir, const CameraModel& camera,
-                    const Constellation& constellation, std::span<const TrajectorySample> samples,
-                    const RenderOptions& options, std::uint64_t seed);
+void write_sequence(const std::filesystem::path& out_dir, const CameraModel& camera, const Constellation& constellation,
+                    std::span<const TrajectorySample> samples, const RenderOptions& options, std::uint64_t seed);
 
 }  // namespace touchdown::pose

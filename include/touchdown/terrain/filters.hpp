@@ -49,8 +49,8 @@ std::size_t crop_near_camera(PointCloud& cloud_camera, const CropOptions& option
 PointCloud voxel_downsample(const PointCloud& cloud, double voxel);
 
 struct OutlierOptions {
-  int k = 8;                 ///< neighbours per point
-  double std_ratio = 2.0;    ///< keep mean distance ≤ μ + std_ratio·σ
+  int k = 8;               ///< neighbours per point
+  double std_ratio = 2.0;  ///< keep mean distance ≤ μ + std_ratio·σ
   /// Neighbour search cell (metres); 0 = derived from the point density.
   double search_cell = 0.0;
   /// False (with the offending field and why in *why) for an invalid value.

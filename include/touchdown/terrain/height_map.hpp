@@ -5,8 +5,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
-#include <vector>
 #include <string>
+#include <vector>
 
 #include "touchdown/core/mesh.hpp"
 #include "touchdown/core/point_cloud.hpp"
@@ -16,11 +16,11 @@ namespace touchdown::terrain {
 enum class CellAggregate { Max, Median };
 
 struct HeightMapOptions {
-  double cell = 0.02;                          ///< cell edge, metres
+  double cell = 0.02;  ///< cell edge, metres
   CellAggregate aggregate = CellAggregate::Median;
-  double max_hole = 0.10;                      ///< widest gap filled by interpolation, metres
-  double max_fill_slope = 1.0;                 ///< steeper gaps are shadows: filled at the lower side
-  std::size_t max_cells = 50'000'000;          ///< refuse grids larger than this
+  double max_hole = 0.10;              ///< widest gap filled by interpolation, metres
+  double max_fill_slope = 1.0;         ///< steeper gaps are shadows: filled at the lower side
+  std::size_t max_cells = 50'000'000;  ///< refuse grids larger than this
   /// False (with the offending field and why in *why) for an invalid value.
   bool validate(std::string* why) const;
 };

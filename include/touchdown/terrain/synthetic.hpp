@@ -35,7 +35,7 @@ struct Shape {
   double rubble_max_height = 0.08;
   double rubble_extent = 1.5;
   std::uint64_t rubble_seed = 1;
-  Eigen::Vector2d post_xy{0.205, 0.205};   ///< post: a vertical cylinder on flat ground
+  Eigen::Vector2d post_xy{0.205, 0.205};  ///< post: a vertical cylinder on flat ground
   double post_radius = 0.04;
   double post_height = 0.25;
 
@@ -63,11 +63,11 @@ struct DepthCamera {
   int height = 480;
   double fx = 430.0, fy = 430.0, cx = 424.0, cy = 240.0;
   double min_range = 0.2, max_range = 10.0;
-  double subpixel = 0.08;          ///< disparity noise, pixels
-  double baseline = 0.050;         ///< metres
-  double dropout_fraction = 0.01;  ///< pixels with no depth (NaN)
-  double outlier_fraction = 0.002; ///< pixels with a spurious depth between the camera and the surface
-  bool flying_pixels = true;       ///< mix depths across depth discontinuities
+  double subpixel = 0.08;           ///< disparity noise, pixels
+  double baseline = 0.050;          ///< metres
+  double dropout_fraction = 0.01;   ///< pixels with no depth (NaN)
+  double outlier_fraction = 0.002;  ///< pixels with a spurious depth between the camera and the surface
+  bool flying_pixels = true;        ///< mix depths across depth discontinuities
 
   /// The same camera model at another resolution: `width` × `height` pixels,
   /// focal length `focal` (fx = fy), principal point at the image centre.

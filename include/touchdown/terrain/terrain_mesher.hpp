@@ -21,13 +21,13 @@ struct TerrainOptions {
   /// Jump-edge filter threshold at 1 m depth (metres, scaled by z²) for
   /// organized clouds; 0 = off. See remove_flying_pixels.
   double flying_pixel_threshold = 0.03;
-  double crop_radius = 0.0;                        ///< metres, 0 = off
+  double crop_radius = 0.0;  ///< metres, 0 = off
   std::optional<Eigen::AlignedBox3d> crop_box_body;
   /// Voxel edge for downsampling; < 0 means half the height-map cell, 0 off.
   double voxel = -1.0;
-  OutlierOptions outliers{};                       ///< k = 0 turns removal off
+  OutlierOptions outliers{};  ///< k = 0 turns removal off
   HeightMapOptions height_map{};
-  double base_thickness = 0.10;                    ///< solid below the lowest cell, metres
+  double base_thickness = 0.10;  ///< solid below the lowest cell, metres
   /// Keep the filtered world-frame cloud in the result (to save or inspect it).
   bool keep_filtered_cloud = false;
 
@@ -54,7 +54,7 @@ struct TerrainReport {
   std::size_t large_holes = 0;
   std::size_t large_hole_cells = 0;
   std::size_t triangles = 0;
-  Bounds3 bounds;                ///< of the mesh's top surface
+  Bounds3 bounds;  ///< of the mesh's top surface
   double seconds = 0.0;
 };
 

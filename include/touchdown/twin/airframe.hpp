@@ -69,7 +69,7 @@ struct Airframe {
 
   [[nodiscard]] std::size_t motor_count() const { return arm_angles_deg.size(); }
   [[nodiscard]] double total_mass() const;
-  [[nodiscard]] Eigen::Vector3d centre_of_mass() const;   ///< body frame
+  [[nodiscard]] Eigen::Vector3d centre_of_mass() const;     ///< body frame
   [[nodiscard]] Eigen::Matrix3d inertia_about_com() const;  ///< body axes, kg m²
   [[nodiscard]] Eigen::Vector3d motor_position(std::size_t i) const;
   /// Lowest point of the feet (z of the ground plane when standing level).

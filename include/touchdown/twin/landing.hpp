@@ -18,30 +18,30 @@ namespace touchdown::twin {
 /// Controller gains and limits; each default mirrors the PX4 (v1.14)
 /// parameter named beside it.
 struct ControllerParams {
-  double xy_p = 0.95;              ///< MPC_XY_P [1/s]
-  double xy_vel_p = 1.8;           ///< MPC_XY_VEL_P_ACC [1/s]
-  double xy_vel_i = 0.4;           ///< MPC_XY_VEL_I_ACC [1/s²]
-  double xy_vel_d = 0.2;           ///< MPC_XY_VEL_D_ACC
-  double xy_vel_max = 12.0;        ///< MPC_XY_VEL_MAX [m/s]
-  double z_vel_p = 4.0;            ///< MPC_Z_VEL_P_ACC [1/s]
-  double z_vel_i = 2.0;            ///< MPC_Z_VEL_I_ACC [1/s²]
-  double tilt_max_deg = 12.0;      ///< MPC_TILTMAX_LND (the tilt limit of land mode)
-  double vel_deriv_lp_hz = 5.0;    ///< MPC_VELD_LP: low-pass of the velocity derivative [Hz]
-  double roll_p = 6.5;             ///< MC_ROLL_P [1/s]
-  double pitch_p = 6.5;            ///< MC_PITCH_P [1/s]
-  double yaw_p = 2.8;              ///< MC_YAW_P [1/s]
-  double yaw_rate_max_deg = 200.0; ///< MC_YAWRATE_MAX [deg/s]
+  double xy_p = 0.95;               ///< MPC_XY_P [1/s]
+  double xy_vel_p = 1.8;            ///< MPC_XY_VEL_P_ACC [1/s]
+  double xy_vel_i = 0.4;            ///< MPC_XY_VEL_I_ACC [1/s²]
+  double xy_vel_d = 0.2;            ///< MPC_XY_VEL_D_ACC
+  double xy_vel_max = 12.0;         ///< MPC_XY_VEL_MAX [m/s]
+  double z_vel_p = 4.0;             ///< MPC_Z_VEL_P_ACC [1/s]
+  double z_vel_i = 2.0;             ///< MPC_Z_VEL_I_ACC [1/s²]
+  double tilt_max_deg = 12.0;       ///< MPC_TILTMAX_LND (the tilt limit of land mode)
+  double vel_deriv_lp_hz = 5.0;     ///< MPC_VELD_LP: low-pass of the velocity derivative [Hz]
+  double roll_p = 6.5;              ///< MC_ROLL_P [1/s]
+  double pitch_p = 6.5;             ///< MC_PITCH_P [1/s]
+  double yaw_p = 2.8;               ///< MC_YAW_P [1/s]
+  double yaw_rate_max_deg = 200.0;  ///< MC_YAWRATE_MAX [deg/s]
   /// Rate-loop bandwidths [1/s]: the physical equivalent of PX4's
   /// airframe-normalised MC_ROLLRATE_P / MC_PITCHRATE_P / MC_YAWRATE_P.
   double rate_p_roll_pitch = 20.0;
   double rate_p_yaw = 8.0;
-  double land_speed = 0.7;         ///< MPC_LAND_SPEED [m/s]
+  double land_speed = 0.7;  ///< MPC_LAND_SPEED [m/s]
   // Land detector (PX4 MulticopterLandDetector).
-  double land_z_vel_max = 0.25;    ///< LNDMC_Z_VEL_MAX [m/s]
-  double land_rot_max_deg = 20.0;  ///< LNDMC_ROT_MAX [deg/s]
-  double land_trigger_time = 1.0;  ///< LNDMC_TRIG_TIME [s]: each of the three stages is held a third of it
+  double land_z_vel_max = 0.25;      ///< LNDMC_Z_VEL_MAX [m/s]
+  double land_rot_max_deg = 20.0;    ///< LNDMC_ROT_MAX [deg/s]
+  double land_trigger_time = 1.0;    ///< LNDMC_TRIG_TIME [s]: each of the three stages is held a third of it
   double low_thrust_fraction = 0.3;  ///< LNDMC_LOW_T_THR: "low thrust" below this fraction of hover thrust
-  double thrust_ramp_time = 0.25;  ///< [s] thrust ramps to zero after ground contact
+  double thrust_ramp_time = 0.25;    ///< [s] thrust ramps to zero after ground contact
 };
 
 /// Physics settings of a run.
@@ -57,7 +57,7 @@ struct SimulationOptions {
   /// Nutation above which a run counts as tipped over (the tip threshold).
   double tip_nutation = 0.5;
   ControllerParams controller{};
-  bool record_trace = false;         ///< keep a 50 Hz trace of the run
+  bool record_trace = false;  ///< keep a 50 Hz trace of the run
   /// False (with the offending field and why in *why) for an invalid value.
   bool validate(std::string* why) const;
 };
@@ -66,13 +66,13 @@ struct SimulationOptions {
 struct LandingConditions {
   Eigen::Vector2d landing_point = Eigen::Vector2d::Zero();  ///< commanded (x_lp, y_lp)
   Eigen::Vector2d start_offset = Eigen::Vector2d::Zero();   ///< horizontal position error at the start
-  double ground_z = 0.0;      ///< z_lp: top of the terrain under the footprint
-  double hover_offset = 0.8;  ///< Δz: feet this high above z_lp at the start [m]
-  double heading = 0.0;       ///< commanded yaw ψ [rad]
-  double heading_error = 0.0; ///< initial yaw error [rad]
-  double roll = 0.0, pitch = 0.0;  ///< initial attitude [rad]
-  double land_speed = 0.7;    ///< [m/s]
-  double friction = 0.8;      ///< Coulomb μ of the terrain contacts
+  double ground_z = 0.0;                                    ///< z_lp: top of the terrain under the footprint
+  double hover_offset = 0.8;                                ///< Δz: feet this high above z_lp at the start [m]
+  double heading = 0.0;                                     ///< commanded yaw ψ [rad]
+  double heading_error = 0.0;                               ///< initial yaw error [rad]
+  double roll = 0.0, pitch = 0.0;                           ///< initial attitude [rad]
+  double land_speed = 0.7;                                  ///< [m/s]
+  double friction = 0.8;                                    ///< Coulomb μ of the terrain contacts
 };
 
 enum class RunStatus {
@@ -91,14 +91,14 @@ struct TracePoint {
 
 struct RunResult {
   RunStatus status = RunStatus::Unstable;
-  double roll = 0, pitch = 0, yaw = 0;   ///< final attitude [rad]
-  double nutation = 0;                   ///< eq. (3): N = acos(cos φ · cos θ), final
-  double max_touchdown_nutation = 0;     ///< largest N from first contact to the end
-  double offset = 0;                     ///< final horizontal distance from the landing point [m]
+  double roll = 0, pitch = 0, yaw = 0;  ///< final attitude [rad]
+  double nutation = 0;                  ///< eq. (3): N = acos(cos φ · cos θ), final
+  double max_touchdown_nutation = 0;    ///< largest N from first contact to the end
+  double offset = 0;                    ///< final horizontal distance from the landing point [m]
   bool prop_strike = false, arm_strike = false, body_strike = false;
-  bool tipped = false;                   ///< final nutation above SimulationOptions::tip_nutation
-  bool all_feet_in_contact = false;      ///< every foot touching the terrain at rest
-  double sim_time = 0;                   ///< simulated seconds
+  bool tipped = false;               ///< final nutation above SimulationOptions::tip_nutation
+  bool all_feet_in_contact = false;  ///< every foot touching the terrain at rest
+  double sim_time = 0;               ///< simulated seconds
   long steps = 0;
   Eigen::Vector3d final_position = Eigen::Vector3d::Zero();  ///< centre of mass
   std::vector<TracePoint> trace;

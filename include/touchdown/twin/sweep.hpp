@@ -34,20 +34,20 @@ enum class SafetyMetric {
 };
 
 struct SweepOptions {
-  int headings = 20;                 ///< n
-  int runs = 10;                     ///< m per heading
-  double yaw_max_deg = 0;            ///< ψ_max; 0 = 180 if the airframe is half-turn symmetric, else 360
+  int headings = 20;       ///< n
+  int runs = 10;           ///< m per heading
+  double yaw_max_deg = 0;  ///< ψ_max; 0 = 180 if the airframe is half-turn symmetric, else 360
   Eigen::Vector2d landing_point = Eigen::Vector2d::Zero();
-  double hover_offset = 0.8;         ///< Δz [m]
-  double land_speed = 0.7;           ///< MPC_LAND_SPEED [m/s]
+  double hover_offset = 0.8;  ///< Δz [m]
+  double land_speed = 0.7;    ///< MPC_LAND_SPEED [m/s]
   Perturbation perturbation{};
   SafetyMetric metric = SafetyMetric::Full;
   std::uint64_t seed = 1;
-  int threads = 0;                   ///< 0 = all cores
+  int threads = 0;  ///< 0 = all cores
   /// Anytime use: stop after the round (one run per heading) that exceeds
   /// this many wall seconds; 0 = no limit. The result says how complete it is.
   double time_budget = 0;
-  SimulationOptions simulation{};    ///< tip_nutation is set from the threshold
+  SimulationOptions simulation{};  ///< tip_nutation is set from the threshold
   /// Called after each finished landing (from worker threads, serialised).
   std::function<void(std::size_t done, std::size_t total)> progress;
 
@@ -55,15 +55,15 @@ struct SweepOptions {
 };
 
 struct HeadingScore {
-  double yaw = 0;                  ///< ψ_j [rad]
-  double score = 0;                ///< S(ψ) = max over runs of the final nutation (eq. 6) [rad]
-  double mean = 0;                 ///< mean final nutation [rad]
-  double max_touchdown = 0;        ///< max nutation during touchdown over runs [rad]
+  double yaw = 0;            ///< ψ_j [rad]
+  double score = 0;          ///< S(ψ) = max over runs of the final nutation (eq. 6) [rad]
+  double mean = 0;           ///< mean final nutation [rad]
+  double max_touchdown = 0;  ///< max nutation during touchdown over runs [rad]
   int runs = 0;
   int prop_strike_runs = 0, arm_strike_runs = 0, body_strike_runs = 0;
   int tipped_runs = 0, invalid_runs = 0, feet_not_all_down_runs = 0;
-  double max_offset = 0;           ///< [m]
-  bool safe = false;               ///< under the threshold and clean by the chosen metric
+  double max_offset = 0;  ///< [m]
+  bool safe = false;      ///< under the threshold and clean by the chosen metric
 };
 
 struct RunRecord {
@@ -75,26 +75,26 @@ struct RunRecord {
 
 /// Expected outcomes of a sweep (not errors: the terrain is what it is).
 enum class SweepStatus {
-  Ok,                    ///< headings scored; `safe` says whether to land
-  FootprintNotCovered,   ///< the terrain does not cover the twin's footprint at the landing point
+  Ok,                   ///< headings scored; `safe` says whether to land
+  FootprintNotCovered,  ///< the terrain does not cover the twin's footprint at the landing point
 };
 std::string_view to_string(SweepStatus status);
 
 struct SweepResult {
   SweepStatus status = SweepStatus::Ok;
-  std::string message;                 ///< why, when status is not Ok
+  std::string message;  ///< why, when status is not Ok
   [[nodiscard]] bool ok() const { return status == SweepStatus::Ok; }
   SafetyThreshold threshold;
-  double ground_z = 0;                 ///< z_lp used
+  double ground_z = 0;  ///< z_lp used
   std::vector<HeadingScore> headings;
-  int best = -1;                       ///< index of ψ* (lowest score among safe headings, else lowest score)
-  bool safe = false;                   ///< ψ* is safe: land there; false: do not land
-  std::vector<RunRecord> runs;         ///< heading-major
-  int rounds_completed = 0;            ///< runs per heading actually flown (anytime)
-  double completeness = 0;             ///< rounds_completed / runs
-  double seconds = 0;                  ///< wall time
-  double simulated_seconds = 0;        ///< sum over runs
-  double run_sim_to_wall = 0;          ///< median over runs of simulated / wall time of one run
+  int best = -1;                 ///< index of ψ* (lowest score among safe headings, else lowest score)
+  bool safe = false;             ///< ψ* is safe: land there; false: do not land
+  std::vector<RunRecord> runs;   ///< heading-major
+  int rounds_completed = 0;      ///< runs per heading actually flown (anytime)
+  double completeness = 0;       ///< rounds_completed / runs
+  double seconds = 0;            ///< wall time
+  double simulated_seconds = 0;  ///< sum over runs
+  double run_sim_to_wall = 0;    ///< median over runs of simulated / wall time of one run
   [[nodiscard]] std::size_t landings() const { return runs.size(); }
 };
 
@@ -102,7 +102,8 @@ struct SweepResult {
 /// for any thread count. Throws InvalidArgument for invalid options or an
 /// invalid airframe; a terrain that does not cover the footprint around the
 /// landing point is status FootprintNotCovered (no headings, no runs).
-SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainModel> terrain, const SweepOptions& options);
+SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainModel> terrain,
+                      const SweepOptions& options);
 
 /// One candidate landing point of a search.
 struct SearchCandidate {
@@ -120,8 +121,8 @@ struct SearchResult {
   std::string message;
   [[nodiscard]] bool ok() const { return status == SweepStatus::Ok; }
   std::vector<SearchCandidate> candidates;
-  int best = -1;          ///< index into candidates
-  SweepResult sweep;      ///< the full sweep at the best candidate
+  int best = -1;      ///< index into candidates
+  SweepResult sweep;  ///< the full sweep at the best candidate
 };
 
 /// Beyond the paper: also explores landing points on a square grid of

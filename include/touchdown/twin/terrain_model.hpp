@@ -7,14 +7,13 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <filesystem>
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include "touchdown/core/mesh.hpp"
 #include "touchdown/terrain/terrain_mesher.hpp"
-
-#include <filesystem>
-#include <memory>
 
 namespace touchdown::twin {
 
@@ -58,7 +57,7 @@ class TerrainModel {
   std::vector<std::uint32_t> start_;  // per cell offsets into items_
   std::vector<std::uint32_t> items_;  // triangle indices
   std::vector<Eigen::AlignedBox3f> tri_box_;
-  std::vector<float> cell_max_z_;  // per bucket: highest point of its triangles
+  std::vector<float> cell_max_z_;             // per bucket: highest point of its triangles
   std::vector<std::array<int, 2>> tri_cell_;  // first bucket of each triangle
 };
 
