@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <Eigen/Geometry>
 #include <atomic>
 #include <cstdlib>
 #include <cstring>
@@ -14,6 +15,7 @@
 #include <sstream>
 #include <string>
 
+#include "touchdown/core/error.hpp"
 #include "touchdown/core/mesh.hpp"
 #include "touchdown/core/point_cloud.hpp"
 
@@ -52,6 +54,22 @@ class TempDir {
  private:
   std::filesystem::path path_;
 };
+
+/// The message of the touchdown::Error that `f` throws, or "<no error>".
+template <typename F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const touchdown::Error& e) {
+    return e.what();
+  }
+  return "<no error>";
+}
+
+/// Angle of the rotation between two poses [rad].
+inline double rotation_error(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle();
+}
 
 inline std::filesystem::path data_path(const std::string& rel) {
   return std::filesystem::path(TOUCHDOWN_TEST_DATA) / rel;

@@ -1,7 +1,8 @@
 #include "dense_solvers.hpp"
 
 #include <Eigen/Eigenvalues>
-#include <Eigen/SVD>
+#include <Eigen/QR>
+#include <cmath>
 
 namespace touchdown::pose::detail {
 
@@ -13,16 +14,22 @@ bool symmetric_eigen(const SymmetricMatrix& a, SymmetricVector& eigenvalues, Sym
   return true;
 }
 
-void svd(const SvdMatrix& a, SvdLeftMatrix& u, SvdVector& s, SvdRightMatrix& v) {
-  const Eigen::JacobiSVD<SvdMatrix> decomposition(a, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  u = decomposition.matrixU();
-  s = decomposition.singularValues();
-  v = decomposition.matrixV();
+bool min_norm_and_null_space(const RectMatrix& a, const RectVector& b, double rank_tolerance, RectVector& x,
+                             SquareMatrix& null_space) {
+  const Eigen::Index r = a.rows(), n = a.cols();
+  const Eigen::ColPivHouseholderQR<RectMatrix> qr(RectMatrix(a.transpose()));
+  const RectMatrix& R = qr.matrixQR();  // R in the upper triangle
+  if (!(std::abs(R(r - 1, r - 1)) > rank_tolerance * std::abs(R(0, 0)))) return false;
+  const SquareMatrix Q = qr.householderQ();
+  const RectVector pb = qr.colsPermutation().transpose() * b;
+  const RectVector y = R.topLeftCorner(r, r).triangularView<Eigen::Upper>().transpose().solve(pb);
+  x = Q.leftCols(r) * y;
+  null_space = Q.rightCols(n - r);
+  return true;
 }
 
-void least_squares(const SvdMatrix& a, const SvdVector& b, SvdVector& x) {
-  const Eigen::JacobiSVD<SvdMatrix> decomposition(a, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  x = decomposition.solve(b);
+void least_squares(const RectMatrix& a, const RectVector& b, RectVector& x) {
+  x = Eigen::ColPivHouseholderQR<RectMatrix>(a).solve(b);
 }
 
 }  // namespace touchdown::pose::detail

@@ -19,7 +19,7 @@ namespace {
 // Build cost: each of Eigen's decompositions is instantiated, unrolled and
 // vectorised per matrix type; with six fixed-size ones (three eigensolvers,
 // three SVDs, an LU) this file took about a minute to compile. The symmetric
-// eigenproblems and the relinearisation's SVDs now go through
+// eigenproblems and the relinearisation's least squares now go through
 // dense_solvers.cpp, compiled once and in parallel with this file.
 using detail::SymmetricMatrix;
 using detail::SymmetricVector;
@@ -292,14 +292,12 @@ class Epnp {
       }
       rho(q) = rho_[q];
     }
-    detail::SvdLeftMatrix U;
-    detail::SvdVector sv;
-    detail::SvdRightMatrix V;
-    detail::svd(L, U, sv, V);
-    if (!(sv(5) > 1e-12 * sv(0))) return false;
-    const Eigen::Matrix<double, 10, 1> bp =
-        V.leftCols(6) * (sv.head(6).cwiseInverse().asDiagonal() * (U.topLeftCorner(6, 6).transpose() * rho));
-    const Eigen::Matrix<double, 10, 4> N = V.rightCols(4);
+    // β̄_p: minimum-norm solution; N: null space of L (rank 6).
+    detail::RectVector bp_solution;
+    detail::SquareMatrix null_space;
+    if (!detail::min_norm_and_null_space(L, rho, 1e-12, bp_solution, null_space)) return false;
+    const Eigen::Matrix<double, 10, 1> bp = bp_solution;
+    const Eigen::Matrix<double, 10, 4> N = null_space;
     // z = (λ_0..λ_3, λ_00, λ_01, λ_02, λ_03, λ_11, λ_12, λ_13, λ_22, λ_23, λ_33).
     Eigen::Matrix<double, 20, 14> A = Eigen::Matrix<double, 20, 14>::Zero();
     Eigen::Matrix<double, 20, 1> c = Eigen::Matrix<double, 20, 1>::Zero();
@@ -321,7 +319,7 @@ class Epnp {
       add_product(row, e.x0, e.y0, 1);
       add_product(row, e.x1, e.y1, -1);
     }
-    detail::SvdVector z_solution;
+    detail::RectVector z_solution;
     detail::least_squares(A, -c, z_solution);
     const Eigen::Matrix<double, 14, 1> z = z_solution;
     if (!z.allFinite()) return false;

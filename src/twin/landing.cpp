@@ -1,11 +1,8 @@
 // One landing of the twin. Dynamics: ODE (world, one rigid body, contact
-// joints). Contacts: src/twin/contacts.cpp. Flight control: an emulation of
-// PX4's multicopter land mode — position → velocity → acceleration/thrust
-// (mc_pos_control), attitude → rate (mc_att_control, geometric attitude
-// error as in Lee, Leok & McClamroch 2010), rate → torque, a control
-// allocation to the motors, first-order motor lag — and PX4's three-stage
-// land detector (MulticopterLandDetector: ground contact → maybe landed →
-// landed), the thrust ramp-down after ground contact, and disarm.
+// joints). Contacts: src/twin/contacts.cpp. Flight control
+// (flight_control.cpp): an emulation of PX4's multicopter land mode, PX4's
+// three-stage land detector and the mixer; here only the first-order motor
+// lag, the forces on the body and the end of the run.
 #include "touchdown/twin/landing.hpp"
 
 #include <ode/ode.h>
@@ -22,11 +19,10 @@
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/rotation.hpp"
 #include "touchdown/core/units.hpp"
+#include "touchdown/twin/flight_control.hpp"
 
 namespace touchdown::twin {
 namespace {
-
-constexpr double kGravity = 9.80665;
 
 void ensure_ode() {
   static std::once_flag once;
@@ -52,8 +48,6 @@ Eigen::Vector3d vec_of(const dReal* v) { return {v[0], v[1], v[2]}; }
 
 double nutation_of(const Eigen::Matrix3d& R) { return std::acos(std::clamp(R(2, 2), -1.0, 1.0)); }
 
-Eigen::Vector3d vee(const Eigen::Matrix3d& S) { return {S(2, 1), S(0, 2), S(1, 0)}; }
-
 // ODE's ERP/CFM for a spring-damper contact (ODE manual, "Joint error and
 // the error reduction parameter", "Soft constraint and constraint force mixing").
 void soft_params(double h, double kp, double kd, double& erp, double& cfm) {
@@ -66,15 +60,15 @@ enum class PartKind { Foot, Leg, Arm, Propeller, Body };
 // Everything of one run: ODE objects, controller state, bookkeeping.
 class Run {
  public:
-  Run(const LandingSimulator& sim, double friction) : sim_(sim), af_(sim.airframe()), opt_(sim.options()) {
+  Run(const LandingSimulator& sim, double friction)
+      : sim_(sim), af_(sim.airframe()), opt_(sim.options()), com_(af_.centre_of_mass()), mixer_(af_, com_) {
     ensure_ode();
-    com_ = af_.centre_of_mass();
     world_ = dWorldCreate();
     // Each world gets its own (single-threaded) stepping implementation: the
     // library-wide default one is shared and must not step two worlds at once.
     threading_ = dThreadingAllocateSelfThreadedImplementation();
     dWorldSetStepThreadingImplementation(world_, dThreadingImplementationGetFunctions(threading_), threading_);
-    dWorldSetGravity(world_, 0, 0, -kGravity);
+    dWorldSetGravity(world_, 0, 0, -kStandardGravity);
     dWorldSetQuickStepNumIterations(world_, opt_.solver_iterations);
     dWorldSetContactSurfaceLayer(world_, 0.0005);
     dWorldSetContactMaxCorrectingVel(world_, 1.0);
@@ -87,19 +81,8 @@ class Run {
     dBodySetMass(body_, &m);
     friction_ = friction;
     soft_params(opt_.step, opt_.contact_stiffness, opt_.contact_damping, erp_, cfm_);
-    // Allocation matrix: [thrust; torque] = A f, motor positions about the CoM.
     const std::size_t n = af_.motor_count();
-    alloc_.resize(4, static_cast<Eigen::Index>(n));
-    for (std::size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d r = af_.motor_position(i) - com_;
-      const auto c = static_cast<Eigen::Index>(i);
-      alloc_(0, c) = 1.0;
-      alloc_(1, c) = r.y();                                  // roll torque of a thrust along +z at r
-      alloc_(2, c) = -r.x();                                 // pitch torque
-      alloc_(3, c) = -af_.spin[i] * af_.torque_coefficient;  // reaction torque opposes the spin
-    }
-    alloc_pinv_ = alloc_.transpose() * (alloc_ * alloc_.transpose()).inverse();
-    hover_thrust_ = af_.total_mass() * kGravity;
+    hover_thrust_ = af_.total_mass() * kStandardGravity;
     motor_.assign(n, 0.0);
     for (std::size_t i = 0; i < n; ++i) {
       motor_r_.push_back(af_.motor_position(i) - com_);
@@ -153,16 +136,12 @@ class Run {
 
   RunResult fly(const LandingConditions& lc, bool armed) {
     RunResult res;
-    const auto& cp = opt_.controller;
     const double dt = opt_.step;
     const long max_steps = static_cast<long>(std::ceil(opt_.timeout / dt));
-    const double stage_time = cp.land_trigger_time / 3.0;
     const double motor_alpha = 1.0 - std::exp(-dt / af_.motor_time_constant);
-    Eigen::Vector2d vel_int = Eigen::Vector2d::Zero();
-    double vz_int = 0;
-    Eigen::Vector3d v_prev = Eigen::Vector3d::Zero(), accel_lp = Eigen::Vector3d::Zero();
-    int stage = armed ? 0 : 3;
-    double stage_timer = 0, still_timer = 0, ramp = 1.0, thrust_at_contact = hover_thrust_;
+    LandController controller(opt_.controller, af_.total_mass(), af_.inertia_about_com(), dt);
+    LandDetector detector(opt_.controller, hover_thrust_, dt, armed);
+    double still_timer = 0;
     bool touched = false;
     const double terrain_floor = sim_.terrain().bounds().min.z() - 1.0;
     std::vector<detail::Contact> contacts;
@@ -189,103 +168,20 @@ class Run {
       const double nut = nutation_of(R);
       if (touched) res.max_touchdown_nutation = std::max(res.max_touchdown_nutation, nut);
 
-      // ---- flight controller -------------------------------------------------
-      if (stage < 3) {
-        // Position → velocity (PX4 PositionControl::_positionControl).
-        Eigen::Vector2d v_sp = cp.xy_p * (lc.landing_point - p.head<2>());
-        if (v_sp.norm() > cp.xy_vel_max) v_sp *= cp.xy_vel_max / v_sp.norm();
-        const double vz_sp = -lc.land_speed;
-        // Velocity → acceleration (PositionControl::_velocityControl), PID
-        // with the derivative low-passed at MPC_VELD_LP (touchdown shocks
-        // must not become tilt commands).
-        const double lp = 1.0 - std::exp(-2.0 * std::numbers::pi * cp.vel_deriv_lp_hz * dt);
-        accel_lp += lp * ((v - v_prev) / dt - accel_lp);
-        const Eigen::Vector3d& accel = accel_lp;
-        const Eigen::Vector2d e_xy = v_sp - v.head<2>();
-        vel_int += e_xy * dt;
-        vel_int = vel_int.cwiseMax(-2.0).cwiseMin(2.0);
-        Eigen::Vector2d a_xy = cp.xy_vel_p * e_xy + cp.xy_vel_i * vel_int - cp.xy_vel_d * accel.head<2>();
-        const double e_z = vz_sp - v.z();
-        vz_int = std::clamp(vz_int + e_z * dt, -3.0, 3.0);
-        const double a_z = cp.z_vel_p * e_z + cp.z_vel_i * vz_int;
-        // Thrust vector with the tilt limit (MPC_TILTMAX_AIR).
-        Eigen::Vector3d F(a_xy.x(), a_xy.y(), a_z + kGravity);
-        F *= af_.total_mass();
-        F.z() = std::max(F.z(), 0.1 * hover_thrust_);
-        const double max_h = F.z() * std::tan(deg_to_rad(cp.tilt_max_deg));
-        if (F.head<2>().norm() > max_h) F.head<2>() *= max_h / F.head<2>().norm();
-        // Desired attitude: body z along F, heading ψ.
-        const Eigen::Vector3d zb = F.normalized();
-        const Eigen::Vector3d xc(std::cos(lc.heading), std::sin(lc.heading), 0.0);
-        const Eigen::Vector3d yb = zb.cross(xc).normalized();
-        Eigen::Matrix3d Rd;
-        Rd.col(0) = yb.cross(zb);
-        Rd.col(1) = yb;
-        Rd.col(2) = zb;
-        // Attitude → rates (geometric error), rates → torque.
-        if (stage >= 1) {
-          // After ground contact PX4 (mc_pos_control limit_thrust_during_landing)
-          // takes the collective thrust to zero, commands a level attitude at
-          // the current heading and resets the integrators.
-          const Eigen::Vector3d xc2(std::cos(lc.heading), std::sin(lc.heading), 0.0);
-          Rd.col(2) = Eigen::Vector3d::UnitZ();
-          Rd.col(1) = Eigen::Vector3d::UnitZ().cross(xc2).normalized();
-          Rd.col(0) = Rd.col(1).cross(Rd.col(2));
-        }
-        const Eigen::Vector3d e_R = 0.5 * vee(Rd.transpose() * R - R.transpose() * Rd);
-        Eigen::Vector3d w_sp(-cp.roll_p * e_R.x(), -cp.pitch_p * e_R.y(), -cp.yaw_p * e_R.z());
-        const double yaw_rate_max = deg_to_rad(cp.yaw_rate_max_deg);
-        w_sp.z() = std::clamp(w_sp.z(), -yaw_rate_max, yaw_rate_max);
-        const Eigen::Vector3d alpha(cp.rate_p_roll_pitch * (w_sp.x() - w.x()),
-                                    cp.rate_p_roll_pitch * (w_sp.y() - w.y()), cp.rate_p_yaw * (w_sp.z() - w.z()));
-        const Eigen::Matrix3d J = af_.inertia_about_com();
-        const Eigen::Vector3d tau = J * alpha + w.cross(J * w);
-        double thrust = std::max(0.0, F.dot(R.col(2)));
-
-        // ---- land detector (three stages, each held a third of LNDMC_TRIG_TIME)
-        const bool slow_vertical = std::abs(v.z()) < cp.land_z_vel_max;
-        const bool low_thrust = thrust * ramp < cp.low_thrust_fraction * hover_thrust_;
-        const bool low_rotation = w.norm() < deg_to_rad(cp.land_rot_max_deg);
-        if (stage == 0) {
-          stage_timer = slow_vertical && vz_sp < 0 ? stage_timer + dt : 0.0;
-          if (stage_timer >= stage_time) {
-            stage = 1;  // ground contact: start the thrust ramp-down
-            stage_timer = 0;
-            vel_int.setZero();
-            thrust_at_contact = thrust;
-          }
-        } else {
-          ramp = std::max(0.0, ramp - dt / cp.thrust_ramp_time);
-          const bool ok = slow_vertical && low_thrust && low_rotation;
-          stage_timer = ok ? stage_timer + dt : 0.0;
-          if (stage_timer >= stage_time) {
-            ++stage;  // maybe landed → landed
-            stage_timer = 0;
-          }
-        }
-        if (stage >= 1) thrust = std::min(thrust, ramp * thrust_at_contact);
-        // Allocation with saturation as PX4's mixer without airmode: keep the
-        // collective thrust, scale the torques down until every motor command
-        // is within [0, max_thrust] (so torque authority fades with thrust).
-        thrust = std::min(thrust, af_.max_thrust * static_cast<double>(motor_.size()));
-        const Eigen::VectorXd f_thrust = alloc_pinv_ * Eigen::Vector4d(thrust, 0, 0, 0);
-        const Eigen::VectorXd f_torque = alloc_pinv_ * Eigen::Vector4d(0, tau.x(), tau.y(), tau.z());
-        double scale = 1.0;
-        for (Eigen::Index i = 0; i < f_thrust.size(); ++i) {
-          const double ft = f_thrust[i], fq = f_torque[i];
-          if (fq < 0 && ft + scale * fq < 0) scale = std::max(0.0, -ft / fq);
-          if (fq > 0 && ft + scale * fq > af_.max_thrust) scale = std::max(0.0, (af_.max_thrust - ft) / fq);
-        }
-        Eigen::VectorXd f = f_thrust + scale * f_torque;
-        for (Eigen::Index i = 0; i < f.size(); ++i) f[i] = std::clamp(f[i], 0.0, af_.max_thrust);
+      // ---- flight controller, land detector, mixer (flight_control.hpp) --------
+      if (!detector.landed()) {
+        const LandController::Output u = controller.update({p, v, R, w}, lc.landing_point, lc.heading, lc.land_speed,
+                                                           detector.stage() >= LandDetector::GroundContact);
+        if (detector.update(u.thrust, v.z(), u.vz_setpoint, w.norm())) controller.reset_velocity_integrator();
+        const Eigen::VectorXd f = mixer_.mix(detector.limit_thrust(u.thrust), u.torque);
         for (std::size_t i = 0; i < motor_.size(); ++i) {
-          const double cmd = stage >= 3 ? 0.0 : f[static_cast<Eigen::Index>(i)];
+          const double cmd = detector.landed() ? 0.0 : f[static_cast<Eigen::Index>(i)];
           motor_[i] += (cmd - motor_[i]) * motor_alpha;
         }
       } else {
+        controller.idle(v);
         for (double& m : motor_) m += (0.0 - m) * motor_alpha;  // disarmed: spin down
       }
-      v_prev = v;
       for (std::size_t i = 0; i < motor_.size(); ++i) {
         const Eigen::Vector3d& r = motor_r_[i];
         dBodyAddRelForceAtRelPos(body_, 0, 0, motor_[i], r.x(), r.y(), r.z());
@@ -379,11 +275,13 @@ class Run {
       dJointGroupEmpty(contacts_group_);
       ++res.steps;
 
-      if (opt_.record_trace && step % 20 == 0) res.trace.push_back({static_cast<double>(step) * dt, p, nut, stage});
+      if (opt_.record_trace && step % 20 == 0) {
+        res.trace.push_back({static_cast<double>(step) * dt, p, nut, detector.stage()});
+      }
 
       // ---- end of run: still for still_time after disarm ----------------------
       const Eigen::Vector3d v1 = vec_of(dBodyGetLinearVel(body_)), w1 = vec_of(dBodyGetAngularVel(body_));
-      if (stage >= 3 && v1.norm() < opt_.still_linear && w1.norm() < opt_.still_angular) {
+      if (detector.landed() && v1.norm() < opt_.still_linear && w1.norm() < opt_.still_angular) {
         still_timer += dt;
         if (still_timer >= opt_.still_time) {
           res.status = RunStatus::Settled;
@@ -421,7 +319,7 @@ class Run {
   dJointGroupID contacts_group_;
   dBodyID body_;
   double friction_ = 0.8, erp_ = 0.2, cfm_ = 1e-5;
-  Eigen::MatrixXd alloc_, alloc_pinv_;
+  Mixer mixer_;
   double hover_thrust_ = 0;
   double reach_ = 0;
   std::vector<double> motor_;

@@ -21,15 +21,7 @@ td::PointCloud organized_cloud() {
   return c;
 }
 
-template <typename Fn>
-std::string error_of(Fn&& fn) {
-  try {
-    fn();
-  } catch (const td::Error& e) {
-    return e.what();
-  }
-  return "<no error>";
-}
+using touchdown::test::error_of;
 
 td::PointCloud parse_pcd(const std::string& text) {
   std::istringstream in(text);

@@ -18,6 +18,7 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "test_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/pose/constellation.hpp"
 
@@ -167,9 +168,7 @@ BgrImage render(const CameraModel& cam, const std::vector<Marker>& markers) {
   return image;
 }
 
-double rotation_error(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
-  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle();
-}
+using touchdown::test::rotation_error;
 
 ::testing::AssertionResult near_pose(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth,
                                      double tolerance_m, double tolerance_rad) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "pose/pose_test_util.hpp"
+#include "test_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 
@@ -108,9 +109,7 @@ Eigen::Isometry3d apply(const Similarity& g, const Eigen::Isometry3d& T) {
   return out;
 }
 
-double rotation_error(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
-  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle();
-}
+using touchdown::test::rotation_error;
 
 }  // namespace
 

@@ -44,13 +44,13 @@ std::string parse_error(Parse parse, const std::string& yaml) {
 std::string camera_error(const std::string& yaml) { return parse_error(tp::parse_camera, yaml); }
 std::string constellation_error(const std::string& yaml) { return parse_error(tp::parse_constellation, yaml); }
 
-const std::string kCamera =
+const std::string kCameraYaml =
     "width: 848\nheight: 480\nfx: 615.0\nfy: 616.0\ncx: 423.5\ncy: 239.5\n"
     "distortion: [0.1, -0.2, 0.001, 0.002, 0.03]\ndepth_scale: 0.001\n";
 
-// kCamera with the line of `key` replaced by `line` (or removed when empty).
+// kCameraYaml with the line of `key` replaced by `line` (or removed when empty).
 std::string camera_with(const std::string& key, const std::string& line) {
-  return touchdown::test::replace_key_line(kCamera, key, line);
+  return touchdown::test::replace_key_line(kCameraYaml, key, line);
 }
 
 // "cfg.yaml:N: invalid YAML..." with lo <= N <= hi.
@@ -123,7 +123,7 @@ TEST(CameraYaml, BundledD435Loads) {
 }
 
 TEST(CameraYamlBadInput, UnknownKey) {
-  const auto m = camera_error(kCamera + "fz: 600\n");
+  const auto m = camera_error(kCameraYaml + "fz: 600\n");
   EXPECT_CONTAINS(m, "cfg.yaml:9: fz: unknown key");
 }
 

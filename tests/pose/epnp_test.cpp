@@ -7,15 +7,14 @@
 #include <vector>
 
 #include "pose/pose_test_util.hpp"
+#include "test_util.hpp"
 #include "touchdown/core/random.hpp"
 
 using namespace touchdown::pose_test;
 
 namespace {
 
-double rotation_error(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
-  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle();
-}
+using touchdown::test::rotation_error;
 
 // OpenCV's solvePnP on the same data (undistorted pixels, no distortion).
 Eigen::Isometry3d opencv_pnp(const std::vector<Eigen::Vector3d>& p, const std::vector<Eigen::Vector2d>& uv, int flags) {

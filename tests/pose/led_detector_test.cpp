@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "pose/pose_test_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 
@@ -13,7 +14,8 @@ namespace tp = touchdown::pose;
 
 namespace {
 
-tp::CameraModel camera() { return tp::load_camera(TOUCHDOWN_SOURCE_DIR "/data/cameras/d435_848x480.yaml"); }
+using touchdown::pose_test::d435;
+using touchdown::pose_test::f450;
 
 // Adds a Gaussian spot of colour `bgr` (peak, saturating at 255).
 void spot(tp::BgrImage& img, Eigen::Vector2d c, double sigma, Eigen::Vector3d bgr) {
@@ -54,7 +56,7 @@ TEST(LedDetector, SubPixelCentresAndColourClasses) {
     spot(img, c, 1.2 + 0.1 * i, bgr[i % 4]);
     truth.push_back({c, colors[i % 4]});
   }
-  tp::LedDetector det(camera());
+  tp::LedDetector det(d435());
   std::vector<tp::Blob> blobs;
   det.detect(img.view(), nullptr, blobs);
   ASSERT_EQ(blobs.size(), truth.size());
@@ -92,7 +94,7 @@ TEST(LedDetector, ConnectivityAndAreaLimits) {
   }
   tp::DetectorOptions o;
   o.max_area = 100;
-  tp::CameraModel cam = camera();
+  tp::CameraModel cam = d435();
   cam.width = 64;
   cam.height = 32;
   cam.cx = 31.5;
@@ -107,7 +109,7 @@ TEST(LedDetector, ConnectivityAndAreaLimits) {
 TEST(LedDetector, DepthGateAndBackProjection) {
   touchdown::Rng rng(32);
   auto img = dark(rng);
-  const auto cam = camera();
+  const auto cam = d435();
   spot(img, {200, 200}, 1.5, {300, 300, 300});  // the drone's LED at 1.2 m
   spot(img, {600, 100}, 3.0, {300, 300, 300});  // a ceiling lamp at 5.5 m
   tp::DepthImage depth;
@@ -135,7 +137,7 @@ TEST(LedDetector, DepthGateAndBackProjection) {
 }
 
 TEST(LedDetector, UndistortsCentres) {
-  auto cam = camera();
+  auto cam = d435();
   cam.distortion = {-0.12, 0.05, 0.001, -0.0005, 0.0};
   const Eigen::Vector3d p(0.4, -0.25, 1.0);
   const Eigen::Vector2d distorted = cam.project(p);
@@ -146,7 +148,7 @@ TEST(LedDetector, BlobCountMatchesOpenCvOnRandomSparseImages) {
   // Random lit pixels anywhere (incl. across the 8-byte skipping words and
   // row ends), dim pixels with the high bit set but below the threshold.
   touchdown::Rng rng(33);
-  tp::CameraModel cam = camera();
+  tp::CameraModel cam = d435();
   tp::DetectorOptions o;
   o.min_area = 1;
   o.max_blobs = 100000;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "pose/pose_test_util.hpp"
+#include "test_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 
@@ -14,9 +15,8 @@ using namespace touchdown::pose_test;
 
 namespace {
 
-tp::Constellation f450() { return tp::load_constellation(TOUCHDOWN_SOURCE_DIR "/data/constellations/f450_leds.yaml"); }
-
-tp::CameraModel camera() { return tp::load_camera(TOUCHDOWN_SOURCE_DIR "/data/cameras/d435_848x480.yaml"); }
+using touchdown::pose_test::d435;
+using touchdown::pose_test::f450;
 
 // Drone above the camera, underside facing it (body z ≈ camera z).
 Eigen::Isometry3d looking_up(touchdown::Rng& rng, double distance) {
@@ -44,15 +44,13 @@ std::vector<tp::Blob> blobs_of(const tp::Constellation& k, const tp::PinholeCame
   return out;
 }
 
-double rotation_error(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
-  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle();
-}
+using touchdown::test::rotation_error;
 
 }  // namespace
 
 TEST(Correspondence, FindsThePermutationUnderColourPruning) {
   const auto k = f450();
-  const auto cam = camera().pinhole();
+  const auto cam = d435().pinhole();
   touchdown::Rng rng(21);
   for (int trial = 0; trial < 30; ++trial) {
     const auto T = looking_up(rng, rng.uniform(0.5, 3.0));
@@ -73,7 +71,7 @@ TEST(Correspondence, FindsThePermutationUnderColourPruning) {
 
 TEST(Correspondence, HandlesASpuriousBlobAndAMissingLed) {
   const auto k = f450();
-  const auto cam = camera().pinhole();
+  const auto cam = d435().pinhole();
   touchdown::Rng rng(22);
   for (int trial = 0; trial < 30; ++trial) {
     const auto T = looking_up(rng, rng.uniform(0.5, 3.0));
@@ -101,7 +99,7 @@ TEST(Correspondence, HandlesASpuriousBlobAndAMissingLed) {
 TEST(Correspondence, WorksWithoutColourClasses) {
   auto k = f450();
   for (auto& l : k.leds) l.color = tp::LedColor::White;
-  const auto cam = camera().pinhole();
+  const auto cam = d435().pinhole();
   touchdown::Rng rng(23);
   for (int trial = 0; trial < 10; ++trial) {
     const auto T = looking_up(rng, rng.uniform(0.5, 2.5));
@@ -115,7 +113,7 @@ TEST(Correspondence, WorksWithoutColourClasses) {
 
 TEST(Correspondence, TooFewOrInconsistentBlobsGiveAStatusNotAPose) {
   const auto k = f450();
-  const auto cam = camera().pinhole();
+  const auto cam = d435().pinhole();
   touchdown::Rng rng(24);
   auto blobs = blobs_of(k, cam, looking_up(rng, 1.0), rng, 0.0);
   blobs.resize(3);
@@ -133,7 +131,7 @@ TEST(Correspondence, TooFewOrInconsistentBlobsGiveAStatusNotAPose) {
 
 TEST(LedTracker, TracksASmoothTrajectoryWithoutReinitialising) {
   const auto k = f450();
-  const auto model = camera();
+  const auto model = d435();
   const auto cam = model.pinhole();
   tp::LedTracker tracker(model, k);
   touchdown::Rng rng(25);
@@ -162,7 +160,7 @@ TEST(LedTracker, TracksASmoothTrajectoryWithoutReinitialising) {
 
 TEST(LedTracker, ReinitialisesAfterLossAndNeverInventsAPose) {
   const auto k = f450();
-  const auto model = camera();
+  const auto model = d435();
   const auto cam = model.pinhole();
   tp::LedTracker tracker(model, k);
   touchdown::Rng rng(26);
@@ -182,8 +180,8 @@ TEST(LedTracker, ReinitialisesAfterLossAndNeverInventsAPose) {
 TEST(LedTracker, RejectsBadConfiguration) {
   auto k = f450();
   k.leds.resize(3);
-  EXPECT_THROW(tp::LedTracker(camera(), k), touchdown::InvalidArgument);
+  EXPECT_THROW(tp::LedTracker(d435(), k), touchdown::InvalidArgument);
   tp::TrackerOptions o;
   o.track_gate_px = -1;
-  EXPECT_THROW(tp::LedTracker(camera(), f450(), o), touchdown::InvalidArgument);
+  EXPECT_THROW(tp::LedTracker(d435(), f450(), o), touchdown::InvalidArgument);
 }

@@ -2,10 +2,12 @@
 // Shared fixtures of the pose tests: constellations of each shape, random
 // well-conditioned poses, noisy observations.
 #include <cmath>
+#include <filesystem>
 #include <vector>
 
 #include "touchdown/core/random.hpp"
 #include "touchdown/pose/camera.hpp"
+#include "touchdown/pose/constellation.hpp"
 #include "touchdown/pose/se3.hpp"
 
 namespace tp = touchdown::pose;
@@ -13,6 +15,17 @@ namespace tp = touchdown::pose;
 namespace touchdown::pose_test {
 
 inline const tp::PinholeCamera kCamera{615.0, 612.0, 424.0, 240.0};
+
+#ifdef TOUCHDOWN_SOURCE_DIR
+/// The bundled F450 LED constellation (data/constellations/f450_leds.yaml).
+inline tp::Constellation f450() {
+  return tp::load_constellation(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/constellations/f450_leds.yaml");
+}
+/// The bundled RealSense D435 colour camera (data/cameras/d435_848x480.yaml).
+inline tp::CameraModel d435() {
+  return tp::load_camera(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/cameras/d435_848x480.yaml");
+}
+#endif
 
 enum class Shape { NonPlanar, Planar, QuasiPlanar };
 

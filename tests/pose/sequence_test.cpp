@@ -5,6 +5,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "pose/pose_test_util.hpp"
 #include "test_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/pose/se3.hpp"
@@ -15,9 +16,8 @@ using touchdown::test::TempDir;
 
 namespace {
 
-tp::Constellation f450() {
-  return tp::load_constellation(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/constellations/f450_leds.yaml");
-}
+using touchdown::pose_test::d435;
+using touchdown::pose_test::f450;
 
 tp::CameraModel small_camera() {
   tp::CameraModel c;
@@ -30,16 +30,7 @@ tp::CameraModel small_camera() {
   return c;
 }
 
-// The message of the touchdown::Error `f` throws ("" if none).
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const touchdown::Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using touchdown::test::error_of;
 
 void write_image(const std::filesystem::path& p, const cv::Mat& m) { ASSERT_TRUE(cv::imwrite(p.string(), m)); }
 

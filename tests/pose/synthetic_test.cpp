@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "pose/pose_test_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/pose/aruco_baseline.hpp"
 #include "touchdown/pose/pose_benchmark.hpp"
@@ -17,13 +18,8 @@ namespace tp = touchdown::pose;
 
 namespace {
 
-tp::Constellation f450() {
-  return tp::load_constellation(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/constellations/f450_leds.yaml");
-}
-
-tp::CameraModel d435() {
-  return tp::load_camera(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/cameras/d435_848x480.yaml");
-}
+using touchdown::pose_test::d435;
+using touchdown::pose_test::f450;
 
 tp::CameraModel distorted() {
   tp::CameraModel c = d435();

@@ -13,12 +13,7 @@ namespace tt = touchdown::terrain;
 namespace {
 
 std::string error_of(const std::string& yaml) {
-  try {
-    tt::parse_extrinsics(yaml, "cam.yaml");
-  } catch (const td::ParseError& e) {
-    return e.what();
-  }
-  return "<no error>";
+  return td::test::error_of([&] { tt::parse_extrinsics(yaml, "cam.yaml"); });
 }
 
 }  // namespace

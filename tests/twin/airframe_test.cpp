@@ -18,12 +18,7 @@ std::string f450_yaml() {
 }
 
 std::string error_of(const std::string& yaml) {
-  try {
-    tw::parse_airframe(yaml, "af.yaml");
-  } catch (const td::ParseError& e) {
-    return e.what();
-  }
-  return "<no error>";
+  return td::test::error_of([&] { tw::parse_airframe(yaml, "af.yaml"); });
 }
 
 std::string replace(std::string s, const std::string& from, const std::string& to) {

@@ -5,6 +5,7 @@
 
 #include <numbers>
 
+#include "touchdown/core/units.hpp"
 #include "touchdown/twin/threshold.hpp"
 #include "twin_test_util.hpp"
 
@@ -13,7 +14,7 @@ using touchdown::test::analytic_terrain;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180;
+using touchdown::kRadPerDeg;
 
 tw::RunResult land(const std::shared_ptr<const tw::TerrainModel>& terrain, double heading, double ground_z,
                    tw::SimulationOptions opt = {}, double friction = 1.0) {
@@ -32,13 +33,13 @@ tw::RunResult land(const std::shared_ptr<const tw::TerrainModel>& terrain, doubl
 TEST(Landing, FlatGroundGivesNoNutationAtEveryHeading) {
   const auto flat = touchdown::test::flat_terrain(0.0);
   for (double h : {0.0, 30.0, 77.0, 135.0}) {
-    const auto r = land(flat, h * kDeg, 0.0);
+    const auto r = land(flat, h * kRadPerDeg, 0.0);
     ASSERT_EQ(r.status, tw::RunStatus::Settled) << h;
     EXPECT_LT(r.nutation, 0.02) << h;
     EXPECT_TRUE(r.all_feet_in_contact);
     EXPECT_FALSE(r.strike());
     EXPECT_LT(r.offset, 0.02);
-    EXPECT_NEAR(std::remainder(r.yaw - h * kDeg, 2 * std::numbers::pi), 0.0, 0.03) << "heading held";
+    EXPECT_NEAR(std::remainder(r.yaw - h * kRadPerDeg, 2 * std::numbers::pi), 0.0, 0.03) << "heading held";
     // The feet rest on the ground: the CoM sits at -(ground_z - com_z) above it.
     const auto af = tw::Airframe::f450();
     EXPECT_NEAR(r.final_position.z(), af.centre_of_mass().z() - af.ground_z(), 0.003);
@@ -47,11 +48,11 @@ TEST(Landing, FlatGroundGivesNoNutationAtEveryHeading) {
 
 TEST(Landing, InclineGivesItsAngle) {
   for (double alpha : {5.0, 10.0, 15.0}) {
-    const auto slope = touchdown::test::incline_terrain(alpha * kDeg);
+    const auto slope = touchdown::test::incline_terrain(alpha * kRadPerDeg);
     for (double h : {0.0, 60.0, 90.0}) {
-      const auto r = land(slope, h * kDeg, std::tan(alpha * kDeg) * 0.35);
+      const auto r = land(slope, h * kRadPerDeg, std::tan(alpha * kRadPerDeg) * 0.35);
       ASSERT_EQ(r.status, tw::RunStatus::Settled) << alpha << " " << h;
-      EXPECT_NEAR(r.nutation, alpha * kDeg, 0.02) << "incline " << alpha << " deg, heading " << h;
+      EXPECT_NEAR(r.nutation, alpha * kRadPerDeg, 0.02) << "incline " << alpha << " deg, heading " << h;
     }
   }
 }
@@ -69,7 +70,7 @@ TEST(Landing, StepUnderTheLongAxisTiltsByAtanOfHeightOverSpacing) {
 }
 
 TEST(Landing, HalvingTheTimeStepChangesTheNutationLittle) {
-  const auto slope = touchdown::test::incline_terrain(8 * kDeg);
+  const auto slope = touchdown::test::incline_terrain(8 * kRadPerDeg);
   tw::SimulationOptions coarse, fine;
   fine.step = coarse.step / 2;
   const auto a = land(slope, 0.5, 0.06, coarse), b = land(slope, 0.5, 0.06, fine);
@@ -81,8 +82,8 @@ TEST(Landing, HalvingTheTimeStepChangesTheNutationLittle) {
 TEST(Landing, SteepSlopeTipsTheTwinOver) {
   // 35° is beyond the F450's 28° tip-over angle: it tips, strikes or tumbles
   // off the mapped terrain (an invalid run), never a clean landing.
-  const auto steep = analytic_terrain([](double x, double) { return std::tan(35 * kDeg) * x; }, 2.0, 0.05);
-  const auto r = land(steep, 90 * kDeg, std::tan(35 * kDeg) * 0.35, {}, 1.0);
+  const auto steep = analytic_terrain([](double x, double) { return std::tan(35 * kRadPerDeg) * x; }, 2.0, 0.05);
+  const auto r = land(steep, 90 * kRadPerDeg, std::tan(35 * kRadPerDeg) * 0.35, {}, 1.0);
   EXPECT_TRUE(r.status == tw::RunStatus::Unstable || r.tipped || r.strike()) << r.nutation;
   EXPECT_FALSE(r.valid() && !r.tipped && !r.strike() && r.nutation < 0.5);
 }
@@ -97,13 +98,13 @@ TEST(Landing, PostUnderAPropellerIsAStrike) {
   EXPECT_TRUE(r.prop_strike);
   EXPECT_FALSE(r.arm_strike);
   // Turned by 45° the propellers sit on the axes and nothing touches the post.
-  const auto clear = land(post, 45 * kDeg, 0.0);
+  const auto clear = land(post, 45 * kRadPerDeg, 0.0);
   EXPECT_FALSE(clear.strike());
   EXPECT_LT(clear.nutation, 0.02);
 }
 
 TEST(Landing, DeterministicForTheSameConditions) {
-  const auto slope = touchdown::test::incline_terrain(7 * kDeg);
+  const auto slope = touchdown::test::incline_terrain(7 * kRadPerDeg);
   const auto a = land(slope, 0.3, 0.05), b = land(slope, 0.3, 0.05);
   EXPECT_EQ(a.nutation, b.nutation);
   EXPECT_EQ(a.steps, b.steps);

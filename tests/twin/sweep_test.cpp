@@ -5,13 +5,15 @@
 #include <numbers>
 
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/units.hpp"
 #include "twin_test_util.hpp"
 
 namespace td = touchdown;
 namespace tw = touchdown::twin;
 
 namespace {
-constexpr double kDeg = std::numbers::pi / 180;
+
+using touchdown::kRadPerDeg;
 
 tw::SweepOptions small(int headings, int runs) {
   tw::SweepOptions o;
@@ -22,7 +24,7 @@ tw::SweepOptions small(int headings, int runs) {
 }  // namespace
 
 TEST(Sweep, SameSeedSameResultForOneAndTwoThreads) {
-  const auto slope = td::test::incline_terrain(6 * kDeg);
+  const auto slope = td::test::incline_terrain(6 * kRadPerDeg);
   auto o = small(4, 3);
   o.threads = 1;
   const auto a = tw::run_sweep(tw::Airframe::f450(), slope, o);
@@ -46,7 +48,7 @@ TEST(Sweep, HeadingsAndScoresFollowTheMethod) {
   ASSERT_EQ(r.headings.size(), 6u);
   for (int j = 0; j < 6; ++j) {
     const auto& h = r.headings[static_cast<std::size_t>(j)];
-    EXPECT_NEAR(h.yaw, j * 180.0 / 6 * kDeg, 1e-12);  // psi_max = 180 for the symmetric F450
+    EXPECT_NEAR(h.yaw, j * 180.0 / 6 * kRadPerDeg, 1e-12);  // psi_max = 180 for the symmetric F450
     double worst = 0;
     for (const auto& run : r.runs) {
       if (run.heading == j) worst = std::max(worst, run.result.nutation);
@@ -61,7 +63,7 @@ TEST(Sweep, HeadingsAndScoresFollowTheMethod) {
 }
 
 TEST(Sweep, SteepSlopeHasNoSafeHeading) {
-  const auto steep = td::test::incline_terrain(32 * kDeg);
+  const auto steep = td::test::incline_terrain(32 * kRadPerDeg);
   const auto r = tw::run_sweep(tw::Airframe::f450(), steep, small(4, 2));
   EXPECT_FALSE(r.safe);
   for (const auto& h : r.headings) EXPECT_FALSE(h.safe);
@@ -75,7 +77,7 @@ TEST(Sweep, StepOnlyTheAlignedHeadingClears) {
   auto o = small(4, 2);
   const auto r = tw::run_sweep(tw::Airframe::f450(), step, o);
   ASSERT_TRUE(r.safe);
-  EXPECT_NEAR(r.headings[static_cast<std::size_t>(r.best)].yaw, 90 * kDeg, 1e-9);
+  EXPECT_NEAR(r.headings[static_cast<std::size_t>(r.best)].yaw, 90 * kRadPerDeg, 1e-9);
   EXPECT_LT(r.headings[2].score, 0.02);
   EXPECT_GT(r.headings[0].score, 0.1);
 }
@@ -130,7 +132,7 @@ TEST(Search, MovesOffAStepEdgeToASafePoint) {
 }
 
 TEST(Sweep, InclineScoresItsAngleAtEveryHeadingWithPerturbations) {
-  const double alpha = 10 * kDeg;
+  const double alpha = 10 * kRadPerDeg;
   const auto slope = td::test::incline_terrain(alpha);
   const auto r = tw::run_sweep(tw::Airframe::f450(), slope, small(5, 2));
   for (const auto& h : r.headings) {

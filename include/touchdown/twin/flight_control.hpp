@@ -1,0 +1,113 @@
+#pragma once
+/// \file
+/// The twin's flight control, as three small units that need no physics
+/// engine (src/twin/landing.cpp drives them inside ODE; tests drive them
+/// alone): PX4's land-mode controller cascade, PX4's three-stage land
+/// detector, and the motor mixer with PX4's non-airmode saturation. Gains
+/// and thresholds are ControllerParams (landing.hpp), named after the PX4
+/// parameters they mirror.
+///
+/// Thread-safety: one instance per run. No allocation in update().
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+namespace touchdown::twin {
+
+struct ControllerParams;
+class Airframe;
+
+/// Standard gravity [m/s²], as the twin's ODE world uses.
+inline constexpr double kStandardGravity = 9.80665;
+
+/// What the controller measures each step (world frame z up).
+struct VehicleState {
+  Eigen::Vector3d p_world = Eigen::Vector3d::Zero();  ///< centre of mass [m]
+  Eigen::Vector3d v_world = Eigen::Vector3d::Zero();  ///< [m/s]
+  Eigen::Matrix3d R_world_body = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d w_body = Eigen::Vector3d::Zero();  ///< angular velocity in body axes [rad/s]
+};
+
+/// PX4 land mode: position → velocity (mc_pos_control PositionControl),
+/// velocity → acceleration (PID, derivative low-passed at MPC_VELD_LP) →
+/// thrust vector with the land-mode tilt limit, attitude (geometric error,
+/// Lee, Leok & McClamroch 2010) → rates → body torque. After ground contact
+/// (`level`) the attitude setpoint is level at the commanded heading, as
+/// PX4's limit_thrust_during_landing.
+class LandController {
+ public:
+  LandController(const ControllerParams& params, double mass, const Eigen::Matrix3d& inertia_about_com, double dt);
+
+  struct Output {
+    double thrust = 0;                                        ///< collective thrust along body z [N], ≥ 0
+    Eigen::Vector3d torque = Eigen::Vector3d::Zero();         ///< body torque [N m]
+    Eigen::Vector3d thrust_vector = Eigen::Vector3d::Zero();  ///< desired thrust vector (world) [N]
+    double vz_setpoint = 0;                                   ///< [m/s]
+  };
+
+  /// One control step towards `landing_point` at `heading` [rad],
+  /// descending at `land_speed` [m/s].
+  Output update(const VehicleState& s, const Eigen::Vector2d& landing_point, double heading, double land_speed,
+                bool level);
+  /// A step without control (disarmed): keeps the velocity history.
+  void idle(const Eigen::Vector3d& v_world) { v_prev_ = v_world; }
+  /// Ground contact: the horizontal velocity integrator restarts.
+  void reset_velocity_integrator() { vel_int_.setZero(); }
+
+ private:
+  const ControllerParams& p_;
+  double mass_, dt_, hover_thrust_;
+  Eigen::Matrix3d inertia_;
+  Eigen::Vector2d vel_int_ = Eigen::Vector2d::Zero();
+  double vz_int_ = 0;
+  Eigen::Vector3d v_prev_ = Eigen::Vector3d::Zero(), accel_lp_ = Eigen::Vector3d::Zero();
+};
+
+/// PX4's MulticopterLandDetector: ground contact (slow vertical speed while
+/// descending) → maybe landed → landed (also low thrust and low rotation),
+/// each stage held a third of LNDMC_TRIG_TIME; from ground contact on, the
+/// collective thrust ramps to zero over thrust_ramp_time; landed = disarm.
+class LandDetector {
+ public:
+  enum Stage : int { Flying = 0, GroundContact = 1, MaybeLanded = 2, Landed = 3 };
+
+  LandDetector(const ControllerParams& params, double hover_thrust, double dt, bool armed = true);
+
+  /// One step with the controller's commanded thrust [N], vertical speed
+  /// and setpoint [m/s] and body rate magnitude [rad/s]. True on the step
+  /// that detects ground contact.
+  bool update(double thrust, double vz, double vz_setpoint, double rate_norm);
+  /// The thrust after the ramp-down: min(thrust, ramp · thrust at contact)
+  /// from ground contact on.
+  [[nodiscard]] double limit_thrust(double thrust) const;
+
+  [[nodiscard]] int stage() const { return stage_; }
+  [[nodiscard]] bool landed() const { return stage_ >= Landed; }
+  [[nodiscard]] double ramp() const { return ramp_; }
+
+ private:
+  const ControllerParams& p_;
+  double hover_thrust_, dt_, stage_time_;
+  int stage_;
+  double timer_ = 0, ramp_ = 1.0, thrust_at_contact_;
+};
+
+/// Control allocation: [T; τx; τy; τz] = A f for motor thrusts f, with the
+/// pseudo-inverse of A, and PX4's mixer without airmode: the collective
+/// thrust is kept and the torques are scaled down until every motor is in
+/// [0, max_thrust] (torque authority fades with thrust).
+class Mixer {
+ public:
+  Mixer(const Airframe& airframe, const Eigen::Vector3d& centre_of_mass);
+  /// Motor thrusts [N] for `thrust` [N] and `torque` [N m].
+  [[nodiscard]] Eigen::VectorXd mix(double thrust, const Eigen::Vector3d& torque) const;
+  /// [T; τ] of motor thrusts `f` (the allocation A f).
+  [[nodiscard]] Eigen::Vector4d wrench(const Eigen::VectorXd& f) const { return allocation_ * f; }
+  [[nodiscard]] std::size_t motors() const { return static_cast<std::size_t>(allocation_.cols()); }
+
+ private:
+  Eigen::MatrixXd allocation_, pseudo_inverse_;
+  double max_thrust_;
+};
+
+}  // namespace touchdown::twin

@@ -1,0 +1,159 @@
+// PX4 land-mode control, land detector and mixer of the twin (see
+// flight_control.hpp). The arithmetic is kept in the order of the original
+// single loop in landing.cpp, so sweeps are bit-identical.
+#include "touchdown/twin/flight_control.hpp"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "touchdown/core/units.hpp"
+#include "touchdown/twin/airframe.hpp"
+#include "touchdown/twin/landing.hpp"
+
+namespace touchdown::twin {
+namespace {
+
+Eigen::Vector3d vee(const Eigen::Matrix3d& S) { return {S(2, 1), S(0, 2), S(1, 0)}; }
+
+}  // namespace
+
+LandController::LandController(const ControllerParams& params, double mass, const Eigen::Matrix3d& inertia_about_com,
+                               double dt)
+    : p_(params), mass_(mass), dt_(dt), hover_thrust_(mass * kStandardGravity), inertia_(inertia_about_com) {}
+
+LandController::Output LandController::update(const VehicleState& s, const Eigen::Vector2d& landing_point,
+                                              double heading, double land_speed, bool level) {
+  const auto& cp = p_;
+  const double dt = dt_;
+  const Eigen::Vector3d& p = s.p_world;
+  const Eigen::Vector3d& v = s.v_world;
+  const Eigen::Matrix3d& R = s.R_world_body;
+  const Eigen::Vector3d& w = s.w_body;
+  Output out;
+  // Position → velocity (PX4 PositionControl::_positionControl).
+  Eigen::Vector2d v_sp = cp.xy_p * (landing_point - p.head<2>());
+  if (v_sp.norm() > cp.xy_vel_max) v_sp *= cp.xy_vel_max / v_sp.norm();
+  const double vz_sp = -land_speed;
+  // Velocity → acceleration (PositionControl::_velocityControl), PID with
+  // the derivative low-passed at MPC_VELD_LP (touchdown shocks must not
+  // become tilt commands).
+  const double lp = 1.0 - std::exp(-2.0 * std::numbers::pi * cp.vel_deriv_lp_hz * dt);
+  accel_lp_ += lp * ((v - v_prev_) / dt - accel_lp_);
+  const Eigen::Vector3d& accel = accel_lp_;
+  const Eigen::Vector2d e_xy = v_sp - v.head<2>();
+  vel_int_ += e_xy * dt;
+  vel_int_ = vel_int_.cwiseMax(-2.0).cwiseMin(2.0);
+  Eigen::Vector2d a_xy = cp.xy_vel_p * e_xy + cp.xy_vel_i * vel_int_ - cp.xy_vel_d * accel.head<2>();
+  const double e_z = vz_sp - v.z();
+  vz_int_ = std::clamp(vz_int_ + e_z * dt, -3.0, 3.0);
+  const double a_z = cp.z_vel_p * e_z + cp.z_vel_i * vz_int_;
+  // Thrust vector with the tilt limit (MPC_TILTMAX_LND).
+  Eigen::Vector3d F(a_xy.x(), a_xy.y(), a_z + kStandardGravity);
+  F *= mass_;
+  F.z() = std::max(F.z(), 0.1 * hover_thrust_);
+  const double max_h = F.z() * std::tan(deg_to_rad(cp.tilt_max_deg));
+  if (F.head<2>().norm() > max_h) F.head<2>() *= max_h / F.head<2>().norm();
+  // Desired attitude: body z along F, heading ψ.
+  const Eigen::Vector3d zb = F.normalized();
+  const Eigen::Vector3d xc(std::cos(heading), std::sin(heading), 0.0);
+  const Eigen::Vector3d yb = zb.cross(xc).normalized();
+  Eigen::Matrix3d Rd;
+  Rd.col(0) = yb.cross(zb);
+  Rd.col(1) = yb;
+  Rd.col(2) = zb;
+  if (level) {
+    // After ground contact PX4 (mc_pos_control limit_thrust_during_landing)
+    // takes the collective thrust to zero, commands a level attitude at the
+    // current heading and resets the integrators.
+    const Eigen::Vector3d xc2(std::cos(heading), std::sin(heading), 0.0);
+    Rd.col(2) = Eigen::Vector3d::UnitZ();
+    Rd.col(1) = Eigen::Vector3d::UnitZ().cross(xc2).normalized();
+    Rd.col(0) = Rd.col(1).cross(Rd.col(2));
+  }
+  // Attitude → rates (geometric error), rates → torque.
+  const Eigen::Vector3d e_R = 0.5 * vee(Rd.transpose() * R - R.transpose() * Rd);
+  Eigen::Vector3d w_sp(-cp.roll_p * e_R.x(), -cp.pitch_p * e_R.y(), -cp.yaw_p * e_R.z());
+  const double yaw_rate_max = deg_to_rad(cp.yaw_rate_max_deg);
+  w_sp.z() = std::clamp(w_sp.z(), -yaw_rate_max, yaw_rate_max);
+  const Eigen::Vector3d alpha(cp.rate_p_roll_pitch * (w_sp.x() - w.x()), cp.rate_p_roll_pitch * (w_sp.y() - w.y()),
+                              cp.rate_p_yaw * (w_sp.z() - w.z()));
+  const Eigen::Matrix3d& J = inertia_;
+  out.torque = J * alpha + w.cross(J * w);
+  out.thrust = std::max(0.0, F.dot(R.col(2)));
+  out.thrust_vector = F;
+  out.vz_setpoint = vz_sp;
+  v_prev_ = v;
+  return out;
+}
+
+LandDetector::LandDetector(const ControllerParams& params, double hover_thrust, double dt, bool armed)
+    : p_(params),
+      hover_thrust_(hover_thrust),
+      dt_(dt),
+      stage_time_(params.land_trigger_time / 3.0),
+      stage_(armed ? Flying : Landed),
+      thrust_at_contact_(hover_thrust) {}
+
+bool LandDetector::update(double thrust, double vz, double vz_setpoint, double rate_norm) {
+  const auto& cp = p_;
+  const double dt = dt_;
+  const bool slow_vertical = std::abs(vz) < cp.land_z_vel_max;
+  const bool low_thrust = thrust * ramp_ < cp.low_thrust_fraction * hover_thrust_;
+  const bool low_rotation = rate_norm < deg_to_rad(cp.land_rot_max_deg);
+  if (stage_ >= Landed) return false;
+  if (stage_ == Flying) {
+    timer_ = slow_vertical && vz_setpoint < 0 ? timer_ + dt : 0.0;
+    if (timer_ >= stage_time_) {
+      stage_ = GroundContact;  // start the thrust ramp-down
+      timer_ = 0;
+      thrust_at_contact_ = thrust;
+      return true;
+    }
+    return false;
+  }
+  ramp_ = std::max(0.0, ramp_ - dt / cp.thrust_ramp_time);
+  const bool ok = slow_vertical && low_thrust && low_rotation;
+  timer_ = ok ? timer_ + dt : 0.0;
+  if (timer_ >= stage_time_) {
+    ++stage_;  // maybe landed → landed
+    timer_ = 0;
+  }
+  return false;
+}
+
+double LandDetector::limit_thrust(double thrust) const {
+  return stage_ >= GroundContact ? std::min(thrust, ramp_ * thrust_at_contact_) : thrust;
+}
+
+Mixer::Mixer(const Airframe& af, const Eigen::Vector3d& com) : max_thrust_(af.max_thrust) {
+  const std::size_t n = af.motor_count();
+  allocation_.resize(4, static_cast<Eigen::Index>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d r = af.motor_position(i) - com;
+    const auto c = static_cast<Eigen::Index>(i);
+    allocation_(0, c) = 1.0;
+    allocation_(1, c) = r.y();                                // roll torque of a thrust along +z at r
+    allocation_(2, c) = -r.x();                               // pitch torque
+    allocation_(3, c) = -af.spin[i] * af.torque_coefficient;  // reaction torque opposes the spin
+  }
+  pseudo_inverse_ = allocation_.transpose() * (allocation_ * allocation_.transpose()).inverse();
+}
+
+Eigen::VectorXd Mixer::mix(double thrust, const Eigen::Vector3d& torque) const {
+  thrust = std::min(thrust, max_thrust_ * static_cast<double>(motors()));
+  const Eigen::VectorXd f_thrust = pseudo_inverse_ * Eigen::Vector4d(thrust, 0, 0, 0);
+  const Eigen::VectorXd f_torque = pseudo_inverse_ * Eigen::Vector4d(0, torque.x(), torque.y(), torque.z());
+  double scale = 1.0;
+  for (Eigen::Index i = 0; i < f_thrust.size(); ++i) {
+    const double ft = f_thrust[i], fq = f_torque[i];
+    if (fq < 0 && ft + scale * fq < 0) scale = std::max(0.0, -ft / fq);
+    if (fq > 0 && ft + scale * fq > max_thrust_) scale = std::max(0.0, (max_thrust_ - ft) / fq);
+  }
+  Eigen::VectorXd f = f_thrust + scale * f_torque;
+  for (Eigen::Index i = 0; i < f.size(); ++i) f[i] = std::clamp(f[i], 0.0, max_thrust_);
+  return f;
+}
+
+}  // namespace touchdown::twin
