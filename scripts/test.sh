@@ -87,15 +87,35 @@ if [ "$fuzz_seconds" != "0" ] && command -v clang++ >/dev/null 2>&1; then
         -DTOUCHDOWN_BUILD_EXAMPLES=OFF -DTOUCHDOWN_BUILD_BENCHMARKS=OFF
   cmake --build build-fuzz -j"$jobs" --target "${fuzzers[@]}"
   step "libFuzzer targets (${fuzz_seconds}s each)"
-  for target in "${fuzzers[@]}"; do
-    corpus="build-fuzz/corpus/$target"
+  # Two fuzzers at a time (one per core), each for its full time.
+  fuzz_one() {
+    local target=$1
+    local corpus="build-fuzz/corpus/$target"
     rm -rf "$corpus" && mkdir -p "$corpus"
-    seeds="$root/tests/fuzz/seeds/${target#fuzz_}"
-    echo "$target: ${fuzz_seconds}s" >&2
-    "build-fuzz/tests/fuzz/$target" -max_total_time="$fuzz_seconds" -max_len=65536 -print_final_stats=0 \
-      "$corpus" "$seeds" 2> "build-fuzz/$target.log" || { tail -40 "build-fuzz/$target.log" >&2; exit 1; }
-    grep -E "^Done|#[0-9]+.*DONE" "build-fuzz/$target.log" | tail -1 >&2 || true
+    if "build-fuzz/tests/fuzz/$target" -max_total_time="$fuzz_seconds" -max_len=65536 -print_final_stats=0 \
+      "$corpus" "$root/tests/fuzz/seeds/${target#fuzz_}" 2> "build-fuzz/$target.log"; then
+      echo "$target (${fuzz_seconds}s): $(grep -E "^Done|#[0-9]+.*DONE" "build-fuzz/$target.log" | tail -1)" >&2
+    else
+      echo "$target FAILED:" >&2
+      tail -40 "build-fuzz/$target.log" >&2
+      return 1
+    fi
+  }
+  failed=0
+  running=0
+  for target in "${fuzzers[@]}"; do
+    fuzz_one "$target" &
+    running=$((running + 1))
+    if [ "$running" -ge "$jobs" ]; then
+      wait -n || failed=1
+      running=$((running - 1))
+    fi
   done
+  while [ "$running" -gt 0 ]; do
+    wait -n || failed=1
+    running=$((running - 1))
+  done
+  [ "$failed" = 0 ] || exit 1
 else
   printf '\n=== fuzzers skipped (FUZZ_SECONDS=0 or no clang++) ===\n' >&2
 fi

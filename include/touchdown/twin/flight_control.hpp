@@ -15,7 +15,7 @@
 namespace touchdown::twin {
 
 struct ControllerParams;
-class Airframe;
+struct Airframe;
 
 /// Standard gravity [m/s²], as the twin's ODE world uses.
 inline constexpr double kStandardGravity = 9.80665;
