@@ -1,7 +1,8 @@
 #pragma once
 /// \file
-/// Umbrella header: everything touchdown offers. Include the module headers
-/// (touchdown/core/..., touchdown/terrain/...) instead to compile faster.
+/// Umbrella header: everything touchdown offers (link touchdown::touchdown).
+/// Include the module headers (touchdown/core/..., touchdown/pose/...)
+/// instead to compile faster and to link one module alone.
 #include "touchdown/core/atomic_file.hpp"
 #include "touchdown/core/cloud_io.hpp"
 #include "touchdown/core/error.hpp"
@@ -9,15 +10,31 @@
 #include "touchdown/core/mesh_io.hpp"
 #include "touchdown/core/point_cloud.hpp"
 #include "touchdown/core/random.hpp"
+#include "touchdown/core/rotation.hpp"
+#include "touchdown/core/units.hpp"
 #include "touchdown/core/version.hpp"
+#include "touchdown/pose/aruco_baseline.hpp"
+#include "touchdown/pose/calibration.hpp"
+#include "touchdown/pose/camera.hpp"
+#include "touchdown/pose/constellation.hpp"
+#include "touchdown/pose/epnp.hpp"
 #include "touchdown/pose/gauss_newton.hpp"
+#include "touchdown/pose/ground_truth.hpp"
+#include "touchdown/pose/image.hpp"
+#include "touchdown/pose/led_detector.hpp"
+#include "touchdown/pose/led_tracker.hpp"
+#include "touchdown/pose/pose_benchmark.hpp"
+#include "touchdown/pose/pose_estimate.hpp"
 #include "touchdown/pose/se3.hpp"
+#include "touchdown/pose/sequence.hpp"
+#include "touchdown/pose/synthetic.hpp"
 #include "touchdown/terrain/extrinsics.hpp"
 #include "touchdown/terrain/filters.hpp"
 #include "touchdown/terrain/height_map.hpp"
 #include "touchdown/terrain/synthetic.hpp"
 #include "touchdown/terrain/terrain_mesher.hpp"
 #include "touchdown/twin/airframe.hpp"
+#include "touchdown/twin/flight_control.hpp"
 #include "touchdown/twin/landing.hpp"
 #include "touchdown/twin/sweep.hpp"
 #include "touchdown/twin/terrain_model.hpp"

@@ -347,17 +347,7 @@ void write_ply_cloud(const PointCloud& cloud, std::ostream& out, PlyEncoding enc
       << "element vertex " << cloud.size() << "\n"
       << "property float x\nproperty float y\nproperty float z\nend_header\n";
   if (encoding == PlyEncoding::Ascii) {
-    char buf[32];
-    std::string line;
-    for (const auto& p : cloud.points) {
-      line.clear();
-      for (int a = 0; a < 3; ++a) {
-        if (a) line += ' ';
-        line += std::isnan(p[a]) ? std::string_view("nan") : detail::format_exact(p[a], buf);
-      }
-      line += '\n';
-      out << line;
-    }
+    write_xyz(cloud, out);  // an ASCII vertex line is an XYZ line: "x y z"
     return;
   }
   const bool swap = (encoding == PlyEncoding::BinaryBigEndian) != (std::endian::native == std::endian::big);
