@@ -152,8 +152,10 @@ int main(int argc, char** argv) {
       o.use_depth = !no_depth;
       o.aruco = aruco;
       const auto r = tp::run_pose_benchmark(o);
+      if (!r.ok()) std::cerr << "led_pose: benchmark: " << r.message << "\n";
       if (json) {
         nlohmann::json j;
+        j["status"] = std::string(tp::to_string(r.status));
         j["frames_per_sequence"] = bench_frames;
         j["seed"] = seed;
         for (const auto& row : r.rows) {

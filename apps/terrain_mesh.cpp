@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
       ->required();
   app.add_option("-o,--output", output, "terrain mesh to write: .stl (binary), .ply or .obj")->required();
   app.add_option("--extrinsics", extrinsics_path,
-                 "camera pose YAML (xyz [m] + rpy [deg], or a 4x4 matrix); see docs/formats.md");
+                 "camera pose YAML (xyz [m] + rpy_deg [deg], or a 4x4 matrix); see docs/formats.md");
   app.add_option("--cell", opt.height_map.cell, "height-map cell edge [m]")->capture_default_str();
   app.add_option("--crop-radius", opt.crop_radius, "drop points closer than this to the camera [m], 0 = off")
       ->capture_default_str();

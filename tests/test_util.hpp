@@ -10,10 +10,13 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <initializer_list>
 #include <limits>
 #include <random>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/mesh.hpp"
@@ -65,6 +68,42 @@ std::string error_of(F&& f) {
   }
   return "<no error>";
 }
+
+/// One way to spoil an Options struct, and the field its validate() must
+/// then name first ("field:").
+template <typename Options>
+struct SpoiledField {
+  const char* field;
+  std::function<void(Options&)> spoil;
+};
+
+/// Table-driven validate() check: `base` (the defaults unless given)
+/// validates, and every spoiled copy is refused with a reason that starts
+/// with its field's name.
+template <typename Options>
+void expect_validate_names_fields(std::initializer_list<SpoiledField<Options>> cases, const Options& base = {}) {
+  std::string why;
+  EXPECT_TRUE(base.validate(&why)) << why;
+  for (const auto& c : cases) {
+    Options o = base;
+    c.spoil(o);
+    why.clear();
+    EXPECT_FALSE(o.validate(&why)) << c.field << " was accepted";
+    EXPECT_EQ(why.rfind(c.field, 0), 0u) << "expected a reason starting with '" << c.field << "', got '" << why << "'";
+  }
+}
+
+/// A malformed input for a table-driven bad-input test: its name (letters,
+/// digits, '_'; the test's name), the text, and the parts its one-line
+/// error must contain.
+struct BadInput {
+  const char* name;
+  std::string text;
+  std::vector<std::string> expected;
+};
+inline void PrintTo(const BadInput& b, std::ostream* os) { *os << b.name; }
+/// Test-name generator for INSTANTIATE_TEST_SUITE_P over BadInput tables.
+inline std::string bad_input_name(const ::testing::TestParamInfo<BadInput>& info) { return info.param.name; }
 
 /// Angle of the rotation between two poses [rad].
 inline double rotation_error(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {

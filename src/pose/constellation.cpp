@@ -172,10 +172,11 @@ std::string constellation_to_yaml(const Constellation& k) {
        << format_exact(l.p_body.z()) << "], color: " << to_string(l.color) << "}\n";
   }
   const Eigen::Vector3d t = k.T_body_marker.translation();
-  const Eigen::Vector3d ypr = k.T_body_marker.linear().eulerAngles(2, 1, 0) * (180.0 / std::numbers::pi);
+  // The one rpy convention of every touchdown file (core/rotation.hpp).
+  const Eigen::Vector3d rpy = rpy_from_rotation(k.T_body_marker.linear());
   os << "marker: {xyz: [" << format_exact(t.x()) << ", " << format_exact(t.y()) << ", " << format_exact(t.z())
-     << "], rpy_deg: [" << format_exact(ypr(2)) << ", " << format_exact(ypr(1)) << ", " << format_exact(ypr(0))
-     << "]}\n";
+     << "], rpy_deg: [" << format_exact(rad_to_deg(rpy.x()) + 0.0) << ", " << format_exact(rad_to_deg(rpy.y()) + 0.0)
+     << ", " << format_exact(rad_to_deg(rpy.z()) + 0.0) << "]}\n";
   return os.str();
 }
 

@@ -35,6 +35,16 @@ RenderOptions PoseBenchmarkOptions::rendered_options() const {
   return r;
 }
 
+std::string_view to_string(PoseBenchmarkStatus s) {
+  switch (s) {
+    case PoseBenchmarkStatus::Ok:
+      return "ok";
+    case PoseBenchmarkStatus::NoSuccessfulFrames:
+      return "no successful frames";
+  }
+  return "unknown";
+}
+
 std::pair<double, double> pose_error(const Eigen::Isometry3d& e, const Eigen::Isometry3d& t) {
   return {(e.translation() - t.translation()).norm(), Eigen::AngleAxisd(e.linear().transpose() * t.linear()).angle()};
 }
@@ -153,6 +163,13 @@ PoseBenchmarkResult run_pose_benchmark(const PoseBenchmarkOptions& o) {
     }
     result.rows.push_back(led.finish());
     result.rows.push_back(marker.finish());
+  }
+  for (const MethodStats& row : result.rows) {
+    if (row.successes > 0) continue;
+    result.status = PoseBenchmarkStatus::NoSuccessfulFrames;
+    result.message += (result.message.empty() ? "" : "; ") + row.method + " on the " + row.sequence +
+                      " sequence: no successful frame of " + std::to_string(row.frames) +
+                      " (its error statistics are undefined)";
   }
   result.epnp_gn_us_median = percentile(ours_us, 0.5);
   result.opencv_iterative_us_median = percentile(iter_us, 0.5);

@@ -1,9 +1,13 @@
 #include "touchdown/pose/sequence.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <iterator>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -165,5 +169,103 @@ void read_frame(const SequenceFrame& frame, BgrImage& colour, DepthImage* depth)
 }
 
 // ---- ground truth JSON lines -------------------------------------------------
+
+// ---- sequence writer -------------------------------------------------------
+
+namespace {
+
+std::string frame_name(std::size_t i) {
+  std::string s = std::to_string(i);
+  return std::string(6 - std::min<std::size_t>(6, s.size()), '0') + s;
+}
+
+void write_png(const fs::path& path, const cv::Mat& image) {
+  bool ok = false;
+  try {
+    ok = cv::imwrite(path.string(), image);
+  } catch (const cv::Exception& e) {
+    throw IoError(path.string() + ": cannot write the image: " + e.what());
+  }
+  if (!ok) throw IoError(path.string() + ": cannot write the image");
+}
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary);
+  if (!f) throw IoError(path.string() + ": cannot open for writing");
+  f << text;
+  f.close();
+  if (!f) throw IoError(path.string() + ": write error");
+}
+
+}  // namespace
+
+void write_sequence(const fs::path& out_dir, const CameraModel& camera, const Constellation& constellation,
+                    std::span<const TrajectorySample> samples, const RenderOptions& options, std::uint64_t seed) {
+  if (samples.empty()) throw InvalidArgument("write_sequence: no samples to render");
+  if (samples.size() > 1000000) throw InvalidArgument("write_sequence: more than 1000000 frames (names are 6 digits)");
+  const SyntheticCamera renderer(camera, constellation, options);  // validates
+
+  fs::path target = out_dir.lexically_normal();
+  if (!target.has_filename()) target = target.parent_path();
+  if (target.empty()) throw InvalidArgument("write_sequence: empty output directory");
+  std::error_code ec;
+  if (fs::exists(target, ec) && !fs::is_directory(target, ec)) {
+    throw IoError(target.string() + ": exists and is not a directory");
+  }
+  const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  fs::create_directories(parent, ec);
+  if (ec) throw IoError(parent.string() + ": cannot create the directory: " + ec.message());
+  static std::atomic<unsigned> counter{0};
+  const fs::path staging = parent / ("." + target.filename().string() + ".partial-" + std::to_string(::getpid()) + "-" +
+                                     std::to_string(counter++));
+  fs::remove_all(staging, ec);
+  if (!fs::create_directory(staging, ec) || ec) {
+    throw IoError(staging.string() + ": cannot create the staging directory: " + ec.message());
+  }
+  std::vector<std::string> files;
+  try {
+    RenderedFrame frame;
+    std::string ground_truth;
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      const Eigen::Isometry3d& T = samples[i].T_camera_body;
+      renderer.render(T, motion_blur_start(samples, i), seed, i, frame);
+      const std::string name = frame_name(i);
+      write_png(staging / (name + ".png"),
+                cv::Mat(frame.colour.height, frame.colour.width, CV_8UC3, frame.colour.pixels.data()));
+      write_png(staging / (name + ".depth.png"),
+                cv::Mat(frame.depth.height, frame.depth.width, CV_16UC1, frame.depth.pixels.data()));
+      files.push_back(name + ".png");
+      files.push_back(name + ".depth.png");
+      GroundTruthSample g;
+      g.frame = name;
+      g.t_s = samples[i].t;
+      g.T_camera_body = T;
+      g.leds_visible = frame.led_visible;
+      g.marker_visible = frame.marker_visible;
+      ground_truth += ground_truth_to_json(g) + "\n";
+    }
+    write_text(staging / "ground_truth.jsonl", ground_truth);
+    write_text(staging / "camera.yaml", camera_to_yaml(camera));
+    write_text(staging / "constellation.yaml", constellation_to_yaml(constellation));
+    files.insert(files.end(), {"ground_truth.jsonl", "camera.yaml", "constellation.yaml"});
+
+    // Into place: one rename of the whole directory when the target is new;
+    // otherwise file by file (each rename atomic; the ground truth last).
+    if (!fs::exists(target, ec)) {
+      fs::rename(staging, target, ec);
+      if (!ec) return;
+      fs::create_directory(target, ec);
+    }
+    std::stable_partition(files.begin(), files.end(), [](const std::string& f) { return f != "ground_truth.jsonl"; });
+    for (const auto& f : files) {
+      fs::rename(staging / f, target / f, ec);
+      if (ec) throw IoError((target / f).string() + ": cannot move the finished file into place: " + ec.message());
+    }
+  } catch (...) {
+    fs::remove_all(staging, ec);
+    throw;
+  }
+  fs::remove_all(staging, ec);
+}
 
 }  // namespace touchdown::pose

@@ -37,21 +37,26 @@ Eigen::Vector3d vec3(const detail::YamlReader& r, const YAML::Node& node, const 
   return {v[0], v[1], v[2]};
 }
 
-// Reads one pose map: {xyz, rpy} or {matrix}. `prefix` is "" or "body.".
+// Reads one pose map: {xyz, rpy_deg} or {matrix}. `prefix` is "" or
+// "body.". `rpy` is the key's earlier name (also degrees), still read.
 Eigen::Isometry3d parse_pose(const detail::YamlReader& r, const YAML::Node& map, const std::string& prefix,
                              bool allow_body) {
   if (allow_body) {
-    r.only(map, prefix, {"xyz", "rpy", "matrix", "body"});
+    r.only(map, prefix, {"xyz", "rpy_deg", "rpy", "matrix", "body"});
   } else {
-    r.only(map, prefix, {"xyz", "rpy", "matrix"});
+    r.only(map, prefix, {"xyz", "rpy_deg", "rpy", "matrix"});
   }
-  const YAML::Node xyz = map["xyz"], rpy = map["rpy"], matrix = map["matrix"];
-  if (matrix && (xyz || rpy)) r.fail(map, prefix + "matrix", "give either matrix or xyz/rpy, not both");
-  if (!matrix && !xyz && !rpy) r.fail(map, prefix + "xyz", "missing: expected xyz/rpy or matrix");
+  const YAML::Node xyz = map["xyz"], matrix = map["matrix"];
+  const bool legacy = static_cast<bool>(map["rpy"]);
+  if (legacy && map["rpy_deg"]) r.fail(map["rpy"], prefix + "rpy", "give rpy_deg only (rpy is its earlier name)");
+  const std::string rpy_name = legacy ? "rpy" : "rpy_deg";
+  const YAML::Node rpy = map[rpy_name];
+  const std::string rpy_key = prefix + rpy_name;
+  if (matrix && (xyz || rpy)) r.fail(map, prefix + "matrix", "give either matrix or xyz/rpy_deg, not both");
+  if (!matrix && !xyz && !rpy) r.fail(map, prefix + "xyz", "missing: expected xyz/rpy_deg or matrix");
   if (!matrix) {
-    return pose_from_xyz_rpy(
-        xyz ? vec3(r, xyz, prefix + "xyz") : Eigen::Vector3d::Zero(),
-        rpy ? Eigen::Vector3d(vec3(r, rpy, prefix + "rpy") * kRadPerDeg) : Eigen::Vector3d::Zero());
+    return pose_from_xyz_rpy(xyz ? vec3(r, xyz, prefix + "xyz") : Eigen::Vector3d::Zero(),
+                             rpy ? Eigen::Vector3d(vec3(r, rpy, rpy_key) * kRadPerDeg) : Eigen::Vector3d::Zero());
   }
   const std::string key = prefix + "matrix";
   const auto v = flat_numbers(r, matrix, key);
@@ -79,7 +84,7 @@ Eigen::Isometry3d parse_pose(const detail::YamlReader& r, const YAML::Node& map,
 
 Extrinsics parse_extrinsics(std::string_view yaml_text, std::string_view source) {
   const YAML::Node root = detail::load_yaml(yaml_text, source);
-  if (!root.IsMap()) throw ParseError(std::string(source) + ": expected a YAML mapping with xyz/rpy or matrix");
+  if (!root.IsMap()) throw ParseError(std::string(source) + ": expected a YAML mapping with xyz/rpy_deg or matrix");
   const detail::YamlReader r{source};
   Extrinsics e;
   try {
@@ -103,11 +108,12 @@ std::string format_extrinsics(const Extrinsics& e, bool with_body) {
     auto v = [](double x) { return x + 0.0; };  // no "-0"
     os << indent << "xyz: [" << v(T.translation().x()) << ", " << v(T.translation().y()) << ", "
        << v(T.translation().z()) << "]\n";
-    os << indent << "rpy: [" << v(rad_to_deg(roll)) << ", " << v(rad_to_deg(pitch)) << ", " << v(rad_to_deg(yaw))
+    os << indent << "rpy_deg: [" << v(rad_to_deg(roll)) << ", " << v(rad_to_deg(pitch)) << ", " << v(rad_to_deg(yaw))
        << "]\n";
   };
   std::ostringstream os;
-  os << "# camera pose in the world (T_world_camera); rpy in degrees, R = Rz(yaw) Ry(pitch) Rx(roll)\n";
+  os << "# camera pose in the world (T_world_camera); rpy_deg = [roll, pitch, yaw] in degrees, R = Rz(yaw) Ry(pitch) "
+        "Rx(roll)\n";
   pose(os, e.T_world_camera, "");
   if (with_body) {
     os << "body:  # camera pose in the drone body frame (T_body_camera)\n";

@@ -122,55 +122,33 @@ TEST(CameraYaml, BundledD435Loads) {
   EXPECT_EQ(c.depth_scale, 0.001);
 }
 
-TEST(CameraYamlBadInput, UnknownKey) {
-  const auto m = camera_error(kCameraYaml + "fz: 600\n");
-  EXPECT_CONTAINS(m, "cfg.yaml:9: fz: unknown key");
+// One case per malformed camera file: one ParseError naming the file, the
+// line where it is known, and the key.
+class CameraYamlBadInput : public ::testing::TestWithParam<touchdown::test::BadInput> {};
+
+TEST_P(CameraYamlBadInput, OneErrorNamingTheKey) {
+  const auto m = camera_error(GetParam().text);
+  EXPECT_EQ(m.find('\n'), std::string::npos) << "one line, got: " << m;
+  for (const auto& part : GetParam().expected) EXPECT_CONTAINS(m, part);
 }
 
-TEST(CameraYamlBadInput, MissingFx) {
-  const auto m = camera_error(camera_with("fx", ""));
-  EXPECT_CONTAINS(m, "cfg.yaml");
-  EXPECT_CONTAINS(m, "fx: missing");
-}
-
-TEST(CameraYamlBadInput, ZeroFx) {
-  const auto m = camera_error(camera_with("fx", "fx: 0"));
-  EXPECT_CONTAINS(m, "cfg.yaml");
-  EXPECT_CONTAINS(m, "fx:");
-}
-
-TEST(CameraYamlBadInput, NonNumericFx) {
-  const auto m = camera_error(camera_with("fx", "fx: six hundred"));
-  EXPECT_CONTAINS(m, "cfg.yaml:3: fx: expected a number");
-}
-
-TEST(CameraYamlBadInput, DistortionWithThreeNumbers) {
-  const auto m = camera_error(camera_with("distortion", "distortion: [0.1, 0.2, 0.3]"));
-  EXPECT_CONTAINS(m, "cfg.yaml:7: distortion:");
-  EXPECT_CONTAINS(m, "3 numbers");
-}
-
-TEST(CameraYamlBadInput, ZeroDepthScale) {
-  const auto m = camera_error(camera_with("depth_scale", "depth_scale: 0"));
-  EXPECT_CONTAINS(m, "cfg.yaml");
-  EXPECT_CONTAINS(m, "depth_scale:");
-}
-
-TEST(CameraYamlBadInput, ZeroWidth) {
-  const auto m = camera_error(camera_with("width", "width: 0"));
-  EXPECT_CONTAINS(m, "cfg.yaml");
-  EXPECT_CONTAINS(m, "width:");
-}
-
-TEST(CameraYamlBadInput, FractionalHeight) {
-  const auto m = camera_error(camera_with("height", "height: 480.5"));
-  EXPECT_CONTAINS(m, "cfg.yaml:2: height: expected an integer");
-}
-
-TEST(CameraYamlBadInput, NotAMapping) {
-  EXPECT_CONTAINS(camera_error("- 1\n- 2\n"), "cfg.yaml");
-  EXPECT_CONTAINS(camera_error(""), "cfg.yaml");
-}
+INSTANTIATE_TEST_SUITE_P(
+    Cases, CameraYamlBadInput,
+    ::testing::ValuesIn(std::vector<touchdown::test::BadInput>{
+        {"UnknownKey", kCameraYaml + "fz: 600\n", {"cfg.yaml:9: fz: unknown key"}},
+        {"MissingFx", camera_with("fx", ""), {"cfg.yaml", "fx: missing"}},
+        {"ZeroFx", camera_with("fx", "fx: 0"), {"cfg.yaml", "fx:"}},
+        {"NonNumericFx", camera_with("fx", "fx: six hundred"), {"cfg.yaml:3: fx: expected a number"}},
+        {"DistortionWithThreeNumbers",
+         camera_with("distortion", "distortion: [0.1, 0.2, 0.3]"),
+         {"cfg.yaml:7: distortion:", "3 numbers"}},
+        {"ZeroDepthScale", camera_with("depth_scale", "depth_scale: 0"), {"cfg.yaml", "depth_scale:"}},
+        {"ZeroWidth", camera_with("width", "width: 0"), {"cfg.yaml", "width:"}},
+        {"FractionalHeight", camera_with("height", "height: 480.5"), {"cfg.yaml:2: height: expected an integer"}},
+        {"NotAMapping", "- 1\n- 2\n", {"cfg.yaml"}},
+        {"Empty", "", {"cfg.yaml"}},
+    }),
+    touchdown::test::bad_input_name);
 
 TEST(CameraYamlBadInput, InvalidSyntaxNamesTheLine) {
   const auto m = camera_error("width: 848\nheight: 480\nfx: [615, 616\nfy: 615\ncx: {\n");
@@ -249,64 +227,61 @@ TEST(ConstellationYaml, MarkerDefaultsAndColourDefault) {
   EXPECT_EQ(m.T_body_marker.translation(), Eigen::Vector3d(0, 0, -0.05));
 }
 
-TEST(ConstellationYamlBadInput, UnknownKey) {
-  EXPECT_CONTAINS(constellation_error(leds_yaml(kFourLeds) + "lights: 3\n"), "cfg.yaml:6: lights: unknown key");
-  EXPECT_CONTAINS(constellation_error("leds:\n  - {xyz: [0, 0, 0], colour: red}\n"),
-                  "cfg.yaml:2: leds[0].colour: unknown key");
-  EXPECT_CONTAINS(constellation_error(leds_yaml(kFourLeds) + "marker: {xyz: [0, 0, 0], rpy: [0, 0, 0]}\n"),
-                  "marker.rpy: unknown key");
+// One case per malformed constellation file.
+class ConstellationYamlBadInput : public ::testing::TestWithParam<touchdown::test::BadInput> {};
+
+TEST_P(ConstellationYamlBadInput, OneErrorNamingTheKey) {
+  const auto m = constellation_error(GetParam().text);
+  EXPECT_EQ(m.find('\n'), std::string::npos) << "one line, got: " << m;
+  for (const auto& part : GetParam().expected) EXPECT_CONTAINS(m, part);
 }
 
-TEST(ConstellationYamlBadInput, PurpleLed) {
-  std::string y = leds_yaml(kFourLeds);
-  y.replace(y.find("red"), 3, "purple");
-  const auto m = constellation_error(y);
-  EXPECT_CONTAINS(m, "cfg.yaml:2: leds[0].color:");
-  EXPECT_CONTAINS(m, "purple");
-}
+namespace {
 
-TEST(ConstellationYamlBadInput, XyzWithTwoNumbers) {
-  const auto m = constellation_error(leds_yaml({"0.1, 0.1, 0", "0.1, -0.1", "-0.1, -0.1, 0", "0, 0, -0.1"}));
-  EXPECT_CONTAINS(m, "cfg.yaml:3: leds[1].xyz: expected 3 numbers");
-}
-
-TEST(ConstellationYamlBadInput, MarkerXyzWithTwoNumbers) {
-  EXPECT_CONTAINS(constellation_error(leds_yaml(kFourLeds) + "marker: {xyz: [0, 0]}\n"), "marker.xyz");
-  EXPECT_CONTAINS(constellation_error(leds_yaml(kFourLeds) + "marker: {rpy_deg: [0, 0, 0, 1]}\n"), "marker.rpy_deg");
-}
-
-TEST(ConstellationYamlBadInput, MissingLeds) {
-  EXPECT_CONTAINS(constellation_error("name: nothing\n"), "leds: missing");
-  EXPECT_CONTAINS(constellation_error("leds: 3\n"), "leds:");
-}
-
-TEST(ConstellationYamlBadInput, DuplicateLeds) {
-  const auto m = constellation_error(
-      leds_yaml({"0.1, 0.1, 0", "0.1, -0.1, 0", "-0.1, -0.1, 0", "0.1, -0.1, 0.0005", "0, 0, -0.1"}));
-  EXPECT_CONTAINS(m, "cfg.yaml");
-  EXPECT_CONTAINS(m, "leds[3]: duplicates leds[1]");
-}
-
-TEST(ConstellationYamlBadInput, CollinearLeds) {
-  const auto m = constellation_error(leds_yaml({"0, 0, 0", "0.1, 0.1, 0.1", "0.2, 0.2, 0.2", "-0.3, -0.3, -0.3"}));
-  EXPECT_CONTAINS(m, "cfg.yaml");
-  EXPECT_CONTAINS(m, "leds:");
-  EXPECT_CONTAINS(m, "collinear");
-}
-
-TEST(ConstellationYamlBadInput, TooFewAndTooManyLeds) {
-  const auto few = constellation_error(leds_yaml({"0.1, 0.1, 0", "0.1, -0.1, 0", "-0.1, -0.1, 0"}));
-  EXPECT_CONTAINS(few, "leds:");
-  EXPECT_CONTAINS(few, "at least 4");
-  std::vector<std::string> xyz;
+std::vector<touchdown::test::BadInput> constellation_cases() {
+  std::string purple = leds_yaml(kFourLeds);
+  purple.replace(purple.find("red"), 3, "purple");
+  std::vector<std::string> seventeen;
   for (int i = 0; i < 17; ++i) {
+    seventeen.push_back(std::to_string(0.1 * std::cos(0.37 * i)) + ", " + std::to_string(0.1 * std::sin(0.37 * i)) +
+                        ", " + std::to_string(0.01 * i));
+  }
+  return {
+      {"UnknownKey", leds_yaml(kFourLeds) + "lights: 3\n", {"cfg.yaml:6: lights: unknown key"}},
+      {"UnknownLedKey", "leds:\n  - {xyz: [0, 0, 0], colour: red}\n", {"cfg.yaml:2: leds[0].colour: unknown key"}},
+      {"UnknownMarkerKey",
+       leds_yaml(kFourLeds) + "marker: {xyz: [0, 0, 0], rpy: [0, 0, 0]}\n",
+       {"marker.rpy: unknown key"}},
+      {"PurpleLed", purple, {"cfg.yaml:2: leds[0].color:", "purple"}},
+      {"XyzWithTwoNumbers",
+       leds_yaml({"0.1, 0.1, 0", "0.1, -0.1", "-0.1, -0.1, 0", "0, 0, -0.1"}),
+       {"cfg.yaml:3: leds[1].xyz: expected 3 numbers"}},
+      {"MarkerXyzWithTwoNumbers", leds_yaml(kFourLeds) + "marker: {xyz: [0, 0]}\n", {"marker.xyz"}},
+      {"MarkerRpyWithFourNumbers", leds_yaml(kFourLeds) + "marker: {rpy_deg: [0, 0, 0, 1]}\n", {"marker.rpy_deg"}},
+      {"MissingLeds", "name: nothing\n", {"leds: missing"}},
+      {"LedsNotASequence", "leds: 3\n", {"leds:"}},
+      {"DuplicateLeds",
+       leds_yaml({"0.1, 0.1, 0", "0.1, -0.1, 0", "-0.1, -0.1, 0", "0.1, -0.1, 0.0005", "0, 0, -0.1"}),
+       {"cfg.yaml", "leds[3]: duplicates leds[1]"}},
+      {"CollinearLeds",
+       leds_yaml({"0, 0, 0", "0.1, 0.1, 0.1", "0.2, 0.2, 0.2", "-0.3, -0.3, -0.3"}),
+       {"cfg.yaml", "leds:", "collinear"}},
+      {"TooFewLeds", leds_yaml({"0.1, 0.1, 0", "0.1, -0.1, 0", "-0.1, -0.1, 0"}), {"leds:", "at least 4"}},
+      {"TooManyLeds", leds_yaml(seventeen), {"leds:", "at most 16"}},
+  };
+}
+
+}  // namespace
+
+INSTANTIATE_TEST_SUITE_P(Cases, ConstellationYamlBadInput, ::testing::ValuesIn(constellation_cases()),
+                         touchdown::test::bad_input_name);
+
+TEST(ConstellationYaml, SixteenLedsAreTheLimitNotAnError) {
+  std::vector<std::string> xyz;
+  for (int i = 0; i < 16; ++i) {
     xyz.push_back(std::to_string(0.1 * std::cos(0.37 * i)) + ", " + std::to_string(0.1 * std::sin(0.37 * i)) + ", " +
                   std::to_string(0.01 * i));
   }
-  const auto many = constellation_error(leds_yaml(xyz));
-  EXPECT_CONTAINS(many, "leds:");
-  EXPECT_CONTAINS(many, "at most 16");
-  xyz.pop_back();
   EXPECT_EQ(tp::parse_constellation(leds_yaml(xyz), "sixteen").leds.size(), 16u);
 }
 

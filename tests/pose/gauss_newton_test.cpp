@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "pose/pose_test_util.hpp"
+#include "test_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 
@@ -116,16 +117,13 @@ TEST(GaussNewton, DegenerateInputIsAStatus) {
 }
 
 TEST(GaussNewtonOptions, ValidateNamesTheFieldAndRefineRefusesBadOptions) {
-  std::string why;
-  EXPECT_TRUE(tp::GaussNewtonOptions{}.validate(&why)) << why;
-  tp::GaussNewtonOptions o;
-  o.max_iterations = 0;
-  EXPECT_FALSE(o.validate(&why));
-  EXPECT_EQ(why.rfind("max_iterations:", 0), 0u) << why;
-  o = {};
+  using O = tp::GaussNewtonOptions;
+  touchdown::test::expect_validate_names_fields<O>({
+      {"max_iterations:", [](O& o) { o.max_iterations = 0; }},
+      {"huber_px:", [](O& o) { o.huber_px = -1; }},
+  });
+  O o;
   o.huber_px = -1;
-  EXPECT_FALSE(o.validate(&why));
-  EXPECT_EQ(why.rfind("huber_px:", 0), 0u) << why;
   const std::vector<Eigen::Vector3d> p = {{0, 0, 0}, {0.1, 0, 0}, {0, 0.1, 0}, {0.1, 0.1, 0.02}};
   const std::vector<Eigen::Vector2d> uv(4, Eigen::Vector2d(320, 240));
   EXPECT_THROW(tp::refine_pose_gauss_newton(kCamera, p, uv, Eigen::Isometry3d::Identity(), o),

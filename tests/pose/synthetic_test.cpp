@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "pose/pose_test_util.hpp"
+#include "test_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/pose/aruco_baseline.hpp"
 #include "touchdown/pose/pose_benchmark.hpp"
@@ -86,26 +87,17 @@ class SyntheticCentroid : public ::testing::TestWithParam<bool> {};
 }  // namespace
 
 TEST(RenderOptions, DefaultsValidAndBadValuesNamed) {
-  std::string why;
-  EXPECT_TRUE(tp::RenderOptions{}.validate(&why)) << why;
-  tp::RenderOptions o;
-  o.noise_sigma = -1;
-  EXPECT_FALSE(o.validate(&why));
-  EXPECT_NE(why.find("noise_sigma"), std::string::npos);
-  o = {};
-  o.aruco_dictionary = "3X3_7";
-  EXPECT_FALSE(o.validate(&why));
-  EXPECT_NE(why.find("aruco_dictionary"), std::string::npos);
-  o = {};
-  o.aruco_id = 50;  // 4X4_50 has ids 0..49
-  EXPECT_FALSE(o.validate(&why));
-  EXPECT_NE(why.find("aruco_id"), std::string::npos);
-  o = {};
-  o.motion_blur_samples = 0;
-  EXPECT_FALSE(o.validate(&why));
-  o = {};
+  using O = tp::RenderOptions;
+  touchdown::test::expect_validate_names_fields<O>({
+      {"noise_sigma:", [](O& o) { o.noise_sigma = -1; }},
+      {"aruco_dictionary:", [](O& o) { o.aruco_dictionary = "3X3_7"; }},
+      {"aruco_id:", [](O& o) { o.aruco_id = 50; }},  // 4X4_50 has ids 0..49
+      {"motion_blur_samples:", [](O& o) { o.motion_blur_samples = 0; }},
+      {"led_dropout_probability:", [](O& o) { o.led_dropout_probability = std::nan(""); }},
+      {"exposure_s:", [](O& o) { o.exposure_s = 0.5; }},  // longer than a 30 Hz frame
+  });
+  O o;
   o.led_dropout_probability = std::nan("");
-  EXPECT_FALSE(o.validate(&why));
   EXPECT_THROW(tp::SyntheticCamera(d435(), f450(), o), touchdown::InvalidArgument);
 }
 
@@ -500,14 +492,10 @@ TEST(Trajectory, BadOptionsThrow) {
   o.min_distance = 0.05;  // the constellation cannot fit
   EXPECT_THROW(tp::make_trajectory(tp::TrajectoryKind::Moving, 10, 1, cam, k, o), touchdown::InvalidArgument);
   // validate() names the field.
-  std::string why;
-  EXPECT_TRUE(tp::TrajectoryOptions{}.validate(&why)) << why;
-  o = {};
-  o.fps = 0;
-  EXPECT_FALSE(o.validate(&why));
-  EXPECT_EQ(why.rfind("fps:", 0), 0u) << why;
-  o = {};
-  o.margin_px = -1;
-  EXPECT_FALSE(o.validate(&why));
-  EXPECT_EQ(why.rfind("margin_px:", 0), 0u) << why;
+  using O = tp::TrajectoryOptions;
+  touchdown::test::expect_validate_names_fields<O>({
+      {"fps:", [](O& t) { t.fps = 0; }},
+      {"margin_px:", [](O& t) { t.margin_px = -1; }},
+      {"min_distance, max_distance:", [](O& t) { t.max_distance = 0.1; }},
+  });
 }

@@ -19,7 +19,7 @@ std::string error_of(const std::string& yaml) {
 }  // namespace
 
 TEST(Extrinsics, XyzRpyDegrees) {
-  const auto e = tt::parse_extrinsics("xyz: [1, 2, 3]\nrpy: [180, 0, 90]\n", "cam.yaml");
+  const auto e = tt::parse_extrinsics("xyz: [1, 2, 3]\nrpy_deg: [180, 0, 90]\n", "cam.yaml");
   // Rz(90) * Rx(180): camera x → world y, camera y → world x, camera z → world -z.
   const Eigen::Vector3d p = e.T_world_camera * Eigen::Vector3d(1, 0, 0);
   EXPECT_TRUE(p.isApprox(Eigen::Vector3d(1, 3, 3), 1e-12)) << p.transpose();
@@ -28,6 +28,13 @@ TEST(Extrinsics, XyzRpyDegrees) {
   const Eigen::Vector3d r = e.T_world_camera * Eigen::Vector3d(0, 0, 1);
   EXPECT_TRUE(r.isApprox(Eigen::Vector3d(1, 2, 2), 1e-12)) << r.transpose();
   EXPECT_TRUE(e.T_body_camera.isApprox(Eigen::Isometry3d::Identity()));
+}
+
+TEST(Extrinsics, LegacyRpyKeyReadsDegreesToo) {
+  const auto canonical = tt::parse_extrinsics("xyz: [1, 2, 3]\nrpy_deg: [170, 5, 90]\n", "a.yaml");
+  const auto legacy = tt::parse_extrinsics("xyz: [1, 2, 3]\nrpy: [170, 5, 90]\n", "b.yaml");
+  EXPECT_TRUE(legacy.T_world_camera.isApprox(canonical.T_world_camera, 1e-15));
+  EXPECT_EQ(error_of("rpy: [180, x, 0]\n"), "cam.yaml:1: rpy: expected a number, got 'x'");
 }
 
 TEST(Extrinsics, RpyOrderIsZYX) {
@@ -43,7 +50,7 @@ TEST(Extrinsics, RpyOrderIsZYX) {
 TEST(Extrinsics, MatrixFlatOrNestedAndBody) {
   const std::string flat =
       "matrix: [0, -1, 0, 0.5,  1, 0, 0, -0.25,  0, 0, 1, 2,  0, 0, 0, 1]\n"
-      "body:\n  xyz: [0.1, 0, -0.05]\n  rpy: [0, 0, 0]\n";
+      "body:\n  xyz: [0.1, 0, -0.05]\n  rpy_deg: [0, 0, 0]\n";
   const std::string nested = "matrix:\n  - [0, -1, 0, 0.5]\n  - [1, 0, 0, -0.25]\n  - [0, 0, 1, 2]\n  - [0, 0, 0, 1]\n";
   const auto a = tt::parse_extrinsics(flat, "a.yaml");
   const auto b = tt::parse_extrinsics(nested, "b.yaml");
@@ -65,24 +72,37 @@ TEST(Extrinsics, FormatParseRoundTrip) {
       tt::parse_extrinsics(tt::format_extrinsics(e, false), "x").T_world_camera.isApprox(e.T_world_camera, 1e-9));
 }
 
-TEST(ExtrinsicsBadInput, ErrorsNameTheKey) {
-  EXPECT_EQ(error_of("xyz: [1, 2]\n"), "cam.yaml:1: xyz: expected 3 numbers, got 2");
-  EXPECT_EQ(error_of("xyz: [1, 2, 3]\nrpz: [0, 0, 0]\n"),
-            "cam.yaml:2: rpz: unknown key (expected xyz, rpy, matrix, body)");
-  EXPECT_EQ(error_of("xyz: [1, two, 3]\n"), "cam.yaml:1: xyz: expected a number, got 'two'");
-  EXPECT_NE(error_of("matrix: [1, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]\n").find("is not a rotation"),
-            std::string::npos);
-  EXPECT_NE(error_of("matrix: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1]\n").find("last row must be 0 0 0 1"),
-            std::string::npos);
-  EXPECT_NE(error_of("matrix: [1, 0, 0]\n").find("expected 16 numbers"), std::string::npos);
-  EXPECT_NE(error_of("xyz: [0, 0, 0]\nmatrix: [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]\n").find("not both"),
-            std::string::npos);
-  EXPECT_NE(error_of("body:\n  xyz: [0, 0]\nxyz: [0, 0, 1]\n").find("cam.yaml:2: body.xyz: expected 3 numbers"),
-            std::string::npos);
-  EXPECT_NE(error_of("xyz: [0, 0, 1\n").find("invalid YAML"), std::string::npos);
-  EXPECT_NE(error_of("- 1\n- 2\n").find("expected a YAML mapping"), std::string::npos);
-  EXPECT_NE(error_of("{}").find("xyz: missing"), std::string::npos);
-  EXPECT_NE(error_of("xyz: [.nan, 0, 1]\n").find("xyz: expected a number, got '.nan'"), std::string::npos);
+// One case per malformed extrinsics file: one error naming the file, the
+// line and the key.
+class ExtrinsicsBadInput : public ::testing::TestWithParam<td::test::BadInput> {};
+
+TEST_P(ExtrinsicsBadInput, OneErrorNamingTheKey) {
+  const std::string m = error_of(GetParam().text);
+  EXPECT_EQ(m.find('\n'), std::string::npos) << "one line, got: " << m;
+  for (const auto& part : GetParam().expected) EXPECT_NE(m.find(part), std::string::npos) << m;
 }
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, ExtrinsicsBadInput,
+    ::testing::ValuesIn(std::vector<td::test::BadInput>{
+        {"XyzWithTwoNumbers", "xyz: [1, 2]\n", {"cam.yaml:1: xyz: expected 3 numbers, got 2"}},
+        {"UnknownKey",
+         "xyz: [1, 2, 3]\nrpz: [0, 0, 0]\n",
+         {"cam.yaml:2: rpz: unknown key (expected xyz, rpy_deg, rpy, matrix, body)"}},
+        {"NonNumber", "xyz: [1, two, 3]\n", {"cam.yaml:1: xyz: expected a number, got 'two'"}},
+        {"NotARotation", "matrix: [1, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]\n", {"is not a rotation"}},
+        {"BadLastRow", "matrix: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1]\n", {"last row must be 0 0 0 1"}},
+        {"MatrixWithThreeNumbers", "matrix: [1, 0, 0]\n", {"expected 16 numbers"}},
+        {"MatrixAndXyz", "xyz: [0, 0, 0]\nmatrix: [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]\n", {"not both"}},
+        {"BodyXyzWithTwoNumbers",
+         "body:\n  xyz: [0, 0]\nxyz: [0, 0, 1]\n",
+         {"cam.yaml:2: body.xyz: expected 3 numbers"}},
+        {"InvalidYaml", "xyz: [0, 0, 1\n", {"invalid YAML"}},
+        {"NotAMapping", "- 1\n- 2\n", {"expected a YAML mapping"}},
+        {"Empty", "{}", {"xyz: missing"}},
+        {"NaN", "xyz: [.nan, 0, 1]\n", {"xyz: expected a number, got '.nan'"}},
+        {"RpyAndRpyDeg", "rpy_deg: [180, 0, 0]\nrpy: [180, 0, 0]\n", {"cam.yaml:2: rpy: give rpy_deg only"}},
+    }),
+    td::test::bad_input_name);
 
 TEST(ExtrinsicsBadInput, MissingFile) { EXPECT_THROW(tt::load_extrinsics("/nonexistent/cam.yaml"), td::IoError); }

@@ -148,26 +148,23 @@ TEST(Filters, FlyingPixelsAcrossADepthJumpAndLoneSpikesAreRemoved) {
 
 // Every Options struct validates its fields and names the one at fault.
 TEST(FilterOptions, ValidateNamesTheField) {
-  std::string why;
-  EXPECT_TRUE(tt::CropOptions{}.validate(&why)) << why;
-  EXPECT_TRUE(tt::OutlierOptions{}.validate(&why)) << why;
+  td::test::expect_validate_names_fields<tt::CropOptions>({
+      {"radius:", [](tt::CropOptions& o) { o.radius = -0.1; }},
+      {"box_body:",
+       [](tt::CropOptions& o) {
+         o.box_body = Eigen::AlignedBox3d(Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 1, 0));
+       }},
+  });
+  td::test::expect_validate_names_fields<tt::OutlierOptions>({
+      {"std_ratio:", [](tt::OutlierOptions& o) { o.std_ratio = 0; }},
+      {"k:", [](tt::OutlierOptions& o) { o.k = -1; }},
+  });
+  // Refused where they are used.
+  td::PointCloud cloud;
   tt::CropOptions crop;
   crop.radius = -0.1;
-  EXPECT_FALSE(crop.validate(&why));
-  EXPECT_EQ(why.rfind("radius:", 0), 0u) << why;
-  crop.radius = 0;
-  crop.box_body = Eigen::AlignedBox3d(Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 1, 0));
-  EXPECT_FALSE(crop.validate(&why));
-  EXPECT_EQ(why.rfind("box_body:", 0), 0u) << why;
-  td::PointCloud cloud;
   EXPECT_THROW(tt::crop_near_camera(cloud, crop), td::InvalidArgument);
   tt::OutlierOptions outliers;
-  outliers.std_ratio = 0;
-  EXPECT_FALSE(outliers.validate(&why));
-  EXPECT_EQ(why.rfind("std_ratio:", 0), 0u) << why;
-  outliers = {};
   outliers.k = -1;
-  EXPECT_FALSE(outliers.validate(&why));
-  EXPECT_EQ(why.rfind("k:", 0), 0u) << why;
   EXPECT_THROW(tt::remove_statistical_outliers(cloud, outliers), td::InvalidArgument);
 }

@@ -145,19 +145,12 @@ TEST(TriangulateSolid, TopSurfaceInterpolatesTheCells) {
 }
 
 TEST(HeightMapOptions, ValidateNamesTheField) {
-  std::string why;
-  EXPECT_TRUE(tt::HeightMapOptions{}.validate(&why)) << why;
-  const std::pair<const char*, void (*)(tt::HeightMapOptions&)> cases[] = {
-      {"cell:", [](tt::HeightMapOptions& o) { o.cell = 0; }},
-      {"cell:", [](tt::HeightMapOptions& o) { o.cell = std::numeric_limits<double>::infinity(); }},
-      {"max_hole:", [](tt::HeightMapOptions& o) { o.max_hole = -1; }},
-      {"max_fill_slope:", [](tt::HeightMapOptions& o) { o.max_fill_slope = 0; }},
-      {"max_cells:", [](tt::HeightMapOptions& o) { o.max_cells = 0; }},
-  };
-  for (const auto& [field, spoil] : cases) {
-    tt::HeightMapOptions o;
-    spoil(o);
-    EXPECT_FALSE(o.validate(&why)) << field;
-    EXPECT_EQ(why.rfind(field, 0), 0u) << why;
-  }
+  using O = tt::HeightMapOptions;
+  touchdown::test::expect_validate_names_fields<O>({
+      {"cell:", [](O& o) { o.cell = 0; }},
+      {"cell:", [](O& o) { o.cell = std::numeric_limits<double>::infinity(); }},
+      {"max_hole:", [](O& o) { o.max_hole = -1; }},
+      {"max_fill_slope:", [](O& o) { o.max_fill_slope = 0; }},
+      {"max_cells:", [](O& o) { o.max_cells = 0; }},
+  });
 }

@@ -70,34 +70,46 @@ TEST(Airframe, AsymmetricGearIsNotHalfTurnSymmetric) {
   EXPECT_FALSE(a.symmetric_under_half_turn());
 }
 
-TEST(AirframeBadInput, ErrorsNameTheKey) {
-  const std::string y = f450_yaml();
-  EXPECT_NE(error_of(replace(y, "  mass: 0.95", "  mass: -0.95")).find("body.mass: must be positive"),
-            std::string::npos);
-  EXPECT_NE(error_of(replace(y, "  foot_z: -0.17", "  foot_z: 0.10")).find("landing_gear.foot_z"), std::string::npos);
-  EXPECT_NE(
-      error_of(replace(y, "  top_z: -0.03", "  top_z: 0.20")).find("landing_gear.top_z: the legs start above the body"),
-      std::string::npos);
-  // A fifth leg inside the other four: a non-convex support set.
-  EXPECT_NE(error_of(replace(y, "    - [-0.15, 0.08]", "    - [-0.15, 0.08]\n    - [0.0, 0.02]")).find("not convex"),
-            std::string::npos);
-  EXPECT_NE(
-      error_of(replace(y, "  radius: 0.127", "  radius: 0.127\n  colour: red")).find("propellers.colour: unknown key"),
-      std::string::npos);
-  EXPECT_NE(error_of(replace(y, "  max_thrust: 8.0", "")).find("motors.max_thrust: missing"), std::string::npos);
-  EXPECT_NE(error_of(replace(y, "  max_thrust: 8.0", "  max_thrust: 2.0")).find("cannot lift"), std::string::npos);
-  EXPECT_NE(error_of(replace(y, "  spin: [1, -1, 1, -1]", "  spin: [1, -1]")).find("motors.spin: expected 4"),
-            std::string::npos);
-  EXPECT_NE(error_of(replace(y, "  mass: 0.35", "  mass: heavy")).find("landing_gear.mass: expected a number"),
-            std::string::npos);
-  EXPECT_NE(error_of("body: [1\n").find("invalid YAML"), std::string::npos);
-  // Legs all on one line.
-  EXPECT_NE(error_of(replace(replace(replace(replace(y, "    - [0.15, 0.08]", "    - [0.15, 0.0]"),
-                                             "    - [0.15, -0.08]", "    - [0.05, 0.0]"),
-                                     "    - [-0.15, -0.08]", "    - [-0.05, 0.0]"),
-                             "    - [-0.15, 0.08]", "    - [-0.15, 0.0]"))
-                .find("collinear"),
-            std::string::npos);
+// One case per malformed airframe: one error naming the key.
+class AirframeBadInput : public ::testing::TestWithParam<td::test::BadInput> {};
+
+TEST_P(AirframeBadInput, OneErrorNamingTheKey) {
+  const std::string m = error_of(GetParam().text);
+  EXPECT_EQ(m.find('\n'), std::string::npos) << "one line, got: " << m;
+  for (const auto& part : GetParam().expected) EXPECT_NE(m.find(part), std::string::npos) << m;
 }
+
+namespace {
+
+std::vector<td::test::BadInput> airframe_cases() {
+  const std::string y = f450_yaml();
+  // Legs all on one line.
+  const std::string collinear = replace(replace(replace(replace(y, "    - [0.15, 0.08]", "    - [0.15, 0.0]"),
+                                                        "    - [0.15, -0.08]", "    - [0.05, 0.0]"),
+                                                "    - [-0.15, -0.08]", "    - [-0.05, 0.0]"),
+                                        "    - [-0.15, 0.08]", "    - [-0.15, 0.0]");
+  return {
+      {"NegativeMass", replace(y, "  mass: 0.95", "  mass: -0.95"), {"body.mass: must be positive"}},
+      {"FeetAboveTheBody", replace(y, "  foot_z: -0.17", "  foot_z: 0.10"), {"landing_gear.foot_z"}},
+      {"LegsAboveTheBody",
+       replace(y, "  top_z: -0.03", "  top_z: 0.20"),
+       {"landing_gear.top_z: the legs start above the body"}},
+      // A fifth leg inside the other four.
+      {"NonConvexSupport", replace(y, "    - [-0.15, 0.08]", "    - [-0.15, 0.08]\n    - [0.0, 0.02]"), {"not convex"}},
+      {"UnknownKey",
+       replace(y, "  radius: 0.127", "  radius: 0.127\n  colour: red"),
+       {"propellers.colour: unknown key"}},
+      {"MissingMaxThrust", replace(y, "  max_thrust: 8.0", ""), {"motors.max_thrust: missing"}},
+      {"CannotLift", replace(y, "  max_thrust: 8.0", "  max_thrust: 2.0"), {"cannot lift"}},
+      {"SpinWithTwoNumbers", replace(y, "  spin: [1, -1, 1, -1]", "  spin: [1, -1]"), {"motors.spin: expected 4"}},
+      {"NonNumericMass", replace(y, "  mass: 0.35", "  mass: heavy"), {"landing_gear.mass: expected a number"}},
+      {"InvalidYaml", "body: [1\n", {"invalid YAML"}},
+      {"CollinearLegs", collinear, {"collinear"}},
+  };
+}
+
+}  // namespace
+
+INSTANTIATE_TEST_SUITE_P(Cases, AirframeBadInput, ::testing::ValuesIn(airframe_cases()), td::test::bad_input_name);
 
 TEST(AirframeBadInput, MissingFile) { EXPECT_THROW(tw::load_airframe("/nonexistent/af.yaml"), td::IoError); }

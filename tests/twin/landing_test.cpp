@@ -125,21 +125,14 @@ TEST(Landing, LeavingTheMappedTerrainIsInvalid) {
 }
 
 TEST(SimulationOptions, ValidateNamesTheField) {
-  std::string why;
-  EXPECT_TRUE(tw::SimulationOptions{}.validate(&why)) << why;
-  const std::pair<const char*, void (*)(tw::SimulationOptions&)> cases[] = {
-      {"step:", [](tw::SimulationOptions& o) { o.step = 0.02; }},
-      {"timeout:", [](tw::SimulationOptions& o) { o.timeout = 0; }},
-      {"still_time:", [](tw::SimulationOptions& o) { o.still_time = -1; }},
-      {"contact_stiffness:", [](tw::SimulationOptions& o) { o.contact_stiffness = 0; }},
-      {"contact_damping:", [](tw::SimulationOptions& o) { o.contact_damping = -1; }},
-      {"solver_iterations:", [](tw::SimulationOptions& o) { o.solver_iterations = 0; }},
-      {"tip_nutation:", [](tw::SimulationOptions& o) { o.tip_nutation = 4; }},
-  };
-  for (const auto& [field, spoil] : cases) {
-    tw::SimulationOptions o;
-    spoil(o);
-    EXPECT_FALSE(o.validate(&why)) << field;
-    EXPECT_EQ(why.rfind(field, 0), 0u) << why;
-  }
+  using O = tw::SimulationOptions;
+  touchdown::test::expect_validate_names_fields<O>({
+      {"step:", [](O& o) { o.step = 0.02; }},
+      {"timeout:", [](O& o) { o.timeout = 0; }},
+      {"still_time:", [](O& o) { o.still_time = -1; }},
+      {"contact_stiffness:", [](O& o) { o.contact_stiffness = 0; }},
+      {"contact_damping:", [](O& o) { o.contact_damping = -1; }},
+      {"solver_iterations:", [](O& o) { o.solver_iterations = 0; }},
+      {"tip_nutation:", [](O& o) { o.tip_nutation = 4; }},
+  });
 }

@@ -11,6 +11,7 @@
 /// tracker's matched LEDs.
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "touchdown/pose/aruco_baseline.hpp"
@@ -50,7 +51,16 @@ struct MethodStats {
   double ms_median = 0, ms_p90 = 0;  ///< per-frame time of the whole method
 };
 
+enum class PoseBenchmarkStatus {
+  Ok,                  ///< every method had successful frames on every sequence
+  NoSuccessfulFrames,  ///< some row has no successful frame: its error statistics are undefined (reported as 0)
+};
+std::string_view to_string(PoseBenchmarkStatus status);
+
 struct PoseBenchmarkResult {
+  PoseBenchmarkStatus status = PoseBenchmarkStatus::Ok;
+  std::string message;  ///< which rows, when status is not Ok
+  [[nodiscard]] bool ok() const { return status == PoseBenchmarkStatus::Ok; }
   std::vector<MethodStats> rows;
   int solver_samples = 0;                 ///< frames where the solvers were timed
   double epnp_gn_us_median = 0;           ///< our EPnP + Gauss–Newton on the matched LEDs
@@ -60,7 +70,8 @@ struct PoseBenchmarkResult {
 };
 
 /// Runs the benchmark (single-threaded, deterministic in everything but
-/// the timings). Throws InvalidArgument on invalid options.
+/// the timings). Throws InvalidArgument on invalid options; a method that
+/// never succeeds is the expected outcome NoSuccessfulFrames, not an error.
 PoseBenchmarkResult run_pose_benchmark(const PoseBenchmarkOptions& options);
 
 /// Position error [m] and angle-axis orientation error [rad] of `estimate`.

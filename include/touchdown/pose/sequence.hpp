@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// Image sequences on disk (written by write_sequence in synthetic.hpp, or
-/// recorded from a camera):
+/// Image sequences on disk (written by write_sequence below, or recorded
+/// from a camera):
 ///
 ///     NNNNNN.png          colour frame: 8-bit BGR (8-bit grey and BGRA accepted)
 ///     NNNNNN.depth.png    optional aligned depth: 16-bit, one channel
@@ -12,14 +12,18 @@
 /// plain text, no OpenCV); this header (touchdown::pose_sim) reads images.
 /// Thread-safety: free functions without shared state.
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "touchdown/pose/ground_truth.hpp"
 #include "touchdown/pose/image.hpp"
+#include "touchdown/pose/synthetic.hpp"
+#include "touchdown/pose/trajectory.hpp"
 
 namespace touchdown::pose {
 
@@ -41,5 +45,17 @@ std::vector<SequenceFrame> list_sequence(const std::filesystem::path& dir);
 /// image is not 16-bit single-channel of the colour frame's size. A frame
 /// without depth leaves `*depth` empty.
 void read_frame(const SequenceFrame& frame, BgrImage& colour, DepthImage* depth);
+
+// ---- writing ----------------------------------------------------------------
+
+/// Renders `samples` (frame i with Rng stream i, motion blur from sample
+/// i−1 unless the pose jumps by more than 0.1 m or 10° between samples) and
+/// writes into `out_dir`: NNNNNN.png (8-bit BGR), NNNNNN.depth.png (16-bit),
+/// ground_truth.jsonl (ground_truth.hpp), camera.yaml and constellation.yaml.
+/// The files are rendered into a staging directory next to `out_dir` and
+/// moved into place at the end, so a failure leaves no partial files.
+/// Throws InvalidArgument for invalid inputs, IoError when writing fails.
+void write_sequence(const std::filesystem::path& out_dir, const CameraModel& camera, const Constellation& constellation,
+                    std::span<const TrajectorySample> samples, const RenderOptions& options, std::uint64_t seed);
 
 }  // namespace touchdown::pose

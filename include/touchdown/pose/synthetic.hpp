@@ -3,8 +3,8 @@
 /// A synthetic camera for the LED pose pipeline: renders what the ground
 /// vehicle's low-exposure colour camera (with an aligned 16-bit depth image,
 /// RealSense-like) sees of a drone carrying an LED constellation, for tests,
-/// benchmarks and users without hardware; plus trajectories to render and a
-/// writer for image sequences (read back with sequence.hpp).
+/// benchmarks and users without hardware. Trajectories to render are in
+/// trajectory.hpp, the sequence writer in sequence.hpp.
 ///
 /// Image model (all in the struct defaults of RenderOptions):
 /// - background: a dark, noisy frame (level + Gaussian sensor noise);
@@ -32,6 +32,7 @@
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/constellation.hpp"
 #include "touchdown/pose/image.hpp"
+#include "touchdown/pose/trajectory.hpp"
 
 namespace touchdown::pose {
 
@@ -147,59 +148,5 @@ class SyntheticCamera {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
-
-// ---- trajectories -----------------------------------------------------------
-
-enum class TrajectoryKind {
-  /// The camera stands still; the drone hovers at ~6 hold points whose
-  /// distances spread evenly over [min_distance, max_distance] (frames split
-  /// evenly among them), with a few mm and ~0.5° of hovering jitter.
-  Static,
-  /// The distance sweeps smoothly min → max → min over the sequence, with
-  /// lateral motion, continuous yaw rotation and tilt up to ~20°, fast enough
-  /// to blur at short range.
-  Moving,
-};
-
-struct TrajectoryOptions {
-  double min_distance = 0.4;  ///< [m] camera–body distance
-  double max_distance = 3.0;  ///< [m]
-  double fps = 30;            ///< [Hz] sample rate
-  double margin_px = 16;      ///< every LED stays this far inside the image
-  /// False (with the offending field and why in *why) for an invalid value.
-  bool validate(std::string* why) const;
-};
-
-struct TrajectorySample {
-  double t = 0;  ///< [s]
-  Eigen::Isometry3d T_camera_body = Eigen::Isometry3d::Identity();
-};
-
-/// A trajectory of the drone seen from a camera below it (body z ≈ camera
-/// +z, the drone's underside toward the camera) that keeps every LED inside
-/// the image by `margin_px` (the lateral offset, then the tilt, shrink where
-/// needed). Deterministic in `seed`. Throws InvalidArgument for invalid
-/// options (frames < 1, distances not 0 < min ≤ max, fps ≤ 0) or when the
-/// constellation cannot fit in the image at min_distance.
-std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, std::uint64_t seed,
-                                              const CameraModel& camera, const Constellation& constellation,
-                                              const TrajectoryOptions& options = {});
-
-/// The pose to smear sample i's motion blur from: sample i−1, unless the
-/// pose jumps by more than 0.1 m or 10° (a cut between hold points), then
-/// sample i itself (no blur).
-const Eigen::Isometry3d& motion_blur_start(std::span<const TrajectorySample> samples, std::size_t i);
-
-// ---- sequences --------------------------------------------------------------
-
-/// Renders `samples` (frame i with Rng stream i, motion blur from sample
-/// i−1 unless the pose jumps by more than 0.1 m or 10° between samples) and
-/// writes into `out_dir`: NNNNNN.png (8-bit BGR), NNNNNN.depth.png (16-bit),
-/// ground_truth.jsonl (sequence.hpp), camera.yaml and constellation.yaml.
-/// The files are rendered into a staging directory next to `out_dir` and
-/// moved into place at the end, so a failure leaves no partial files.
-/// Throws InvalidArgument for invalid inputs, IoError when writing fails.
-void write_sequence(const std::filesystem::path& out_dir, const CameraModel& camera, const Constellation& constellation,
-                    std::span<const TrajectorySample> samples, const RenderOptions& options, std::uint64_t seed);
 
 }  // namespace touchdown::pose

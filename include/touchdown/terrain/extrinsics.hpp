@@ -4,12 +4,13 @@
 /// optionally, on the drone body). YAML format in docs/formats.md:
 ///
 ///     xyz: [0.0, 0.0, 1.5]       # metres
-///     rpy: [180.0, 0.0, 90.0]    # degrees, R = Rz(yaw) * Ry(pitch) * Rx(roll)
+///     rpy_deg: [180.0, 0.0, 90.0]  # [roll, pitch, yaw] degrees, R = Rz(yaw) * Ry(pitch) * Rx(roll)
 ///     body:                      # optional: camera pose in the drone body frame
 ///       xyz: [0.06, 0.0, -0.04]
-///       rpy: [180.0, 0.0, 0.0]
+///       rpy_deg: [180.0, 0.0, 0.0]
 ///
 /// or `matrix:` with 16 numbers (row-major 4×4, or four rows of four).
+/// `rpy` (the key's earlier name, also degrees) is still read.
 #include <Eigen/Geometry>
 #include <filesystem>
 #include <string_view>
@@ -35,7 +36,7 @@ using touchdown::rotation_from_rpy;
 Extrinsics parse_extrinsics(std::string_view yaml_text, std::string_view source);
 Extrinsics load_extrinsics(const std::filesystem::path& path);
 
-/// YAML text for `e` (xyz + rpy form), readable by parse_extrinsics.
+/// YAML text for `e` (xyz + rpy_deg form), readable by parse_extrinsics.
 std::string format_extrinsics(const Extrinsics& e, bool with_body);
 
 }  // namespace touchdown::terrain

@@ -1,0 +1,58 @@
+#pragma once
+/// \file
+/// Trajectories of a drone seen by a camera, to render with the synthetic
+/// camera (synthetic.hpp) for tests and benchmarks. Part of
+/// touchdown::pose_sim. Thread-safety: free functions without shared state.
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "touchdown/pose/camera.hpp"
+#include "touchdown/pose/constellation.hpp"
+
+namespace touchdown::pose {
+
+enum class TrajectoryKind {
+  /// The camera stands still; the drone hovers at ~6 hold points whose
+  /// distances spread evenly over [min_distance, max_distance] (frames split
+  /// evenly among them), with a few mm and ~0.5° of hovering jitter.
+  Static,
+  /// The distance sweeps smoothly min → max → min over the sequence, with
+  /// lateral motion, continuous yaw rotation and tilt up to ~20°, fast enough
+  /// to blur at short range.
+  Moving,
+};
+
+struct TrajectoryOptions {
+  double min_distance = 0.4;  ///< [m] camera–body distance
+  double max_distance = 3.0;  ///< [m]
+  double fps = 30;            ///< [Hz] sample rate
+  double margin_px = 16;      ///< every LED stays this far inside the image
+  /// False (with the offending field and why in *why) for an invalid value.
+  bool validate(std::string* why) const;
+};
+
+struct TrajectorySample {
+  double t = 0;  ///< [s]
+  Eigen::Isometry3d T_camera_body = Eigen::Isometry3d::Identity();
+};
+
+/// A trajectory of the drone seen from a camera below it (body z ≈ camera
+/// +z, the drone's underside toward the camera) that keeps every LED inside
+/// the image by `margin_px` (the lateral offset, then the tilt, shrink where
+/// needed). Deterministic in `seed`. Throws InvalidArgument for invalid
+/// options (frames < 1, distances not 0 < min ≤ max, fps ≤ 0) or when the
+/// constellation cannot fit in the image at min_distance.
+std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, std::uint64_t seed,
+                                              const CameraModel& camera, const Constellation& constellation,
+                                              const TrajectoryOptions& options = {});
+
+/// The pose to smear sample i's motion blur from: sample i−1, unless the
+/// pose jumps by more than 0.1 m or 10° (a cut between hold points), then
+/// sample i itself (no blur).
+const Eigen::Isometry3d& motion_blur_start(std::span<const TrajectorySample> samples, std::size_t i);
+
+}  // namespace touchdown::pose

@@ -1,0 +1,140 @@
+#include "pose/assignment.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace touchdown::pose::detail {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+}  // namespace
+
+void gather(const Constellation& k, std::span<const Blob> blobs, const std::array<int, kMaxLeds>& blob_of_led,
+            MatchedSet& s) {
+  s.n = 0;
+  for (std::size_t l = 0; l < k.leds.size(); ++l) {
+    if (blob_of_led[l] < 0) continue;
+    s.p[s.n] = k.leds[l].p_body;
+    s.uv[s.n] = blobs[static_cast<std::size_t>(blob_of_led[l])].uv_undistorted;
+    ++s.n;
+  }
+}
+
+int greedy_match(const PinholeCamera& cam, const Constellation& k, std::span<const Blob> blobs,
+                 const Eigen::Isometry3d& T, double gate, std::array<int, kMaxLeds>& blob_of_led, double& sq) {
+  std::array<bool, 64> used{};
+  int matched = 0;
+  sq = 0;
+  const double gate2 = gate * gate;
+  for (std::size_t l = 0; l < k.leds.size(); ++l) {
+    blob_of_led[l] = -1;
+    const Eigen::Vector3d q = T * k.leds[l].p_body;
+    if (!(q.z() > 1e-6)) continue;
+    const Eigen::Vector2d uv = cam.project(q);
+    double best = gate2;
+    int arg = -1;
+    for (std::size_t b = 0; b < blobs.size() && b < used.size(); ++b) {
+      if (used[b] || !colors_compatible(k.leds[l].color, blobs[b].color)) continue;
+      const double d2 = (blobs[b].uv_undistorted - uv).squaredNorm();
+      if (d2 < best) {
+        best = d2;
+        arg = static_cast<int>(b);
+      }
+    }
+    if (arg >= 0) {
+      used[static_cast<std::size_t>(arg)] = true;
+      blob_of_led[l] = arg;
+      ++matched;
+      sq += best;
+    }
+  }
+  return matched;
+}
+
+// Written from Kuhn (1955) / Munkres (1957) in the shortest-augmenting-path
+// formulation with row and column potentials.
+void Hungarian::solve(const double* cost, std::size_t n, std::size_t m, std::array<int, kMaxLeds>& row_to_col) {
+  std::fill(u_.begin(), u_.begin() + static_cast<std::ptrdiff_t>(n + 1), 0.0);
+  std::fill(v_.begin(), v_.begin() + static_cast<std::ptrdiff_t>(m + 1), 0.0);
+  std::fill(p_.begin(), p_.begin() + static_cast<std::ptrdiff_t>(m + 1), 0);
+  for (std::size_t i = 1; i <= n; ++i) {
+    p_[0] = static_cast<int>(i);
+    std::size_t j0 = 0;
+    std::fill(minv_.begin(), minv_.begin() + static_cast<std::ptrdiff_t>(m + 1), kInf);
+    std::fill(used_.begin(), used_.begin() + static_cast<std::ptrdiff_t>(m + 1), false);
+    do {
+      used_[j0] = true;
+      const auto i0 = static_cast<std::size_t>(p_[j0]);
+      double delta = kInf;
+      std::size_t j1 = 0;
+      for (std::size_t j = 1; j <= m; ++j) {
+        if (used_[j]) continue;
+        const double cur = cost[(i0 - 1) * m + (j - 1)] - u_[i0] - v_[j];
+        if (cur < minv_[j]) {
+          minv_[j] = cur;
+          way_[j] = static_cast<int>(j0);
+        }
+        if (minv_[j] < delta) {
+          delta = minv_[j];
+          j1 = j;
+        }
+      }
+      for (std::size_t j = 0; j <= m; ++j) {
+        if (used_[j]) {
+          u_[static_cast<std::size_t>(p_[j])] += delta;
+          v_[j] -= delta;
+        } else {
+          minv_[j] -= delta;
+        }
+      }
+      j0 = j1;
+    } while (p_[j0] != 0);
+    do {
+      const auto j1 = static_cast<std::size_t>(way_[j0]);
+      p_[j0] = p_[j1];
+      j0 = j1;
+    } while (j0 != 0);
+  }
+  for (std::size_t i = 0; i < n; ++i) row_to_col[i] = -1;
+  for (std::size_t j = 1; j <= m; ++j) {
+    if (p_[j] != 0) row_to_col[static_cast<std::size_t>(p_[j] - 1)] = static_cast<int>(j - 1);
+  }
+}
+
+int OptimalMatcher::match(const PinholeCamera& cam, const Constellation& k, std::span<const Blob> blobs,
+                          const Eigen::Isometry3d& T, double gate, std::array<int, kMaxLeds>& blob_of_led) {
+  const std::size_t n = k.leds.size();
+  const std::size_t m = std::min<std::size_t>(blobs.size(), Hungarian::kMaxCols);
+  for (std::size_t l = 0; l < n; ++l) blob_of_led[l] = -1;
+  if (m == 0) return 0;
+  // Unmatchable pairs cost more than any gated pair; dummy columns (when
+  // fewer blobs than LEDs) cost the same, so they absorb unseen LEDs.
+  const double big = 4.0 * gate * gate + 1.0;
+  const std::size_t cols = std::max(n, m);
+  for (std::size_t l = 0; l < n; ++l) {
+    const Eigen::Vector3d q = T * k.leds[l].p_body;
+    const bool front = q.z() > 1e-6;
+    const Eigen::Vector2d uv = front ? cam.project(q) : Eigen::Vector2d::Zero();
+    for (std::size_t b = 0; b < cols; ++b) {
+      double c = big;
+      if (front && b < m && colors_compatible(k.leds[l].color, blobs[b].color)) {
+        const double d2 = (blobs[b].uv_undistorted - uv).squaredNorm();
+        if (d2 <= gate * gate) c = d2;
+      }
+      cost_[l * cols + b] = c;
+    }
+  }
+  std::array<int, kMaxLeds> col{};
+  hungarian_.solve(cost_.data(), n, cols, col);
+  int matched = 0;
+  for (std::size_t l = 0; l < n; ++l) {
+    const int b = col[l];
+    if (b >= 0 && static_cast<std::size_t>(b) < m && cost_[l * cols + static_cast<std::size_t>(b)] < big) {
+      blob_of_led[l] = b;
+      ++matched;
+    }
+  }
+  return matched;
+}
+
+}  // namespace touchdown::pose::detail

@@ -1,0 +1,65 @@
+#pragma once
+// LED ↔ blob assignment shared by the correspondence search and the tracker
+// (internal to touchdown::pose): gathering matched points for the solvers,
+// greedy gated matching for verifying hypotheses, and minimum-cost matching
+// (Hungarian algorithm) for tracking. Fixed-capacity storage: no allocation.
+#include <Eigen/Geometry>
+#include <array>
+#include <cstddef>
+#include <span>
+
+#include "touchdown/pose/camera.hpp"
+#include "touchdown/pose/constellation.hpp"
+#include "touchdown/pose/led_detector.hpp"
+
+namespace touchdown::pose::detail {
+
+// Points of the matched LEDs, gathered into fixed arrays for the solvers.
+struct MatchedSet {
+  std::array<Eigen::Vector3d, kMaxLeds> p;
+  std::array<Eigen::Vector2d, kMaxLeds> uv;
+  std::size_t n = 0;
+  [[nodiscard]] std::span<const Eigen::Vector3d> points() const { return {p.data(), n}; }
+  [[nodiscard]] std::span<const Eigen::Vector2d> pixels() const { return {uv.data(), n}; }
+};
+
+// Fills `s` with the LEDs that have a blob in `blob_of_led` (−1: none).
+void gather(const Constellation& constellation, std::span<const Blob> blobs,
+            const std::array<int, kMaxLeds>& blob_of_led, MatchedSet& s);
+
+// Greedy nearest-blob matching of every reprojected LED within `gate` [px]
+// (fast; for verifying hypotheses). Returns the number matched; `sq` gets
+// the sum of squared distances.
+int greedy_match(const PinholeCamera& camera, const Constellation& constellation, std::span<const Blob> blobs,
+                 const Eigen::Isometry3d& T_camera_body, double gate, std::array<int, kMaxLeds>& blob_of_led,
+                 double& sq);
+
+// Hungarian algorithm (potentials form, O(n² m)) for an n × m cost matrix
+// with n ≤ kMaxLeds rows and m ≤ kMaxCols columns, n ≤ m.
+class Hungarian {
+ public:
+  static constexpr std::size_t kMaxCols = 64;
+  // `cost` row-major n × m; `row_to_col` gets each row's column.
+  void solve(const double* cost, std::size_t n, std::size_t m, std::array<int, kMaxLeds>& row_to_col);
+
+ private:
+  std::array<double, kMaxLeds + 1> u_{};
+  std::array<double, kMaxCols + 1> v_{}, minv_{};
+  std::array<int, kMaxCols + 1> p_{}, way_{};
+  std::array<bool, kMaxCols + 1> used_{};
+};
+
+// Minimum-cost assignment of reprojected LEDs to blobs, with its workspace;
+// pairs farther than the gate or of incompatible colour are not matched.
+class OptimalMatcher {
+ public:
+  // Returns the number of LEDs matched.
+  int match(const PinholeCamera& camera, const Constellation& constellation, std::span<const Blob> blobs,
+            const Eigen::Isometry3d& T_camera_body, double gate, std::array<int, kMaxLeds>& blob_of_led);
+
+ private:
+  Hungarian hungarian_;
+  std::array<double, kMaxLeds * Hungarian::kMaxCols> cost_{};
+};
+
+}  // namespace touchdown::pose::detail

@@ -1,0 +1,193 @@
+#include "touchdown/pose/correspondence.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "pose/assignment.hpp"
+#include "touchdown/core/units.hpp"
+#include "touchdown/pose/epnp.hpp"
+
+namespace touchdown::pose {
+
+bool CorrespondenceOptions::validate(std::string* why) const {
+  auto fail = [&](const char* m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (!(inlier_px > 0)) return fail("inlier_px: must be positive");
+  if (!(accept_rms_px > 0)) return fail("accept_rms_px: must be positive");
+  if (max_blobs < 4 || max_blobs > 32) return fail("max_blobs: must be in 4..32");
+  if (max_hypotheses < 1) return fail("max_hypotheses: must be positive");
+  if (min_leds < 4) return fail("min_leds: must be at least 4");
+  if (!(max_view_angle_deg > 0 && max_view_angle_deg <= 180)) return fail("max_view_angle_deg: must be in (0, 180]");
+  if (!(minimal_fit_rms_px > 0)) return fail("minimal_fit_rms_px: must be positive");
+  if (!(missing_penalty_px > 0)) return fail("missing_penalty_px: must be positive");
+  if (!(min_distance >= 0 && max_distance > min_distance))
+    return fail("min_distance/max_distance: need 0 <= min < max");
+  if (refine.max_iterations < 1) return fail("refine.max_iterations: must be positive");
+  return true;
+}
+
+namespace {
+
+using Quad = std::array<std::size_t, 4>;
+
+// Every 4-subset of {0, …, n−1} in lexicographic order, until `visit`
+// returns false. Returns false when stopped.
+template <class Visit>
+bool for_each_subset(std::size_t n, Visit&& visit) {
+  Quad L{};
+  for (L[0] = 0; L[0] < n; ++L[0]) {
+    for (L[1] = L[0] + 1; L[1] < n; ++L[1]) {
+      for (L[2] = L[1] + 1; L[2] < n; ++L[2]) {
+        for (L[3] = L[2] + 1; L[3] < n; ++L[3]) {
+          if (!visit(L)) return false;
+        }
+      }
+    }
+  }
+  return true;
+}
+
+// Every ordered tuple of distinct blobs B[level..3] whose colours are
+// compatible with LEDs L[level..3], depth-first in ascending blob order,
+// until `visit` returns false. Returns false when stopped.
+template <class Visit>
+bool for_each_blob_tuple(const Constellation& k, std::span<const Blob> blobs, const Quad& L, Quad& B, std::size_t level,
+                         Visit&& visit) {
+  if (level == 4) return visit(B);
+  for (B[level] = 0; B[level] < blobs.size(); ++B[level]) {
+    if (std::find(B.begin(), B.begin() + static_cast<std::ptrdiff_t>(level), B[level]) !=
+        B.begin() + static_cast<std::ptrdiff_t>(level))
+      continue;
+    if (!colors_compatible(k.leds[L[level]].color, blobs[B[level]].color)) continue;
+    if (!for_each_blob_tuple(k, blobs, L, B, level + 1, visit)) return false;
+  }
+  return true;
+}
+
+// The state one search shares between its hypotheses.
+class Search {
+ public:
+  Search(const PinholeCamera& cam, const Constellation& k, std::span<const Blob> blobs, const CorrespondenceOptions& o)
+      : cam_(cam),
+        k_(k),
+        blobs_(blobs),
+        o_(o),
+        n_(k.leds.size()),
+        target_(std::min(k.leds.size(), blobs.size())),
+        penalty2_(o.missing_penalty_px * o.missing_penalty_px),
+        centroid_(k.centroid()),
+        cos_view_(std::cos(deg_to_rad(o.max_view_angle_deg))) {
+    best_.blob_of_led.fill(-1);
+    best_.status = PoseStatus::NoConsistentCorrespondence;
+  }
+
+  // LEDs L ↔ blobs B: solve, verify against every LED, refine, score.
+  // Returns false to stop the search (hypothesis budget spent, or every
+  // LED explained well).
+  bool consider(const Quad& L, const Quad& B) {
+    if (best_.hypotheses >= o_.max_hypotheses) return false;
+    ++best_.hypotheses;
+    std::array<Eigen::Vector3d, 4> p4;
+    std::array<Eigen::Vector2d, 4> uv4;
+    for (std::size_t i = 0; i < 4; ++i) {
+      p4[i] = k_.leds[L[i]].p_body;
+      uv4[i] = blobs_[B[i]].uv_undistorted;
+    }
+    const EpnpResult e = solve_epnp(cam_, p4, uv4);
+    if (!e.ok || e.rms_px > o_.inlier_px) return true;
+    std::array<int, kMaxLeds> assign{};
+    double sq = 0;
+    const int matched = detail::greedy_match(cam_, k_, blobs_, e.T_camera_body, o_.inlier_px, assign, sq);
+    if (matched < o_.min_leds) return true;
+    // MSAC-style score: squared error of the explained LEDs plus a fixed
+    // penalty per unexplained one, so that a wrong pose cannot win by
+    // stretching onto a spurious blob.
+    if (sq + (static_cast<double>(n_) - matched) * penalty2_ >= best_score_) return true;
+    detail::MatchedSet set;
+    detail::gather(k_, blobs_, assign, set);
+    PoseRefinement fit = refine_pose_gauss_newton(cam_, set.points(), set.pixels(), e.T_camera_body, o_.refine);
+    if (!fit.ok()) return true;
+    // Re-match from the refined pose and refine once more if it changed.
+    std::array<int, kMaxLeds> again{};
+    const int rematched = detail::greedy_match(cam_, k_, blobs_, fit.T_camera_body, o_.inlier_px, again, sq);
+    if (rematched >= o_.min_leds && again != assign) {
+      assign = again;
+      detail::gather(k_, blobs_, assign, set);
+      const PoseRefinement f2 =
+          refine_pose_gauss_newton(cam_, set.points(), set.pixels(), fit.T_camera_body, o_.refine);
+      if (!f2.ok()) return true;
+      fit = f2;
+    }
+    if (!plausible(fit, set.n)) return true;
+    const double count = static_cast<double>(set.n);
+    const double score = fit.rms_px * fit.rms_px * count + (static_cast<double>(n_) - count) * penalty2_;
+    if (score < best_score_) {
+      best_score_ = score;
+      best_.matched = static_cast<int>(set.n);
+      best_.blob_of_led = assign;
+      best_.fit = fit;
+      // Every LED (or every blob) explained, well: stop.
+      if (set.n == target_ && fit.rms_px < 0.5 * o_.accept_rms_px) return false;
+    }
+    return true;
+  }
+
+  Correspondence finish() {
+    if (best_.matched >= o_.min_leds) {
+      best_.status = best_.fit.rms_px <= o_.accept_rms_px ? PoseStatus::Ok : PoseStatus::ReprojectionTooLarge;
+    }
+    return best_;
+  }
+
+ private:
+  // Gates a refined pose resting on `leds` LEDs must pass.
+  bool plausible(const PoseRefinement& fit, std::size_t leds) const {
+    const double depth = (fit.T_camera_body * centroid_).z();
+    if (depth < o_.min_distance || depth > o_.max_distance) return false;
+    // The LEDs shine into the hemisphere around body −z: the camera must
+    // lie inside the emission cone.
+    const Eigen::Vector3d cam_in_body = fit.T_camera_body.inverse().translation() - centroid_;
+    if (-cam_in_body.z() < cos_view_ * cam_in_body.norm()) return false;
+    // Four LEDs leave 2 redundant measurements: random blobs can fit them,
+    // so a four-LED pose (of a larger constellation) must fit tightly.
+    if (leds == 4 && n_ > 4 && fit.rms_px > o_.minimal_fit_rms_px) return false;
+    return true;
+  }
+
+  const PinholeCamera& cam_;
+  const Constellation& k_;
+  std::span<const Blob> blobs_;
+  const CorrespondenceOptions& o_;
+  std::size_t n_, target_;
+  double penalty2_;
+  Eigen::Vector3d centroid_;
+  double cos_view_;
+  Correspondence best_;
+  double best_score_ = std::numeric_limits<double>::infinity();
+};
+
+}  // namespace
+
+Correspondence find_correspondences(const PinholeCamera& cam, const Constellation& k, std::span<const Blob> all_blobs,
+                                    const CorrespondenceOptions& o) {
+  const std::span<const Blob> blobs = all_blobs.first(std::min(all_blobs.size(), o.max_blobs));
+  if (blobs.size() < static_cast<std::size_t>(o.min_leds) || k.leds.size() < 4) {
+    Correspondence none;
+    none.blob_of_led.fill(-1);
+    none.status = PoseStatus::TooFewBlobs;
+    return none;
+  }
+  // Every 4-subset of LEDs against every ordered 4-tuple of distinct,
+  // colour-compatible blobs.
+  Search search(cam, k, blobs, o);
+  for_each_subset(k.leds.size(), [&](const Quad& L) {
+    Quad B{};
+    return for_each_blob_tuple(k, blobs, L, B, 0, [&](const Quad& b) { return search.consider(L, b); });
+  });
+  return search.finish();
+}
+
+}  // namespace touchdown::pose
