@@ -42,8 +42,9 @@ std::string pose_json(const std::string& frame, const tp::PoseEstimate& e, doubl
     if (q.w() < 0) q.coeffs() = -q.coeffs();
     std::snprintf(buf, sizeof(buf),
                   "{\"frame\": \"%s\", \"ok\": true, \"t\": [%.6f, %.6f, %.6f], \"q\": [%.7f, %.7f, %.7f, %.7f], "
-                  "\"reproj_px\": %.3f, \"leds\": %d, \"blobs\": %d, \"ms\": %.3f}",
-                  frame.c_str(), t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z(), e.rms_px, e.points, e.blobs, ms);
+                  "\"sigma\": [%.6f, %.6f], \"reproj_px\": %.3f, \"leds\": %d, \"blobs\": %d, \"ms\": %.3f}",
+                  frame.c_str(), t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z(), e.sigma_position_m,
+                  e.sigma_rotation_rad, e.rms_px, e.points, e.blobs, ms);
   } else {
     std::snprintf(buf, sizeof(buf),
                   "{\"frame\": \"%s\", \"ok\": false, \"reason\": \"%s\", \"blobs\": %d, \"ms\": %.3f}", frame.c_str(),
@@ -84,7 +85,8 @@ int main(int argc, char** argv) {
 
   // --- render ---
   auto* render = app.add_subcommand("render", "write a synthetic sequence (colour + depth PNGs, ground_truth.jsonl)");
-  std::string out_dir, r_camera, r_constellation, trajectory = "static";
+  std::string out_dir, r_camera, r_constellation, trajectory = "static", geometry = "facing";
+  double camera_tilt_deg = 20;
   int frames = 300;
   std::uint64_t seed = 1;
   double min_distance = 0.4, max_distance = 3.0;
@@ -95,10 +97,20 @@ int main(int argc, char** argv) {
   render->add_option("--trajectory", trajectory, "static or moving")
       ->check(CLI::IsMember({"static", "moving"}))
       ->capture_default_str();
+  render
+      ->add_option("--geometry", geometry,
+                   "facing: the camera faces the constellation's facing side (from below for downward LEDs); "
+                   "chase: the paper's ground-vehicle camera, tilted up, with the drone behind and above it")
+      ->check(CLI::IsMember({"facing", "chase"}))
+      ->capture_default_str();
+  render->add_option("--camera-tilt", camera_tilt_deg, "chase: camera tilt above the horizontal [deg]")
+      ->capture_default_str();
   render->add_option("--frames", frames, "number of frames")->capture_default_str();
   render->add_option("--seed", seed, "random seed")->capture_default_str();
-  render->add_option("--min-distance", min_distance, "closest camera-drone distance [m]")->capture_default_str();
-  render->add_option("--max-distance", max_distance, "farthest camera-drone distance [m]")->capture_default_str();
+  render->add_option("--min-distance", min_distance, "closest camera-constellation (LED centroid) distance [m]")
+      ->capture_default_str();
+  render->add_option("--max-distance", max_distance, "farthest camera-constellation distance [m]")
+      ->capture_default_str();
   render->add_option("--noise", ropt.noise_sigma, "sensor noise [DN]")->capture_default_str();
   render->add_option("--distractors", ropt.distractor_count, "bright lamps in view")->capture_default_str();
   render->add_option("--dropout", ropt.led_dropout_probability, "per-LED per-frame dropout probability")
@@ -136,6 +148,8 @@ int main(int argc, char** argv) {
       tp::TrajectoryOptions to;
       to.min_distance = min_distance;
       to.max_distance = max_distance;
+      to.geometry = geometry == "chase" ? tp::CameraGeometry::Chase : tp::CameraGeometry::Facing;
+      to.camera_tilt_deg = camera_tilt_deg;
       const auto samples =
           tp::make_trajectory(trajectory == "static" ? tp::TrajectoryKind::Static : tp::TrajectoryKind::Moving, frames,
                               seed, camera, k, to);

@@ -12,6 +12,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <string_view>
+#include <tuple>
 
 #include "aruco_dictionary.hpp"
 #include "touchdown/core/error.hpp"
@@ -46,6 +47,8 @@ bool ArucoOptions::validate(std::string* why) const {
   if (!std::isfinite(marker_size) || !(marker_size > 0)) {
     return fail("marker_size: must be a positive edge length in metres, got " + format_number(marker_size));
   }
+  if (!(detection_sigma_px > 0) || !std::isfinite(detection_sigma_px))
+    return fail("detection_sigma_px: must be positive");
   return true;
 }
 
@@ -261,7 +264,11 @@ PoseEstimate ArucoPoseEstimator::estimate_from_corners(const std::array<Eigen::V
   }
   const Eigen::LDLT<Matrix6d> ldlt(H);
   if (ldlt.info() == Eigen::Success && (ldlt.vectorD().array() > 1e-12 * H.diagonal().maxCoeff()).all()) {
-    out.covariance = (cost / 2.0) * ldlt.solve(Matrix6d::Identity());
+    const Matrix6d unit = ldlt.solve(Matrix6d::Identity());
+    out.covariance = (cost / 2.0) * unit;
+    const double floor = m.options.detection_sigma_px * m.options.detection_sigma_px;
+    std::tie(out.sigma_position_m, out.sigma_rotation_rad) =
+        pose_sigmas(std::max(cost / 2.0, floor) * unit, T_camera_body);
   }
   out.T_camera_body = T_camera_body;
   out.status = PoseStatus::Ok;

@@ -20,16 +20,25 @@ void gather(const Constellation& k, std::span<const Blob> blobs, const std::arra
   }
 }
 
+namespace {
+// The camera centre in the body frame.
+Eigen::Vector3d camera_in_body(const Eigen::Isometry3d& T_camera_body) {
+  return -(T_camera_body.linear().transpose() * T_camera_body.translation());
+}
+}  // namespace
+
 int greedy_match(const PinholeCamera& cam, const Constellation& k, std::span<const Blob> blobs,
-                 const Eigen::Isometry3d& T, double gate, std::array<int, kMaxLeds>& blob_of_led, double& sq) {
+                 const Eigen::Isometry3d& T, double gate, double emission_margin,
+                 std::array<int, kMaxLeds>& blob_of_led, double& sq) {
   std::array<bool, 64> used{};
   int matched = 0;
   sq = 0;
   const double gate2 = gate * gate;
+  const Eigen::Vector3d camera_body = camera_in_body(T);
   for (std::size_t l = 0; l < k.leds.size(); ++l) {
     blob_of_led[l] = -1;
     const Eigen::Vector3d q = T * k.leds[l].p_body;
-    if (!(q.z() > 1e-6)) continue;
+    if (!(q.z() > 1e-6) || !k.leds[l].emits_toward(camera_body, emission_margin)) continue;
     const Eigen::Vector2d uv = cam.project(q);
     double best = gate2;
     int arg = -1;
@@ -102,7 +111,8 @@ void Hungarian::solve(const double* cost, std::size_t n, std::size_t m, std::arr
 }
 
 int OptimalMatcher::match(const PinholeCamera& cam, const Constellation& k, std::span<const Blob> blobs,
-                          const Eigen::Isometry3d& T, double gate, std::array<int, kMaxLeds>& blob_of_led) {
+                          const Eigen::Isometry3d& T, double gate, double emission_margin,
+                          std::array<int, kMaxLeds>& blob_of_led) {
   const std::size_t n = k.leds.size();
   const std::size_t m = std::min<std::size_t>(blobs.size(), Hungarian::kMaxCols);
   for (std::size_t l = 0; l < n; ++l) blob_of_led[l] = -1;
@@ -111,9 +121,10 @@ int OptimalMatcher::match(const PinholeCamera& cam, const Constellation& k, std:
   // fewer blobs than LEDs) cost the same, so they absorb unseen LEDs.
   const double big = 4.0 * gate * gate + 1.0;
   const std::size_t cols = std::max(n, m);
+  const Eigen::Vector3d camera_body = camera_in_body(T);
   for (std::size_t l = 0; l < n; ++l) {
     const Eigen::Vector3d q = T * k.leds[l].p_body;
-    const bool front = q.z() > 1e-6;
+    const bool front = q.z() > 1e-6 && k.leds[l].emits_toward(camera_body, emission_margin);
     const Eigen::Vector2d uv = front ? cam.project(q) : Eigen::Vector2d::Zero();
     for (std::size_t b = 0; b < cols; ++b) {
       double c = big;

@@ -28,11 +28,13 @@ void gather(const Constellation& constellation, std::span<const Blob> blobs,
             const std::array<int, kMaxLeds>& blob_of_led, MatchedSet& s);
 
 // Greedy nearest-blob matching of every reprojected LED within `gate` [px]
-// (fast; for verifying hypotheses). Returns the number matched; `sq` gets
-// the sum of squared distances.
+// (fast; for verifying hypotheses). LEDs behind the camera or shining away
+// from it by more than `emission_margin` [rad] beyond their cone are not
+// matched. Returns the number matched; `sq` gets the sum of squared
+// distances.
 int greedy_match(const PinholeCamera& camera, const Constellation& constellation, std::span<const Blob> blobs,
-                 const Eigen::Isometry3d& T_camera_body, double gate, std::array<int, kMaxLeds>& blob_of_led,
-                 double& sq);
+                 const Eigen::Isometry3d& T_camera_body, double gate, double emission_margin,
+                 std::array<int, kMaxLeds>& blob_of_led, double& sq);
 
 // Hungarian algorithm (potentials form, O(n² m)) for an n × m cost matrix
 // with n ≤ kMaxLeds rows and m ≤ kMaxCols columns, n ≤ m.
@@ -50,12 +52,14 @@ class Hungarian {
 };
 
 // Minimum-cost assignment of reprojected LEDs to blobs, with its workspace;
-// pairs farther than the gate or of incompatible colour are not matched.
+// pairs farther than the gate or of incompatible colour, and LEDs that
+// greedy_match would not match, are not matched.
 class OptimalMatcher {
  public:
   // Returns the number of LEDs matched.
   int match(const PinholeCamera& camera, const Constellation& constellation, std::span<const Blob> blobs,
-            const Eigen::Isometry3d& T_camera_body, double gate, std::array<int, kMaxLeds>& blob_of_led);
+            const Eigen::Isometry3d& T_camera_body, double gate, double emission_margin,
+            std::array<int, kMaxLeds>& blob_of_led);
 
  private:
   Hungarian hungarian_;

@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -37,6 +38,22 @@ std::optional<LedColor> led_color_from_string(std::string_view s) {
   if (s == "blue") return LedColor::Blue;
   if (s == "white") return LedColor::White;
   return std::nullopt;
+}
+
+bool Led::emits_toward(const Eigen::Vector3d& camera_body, double margin_rad) const {
+  if (!has_normal()) return true;
+  const Eigen::Vector3d to_camera = camera_body - p_body;
+  const double d = to_camera.norm();
+  if (!(d > 0)) return false;
+  const double angle = std::acos(std::clamp(normal.dot(to_camera) / d, -1.0, 1.0));
+  return angle <= deg_to_rad(half_angle_deg) + margin_rad;
+}
+
+Eigen::Vector3d Constellation::facing() const {
+  Eigen::Vector3d s = Eigen::Vector3d::Zero();
+  for (const auto& l : leds) s += l.normal;
+  const double n = s.norm();
+  return n > 1e-9 ? Eigen::Vector3d(s / n) : Eigen::Vector3d::Zero();
 }
 
 Eigen::Isometry3d Constellation::default_marker_pose() {
@@ -96,6 +113,11 @@ bool Constellation::validate(std::string* why) const {
     if (!leds[i].p_body.allFinite()) return fail("leds[" + std::to_string(i) + "].xyz: not finite");
     if (leds[i].color == LedColor::Unknown)
       return fail("leds[" + std::to_string(i) + "].color: must be a colour class");
+    const Eigen::Vector3d& n = leds[i].normal;
+    if (!n.allFinite() || (leds[i].has_normal() && std::abs(n.norm() - 1) > 1e-6))
+      return fail("leds[" + std::to_string(i) + "].normal: must be a unit vector (or zero: omnidirectional)");
+    if (!(leds[i].half_angle_deg > 0 && leds[i].half_angle_deg < 180))
+      return fail("leds[" + std::to_string(i) + "].half_angle_deg: must be in (0, 180) degrees");
     for (std::size_t j = 0; j < i; ++j) {
       if ((leds[i].p_body - leds[j].p_body).norm() < 1e-3) {
         return fail("leds[" + std::to_string(i) + "]: duplicates leds[" + std::to_string(j) + "] (closer than 1 mm)");
@@ -118,10 +140,25 @@ Constellation parse_constellation(std::string_view yaml_text, std::string_view s
           r.fail(leds, "leds", "expected a list of {xyz: [x, y, z], color: red|green|blue|white}");
         for (std::size_t i = 0; i < leds.size(); ++i) {
           const std::string key = "leds[" + std::to_string(i) + "]";
-          r.only(leds[i], key + ".", {"xyz", "color"});
+          r.only(leds[i], key + ".", {"xyz", "color", "normal", "half_angle_deg"});
           const auto xyz = r.vec3(r.child(leds[i], key + ".", "xyz"), key + ".xyz");
           Led led;
           led.p_body = {xyz[0], xyz[1], xyz[2]};
+          if (leds[i]["normal"]) {
+            const auto n = r.vec3(leds[i]["normal"], key + ".normal");
+            const Eigen::Vector3d v(n[0], n[1], n[2]);
+            if (!(v.norm() > 1e-9)) r.fail(leds[i]["normal"], key + ".normal", "zero length: give the emission axis");
+            led.normal = v.normalized();
+          }
+          if (leds[i]["half_angle_deg"]) {
+            const YAML::Node h = leds[i]["half_angle_deg"];
+            if (!led.has_normal())
+              r.fail(h, key + ".half_angle_deg", "needs a normal (an LED without one shines everywhere)");
+            led.half_angle_deg = r.number(h, key + ".half_angle_deg");
+            if (!(led.half_angle_deg > 0 && led.half_angle_deg < 180))
+              r.fail(h, key + ".half_angle_deg",
+                     "must be in (0, 180) degrees, got " + r.text(h, key + ".half_angle_deg"));
+          }
           if (leds[i]["color"]) {
             const auto name = r.text(leds[i]["color"], key + ".color");
             const auto c = led_color_from_string(name);
@@ -151,9 +188,10 @@ Constellation parse_constellation(std::string_view yaml_text, std::string_view s
 
 Constellation default_constellation() {
   Constellation k;
-  k.leds = {{{0.0849, 0.0849, -0.030}, LedColor::Red},     {{0.0849, -0.0849, -0.030}, LedColor::Red},
-            {{-0.0849, -0.0849, -0.030}, LedColor::Green}, {{-0.0849, 0.0849, -0.030}, LedColor::Green},
-            {{0.090, -0.040, -0.110}, LedColor::Blue},     {{-0.090, 0.030, -0.110}, LedColor::White}};
+  const Eigen::Vector3d down(0, 0, -1);
+  k.leds = {{{0.0849, 0.0849, -0.030}, LedColor::Red, down},     {{0.0849, -0.0849, -0.030}, LedColor::Red, down},
+            {{-0.0849, -0.0849, -0.030}, LedColor::Green, down}, {{-0.0849, 0.0849, -0.030}, LedColor::Green, down},
+            {{0.090, -0.040, -0.110}, LedColor::Blue, down},     {{-0.090, 0.030, -0.110}, LedColor::White, down}};
   k.T_body_marker = Constellation::default_marker_pose();
   k.T_body_marker.translation() = Eigen::Vector3d(0, 0, -0.045);
   return k;
@@ -169,7 +207,12 @@ std::string constellation_to_yaml(const Constellation& k) {
   os << "leds:\n";
   for (const auto& l : k.leds) {
     os << "  - {xyz: [" << format_exact(l.p_body.x()) << ", " << format_exact(l.p_body.y()) << ", "
-       << format_exact(l.p_body.z()) << "], color: " << to_string(l.color) << "}\n";
+       << format_exact(l.p_body.z()) << "], color: " << to_string(l.color);
+    if (l.has_normal()) {
+      os << ", normal: [" << format_exact(l.normal.x() + 0.0) << ", " << format_exact(l.normal.y() + 0.0) << ", "
+         << format_exact(l.normal.z() + 0.0) << "], half_angle_deg: " << format_exact(l.half_angle_deg);
+    }
+    os << "}\n";
   }
   const Eigen::Vector3d t = k.T_body_marker.translation();
   // The one rpy convention of every touchdown file (core/rotation.hpp).

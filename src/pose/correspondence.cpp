@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "pose/ambiguity.hpp"
 #include "pose/assignment.hpp"
 #include "touchdown/core/units.hpp"
 #include "touchdown/pose/epnp.hpp"
@@ -20,12 +21,22 @@ bool CorrespondenceOptions::validate(std::string* why) const {
   if (max_blobs < 4 || max_blobs > 32) return fail("max_blobs: must be in 4..32");
   if (max_hypotheses < 1) return fail("max_hypotheses: must be positive");
   if (min_leds < 4) return fail("min_leds: must be at least 4");
-  if (!(max_view_angle_deg > 0 && max_view_angle_deg <= 180)) return fail("max_view_angle_deg: must be in (0, 180]");
+  if (!(emission_margin_deg >= 0 && emission_margin_deg <= 90)) return fail("emission_margin_deg: must be in [0, 90]");
   if (!(minimal_fit_rms_px > 0)) return fail("minimal_fit_rms_px: must be positive");
   if (!(missing_penalty_px > 0)) return fail("missing_penalty_px: must be positive");
   if (!(min_distance >= 0 && max_distance > min_distance))
     return fail("min_distance/max_distance: need 0 <= min < max");
   if (refine.max_iterations < 1) return fail("refine.max_iterations: must be positive");
+  if (!(detection_sigma_px > 0) || !std::isfinite(detection_sigma_px))
+    return fail("detection_sigma_px: must be positive");
+  if (!(branch_chi2 > 0) || !std::isfinite(branch_chi2)) return fail("branch_chi2: must be positive");
+  if (!(depth_sigma_k >= 0) || !std::isfinite(depth_sigma_k)) return fail("depth_sigma_k: must be >= 0");
+  if (!(max_sigma_position_m > 0)) return fail("max_sigma_position_m: must be positive");
+  if (!(max_sigma_rotation_rad > 0)) return fail("max_sigma_rotation_rad: must be positive");
+  if (!(branch_track_deg >= 0 && branch_track_deg <= 180)) return fail("branch_track_deg: must be in [0, 180]");
+  if (!(branch_distinct_m >= 0) || !std::isfinite(branch_distinct_m)) return fail("branch_distinct_m: must be >= 0");
+  if (!(branch_distinct_deg >= 0 && branch_distinct_deg <= 180))
+    return fail("branch_distinct_deg: must be in [0, 180]");
   return true;
 }
 
@@ -76,10 +87,9 @@ class Search {
         blobs_(blobs),
         o_(o),
         n_(k.leds.size()),
-        target_(std::min(k.leds.size(), blobs.size())),
         penalty2_(o.missing_penalty_px * o.missing_penalty_px),
         centroid_(k.centroid()),
-        cos_view_(std::cos(deg_to_rad(o.max_view_angle_deg))) {
+        margin_(deg_to_rad(o.emission_margin_deg)) {
     best_.blob_of_led.fill(-1);
     best_.status = PoseStatus::NoConsistentCorrespondence;
   }
@@ -100,7 +110,7 @@ class Search {
     if (!e.ok || e.rms_px > o_.inlier_px) return true;
     std::array<int, kMaxLeds> assign{};
     double sq = 0;
-    const int matched = detail::greedy_match(cam_, k_, blobs_, e.T_camera_body, o_.inlier_px, assign, sq);
+    const int matched = detail::greedy_match(cam_, k_, blobs_, e.T_camera_body, o_.inlier_px, margin_, assign, sq);
     if (matched < o_.min_leds) return true;
     // MSAC-style score: squared error of the explained LEDs plus a fixed
     // penalty per unexplained one, so that a wrong pose cannot win by
@@ -112,7 +122,7 @@ class Search {
     if (!fit.ok()) return true;
     // Re-match from the refined pose and refine once more if it changed.
     std::array<int, kMaxLeds> again{};
-    const int rematched = detail::greedy_match(cam_, k_, blobs_, fit.T_camera_body, o_.inlier_px, again, sq);
+    const int rematched = detail::greedy_match(cam_, k_, blobs_, fit.T_camera_body, o_.inlier_px, margin_, again, sq);
     if (rematched >= o_.min_leds && again != assign) {
       assign = again;
       detail::gather(k_, blobs_, assign, set);
@@ -121,39 +131,70 @@ class Search {
       if (!f2.ok()) return true;
       fit = f2;
     }
-    if (!plausible(fit, set.n)) return true;
+    int expected = 0;  // LEDs that shine toward the camera from this pose
+    if (!plausible(fit, assign, expected)) return true;
     const double count = static_cast<double>(set.n);
-    const double score = fit.rms_px * fit.rms_px * count + (static_cast<double>(n_) - count) * penalty2_;
+    const double score =
+        fit.rms_px * fit.rms_px * count + std::max(0.0, static_cast<double>(expected) - count) * penalty2_;
     if (score < best_score_) {
       best_score_ = score;
       best_.matched = static_cast<int>(set.n);
       best_.blob_of_led = assign;
       best_.fit = fit;
-      // Every LED (or every blob) explained, well: stop.
-      if (set.n == target_ && fit.rms_px < 0.5 * o_.accept_rms_px) return false;
+      // Every LED that shines toward the camera (or every blob) explained,
+      // well: stop.
+      const std::size_t target = std::min(static_cast<std::size_t>(expected), blobs_.size());
+      if (set.n >= target && fit.rms_px < 0.5 * o_.accept_rms_px) return false;
     }
     return true;
   }
 
-  Correspondence finish() {
-    if (best_.matched >= o_.min_leds) {
-      best_.status = best_.fit.rms_px <= o_.accept_rms_px ? PoseStatus::Ok : PoseStatus::ReprojectionTooLarge;
+  Correspondence finish(const detail::ConstellationShape& shape) {
+    if (best_.matched < o_.min_leds) return best_;
+    best_.status = best_.fit.rms_px <= o_.accept_rms_px ? PoseStatus::Ok : PoseStatus::ReprojectionTooLarge;
+    if (best_.status != PoseStatus::Ok) return best_;
+    // Never a confident wrong pose: a symmetric constellation, or a mirrored
+    // branch nothing in this frame rules out, is no answer.
+    if (shape.symmetric) {
+      best_.status = PoseStatus::Ambiguous;
+      return best_;
     }
+    detail::MatchedSet set;
+    detail::gather(k_, blobs_, best_.blob_of_led, set);
+    const detail::BranchDecision d =
+        detail::resolve_branches(cam_, k_, shape, blobs_, best_.blob_of_led, set, best_.fit, nullptr, o_);
+    if (d.verdict == detail::BranchVerdict::Ambiguous) {
+      best_.status = PoseStatus::Ambiguous;
+    } else if (d.verdict == detail::BranchVerdict::Switch) {
+      best_.fit = d.alternative;
+      if (best_.fit.rms_px > o_.accept_rms_px) best_.status = PoseStatus::ReprojectionTooLarge;
+    }
+    if (best_.status == PoseStatus::Ok && detail::too_uncertain(best_.fit, o_)) best_.status = PoseStatus::Uncertain;
     return best_;
   }
 
  private:
-  // Gates a refined pose resting on `leds` LEDs must pass.
-  bool plausible(const PoseRefinement& fit, std::size_t leds) const {
+  // Gates a refined pose with the LED assignment `assign` must pass;
+  // `expected` gets the number of LEDs that shine toward the camera.
+  bool plausible(const PoseRefinement& fit, const std::array<int, kMaxLeds>& assign, int& expected) const {
     const double depth = (fit.T_camera_body * centroid_).z();
     if (depth < o_.min_distance || depth > o_.max_distance) return false;
-    // The LEDs shine into the hemisphere around body −z: the camera must
-    // lie inside the emission cone.
-    const Eigen::Vector3d cam_in_body = fit.T_camera_body.inverse().translation() - centroid_;
-    if (-cam_in_body.z() < cos_view_ * cam_in_body.norm()) return false;
+    // Emission geometry (Led::normal, half_angle_deg): every matched LED
+    // must shine toward the camera, within the margin.
+    const Eigen::Vector3d camera_body = fit.T_camera_body.inverse().translation();
+    expected = 0;
+    std::size_t matched = 0;
+    for (std::size_t l = 0; l < n_; ++l) {
+      const Led& led = k_.leds[l];
+      if (assign[l] >= 0) {
+        ++matched;
+        if (!led.emits_toward(camera_body, margin_)) return false;
+      }
+      if (led.emits_toward(camera_body)) ++expected;
+    }
     // Four LEDs leave 2 redundant measurements: random blobs can fit them,
     // so a four-LED pose (of a larger constellation) must fit tightly.
-    if (leds == 4 && n_ > 4 && fit.rms_px > o_.minimal_fit_rms_px) return false;
+    if (matched == 4 && n_ > 4 && fit.rms_px > o_.minimal_fit_rms_px) return false;
     return true;
   }
 
@@ -161,18 +202,20 @@ class Search {
   const Constellation& k_;
   std::span<const Blob> blobs_;
   const CorrespondenceOptions& o_;
-  std::size_t n_, target_;
+  std::size_t n_;
   double penalty2_;
   Eigen::Vector3d centroid_;
-  double cos_view_;
+  double margin_;
   Correspondence best_;
   double best_score_ = std::numeric_limits<double>::infinity();
 };
 
 }  // namespace
 
-Correspondence find_correspondences(const PinholeCamera& cam, const Constellation& k, std::span<const Blob> all_blobs,
-                                    const CorrespondenceOptions& o) {
+namespace detail {
+
+Correspondence find_correspondences(const PinholeCamera& cam, const Constellation& k, const ConstellationShape& shape,
+                                    std::span<const Blob> all_blobs, const CorrespondenceOptions& o) {
   const std::span<const Blob> blobs = all_blobs.first(std::min(all_blobs.size(), o.max_blobs));
   if (blobs.size() < static_cast<std::size_t>(o.min_leds) || k.leds.size() < 4) {
     Correspondence none;
@@ -187,7 +230,14 @@ Correspondence find_correspondences(const PinholeCamera& cam, const Constellatio
     Quad B{};
     return for_each_blob_tuple(k, blobs, L, B, 0, [&](const Quad& b) { return search.consider(L, b); });
   });
-  return search.finish();
+  return search.finish(shape);
+}
+
+}  // namespace detail
+
+Correspondence find_correspondences(const PinholeCamera& cam, const Constellation& k, std::span<const Blob> blobs,
+                                    const CorrespondenceOptions& o) {
+  return detail::find_correspondences(cam, k, detail::ConstellationShape::of(k), blobs, o);
 }
 
 }  // namespace touchdown::pose

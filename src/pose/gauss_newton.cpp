@@ -99,7 +99,9 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
   out.rms_px = std::sqrt(sq / static_cast<double>(n));
   const double dof = 2.0 * static_cast<double>(n) - 6.0;
   const double sigma2 = dof > 0 ? cost / dof : 0.0;
-  out.covariance = sigma2 * H.ldlt().solve(Matrix6d::Identity());
+  out.unit_covariance = H.ldlt().solve(Matrix6d::Identity());
+  out.noise_variance = sigma2;
+  out.covariance = sigma2 * out.unit_covariance;
   return out;
 }
 

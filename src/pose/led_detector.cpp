@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::pose {
 
@@ -19,6 +20,10 @@ bool DetectorOptions::validate(std::string* why) const {
   if (min_area < 1 || max_area < min_area) return fail("min_area/max_area: need 1 <= min_area <= max_area");
   if (refine_margin < 0 || refine_margin > 16) return fail("refine_margin: must be in 0..16");
   if (!(white_saturation >= 0 && white_saturation <= 1)) return fail("white_saturation: must be in [0, 1]");
+  if (saturation_level < 1 || saturation_level > 255) return fail("saturation_level: must be in 1..255");
+  if (!(min_colour_evidence >= 0) || !std::isfinite(min_colour_evidence))
+    return fail("min_colour_evidence: must be >= 0");
+  if (!(min_hue_coherence >= 0 && min_hue_coherence <= 1)) return fail("min_hue_coherence: must be in [0, 1]");
   if (!(min_depth >= 0 && max_depth > min_depth)) return fail("min_depth/max_depth: need 0 <= min_depth < max_depth");
   if (depth_window < 0 || depth_window > 3) return fail("depth_window: must be in 0..3");
   if (max_blobs < 1) return fail("max_blobs: must be positive");
@@ -51,6 +56,46 @@ LedColor classify_color(const Eigen::Vector3d& hsv, double white_saturation) {
   if (h >= 195 && h < 265) return LedColor::Blue;
   return LedColor::Unknown;
 }
+
+namespace {
+
+// Hue evidence of a set of pixels: the chroma-plane vectors
+// α = R − (G + B)/2, β = √3/2 (G − B) (whose angle is the hue and whose
+// length is the chroma of the hexagonal HSV model, to within 13 %; a
+// neutral background adds nothing to them), summed; the summed brightest
+// channel (the saturation's denominator) and the summed brightness above
+// the background (the amount of evidence).
+struct HueEvidence {
+  double a = 0, b = 0;   // Σ α, Σ β
+  double chroma = 0;     // Σ |(α, β)|
+  double brightest = 0;  // Σ max channel
+  double value = 0;      // Σ (max channel − background)
+  int pixels = 0;
+
+  void add(int blue, int green, int red, int max_channel, double above_background) {
+    const double al = red - 0.5 * (green + blue), be = 0.8660254037844386 * (green - blue);
+    a += al;
+    b += be;
+    chroma += std::sqrt(al * al + be * be);
+    brightest += max_channel;
+    value += above_background;
+    ++pixels;
+  }
+};
+
+// The class the evidence supports, with its (H, S, V) in `hsv`.
+LedColor classify_evidence(const HueEvidence& e, const DetectorOptions& o, Eigen::Vector3d& hsv) {
+  double hue = rad_to_deg(std::atan2(e.b, e.a));
+  if (hue < 0) hue += 360.0;
+  const double saturation = e.brightest > 0 ? std::min(1.0, e.chroma / e.brightest) : 0.0;
+  hsv = {hue, saturation, e.pixels ? std::min(1.0, e.value / e.pixels / 255.0) : 0.0};
+  if (saturation < o.white_saturation) return LedColor::White;
+  const double coherence = e.chroma > 0 ? std::hypot(e.a, e.b) / e.chroma : 0.0;
+  if (coherence < o.min_hue_coherence) return LedColor::Unknown;
+  return classify_color({hue, 1.0, 1.0}, o.white_saturation);
+}
+
+}  // namespace
 
 struct LedDetector::Impl {
   CameraModel camera;
@@ -174,17 +219,24 @@ struct LedDetector::Impl {
     }
     const int bg = std::max(options.background, ring_n ? static_cast<int>(ring / ring_n) + 4 : 0);
     double sw = 0, sx = 0, sy = 0;
-    Eigen::Vector3d sbgr = Eigen::Vector3d::Zero();
+    HueEvidence halo, core;  // unclipped pixels; pixels clipped in one or two channels
+    const int sat = options.saturation_level;
     for (int y = y0; y <= y1; ++y) {
       const std::uint8_t* p = img.row(y);
       for (int x = x0; x <= x1; ++x) {
-        const int mx = std::max({p[3 * x], p[3 * x + 1], p[3 * x + 2]});
+        const int blue = p[3 * x], green = p[3 * x + 1], red = p[3 * x + 2];
+        const int mx = std::max({blue, green, red});
         if (mx <= bg) continue;
         const double w = mx - bg;
         sw += w;
         sx += w * x;
         sy += w * y;
-        sbgr += w * Eigen::Vector3d(p[3 * x], p[3 * x + 1], p[3 * x + 2]);
+        const int clipped = (blue >= sat) + (green >= sat) + (red >= sat);
+        if (clipped == 0) {
+          halo.add(blue, green, red, mx, w);
+        } else if (clipped < 3) {
+          core.add(blue, green, red, mx, w);
+        }
       }
     }
     if (!(sw > 0)) return false;
@@ -192,8 +244,14 @@ struct LedDetector::Impl {
     b.uv_undistorted = camera.undistort(b.uv_px);
     b.area = c.area;
     b.intensity = sw;
-    b.hsv = bgr_to_hsv(sbgr / sw);
-    b.color = classify_color(b.hsv, options.white_saturation);
+    if (halo.value >= options.min_colour_evidence) {
+      b.color = classify_evidence(halo, options, b.hsv);
+    } else if (core.value >= options.min_colour_evidence) {
+      b.color = classify_evidence(core, options, b.hsv);
+    } else {
+      b.color = LedColor::Unknown;  // too little unclipped light to tell
+      b.hsv = {0, 0, 1};
+    }
     b.has_point = false;
     b.p_camera.setZero();
     return true;

@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
+#include "pose/ambiguity.hpp"
 #include "pose/assignment.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::pose {
 
@@ -23,6 +26,10 @@ std::string_view to_string(PoseStatus s) {
       return "marker not found";
     case PoseStatus::Degenerate:
       return "degenerate geometry";
+    case PoseStatus::Ambiguous:
+      return "ambiguous";
+    case PoseStatus::Uncertain:
+      return "too uncertain";
   }
   return "unknown";
 }
@@ -60,7 +67,9 @@ struct LedTracker::Impl {
   Eigen::Isometry3d last_pose = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d previous_pose = Eigen::Isometry3d::Identity();
   detail::OptimalMatcher matcher;
+  detail::ConstellationShape shape;  // best-fit plane, symmetry: for the ambiguity checks
   double min_led_spacing = 0;
+  double emission_margin = 0;  // [rad] slack on the LEDs' emission cones
   double const_mad = 0, const_radius = 0;
   Eigen::Vector3d const_centroid = Eigen::Vector3d::Zero();
   std::array<Eigen::Vector2d, kMaxLeds> centres{};
@@ -78,6 +87,8 @@ struct LedTracker::Impl {
       for (std::size_t j = 0; j < i; ++j)
         min_led_spacing = std::min(min_led_spacing, (k.leds[i].p_body - k.leds[j].p_body).norm());
     }
+    emission_margin = deg_to_rad(o.correspondence.emission_margin_deg);
+    shape = detail::ConstellationShape::of(k);
     const_mad = k.mean_absolute_deviation();
     const_radius = k.radius();
     const_centroid = k.centroid();
@@ -198,6 +209,9 @@ struct LedTracker::Impl {
     estimate.points = points;
     estimate.reinitialised = reinit;
     estimate.covariance = fit.covariance;
+    // 1-σ figures: the residuals' noise estimate, floored at the assumed
+    // detection noise.
+    std::tie(estimate.sigma_position_m, estimate.sigma_rotation_rad) = detail::fit_sigmas(fit, options.correspondence);
     previous_pose = last_pose;
     have_velocity = tracking;
     last_pose = fit.T_camera_body;
@@ -210,6 +224,7 @@ struct LedTracker::Impl {
     estimate.rms_px = 0;
     estimate.T_camera_body = Eigen::Isometry3d::Identity();  // never a stale pose
     estimate.covariance.setZero();
+    estimate.sigma_position_m = estimate.sigma_rotation_rad = 0;
     tracking = false;
     have_velocity = false;
     led_to_blob.fill(-1);
@@ -221,7 +236,7 @@ struct LedTracker::Impl {
     if (!(c.z() > 1e-6)) return false;
     gate(T);
     suppress_duplicates(options.duplicate_fraction * min_led_spacing * pin.fx / c.z());
-    int matched = matcher.match(pin, constellation, work, T, options.track_gate_px, led_to_blob);
+    int matched = matcher.match(pin, constellation, work, T, options.track_gate_px, emission_margin, led_to_blob);
     if (matched < options.correspondence.min_leds) return false;
     detail::MatchedSet set;
     detail::gather(constellation, work, led_to_blob, set);
@@ -230,7 +245,8 @@ struct LedTracker::Impl {
     // Re-match from the refined pose with the tighter inlier gate: picks up
     // LEDs the prediction missed and drops ones it mismatched.
     std::array<int, kMaxLeds> again{};
-    matched = matcher.match(pin, constellation, work, fit.T_camera_body, options.correspondence.inlier_px, again);
+    matched = matcher.match(pin, constellation, work, fit.T_camera_body, options.correspondence.inlier_px,
+                            emission_margin, again);
     if (matched >= options.correspondence.min_leds && again != led_to_blob) {
       led_to_blob = again;
       detail::gather(constellation, work, led_to_blob, set);
@@ -239,6 +255,13 @@ struct LedTracker::Impl {
       if (f2.ok()) fit = f2;
     }
     if (fit.rms_px > options.reinit_rms_px) return false;
+    // The mirrored branch: switch to it when the evidence says so; an
+    // ambiguity the prediction cannot settle ends the track.
+    const detail::BranchDecision d =
+        detail::resolve_branches(pin, constellation, shape, work, led_to_blob, set, fit, &T, options.correspondence);
+    if (d.verdict == detail::BranchVerdict::Ambiguous) return false;
+    if (d.verdict == detail::BranchVerdict::Switch) fit = d.alternative;
+    if (detail::too_uncertain(fit, options.correspondence)) return false;
     accept(fit, static_cast<int>(set.n), false);
     return true;
   }
@@ -264,7 +287,7 @@ struct LedTracker::Impl {
       lose(PoseStatus::TooFewBlobs);
       return estimate;
     }
-    const Correspondence c = find_correspondences(pin, constellation, work, options.correspondence);
+    const Correspondence c = detail::find_correspondences(pin, constellation, shape, work, options.correspondence);
     if (c.status != PoseStatus::Ok) {
       lose(c.status);
       return estimate;

@@ -1,6 +1,9 @@
 #include "touchdown/pose/se3.hpp"
 
+#include <algorithm>
 #include <cmath>
+
+#include "touchdown/pose/pose_estimate.hpp"
 
 namespace touchdown::pose {
 
@@ -48,6 +51,14 @@ Vector6d se3_log(const Eigen::Isometry3d& T) {
   xi.head<3>() = Vinv * T.translation();
   xi.tail<3>() = phi;
   return xi;
+}
+
+std::pair<double, double> pose_sigmas(const Matrix6d& cov, const Eigen::Isometry3d& T) {
+  Eigen::Matrix<double, 3, 6> J;
+  J.leftCols<3>().setIdentity();
+  J.rightCols<3>() = -hat(T.translation());
+  return {std::sqrt(std::max(0.0, (J * cov * J.transpose()).trace())),
+          std::sqrt(std::max(0.0, cov.bottomRightCorner<3, 3>().trace()))};
 }
 
 }  // namespace touchdown::pose

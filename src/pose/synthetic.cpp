@@ -385,6 +385,7 @@ void SyntheticCamera::Impl::render_leds(const Eigen::Isometry3d* poses, int n, R
   const Eigen::Isometry3d& T = poses[n / 2];  // the frame's pose (centre of the exposure)
   std::array<Eigen::Vector2d, kMaxBlurSamples> centres;
   visible.assign(constellation.leds.size(), false);
+  const Eigen::Vector3d camera_body = -(T.linear().transpose() * T.translation());
   for (std::size_t i = 0; i < constellation.leds.size(); ++i) {
     const Led& led = constellation.leds[i];
     const bool dropped = dropout_rng.uniform() < o.led_dropout_probability;  // drawn for every LED: stable streams
@@ -392,9 +393,8 @@ void SyntheticCamera::Impl::render_leds(const Eigen::Isometry3d* poses, int n, R
     if (dropped || p.z() < kMinDepth) continue;
     const Eigen::Vector2d uv = camera.project(p);
     if (!in_image(uv)) continue;
-    // Emission into the hemisphere around body −z: the direction from the
-    // LED to the camera, in the body frame, must point down.
-    if ((T.linear().transpose() * (-p)).z() >= 0) continue;
+    // Emission geometry: the camera must lie in the LED's emission cone.
+    if (!led.emits_toward(camera_body)) continue;
     visible[i] = true;
     // Spot: the LED's image disc (radius f·r/z, variance r²/4 per axis)
     // convolved with the optics' Gaussian blur.

@@ -42,23 +42,68 @@ double largest_fitting(const std::function<bool(double)>& ok) {
   return lo;
 }
 
-// The drone at distance d from the camera in the direction of the
-// normalised image offset (a, b), body z ≈ camera z (camera below, looking
-// up), rotated by yaw about camera z and tilted by (roll, pitch).
-Eigen::Isometry3d drone_pose(double d, double a, double b, double yaw, double roll, double pitch) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()) *
-                Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()))
-                   .toRotationMatrix();
-  T.translation() = d * Eigen::Vector3d(a, b, 1).normalized();
-  return T;
-}
+// How the drone's body sits in the camera frame before yaw and tilt.
+//   Facing: the constellation's facing side (Constellation::facing(), body
+//     −z when it has no normals) toward the camera, body facing axis ≈
+//     camera −z; yaw turns about the camera's axis.
+//   Chase (the source paper): the camera on the ground vehicle looks back,
+//     tilted up; the drone follows behind and above, level, heading toward
+//     the vehicle (body x = the vehicle's forward direction); yaw is its
+//     heading, roll and pitch its attitude.
+struct Framing {
+  Eigen::Matrix3d left = Eigen::Matrix3d::Identity(), right = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // the constellation's, body frame
+  bool has_left = false, has_right = false;            // skip identity products: trajectories stay bit-identical
+
+  static Framing of(const Constellation& k, const TrajectoryOptions& o) {
+    Framing f;
+    f.centroid = k.centroid();
+    if (o.geometry == CameraGeometry::Chase) {
+      // World: x forward (the vehicle's), z up. Camera axes in the world:
+      // x right (world +y when looking back), z back and up by the tilt.
+      const double t = deg_to_rad(o.camera_tilt_deg);
+      Eigen::Matrix3d R_world_camera;
+      R_world_camera.col(0) = Eigen::Vector3d(0, 1, 0);
+      R_world_camera.col(2) = Eigen::Vector3d(-std::cos(t), 0, std::sin(t));
+      R_world_camera.col(1) = R_world_camera.col(2).cross(R_world_camera.col(0));
+      f.left = R_world_camera.transpose();
+      f.has_left = true;
+      return f;
+    }
+    const Eigen::Vector3d facing = k.facing();
+    const Eigen::Vector3d down(0, 0, -1);
+    if (facing.squaredNorm() > 0 && (facing - down).norm() > 1e-12) {
+      f.right = Eigen::Quaterniond::FromTwoVectors(facing, down).toRotationMatrix();
+      f.has_right = true;
+    }
+    return f;
+  }
+
+  // The drone with its constellation's centroid at distance d from the
+  // camera in the direction of the normalised image offset (a, b), rotated
+  // by yaw and tilted by (roll, pitch).
+  [[nodiscard]] Eigen::Isometry3d pose(double d, double a, double b, double yaw, double roll, double pitch) const {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    Eigen::Matrix3d R =
+        (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()) *
+         Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()))
+            .toRotationMatrix();
+    if (has_left) R = left * R;
+    if (has_right) R = R * right;
+    T.linear() = R;
+    T.translation() = d * Eigen::Vector3d(a, b, 1).normalized() - R * centroid;
+    return T;
+  }
+};
 
 // Shrinks tilt, then lateral offset, until the constellation fits; throws
 // when it cannot fit even centred and level.
-Eigen::Isometry3d fitted_pose(const CameraModel& camera, const Constellation& k, double margin, double d, double a,
-                              double b, double yaw, double roll, double pitch,
+Eigen::Isometry3d fitted_pose(const CameraModel& camera, const Constellation& k, const Framing& framing, double margin,
+                              double d, double a, double b, double yaw, double roll, double pitch,
                               const Eigen::Isometry3d& jitter = Eigen::Isometry3d::Identity()) {
+  auto drone_pose = [&](double dd, double aa, double bb, double y, double r, double p) {
+    return framing.pose(dd, aa, bb, y, r, p);
+  };
   const double tilt_scale = largest_fitting(
       [&](double s) { return fits(camera, k, drone_pose(d, 0, 0, yaw, s * roll, s * pitch) * jitter, margin); });
   if (tilt_scale < 0) {
@@ -80,6 +125,7 @@ bool TrajectoryOptions::validate(std::string* why) const {
   }
   if (!(fps > 0) || !std::isfinite(fps)) return invalid(why, "fps: must be positive [Hz]");
   if (!(margin_px >= 0) || !std::isfinite(margin_px)) return invalid(why, "margin_px: must be >= 0 px");
+  if (!(camera_tilt_deg >= 0 && camera_tilt_deg <= 80)) return invalid(why, "camera_tilt_deg: must be in [0, 80] deg");
   return true;
 }
 
@@ -93,6 +139,11 @@ std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, s
   if (!constellation.validate(&why)) throw InvalidArgument("make_trajectory: constellation: " + why);
 
   Rng rng(seed, 0);
+  const Framing framing = Framing::of(constellation, o);
+  const bool chase = o.geometry == CameraGeometry::Chase;
+  // Chase: the heading sways about the vehicle's direction (the same
+  // draws as the facing geometry's free yaw, mapped into ±kChaseYaw).
+  const double kChaseYaw = deg_to_rad(15);
   // Lateral offsets are fractions of the half field of view.
   const double half_u = std::min(camera.cx, camera.width - 1 - camera.cx) / camera.fx;
   const double half_v = std::min(camera.cy, camera.height - 1 - camera.cy) / camera.fy;
@@ -112,10 +163,11 @@ std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, s
       const double d =
           holds == 1 ? o.min_distance : o.min_distance + (o.max_distance - o.min_distance) * j / (holds - 1);
       const double a = rng.uniform(-0.6, 0.6) * half_u, b = rng.uniform(-0.6, 0.6) * half_v;
-      const double yaw = rng.uniform(-std::numbers::pi, std::numbers::pi);
+      const double yaw_draw = rng.uniform(-std::numbers::pi, std::numbers::pi);
+      const double yaw = chase ? kChaseYaw * yaw_draw / std::numbers::pi : yaw_draw;
       const double roll = deg_to_rad(rng.uniform(-6, 6)), pitch = deg_to_rad(rng.uniform(-6, 6));
       Hold& hj = hold[static_cast<std::size_t>(j)];
-      hj.T = fitted_pose(camera, constellation, margin, d, a, b, yaw, roll, pitch);
+      hj.T = fitted_pose(camera, constellation, framing, margin, d, a, b, yaw, roll, pitch);
       for (std::size_t axis = 0; axis < 6; ++axis) {
         hj.amp[axis] = (axis < 3 ? 0.003 : deg_to_rad(0.5)) * rng.uniform(0.5, 1.0);  // a few mm, ~0.5°
         hj.freq[axis] = rng.uniform(0.7, 2.3);                                        // [Hz] hovering sway
@@ -151,8 +203,9 @@ std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, s
     const double a = 0.6 * half_u * std::sin(two_pi * f_a * t + ph_a);
     const double b = 0.6 * half_v * std::sin(two_pi * f_b * t + ph_b);
     const double roll = tilt * std::sin(two_pi * f_r * t + ph_r), pitch = tilt * std::sin(two_pi * f_p * t + ph_p);
+    const double yaw = chase ? kChaseYaw * std::sin(yaw0 + yaw_rate * t) : yaw0 + yaw_rate * t;
     out[static_cast<std::size_t>(i)] = {
-        t, fitted_pose(camera, constellation, o.margin_px, d, a, b, yaw0 + yaw_rate * t, roll, pitch)};
+        t, fitted_pose(camera, constellation, framing, o.margin_px, d, a, b, yaw, roll, pitch)};
   }
   return out;
 }

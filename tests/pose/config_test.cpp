@@ -201,6 +201,8 @@ TEST(ConstellationYaml, BuiltInEqualsBundledFile) {
   for (std::size_t i = 0; i < file.leds.size(); ++i) {
     EXPECT_EQ(file.leds[i].p_body, builtin.leds[i].p_body) << i;
     EXPECT_EQ(file.leds[i].color, builtin.leds[i].color) << i;
+    EXPECT_EQ(file.leds[i].normal, builtin.leds[i].normal) << i;
+    EXPECT_EQ(file.leds[i].half_angle_deg, builtin.leds[i].half_angle_deg) << i;
   }
   EXPECT_EQ(file.T_body_marker.matrix(), builtin.T_body_marker.matrix());
 }
@@ -211,6 +213,49 @@ TEST(ConstellationYaml, BundledBoardLoads) {
   EXPECT_EQ(k.leds[4].color, tp::LedColor::Blue);
   EXPECT_FALSE(k.planar(1e-3));  // 5 mm relief
   EXPECT_TRUE(k.planar(5e-3));
+  std::string why;
+  EXPECT_TRUE(k.validate(&why)) << why;
+}
+
+TEST(ConstellationYaml, EmissionConesReadNormaliseAndRoundTrip) {
+  const auto k = tp::parse_constellation(
+      "leds:\n"
+      "  - {xyz: [0.1, 0.1, 0], normal: [2, 0, 0], half_angle_deg: 60}\n"  // any length: normalised
+      "  - {xyz: [0.1, -0.1, 0], normal: [0, 3, 4]}\n"                     // half-angle defaults to 90
+      "  - {xyz: [-0.1, -0.1, 0]}\n"                                       // no normal: omnidirectional
+      "  - {xyz: [0, 0, -0.1], normal: [0, 0, -1], half_angle_deg: 179.5}\n",
+      "cones");
+  EXPECT_EQ(k.leds[0].normal, Eigen::Vector3d(1, 0, 0));
+  EXPECT_EQ(k.leds[0].half_angle_deg, 60);
+  EXPECT_TRUE(k.leds[1].normal.isApprox(Eigen::Vector3d(0, 0.6, 0.8), 1e-15));
+  EXPECT_EQ(k.leds[1].half_angle_deg, 90);
+  EXPECT_FALSE(k.leds[2].has_normal());
+  const auto again = tp::parse_constellation(tp::constellation_to_yaml(k), "again");
+  for (std::size_t i = 0; i < k.leds.size(); ++i) {
+    EXPECT_EQ(again.leds[i].normal, k.leds[i].normal) << i;
+    EXPECT_EQ(again.leds[i].half_angle_deg, k.leds[i].half_angle_deg) << i;
+  }
+  // facing(): the normalised sum of the normals (zero without any).
+  EXPECT_TRUE(k.facing().isApprox(Eigen::Vector3d(1, 0.6, -0.2).normalized(), 1e-15));
+  EXPECT_EQ(tp::parse_constellation(leds_yaml(kFourLeds), "none").facing(), Eigen::Vector3d::Zero());
+}
+
+TEST(ConstellationYaml, BundledFrontBoardFacesForward) {
+  const auto k = tp::load_constellation(source_path("data/constellations/front_board.yaml"));
+  ASSERT_EQ(k.leds.size(), 6u);
+  int red = 0, green = 0;
+  for (const auto& l : k.leds) {
+    red += l.color == tp::LedColor::Red;
+    green += l.color == tp::LedColor::Green;
+    EXPECT_EQ(l.normal, Eigen::Vector3d(1, 0, 0));
+  }
+  EXPECT_EQ(red, 3);
+  EXPECT_EQ(green, 3);
+  EXPECT_EQ(k.facing(), Eigen::Vector3d(1, 0, 0));
+  EXPECT_FALSE(k.planar(5e-3));  // quasi-planar: 2 cm of relief
+  EXPECT_TRUE(k.planar(2e-2));
+  // The marker faces forward too.
+  EXPECT_TRUE((k.T_body_marker.linear() * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitX(), 1e-12));
   std::string why;
   EXPECT_TRUE(k.validate(&why)) << why;
 }
@@ -268,6 +313,26 @@ std::vector<touchdown::test::BadInput> constellation_cases() {
        {"cfg.yaml", "leds:", "collinear"}},
       {"TooFewLeds", leds_yaml({"0.1, 0.1, 0", "0.1, -0.1, 0", "-0.1, -0.1, 0"}), {"leds:", "at least 4"}},
       {"TooManyLeds", leds_yaml(seventeen), {"leds:", "at most 16"}},
+      {"ZeroLengthNormal",
+       "leds:\n  - {xyz: [0, 0, 0], normal: [0, 0, 0]}\n",
+       {"cfg.yaml:2: leds[0].normal: zero length"}},
+      {"NormalWithTwoNumbers", "leds:\n  - {xyz: [0, 0, 0], normal: [0, 1]}\n", {"cfg.yaml:2: leds[0].normal:"}},
+      {"HalfAngleZero",
+       "leds:\n  - {xyz: [0, 0, 0], normal: [0, 0, -1], half_angle_deg: 0}\n",
+       {"cfg.yaml:2: leds[0].half_angle_deg: must be in (0, 180)"}},
+      {"HalfAngle180",
+       "leds:\n  - {xyz: [0, 0, 0], normal: [0, 0, -1], half_angle_deg: 180}\n",
+       {"leds[0].half_angle_deg: must be in (0, 180)"}},
+      {"HalfAngleNegative",
+       "leds:\n  - {xyz: [0, 0, 0], normal: [0, 0, -1], half_angle_deg: -30}\n",
+       {"leds[0].half_angle_deg: must be in (0, 180)"}},
+      {"HalfAngleNotANumber",
+       "leds:\n  - {xyz: [0, 0, 0], normal: [0, 0, -1], half_angle_deg: wide}\n",
+       {"leds[0].half_angle_deg: expected a number"}},
+      {"HalfAngleWithoutNormal",
+       "leds:\n  - {xyz: [0, 0, 0], half_angle_deg: 60}\n",
+       {"cfg.yaml:2: leds[0].half_angle_deg: needs a normal"}},
+      {"NormalNotFinite", "leds:\n  - {xyz: [0, 0, 0], normal: [.inf, 0, 0]}\n", {"leds[0].normal"}},
   };
 }
 

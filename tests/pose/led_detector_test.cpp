@@ -39,7 +39,98 @@ tp::BgrImage dark(touchdown::Rng& rng) {
   return img;
 }
 
+// An LED as a camera at normal exposure records it: the irradiance falls
+// off as a Gaussian from the centre (the LED's lens and diffuser), the
+// optics blur it (a Gaussian of `blur_sigma`, before the sensor), and each
+// channel responds with its own spectral weight and clips at 255 — so a
+// bright core clips to white where even the weak channels saturate, and the
+// colour survives only in the halo. `spectrum` is the BGR response
+// (dominant channel 1). Unblurred, the lit disc (dominant channel ≥ 200)
+// has `diameter` px and the all-white core 30 % of it; the blur spreads the
+// same energy wider. Plus sensor noise. Independent of the synthetic
+// camera's spot model.
+void clipped_led(tp::BgrImage& img, const Eigen::Vector2d& c, double diameter, const Eigen::Vector3d& spectrum,
+                 double blur_sigma, touchdown::Rng& rng) {
+  const double weak = spectrum.minCoeff();
+  const double R = diameter / 2;
+  // Unblurred: dominant channel = 200 at r = R, weakest = 255 at r = 0.3 R.
+  const double s2 = R * R * (1 - 0.09) / (2 * std::log(255.0 / (200.0 * std::max(weak, 1e-3))));
+  const double gain = 200 * std::exp(R * R / (2 * s2));
+  // Gaussian ⊗ Gaussian: the same energy over the summed variance.
+  const double s2_blurred = s2 + blur_sigma * blur_sigma;
+  // (A blurred LED stays bright enough to clip its dominant channel.)
+  const double peak = std::max(gain * s2 / s2_blurred, blur_sigma > 0 ? 300.0 : 0.0);
+  const int reach = static_cast<int>(std::ceil(4 * std::sqrt(s2_blurred) + R + 2));
+  for (int y = static_cast<int>(c.y()) - reach; y <= static_cast<int>(c.y()) + reach; ++y) {
+    for (int x = static_cast<int>(c.x()) - reach; x <= static_cast<int>(c.x()) + reach; ++x) {
+      if (x < 0 || y < 0 || x >= img.width || y >= img.height) continue;
+      const double e = peak * std::exp(-((x - c.x()) * (x - c.x()) + (y - c.y()) * (y - c.y())) / (2 * s2_blurred));
+      for (int ch = 0; ch < 3; ++ch) {
+        auto& v = img.row(y)[3 * x + ch];
+        const double sum = v + std::min(255.0, e * spectrum(ch)) + 1.5 * rng.normal();
+        v = static_cast<std::uint8_t>(std::clamp(std::round(sum), 0.0, 255.0));
+      }
+    }
+  }
+}
+
 }  // namespace
+
+// Issue 9, item 2: cores that clip to white keep their class from the halo,
+// for every colour, 2–20 px, with and without blur.
+TEST(LedDetector, ClippedWhiteCoresAreClassifiedFromTheirHalo) {
+  struct Colour {
+    tp::LedColor color;
+    Eigen::Vector3d spectrum;  // BGR
+  };
+  const Colour colours[] = {{tp::LedColor::Red, {0.10, 0.15, 1.0}},
+                            {tp::LedColor::Green, {0.20, 1.0, 0.15}},
+                            {tp::LedColor::Blue, {1.0, 0.35, 0.10}},
+                            {tp::LedColor::White, {0.95, 1.0, 0.9}}};
+  touchdown::Rng rng(35);
+  tp::LedDetector det(d435());
+  std::vector<tp::Blob> blobs;
+  int white_cores = 0;
+  for (const double blur : {0.0, 1.0}) {
+    for (const double diameter : {2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 20.0}) {
+      for (const auto& col : colours) {
+        auto img = dark(rng);
+        const Eigen::Vector2d c(424 + rng.uniform(0, 1), 240 + rng.uniform(0, 1));
+        clipped_led(img, c, diameter, col.spectrum, blur, rng);
+        const auto* centre = img.row(static_cast<int>(std::lround(c.y()))) + 3 * std::lround(c.x());
+        white_cores += centre[0] == 255 && centre[1] == 255 && centre[2] == 255;
+        det.detect(img.view(), nullptr, blobs);
+        ASSERT_EQ(blobs.size(), 1u) << diameter << " px, blur " << blur;
+        EXPECT_EQ(blobs[0].color, col.color)
+            << tp::to_string(col.color) << " " << diameter << " px, blur " << blur << ": read "
+            << tp::to_string(blobs[0].color) << " hsv " << blobs[0].hsv.transpose();
+        EXPECT_LT((blobs[0].uv_px - c).norm(), 0.25) << diameter;  // clipped tops bias small blobs a little
+      }
+    }
+  }
+  EXPECT_GE(white_cores, 28);  // the cores did clip to white (most unblurred ones)
+}
+
+// Weak evidence is Unknown (compatible with every LED), never a confident
+// wrong class: a disc clipped to white with no halo, and a blob whose
+// halo mixes two hues.
+TEST(LedDetector, WeakOrMixedHueEvidenceIsUnknown) {
+  touchdown::Rng rng(36);
+  auto img = dark(rng);
+  for (int y = 95; y <= 105; ++y) {
+    for (int x = 95; x <= 105; ++x) {
+      if ((x - 100) * (x - 100) + (y - 100) * (y - 100) > 25) continue;
+      for (int ch = 0; ch < 3; ++ch) img.row(y)[3 * x + ch] = 255;
+    }
+  }
+  clipped_led(img, {300.3, 200.6}, 8, {0.10, 0.15, 1.0}, 0, rng);  // red half ...
+  clipped_led(img, {303.4, 200.6}, 8, {0.20, 1.0, 0.15}, 0, rng);  // ... overlapping a green one
+  tp::LedDetector det(d435());
+  std::vector<tp::Blob> blobs;
+  det.detect(img.view(), nullptr, blobs);
+  ASSERT_EQ(blobs.size(), 2u);
+  for (const auto& b : blobs) EXPECT_EQ(b.color, tp::LedColor::Unknown) << b.uv_px.transpose();
+}
 
 TEST(LedDetector, SubPixelCentresAndColourClasses) {
   touchdown::Rng rng(31);

@@ -6,10 +6,12 @@
 #include <numeric>
 #include <vector>
 
+#include "pose/ambiguity.hpp"
 #include "pose/pose_test_util.hpp"
 #include "test_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
+#include "touchdown/pose/gauss_newton.hpp"
 
 using namespace touchdown::pose_test;
 
@@ -44,9 +46,109 @@ std::vector<tp::Blob> blobs_of(const tp::Constellation& k, const tp::PinholeCame
   return out;
 }
 
+// Blobs that also carry the depth a stereo camera measures at them.
+void add_depth(std::vector<tp::Blob>& blobs, const tp::Constellation& k, const tp::PinholeCamera& cam,
+               const Eigen::Isometry3d& T, touchdown::Rng& rng) {
+  for (std::size_t i = 0; i < blobs.size() && i < k.leds.size(); ++i) {
+    const Eigen::Vector3d p = T * k.leds[i].p_body;
+    const double z = p.z() + 0.0025 * p.z() * p.z() * rng.normal();
+    blobs[i].has_point = true;
+    blobs[i].p_camera = cam.back_project(blobs[i].uv_undistorted, z);
+  }
+}
+
+// Drone in front of the camera with its front (body +x) toward it, as the
+// paper's chase camera sees it: body +x ≈ camera −z, roll about it free.
+Eigen::Isometry3d front_toward_camera(touchdown::Rng& rng, double distance) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = (Eigen::AngleAxisd(rng.uniform(-M_PI, M_PI), Eigen::Vector3d::UnitZ()) *
+                Eigen::AngleAxisd(rng.uniform(-0.4, 0.4), Eigen::Vector3d::UnitX()) *
+                Eigen::AngleAxisd(rng.uniform(-0.4, 0.4), Eigen::Vector3d::UnitY()) *
+                Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), -Eigen::Vector3d::UnitZ()))
+                   .toRotationMatrix();
+  T.translation() << rng.uniform(-0.1, 0.1) * distance, rng.uniform(-0.1, 0.1) * distance, distance;
+  return T;
+}
+
 using touchdown::test::rotation_error;
 
 }  // namespace
+
+TEST(Led, EmissionConeIsTheNormalAndHalfAngle) {
+  tp::Led led;
+  led.p_body = {0.1, 0, 0};
+  EXPECT_TRUE(led.emits_toward({-5, 3, 2}));  // no normal: every direction
+  led.normal = {1, 0, 0};
+  led.half_angle_deg = 70;
+  auto at = [&](double deg) {  // a camera 2 m from the LED, `deg` off its axis
+    const double a = deg * M_PI / 180;
+    return Eigen::Vector3d(led.p_body + 2.0 * Eigen::Vector3d(std::cos(a), std::sin(a), 0));
+  };
+  EXPECT_TRUE(led.emits_toward(at(0)));
+  EXPECT_TRUE(led.emits_toward(at(69.9)));
+  EXPECT_FALSE(led.emits_toward(at(70.1)));
+  EXPECT_FALSE(led.emits_toward(at(180)));
+  EXPECT_TRUE(led.emits_toward(at(74), 5 * M_PI / 180));  // within the margin
+  EXPECT_FALSE(led.emits_toward(at(76), 5 * M_PI / 180));
+  EXPECT_FALSE(led.emits_toward(led.p_body));  // no direction
+}
+
+// The paper's setup: a forward-facing board seen from the front. The
+// search once assumed LEDs shine along body −z and rejected every pose.
+TEST(Correspondence, ForwardFacingBoardSeenFromTheFront) {
+  const auto k = front_board();
+  const auto cam = d435().pinhole();
+  touchdown::Rng rng(25);
+  for (int trial = 0; trial < 30; ++trial) {
+    const auto T = front_toward_camera(rng, rng.uniform(0.5, 1.5));  // farther: see Ambiguity tests
+    const auto blobs = blobs_of(k, cam, T, rng, 0.0);
+    const auto c = tp::find_correspondences(cam, k, blobs);
+    ASSERT_EQ(c.status, tp::PoseStatus::Ok) << trial;
+    EXPECT_EQ(c.matched, 6);
+    for (std::size_t l = 0; l < k.leds.size(); ++l) EXPECT_EQ(c.blob_of_led[l], int(l)) << trial;
+    EXPECT_LT((c.fit.T_camera_body.translation() - T.translation()).norm(), 1e-9);
+    EXPECT_LT(rotation_error(c.fit.T_camera_body, T), 1e-9);
+  }
+}
+
+// LEDs that shine away from the camera are not charged as missing: a
+// constellation with two rear LEDs (normal −x) seen from the front is found
+// on its four front LEDs alone, and a pose that would put a matched LED's
+// camera outside its cone is refused.
+TEST(Correspondence, LedsShiningAwayAreNotExpected) {
+  tp::Constellation k;
+  const Eigen::Vector3d fwd(1, 0, 0), back(-1, 0, 0);
+  k.leds = {{{0.14, 0.09, 0.05}, tp::LedColor::Red, fwd},    {{0.15, -0.08, 0.06}, tp::LedColor::Green, fwd},
+            {{0.13, 0.06, -0.06}, tp::LedColor::Green, fwd}, {{0.16, -0.05, -0.05}, tp::LedColor::Red, fwd},
+            {{-0.14, 0.05, 0.0}, tp::LedColor::Blue, back},  {{-0.15, -0.05, 0.02}, tp::LedColor::White, back}};
+  for (auto& l : k.leds) l.half_angle_deg = 60;
+  const auto cam = d435().pinhole();
+  touchdown::Rng rng(26);
+  int ok = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    const auto T = front_toward_camera(rng, rng.uniform(0.4, 1.0));  // four LEDs: close enough to be certain
+    auto blobs = blobs_of(k, cam, T, rng, 0.0);
+    add_depth(blobs, k, cam, T, rng);  // four near-coplanar LEDs: depth settles the mirrored tilt
+    blobs.resize(4);                   // the rear LEDs are not seen
+    const auto c = tp::find_correspondences(cam, k, blobs);
+    // Four LEDs leave some views poorly determined (Uncertain); the
+    // assignment is right either way.
+    ASSERT_TRUE(c.ok() || c.status == tp::PoseStatus::Uncertain) << trial << " " << tp::to_string(c.status);
+    ok += c.ok();
+    EXPECT_EQ(c.matched, 4);
+    EXPECT_EQ(c.blob_of_led[4], -1);
+    EXPECT_EQ(c.blob_of_led[5], -1);
+    EXPECT_LT((c.fit.T_camera_body.translation() - T.translation()).norm(), 1e-6);
+  }
+  EXPECT_GE(ok, 15);
+  // Seen from behind, the front LEDs' blobs cannot be the front LEDs.
+  const auto T = front_toward_camera(rng, 1.0);
+  Eigen::Isometry3d behind = T;
+  behind.linear() = T.linear() * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  auto blobs = blobs_of(k, cam, behind, rng, 0.0);
+  blobs.resize(4);  // the front LEDs, now facing away, drawn anyway
+  EXPECT_NE(tp::find_correspondences(cam, k, blobs).status, tp::PoseStatus::Ok);
+}
 
 TEST(Correspondence, FindsThePermutationUnderColourPruning) {
   const auto k = f450();
@@ -84,6 +186,10 @@ TEST(Correspondence, HandlesASpuriousBlobAndAMissingLed) {
     spurious.intensity = 5000;
     blobs.insert(blobs.begin(), spurious);
     const auto c = tp::find_correspondences(cam, k, blobs);
+    if (c.status == tp::PoseStatus::Uncertain) {  // five LEDs far away: the tilt is poorly determined
+      EXPECT_GT(T.translation().z(), 1.5) << trial;
+      continue;
+    }
     ASSERT_EQ(c.status, tp::PoseStatus::Ok) << trial;
     EXPECT_EQ(c.matched, 5) << trial;
     EXPECT_EQ(c.blob_of_led[missing], -1);
@@ -184,4 +290,139 @@ TEST(LedTracker, RejectsBadConfiguration) {
   tp::TrackerOptions o;
   o.track_gate_px = -1;
   EXPECT_THROW(tp::LedTracker(d435(), f450(), o), touchdown::InvalidArgument);
+}
+
+// ---- never a confident wrong pose (issue 9, item 3) ---------------------------
+
+namespace {
+
+// A quasi-planar board (5 mm relief) in the body x-y plane, shining along
+// −z, with no rigid symmetry.
+tp::Constellation quasi_planar_board() {
+  tp::Constellation k;
+  const Eigen::Vector3d down(0, 0, -1);
+  k.leds = {
+      {{0.090, 0.060, -0.050}, tp::LedColor::Red, down},     {{0.090, -0.060, -0.055}, tp::LedColor::Red, down},
+      {{-0.090, -0.060, -0.050}, tp::LedColor::Green, down}, {{-0.090, 0.060, -0.055}, tp::LedColor::Green, down},
+      {{0.000, 0.080, -0.052}, tp::LedColor::Blue, down},    {{0.030, -0.020, -0.050}, tp::LedColor::White, down}};
+  return k;
+}
+
+bool wrong(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth) {
+  return (estimate.translation() - truth.translation()).norm() > 0.1 || rotation_error(estimate, truth) > 0.1;
+}
+
+}  // namespace
+
+// A square of four white LEDs: a quarter turn maps it onto itself, so no
+// single frame tells the four poses apart. Once reported "found" with an
+// exact fit and 2 rad of rotation error; now Ambiguous.
+TEST(Ambiguity, SymmetricConstellationIsAmbiguousNotAGuess) {
+  tp::Constellation k;
+  for (int i = 0; i < 4; ++i) {
+    const double a = M_PI / 2 * i + M_PI / 4;
+    k.leds.push_back({{0.1 * std::cos(a), 0.1 * std::sin(a), 0.0}, tp::LedColor::White, {0, 0, -1}});
+  }
+  const auto cam = d435().pinhole();
+  touchdown::Rng rng(41);
+  for (int trial = 0; trial < 20; ++trial) {
+    const auto T = looking_up(rng, rng.uniform(0.5, 2.5));
+    const auto c = tp::find_correspondences(cam, k, blobs_of(k, cam, T, rng, 0.1));
+    EXPECT_EQ(c.status, tp::PoseStatus::Ambiguous) << trial;
+  }
+  // One LED of another colour breaks the symmetry (the normals rule out
+  // the flip about its diagonal).
+  k.leds[0].color = tp::LedColor::Red;
+  const auto T = looking_up(rng, 0.6);
+  const auto c = tp::find_correspondences(cam, k, blobs_of(k, cam, T, rng, 0.0));
+  ASSERT_EQ(c.status, tp::PoseStatus::Ok);
+  EXPECT_FALSE(wrong(c.fit.T_camera_body, T));
+}
+
+// The mirrored branch of a planar board seen from afar reprojects almost
+// as well as the truth and is a different pose (the weak-perspective flip).
+TEST(Ambiguity, MirroredBranchIsTheOtherPlanarSolution) {
+  const auto k = quasi_planar_board();
+  const auto cam = d435().pinhole();
+  const auto shape = tp::detail::ConstellationShape::of(k);
+  EXPECT_GT(std::abs(shape.plane_normal.z()), 0.99);  // the board's plane is body x-y
+  EXPECT_FALSE(shape.symmetric);
+  touchdown::Rng rng(42);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(0.35, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();  // 20° tilt
+  T.translation() << 0.1, -0.05, 3.0;
+  const auto blobs = blobs_of(k, cam, T, rng, 0.0);
+  std::vector<Eigen::Vector3d> p;
+  std::vector<Eigen::Vector2d> uv;
+  for (std::size_t i = 0; i < k.leds.size(); ++i) {
+    p.push_back(k.leds[i].p_body);
+    uv.push_back(blobs[i].uv_undistorted);
+  }
+  const auto alt = tp::refine_pose_gauss_newton(cam, p, uv, tp::detail::mirrored_branch(T, shape));
+  ASSERT_TRUE(alt.ok());
+  EXPECT_GT(rotation_error(alt.T_camera_body, T), 0.3);  // a different pose ...
+  EXPECT_LT(alt.rms_px, 0.5);                            // ... that fits nearly as well
+}
+
+// Quasi-planar board far away and near-frontal, noisy blobs, no depth: every
+// pose reported Ok is right; frames the evidence cannot settle are
+// Ambiguous. With depth at the blobs, the branches are told apart.
+TEST(Ambiguity, QuasiPlanarBoardIsNeverConfidentlyWrong) {
+  const auto k = quasi_planar_board();
+  const auto cam = d435().pinhole();
+  touchdown::Rng rng(43);
+  int ok = 0, ambiguous = 0, uncertain = 0, ok_with_depth = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    const Eigen::Vector3d axis(rng.uniform(-1, 1), rng.uniform(-1, 1), 0);
+    T.linear() = (Eigen::AngleAxisd(rng.uniform(-M_PI, M_PI), Eigen::Vector3d::UnitZ()) *
+                  Eigen::AngleAxisd(rng.uniform(0.1, 0.4), axis.normalized()))
+                     .toRotationMatrix();
+    T.translation() << rng.uniform(-0.1, 0.1), rng.uniform(-0.05, 0.05), rng.uniform(0.8, 1.6);
+    auto blobs = blobs_of(k, cam, T, rng, 0.4);
+    const auto c = tp::find_correspondences(cam, k, blobs);
+    if (c.ok()) {
+      ++ok;
+      EXPECT_FALSE(wrong(c.fit.T_camera_body, T)) << trial << " rot err " << rotation_error(c.fit.T_camera_body, T);
+    }
+    ambiguous += c.status == tp::PoseStatus::Ambiguous;
+    uncertain += c.status == tp::PoseStatus::Uncertain;
+    add_depth(blobs, k, cam, T, rng);
+    const auto d = tp::find_correspondences(cam, k, blobs);
+    if (d.ok()) {
+      ++ok_with_depth;
+      EXPECT_FALSE(wrong(d.fit.T_camera_body, T)) << trial;
+    }
+  }
+  // Seen 2026-11-23: 18 ok, 29 ambiguous, 13 uncertain; 36 ok with depth.
+  EXPECT_GT(ambiguous, 10);           // the mechanism does fire at this range ...
+  EXPECT_GT(ok_with_depth, ok + 10);  // ... and depth settles much of what it could not
+}
+
+// The reported 1-σ position and rotation match the scatter of the
+// estimates under 0.7 px of blob noise, within a factor of two.
+TEST(LedTracker, SigmaMatchesTheObservedScatter) {
+  const auto k = f450();
+  const auto cam = d435();
+  touchdown::Rng rng(44);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() << 0.05, 0.02, 1.2;
+  double sum_sq = 0, sum_sigma = 0, sum_rot_sq = 0, sum_rot_sigma = 0;
+  const int trials = 200;
+  for (int i = 0; i < trials; ++i) {
+    tp::LedTracker tracker(cam, k);
+    const auto& e = tracker.track_blobs(blobs_of(k, cam.pinhole(), T, rng, 0.7));
+    ASSERT_TRUE(e.ok());
+    sum_sq += (e.T_camera_body.translation() - T.translation()).squaredNorm();
+    sum_sigma += e.sigma_position_m;
+    sum_rot_sq += std::pow(rotation_error(e.T_camera_body, T), 2);
+    sum_rot_sigma += e.sigma_rotation_rad;
+  }
+  const double rms = std::sqrt(sum_sq / trials), sigma = sum_sigma / trials;
+  EXPECT_GT(sigma, 0.5 * rms);
+  EXPECT_LT(sigma, 2.0 * rms);
+  const double rot_rms = std::sqrt(sum_rot_sq / trials), rot_sigma = sum_rot_sigma / trials;
+  EXPECT_GT(rot_sigma, 0.5 * rot_rms);
+  EXPECT_LT(rot_sigma, 2.0 * rot_rms);
 }

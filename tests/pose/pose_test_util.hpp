@@ -21,6 +21,11 @@ inline const tp::PinholeCamera kCamera{615.0, 612.0, 424.0, 240.0};
 inline tp::Constellation f450() {
   return tp::load_constellation(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/constellations/f450_leds.yaml");
 }
+/// The source paper's layout: six LEDs on a forward-facing front board
+/// (data/constellations/front_board.yaml).
+inline tp::Constellation front_board() {
+  return tp::load_constellation(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/constellations/front_board.yaml");
+}
 /// The bundled RealSense D435 colour camera (data/cameras/d435_848x480.yaml).
 inline tp::CameraModel d435() {
   return tp::load_camera(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/cameras/d435_848x480.yaml");

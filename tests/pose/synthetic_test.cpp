@@ -265,6 +265,33 @@ TEST(SyntheticCamera, DropoutRateIsRespected) {
   EXPECT_NEAR(static_cast<double>(dropped) / total, 0.25, 0.04);
 }
 
+// Emission geometry is the constellation's: an LED is drawn only when the
+// camera is inside its cone; an LED without a normal is always drawn.
+TEST(SyntheticCamera, LedsEmitIntoTheirCones) {
+  tp::Constellation k = f450();
+  k.leds[0].normal = Eigen::Vector3d::UnitX();  // sideways, 45° cone
+  k.leds[0].half_angle_deg = 45;
+  k.leds[1].normal = Eigen::Vector3d::Zero();  // omnidirectional
+  const tp::SyntheticCamera renderer(d435(), k, clean());
+  tp::RenderedFrame frame;
+  // Seen from below: the downward LEDs and the omnidirectional one; not the
+  // sideways one (the camera is ~90° off its axis).
+  Eigen::Isometry3d T = below(1.0, 0, 0, 0);
+  renderer.render(T, T, 1, 0, frame);
+  EXPECT_FALSE(frame.led_visible[0]);
+  for (std::size_t i = 1; i < k.leds.size(); ++i) EXPECT_TRUE(frame.led_visible[i]) << i;
+  // Seen from the top: only the omnidirectional LED.
+  T.linear() = Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  renderer.render(T, T, 1, 0, frame);
+  for (std::size_t i = 0; i < k.leds.size(); ++i) EXPECT_EQ(frame.led_visible[i], i == 1) << i;
+  // Seen from the front (body +x toward the camera): the sideways LED.
+  T.linear() =
+      Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), -Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  renderer.render(T, T, 1, 0, frame);
+  EXPECT_TRUE(frame.led_visible[0]);
+  EXPECT_TRUE(frame.led_visible[1]);
+}
+
 TEST(SyntheticCamera, LedsEmitOnlyDownward) {
   const tp::SyntheticCamera renderer(d435(), f450(), clean());
   tp::RenderedFrame frame;
@@ -453,7 +480,7 @@ TEST(Trajectory, KeepsLedsInsideAndSpansTheDistances) {
     for (std::size_t i = 0; i < traj.size(); ++i) {
       const auto& T = traj[i].T_camera_body;
       EXPECT_NEAR(traj[i].t, static_cast<double>(i) / o.fps, 1e-12);
-      const double d = T.translation().norm();
+      const double d = (T * k.centroid()).norm();
       dmin = std::min(dmin, d), dmax = std::max(dmax, d);
       for (const auto& led : k.leds) {
         const Eigen::Vector2d uv = cam.project(T * led.p_body);
@@ -475,10 +502,58 @@ TEST(Trajectory, KeepsLedsInsideAndSpansTheDistances) {
       EXPECT_GT(max_tilt, 8.0);
     }
   }
+  // A constellation that faces another way is turned toward the camera.
+  const tp::Constellation board = touchdown::pose_test::front_board();
+  for (const auto kind : {tp::TrajectoryKind::Static, tp::TrajectoryKind::Moving}) {
+    for (const auto& s : tp::make_trajectory(kind, 60, 5, cam, board, o)) {
+      const Eigen::Vector3d camera_body = s.T_camera_body.inverse().translation();
+      for (const auto& led : board.leds) EXPECT_TRUE(led.emits_toward(camera_body));
+      // Body +x (the board's axis) points at the camera within the tilt.
+      const Eigen::Vector3d x_camera = s.T_camera_body.linear() * Eigen::Vector3d::UnitX();
+      EXPECT_LT(std::acos(-x_camera.z()) * 180 / std::numbers::pi, 21.0);
+    }
+  }
   // Deterministic in the seed.
   const auto a = tp::make_trajectory(tp::TrajectoryKind::Moving, 30, 9, cam, k);
   const auto b = tp::make_trajectory(tp::TrajectoryKind::Moving, 30, 9, cam, k);
   for (std::size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(a[i].T_camera_body.isApprox(b[i].T_camera_body, 0));
+}
+
+// The source paper's geometry: the ground vehicle's camera looks back,
+// tilted up; the drone follows behind and above, level within its tilt,
+// heading toward the vehicle, its front board facing the camera.
+TEST(Trajectory, ChaseGeometryIsThePapers) {
+  const tp::CameraModel cam = d435();
+  const tp::Constellation board = touchdown::pose_test::front_board();
+  tp::TrajectoryOptions o;
+  o.geometry = tp::CameraGeometry::Chase;
+  o.camera_tilt_deg = 20;
+  const double t = 20 * std::numbers::pi / 180;
+  // The world (x forward, z up) in the camera frame.
+  Eigen::Matrix3d R_world_camera;
+  R_world_camera << 0, -std::sin(t), -std::cos(t), 1, 0, 0, 0, -std::cos(t), std::sin(t);
+  for (const auto kind : {tp::TrajectoryKind::Static, tp::TrajectoryKind::Moving}) {
+    const auto traj = tp::make_trajectory(kind, 90, 6, cam, board, o);
+    double max_tilt = 0, max_heading = 0, dmin = 1e9, dmax = 0;
+    for (const auto& s : traj) {
+      const Eigen::Isometry3d T_world_body = Eigen::Isometry3d(R_world_camera) * s.T_camera_body;
+      const Eigen::Vector3d p = T_world_body.translation();
+      EXPECT_LT(p.x(), 0);  // behind the vehicle
+      EXPECT_GT(p.z(), 0);  // above the camera
+      const Eigen::Matrix3d& R = T_world_body.linear();
+      max_tilt = std::max(max_tilt, std::acos(std::clamp(R(2, 2), -1.0, 1.0)) * 180 / std::numbers::pi);
+      max_heading = std::max(max_heading, std::abs(std::atan2(R(1, 0), R(0, 0))) * 180 / std::numbers::pi);
+      const Eigen::Vector3d camera_body = s.T_camera_body.inverse().translation();
+      for (const auto& led : board.leds) EXPECT_TRUE(led.emits_toward(camera_body));
+      const double d = (s.T_camera_body * board.centroid()).norm();
+      dmin = std::min(dmin, d), dmax = std::max(dmax, d);
+    }
+    EXPECT_LE(max_tilt, 21.0) << static_cast<int>(kind);
+    // ±15° of sway, plus what roll × pitch (≤ 14° each) turns the nose by.
+    EXPECT_LE(max_heading, 19.0) << static_cast<int>(kind);
+    EXPECT_NEAR(dmin, o.min_distance, 0.02 * o.min_distance);
+    EXPECT_NEAR(dmax, o.max_distance, 0.02 * o.max_distance);
+  }
 }
 
 TEST(Trajectory, BadOptionsThrow) {
@@ -497,5 +572,6 @@ TEST(Trajectory, BadOptionsThrow) {
       {"fps:", [](O& t) { t.fps = 0; }},
       {"margin_px:", [](O& t) { t.margin_px = -1; }},
       {"min_distance, max_distance:", [](O& t) { t.max_distance = 0.1; }},
+      {"camera_tilt_deg:", [](O& t) { t.camera_tilt_deg = 95; }},
   });
 }

@@ -43,6 +43,9 @@ struct ArucoOptions {
   /// Refine the corners to sub-pixel accuracy (aruco's CORNER_REFINE_SUBPIX);
   /// off = the corners of the polygon fit, about 0.5 px worse.
   bool corner_refinement = true;
+  /// Assumed 1-σ corner noise [px]: the floor of the reported sigma (a
+  /// four-corner fit leaves 2 degrees of freedom to estimate it from).
+  double detection_sigma_px = 0.5;
 
   /// False with a reason naming the option ("dictionary: ...", "marker_id:
   /// ...", "marker_size: ...") if a value is invalid.

@@ -31,13 +31,41 @@ struct CorrespondenceOptions {
   double missing_penalty_px = 3.0;     ///< score charged per unexplained LED, as a reprojection error [px]
   double min_distance = 0.1;           ///< plausible range of the constellation's distance [m]
   double max_distance = 10.0;
-  /// Largest angle between body −z (where the LEDs shine) and the direction
-  /// to the camera for a pose to be plausible [deg]; 180 = any.
-  double max_view_angle_deg = 90.0;
+  /// Slack on each LED's emission cone (Led::half_angle_deg) [deg]: a pose
+  /// is implausible if a matched LED would shine away from the camera by
+  /// more than this; LEDs that shine away are not charged as missing.
+  double emission_margin_deg = 15.0;
   /// A pose resting on exactly four LEDs of a larger constellation must
   /// reproject better than this [px] (four points leave little redundancy).
   double minimal_fit_rms_px = 0.5;
   GaussNewtonOptions refine{20, 1e-10, 2.0};
+
+  // --- ambiguity (never a confident wrong pose) ---
+  /// Floor of the 1-σ noise of a blob centre [px]: the noise the residuals
+  /// estimate (Σr² / (2n − 6)) is raised to at least this, for the
+  /// reprojection test between pose branches and the reported sigma.
+  double detection_sigma_px = 0.2;
+  /// A branch whose Σ squared reprojection error exceeds the other's by more
+  /// than this × detection_sigma_px² is ruled out (χ², 3σ = 9).
+  double branch_chi2 = 9.0;
+  /// Depth noise of the depth camera, σ_z = depth_sigma_k·z² (+ 2 mm)
+  /// [1/m]: the scale of the depth test between pose branches.
+  double depth_sigma_k = 0.0025;
+  /// The tracked motion rules a branch out when its rotation is farther from
+  /// the prediction than the other's by more than this [deg] (a constant-
+  /// velocity prediction is good to a degree or two per frame).
+  double branch_track_deg = 3.0;
+  /// Two poses closer than these are the same answer, not an ambiguity
+  /// [m], [deg] (either is within the 0.1 m / 0.1 rad a wrong pose is
+  /// counted from).
+  double branch_distinct_m = 0.05;
+  double branch_distinct_deg = 5.0;
+  /// A pose whose 1-σ position [m] or rotation [rad] (root of the
+  /// covariance's trace: the RMS of the 3-D error) exceeds these is
+  /// Uncertain, not Ok. 0.045 puts 0.1 at 3.8 σ per axis: an error beyond
+  /// 0.1 m or 0.1 rad then has a probability of about 10⁻³ at the limit.
+  double max_sigma_position_m = 0.045;
+  double max_sigma_rotation_rad = 0.045;
   /// False (with the offending field and why in *why) for an invalid value.
   bool validate(std::string* why) const;
 };
@@ -53,7 +81,10 @@ struct Correspondence {
 };
 
 /// Full search (no prior pose). `blobs` should be brightest first; only the
-/// first `options.max_blobs` are used.
+/// first `options.max_blobs` are used. The winner is checked for ambiguity
+/// (the mirrored branch of a quasi-planar constellation, a rigidly
+/// symmetric constellation): status Ambiguous when no evidence — the
+/// reprojection error, the depth at the blobs — tells the branches apart.
 Correspondence find_correspondences(const PinholeCamera& camera, const Constellation& constellation,
                                     std::span<const Blob> blobs, const CorrespondenceOptions& options = {});
 

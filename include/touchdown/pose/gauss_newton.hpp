@@ -36,7 +36,9 @@ struct PoseRefinement {
   Eigen::Isometry3d T_camera_body = Eigen::Isometry3d::Identity();
   double rms_px = 0;  ///< reprojection RMS after the last step [px]
   int iterations = 0;
-  Matrix6d covariance = Matrix6d::Zero();  ///< of the left-perturbation twist, σ² (JᵀWJ)⁻¹
+  Matrix6d covariance = Matrix6d::Zero();       ///< of the left-perturbation twist, σ² (JᵀWJ)⁻¹
+  Matrix6d unit_covariance = Matrix6d::Zero();  ///< (JᵀWJ)⁻¹: the covariance for 1 px² of pixel noise
+  double noise_variance = 0;                    ///< σ² = Σ w r² / (2n − 6) [px²], the residuals' estimate
   /// As every touchdown Result: true when it holds a usable answer (here a
   /// pose, also when the iteration limit stopped it before step_tolerance).
   [[nodiscard]] bool ok() const { return status != RefineStatus::Degenerate; }

@@ -3,6 +3,7 @@
 /// The per-frame output shared by the LED tracker and the ArUco baseline.
 #include <Eigen/Geometry>
 #include <string_view>
+#include <utility>
 
 #include "touchdown/pose/se3.hpp"
 
@@ -17,10 +18,22 @@ enum class PoseStatus {
   ReprojectionTooLarge,        ///< the best pose's reprojection error exceeds the gate
   MarkerNotFound,              ///< ArUco baseline: the marker was not detected
   Degenerate,                  ///< the solver failed (points behind the camera, singular geometry)
+  /// Two different poses explain the image equally well (the mirrored tilt
+  /// of a quasi-planar board, a symmetric constellation) and neither depth
+  /// nor the tracked motion tells them apart: no pose rather than a guess.
+  Ambiguous,
+  /// The pose is determined too poorly to use: its 1-σ position or rotation
+  /// exceeds the tracker's limits (a small or distant constellation).
+  Uncertain,
 };
 
 /// A short human reason ("too few blobs", ...).
 std::string_view to_string(PoseStatus status);
+
+/// The 1-σ figures of a left-perturbation twist covariance (ρ, φ) at
+/// T_camera_body: the root of the trace of the covariance of the
+/// translation t (δt = ρ − [t]× φ) [m] and of the rotation [rad].
+std::pair<double, double> pose_sigmas(const Matrix6d& covariance, const Eigen::Isometry3d& T_camera_body);
 
 struct PoseEstimate {
   PoseStatus status = PoseStatus::TooFewBlobs;
@@ -30,6 +43,13 @@ struct PoseEstimate {
   int blobs = 0;                                                    ///< blobs detected (after gating)
   bool reinitialised = false;              ///< the correspondences came from a full search this frame
   Matrix6d covariance = Matrix6d::Zero();  ///< left-perturbation twist (ρ, φ) covariance
+  /// 1-σ uncertainty of the pose from the covariance, for a consumer to
+  /// weigh it: the root of the trace of the position's (t of
+  /// T_camera_body) covariance [m] and of the rotation's [rad]. The
+  /// residual-based noise estimate is floored at the assumed detection
+  /// noise, so an exact fit does not claim exactness.
+  double sigma_position_m = 0;
+  double sigma_rotation_rad = 0;
   [[nodiscard]] bool ok() const { return status == PoseStatus::Ok; }
 };
 

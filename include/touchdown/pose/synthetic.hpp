@@ -112,8 +112,9 @@ struct RenderedFrame {
 ///
 /// An LED is drawn when it is in front of the camera, projects (through
 /// CameraModel::project, i.e. with lens distortion) inside the image, was not
-/// dropped this frame, and emits toward the camera: LEDs emit into the
-/// hemisphere around body −z (downward, toward a camera below the drone).
+/// dropped this frame, and emits toward the camera (Led::emits_toward: the
+/// camera inside its emission cone; an LED without a normal shines
+/// everywhere).
 ///
 /// Thread-safety: render() is const and may run concurrently on one
 /// instance (each thread uses its own scratch buffers). Allocation: after

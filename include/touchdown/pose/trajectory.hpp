@@ -26,11 +26,27 @@ enum class TrajectoryKind {
   Moving,
 };
 
+/// Where the camera sees the drone from.
+enum class CameraGeometry {
+  /// The camera faces the constellation's facing side
+  /// (Constellation::facing(); body −z, i.e. from below, when it has no
+  /// normals): the facing axis points at the camera, the drone turns freely
+  /// about it.
+  Facing,
+  /// The source paper's geometry: the camera on the ground vehicle looks
+  /// back, tilted up by `camera_tilt_deg`; the drone follows behind and
+  /// above, roughly level, heading toward the vehicle (body +x forward,
+  /// ±15° of heading sway), so LEDs on its front face the camera.
+  Chase,
+};
+
 struct TrajectoryOptions {
-  double min_distance = 0.4;  ///< [m] camera–body distance
+  double min_distance = 0.4;  ///< [m] camera–constellation (centroid) distance
   double max_distance = 3.0;  ///< [m]
   double fps = 30;            ///< [Hz] sample rate
   double margin_px = 16;      ///< every LED stays this far inside the image
+  CameraGeometry geometry = CameraGeometry::Facing;
+  double camera_tilt_deg = 20;  ///< Chase: camera tilt above the horizontal [deg], in [0, 80]
   /// False (with the offending field and why in *why) for an invalid value.
   bool validate(std::string* why) const;
 };
@@ -40,10 +56,9 @@ struct TrajectorySample {
   Eigen::Isometry3d T_camera_body = Eigen::Isometry3d::Identity();
 };
 
-/// A trajectory of the drone seen from a camera below it (body z ≈ camera
-/// +z, the drone's underside toward the camera) that keeps every LED inside
-/// the image by `margin_px` (the lateral offset, then the tilt, shrink where
-/// needed). Deterministic in `seed`. Throws InvalidArgument for invalid
+/// A trajectory of the drone seen by the camera in `options.geometry` that
+/// keeps every LED inside the image by `margin_px` (the lateral offset,
+/// then the tilt, shrink where needed). Deterministic in `seed`. Throws InvalidArgument for invalid
 /// options (frames < 1, distances not 0 < min ≤ max, fps ≤ 0) or when the
 /// constellation cannot fit in the image at min_distance.
 std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, std::uint64_t seed,
