@@ -127,7 +127,14 @@ int main(int argc, char** argv) {
   bench->add_option("--frames", bench_frames, "frames per sequence")->capture_default_str();
   bench->add_option("--seed", seed, "random seed")->capture_default_str();
   bench->add_option("--camera", r_camera, "camera YAML (default: a D435 colour stream at 848x480)");
-  bench->add_option("--constellation", r_constellation, "constellation YAML (default: the built-in F450 six-LED set)");
+  bench->add_option("--constellation", r_constellation,
+                    "constellation YAML: one scenario in --geometry (default: two built-in scenarios, the F450's "
+                    "downward LEDs from below and the paper's front board in the chase geometry)");
+  bench->add_option("--geometry", geometry, "with --constellation: facing or chase")
+      ->check(CLI::IsMember({"facing", "chase"}))
+      ->capture_default_str();
+  bench->add_option("--camera-tilt", camera_tilt_deg, "chase: camera tilt above the horizontal [deg]")
+      ->capture_default_str();
   bench->add_flag("--no-depth", no_depth, "LED method without depth");
   bench->add_flag("--json", json, "print one JSON object on stdout");
 
@@ -160,7 +167,13 @@ int main(int argc, char** argv) {
     if (*bench) {
       tp::PoseBenchmarkOptions o;
       o.camera = camera_or_default(r_camera);
-      o.constellation = constellation_or_default(r_constellation);
+      if (r_constellation.empty()) {
+        o.scenarios = tp::default_benchmark_scenarios();
+      } else {
+        o.scenarios.push_back(
+            {fs::path(r_constellation).stem().string() + " " + geometry, tp::load_constellation(r_constellation),
+             geometry == "chase" ? tp::CameraGeometry::Chase : tp::CameraGeometry::Facing, camera_tilt_deg});
+      }
       o.frames = bench_frames;
       o.seed = seed;
       o.use_depth = !no_depth;
@@ -173,10 +186,13 @@ int main(int argc, char** argv) {
         j["frames_per_sequence"] = bench_frames;
         j["seed"] = seed;
         for (const auto& row : r.rows) {
-          j["rows"].push_back({{"method", row.method},
+          j["rows"].push_back({{"scenario", row.scenario},
+                               {"method", row.method},
                                {"sequence", row.sequence},
                                {"frames", row.frames},
                                {"success_rate", row.success_rate},
+                               {"wrong_ok", row.wrong_ok},
+                               {"wrong_ok_rate", row.wrong_ok_rate},
                                {"position_mean_m", row.position_mean_m},
                                {"position_std_m", row.position_std_m},
                                {"position_max_m", row.position_max_m},
@@ -193,11 +209,12 @@ int main(int argc, char** argv) {
         std::cout << j.dump(2) << "\n";
         return td::app::kExitOk;
       }
-      std::cout << "sequence  method  frames  success  pos mean [m]  pos std [m]  rot mean [rad]  rot std [rad]  "
-                   "ms/frame (median)\n";
+      std::cout << "scenario        sequence  method  frames  success  wrong-ok  pos mean [m]  pos std [m]  "
+                   "rot mean [rad]  rot std [rad]  ms/frame (median)\n";
       for (const auto& row : r.rows) {
-        std::cout << std::left << std::setw(10) << row.sequence << std::setw(8) << row.method << std::right
-                  << std::setw(6) << row.frames << std::setw(9) << fixed(row.success_rate, 3) << std::setw(14)
+        std::cout << std::left << std::setw(16) << row.scenario << std::setw(10) << row.sequence << std::setw(8)
+                  << row.method << std::right << std::setw(6) << row.frames << std::setw(9)
+                  << fixed(row.success_rate, 3) << std::setw(10) << row.wrong_ok << std::setw(14)
                   << fixed(row.position_mean_m, 4) << std::setw(13) << fixed(row.position_std_m, 4) << std::setw(16)
                   << fixed(row.orientation_mean_rad, 4) << std::setw(15) << fixed(row.orientation_std_rad, 4)
                   << std::setw(19) << fixed(row.ms_median, 3) << "\n";

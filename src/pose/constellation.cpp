@@ -186,6 +186,18 @@ Constellation parse_constellation(std::string_view yaml_text, std::string_view s
       });
 }
 
+Constellation front_board_constellation() {
+  Constellation k;
+  const Eigen::Vector3d fwd(1, 0, 0);
+  k.leds = {{{0.140, 0.095, 0.055}, LedColor::Red, fwd, 70},    {{0.150, -0.030, 0.070}, LedColor::Red, fwd, 70},
+            {{0.135, 0.060, -0.060}, LedColor::Red, fwd, 70},   {{0.145, -0.100, 0.040}, LedColor::Green, fwd, 70},
+            {{0.155, 0.010, -0.070}, LedColor::Green, fwd, 70}, {{0.138, -0.075, -0.050}, LedColor::Green, fwd, 70}};
+  k.T_body_marker = Eigen::Isometry3d::Identity();
+  k.T_body_marker.linear() = rotation_from_rpy(deg_to_rad(90.0), 0.0, deg_to_rad(90.0));
+  k.T_body_marker.translation() = Eigen::Vector3d(0.14, 0, -0.16);
+  return k;
+}
+
 Constellation default_constellation() {
   Constellation k;
   const Eigen::Vector3d down(0, 0, -1);

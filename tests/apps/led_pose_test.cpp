@@ -221,18 +221,24 @@ TEST(LedPoseApp, BenchmarkJson) {
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);  // exactly one JSON object
   ASSERT_TRUE(j.is_object());
-  ASSERT_EQ(j["rows"].size(), 4u);
+  ASSERT_EQ(j["rows"].size(), 8u);
+  EXPECT_EQ(j["status"], "ok");
   std::set<std::string> seen;
   for (const auto& row : j["rows"]) {
+    const auto scenario = row["scenario"].get<std::string>();
     const auto method = row["method"].get<std::string>(), sequence = row["sequence"].get<std::string>();
-    seen.insert(method + "/" + sequence);
+    seen.insert(scenario + "/" + method + "/" + sequence);
     EXPECT_EQ(row["frames"].get<int>(), 20);
     if (method == "led") {
-      EXPECT_GE(row["success_rate"].get<double>(), 0.95) << row.dump();
+      // Far frames of the paper's small board may be "too uncertain"; a
+      // pose the tracker reports is never wrong.
+      EXPECT_GE(row["success_rate"].get<double>(), scenario == "f450 below" ? 0.95 : 0.7) << row.dump();
+      EXPECT_EQ(row["wrong_ok"].get<int>(), 0) << row.dump();
       EXPECT_LE(row["position_mean_m"].get<double>(), 0.02) << row.dump();
     }
   }
-  EXPECT_EQ(seen, (std::set<std::string>{"led/static", "led/moving", "aruco/static", "aruco/moving"}));
+  EXPECT_EQ(seen.size(), 8u);
+  EXPECT_TRUE(seen.count("paper chase/led/moving") && seen.count("f450 below/aruco/static")) << seen.size();
 }
 
 // ---- bad input --------------------------------------------------------------------------

@@ -242,6 +242,15 @@ TEST(ConstellationYaml, EmissionConesReadNormaliseAndRoundTrip) {
 
 TEST(ConstellationYaml, BundledFrontBoardFacesForward) {
   const auto k = tp::load_constellation(source_path("data/constellations/front_board.yaml"));
+  const auto builtin = tp::front_board_constellation();
+  ASSERT_EQ(builtin.leds.size(), k.leds.size());
+  for (std::size_t i = 0; i < k.leds.size(); ++i) {
+    EXPECT_EQ(k.leds[i].p_body, builtin.leds[i].p_body) << i;
+    EXPECT_EQ(k.leds[i].color, builtin.leds[i].color) << i;
+    EXPECT_EQ(k.leds[i].normal, builtin.leds[i].normal) << i;
+    EXPECT_EQ(k.leds[i].half_angle_deg, builtin.leds[i].half_angle_deg) << i;
+  }
+  EXPECT_LT((k.T_body_marker.matrix() - builtin.T_body_marker.matrix()).cwiseAbs().maxCoeff(), 1e-15);
   ASSERT_EQ(k.leds.size(), 6u);
   int red = 0, green = 0;
   for (const auto& l : k.leds) {

@@ -77,6 +77,10 @@ struct Constellation {
 /// (normal body −z, half-angle 90°).
 Constellation default_constellation();
 
+/// The source paper's six LEDs on a forward-facing front board of
+/// data/constellations/front_board.yaml (built in, for the benchmark).
+Constellation front_board_constellation();
+
 /// Parses the constellation YAML; throws ParseError "source:line: key: what".
 /// A `normal` is normalised on reading (any non-zero length).
 Constellation parse_constellation(std::string_view yaml_text, std::string_view source);

@@ -22,9 +22,27 @@
 
 namespace touchdown::pose {
 
+/// One camera geometry and constellation to render static and moving
+/// sequences of.
+struct BenchmarkScenario {
+  std::string name;  ///< names the rows ("f450 below", "paper chase")
+  Constellation constellation;
+  CameraGeometry geometry = CameraGeometry::Facing;
+  double camera_tilt_deg = 20;  ///< Chase only
+};
+
+/// The two built-in scenarios: the F450's downward LEDs seen from below
+/// (default_constellation(), Facing) and the source paper's setup
+/// (front_board_constellation() on the drone's front, the ground
+/// vehicle's camera tilted 20° up, Chase).
+std::vector<BenchmarkScenario> default_benchmark_scenarios();
+
 struct PoseBenchmarkOptions {
   CameraModel camera;
-  Constellation constellation;  ///< must be set (e.g. data/constellations/f450_leds.yaml)
+  /// The scenarios to run; empty = one Facing scenario named "custom" of
+  /// `constellation`.
+  std::vector<BenchmarkScenario> scenarios;
+  Constellation constellation;  ///< used when `scenarios` is empty
   int frames = 300;             ///< per sequence
   std::uint64_t seed = 1;
   double min_distance = 0.4, max_distance = 3.0;  ///< [m]
@@ -40,11 +58,16 @@ struct PoseBenchmarkOptions {
 };
 
 struct MethodStats {
+  std::string scenario;  ///< BenchmarkScenario::name
   std::string method;    ///< "led" or "aruco"
   std::string sequence;  ///< "static" or "moving"
   int frames = 0;
   int successes = 0;
   double success_rate = 0;
+  /// Frames reported ok (any reprojection error) whose pose is more than
+  /// 0.1 m or 0.1 rad wrong: the error a pose estimator must not make.
+  int wrong_ok = 0;
+  double wrong_ok_rate = 0;
   double position_mean_m = 0, position_std_m = 0;
   double orientation_mean_rad = 0, orientation_std_rad = 0;
   double position_max_m = 0;
