@@ -330,6 +330,28 @@ TEST(LedPoseAppBadInput, ConstellationWithThreeLeds) {
   EXPECT_NE(r.err.find("at least 4"), std::string::npos) << r.err;
 }
 
+// Issue 9: the emission-cone keys, through the app: exit 2, one line
+// naming the file, line and key.
+TEST(LedPoseAppBadInput, ConstellationConeKeys) {
+  TempDir dir;
+  const auto seq = rendered_sequence(dir);
+  const std::string four = "  - {xyz: [0.1, -0.1, 0]}\n  - {xyz: [-0.1, -0.1, 0]}\n  - {xyz: [0, 0, -0.1]}\n";
+  const struct {
+    std::string led0, needle;
+  } cases[] = {
+      {"  - {xyz: [0.1, 0.1, 0], normal: [0, 0, 0]}\n", "k.yaml:2: leds[0].normal: zero length"},
+      {"  - {xyz: [0.1, 0.1, 0], normal: [0, 0, -1], half_angle_deg: 180}\n",
+       "k.yaml:2: leds[0].half_angle_deg: must be in (0, 180)"},
+      {"  - {xyz: [0.1, 0.1, 0], normal: [0, 0, -1], half_angle_deg: 0}\n",
+       "k.yaml:2: leds[0].half_angle_deg: must be in (0, 180)"},
+      {"  - {xyz: [0.1, 0.1, 0], normal: [0, 0, -1], cone: 60}\n", "k.yaml:2: leds[0].cone: unknown key"},
+  };
+  for (const auto& c : cases) {
+    const AppRun r = run_with_constellation(dir, seq, "leds:\n" + c.led0 + four);
+    expect_bad_input(r, c.needle);
+  }
+}
+
 TEST(LedPoseAppBadInput, UnknownArucoDictionary) {
   TempDir dir;
   const auto seq = rendered_sequence(dir);
