@@ -238,6 +238,10 @@ struct LedTracker::Impl {
     suppress_duplicates(options.duplicate_fraction * min_led_spacing * pin.fx / c.z());
     int matched = matcher.match(pin, constellation, work, T, options.track_gate_px, emission_margin, led_to_blob);
     if (matched < options.correspondence.min_leds) return false;
+    // Most of the blobs around the prediction unexplained: the track may
+    // have locked onto a wrong assignment; let the full search decide.
+    const int explainable = static_cast<int>(std::min(constellation.leds.size(), work.size()));
+    if (matched < explainable - 2) return false;
     detail::MatchedSet set;
     detail::gather(constellation, work, led_to_blob, set);
     PoseRefinement fit = refine_pose_gauss_newton(pin, set.points(), set.pixels(), T, options.correspondence.refine);

@@ -31,9 +31,9 @@ struct CorrespondenceOptions {
   double missing_penalty_px = 3.0;     ///< score charged per unexplained LED, as a reprojection error [px]
   double min_distance = 0.1;           ///< plausible range of the constellation's distance [m]
   double max_distance = 10.0;
-  /// Slack on each LED's emission cone (Led::half_angle_deg) [deg]: a pose
-  /// is implausible if a matched LED would shine away from the camera by
-  /// more than this; LEDs that shine away are not charged as missing.
+  /// Slack on each LED's emission cone (Led::half_angle_deg) [deg]: an LED
+  /// is matched only if it shines toward the camera within this, and a pose
+  /// is implausible if a matched LED would shine away by more.
   double emission_margin_deg = 15.0;
   /// A pose resting on exactly four LEDs of a larger constellation must
   /// reproject better than this [px] (four points leave little redundancy).
@@ -62,10 +62,14 @@ struct CorrespondenceOptions {
   double branch_distinct_deg = 5.0;
   /// A pose whose 1-σ position [m] or rotation [rad] (root of the
   /// covariance's trace: the RMS of the 3-D error) exceeds these is
-  /// Uncertain, not Ok. 0.045 puts 0.1 at 3.8 σ per axis: an error beyond
-  /// 0.1 m or 0.1 rad then has a probability of about 10⁻³ at the limit.
-  double max_sigma_position_m = 0.045;
-  double max_sigma_rotation_rad = 0.045;
+  /// Uncertain, not Ok. Set from measurement, not from Gaussian tails: the
+  /// errors have a heavier tail than the covariance predicts (biased blob
+  /// centres the fit absorbs), and on 60 random constellations
+  /// (tests/bench/pose_robustness 60 90 1 2000) the share of ok poses more
+  /// than 0.1 m or 0.1 rad wrong was 0.67 % at 0.045, 0.30 % at 0.035,
+  /// 0.17 % at 0.03, 0.05 % at 0.025.
+  double max_sigma_position_m = 0.03;
+  double max_sigma_rotation_rad = 0.03;
   /// False (with the offending field and why in *why) for an invalid value.
   bool validate(std::string* why) const;
 };
