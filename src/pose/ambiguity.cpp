@@ -163,9 +163,8 @@ BranchDecision resolve_branches(const PinholeCamera& cam, const Constellation& k
       refine_pose_gauss_newton(cam, set.points(), set.pixels(), mirrored_branch(fit.T_camera_body, shape), o.refine);
   if (!d.alternative.ok() || !distinct_poses(d.alternative.T_camera_body, fit.T_camera_body, o)) return d;
   // The other branch must also be a pose the LEDs could be seen from.
-  const Eigen::Vector3d camera_body = d.alternative.T_camera_body.inverse().translation();
-  for (std::size_t l = 0; l < k.leds.size(); ++l) {
-    if (blob_of_led[l] >= 0 && !k.leds[l].emits_toward(camera_body, deg_to_rad(o.emission_margin_deg))) return d;
+  if (!matched_leds_face_camera(k, blob_of_led, d.alternative.T_camera_body, deg_to_rad(o.emission_margin_deg))) {
+    return d;
   }
   if ((d.alternative.T_camera_body * shape.centroid).z() <= 0) return d;
   // 1. Reprojection: Σr² of each branch against the detection noise.
@@ -202,6 +201,20 @@ BranchDecision resolve_branches(const PinholeCamera& cam, const Constellation& k
   }
   d.verdict = BranchVerdict::Ambiguous;
   return d;
+}
+
+PoseStatus vet_fit(const PinholeCamera& cam, const Constellation& k, const ConstellationShape& shape,
+                   std::span<const Blob> blobs, const std::array<int, kMaxLeds>& blob_of_led, PoseRefinement& fit,
+                   const Eigen::Isometry3d* predicted, double max_rms_px, const CorrespondenceOptions& o) {
+  if (shape.symmetric) return PoseStatus::Ambiguous;
+  MatchedSet set;
+  gather(k, blobs, blob_of_led, set);
+  const BranchDecision d = resolve_branches(cam, k, shape, blobs, blob_of_led, set, fit, predicted, o);
+  if (d.verdict == BranchVerdict::Ambiguous) return PoseStatus::Ambiguous;
+  if (d.verdict == BranchVerdict::Switch) fit = d.alternative;
+  if (fit.rms_px > max_rms_px) return PoseStatus::ReprojectionTooLarge;
+  if (too_uncertain(fit, o)) return PoseStatus::Uncertain;
+  return PoseStatus::Ok;
 }
 
 }  // namespace touchdown::pose::detail

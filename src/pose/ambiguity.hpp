@@ -86,6 +86,16 @@ Correspondence find_correspondences(const PinholeCamera& camera, const Constella
                                     const ConstellationShape& shape, std::span<const Blob> blobs,
                                     const CorrespondenceOptions& options);
 
+// The checks a fit that reprojects well must pass to be reported Ok, one
+// rule for the search and the tracker: a symmetric constellation is
+// Ambiguous; the mirrored branch replaces `fit` when the evidence says so,
+// or makes it Ambiguous when nothing settles it; a (switched) fit over
+// `max_rms_px` is ReprojectionTooLarge; one over the sigma limits
+// Uncertain. `predicted` (may be null) is the tracker's prediction.
+PoseStatus vet_fit(const PinholeCamera& camera, const Constellation& constellation, const ConstellationShape& shape,
+                   std::span<const Blob> blobs, const std::array<int, kMaxLeds>& blob_of_led, PoseRefinement& fit,
+                   const Eigen::Isometry3d* predicted, double max_rms_px, const CorrespondenceOptions& options);
+
 // True if two poses differ by more than the options' distinctness
 // thresholds (branch_distinct_m, branch_distinct_deg).
 bool distinct_poses(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, const CorrespondenceOptions& options);

@@ -20,12 +20,18 @@ void gather(const Constellation& k, std::span<const Blob> blobs, const std::arra
   }
 }
 
-namespace {
-// The camera centre in the body frame.
 Eigen::Vector3d camera_in_body(const Eigen::Isometry3d& T_camera_body) {
   return -(T_camera_body.linear().transpose() * T_camera_body.translation());
 }
-}  // namespace
+
+bool matched_leds_face_camera(const Constellation& k, const std::array<int, kMaxLeds>& blob_of_led,
+                              const Eigen::Isometry3d& T, double emission_margin) {
+  const Eigen::Vector3d camera_body = camera_in_body(T);
+  for (std::size_t l = 0; l < k.leds.size(); ++l) {
+    if (blob_of_led[l] >= 0 && !k.leds[l].emits_toward(camera_body, emission_margin)) return false;
+  }
+  return true;
+}
 
 int greedy_match(const PinholeCamera& cam, const Constellation& k, std::span<const Blob> blobs,
                  const Eigen::Isometry3d& T, double gate, double emission_margin,

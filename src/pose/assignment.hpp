@@ -23,6 +23,14 @@ struct MatchedSet {
   [[nodiscard]] std::span<const Eigen::Vector2d> pixels() const { return {uv.data(), n}; }
 };
 
+// The camera centre in the body frame.
+Eigen::Vector3d camera_in_body(const Eigen::Isometry3d& T_camera_body);
+
+// True if every LED with a blob in `blob_of_led` shines toward the camera
+// at `T_camera_body`, within `emission_margin` [rad] of its cone.
+bool matched_leds_face_camera(const Constellation& constellation, const std::array<int, kMaxLeds>& blob_of_led,
+                              const Eigen::Isometry3d& T_camera_body, double emission_margin);
+
 // Fills `s` with the LEDs that have a blob in `blob_of_led` (−1: none).
 void gather(const Constellation& constellation, std::span<const Blob> blobs,
             const std::array<int, kMaxLeds>& blob_of_led, MatchedSet& s);

@@ -131,7 +131,7 @@ class Search {
       if (!f2.ok()) return true;
       fit = f2;
     }
-    if (!plausible(fit, assign)) return true;
+    if (!plausible(fit, assign, set.n)) return true;
     // Every unexplained LED is charged, also one the pose turns away from
     // the camera: charging only the LEDs a pose "expects" lets a wrong pose
     // explain missing LEDs away by turning the board (seen in the
@@ -153,44 +153,25 @@ class Search {
 
   Correspondence finish(const detail::ConstellationShape& shape) {
     if (best_.matched < o_.min_leds) return best_;
-    best_.status = best_.fit.rms_px <= o_.accept_rms_px ? PoseStatus::Ok : PoseStatus::ReprojectionTooLarge;
-    if (best_.status != PoseStatus::Ok) return best_;
-    // Never a confident wrong pose: a symmetric constellation, or a mirrored
-    // branch nothing in this frame rules out, is no answer.
-    if (shape.symmetric) {
-      best_.status = PoseStatus::Ambiguous;
+    if (best_.fit.rms_px > o_.accept_rms_px) {
+      best_.status = PoseStatus::ReprojectionTooLarge;
       return best_;
     }
-    detail::MatchedSet set;
-    detail::gather(k_, blobs_, best_.blob_of_led, set);
-    const detail::BranchDecision d =
-        detail::resolve_branches(cam_, k_, shape, blobs_, best_.blob_of_led, set, best_.fit, nullptr, o_);
-    if (d.verdict == detail::BranchVerdict::Ambiguous) {
-      best_.status = PoseStatus::Ambiguous;
-    } else if (d.verdict == detail::BranchVerdict::Switch) {
-      best_.fit = d.alternative;
-      if (best_.fit.rms_px > o_.accept_rms_px) best_.status = PoseStatus::ReprojectionTooLarge;
-    }
-    if (best_.status == PoseStatus::Ok && detail::too_uncertain(best_.fit, o_)) best_.status = PoseStatus::Uncertain;
+    // Never a confident wrong pose (ambiguity.hpp).
+    best_.status =
+        detail::vet_fit(cam_, k_, shape, blobs_, best_.blob_of_led, best_.fit, nullptr, o_.accept_rms_px, o_);
     return best_;
   }
 
  private:
-  // Gates a refined pose with the LED assignment `assign` must pass.
-  bool plausible(const PoseRefinement& fit, const std::array<int, kMaxLeds>& assign) const {
+  // Gates a refined pose with the LED assignment `assign` (`matched` LEDs)
+  // must pass.
+  bool plausible(const PoseRefinement& fit, const std::array<int, kMaxLeds>& assign, std::size_t matched) const {
     const double depth = (fit.T_camera_body * centroid_).z();
     if (depth < o_.min_distance || depth > o_.max_distance) return false;
     // Emission geometry (Led::normal, half_angle_deg): every matched LED
     // must shine toward the camera, within the margin.
-    const Eigen::Vector3d camera_body = fit.T_camera_body.inverse().translation();
-    std::size_t matched = 0;
-    for (std::size_t l = 0; l < n_; ++l) {
-      const Led& led = k_.leds[l];
-      if (assign[l] >= 0) {
-        ++matched;
-        if (!led.emits_toward(camera_body, margin_)) return false;
-      }
-    }
+    if (!detail::matched_leds_face_camera(k_, assign, fit.T_camera_body, margin_)) return false;
     // Four LEDs leave 2 redundant measurements: random blobs can fit them,
     // so a four-LED pose (of a larger constellation) must fit tightly.
     if (matched == 4 && n_ > 4 && fit.rms_px > o_.minimal_fit_rms_px) return false;

@@ -259,13 +259,12 @@ struct LedTracker::Impl {
       if (f2.ok()) fit = f2;
     }
     if (fit.rms_px > options.reinit_rms_px) return false;
-    // The mirrored branch: switch to it when the evidence says so; an
-    // ambiguity the prediction cannot settle ends the track.
-    const detail::BranchDecision d =
-        detail::resolve_branches(pin, constellation, shape, work, led_to_blob, set, fit, &T, options.correspondence);
-    if (d.verdict == detail::BranchVerdict::Ambiguous) return false;
-    if (d.verdict == detail::BranchVerdict::Switch) fit = d.alternative;
-    if (detail::too_uncertain(fit, options.correspondence)) return false;
+    // The search's rule (ambiguity.hpp), with the prediction to settle the
+    // mirrored branch; anything but Ok ends the track.
+    if (detail::vet_fit(pin, constellation, shape, work, led_to_blob, fit, &T, options.reinit_rms_px,
+                        options.correspondence) != PoseStatus::Ok) {
+      return false;
+    }
     accept(fit, static_cast<int>(set.n), false);
     return true;
   }

@@ -70,6 +70,17 @@ std::string leds_yaml(const std::vector<std::string>& xyz) {
 
 const std::vector<std::string> kFourLeds = {"0.1, 0.1, 0", "0.1, -0.1, 0", "-0.1, -0.1, 0", "0, 0, -0.1"};
 
+// A built-in constellation equals its bundled file, LED by LED (exactly).
+void expect_same_leds(const tp::Constellation& file, const tp::Constellation& builtin) {
+  ASSERT_EQ(file.leds.size(), builtin.leds.size());
+  for (std::size_t i = 0; i < file.leds.size(); ++i) {
+    EXPECT_EQ(file.leds[i].p_body, builtin.leds[i].p_body) << i;
+    EXPECT_EQ(file.leds[i].color, builtin.leds[i].color) << i;
+    EXPECT_EQ(file.leds[i].normal, builtin.leds[i].normal) << i;
+    EXPECT_EQ(file.leds[i].half_angle_deg, builtin.leds[i].half_angle_deg) << i;
+  }
+}
+
 #define EXPECT_CONTAINS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
 
 }  // namespace
@@ -197,13 +208,7 @@ TEST(ConstellationYaml, DefaultMarkerPoseRoundTripsExactly) {
 TEST(ConstellationYaml, BuiltInEqualsBundledFile) {
   const auto file = tp::load_constellation(source_path("data/constellations/f450_leds.yaml"));
   const auto builtin = tp::default_constellation();
-  ASSERT_EQ(file.leds.size(), builtin.leds.size());
-  for (std::size_t i = 0; i < file.leds.size(); ++i) {
-    EXPECT_EQ(file.leds[i].p_body, builtin.leds[i].p_body) << i;
-    EXPECT_EQ(file.leds[i].color, builtin.leds[i].color) << i;
-    EXPECT_EQ(file.leds[i].normal, builtin.leds[i].normal) << i;
-    EXPECT_EQ(file.leds[i].half_angle_deg, builtin.leds[i].half_angle_deg) << i;
-  }
+  expect_same_leds(file, builtin);
   EXPECT_EQ(file.T_body_marker.matrix(), builtin.T_body_marker.matrix());
 }
 
@@ -243,13 +248,7 @@ TEST(ConstellationYaml, EmissionConesReadNormaliseAndRoundTrip) {
 TEST(ConstellationYaml, BundledFrontBoardFacesForward) {
   const auto k = tp::load_constellation(source_path("data/constellations/front_board.yaml"));
   const auto builtin = tp::front_board_constellation();
-  ASSERT_EQ(builtin.leds.size(), k.leds.size());
-  for (std::size_t i = 0; i < k.leds.size(); ++i) {
-    EXPECT_EQ(k.leds[i].p_body, builtin.leds[i].p_body) << i;
-    EXPECT_EQ(k.leds[i].color, builtin.leds[i].color) << i;
-    EXPECT_EQ(k.leds[i].normal, builtin.leds[i].normal) << i;
-    EXPECT_EQ(k.leds[i].half_angle_deg, builtin.leds[i].half_angle_deg) << i;
-  }
+  expect_same_leds(k, builtin);
   EXPECT_LT((k.T_body_marker.matrix() - builtin.T_body_marker.matrix()).cwiseAbs().maxCoeff(), 1e-15);
   ASSERT_EQ(k.leds.size(), 6u);
   int red = 0, green = 0;
