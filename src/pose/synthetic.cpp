@@ -164,7 +164,89 @@ bool RenderOptions::validate(std::string* why) const {
   if (!finite_nonneg(marker_black) || marker_black > marker_white) {
     return fail("marker_black: must be in [0, marker_white] DN");
   }
+  if (!(led_gain_spread_stops >= 0 && led_gain_spread_stops <= 4)) {
+    return fail("led_gain_spread_stops: must be in [0, 4]");
+  }
+  if (exposure_step_stops < 0 || exposure_step_stops > 4) return fail("exposure_step_stops: must be in 0..4");
+  if (exposure_step_frames < 1 || exposure_step_frames > 100000) {
+    return fail("exposure_step_frames: must be in 1..100000");
+  }
+  if (led_dropout_frames < 1 || led_dropout_frames > 100000) return fail("led_dropout_frames: must be in 1..100000");
+  if (!(reflection_probability >= 0 && reflection_probability <= 1)) {
+    return fail("reflection_probability: must be in [0, 1]");
+  }
+  if (!finite_nonneg(reflection_gain) || reflection_gain > 1) return fail("reflection_gain: must be in [0, 1]");
+  if (!finite_nonneg(reflection_offset) || reflection_offset > 1) {
+    return fail("reflection_offset: must be in [0, 1] m");
+  }
+  if (!(distractor_led_like_fraction >= 0 && distractor_led_like_fraction <= 1)) {
+    return fail("distractor_led_like_fraction: must be in [0, 1]");
+  }
+  if (!positive(merge_threshold_dn) || merge_threshold_dn > 255) {
+    return fail("merge_threshold_dn: must be in (0, 255] DN");
+  }
   return true;
+}
+
+std::optional<RenderProfile> parse_render_profile(std::string_view name) {
+  if (name == "clean") return RenderProfile::Clean;
+  if (name == "harsh") return RenderProfile::Harsh;
+  return std::nullopt;
+}
+
+std::string_view to_string(RenderProfile profile) { return profile == RenderProfile::Harsh ? "harsh" : "clean"; }
+
+RenderOptions apply_profile(RenderOptions o, RenderProfile profile) {
+  if (profile != RenderProfile::Harsh) return o;
+  // A camera at normal exposure: white cores whose hue halo varies with
+  // each LED's brightness (±1 stop) and the exposure (±1 stop, steps every
+  // second), a brighter bloom, an exposure four times longer (streaks at
+  // short range), more noise, drop-outs of a third of a second, reflections
+  // off the airframe, and half of four lamps LED-like.
+  o.white_cores = true;
+  o.led_gain = 12;
+  o.led_gain_spread_stops = 1;
+  o.exposure_step_stops = 1;
+  o.exposure_step_frames = 30;
+  o.bloom_fraction = 0.15;
+  o.exposure_s = 0.016;
+  o.motion_blur_samples = 9;
+  o.noise_sigma = 3;
+  o.led_dropout_probability = 0.03;
+  o.led_dropout_frames = 10;
+  o.reflection_probability = 0.5;
+  o.distractor_count = 4;
+  o.distractor_led_like_fraction = 0.5;
+  o.marker_white = 90;  // at +1 stop still below the LED threshold
+  return o;
+}
+
+Constellation random_constellation(std::uint64_t seed) {
+  Rng rng(seed, 0x7261'6e64'6f6dull /* "random" */);
+  Constellation k;
+  const int n = 5 + static_cast<int>(rng.uniform(0, 4));
+  const bool planar = rng.uniform() < 0.5;
+  const Eigen::Vector3d f = Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal()).normalized();
+  const Eigen::Vector3d u = f.unitOrthogonal(), v = f.cross(u);
+  constexpr std::array<LedColor, 4> colours{LedColor::Red, LedColor::Green, LedColor::Blue, LedColor::White};
+  while (true) {
+    k.leds.clear();
+    for (int i = 0; i < n; ++i) {
+      Led led;
+      for (int tries = 0; tries < 100; ++tries) {
+        led.p_body = 0.1 * f + rng.uniform(-0.1, 0.1) * u + rng.uniform(-0.075, 0.075) * v +
+                     rng.uniform(-1, 1) * (planar ? 0.0025 : 0.03) * f;
+        bool apart = true;
+        for (const auto& other : k.leds) apart = apart && (other.p_body - led.p_body).norm() > 0.03;
+        if (apart) break;
+      }
+      led.color = colours[static_cast<std::size_t>(rng.uniform(0, 4))];
+      led.normal = f;
+      led.half_angle_deg = rng.uniform(50, 90);
+      k.leds.push_back(led);
+    }
+    if (k.validate(nullptr)) return k;  // else (collinear, too close: rare) draw again
+  }
 }
 
 // ---- the camera ----------------------------------------------------------------
@@ -213,11 +295,23 @@ struct SyntheticCamera::Impl {
     return uv.x() >= 0 && uv.y() >= 0 && uv.x() <= camera.width - 1 && uv.y() <= camera.height - 1;
   }
 
-  void render_depth_body(const Eigen::Isometry3d& T, std::vector<float>& zbuf) const;
-  void render_lamps(std::uint64_t seed, std::vector<float>& signal, std::vector<float>& zbuf) const;
-  void render_leds(const Eigen::Isometry3d* poses, int n, Rng& dropout_rng, std::vector<float>& signal,
-                   std::vector<bool>& visible) const;
-  bool render_marker(const Eigen::Isometry3d* poses, int n, std::vector<float>& signal, Scratch& s) const;
+  /// Per-LED properties fixed per seed, and the frame's drop-outs.
+  struct LedExtras {
+    double gain = 1;        // brightness factor (led_gain_spread_stops)
+    bool reflection = false;
+    Eigen::Vector3d reflection_body = Eigen::Vector3d::Zero();
+    bool dropped = false;
+  };
+  using Extras = std::array<LedExtras, kMaxLeds>;
+  void led_extras(std::uint64_t seed, std::uint64_t frame_index, Rng& dropout_rng, Extras& extras) const;
+  [[nodiscard]] double exposure(std::uint64_t seed, std::uint64_t frame_index) const;
+
+  void render_depth_body(const Eigen::Isometry3d& T, const Extras& extras, std::vector<float>& zbuf) const;
+  void render_lamps(std::uint64_t seed, double exposure, std::vector<float>& signal, std::vector<float>& zbuf) const;
+  void render_leds(const Eigen::Isometry3d* poses, int n, const Extras& extras, double exposure,
+                   std::vector<float>& signal, RenderedFrame& out) const;
+  bool render_marker(const Eigen::Isometry3d* poses, int n, double exposure, std::vector<float>& signal,
+                     Scratch& s) const;
 };
 
 SyntheticCamera::SyntheticCamera(CameraModel camera, Constellation constellation, RenderOptions options)
@@ -270,7 +364,44 @@ const CameraModel& SyntheticCamera::camera() const { return impl_->camera; }
 const Constellation& SyntheticCamera::constellation() const { return impl_->constellation; }
 const RenderOptions& SyntheticCamera::options() const { return impl_->options; }
 
-void SyntheticCamera::Impl::render_depth_body(const Eigen::Isometry3d& T, std::vector<float>& zbuf) const {
+void SyntheticCamera::Impl::led_extras(std::uint64_t seed, std::uint64_t frame_index, Rng& dropout_rng,
+                                       Extras& extras) const {
+  const RenderOptions& o = options;
+  // Fixed per seed: every value is drawn whatever the options, so that one
+  // option never changes another's draws.
+  Rng rng(seed, 0xFFFFFFFFFFFF1EDBull);
+  const auto runs = static_cast<std::uint64_t>(o.led_dropout_frames);
+  for (std::size_t i = 0; i < constellation.leds.size(); ++i) {
+    const Led& led = constellation.leds[i];
+    LedExtras& e = extras[i];
+    e.gain = std::exp2(o.led_gain_spread_stops * rng.uniform(-1, 1));
+    e.reflection = rng.uniform() < o.reflection_probability;
+    Eigen::Vector3d d(rng.normal(), rng.normal(), rng.normal());
+    if (led.has_normal()) d -= d.dot(led.normal) * led.normal;  // along the airframe around the LED
+    e.reflection_body = led.p_body + o.reflection_offset * d.normalized();
+    const auto phase = static_cast<std::uint64_t>(rng.uniform(0, static_cast<double>(runs)));
+    // Drawn for every LED every frame: stable streams.
+    const bool single = dropout_rng.uniform() < o.led_dropout_probability;
+    if (runs == 1) {
+      e.dropped = single;
+    } else {
+      // Runs of led_dropout_frames frames, staggered per LED.
+      Rng run(seed ^ 0x64726f70ull /* "drop" */, ((frame_index + phase) / runs) * kMaxLeds + i);
+      e.dropped = run.uniform() < o.led_dropout_probability;
+    }
+  }
+}
+
+double SyntheticCamera::Impl::exposure(std::uint64_t seed, std::uint64_t frame_index) const {
+  const int s = options.exposure_step_stops;
+  if (s == 0) return 1;
+  Rng rng(seed ^ 0x6578706full /* "expo" */, frame_index / static_cast<std::uint64_t>(options.exposure_step_frames));
+  const int k = std::min(2 * s, static_cast<int>(rng.uniform(0, 2 * s + 1))) - s;
+  return std::exp2(k);
+}
+
+void SyntheticCamera::Impl::render_depth_body(const Eigen::Isometry3d& T, const Extras& extras,
+                                              std::vector<float>& zbuf) const {
   const RenderOptions& o = options;
   const int w = camera.width, h = camera.height;
   // The body box, by ray–box intersection in the body frame (slab method,
@@ -319,9 +450,13 @@ void SyntheticCamera::Impl::render_depth_body(const Eigen::Isometry3d& T, std::v
     }
   }
   // A fronto-parallel disc around each LED at the LED's depth (its housing
-  // and the arm under it), whether or not the LED is lit.
-  for (const Led& led : constellation.leds) {
-    const Eigen::Vector3d p = T * led.p_body;
+  // and the arm under it), whether or not the LED is lit, and around each
+  // reflection (the airframe surface it is seen on).
+  for (std::size_t i = 0; i < 2 * constellation.leds.size(); ++i) {
+    const std::size_t l = i % constellation.leds.size();
+    const bool reflection = i >= constellation.leds.size();
+    if (reflection && !extras[l].reflection) continue;
+    const Eigen::Vector3d p = T * (reflection ? extras[l].reflection_body : constellation.leds[l].p_body);
     if (p.z() < kMinDepth || o.led_disc_radius <= 0) continue;
     const Eigen::Vector2d uv = camera.project(p);
     const double r = camera.fx * o.led_disc_radius / p.z();
@@ -338,7 +473,7 @@ void SyntheticCamera::Impl::render_depth_body(const Eigen::Isometry3d& T, std::v
   }
 }
 
-void SyntheticCamera::Impl::render_lamps(std::uint64_t seed, std::vector<float>& signal,
+void SyntheticCamera::Impl::render_lamps(std::uint64_t seed, double exposure, std::vector<float>& signal,
                                          std::vector<float>& zbuf) const {
   const RenderOptions& o = options;
   const int w = camera.width, h = camera.height;
@@ -347,10 +482,17 @@ void SyntheticCamera::Impl::render_lamps(std::uint64_t seed, std::vector<float>&
   for (int i = 0; i < o.distractor_count; ++i) {
     const double u = rng.uniform(0, w), v = rng.uniform(0, h);
     const double z = rng.uniform(o.distractor_min_depth, o.distractor_max_depth);
-    const double radius = rng.uniform(6, 14);   // [px] larger than any LED spot
-    const double gain = rng.uniform(0.6, 3.0);  // >= 1 saturates the core
+    double radius = rng.uniform(6, 14);  // [px] larger than any LED spot
+    double gain = rng.uniform(0.6, 3.0);  // >= 1 saturates the core
     const bool yellowish = rng.uniform() < 0.5;
-    const Bgr c = yellowish ? Bgr{150, 225, 255} : Bgr{255, 255, 255};
+    Bgr c = yellowish ? Bgr{150, 225, 255} : Bgr{255, 255, 255};
+    if (o.distractor_led_like_fraction > 0) {  // extra draws only then: the clean lamps stay put
+      const bool led_like = rng.uniform() < o.distractor_led_like_fraction;
+      const double size = rng.uniform(2, 5), led_gain = rng.uniform(1, 6);
+      const auto cls = static_cast<LedColor>(static_cast<int>(rng.uniform(0, 4)));
+      if (led_like) radius = size, gain = led_gain, c = core_colour(cls);
+    }
+    gain *= exposure;
     const double sigma = radius / 2;
     const double inv2s2 = 1 / (2 * sigma * sigma);
     const double extent = 3 * sigma;
@@ -361,7 +503,8 @@ void SyntheticCamera::Impl::render_lamps(std::uint64_t seed, std::vector<float>&
         const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + x;
         if (zbuf[p] < zf) continue;  // hidden behind the drone (or a nearer lamp)
         const double d2 = (x - u) * (x - u) + (y - v) * (y - v);
-        const auto e = static_cast<float>(std::min(1.0, gain * std::exp(-d2 * inv2s2)));
+        const double lit = gain * std::exp(-d2 * inv2s2);
+        const auto e = static_cast<float>(o.white_cores ? lit : std::min(1.0, lit));
         signal[3 * p] += c.b * e;
         signal[3 * p + 1] += c.g * e;
         signal[3 * p + 2] += c.r * e;
@@ -378,42 +521,48 @@ void SyntheticCamera::Impl::render_lamps(std::uint64_t seed, std::vector<float>&
   }
 }
 
-void SyntheticCamera::Impl::render_leds(const Eigen::Isometry3d* poses, int n, Rng& dropout_rng,
-                                        std::vector<float>& signal, std::vector<bool>& visible) const {
+void SyntheticCamera::Impl::render_leds(const Eigen::Isometry3d* poses, int n, const Extras& extras,
+                                        double exposure, std::vector<float>& signal, RenderedFrame& out) const {
   const RenderOptions& o = options;
   const int w = camera.width, h = camera.height;
   const Eigen::Isometry3d& T = poses[n / 2];  // the frame's pose (centre of the exposure)
-  std::array<Eigen::Vector2d, kMaxBlurSamples> centres;
-  visible.assign(constellation.leds.size(), false);
+  const std::size_t count = constellation.leds.size();
+  out.led_visible.assign(count, false);
+  out.led_merged.assign(count, false);
   const Eigen::Vector3d camera_body = -(T.linear().transpose() * T.translation());
-  for (std::size_t i = 0; i < constellation.leds.size(); ++i) {
-    const Led& led = constellation.leds[i];
-    const bool dropped = dropout_rng.uniform() < o.led_dropout_probability;  // drawn for every LED: stable streams
-    const Eigen::Vector3d p = T * led.p_body;
-    if (dropped || p.z() < kMinDepth) continue;
-    const Eigen::Vector2d uv = camera.project(p);
-    if (!in_image(uv)) continue;
-    // Emission geometry: the camera must lie in the LED's emission cone.
-    if (!led.emits_toward(camera_body)) continue;
-    visible[i] = true;
-    // Spot: the LED's image disc (radius f·r/z, variance r²/4 per axis)
-    // convolved with the optics' Gaussian blur.
-    const double r_px = camera.fx * o.led_radius / p.z();
-    const double sigma = std::sqrt(o.optics_blur_sigma * o.optics_blur_sigma + r_px * r_px / 4);
+  // The lit disc of every drawn spot, for the merge flags: LED i's spot, or
+  // (led = i + count) its reflection's.
+  struct Lit {
+    Eigen::Vector2d uv;
+    double radius;
+    std::size_t led;
+  };
+  std::array<Lit, 2 * kMaxLeds> lit{};
+  std::size_t lit_count = 0;
+  const double threshold = std::max(1.0, o.merge_threshold_dn - o.background_level);
+  std::array<Eigen::Vector2d, kMaxBlurSamples> centres;
+
+  // One Gaussian spot of peak `gain` (relative to saturation) and sigma
+  // `sigma` [px] with its bloom, smeared over the exposure samples of the
+  // body point `p_body`; returns its centre at the frame's pose.
+  auto draw_spot = [&](const Eigen::Vector3d& p_body, const Eigen::Vector2d& uv, double sigma, double gain,
+                       double bloom_fraction, Bgr c) {
     double umin = uv.x(), umax = uv.x(), vmin = uv.y(), vmax = uv.y();
     for (int k = 0; k < n; ++k) {
-      const Eigen::Vector3d pk = poses[k] * led.p_body;
+      const Eigen::Vector3d pk = poses[k] * p_body;
       centres[static_cast<std::size_t>(k)] = pk.z() >= kMinDepth ? camera.project(pk) : uv;
       umin = std::min(umin, centres[static_cast<std::size_t>(k)].x());
       umax = std::max(umax, centres[static_cast<std::size_t>(k)].x());
       vmin = std::min(vmin, centres[static_cast<std::size_t>(k)].y());
       vmax = std::max(vmax, centres[static_cast<std::size_t>(k)].y());
     }
-    const double extent = 3.5 * std::max(sigma, o.bloom_fraction > 0 ? o.bloom_sigma : 0.0);
+    // White cores: light linear per channel, clipped by the sensor (so the
+    // halo's extent grows with the gain); else clipped to the core colour.
+    const double wide = o.white_cores ? sigma * std::sqrt(2 * std::log(std::max(1.0, gain * 255 / threshold))) : 0;
+    const double extent = std::max(3.5 * std::max(sigma, bloom_fraction > 0 ? o.bloom_sigma : 0.0), wide + 3 * sigma);
     const Window win = clip_window(umin - extent, vmin - extent, umax + extent, vmax + extent, w, h);
-    const Bgr c = core_colour(led.color);
     const double inv2s2 = 1 / (2 * sigma * sigma), inv2b2 = 1 / (2 * o.bloom_sigma * o.bloom_sigma);
-    const double gain = o.led_gain / n, bloom = o.bloom_fraction / n;
+    const double g = gain / n, bloom = bloom_fraction / n;
     for (int y = win.y0; y <= win.y1; ++y) {
       for (int x = win.x0; x <= win.x1; ++x) {
         double e = 0, b = 0;
@@ -424,8 +573,7 @@ void SyntheticCamera::Impl::render_leds(const Eigen::Isometry3d* poses, int n, R
           e += std::exp(-d2 * inv2s2);
           if (bloom > 0) b += std::exp(-d2 * inv2b2);
         }
-        // Saturation: exposure beyond full well clips to the core colour.
-        const auto v = static_cast<float>(std::min(1.0, gain * e) + bloom * b);
+        const auto v = static_cast<float>((o.white_cores ? g * e : std::min(1.0, g * e)) + bloom * b);
         if (v < 1e-4f) continue;
         const std::size_t p3 = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + x);
         signal[p3] += c.b * v;
@@ -433,11 +581,53 @@ void SyntheticCamera::Impl::render_leds(const Eigen::Isometry3d* poses, int n, R
         signal[p3 + 2] += c.r * v;
       }
     }
+  };
+  // Radius of the disc where a spot's brightest channel reaches the
+  // threshold (its peak is 255·gain, clipped at 255 without white cores).
+  auto lit_radius = [&](double sigma, double gain) {
+    const double peak = 255 * (o.white_cores ? gain : std::min(1.0, gain));
+    return peak > threshold ? sigma * std::sqrt(2 * std::log(peak / threshold)) : 0.0;
+  };
+
+  for (std::size_t i = 0; i < count; ++i) {
+    const Led& led = constellation.leds[i];
+    const Eigen::Vector3d p = T * led.p_body;
+    if (extras[i].dropped || p.z() < kMinDepth) continue;
+    const Eigen::Vector2d uv = camera.project(p);
+    if (!in_image(uv)) continue;
+    // Emission geometry: the camera must lie in the LED's emission cone.
+    if (!led.emits_toward(camera_body)) continue;
+    out.led_visible[i] = true;
+    // Spot: the LED's image disc (radius f·r/z, variance r²/4 per axis)
+    // convolved with the optics' Gaussian blur.
+    const double r_px = camera.fx * o.led_radius / p.z();
+    const double sigma = std::sqrt(o.optics_blur_sigma * o.optics_blur_sigma + r_px * r_px / 4);
+    const double gain = o.led_gain * extras[i].gain * exposure;
+    draw_spot(led.p_body, uv, sigma, gain, o.bloom_fraction * exposure, core_colour(led.color));
+    lit[lit_count++] = {uv, lit_radius(sigma, gain), i};
+    if (!extras[i].reflection) continue;
+    // Its reflection off the airframe: dimmer and wider, no bloom.
+    const Eigen::Vector3d q = T * extras[i].reflection_body;
+    if (q.z() < kMinDepth) continue;
+    const Eigen::Vector2d uv_q = camera.project(q);
+    const double sigma_q = 1.5 * sigma + 1;
+    const double gain_q = o.reflection_gain * gain;
+    draw_spot(extras[i].reflection_body, uv_q, sigma_q, gain_q, 0, core_colour(led.color));
+    lit[lit_count++] = {uv_q, lit_radius(sigma_q, gain_q), i + count};
+  }
+  // Merged: two lit discs touch (8-connected pixels: within 1.5 px).
+  for (std::size_t a = 0; a < lit_count; ++a) {
+    for (std::size_t b = a + 1; b < lit_count; ++b) {
+      if (lit[a].radius <= 0 || lit[b].radius <= 0) continue;
+      if ((lit[a].uv - lit[b].uv).norm() > lit[a].radius + lit[b].radius + 1.5) continue;
+      out.led_merged[lit[a].led % count] = true;
+      out.led_merged[lit[b].led % count] = true;
+    }
   }
 }
 
-bool SyntheticCamera::Impl::render_marker(const Eigen::Isometry3d* poses, int n, std::vector<float>& signal,
-                                          Scratch& s) const {
+bool SyntheticCamera::Impl::render_marker(const Eigen::Isometry3d* poses, int n, double exposure,
+                                          std::vector<float>& signal, Scratch& s) const {
   const RenderOptions& o = options;
   const int w = camera.width, h = camera.height;
   const double half = o.aruco_size / 2;       // the marker's outer black square
@@ -504,6 +694,7 @@ bool SyntheticCamera::Impl::render_marker(const Eigen::Isometry3d* poses, int n,
   const float white = static_cast<float>(o.marker_white), black = static_cast<float>(o.marker_black);
   const double inv_samples = 1.0 / count;
   const double cells = card_cells;
+  const auto gain = static_cast<float>(exposure);  // the card's light scales with the exposure
   for (int y = win.y0; y <= win.y1; ++y) {
     auto* row = s.window.ptr<float>(y - win.y0);
     for (int x = win.x0; x <= win.x1; ++x) {
@@ -539,7 +730,7 @@ bool SyntheticCamera::Impl::render_marker(const Eigen::Isometry3d* poses, int n,
         }
         acc += value;
       }
-      row[x - win.x0] = static_cast<float>(acc * inv_samples) - bg;
+      row[x - win.x0] = (static_cast<float>(acc * inv_samples) - bg) * gain;
     }
   }
   // The same optics blur as the LEDs (a thin lens blurs the whole image).
@@ -598,10 +789,13 @@ void SyntheticCamera::render(const Eigen::Isometry3d& T_camera_body, const Eigen
   }
   s.clean = false;
 
-  im.render_depth_body(T_camera_body, s.zbuf);
-  im.render_lamps(seed, s.signal, s.zbuf);
-  im.render_leds(poses.data(), n, dropout_rng, s.signal, out.led_visible);
-  out.marker_visible = o.render_marker && im.render_marker(poses.data(), n, s.signal, s);
+  Impl::Extras extras;
+  im.led_extras(seed, frame_index, dropout_rng, extras);
+  const double exposure = im.exposure(seed, frame_index);
+  im.render_depth_body(T_camera_body, extras, s.zbuf);
+  im.render_lamps(seed, exposure, s.signal, s.zbuf);
+  im.render_leds(poses.data(), n, extras, exposure, s.signal, out);
+  out.marker_visible = o.render_marker && im.render_marker(poses.data(), n, exposure, s.signal, s);
 
   const std::vector<float>& table = normal_table();
   // Colour: background + light + sensor noise, rounded and clipped.

@@ -25,8 +25,10 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "touchdown/pose/camera.hpp"
@@ -96,15 +98,71 @@ struct RenderOptions {
   double marker_white = 110.0;  ///< [DN] white of the card (below the LED threshold)
   double marker_black = 12.0;   ///< [DN]
 
+  // --- harsh conditions (all off by default; RenderProfile::Harsh) ---
+  /// LED light is linear in each channel and clips per channel at the
+  /// sensor, as a real camera at normal exposure records it: a bright core
+  /// clips to white and only the halo keeps the LED's hue, the halo growing
+  /// with the gain. False: the core clips to the LED's core colour.
+  bool white_cores = false;
+  /// Brightness spread between LEDs: each LED's gain is multiplied by 2^u,
+  /// u uniform in [−s, s], fixed per seed [stops].
+  double led_gain_spread_stops = 0;
+  /// Exposure steps (auto-exposure): every light (LEDs, lamps, the card) is
+  /// multiplied by 2^k, k a uniform integer in [−s, s] drawn per run of
+  /// exposure_step_frames frames [stops].
+  int exposure_step_stops = 0;
+  int exposure_step_frames = 30;
+  /// Rolling drop-outs: an LED that drops out stays out for a run of this
+  /// many frames (runs staggered per LED); the fraction of frames an LED is
+  /// missing stays led_dropout_probability.
+  int led_dropout_frames = 1;
+  /// Reflections of LEDs off the airframe: with this probability (per LED,
+  /// fixed per seed) a dimmer, wider spot of the LED's colour at
+  /// reflection_offset from it on the airframe (with the airframe's depth).
+  double reflection_probability = 0;
+  double reflection_gain = 0.3;     ///< the reflection's peak relative to its LED's
+  double reflection_offset = 0.03;  ///< [m] LED–reflection distance on the airframe
+  /// Fraction of the lamps that look like LEDs: LED-sized (2–5 px) and of an
+  /// LED class's colour.
+  double distractor_led_like_fraction = 0;
+  /// The detector threshold [DN] the merge flags (RenderedFrame::led_merged)
+  /// assume: a spot's lit disc is where its brightest channel reaches this.
+  double merge_threshold_dn = 200;
+
   /// False with a reason naming the option if a value is out of range.
   bool validate(std::string* why) const;
 };
+
+/// Named sets of RenderOptions.
+enum class RenderProfile {
+  Clean,  ///< the defaults: cores clip to the LED's colour, steady exposure
+  /// What real cameras record: white-clipping cores with hue halos of
+  /// varying size, exposure steps, LED-coloured lamps, reflections off the
+  /// airframe, long motion-blur streaks, rolling drop-outs.
+  Harsh,
+};
+/// "clean" or "harsh"; nullopt otherwise.
+std::optional<RenderProfile> parse_render_profile(std::string_view name);
+std::string_view to_string(RenderProfile profile);
+/// `base` with the profile's settings applied (Clean: unchanged).
+RenderOptions apply_profile(RenderOptions base, RenderProfile profile);
+
+/// A random LED board for robustness tests (RandomConstellationOptions):
+/// 5–8 LEDs on a 0.2 × 0.15 m board in the plane normal to a random facing
+/// direction, 0.1 m in front of the body origin, quasi-planar (±2.5 mm of
+/// relief) or 3-D (±3 cm) with equal odds, LEDs ≥ 3 cm apart, random
+/// colours (red, green, blue, white), every LED's normal the facing, half
+/// angle 50–90°. Deterministic in `seed`; always valid.
+Constellation random_constellation(std::uint64_t seed);
 
 /// One rendered frame.
 struct RenderedFrame {
   BgrImage colour;
   DepthImage depth;               ///< aligned with `colour`, units of CameraModel::depth_scale
   std::vector<bool> led_visible;  ///< per LED: drawn in this frame
+  /// Per visible LED: its lit disc touches another drawn spot's (an LED or
+  /// a reflection), so the detector sees one blob with a biased centre.
+  std::vector<bool> led_merged;
   bool marker_visible = false;    ///< the marker faces the camera and all its corners are in the image
 };
 
