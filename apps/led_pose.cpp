@@ -111,10 +111,20 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   render->add_option("--max-distance", max_distance, "farthest camera-constellation distance [m]")
       ->capture_default_str();
-  render->add_option("--noise", ropt.noise_sigma, "sensor noise [DN]")->capture_default_str();
-  render->add_option("--distractors", ropt.distractor_count, "bright lamps in view")->capture_default_str();
-  render->add_option("--dropout", ropt.led_dropout_probability, "per-LED per-frame dropout probability")
+  std::string profile = "clean";
+  const auto profile_names = CLI::IsMember({"clean", "harsh"});
+  render
+      ->add_option("--profile", profile,
+                   "clean, or harsh: white-clipping LED cores with hue halos, exposure steps, LED-coloured lamps, "
+                   "airframe reflections, motion-blur streaks, rolling drop-outs")
+      ->check(profile_names)
       ->capture_default_str();
+  // Set explicitly, these override the profile's values.
+  auto* noise_opt = render->add_option("--noise", ropt.noise_sigma, "sensor noise [DN] (default: the profile's)");
+  auto* distractors_opt =
+      render->add_option("--distractors", ropt.distractor_count, "bright lamps in view (default: the profile's)");
+  auto* dropout_opt = render->add_option("--dropout", ropt.led_dropout_probability,
+                                         "per-LED per-frame dropout probability (default: the profile's)");
   render->add_option("--aruco-dict", aruco.dictionary, "ArUco dictionary of the rendered marker")
       ->capture_default_str();
   render->add_option("--aruco-id", aruco.marker_id, "ArUco id")->capture_default_str();
@@ -135,6 +145,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   bench->add_option("--camera-tilt", camera_tilt_deg, "chase: camera tilt above the horizontal [deg]")
       ->capture_default_str();
+  bench->add_option("--profile", profile, "with --constellation: clean or harsh rendering")
+      ->check(profile_names)
+      ->capture_default_str();
   bench->add_flag("--no-depth", no_depth, "LED method without depth");
   bench->add_flag("--json", json, "print one JSON object on stdout");
 
@@ -147,11 +160,15 @@ int main(int argc, char** argv) {
     if (*render) {
       const auto camera = camera_or_default(r_camera);
       const auto k = constellation_or_default(r_constellation);
-      ropt.aruco_dictionary = aruco.dictionary;
-      ropt.aruco_id = aruco.marker_id;
-      ropt.aruco_size = aruco.marker_size;
+      tp::RenderOptions r = tp::apply_profile({}, *tp::parse_render_profile(profile));
+      if (noise_opt->count()) r.noise_sigma = ropt.noise_sigma;
+      if (distractors_opt->count()) r.distractor_count = ropt.distractor_count;
+      if (dropout_opt->count()) r.led_dropout_probability = ropt.led_dropout_probability;
+      r.aruco_dictionary = aruco.dictionary;
+      r.aruco_id = aruco.marker_id;
+      r.aruco_size = aruco.marker_size;
       std::string why;
-      if (!ropt.validate(&why)) throw td::InvalidArgument(why);
+      if (!r.validate(&why)) throw td::InvalidArgument(why);
       tp::TrajectoryOptions to;
       to.min_distance = min_distance;
       to.max_distance = max_distance;
@@ -160,7 +177,7 @@ int main(int argc, char** argv) {
       const auto samples =
           tp::make_trajectory(trajectory == "static" ? tp::TrajectoryKind::Static : tp::TrajectoryKind::Moving, frames,
                               seed, camera, k, to);
-      tp::write_sequence(out_dir, camera, k, samples, ropt, seed);
+      tp::write_sequence(out_dir, camera, k, samples, r, seed);
       std::cerr << "led_pose: wrote " << samples.size() << " frames to " << out_dir << "\n";
       return td::app::kExitOk;
     }
@@ -170,9 +187,10 @@ int main(int argc, char** argv) {
       if (r_constellation.empty()) {
         o.scenarios = tp::default_benchmark_scenarios();
       } else {
-        o.scenarios.push_back(
-            {fs::path(r_constellation).stem().string() + " " + geometry, tp::load_constellation(r_constellation),
-             geometry == "chase" ? tp::CameraGeometry::Chase : tp::CameraGeometry::Facing, camera_tilt_deg});
+        o.scenarios.push_back({fs::path(r_constellation).stem().string() + " " + geometry,
+                               tp::load_constellation(r_constellation),
+                               geometry == "chase" ? tp::CameraGeometry::Chase : tp::CameraGeometry::Facing,
+                               camera_tilt_deg, *tp::parse_render_profile(profile)});
       }
       o.frames = bench_frames;
       o.seed = seed;
@@ -187,6 +205,7 @@ int main(int argc, char** argv) {
         j["seed"] = seed;
         for (const auto& row : r.rows) {
           j["rows"].push_back({{"scenario", row.scenario},
+                               {"profile", row.profile},
                                {"method", row.method},
                                {"sequence", row.sequence},
                                {"frames", row.frames},
@@ -209,12 +228,12 @@ int main(int argc, char** argv) {
         std::cout << j.dump(2) << "\n";
         return td::app::kExitOk;
       }
-      std::cout << "scenario        sequence  method  frames  success  wrong-ok  pos mean [m]  pos std [m]  "
+      std::cout << "scenario        profile  sequence  method  frames  success  wrong-ok  pos mean [m]  pos std [m]  "
                    "rot mean [rad]  rot std [rad]  ms/frame (median)\n";
       for (const auto& row : r.rows) {
-        std::cout << std::left << std::setw(16) << row.scenario << std::setw(10) << row.sequence << std::setw(8)
-                  << row.method << std::right << std::setw(6) << row.frames << std::setw(9)
-                  << fixed(row.success_rate, 3) << std::setw(10) << row.wrong_ok << std::setw(14)
+        std::cout << std::left << std::setw(16) << row.scenario << std::setw(9) << row.profile << std::setw(10)
+                  << row.sequence << std::setw(8) << row.method << std::right << std::setw(6) << row.frames
+                  << std::setw(9) << fixed(row.success_rate, 3) << std::setw(10) << row.wrong_ok << std::setw(14)
                   << fixed(row.position_mean_m, 4) << std::setw(13) << fixed(row.position_std_m, 4) << std::setw(16)
                   << fixed(row.orientation_mean_rad, 4) << std::setw(15) << fixed(row.orientation_std_rad, 4)
                   << std::setw(19) << fixed(row.ms_median, 3) << "\n";

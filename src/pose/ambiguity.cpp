@@ -211,7 +211,14 @@ PoseStatus vet_fit(const PinholeCamera& cam, const Constellation& k, const Const
   gather(k, blobs, blob_of_led, set);
   const BranchDecision d = resolve_branches(cam, k, shape, blobs, blob_of_led, set, fit, predicted, o);
   if (d.verdict == BranchVerdict::Ambiguous) return PoseStatus::Ambiguous;
-  if (d.verdict == BranchVerdict::Switch) fit = d.alternative;
+  if (d.verdict == BranchVerdict::Switch) {
+    // The other branch, refined as the fit was (with the measured depths).
+    MatchedSet fused;
+    gather(k, blobs, blob_of_led, o, fused);
+    const PoseRefinement refined = refine_pose_gauss_newton(cam, fused.points(), fused.pixels(),
+                                                            d.alternative.T_camera_body, o.refine, fused.depth());
+    fit = refined.ok() ? refined : d.alternative;
+  }
   if (fit.rms_px > max_rms_px) return PoseStatus::ReprojectionTooLarge;
   if (too_uncertain(fit, o)) return PoseStatus::Uncertain;
   return PoseStatus::Ok;

@@ -10,14 +10,30 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 }  // namespace
 
 void gather(const Constellation& k, std::span<const Blob> blobs, const std::array<int, kMaxLeds>& blob_of_led,
-            MatchedSet& s) {
+            MatchedSet& s, double depth_sigma_k, double pixel_sigma) {
   s.n = 0;
+  s.depths = 0;
+  s.pixel_sigma = pixel_sigma;
   for (std::size_t l = 0; l < k.leds.size(); ++l) {
     if (blob_of_led[l] < 0) continue;
+    const Blob& b = blobs[static_cast<std::size_t>(blob_of_led[l])];
     s.p[s.n] = k.leds[l].p_body;
-    s.uv[s.n] = blobs[static_cast<std::size_t>(blob_of_led[l])].uv_undistorted;
+    s.uv[s.n] = b.uv_undistorted;
+    s.z[s.n] = std::numeric_limits<double>::quiet_NaN();
+    s.sigma[s.n] = 1;
+    if (depth_sigma_k >= 0 && b.has_point) {
+      const double z = b.p_camera.z();
+      s.z[s.n] = z;
+      s.sigma[s.n] = depth_sigma_k * z * z + 0.002;
+      ++s.depths;
+    }
     ++s.n;
   }
+}
+
+void gather(const Constellation& k, std::span<const Blob> blobs, const std::array<int, kMaxLeds>& blob_of_led,
+            const CorrespondenceOptions& o, MatchedSet& s) {
+  gather(k, blobs, blob_of_led, s, o.fuse_depth ? o.depth_sigma_k : -1.0, o.detection_sigma_px);
 }
 
 Eigen::Vector3d camera_in_body(const Eigen::Isometry3d& T_camera_body) {

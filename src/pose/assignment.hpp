@@ -10,6 +10,8 @@
 
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/constellation.hpp"
+#include "touchdown/pose/correspondence.hpp"
+#include "touchdown/pose/gauss_newton.hpp"
 #include "touchdown/pose/led_detector.hpp"
 
 namespace touchdown::pose::detail {
@@ -18,9 +20,18 @@ namespace touchdown::pose::detail {
 struct MatchedSet {
   std::array<Eigen::Vector3d, kMaxLeds> p;
   std::array<Eigen::Vector2d, kMaxLeds> uv;
+  std::array<double, kMaxLeds> z;      // the blob's measured depth [m], NaN = none
+  std::array<double, kMaxLeds> sigma;  // its 1-σ [m]
   std::size_t n = 0;
+  std::size_t depths = 0;    // points with a measured depth
+  double pixel_sigma = 0.2;  // [px] the depth residuals' scale
   [[nodiscard]] std::span<const Eigen::Vector3d> points() const { return {p.data(), n}; }
   [[nodiscard]] std::span<const Eigen::Vector2d> pixels() const { return {uv.data(), n}; }
+  // The measured depths for the Gauss–Newton refinement (none if no blob has one).
+  [[nodiscard]] DepthConstraints depth() const {
+    if (depths == 0) return {};
+    return {{z.data(), n}, {sigma.data(), n}, pixel_sigma};
+  }
 };
 
 // The camera centre in the body frame.
@@ -32,8 +43,15 @@ bool matched_leds_face_camera(const Constellation& constellation, const std::arr
                               const Eigen::Isometry3d& T_camera_body, double emission_margin);
 
 // Fills `s` with the LEDs that have a blob in `blob_of_led` (−1: none).
+// The matched set for a pose fit under `o` (depths fused when o.fuse_depth).
 void gather(const Constellation& constellation, std::span<const Blob> blobs,
-            const std::array<int, kMaxLeds>& blob_of_led, MatchedSet& s);
+            const std::array<int, kMaxLeds>& blob_of_led, const CorrespondenceOptions& o, MatchedSet& s);
+
+// Depths come from the blobs' 3-D points (Blob::has_point) with 1-σ
+// depth_sigma_k·z² + 2 mm; depth_sigma_k < 0 gathers no depths.
+void gather(const Constellation& constellation, std::span<const Blob> blobs,
+            const std::array<int, kMaxLeds>& blob_of_led, MatchedSet& s, double depth_sigma_k = -1,
+            double pixel_sigma = 0.2);
 
 // Greedy nearest-blob matching of every reprojected LED within `gate` [px]
 // (fast; for verifying hypotheses). LEDs behind the camera or shining away

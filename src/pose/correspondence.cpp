@@ -21,6 +21,9 @@ bool CorrespondenceOptions::validate(std::string* why) const {
   if (max_blobs < 4 || max_blobs > 32) return fail("max_blobs: must be in 4..32");
   if (max_hypotheses < 1) return fail("max_hypotheses: must be positive");
   if (min_leds < 4) return fail("min_leds: must be at least 4");
+  if (search_min_leds < 4 || search_min_leds > static_cast<int>(kMaxLeds)) {
+    return fail("search_min_leds: must be in 4..16");
+  }
   if (!(emission_margin_deg >= 0 && emission_margin_deg <= 90)) return fail("emission_margin_deg: must be in [0, 90]");
   if (!(minimal_fit_rms_px > 0)) return fail("minimal_fit_rms_px: must be positive");
   if (!(missing_penalty_px > 0)) return fail("missing_penalty_px: must be positive");
@@ -117,17 +120,18 @@ class Search {
     // stretching onto a spurious blob.
     if (sq + (static_cast<double>(n_) - matched) * penalty2_ >= best_score_) return true;
     detail::MatchedSet set;
-    detail::gather(k_, blobs_, assign, set);
-    PoseRefinement fit = refine_pose_gauss_newton(cam_, set.points(), set.pixels(), e.T_camera_body, o_.refine);
+    detail::gather(k_, blobs_, assign, o_, set);
+    PoseRefinement fit =
+        refine_pose_gauss_newton(cam_, set.points(), set.pixels(), e.T_camera_body, o_.refine, set.depth());
     if (!fit.ok()) return true;
     // Re-match from the refined pose and refine once more if it changed.
     std::array<int, kMaxLeds> again{};
     const int rematched = detail::greedy_match(cam_, k_, blobs_, fit.T_camera_body, o_.inlier_px, margin_, again, sq);
     if (rematched >= o_.min_leds && again != assign) {
       assign = again;
-      detail::gather(k_, blobs_, assign, set);
+      detail::gather(k_, blobs_, assign, o_, set);
       const PoseRefinement f2 =
-          refine_pose_gauss_newton(cam_, set.points(), set.pixels(), fit.T_camera_body, o_.refine);
+          refine_pose_gauss_newton(cam_, set.points(), set.pixels(), fit.T_camera_body, o_.refine, set.depth());
       if (!f2.ok()) return true;
       fit = f2;
     }
@@ -175,6 +179,19 @@ class Search {
     // Four LEDs leave 2 redundant measurements: random blobs can fit them,
     // so a four-LED pose (of a larger constellation) must fit tightly.
     if (matched == 4 && n_ > 4 && fit.rms_px > o_.minimal_fit_rms_px) return false;
+    // Without a prior, a pose that should show more LEDs needs more
+    // (search_min_leds): the search tries thousands of 4-tuples. Expected:
+    // in front of the camera and shining toward it within the margin (the
+    // wide cone, so that a wrong pose cannot expect fewer by turning).
+    if (matched < static_cast<std::size_t>(o_.search_min_leds)) {
+      const Eigen::Vector3d camera_body = detail::camera_in_body(fit.T_camera_body);
+      std::size_t expected = 0;
+      for (const Led& led : k_.leds) {
+        expected += (fit.T_camera_body * led.p_body).z() > 0 && led.emits_toward(camera_body, margin_) ? 1 : 0;
+      }
+      if (matched < std::min(static_cast<std::size_t>(o_.search_min_leds), expected > 0 ? expected - 1 : 0))
+        return false;
+    }
     return true;
   }
 

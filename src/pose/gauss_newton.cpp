@@ -24,6 +24,16 @@ bool reprojection_residual(const PinholeCamera& cam, const Eigen::Isometry3d& T,
   return true;
 }
 
+bool depth_residual(const Eigen::Isometry3d& T, const Eigen::Vector3d& p_body, double z_m, double scale, double& r,
+                    Eigen::Matrix<double, 1, 6>* J) {
+  const Eigen::Vector3d p = T * p_body;
+  if (!(p.z() > 1e-9)) return false;
+  r = (p.z() - z_m) * scale;
+  // ∂z/∂ξ: the third row of [I | −[p]×] = (0, 0, 1, p_y, −p_x, 0).
+  if (J) *J << 0, 0, scale, scale * p.y(), -scale * p.x(), 0;
+  return true;
+}
+
 bool GaussNewtonOptions::validate(std::string* why) const {
   if (max_iterations < 1 || max_iterations > 1000) return invalid(why, "max_iterations: must be in 1..1000");
   if (!(step_tolerance >= 0) || !std::isfinite(step_tolerance)) return invalid(why, "step_tolerance: must be >= 0");
@@ -33,7 +43,7 @@ bool GaussNewtonOptions::validate(std::string* why) const {
 
 PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<const Eigen::Vector3d> p_body,
                                         std::span<const Eigen::Vector2d> uv, const Eigen::Isometry3d& initial,
-                                        const GaussNewtonOptions& o) {
+                                        const GaussNewtonOptions& o, const DepthConstraints& depth) {
   if (!o.validate(nullptr)) {  // cheap on the hot path; the message only on failure
     std::string why;
     o.validate(&why);
@@ -43,15 +53,22 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
   out.T_camera_body = initial;
   const std::size_t n = p_body.size();
   if (n < 3 || uv.size() != n) return out;
+  const bool with_depth = !depth.z_m.empty();
+  if (with_depth && (depth.z_m.size() != n || depth.sigma_m.size() != n || !(depth.pixel_sigma_px > 0))) {
+    throw InvalidArgument("gauss-newton depth constraints: need one depth and one sigma per point");
+  }
+  std::size_t depth_count = 0;  // depth residuals in use
   Eigen::Isometry3d T = initial;
   Matrix6d H;
   Vector6d g;
   Eigen::Vector2d r;
   Eigen::Matrix<double, 2, 6> J;
+  Eigen::Matrix<double, 1, 6> Jd;
   auto accumulate = [&](const Eigen::Isometry3d& pose, double& cost, bool with_jacobian) {
     H.setZero();
     g.setZero();
     cost = 0;
+    depth_count = 0;
     for (std::size_t i = 0; i < n; ++i) {
       if (!reprojection_residual(cam, pose, p_body[i], uv[i], r, with_jacobian ? &J : nullptr)) return false;
       const double e = r.norm();
@@ -61,6 +78,20 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
       if (with_jacobian) {
         H.noalias() += w * J.transpose() * J;
         g.noalias() += w * J.transpose() * r;
+      }
+      if (!with_depth || !std::isfinite(depth.z_m[i]) || !(depth.sigma_m[i] > 0)) continue;
+      double rd = 0;
+      if (!depth_residual(pose, p_body[i], depth.z_m[i], depth.pixel_sigma_px / depth.sigma_m[i], rd,
+                          with_jacobian ? &Jd : nullptr)) {
+        return false;
+      }
+      ++depth_count;
+      const double ed = std::abs(rd);
+      const double wd = o.huber_px > 0 && ed > o.huber_px ? o.huber_px / ed : 1.0;
+      cost += wd * rd * rd;
+      if (with_jacobian) {
+        H.noalias() += wd * Jd.transpose() * Jd;
+        g.noalias() += wd * Jd.transpose() * rd;
       }
     }
     return true;
@@ -97,7 +128,7 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
     sq += r.squaredNorm();
   }
   out.rms_px = std::sqrt(sq / static_cast<double>(n));
-  const double dof = 2.0 * static_cast<double>(n) - 6.0;
+  const double dof = 2.0 * static_cast<double>(n) + static_cast<double>(depth_count) - 6.0;
   const double sigma2 = dof > 0 ? cost / dof : 0.0;
   out.unit_covariance = H.ldlt().solve(Matrix6d::Identity());
   out.noise_variance = sigma2;

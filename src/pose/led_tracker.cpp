@@ -243,8 +243,9 @@ struct LedTracker::Impl {
     const int explainable = static_cast<int>(std::min(constellation.leds.size(), work.size()));
     if (matched < explainable - 2) return false;
     detail::MatchedSet set;
-    detail::gather(constellation, work, led_to_blob, set);
-    PoseRefinement fit = refine_pose_gauss_newton(pin, set.points(), set.pixels(), T, options.correspondence.refine);
+    detail::gather(constellation, work, led_to_blob, options.correspondence, set);
+    PoseRefinement fit =
+        refine_pose_gauss_newton(pin, set.points(), set.pixels(), T, options.correspondence.refine, set.depth());
     if (!fit.ok() || fit.rms_px > options.reinit_rms_px) return false;
     // Re-match from the refined pose with the tighter inlier gate: picks up
     // LEDs the prediction missed and drops ones it mismatched.
@@ -253,9 +254,9 @@ struct LedTracker::Impl {
                             emission_margin, again);
     if (matched >= options.correspondence.min_leds && again != led_to_blob) {
       led_to_blob = again;
-      detail::gather(constellation, work, led_to_blob, set);
-      const PoseRefinement f2 =
-          refine_pose_gauss_newton(pin, set.points(), set.pixels(), fit.T_camera_body, options.correspondence.refine);
+      detail::gather(constellation, work, led_to_blob, options.correspondence, set);
+      const PoseRefinement f2 = refine_pose_gauss_newton(pin, set.points(), set.pixels(), fit.T_camera_body,
+                                                         options.correspondence.refine, set.depth());
       if (f2.ok()) fit = f2;
     }
     if (fit.rms_px > options.reinit_rms_px) return false;
@@ -293,6 +294,11 @@ struct LedTracker::Impl {
     const Correspondence c = detail::find_correspondences(pin, constellation, shape, work, options.correspondence);
     if (c.status != PoseStatus::Ok) {
       lose(c.status);
+      // Too uncertain: the figures that failed the gate (no pose).
+      if (c.status == PoseStatus::Uncertain) {
+        std::tie(estimate.sigma_position_m, estimate.sigma_rotation_rad) =
+            detail::fit_sigmas(c.fit, options.correspondence);
+      }
       return estimate;
     }
     led_to_blob = c.blob_of_led;

@@ -28,6 +28,11 @@ bool PoseBenchmarkOptions::validate(std::string* why) const {
   if (!(success_px > 0)) return fail("success_px: must be positive");
   if (!aruco.validate(&w)) return fail("aruco: " + w);
   if (!rendered_options().validate(&w)) return fail("render: " + w);
+  for (const auto& sc : scenarios) {
+    if (!apply_profile(rendered_options(), sc.profile).validate(&w)) {
+      return fail("scenarios[" + sc.name + "].profile: " + w);
+    }
+  }
   if (!tracker.validate(&w)) return fail("tracker: " + w);
   return true;
 }
@@ -41,8 +46,9 @@ RenderOptions PoseBenchmarkOptions::rendered_options() const {
 }
 
 std::vector<BenchmarkScenario> default_benchmark_scenarios() {
-  return {{"f450 below", default_constellation(), CameraGeometry::Facing, 20},
-          {"paper chase", front_board_constellation(), CameraGeometry::Chase, 20}};
+  return {{"f450 below", default_constellation(), CameraGeometry::Facing, 20, RenderProfile::Clean},
+          {"paper chase", front_board_constellation(), CameraGeometry::Chase, 20, RenderProfile::Clean},
+          {"paper chase", front_board_constellation(), CameraGeometry::Chase, 20, RenderProfile::Harsh}};
 }
 
 std::string_view to_string(PoseBenchmarkStatus s) {
@@ -128,7 +134,7 @@ PoseBenchmarkResult run_pose_benchmark(const PoseBenchmarkOptions& o) {
   int sequence_index = 0;
   for (const BenchmarkScenario& scenario : scenarios) {
     const Constellation& k = scenario.constellation;
-    const SyntheticCamera synth(o.camera, k, o.rendered_options());
+    const SyntheticCamera synth(o.camera, k, apply_profile(o.rendered_options(), scenario.profile));
     TrajectoryOptions to;
     to.min_distance = o.min_distance;
     to.max_distance = o.max_distance;
@@ -145,6 +151,7 @@ PoseBenchmarkResult run_pose_benchmark(const PoseBenchmarkOptions& o) {
       marker.s.method = "aruco";
       led.s.sequence = marker.s.sequence = name;
       led.s.scenario = marker.s.scenario = scenario.name;
+      led.s.profile = marker.s.profile = std::string(to_string(scenario.profile));
       for (std::size_t i = 0; i < trajectory.size(); ++i) {
         synth.render(trajectory[i].T_camera_body, motion_blur_start(trajectory, i), seed, i, frame);
         const DepthImageView depth = frame.depth.view();
@@ -189,8 +196,8 @@ PoseBenchmarkResult run_pose_benchmark(const PoseBenchmarkOptions& o) {
     if (row.successes > 0) continue;
     result.status = PoseBenchmarkStatus::NoSuccessfulFrames;
     result.message += (result.message.empty() ? "" : "; ") + row.method + " on the " + row.scenario + " " +
-                      row.sequence + " sequence: no successful frame of " + std::to_string(row.frames) +
-                      " (its error statistics are undefined)";
+                      row.profile + " " + row.sequence + " sequence: no successful frame of " +
+                      std::to_string(row.frames) + " (its error statistics are undefined)";
   }
   result.epnp_gn_us_median = percentile(ours_us, 0.5);
   result.opencv_iterative_us_median = percentile(iter_us, 0.5);

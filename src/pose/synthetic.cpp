@@ -297,7 +297,7 @@ struct SyntheticCamera::Impl {
 
   /// Per-LED properties fixed per seed, and the frame's drop-outs.
   struct LedExtras {
-    double gain = 1;        // brightness factor (led_gain_spread_stops)
+    double gain = 1;  // brightness factor (led_gain_spread_stops)
     bool reflection = false;
     Eigen::Vector3d reflection_body = Eigen::Vector3d::Zero();
     bool dropped = false;
@@ -482,7 +482,7 @@ void SyntheticCamera::Impl::render_lamps(std::uint64_t seed, double exposure, st
   for (int i = 0; i < o.distractor_count; ++i) {
     const double u = rng.uniform(0, w), v = rng.uniform(0, h);
     const double z = rng.uniform(o.distractor_min_depth, o.distractor_max_depth);
-    double radius = rng.uniform(6, 14);  // [px] larger than any LED spot
+    double radius = rng.uniform(6, 14);   // [px] larger than any LED spot
     double gain = rng.uniform(0.6, 3.0);  // >= 1 saturates the core
     const bool yellowish = rng.uniform() < 0.5;
     Bgr c = yellowish ? Bgr{150, 225, 255} : Bgr{255, 255, 255};
@@ -521,8 +521,8 @@ void SyntheticCamera::Impl::render_lamps(std::uint64_t seed, double exposure, st
   }
 }
 
-void SyntheticCamera::Impl::render_leds(const Eigen::Isometry3d* poses, int n, const Extras& extras,
-                                        double exposure, std::vector<float>& signal, RenderedFrame& out) const {
+void SyntheticCamera::Impl::render_leds(const Eigen::Isometry3d* poses, int n, const Extras& extras, double exposure,
+                                        std::vector<float>& signal, RenderedFrame& out) const {
   const RenderOptions& o = options;
   const int w = camera.width, h = camera.height;
   const Eigen::Isometry3d& T = poses[n / 2];  // the frame's pose (centre of the exposure)

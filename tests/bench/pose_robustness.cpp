@@ -1,21 +1,31 @@
 // Robustness driver for the LED tracker on constellations it was not tuned
-// to (issue 9, item 5): random constellations (5–8 LEDs, quasi-planar or
-// 3-D, random colours), each facing a random direction with random emission
-// cones, rendered by the synthetic camera in the facing geometry (static and
-// moving) and tracked; counts frames with a pose, frames with ≥ 4 LEDs
-// visible, and frames reported ok whose pose is more than 0.1 m or 0.1 rad
-// wrong (printed with their figures).
+// to (issue 9, item 5): random constellations (random_constellation: 5–8
+// LEDs, quasi-planar or 3-D, random colours and facing), rendered by the
+// synthetic camera in the facing geometry (static and moving) under a render
+// profile, and tracked. Counts, per sequence and in all:
+//  - frames with >= 4 LEDs visible and un-merged (RenderedFrame::led_merged)
+//    and the share of them with a pose ("success");
+//  - frames reported ok whose pose is more than 0.1 m or 0.1 rad wrong
+//    ("wrong-ok", printed with their figures);
+//  - why the other frames have no pose.
 //
-//   build/tests/bench/pose_robustness [configs=20] [frames=90] [depth=1] [seed=1000] [max_sigma=default]
+//   pose_robustness [--configs N=20] [--frames N=90] [--seed S=1000]
+//                   [--profile clean|harsh=harsh] [--no-depth]
+//                   [--max-sigma X] [--max-wrong-ok N] [--min-success R]
 //
-// Deterministic: the same arguments give the same counts.
+// With --max-wrong-ok / --min-success it is a check (ctest): exit 1 when the
+// suite has more wrong-ok frames or a lower success over all frames with >= 4
+// un-merged LEDs. Deterministic: the same arguments give the same counts.
+#include <array>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
+#include <map>
 #include <string>
+#include <string_view>
 #include <vector>
 
-#include "touchdown/core/random.hpp"
 #include "touchdown/pose/led_tracker.hpp"
 #include "touchdown/pose/pose_benchmark.hpp"
 #include "touchdown/pose/synthetic.hpp"
@@ -25,65 +35,79 @@ namespace tp = touchdown::pose;
 
 namespace {
 
-// A board of n LEDs in the plane normal to a random facing f, 0.2 × 0.15 m,
-// 0.1 m in front of the body origin, with 5 mm (quasi-planar) or 6 cm (3-D)
-// of relief, LEDs at least 3 cm apart.
-tp::Constellation random_constellation(touchdown::Rng& rng, bool& planar) {
-  tp::Constellation k;
-  const int n = 5 + static_cast<int>(rng.uniform(0, 4));
-  planar = rng.uniform() < 0.5;
-  const Eigen::Vector3d f = Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal()).normalized();
-  const Eigen::Vector3d u = f.unitOrthogonal(), v = f.cross(u);
-  const tp::LedColor colours[4] = {tp::LedColor::Red, tp::LedColor::Green, tp::LedColor::Blue, tp::LedColor::White};
-  for (int i = 0; i < n; ++i) {
-    tp::Led led;
-    for (int tries = 0; tries < 100; ++tries) {
-      led.p_body = 0.1 * f + rng.uniform(-0.1, 0.1) * u + rng.uniform(-0.075, 0.075) * v +
-                   rng.uniform(-1, 1) * (planar ? 0.0025 : 0.03) * f;
-      bool apart = true;
-      for (const auto& other : k.leds) apart = apart && (other.p_body - led.p_body).norm() > 0.03;
-      if (apart) break;
+struct Args {
+  int configs = 20;
+  int frames = 90;
+  std::uint64_t seed = 1000;
+  tp::RenderProfile profile = tp::RenderProfile::Harsh;
+  bool use_depth = true;
+  double max_sigma = -1;    // < 0: the tracker's default
+  long max_wrong_ok = -1;   // < 0: no check
+  double min_success = -1;  // < 0: no check
+};
+
+[[noreturn]] void usage(const char* why) {
+  std::fprintf(stderr, "pose_robustness: %s\n", why);
+  std::exit(2);
+}
+
+Args parse(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view k = argv[i];
+    if (k == "--no-depth") {
+      a.use_depth = false;
+      continue;
     }
-    led.color = colours[static_cast<int>(rng.uniform(0, 4))];
-    led.normal = f;
-    led.half_angle_deg = rng.uniform(50, 90);
-    k.leds.push_back(led);
+    if (i + 1 >= argc) usage(("missing value of " + std::string(k)).c_str());
+    const char* v = argv[++i];
+    if (k == "--configs") {
+      a.configs = std::atoi(v);
+    } else if (k == "--frames") {
+      a.frames = std::atoi(v);
+    } else if (k == "--seed") {
+      a.seed = std::strtoull(v, nullptr, 10);
+    } else if (k == "--profile") {
+      const auto p = tp::parse_render_profile(v);
+      if (!p) usage("--profile: must be clean or harsh");
+      a.profile = *p;
+    } else if (k == "--max-sigma") {
+      a.max_sigma = std::atof(v);
+    } else if (k == "--max-wrong-ok") {
+      a.max_wrong_ok = std::atol(v);
+    } else if (k == "--min-success") {
+      a.min_success = std::atof(v);
+    } else {
+      usage(("unknown option " + std::string(k)).c_str());
+    }
   }
-  return k;
+  if (a.configs < 1 || a.frames < 1) usage("--configs and --frames must be positive");
+  return a;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int configs = argc > 1 ? std::atoi(argv[1]) : 20;
-  const int frames = argc > 2 ? std::atoi(argv[2]) : 90;
-  const bool use_depth = argc > 3 ? std::atoi(argv[3]) != 0 : true;
-  const std::uint64_t seed = argc > 4 ? std::strtoull(argv[4], nullptr, 10) : 1000;
+  const Args args = parse(argc, argv);
   tp::TrackerOptions options;
-  options.use_depth = use_depth;
-  if (argc > 5) {  // the uncertainty gate (position [m] and rotation [rad])
-    options.correspondence.max_sigma_position_m = options.correspondence.max_sigma_rotation_rad = std::atof(argv[5]);
+  options.use_depth = args.use_depth;
+  if (args.max_sigma >= 0) {  // the uncertainty gate (position [m] and rotation [rad])
+    options.correspondence.max_sigma_position_m = options.correspondence.max_sigma_rotation_rad = args.max_sigma;
   }
+  tp::RenderOptions render = tp::apply_profile({}, args.profile);
+  render.render_marker = false;
   const tp::CameraModel camera;
-  long total = 0, ok = 0, wrong = 0, visible4 = 0, ok_visible4 = 0;
-  for (int c = 0; c < configs; ++c) {
-    touchdown::Rng rng(seed + static_cast<std::uint64_t>(c), 0);
-    bool planar = false;
-    const tp::Constellation k = random_constellation(rng, planar);
-    std::string why;
-    if (!k.validate(&why)) {
-      std::printf("config %2d: invalid constellation: %s\n", c, why.c_str());
-      continue;
-    }
-    tp::RenderOptions render;
-    render.render_marker = false;
+  long total = 0, ok = 0, wrong = 0, usable = 0, ok_usable = 0;
+  std::map<std::string, long> failures;  // why frames with >= 4 un-merged LEDs have no pose
+  for (int c = 0; c < args.configs; ++c) {
+    const tp::Constellation k = tp::random_constellation(args.seed + static_cast<std::uint64_t>(c));
     const tp::SyntheticCamera synth(camera, k, render);
-    long config_ok = 0, config_total = 0, config_wrong = 0;
+    long config_ok = 0, config_usable = 0, config_ok_usable = 0, config_wrong = 0;
     for (const auto kind : {tp::TrajectoryKind::Static, tp::TrajectoryKind::Moving}) {
       std::vector<tp::TrajectorySample> trajectory;
-      const std::uint64_t render_seed = seed + 7 + static_cast<std::uint64_t>(c);
+      const std::uint64_t render_seed = args.seed + 7 + static_cast<std::uint64_t>(c);
       try {
-        trajectory = tp::make_trajectory(kind, frames, render_seed, camera, k);
+        trajectory = tp::make_trajectory(kind, args.frames, render_seed, camera, k);
       } catch (const std::exception& e) {
         std::printf("config %2d: %s\n", c, e.what());
         continue;
@@ -93,34 +117,58 @@ int main(int argc, char** argv) {
       for (std::size_t i = 0; i < trajectory.size(); ++i) {
         synth.render(trajectory[i].T_camera_body, tp::motion_blur_start(trajectory, i), render_seed, i, frame);
         const tp::DepthImageView depth = frame.depth.view();
-        const tp::PoseEstimate& e = tracker.track(frame.colour.view(), use_depth ? &depth : nullptr);
-        int visible = 0;
-        for (const bool b : frame.led_visible) visible += b ? 1 : 0;
-        ++config_total;
+        const tp::PoseEstimate& e = tracker.track(frame.colour.view(), args.use_depth ? &depth : nullptr);
+        int visible = 0, clear = 0;
+        for (std::size_t l = 0; l < frame.led_visible.size(); ++l) {
+          visible += frame.led_visible[l] ? 1 : 0;
+          clear += frame.led_visible[l] && !frame.led_merged[l] ? 1 : 0;
+        }
+        const bool is_usable = clear >= 4;
         ++total;
-        visible4 += visible >= 4;
-        if (!e.ok()) continue;
+        usable += is_usable;
+        config_usable += is_usable;
+        if (!e.ok()) {
+          if (is_usable) ++failures[std::string(tp::to_string(e.status))];
+          continue;
+        }
         ++config_ok;
         ++ok;
-        ok_visible4 += visible >= 4;
+        ok_usable += is_usable;
+        config_ok_usable += is_usable;
         const auto [position, rotation] = tp::pose_error(e.T_camera_body, trajectory[i].T_camera_body);
         if (position > 0.1 || rotation > 0.1) {
           ++wrong;
           if (++config_wrong <= 3) {
             std::printf(
                 "  WRONG config %d %s frame %zu: %.3f m %.3f rad, sigma %.3f m %.3f rad, rms %.2f px, %d LEDs, %d "
-                "blobs, %d visible%s\n",
+                "blobs, %d visible, %d un-merged%s\n",
                 c, kind == tp::TrajectoryKind::Static ? "static" : "moving", i, position, rotation, e.sigma_position_m,
-                e.sigma_rotation_rad, e.rms_px, e.points, e.blobs, visible, e.reinitialised ? ", new search" : "");
+                e.sigma_rotation_rad, e.rms_px, e.points, e.blobs, visible, clear,
+                e.reinitialised ? ", new search" : "");
           }
         }
       }
     }
-    std::printf("config %2d: %zu LEDs %s: ok %ld / %ld, wrong-ok %ld\n", c, k.leds.size(),
-                planar ? "quasi-planar" : "3-D         ", config_ok, config_total, config_wrong);
+    std::printf("config %2d: %zu LEDs: ok %ld / %d; >= 4 un-merged %ld, of them ok %.3f; wrong-ok %ld\n", c,
+                k.leds.size(), config_ok, 2 * args.frames, config_usable,
+                config_usable ? static_cast<double>(config_ok_usable) / static_cast<double>(config_usable) : 1.0,
+                config_wrong);
   }
-  std::printf("total: %ld frames, %ld ok; of the %ld frames with >= 4 LEDs visible %.3f ok; wrong-ok %ld (%.3f %%)\n",
-              total, ok, visible4, visible4 ? static_cast<double>(ok_visible4) / static_cast<double>(visible4) : 0.0,
-              wrong, ok ? 100.0 * static_cast<double>(wrong) / static_cast<double>(ok) : 0.0);
-  return 0;
+  const double success = usable ? static_cast<double>(ok_usable) / static_cast<double>(usable) : 1.0;
+  std::printf(
+      "total (%s, %s): %ld frames, %ld ok; %ld with >= 4 LEDs visible and un-merged, of them ok %.4f; "
+      "wrong-ok %ld (%.3f %% of ok)\n",
+      std::string(tp::to_string(args.profile)).c_str(), args.use_depth ? "depth" : "no depth", total, ok, usable,
+      success, wrong, ok ? 100.0 * static_cast<double>(wrong) / static_cast<double>(ok) : 0.0);
+  for (const auto& [why, n] : failures) std::printf("  no pose with >= 4 un-merged LEDs: %-28s %ld\n", why.c_str(), n);
+  bool pass = true;
+  if (args.max_wrong_ok >= 0 && wrong > args.max_wrong_ok) {
+    std::printf("FAIL: %ld wrong-ok frames > %ld\n", wrong, args.max_wrong_ok);
+    pass = false;
+  }
+  if (args.min_success >= 0 && success < args.min_success) {
+    std::printf("FAIL: success %.4f < %.4f\n", success, args.min_success);
+    pass = false;
+  }
+  return pass ? 0 : 1;
 }

@@ -137,7 +137,8 @@ TEST(Correspondence, LedsShiningAwayAreNotMatched) {
     EXPECT_EQ(c.matched, 4);
     EXPECT_EQ(c.blob_of_led[4], -1);
     EXPECT_EQ(c.blob_of_led[5], -1);
-    EXPECT_LT((c.fit.T_camera_body.translation() - T.translation()).norm(), 1e-6);
+    // Exact pixels, noisy depths (fused into the fit): mm, not µm.
+    EXPECT_LT((c.fit.T_camera_body.translation() - T.translation()).norm(), 3e-3);
   }
   EXPECT_GE(ok, 15);
   // Seen from behind, the front LEDs' blobs cannot be the front LEDs.

@@ -28,8 +28,18 @@ struct CorrespondenceOptions {
   std::size_t max_blobs = 10;          ///< the search uses this many brightest blobs
   std::size_t max_hypotheses = 50000;  ///< bound on the EPnP solves of one search
   int min_leds = 4;                    ///< fewest LEDs a pose may rest on
-  double missing_penalty_px = 3.0;     ///< score charged per unexplained LED, as a reprojection error [px]
-  double min_distance = 0.1;           ///< plausible range of the constellation's distance [m]
+  /// Fewest LEDs a pose found by the full search (no prior) may rest on,
+  /// when it expects more than this (LEDs in front of the camera shining
+  /// toward it within emission_margin_deg): min(search_min_leds,
+  /// expected − 1).
+  /// Four points leave two redundant measurements, and of the thousands of
+  /// wrong 4-tuples a search tries some fit by chance: on 20 random
+  /// constellations with airframe reflections (tests/bench/pose_robustness,
+  /// harsh) 41 of 3600 frames were reported ok 0.8 m / 0.8 rad wrong on
+  /// four LEDs at 0.1 px; with 5, none. Tracking (with a prior) needs min_leds.
+  int search_min_leds = 5;
+  double missing_penalty_px = 3.0;  ///< score charged per unexplained LED, as a reprojection error [px]
+  double min_distance = 0.1;        ///< plausible range of the constellation's distance [m]
   double max_distance = 10.0;
   /// Slack on each LED's emission cone (Led::half_angle_deg) [deg]: an LED
   /// is matched only if it shines toward the camera within this, and a pose
@@ -51,6 +61,10 @@ struct CorrespondenceOptions {
   /// Depth noise of the depth camera, σ_z = depth_sigma_k·z² (+ 2 mm)
   /// [1/m]: the scale of the depth test between pose branches.
   double depth_sigma_k = 0.0025;
+  /// Fuse the blobs' measured depths (σ_z above) into the Gauss–Newton
+  /// refinement (DepthConstraints): pins the distance and the tilt a
+  /// quasi-planar board's reprojection leaves loose.
+  bool fuse_depth = true;
   /// The tracked motion rules a branch out when its rotation is farther from
   /// the prediction than the other's by more than this [deg] (a constant-
   /// velocity prediction is good to a degree or two per frame).

@@ -3,7 +3,8 @@
 /// Gauss–Newton refinement of a camera pose from 2-D/3-D correspondences on
 /// SE(3) with the exponential-map parametrisation and analytic Jacobians
 /// (the non-robocentric landing paper's eq. 8), optionally with a Huber
-/// loss; reports the reprojection RMS and the pose covariance.
+/// loss and measured depths; reports the reprojection RMS and the pose
+/// covariance.
 ///
 /// Allocation: none inside the iterations (normal equations are accumulated
 /// point by point into fixed-size 6×6 matrices). Thread-safe: pure functions.
@@ -50,9 +51,28 @@ bool reprojection_residual(const PinholeCamera& camera, const Eigen::Isometry3d&
                            const Eigen::Vector3d& p_body, const Eigen::Vector2d& uv_px, Eigen::Vector2d& residual,
                            Eigen::Matrix<double, 2, 6>* jacobian);
 
-/// Refines `initial` (body → camera) to minimise the reprojection error.
+/// Measured depths of the points (an RGB-D camera's depth at the blobs),
+/// fused with the reprojection: each point with a finite z_m[i] adds the
+/// residual (z_pred − z_m[i]) · pixel_sigma_px / sigma_m[i], a depth error
+/// in the units of a pixel error of σ = pixel_sigma_px, so the normal
+/// equations weigh both by their noise (and the Huber threshold applies
+/// alike). Empty spans: no depth.
+struct DepthConstraints {
+  std::span<const double> z_m;      ///< per point: measured depth [m], NaN = none
+  std::span<const double> sigma_m;  ///< per point: its 1-σ [m] (> 0)
+  double pixel_sigma_px = 0.2;      ///< the pixel noise the depths are scaled to [px]
+};
+
+/// Residual of a measured depth (DepthConstraints) in pixel units and its
+/// 1×6 Jacobian for the left perturbation. False if p is behind the camera.
+bool depth_residual(const Eigen::Isometry3d& T_camera_body, const Eigen::Vector3d& p_body, double z_m, double scale,
+                    double& residual, Eigen::Matrix<double, 1, 6>* jacobian);
+
+/// Refines `initial` (body → camera) to minimise the reprojection error
+/// (and the depth error, with `depth`). rms_px is the reprojection's only;
+/// the covariance and the noise estimate count the depth residuals.
 PoseRefinement refine_pose_gauss_newton(const PinholeCamera& camera, std::span<const Eigen::Vector3d> p_body,
                                         std::span<const Eigen::Vector2d> uv_px, const Eigen::Isometry3d& initial,
-                                        const GaussNewtonOptions& options = {});
+                                        const GaussNewtonOptions& options = {}, const DepthConstraints& depth = {});
 
 }  // namespace touchdown::pose

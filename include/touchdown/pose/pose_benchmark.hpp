@@ -29,12 +29,15 @@ struct BenchmarkScenario {
   Constellation constellation;
   CameraGeometry geometry = CameraGeometry::Facing;
   double camera_tilt_deg = 20;  ///< Chase only
+  /// Rendered with PoseBenchmarkOptions::render under this profile.
+  RenderProfile profile = RenderProfile::Clean;
 };
 
-/// The two built-in scenarios: the F450's downward LEDs seen from below
-/// (default_constellation(), Facing) and the source paper's setup
+/// The three built-in scenarios: the F450's downward LEDs seen from below
+/// (default_constellation(), Facing), and the source paper's setup
 /// (front_board_constellation() on the drone's front, the ground
-/// vehicle's camera tilted 20° up, Chase).
+/// vehicle's camera tilted 20° up, Chase) in the clean and the harsh
+/// render profile.
 std::vector<BenchmarkScenario> default_benchmark_scenarios();
 
 struct PoseBenchmarkOptions {
@@ -59,6 +62,7 @@ struct PoseBenchmarkOptions {
 
 struct MethodStats {
   std::string scenario;  ///< BenchmarkScenario::name
+  std::string profile;   ///< its render profile: "clean" or "harsh"
   std::string method;    ///< "led" or "aruco"
   std::string sequence;  ///< "static" or "moving"
   int frames = 0;

@@ -163,7 +163,7 @@ struct RenderedFrame {
   /// Per visible LED: its lit disc touches another drawn spot's (an LED or
   /// a reflection), so the detector sees one blob with a biased centre.
   std::vector<bool> led_merged;
-  bool marker_visible = false;    ///< the marker faces the camera and all its corners are in the image
+  bool marker_visible = false;  ///< the marker faces the camera and all its corners are in the image
 };
 
 /// Renders frames of a drone's constellation seen by a camera.
