@@ -45,6 +45,12 @@ std::string pose_json(const std::string& frame, const tp::PoseEstimate& e, doubl
                   "\"sigma\": [%.6f, %.6f], \"reproj_px\": %.3f, \"leds\": %d, \"blobs\": %d, \"ms\": %.3f}",
                   frame.c_str(), t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z(), e.sigma_position_m,
                   e.sigma_rotation_rad, e.rms_px, e.points, e.blobs, ms);
+  } else if (e.status == tp::PoseStatus::Uncertain) {  // the figures that failed the gate
+    std::snprintf(buf, sizeof(buf),
+                  "{\"frame\": \"%s\", \"ok\": false, \"reason\": \"%s\", \"sigma\": [%.6f, %.6f], \"blobs\": %d, "
+                  "\"ms\": %.3f}",
+                  frame.c_str(), std::string(tp::to_string(e.status)).c_str(), e.sigma_position_m, e.sigma_rotation_rad,
+                  e.blobs, ms);
   } else {
     std::snprintf(buf, sizeof(buf),
                   "{\"frame\": \"%s\", \"ok\": false, \"reason\": \"%s\", \"blobs\": %d, \"ms\": %.3f}", frame.c_str(),

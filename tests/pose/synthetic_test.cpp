@@ -8,6 +8,7 @@
 #include <opencv2/aruco.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
 
 #include "pose/pose_test_util.hpp"
 #include "test_util.hpp"
@@ -574,4 +575,204 @@ TEST(Trajectory, BadOptionsThrow) {
       {"min_distance, max_distance:", [](O& t) { t.max_distance = 0.1; }},
       {"camera_tilt_deg:", [](O& t) { t.camera_tilt_deg = 95; }},
   });
+}
+
+// ---- the harsh profile -------------------------------------------------------------------
+
+namespace {
+
+// One LED of `colour` facing the camera at `distance` on the optical axis
+// (three helpers far off-axis keep the constellation valid; they face away).
+tp::Constellation single_led(tp::LedColor colour, double spacing = 0) {
+  tp::Constellation k;
+  const Eigen::Vector3d toward(0, 0, -1), away(0, 0, 1);
+  k.leds = {{{0, 0, 0}, colour, toward}};
+  if (spacing > 0) k.leds.push_back({{spacing, 0, 0}, colour, toward});
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(0.5, 0.5, 0), Eigen::Vector3d(-0.5, 0.5, 0.01), Eigen::Vector3d(0.5, -0.5, 0.02)}) {
+    k.leds.push_back({p, tp::LedColor::White, away});
+  }
+  return k;
+}
+
+Eigen::Isometry3d ahead(double distance) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(0, 0, distance);
+  return T;
+}
+
+tp::RenderOptions harsh_quiet() {  // the harsh spot model without the random parts
+  tp::RenderOptions o = tp::apply_profile(clean(), tp::RenderProfile::Harsh);
+  o.noise_sigma = 0;
+  o.led_dropout_probability = 0;
+  o.distractor_count = 0;
+  o.reflection_probability = 0;
+  o.exposure_step_stops = 0;
+  o.led_gain_spread_stops = 0;
+  o.depth_noise_k = 0;
+  o.depth_invalid_fraction = 0;
+  o.render_marker = false;
+  return o;
+}
+
+}  // namespace
+
+TEST(RenderProfile, NamesRoundTripAndHarshIsValid) {
+  for (const auto p : {tp::RenderProfile::Clean, tp::RenderProfile::Harsh}) {
+    EXPECT_EQ(tp::parse_render_profile(tp::to_string(p)), p);
+  }
+  EXPECT_FALSE(tp::parse_render_profile("Harsh").has_value());
+  std::string why;
+  EXPECT_TRUE(tp::apply_profile({}, tp::RenderProfile::Harsh).validate(&why)) << why;
+  EXPECT_EQ(tp::apply_profile({}, tp::RenderProfile::Clean).led_gain, tp::RenderOptions{}.led_gain);
+  using O = tp::RenderOptions;
+  touchdown::test::expect_validate_names_fields<O>({
+      {"exposure_step_frames:", [](O& o) { o.exposure_step_frames = 0; }},
+      {"led_dropout_frames:", [](O& o) { o.led_dropout_frames = 0; }},
+      {"reflection_probability:", [](O& o) { o.reflection_probability = 1.5; }},
+      {"distractor_led_like_fraction:", [](O& o) { o.distractor_led_like_fraction = -0.1; }},
+      {"led_gain_spread_stops:", [](O& o) { o.led_gain_spread_stops = std::nan(""); }},
+  });
+}
+
+// White cores: a bright red, green or blue LED clips to white at its
+// centre while its halo keeps the hue; the clean profile's core is the
+// LED's colour. At 0.5 and 2.5 m.
+TEST(RenderProfile, HarshCoresClipToWhiteWithAHueHalo) {
+  for (const auto colour : {tp::LedColor::Red, tp::LedColor::Green, tp::LedColor::Blue}) {
+    const int ch = channel_of(colour);
+    for (const double d : {0.5, 2.5}) {
+      tp::RenderedFrame harsh, plain;
+      tp::SyntheticCamera(d435(), single_led(colour), harsh_quiet()).render(ahead(d), ahead(d), 1, 0, harsh);
+      tp::SyntheticCamera(d435(), single_led(colour), clean()).render(ahead(d), ahead(d), 1, 0, plain);
+      const Eigen::Vector2d uv = d435().project(Eigen::Vector3d(0, 0, d));
+      const std::uint8_t* core = pixel(harsh.colour, uv);
+      EXPECT_GE(std::min({core[0], core[1], core[2]}), 250) << tp::to_string(colour) << " at " << d;
+      const std::uint8_t* plain_core = pixel(plain.colour, uv);
+      EXPECT_LT(std::min({plain_core[0], plain_core[1], plain_core[2]}), 120) << tp::to_string(colour);
+      // Along a ray outward: a pixel that is bright but unclipped, in the hue.
+      bool hue_seen = false;
+      for (int r = 1; r < 20 && !hue_seen; ++r) {
+        const std::uint8_t* q = pixel(harsh.colour, uv + Eigen::Vector2d(r, 0));
+        const int others = std::max(q[(ch + 1) % 3], q[(ch + 2) % 3]);
+        hue_seen = q[ch] >= 60 && q[ch] < 250 && q[ch] > 2 * others;
+      }
+      EXPECT_TRUE(hue_seen) << tp::to_string(colour) << " at " << d;
+    }
+  }
+}
+
+// Exposure steps hold for a run of frames and change the brightness by
+// whole stops; with exposure_step_stops = 0 nothing changes.
+TEST(RenderProfile, ExposureStepsHoldPerRun) {
+  tp::RenderOptions o = harsh_quiet();
+  o.white_cores = false;  // a clipped-to-colour spot: its halo's sum scales with the exposure
+  o.exposure_step_stops = 1;
+  o.exposure_step_frames = 5;
+  const tp::Constellation k = single_led(tp::LedColor::Red);
+  const tp::SyntheticCamera renderer(d435(), k, o);
+  tp::RenderedFrame frame;
+  std::vector<double> sums;
+  for (std::uint64_t f = 0; f < 40; ++f) {
+    renderer.render(ahead(1.0), ahead(1.0), 3, f, frame);
+    double s = 0;
+    for (std::size_t i = 2; i < frame.colour.pixels.size(); i += 3) s += frame.colour.pixels[i];
+    sums.push_back(s);
+  }
+  std::set<long> levels;
+  for (std::size_t f = 0; f < sums.size(); ++f) {
+    if (f % 5) {
+      EXPECT_EQ(sums[f], sums[f - 1]) << "frame " << f << " inside a run";
+    }
+    levels.insert(std::lround(sums[f]));
+  }
+  EXPECT_GE(levels.size(), 2u);  // 8 runs of 3 possible levels
+  EXPECT_LE(levels.size(), 3u);
+}
+
+// Rolling drop-outs: the share of frames an LED is missing stays the
+// probability, and the drop-outs come in runs.
+TEST(RenderProfile, RollingDropoutsComeInRuns) {
+  tp::RenderOptions o = clean();
+  o.led_dropout_probability = 0.25;
+  o.led_dropout_frames = 10;
+  const tp::SyntheticCamera renderer(d435(), f450(), o);
+  tp::RenderedFrame frame;
+  const Eigen::Isometry3d T = below(1.0);
+  int dropped = 0, total = 0, changes = 0;
+  std::vector<bool> last;
+  for (std::uint64_t f = 0; f < 400; ++f) {
+    renderer.render(T, T, 11, f, frame);
+    for (std::size_t i = 0; i < frame.led_visible.size(); ++i) {
+      dropped += !frame.led_visible[i], ++total;
+      if (!last.empty() && last[i] != frame.led_visible[i]) ++changes;
+    }
+    last = frame.led_visible;
+  }
+  EXPECT_NEAR(static_cast<double>(dropped) / total, 0.25, 0.06);
+  // Independent per frame, an LED would change state ~2·0.25·0.75 = 37 % of
+  // the frames; in runs of 10 at most 2 changes per 10 frames.
+  EXPECT_LT(static_cast<double>(changes) / total, 0.1);
+}
+
+// Merge flags: two LEDs 8 mm apart at 1.5 m share one lit disc; 10 cm
+// apart they do not.
+TEST(RenderProfile, MergeFlagsMarkTouchingSpots) {
+  for (const double spacing : {0.008, 0.1}) {
+    tp::RenderedFrame frame;
+    tp::SyntheticCamera(d435(), single_led(tp::LedColor::Green, spacing), harsh_quiet())
+        .render(ahead(1.5), ahead(1.5), 1, 0, frame);
+    ASSERT_TRUE(frame.led_visible[0] && frame.led_visible[1]);
+    EXPECT_EQ(frame.led_merged[0], spacing < 0.05) << spacing;
+    EXPECT_EQ(frame.led_merged[1], spacing < 0.05) << spacing;
+    EXPECT_FALSE(frame.led_merged[2]);  // faces away: not drawn, not merged
+  }
+}
+
+// Reflections off the airframe: an extra, dimmer spot near a reflecting
+// LED, with the airframe's depth.
+TEST(RenderProfile, ReflectionsAddDimSpotsNearTheirLeds) {
+  tp::RenderOptions o = harsh_quiet();
+  o.reflection_probability = 1;
+  o.reflection_offset = 0.04;
+  const tp::Constellation k = single_led(tp::LedColor::Red);
+  tp::RenderedFrame with, without;
+  tp::SyntheticCamera(d435(), k, o).render(ahead(1.0), ahead(1.0), 5, 0, with);
+  o.reflection_probability = 0;
+  tp::SyntheticCamera(d435(), k, o).render(ahead(1.0), ahead(1.0), 5, 0, without);
+  // Lit pixels (red ≥ 100) away from the LED's own spot: only with the reflection.
+  const Eigen::Vector2d uv = d435().project(Eigen::Vector3d(0, 0, 1.0));
+  auto far_lit = [&](const tp::RenderedFrame& f) {
+    int n = 0;
+    for (int v = 0; v < f.colour.height; ++v) {
+      for (int u = 0; u < f.colour.width; ++u) {
+        const double r = (Eigen::Vector2d(u, v) - uv).norm();
+        if (r > 10 && r < 40 && f.colour.pixels[3 * (static_cast<std::size_t>(v) * f.colour.width + u) + 2] >= 100) ++n;
+      }
+    }
+    return n;
+  };
+  EXPECT_EQ(far_lit(without), 0);
+  EXPECT_GT(far_lit(with), 3);
+}
+
+TEST(RandomConstellation, ValidDeterministicAndVaried) {
+  std::set<std::size_t> sizes;
+  for (std::uint64_t s = 0; s < 40; ++s) {
+    const tp::Constellation a = tp::random_constellation(s), b = tp::random_constellation(s);
+    std::string why;
+    ASSERT_TRUE(a.validate(&why)) << s << ": " << why;
+    ASSERT_EQ(a.leds.size(), b.leds.size());
+    for (std::size_t i = 0; i < a.leds.size(); ++i) {
+      EXPECT_EQ(a.leds[i].p_body, b.leds[i].p_body);
+      EXPECT_TRUE(a.leds[i].has_normal());
+      EXPECT_GE(a.leds[i].half_angle_deg, 50);
+      EXPECT_LE(a.leds[i].half_angle_deg, 90);
+    }
+    EXPECT_GE(a.leds.size(), 5u);
+    EXPECT_LE(a.leds.size(), 8u);
+    sizes.insert(a.leds.size());
+  }
+  EXPECT_EQ(sizes.size(), 4u);
+  EXPECT_NE(tp::random_constellation(1).leds[0].normal, tp::random_constellation(2).leds[0].normal);
 }
