@@ -234,15 +234,19 @@ int main(int argc, char** argv) {
         std::cout << j.dump(2) << "\n";
         return td::app::kExitOk;
       }
-      std::cout << "scenario        profile  sequence  method  frames  success  wrong-ok  pos mean [m]  pos std [m]  "
+      std::size_t scenario_width = 16;  // a custom scenario's name may be longer
+      for (const auto& row : r.rows) scenario_width = std::max(scenario_width, row.scenario.size() + 2);
+      std::cout << std::left << std::setw(static_cast<int>(scenario_width)) << "scenario"
+                << "profile  sequence  method  frames  success  wrong-ok  pos mean [m]  pos std [m]  "
                    "rot mean [rad]  rot std [rad]  ms/frame (median)\n";
       for (const auto& row : r.rows) {
-        std::cout << std::left << std::setw(16) << row.scenario << std::setw(9) << row.profile << std::setw(10)
-                  << row.sequence << std::setw(8) << row.method << std::right << std::setw(6) << row.frames
-                  << std::setw(9) << fixed(row.success_rate, 3) << std::setw(10) << row.wrong_ok << std::setw(14)
-                  << fixed(row.position_mean_m, 4) << std::setw(13) << fixed(row.position_std_m, 4) << std::setw(16)
-                  << fixed(row.orientation_mean_rad, 4) << std::setw(15) << fixed(row.orientation_std_rad, 4)
-                  << std::setw(19) << fixed(row.ms_median, 3) << "\n";
+        std::cout << std::left << std::setw(static_cast<int>(scenario_width)) << row.scenario << std::setw(9)
+                  << row.profile << std::setw(10) << row.sequence << std::setw(8) << row.method << std::right
+                  << std::setw(6) << row.frames << std::setw(9) << fixed(row.success_rate, 3) << std::setw(10)
+                  << row.wrong_ok << std::setw(14) << fixed(row.position_mean_m, 4) << std::setw(13)
+                  << fixed(row.position_std_m, 4) << std::setw(16) << fixed(row.orientation_mean_rad, 4)
+                  << std::setw(15) << fixed(row.orientation_std_rad, 4) << std::setw(19) << fixed(row.ms_median, 3)
+                  << "\n";
       }
       std::cout << "solvers on the tracked LEDs (median, " << r.solver_samples << " frames): EPnP+GN "
                 << fixed(r.epnp_gn_us_median, 1) << " us, OpenCV ITERATIVE " << fixed(r.opencv_iterative_us_median, 1)

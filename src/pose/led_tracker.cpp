@@ -218,6 +218,24 @@ struct LedTracker::Impl {
     tracking = true;
   }
 
+  // A fit too uncertain to report (PoseStatus::Uncertain): the frame has no
+  // pose, but the track goes on from it, so that the next frame is matched
+  // against its prediction instead of searched from scratch (a distant
+  // board stays uncertain for many frames; each search would cost more and
+  // know less). Every later frame is vetted as before.
+  void hold(const PoseRefinement& fit) {
+    estimate.status = PoseStatus::Uncertain;
+    estimate.points = 0;
+    estimate.rms_px = 0;
+    estimate.T_camera_body = Eigen::Isometry3d::Identity();  // no pose
+    estimate.covariance.setZero();
+    std::tie(estimate.sigma_position_m, estimate.sigma_rotation_rad) = detail::fit_sigmas(fit, options.correspondence);
+    previous_pose = last_pose;
+    have_velocity = tracking;
+    last_pose = fit.T_camera_body;
+    tracking = true;
+  }
+
   void lose(PoseStatus s) {
     estimate.status = s;
     estimate.points = 0;
@@ -262,10 +280,13 @@ struct LedTracker::Impl {
     if (fit.rms_px > options.reinit_rms_px) return false;
     // The search's rule (ambiguity.hpp), with the prediction to settle the
     // mirrored branch; anything but Ok ends the track.
-    if (detail::vet_fit(pin, constellation, shape, work, led_to_blob, fit, &T, options.reinit_rms_px,
-                        options.correspondence) != PoseStatus::Ok) {
-      return false;
+    const PoseStatus verdict = detail::vet_fit(pin, constellation, shape, work, led_to_blob, fit, &T,
+                                               options.reinit_rms_px, options.correspondence);
+    if (verdict == PoseStatus::Uncertain) {
+      hold(fit);
+      return true;
     }
+    if (verdict != PoseStatus::Ok) return false;
     accept(fit, static_cast<int>(set.n), false);
     return true;
   }
@@ -292,13 +313,16 @@ struct LedTracker::Impl {
       return estimate;
     }
     const Correspondence c = detail::find_correspondences(pin, constellation, shape, work, options.correspondence);
+    if (c.status == PoseStatus::Uncertain) {  // no pose; the track starts from the fit
+      led_to_blob = c.blob_of_led;
+      tracking = false;
+      have_velocity = false;
+      hold(c.fit);
+      estimate.reinitialised = true;
+      return estimate;
+    }
     if (c.status != PoseStatus::Ok) {
       lose(c.status);
-      // Too uncertain: the figures that failed the gate (no pose).
-      if (c.status == PoseStatus::Uncertain) {
-        std::tie(estimate.sigma_position_m, estimate.sigma_rotation_rad) =
-            detail::fit_sigmas(c.fit, options.correspondence);
-      }
       return estimate;
     }
     led_to_blob = c.blob_of_led;

@@ -426,3 +426,42 @@ TEST(LedTracker, SigmaMatchesTheObservedScatter) {
   EXPECT_GT(rot_sigma, 0.5 * rot_rms);
   EXPECT_LT(rot_sigma, 2.0 * rot_rms);
 }
+
+// A board too far to vouch for gives Uncertain frames — no pose, the 1-σ
+// that failed the gate — but the track goes on: the later frames are
+// matched against its prediction (not re-searched), and when the drone
+// comes close the tracked pose is Ok and right.
+TEST(LedTracker, UncertainFramesKeepTheTrack) {
+  const auto k = tp::front_board_constellation();
+  const tp::CameraModel camera = d435();
+  const auto cam = camera.pinhole();
+  tp::LedTracker tracker(camera, k);
+  touchdown::Rng rng(47);
+  const Eigen::Isometry3d far = front_toward_camera(rng, 3.2);
+  int uncertain = 0, searched_after_first = 0;
+  for (int f = 0; f < 40; ++f) {
+    // From 3.2 m to 0.9 m at a steady speed, turning slowly.
+    const double s = f / 39.0;
+    Eigen::Isometry3d T = far;
+    T.translation() = far.translation() * (1 - s) + Eigen::Vector3d(0.02, -0.01, 0.9) * s;
+    T.linear() = Eigen::AngleAxisd(0.3 * s, Eigen::Vector3d::UnitZ()).toRotationMatrix() * far.linear();
+    auto blobs = blobs_of(k, cam, T, rng, 0.5);
+    add_depth(blobs, k, cam, T, rng);
+    const tp::PoseEstimate& e = tracker.track_blobs(blobs);
+    if (e.status == tp::PoseStatus::Uncertain) {
+      ++uncertain;
+      EXPECT_TRUE(e.T_camera_body.isApprox(Eigen::Isometry3d::Identity())) << f;  // no pose
+      EXPECT_TRUE(e.sigma_position_m > 0.03 || e.sigma_rotation_rad > 0.03) << f;
+    }
+    if (f > 0 && e.reinitialised) ++searched_after_first;
+    if (e.ok()) {
+      EXPECT_FALSE(wrong(e.T_camera_body, T)) << f;
+    }
+    if (f == 39) {
+      ASSERT_TRUE(e.ok()) << tp::to_string(e.status);
+      EXPECT_LT((e.T_camera_body.translation() - T.translation()).norm(), 0.01);
+    }
+  }
+  EXPECT_GE(uncertain, 5);             // the far part is uncertain ...
+  EXPECT_EQ(searched_after_first, 0);  // ... and tracked through, never re-searched
+}

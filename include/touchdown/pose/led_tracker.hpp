@@ -8,6 +8,9 @@
 /// - Tracking: reproject the constellation from the predicted pose, assign
 ///   detections by minimum-cost matching (Hungarian algorithm), refine with
 ///   Gauss–Newton; re-initialise when the reprojection error exceeds a gate.
+///   A fit too uncertain to report (PoseStatus::Uncertain, e.g. a distant
+///   board) gives the frame no pose but keeps the track: the next frame is
+///   matched against its prediction rather than searched from scratch.
 /// - Outlier rejection as published: if the mean absolute deviation of the
 ///   detections' 3-D points exceeds the constellation's, drop points far from
 ///   the predicted constellation centre; then suppress duplicates within
