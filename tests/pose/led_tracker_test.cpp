@@ -290,6 +290,38 @@ TEST(LedTracker, RejectsBadConfiguration) {
   tp::TrackerOptions o;
   o.track_gate_px = -1;
   EXPECT_THROW(tp::LedTracker(d435(), f450(), o), touchdown::InvalidArgument);
+  using C = tp::CorrespondenceOptions;
+  touchdown::test::expect_validate_names_fields<C>({
+      {"search_min_leds:", [](C& c) { c.search_min_leds = 3; }},
+      {"min_leds:", [](C& c) { c.min_leds = 2; }},
+      {"max_sigma_rotation_rad:", [](C& c) { c.max_sigma_rotation_rad = 0; }},
+  });
+}
+
+// Without a prior, four LEDs of a board that should show six are not
+// enough: four exact blobs of the front board give no pose from the search
+// (the two others dropped out), five do; a four-LED view of a board whose
+// other LEDs face away still does (Correspondence.LedsShiningAwayAreNotMatched).
+TEST(Correspondence, SearchNeedsFiveLedsWhenMoreShouldShow) {
+  const auto k = tp::front_board_constellation();
+  const auto cam = d435().pinhole();
+  touchdown::Rng rng(48);
+  for (int trial = 0; trial < 10; ++trial) {
+    const auto T = front_toward_camera(rng, rng.uniform(0.5, 0.9));
+    auto blobs = blobs_of(k, cam, T, rng, 0.0);
+    add_depth(blobs, k, cam, T, rng);
+    auto four = blobs;
+    four.resize(4);
+    EXPECT_EQ(tp::find_correspondences(cam, k, four).status, tp::PoseStatus::NoConsistentCorrespondence) << trial;
+    auto five = blobs;
+    five.resize(5);
+    const auto c = tp::find_correspondences(cam, k, five);
+    EXPECT_TRUE(c.ok() || c.status == tp::PoseStatus::Uncertain) << trial << " " << tp::to_string(c.status);
+    EXPECT_EQ(c.matched, 5) << trial;
+    tp::CorrespondenceOptions lax;
+    lax.search_min_leds = 4;  // the old rule accepts the four
+    EXPECT_NE(tp::find_correspondences(cam, k, four, lax).status, tp::PoseStatus::NoConsistentCorrespondence) << trial;
+  }
 }
 
 // ---- never a confident wrong pose (issue 9, item 3) ---------------------------
