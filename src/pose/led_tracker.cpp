@@ -7,6 +7,7 @@
 
 #include "pose/ambiguity.hpp"
 #include "pose/assignment.hpp"
+#include "pose/pose_filter.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/units.hpp"
 
@@ -46,6 +47,8 @@ bool TrackerOptions::validate(std::string* why) const {
   if (!(mad_ratio > 0)) return fail("mad_ratio: must be positive");
   if (!(centre_gate > 0)) return fail("centre_gate: must be positive");
   if (!(duplicate_fraction >= 0 && duplicate_fraction < 1)) return fail("duplicate_fraction: must be in [0, 1)");
+  if (!(confirm_rms_px > 0)) return fail("confirm_rms_px: must be positive");
+  if (!(fusion_max_frames >= 1 && fusion_max_frames <= 1e6)) return fail("fusion_max_frames: must be in [1, 1e6]");
   return true;
 }
 
@@ -67,6 +70,7 @@ struct LedTracker::Impl {
   Eigen::Isometry3d last_pose = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d previous_pose = Eigen::Isometry3d::Identity();
   detail::OptimalMatcher matcher;
+  detail::PoseFilter filter;
   detail::ConstellationShape shape;  // best-fit plane, symmetry: for the ambiguity checks
   double min_led_spacing = 0;
   double emission_margin = 0;  // [rad] slack on the LEDs' emission cones
@@ -202,41 +206,60 @@ struct LedTracker::Impl {
     work.resize(w);
   }
 
-  void accept(const PoseRefinement& fit, int points, bool reinit) {
+  // A vetted fit (branch settled, reprojection within the gate) becomes the
+  // frame's answer: fused with the earlier frames (options.fuse_frames,
+  // pose_filter.hpp), then Ok if its 1-σ is within the correspondence
+  // options' limits, else Uncertain — no pose, but the track goes on from
+  // the fit, so that the next frame is matched against its prediction
+  // instead of searched from scratch (a distant board stays uncertain for
+  // many frames; each search would cost more and know less). `fresh`: the
+  // fit starts a new track (the filter restarts).
+  void settle(const PoseRefinement& fit, int points, bool fresh) {
+    const CorrespondenceOptions& co = options.correspondence;
+    const double floor2 = co.detection_sigma_px * co.detection_sigma_px;
+    Matrix6d covariance = std::max(fit.noise_variance, floor2) * fit.unit_covariance;
+    Eigen::Isometry3d T = fit.T_camera_body;
+    std::pair<double, double> sigma = pose_sigmas(covariance, T);
+    if (options.fuse_frames) {
+      if (fresh) filter.reset();
+      filter.update(T, covariance);
+      T = filter.pose();
+      covariance = filter.covariance();
+      // Never more than fusion_max_frames frames' worth of certainty: blob
+      // biases persist from frame to frame (a merged blob at a hover), so
+      // frames are not independent measurements.
+      const auto fused = pose_sigmas(covariance, T);
+      const double k = 1 / std::sqrt(options.fusion_max_frames);
+      sigma = {std::max(fused.first, k * sigma.first), std::max(fused.second, k * sigma.second)};
+    }
+    previous_pose = last_pose;
+    have_velocity = tracking;
+    last_pose = fit.T_camera_body;  // the track follows the measurements
+    tracking = true;
+    std::tie(estimate.sigma_position_m, estimate.sigma_rotation_rad) = sigma;
+    estimate.reinitialised = fresh;
+    // A search's pose on fewer than search_min_leds LEDs (the constellation
+    // shows few, or a wrong pose claims so) or with a loose fit is held until
+    // a tracked frame confirms it: chance fits among many blobs do not
+    // survive the next frame's prediction.
+    const bool unconfirmed = fresh && (points < co.search_min_leds || fit.rms_px > options.confirm_rms_px);
+    if (unconfirmed || sigma.first > co.max_sigma_position_m || sigma.second > co.max_sigma_rotation_rad) {
+      estimate.status = PoseStatus::Uncertain;
+      estimate.points = 0;
+      estimate.rms_px = 0;
+      estimate.T_camera_body = Eigen::Isometry3d::Identity();  // no pose
+      estimate.covariance.setZero();
+      return;
+    }
     estimate.status = PoseStatus::Ok;
-    estimate.T_camera_body = fit.T_camera_body;
+    estimate.T_camera_body = T;
     estimate.rms_px = fit.rms_px;
     estimate.points = points;
-    estimate.reinitialised = reinit;
-    estimate.covariance = fit.covariance;
-    // 1-σ figures: the residuals' noise estimate, floored at the assumed
-    // detection noise.
-    std::tie(estimate.sigma_position_m, estimate.sigma_rotation_rad) = detail::fit_sigmas(fit, options.correspondence);
-    previous_pose = last_pose;
-    have_velocity = tracking;
-    last_pose = fit.T_camera_body;
-    tracking = true;
-  }
-
-  // A fit too uncertain to report (PoseStatus::Uncertain): the frame has no
-  // pose, but the track goes on from it, so that the next frame is matched
-  // against its prediction instead of searched from scratch (a distant
-  // board stays uncertain for many frames; each search would cost more and
-  // know less). Every later frame is vetted as before.
-  void hold(const PoseRefinement& fit) {
-    estimate.status = PoseStatus::Uncertain;
-    estimate.points = 0;
-    estimate.rms_px = 0;
-    estimate.T_camera_body = Eigen::Isometry3d::Identity();  // no pose
-    estimate.covariance.setZero();
-    std::tie(estimate.sigma_position_m, estimate.sigma_rotation_rad) = detail::fit_sigmas(fit, options.correspondence);
-    previous_pose = last_pose;
-    have_velocity = tracking;
-    last_pose = fit.T_camera_body;
-    tracking = true;
+    estimate.covariance = covariance;
   }
 
   void lose(PoseStatus s) {
+    filter.reset();
     estimate.status = s;
     estimate.points = 0;
     estimate.rms_px = 0;
@@ -282,12 +305,9 @@ struct LedTracker::Impl {
     // mirrored branch; anything but Ok ends the track.
     const PoseStatus verdict = detail::vet_fit(pin, constellation, shape, work, led_to_blob, fit, &T,
                                                options.reinit_rms_px, options.correspondence);
-    if (verdict == PoseStatus::Uncertain) {
-      hold(fit);
-      return true;
-    }
-    if (verdict != PoseStatus::Ok) return false;
-    accept(fit, static_cast<int>(set.n), false);
+    // Uncertain on its own may still be Ok fused with the earlier frames.
+    if (verdict != PoseStatus::Ok && verdict != PoseStatus::Uncertain) return false;
+    settle(fit, static_cast<int>(set.n), false);
     return true;
   }
 
@@ -313,22 +333,14 @@ struct LedTracker::Impl {
       return estimate;
     }
     const Correspondence c = detail::find_correspondences(pin, constellation, shape, work, options.correspondence);
-    if (c.status == PoseStatus::Uncertain) {  // no pose; the track starts from the fit
-      led_to_blob = c.blob_of_led;
-      tracking = false;
-      have_velocity = false;
-      hold(c.fit);
-      estimate.reinitialised = true;
-      return estimate;
-    }
-    if (c.status != PoseStatus::Ok) {
+    if (c.status != PoseStatus::Ok && c.status != PoseStatus::Uncertain) {
       lose(c.status);
       return estimate;
     }
     led_to_blob = c.blob_of_led;
     tracking = false;  // a fresh track: no velocity yet
     have_velocity = false;
-    accept(c.fit, c.matched, true);
+    settle(c.fit, c.matched, true);
     return estimate;
   }
 };

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "pose/ambiguity.hpp"
+#include "pose/pose_filter.hpp"
 #include "pose/pose_test_util.hpp"
 #include "test_util.hpp"
 #include "touchdown/core/error.hpp"
@@ -496,4 +497,85 @@ TEST(LedTracker, UncertainFramesKeepTheTrack) {
   }
   EXPECT_GE(uncertain, 5);             // the far part is uncertain ...
   EXPECT_EQ(searched_after_first, 0);  // ... and tracked through, never re-searched
+}
+
+// ---- temporal fusion (pose_filter.hpp) ------------------------------------------------
+
+namespace {
+
+// A measurement of T with left-twist noise of covariance diag(sp², sr²).
+Eigen::Isometry3d noisy(const Eigen::Isometry3d& T, touchdown::Rng& rng, double sp, double sr) {
+  tp::Vector6d xi;
+  for (int i = 0; i < 3; ++i) xi[i] = sp * rng.normal();
+  for (int i = 3; i < 6; ++i) xi[i] = sr * rng.normal();
+  return tp::se3_exp(xi) * T;
+}
+
+tp::Matrix6d diag_cov(double sp, double sr) {
+  tp::Matrix6d C = tp::Matrix6d::Zero();
+  C.diagonal() << sp * sp, sp * sp, sp * sp, sr * sr, sr * sr, sr * sr;
+  return C;
+}
+
+}  // namespace
+
+// Oracle: the body-frame covariance is the left one transported by the
+// adjoint: exp(ξ)·T = T·exp(Ad(T⁻¹)ξ) for small ξ.
+TEST(PoseFilter, LeftToBodyIsTheAdjoint) {
+  touchdown::Rng rng(50);
+  for (int k = 0; k < 20; ++k) {
+    const auto T = random_pose(rng);
+    tp::Vector6d xi;
+    for (int i = 0; i < 6; ++i) xi[i] = 1e-6 * rng.normal();
+    const tp::Vector6d eta = tp::se3_log(T.inverse() * tp::se3_exp(xi) * T);
+    EXPECT_LT((eta - tp::detail::left_to_body(T) * xi).norm(), 1e-11);
+  }
+}
+
+// A hovering drone measured with known noise: the fused pose is closer to
+// the truth than the frames, its covariance shrinks with the frames, and
+// its reported sigma matches the observed scatter of the fused poses.
+TEST(PoseFilter, FusesAStaticPoseAndReportsItsScatter) {
+  touchdown::Rng rng(51);
+  const double sp = 0.02, sr = 0.04;
+  double single2 = 0, fused2 = 0, predicted2 = 0;
+  int n = 0, restarts = 0;
+  for (int run = 0; run < 40; ++run) {
+    const auto T = random_pose(rng);
+    tp::detail::PoseFilterOptions o;
+    o.accel_position_m = 1e-4, o.accel_rotation_rad = 1e-4;  // the drone hovers
+    tp::detail::PoseFilter f(o);
+    for (int k = 0; k < 30; ++k) restarts += f.update(noisy(T, rng, sp, sr), diag_cov(sp, sr)) ? 0 : 1;
+    const tp::Vector6d e = tp::se3_log(f.pose() * T.inverse());
+    fused2 += e.tail<3>().squaredNorm();
+    predicted2 += f.covariance().bottomRightCorner<3, 3>().trace();
+    single2 += 3 * sr * sr;
+    ++n;
+  }
+  EXPECT_LE(restarts, 6);               // the 99.9 % gate: ~1 false restart in 1,200 updates
+  EXPECT_LT(fused2, single2 / 5);       // 30 frames: far better than one
+  EXPECT_GT(fused2 / predicted2, 0.5);  // the covariance is honest ...
+  EXPECT_LT(fused2 / predicted2, 2.0);  // ... within a factor of two
+}
+
+// A drone turning and moving at constant velocity: after a few frames the
+// filter follows without lag, and a jump beyond the gate restarts it at
+// the measurement.
+TEST(PoseFilter, FollowsConstantVelocityAndRestartsOnAJump) {
+  touchdown::Rng rng(52);
+  tp::Vector6d v;
+  v << 0.01, -0.005, 0.02, 0.02, -0.01, 0.05;  // per frame
+  Eigen::Isometry3d T = random_pose(rng);
+  tp::detail::PoseFilter f;
+  const double sp = 0.002, sr = 0.004;
+  for (int k = 0; k < 40; ++k) {
+    T = T * tp::se3_exp(v);
+    ASSERT_TRUE(f.update(noisy(T, rng, sp, sr), diag_cov(sp, sr))) << k;
+  }
+  EXPECT_LT((f.pose().translation() - T.translation()).norm(), 0.01);
+  EXPECT_LT(rotation_error(f.pose(), T), 0.01);
+  Eigen::Isometry3d jumped = T;
+  jumped.translation() += Eigen::Vector3d(0.5, 0, 0);
+  EXPECT_FALSE(f.update(jumped, diag_cov(sp, sr)));
+  EXPECT_TRUE(f.pose().isApprox(jumped));
 }

@@ -43,6 +43,22 @@ struct TrackerOptions {
   double centre_gate = 1.5;         ///< keep 3-D points within this × constellation radius of the predicted centre
   double duplicate_fraction = 0.3;  ///< blobs closer than this × the smallest projected LED spacing are duplicates
   bool constant_velocity = true;    ///< predict with the last inter-frame motion
+  /// Fuse each frame's fit with the earlier frames of the track (an
+  /// extended Kalman filter on SE(3) with constant body velocity; a jump
+  /// beyond its χ² gate restarts it): the reported pose and its sigma are
+  /// the fused ones, so a distant board that no single frame pins down can
+  /// become certain over a few frames.
+  bool fuse_frames = true;
+  /// A pose from the full search is reported only once a tracked frame
+  /// confirms it when it rests on fewer than
+  /// correspondence.search_min_leds LEDs or reprojects worse than this
+  /// [px]: such fits among many blobs are where chance poses hide (seen
+  /// without depth in the harsh profile: 12 of 1,600 frames up to 2.9 m
+  /// wrong), and a chance pose does not survive the next frame's prediction.
+  double confirm_rms_px = 1.0;
+  /// The fused 1-σ is never below the frame's own / √fusion_max_frames:
+  /// blob biases persist from frame to frame, so frames are not independent.
+  double fusion_max_frames = 4;
   bool validate(std::string* why) const;
 };
 
