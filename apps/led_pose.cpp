@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
   // --- sequence mode ---
   std::string sequence_dir, camera_file, constellation_file, method = "led";
   tp::ArucoOptions aruco;
-  bool no_depth = false, jsonl = false;
+  bool no_depth = false, jsonl = false, fuse = false;
   app.add_option("SEQUENCE_DIR", sequence_dir, "directory of NNNNNN.png frames (+ NNNNNN.depth.png)");
   app.add_option("--camera", camera_file, "camera YAML (default: SEQUENCE_DIR/camera.yaml)");
   app.add_option("--constellation", constellation_file,
@@ -87,6 +87,9 @@ int main(int argc, char** argv) {
   app.add_option("--aruco-id", aruco.marker_id, "ArUco marker id on the airframe")->capture_default_str();
   app.add_option("--aruco-size", aruco.marker_size, "ArUco marker edge [m]")->capture_default_str();
   app.add_flag("--no-depth", no_depth, "ignore depth images (2-D gating only)");
+  app.add_flag("--fuse", fuse,
+               "report poses fused over the track's frames (a Kalman filter) instead of each frame's own; "
+               "not for a flight stack that filters the poses itself");
   app.add_flag("--jsonl", jsonl, "one JSON object per frame on stdout");
 
   // --- render ---
@@ -155,6 +158,7 @@ int main(int argc, char** argv) {
       ->check(profile_names)
       ->capture_default_str();
   bench->add_flag("--no-depth", no_depth, "LED method without depth");
+  bench->add_flag("--fuse", fuse, "LED method: poses fused over the track's frames");
   bench->add_flag("--json", json, "print one JSON object on stdout");
 
   return td::app::run(app, argc, argv, [&]() -> int {
@@ -201,6 +205,7 @@ int main(int argc, char** argv) {
       o.frames = bench_frames;
       o.seed = seed;
       o.use_depth = !no_depth;
+      o.tracker.fuse_frames = fuse;
       o.aruco = aruco;
       const auto r = tp::run_pose_benchmark(o);
       if (!r.ok()) std::cerr << "led_pose: benchmark: " << r.message << "\n";
@@ -266,6 +271,7 @@ int main(int argc, char** argv) {
     if (method == "led") {
       tp::TrackerOptions to;
       to.use_depth = !no_depth;
+      to.fuse_frames = fuse;
       tracker.emplace(camera, k, to);
     } else {
       marker.emplace(camera, k.T_body_marker, aruco);

@@ -10,7 +10,7 @@
 //  - why the other frames have no pose.
 //
 //   pose_robustness [--configs N=20] [--frames N=90] [--seed S=1000]
-//                   [--profile clean|harsh=harsh] [--no-depth]
+//                   [--profile clean|harsh=harsh] [--no-depth] [--fuse]
 //                   [--max-sigma X] [--max-wrong-ok N] [--min-success R]
 //
 // With --max-wrong-ok / --min-success it is a check (ctest): exit 1 when the
@@ -41,6 +41,7 @@ struct Args {
   std::uint64_t seed = 1000;
   tp::RenderProfile profile = tp::RenderProfile::Harsh;
   bool use_depth = true;
+  bool fuse = false;        // TrackerOptions::fuse_frames
   double max_sigma = -1;    // < 0: the tracker's default
   long max_wrong_ok = -1;   // < 0: no check
   double min_success = -1;  // < 0: no check
@@ -57,6 +58,10 @@ Args parse(int argc, char** argv) {
     const std::string_view k = argv[i];
     if (k == "--no-depth") {
       a.use_depth = false;
+      continue;
+    }
+    if (k == "--fuse") {
+      a.fuse = true;
       continue;
     }
     if (i + 1 >= argc) usage(("missing value of " + std::string(k)).c_str());
@@ -91,6 +96,7 @@ int main(int argc, char** argv) {
   const Args args = parse(argc, argv);
   tp::TrackerOptions options;
   options.use_depth = args.use_depth;
+  options.fuse_frames = args.fuse;
   if (args.max_sigma >= 0) {  // the uncertainty gate (position [m] and rotation [rad])
     options.correspondence.max_sigma_position_m = options.correspondence.max_sigma_rotation_rad = args.max_sigma;
   }

@@ -579,3 +579,33 @@ TEST(PoseFilter, FollowsConstantVelocityAndRestartsOnAJump) {
   EXPECT_FALSE(f.update(jumped, diag_cov(sp, sr)));
   EXPECT_TRUE(f.pose().isApprox(jumped));
 }
+
+// The tracker with fuse_frames: on a board approaching from afar, at least
+// as many frames Ok as frame by frame, none wrong.
+TEST(LedTracker, FusedFramesAreOkSoonerAndNeverWrong) {
+  const auto k = tp::front_board_constellation();
+  const tp::CameraModel camera = d435();
+  const auto cam = camera.pinhole();
+  int ok_alone = 0, ok_fused = 0;
+  for (const bool fuse : {false, true}) {
+    tp::TrackerOptions o;
+    o.fuse_frames = fuse;
+    tp::LedTracker tracker(camera, k, o);
+    touchdown::Rng rng(53);
+    const Eigen::Isometry3d far = front_toward_camera(rng, 3.0);
+    for (int f = 0; f < 60; ++f) {
+      const double s = f / 59.0;
+      Eigen::Isometry3d T = far;
+      T.translation() = far.translation() * (1 - s) + Eigen::Vector3d(0.02, -0.01, 1.2) * s;
+      auto blobs = blobs_of(k, cam, T, rng, 0.5);
+      add_depth(blobs, k, cam, T, rng);
+      const tp::PoseEstimate& e = tracker.track_blobs(blobs);
+      if (!e.ok()) continue;
+      (fuse ? ok_fused : ok_alone) += 1;
+      EXPECT_FALSE(wrong(e.T_camera_body, T)) << f << (fuse ? " fused" : "");
+      EXPECT_LT((e.T_camera_body.translation() - T.translation()).norm(), 0.05) << f;
+    }
+  }
+  EXPECT_GE(ok_fused, ok_alone);
+  EXPECT_GT(ok_alone, 10);
+}

@@ -47,8 +47,11 @@ struct TrackerOptions {
   /// extended Kalman filter on SE(3) with constant body velocity; a jump
   /// beyond its χ² gate restarts it): the reported pose and its sigma are
   /// the fused ones, so a distant board that no single frame pins down can
-  /// become certain over a few frames.
-  bool fuse_frames = true;
+  /// become certain over a few frames, at the price of some lag in fast
+  /// motion. Off by default: a flight stack that fuses the poses in its own
+  /// estimator needs each frame's independent measurement, not a filtered
+  /// one (whose errors are correlated from frame to frame).
+  bool fuse_frames = false;
   /// A pose from the full search is reported only once a tracked frame
   /// confirms it when it rests on fewer than
   /// correspondence.search_min_leds LEDs or reprojects worse than this
