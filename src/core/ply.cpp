@@ -307,6 +307,15 @@ void read_binary(std::istream& in, std::string_view source, const PlyHeader& h, 
           read_exact(item, type_size(prop.count_type), where);
           const double n = decode(item, prop.count_type, swap);
           if (!(n >= 0)) parse_fail(source, "PLY " + where + ": negative list length");
+          // Checked against the bytes left before allocating: a corrupt
+          // length must not ask for gigabytes (found by fuzz_ply).
+          const double left = static_cast<double>(detail::remaining_bytes(in));
+          if (n * static_cast<double>(type_size(prop.type)) > left) {
+            const std::string items = n < 1e18 ? std::to_string(static_cast<std::uint64_t>(n)) : std::to_string(n);
+            parse_fail(source, "truncated binary PLY data: a list of " + items + " items in " + where +
+                                   " needs more than the " + std::to_string(static_cast<std::uint64_t>(left)) +
+                                   " bytes left");
+          }
           const std::size_t bytes = static_cast<std::size_t>(n) * type_size(prop.type);
           buf.resize(bytes);
           read_exact(buf.data(), bytes, where);

@@ -302,6 +302,24 @@ std::string ply_error(const std::string& text) {
   });
 }
 
+// Found by fuzz_ply: a binary list whose length field says 2^32 − 1 items
+// must fail as truncated, without allocating for them.
+TEST(CloudIoBadInput, PlyHugeListLengthIsTruncationNotAnAllocation) {
+  std::string ply =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "property float z\nproperty list uint32 int32 extra\nend_header\n";
+  ply += std::string(12, '\0');   // x, y, z
+  ply += std::string(4, '\xff');  // list length 4294967295
+  ply += std::string(16, '\0');
+  std::istringstream in(ply);
+  try {
+    td::read_ply_cloud(in, "mem.ply");
+    FAIL() << "no error";
+  } catch (const td::ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("4294967295 items"), std::string::npos) << e.what();
+  }
+}
+
 TEST(CloudIoBadInput, PlyErrors) {
   EXPECT_NE(ply_error("plx\n").find("mem.ply: not a PLY file"), std::string::npos);
   EXPECT_NE(ply_error("ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int v\nend_header\n3 0 1 2\n")
