@@ -139,9 +139,13 @@ double depth_misfit(const Constellation& k, std::span<const Blob> blobs, const s
   return chi2;
 }
 
-std::pair<double, double> fit_sigmas(const PoseRefinement& fit, const CorrespondenceOptions& o) {
+Matrix6d fit_covariance(const PoseRefinement& fit, const CorrespondenceOptions& o) {
   const double sd = o.detection_sigma_px;
-  return pose_sigmas(std::max(fit.noise_variance, sd * sd) * fit.unit_covariance, fit.T_camera_body);
+  return std::max(fit.noise_variance, sd * sd) * fit.unit_covariance;
+}
+
+std::pair<double, double> fit_sigmas(const PoseRefinement& fit, const CorrespondenceOptions& o) {
+  return pose_sigmas(fit_covariance(fit, o), fit.T_camera_body);
 }
 
 bool too_uncertain(const PoseRefinement& fit, const CorrespondenceOptions& o) {

@@ -216,8 +216,7 @@ struct LedTracker::Impl {
   // fit starts a new track (the filter restarts).
   void settle(const PoseRefinement& fit, int points, bool fresh) {
     const CorrespondenceOptions& co = options.correspondence;
-    const double floor2 = co.detection_sigma_px * co.detection_sigma_px;
-    Matrix6d covariance = std::max(fit.noise_variance, floor2) * fit.unit_covariance;
+    Matrix6d covariance = detail::fit_covariance(fit, co);
     Eigen::Isometry3d T = fit.T_camera_body;
     std::pair<double, double> sigma = pose_sigmas(covariance, T);
     if (options.fuse_frames) {

@@ -542,9 +542,16 @@ void SyntheticCamera::Impl::render_leds(const Eigen::Isometry3d* poses, int n, c
   const double threshold = std::max(1.0, o.merge_threshold_dn - o.background_level);
   std::array<Eigen::Vector2d, kMaxBlurSamples> centres;
 
+  // Radius of the disc where a spot's brightest channel reaches the
+  // threshold (its peak is 255·gain, clipped at 255 without white cores).
+  auto lit_radius = [&](double sigma, double gain) {
+    const double peak = 255 * (o.white_cores ? gain : std::min(1.0, gain));
+    return peak > threshold ? sigma * std::sqrt(2 * std::log(peak / threshold)) : 0.0;
+  };
+
   // One Gaussian spot of peak `gain` (relative to saturation) and sigma
   // `sigma` [px] with its bloom, smeared over the exposure samples of the
-  // body point `p_body`; returns its centre at the frame's pose.
+  // body point `p_body` (centred on `uv`, its image at the frame's pose).
   auto draw_spot = [&](const Eigen::Vector3d& p_body, const Eigen::Vector2d& uv, double sigma, double gain,
                        double bloom_fraction, Bgr c) {
     double umin = uv.x(), umax = uv.x(), vmin = uv.y(), vmax = uv.y();
@@ -558,7 +565,7 @@ void SyntheticCamera::Impl::render_leds(const Eigen::Isometry3d* poses, int n, c
     }
     // White cores: light linear per channel, clipped by the sensor (so the
     // halo's extent grows with the gain); else clipped to the core colour.
-    const double wide = o.white_cores ? sigma * std::sqrt(2 * std::log(std::max(1.0, gain * 255 / threshold))) : 0;
+    const double wide = o.white_cores ? lit_radius(sigma, gain) : 0;
     const double extent = std::max(3.5 * std::max(sigma, bloom_fraction > 0 ? o.bloom_sigma : 0.0), wide + 3 * sigma);
     const Window win = clip_window(umin - extent, vmin - extent, umax + extent, vmax + extent, w, h);
     const double inv2s2 = 1 / (2 * sigma * sigma), inv2b2 = 1 / (2 * o.bloom_sigma * o.bloom_sigma);
@@ -581,12 +588,6 @@ void SyntheticCamera::Impl::render_leds(const Eigen::Isometry3d* poses, int n, c
         signal[p3 + 2] += c.r * v;
       }
     }
-  };
-  // Radius of the disc where a spot's brightest channel reaches the
-  // threshold (its peak is 255·gain, clipped at 255 without white cores).
-  auto lit_radius = [&](double sigma, double gain) {
-    const double peak = 255 * (o.white_cores ? gain : std::min(1.0, gain));
-    return peak > threshold ? sigma * std::sqrt(2 * std::log(peak / threshold)) : 0.0;
   };
 
   for (std::size_t i = 0; i < count; ++i) {

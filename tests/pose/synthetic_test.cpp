@@ -601,7 +601,9 @@ Eigen::Isometry3d ahead(double distance) {
   return T;
 }
 
-tp::RenderOptions harsh_quiet() {  // the harsh spot model without the random parts
+// The harsh spot model without the random parts: clean(), then the harsh
+// profile, then what the profile switched back on switched off again.
+tp::RenderOptions harsh_quiet() {
   tp::RenderOptions o = tp::apply_profile(clean(), tp::RenderProfile::Harsh);
   o.noise_sigma = 0;
   o.led_dropout_probability = 0;
@@ -609,9 +611,6 @@ tp::RenderOptions harsh_quiet() {  // the harsh spot model without the random pa
   o.reflection_probability = 0;
   o.exposure_step_stops = 0;
   o.led_gain_spread_stops = 0;
-  o.depth_noise_k = 0;
-  o.depth_invalid_fraction = 0;
-  o.render_marker = false;
   return o;
 }
 
