@@ -49,6 +49,10 @@ bool TrackerOptions::validate(std::string* why) const {
   if (!(duplicate_fraction >= 0 && duplicate_fraction < 1)) return fail("duplicate_fraction: must be in [0, 1)");
   if (!(confirm_rms_px > 0)) return fail("confirm_rms_px: must be positive");
   if (!(fusion_max_frames >= 1 && fusion_max_frames <= 1e6)) return fail("fusion_max_frames: must be in [1, 1e6]");
+  if (noise_pool_frames < 0 || noise_pool_frames > 1000) return fail("noise_pool_frames: must be in 0..1000");
+  if (!(min_detection_sigma_px > 0 && min_detection_sigma_px <= correspondence.detection_sigma_px)) {
+    return fail("min_detection_sigma_px: must be in (0, correspondence.detection_sigma_px]");
+  }
   return true;
 }
 
@@ -65,6 +69,8 @@ struct LedTracker::Impl {
   std::vector<Blob> detected, work;
   PoseEstimate estimate;
   std::array<int, kMaxLeds> led_to_blob{};
+  std::vector<double> noise_pool, noise_sorted;  // tracked fits' σ̂² (ring), scratch
+  std::size_t noise_next = 0;
   bool tracking = false;
   bool have_velocity = false;
   Eigen::Isometry3d last_pose = Eigen::Isometry3d::Identity();
@@ -86,6 +92,8 @@ struct LedTracker::Impl {
     work.reserve(o.detector.max_blobs);
     cluster.reserve(o.detector.max_blobs);
     keep.reserve(o.detector.max_blobs);
+    noise_pool.reserve(static_cast<std::size_t>(o.noise_pool_frames));
+    noise_sorted.reserve(static_cast<std::size_t>(o.noise_pool_frames));
     min_led_spacing = kInf;
     for (std::size_t i = 0; i < k.leds.size(); ++i) {
       for (std::size_t j = 0; j < i; ++j)
@@ -216,7 +224,8 @@ struct LedTracker::Impl {
   // fit starts a new track (the filter restarts).
   void settle(const PoseRefinement& fit, int points, bool fresh) {
     const CorrespondenceOptions& co = options.correspondence;
-    Matrix6d covariance = detail::fit_covariance(fit, co);
+    Matrix6d covariance = std::max(fit.noise_variance, noise_floor()) * fit.unit_covariance;
+    if (!fresh) pool_noise(fit.noise_variance);
     Eigen::Isometry3d T = fit.T_camera_body;
     std::pair<double, double> sigma = pose_sigmas(covariance, T);
     if (options.fuse_frames) {
@@ -255,6 +264,29 @@ struct LedTracker::Impl {
     estimate.rms_px = fit.rms_px;
     estimate.points = points;
     estimate.covariance = covariance;
+  }
+
+  // The detection-noise variance floor (TrackerOptions::noise_pool_frames).
+  double noise_floor() {
+    const double sd = options.correspondence.detection_sigma_px;
+    const int n = static_cast<int>(noise_pool.size());
+    if (options.noise_pool_frames == 0 || 3 * n < options.noise_pool_frames) return sd * sd;
+    noise_sorted.assign(noise_pool.begin(), noise_pool.end());
+    const auto mid = noise_sorted.begin() + n / 2;
+    std::nth_element(noise_sorted.begin(), mid, noise_sorted.end());
+    const double lo = options.min_detection_sigma_px;
+    return std::clamp(1.25 * *mid, lo * lo, sd * sd);
+  }
+
+  void pool_noise(double variance) {
+    const auto cap = static_cast<std::size_t>(options.noise_pool_frames);
+    if (cap == 0 || !std::isfinite(variance)) return;
+    if (noise_pool.size() < cap) {
+      noise_pool.push_back(variance);
+    } else {
+      noise_pool[noise_next] = variance;
+    }
+    noise_next = (noise_next + 1) % cap;
   }
 
   void lose(PoseStatus s) {

@@ -12,10 +12,15 @@
 //   pose_robustness [--configs N=20] [--frames N=90] [--seed S=1000]
 //                   [--profile clean|harsh=harsh] [--no-depth] [--fuse]
 //                   [--max-sigma X] [--max-wrong-ok N] [--min-success R]
+//                   [--calibration] [--centroids]
+//
+// --calibration prints the reported sigma against the true error by sigma
+// bin; --centroids the matched, un-merged blobs' centre error by blob area.
 //
 // With --max-wrong-ok / --min-success it is a check (ctest): exit 1 when the
 // suite has more wrong-ok frames or a lower success over all frames with >= 4
 // un-merged LEDs. Deterministic: the same arguments give the same counts.
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
@@ -41,10 +46,12 @@ struct Args {
   std::uint64_t seed = 1000;
   tp::RenderProfile profile = tp::RenderProfile::Harsh;
   bool use_depth = true;
-  bool fuse = false;        // TrackerOptions::fuse_frames
-  double max_sigma = -1;    // < 0: the tracker's default
-  long max_wrong_ok = -1;   // < 0: no check
-  double min_success = -1;  // < 0: no check
+  bool fuse = false;         // TrackerOptions::fuse_frames
+  bool calibration = false;  // print error / sigma by sigma bin
+  bool centroids = false;    // print the matched blobs' centre errors by blob area
+  double max_sigma = -1;     // < 0: the tracker's default
+  long max_wrong_ok = -1;    // < 0: no check
+  double min_success = -1;   // < 0: no check
 };
 
 [[noreturn]] void usage(const char* why) {
@@ -62,6 +69,14 @@ Args parse(int argc, char** argv) {
     }
     if (k == "--fuse") {
       a.fuse = true;
+      continue;
+    }
+    if (k == "--calibration") {
+      a.calibration = true;
+      continue;
+    }
+    if (k == "--centroids") {
+      a.centroids = true;
       continue;
     }
     if (i + 1 >= argc) usage(("missing value of " + std::string(k)).c_str());
@@ -90,6 +105,57 @@ Args parse(int argc, char** argv) {
   return a;
 }
 
+// A reported pose's sigma against its true error (--calibration).
+struct Calib {
+  double sigma_rot, rot, sigma_pos, pos;
+};
+
+// Per bin of the reported rotation sigma: frames, the median and 90th
+// percentile of error / sigma (rotation and position), and the share more
+// than 0.1 m or 0.1 rad wrong. An honest sigma gives a median ratio near
+// 1.5 (the norm of a 3-D Gaussian in units of its per-axis sigma).
+void print_calibration(std::vector<Calib> c) {
+  const double edges[] = {0, 0.005, 0.01, 0.02, 0.03, 0.05, 0.1, 1e9};
+  std::printf("calibration: sigma_rot bin | frames | rot err/sigma median p90 | pos err/sigma median p90 | wrong\n");
+  for (int b = 0; b + 1 < static_cast<int>(std::size(edges)); ++b) {
+    std::vector<double> r, p;
+    long wrong = 0;
+    for (const Calib& x : c) {
+      if (x.sigma_rot < edges[b] || x.sigma_rot >= edges[b + 1]) continue;
+      r.push_back(x.rot / x.sigma_rot);
+      p.push_back(x.pos / x.sigma_pos);
+      wrong += (x.rot > 0.1 || x.pos > 0.1) ? 1 : 0;
+    }
+    if (r.empty()) continue;
+    const auto q = [](std::vector<double>& v, double f) {
+      const auto k = static_cast<std::size_t>(f * static_cast<double>(v.size() - 1));
+      std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+      return v[k];
+    };
+    std::printf("  [%.3f, %.3f) | %zu | %.2f %.2f | %.2f %.2f | %ld\n", edges[b], std::min(edges[b + 1], 9.99),
+                r.size(), q(r, 0.5), q(r, 0.9), q(p, 0.5), q(p, 0.9), wrong);
+  }
+}
+
+// Matched, un-merged blobs' centre error against the true projection, by
+// blob area (--centroids).
+void print_centroids(const std::array<std::vector<std::pair<double, double>>, 2>& errors) {
+  const double edges[] = {0, 10, 30, 100, 300, 1e9};
+  std::printf("centre error [px]: sequence, area bin | blobs | median p90\n");
+  for (int s = 0; s < 2; ++s) {
+    for (int b = 0; b + 1 < static_cast<int>(std::size(edges)); ++b) {
+      std::vector<double> v;
+      for (const auto& [area, e] : errors[static_cast<std::size_t>(s)]) {
+        if (area >= edges[b] && area < edges[b + 1]) v.push_back(e);
+      }
+      if (v.empty()) continue;
+      std::sort(v.begin(), v.end());
+      std::printf("  %s [%g, %g) | %zu | %.3f %.3f\n", s == 0 ? "static" : "moving", edges[b], edges[b + 1], v.size(),
+                  v[v.size() / 2], v[(v.size() - 1) * 9 / 10]);
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -105,6 +171,8 @@ int main(int argc, char** argv) {
   const tp::CameraModel camera;
   long total = 0, ok = 0, wrong = 0, usable = 0, ok_usable = 0;
   std::map<std::string, long> failures;  // why frames with >= 4 un-merged LEDs have no pose
+  std::vector<Calib> calib;
+  std::array<std::vector<std::pair<double, double>>, 2> centre_errors;  // static, moving: (area, error px)
   for (int c = 0; c < args.configs; ++c) {
     const tp::Constellation k = tp::random_constellation(args.seed + static_cast<std::uint64_t>(c));
     const tp::SyntheticCamera synth(camera, k, render);
@@ -130,6 +198,16 @@ int main(int argc, char** argv) {
           clear += frame.led_visible[l] && !frame.led_merged[l] ? 1 : 0;
         }
         const bool is_usable = clear >= 4;
+        if (args.centroids && e.ok()) {
+          for (std::size_t l = 0; l < frame.led_visible.size(); ++l) {
+            const int b = tracker.led_to_blob()[l];
+            if (!frame.led_visible[l] || frame.led_merged[l] || b < 0) continue;
+            const tp::Blob& blob = tracker.blobs()[static_cast<std::size_t>(b)];
+            const Eigen::Vector2d truth = camera.project(trajectory[i].T_camera_body * k.leds[l].p_body);
+            centre_errors[kind == tp::TrajectoryKind::Static ? 0 : 1].push_back(
+                {blob.area, (blob.uv_px - truth).norm()});
+          }
+        }
         ++total;
         usable += is_usable;
         config_usable += is_usable;
@@ -142,6 +220,7 @@ int main(int argc, char** argv) {
         ok_usable += is_usable;
         config_ok_usable += is_usable;
         const auto [position, rotation] = tp::pose_error(e.T_camera_body, trajectory[i].T_camera_body);
+        if (args.calibration) calib.push_back({e.sigma_rotation_rad, rotation, e.sigma_position_m, position});
         if (position > 0.1 || rotation > 0.1) {
           ++wrong;
           if (++config_wrong <= 3) {
@@ -167,6 +246,8 @@ int main(int argc, char** argv) {
       std::string(tp::to_string(args.profile)).c_str(), args.use_depth ? "depth" : "no depth", total, ok, usable,
       success, wrong, ok ? 100.0 * static_cast<double>(wrong) / static_cast<double>(ok) : 0.0);
   for (const auto& [why, n] : failures) std::printf("  no pose with >= 4 un-merged LEDs: %-28s %ld\n", why.c_str(), n);
+  if (args.calibration) print_calibration(calib);
+  if (args.centroids) print_centroids(centre_errors);
   bool pass = true;
   if (args.max_wrong_ok >= 0 && wrong > args.max_wrong_ok) {
     std::printf("FAIL: %ld wrong-ok frames > %ld\n", wrong, args.max_wrong_ok);

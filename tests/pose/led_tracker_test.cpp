@@ -297,6 +297,12 @@ TEST(LedTracker, RejectsBadConfiguration) {
       {"min_leds:", [](C& c) { c.min_leds = 2; }},
       {"max_sigma_rotation_rad:", [](C& c) { c.max_sigma_rotation_rad = 0; }},
   });
+  using O = tp::TrackerOptions;
+  touchdown::test::expect_validate_names_fields<O>({
+      {"noise_pool_frames:", [](O& t) { t.noise_pool_frames = -1; }},
+      {"min_detection_sigma_px:", [](O& t) { t.min_detection_sigma_px = 0; }},
+      {"min_detection_sigma_px:", [](O& t) { t.min_detection_sigma_px = 0.5; }},
+  });
 }
 
 // Without a prior, four LEDs of a board that should show six are not
@@ -458,6 +464,39 @@ TEST(LedTracker, SigmaMatchesTheObservedScatter) {
   const double rot_rms = std::sqrt(sum_rot_sq / trials), rot_sigma = sum_rot_sigma / trials;
   EXPECT_GT(rot_sigma, 0.5 * rot_rms);
   EXPECT_LT(rot_sigma, 2.0 * rot_rms);
+}
+
+// A sensor quieter than the default floor (detection_sigma_px = 0.2 px):
+// once the track has pooled its fits' noise, the reported sigma follows the
+// observed scatter instead of the floor; with the pool off it overstates it.
+TEST(LedTracker, PooledNoiseFloorFollowsAQuietSensor) {
+  const auto k = f450();
+  const auto cam = d435();
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() << 0.05, 0.02, 1.5;
+  auto run = [&](int pool) {
+    touchdown::Rng rng(45);
+    tp::TrackerOptions o;
+    o.noise_pool_frames = pool;
+    tp::LedTracker tracker(cam, k, o);
+    double sum_sq = 0, sum_sigma = 0;
+    int n = 0;
+    for (int i = 0; i < 400; ++i) {
+      const auto& e = tracker.track_blobs(blobs_of(k, cam.pinhole(), T, rng, 0.06));
+      EXPECT_TRUE(e.ok());
+      if (i < 40 || !e.ok()) continue;  // the pool is warm after 10 tracked fits
+      sum_sq += std::pow(rotation_error(e.T_camera_body, T), 2);
+      sum_sigma += e.sigma_rotation_rad;
+      ++n;
+    }
+    return std::pair{std::sqrt(sum_sq / n), sum_sigma / n};
+  };
+  const auto [rms, sigma] = run(30);
+  EXPECT_GT(sigma, 0.5 * rms);
+  EXPECT_LT(sigma, 2.0 * rms);
+  const auto [rms_fixed, sigma_fixed] = run(0);
+  EXPECT_GT(sigma_fixed, 2.5 * rms_fixed);
 }
 
 // A board too far to vouch for gives Uncertain frames — no pose, the 1-σ

@@ -62,6 +62,20 @@ struct TrackerOptions {
   /// The fused 1-σ is never below the frame's own / √fusion_max_frames:
   /// blob biases persist from frame to frame, so frames are not independent.
   double fusion_max_frames = 4;
+  /// The detection noise a fit's covariance assumes is at least the frame's
+  /// own residual σ̂² = cost / dof and a floor. Until the track has
+  /// noise_pool_frames / 3 tracked fits the floor is
+  /// correspondence.detection_sigma_px; then it is the noise scale measured
+  /// on this camera: 1.25 × the median σ̂² of the last noise_pool_frames
+  /// tracked fits (1.25 covers the median's bias below the mean of a χ²
+  /// with few degrees of freedom), kept within
+  /// [min_detection_sigma_px², detection_sigma_px²]. One frame's σ̂² rests
+  /// on 6–14 degrees of freedom and can be small by chance; the pool's
+  /// median cannot, and a sensor quieter than the default floor no longer
+  /// has its poses' sigma overstated (measured on the harsh renderer:
+  /// error/σ median 0.1 at the fixed floor, 0.3–1 with the pool). 0 = off.
+  int noise_pool_frames = 30;
+  double min_detection_sigma_px = 0.05;  ///< [px] the pooled floor's lower bound
   bool validate(std::string* why) const;
 };
 
