@@ -19,6 +19,9 @@ bool CorrespondenceOptions::validate(std::string* why) const {
   if (!(inlier_px > 0)) return fail("inlier_px: must be positive");
   if (!(accept_rms_px > 0)) return fail("accept_rms_px: must be positive");
   if (max_blobs < 4 || max_blobs > 32) return fail("max_blobs: must be in 4..32");
+  if (max_blobs_retry < max_blobs || max_blobs_retry > 32) {
+    return fail("max_blobs_retry: must be in max_blobs..32");
+  }
   if (max_hypotheses < 1) return fail("max_hypotheses: must be positive");
   if (min_leds < 4) return fail("min_leds: must be at least 4");
   if (search_min_leds < 4 || search_min_leds > static_cast<int>(kMaxLeds)) {
@@ -155,6 +158,9 @@ class Search {
     return true;
   }
 
+  // True when the hypotheses so far hold a pose finish() could accept.
+  [[nodiscard]] bool found() const { return best_.matched >= o_.min_leds && best_.fit.rms_px <= o_.accept_rms_px; }
+
   Correspondence finish(const detail::ConstellationShape& shape) {
     if (best_.matched < o_.min_leds) return best_;
     if (best_.fit.rms_px > o_.accept_rms_px) {
@@ -213,7 +219,8 @@ namespace detail {
 
 Correspondence find_correspondences(const PinholeCamera& cam, const Constellation& k, const ConstellationShape& shape,
                                     std::span<const Blob> all_blobs, const CorrespondenceOptions& o) {
-  const std::span<const Blob> blobs = all_blobs.first(std::min(all_blobs.size(), o.max_blobs));
+  const std::size_t first = std::min(all_blobs.size(), o.max_blobs);
+  const std::span<const Blob> blobs = all_blobs.first(std::max(first, std::min(all_blobs.size(), o.max_blobs_retry)));
   if (blobs.size() < static_cast<std::size_t>(o.min_leds) || k.leds.size() < 4) {
     Correspondence none;
     none.blob_of_led.fill(-1);
@@ -221,12 +228,21 @@ Correspondence find_correspondences(const PinholeCamera& cam, const Constellatio
     return none;
   }
   // Every 4-subset of LEDs against every ordered 4-tuple of distinct,
-  // colour-compatible blobs.
+  // colour-compatible blobs: first among the `first` brightest blobs, then,
+  // if that gave no pose, the tuples that use one of the next ones
+  // (max_blobs_retry). Every hypothesis is verified against all of them.
   Search search(cam, k, blobs, o);
-  for_each_subset(k.leds.size(), [&](const Quad& L) {
-    Quad B{};
-    return for_each_blob_tuple(k, blobs, L, B, 0, [&](const Quad& b) { return search.consider(L, b); });
-  });
+  const auto pass = [&](bool retry) {
+    for_each_subset(k.leds.size(), [&](const Quad& L) {
+      Quad B{};
+      return for_each_blob_tuple(k, blobs, L, B, 0, [&](const Quad& b) {
+        const bool uses_next = *std::max_element(b.begin(), b.end()) >= first;
+        return uses_next == retry ? search.consider(L, b) : true;
+      });
+    });
+  };
+  pass(false);
+  if (blobs.size() > first && !search.found()) pass(true);
   return search.finish(shape);
 }
 

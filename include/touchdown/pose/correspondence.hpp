@@ -23,9 +23,16 @@
 namespace touchdown::pose {
 
 struct CorrespondenceOptions {
-  double inlier_px = 6.0;              ///< a reprojected LED within this of a blob explains it [px]
-  double accept_rms_px = 3.0;          ///< the final fit must reproject better than this [px]
-  std::size_t max_blobs = 10;          ///< the search uses this many brightest blobs
+  double inlier_px = 6.0;      ///< a reprojected LED within this of a blob explains it [px]
+  double accept_rms_px = 3.0;  ///< the final fit must reproject better than this [px]
+  std::size_t max_blobs = 10;  ///< the search uses this many brightest blobs
+  /// When the max_blobs brightest give no pose and more were detected, the
+  /// search goes on with the 4-tuples that use the next ones, up to this
+  /// many blobs in all (within the same max_hypotheses). Airframe
+  /// reflections and lamps can outshine the LEDs themselves: a clipped LED
+  /// core caps its summed brightness, a wider reflection's is not (seen in
+  /// the harsh profile at 1 m: the six LEDs ranked 7th–12th of 14 blobs).
+  std::size_t max_blobs_retry = 16;
   std::size_t max_hypotheses = 50000;  ///< bound on the EPnP solves of one search
   int min_leds = 4;                    ///< fewest LEDs a pose may rest on
   /// Fewest LEDs a pose found by the full search (no prior) may rest on,
