@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <numeric>
 #include <vector>
 
@@ -200,6 +202,37 @@ TEST(Correspondence, HandlesASpuriousBlobAndAMissingLed) {
       EXPECT_EQ(c.blob_of_led[l], expected) << trial << " led " << l;
     }
     EXPECT_LT((c.fit.T_camera_body.translation() - T.translation()).norm(), 0.01 * T.translation().z());
+  }
+}
+
+// Six brighter spots of the LEDs' colours (reflections, lamps) ranked
+// before the six LEDs: the first pass over the 10 brightest holds only four
+// LEDs and gives no pose; the second pass (max_blobs_retry) finds it. With
+// the retry off (max_blobs_retry = max_blobs) there is no pose.
+TEST(Correspondence, SecondPassFindsLedsOutshoneByReflections) {
+  const auto k = f450();
+  const auto cam = d435().pinhole();
+  touchdown::Rng rng(23);
+  for (int trial = 0; trial < 10; ++trial) {
+    const auto T = looking_up(rng, rng.uniform(0.5, 1.2));
+    const auto leds = blobs_of(k, cam, T, rng, 0.05);
+    std::vector<tp::Blob> blobs;
+    for (std::size_t i = 0; i < 6; ++i) {  // each a wide spot 40-80 px off an LED, brighter
+      tp::Blob b = leds[i % leds.size()];
+      const double a = rng.uniform(0, 2 * std::numbers::pi);
+      b.uv_undistorted += rng.uniform(40, 80) * Eigen::Vector2d(std::cos(a), std::sin(a));
+      b.uv_px = b.uv_undistorted;
+      b.intensity = 3000 + rng.uniform(0, 100);
+      blobs.push_back(b);
+    }
+    blobs.insert(blobs.end(), leds.begin(), leds.end());
+    const auto c = tp::find_correspondences(cam, k, blobs);
+    ASSERT_EQ(c.status, tp::PoseStatus::Ok) << trial;
+    EXPECT_EQ(c.matched, static_cast<int>(k.leds.size())) << trial;
+    for (std::size_t l = 0; l < k.leds.size(); ++l) EXPECT_EQ(c.blob_of_led[l], int(6 + l)) << trial;
+    tp::CorrespondenceOptions first_only;
+    first_only.max_blobs_retry = first_only.max_blobs;
+    EXPECT_FALSE(tp::find_correspondences(cam, k, blobs, first_only).ok()) << trial;
   }
 }
 
