@@ -139,13 +139,12 @@ double depth_misfit(const Constellation& k, std::span<const Blob> blobs, const s
   return chi2;
 }
 
-Matrix6d fit_covariance(const PoseRefinement& fit, const CorrespondenceOptions& o) {
-  const double sd = o.detection_sigma_px;
-  return std::max(fit.noise_variance, sd * sd) * fit.unit_covariance;
+Matrix6d fit_covariance(const PoseRefinement& fit, double floor_variance) {
+  return std::max(fit.noise_variance, floor_variance) * fit.unit_covariance;
 }
 
 std::pair<double, double> fit_sigmas(const PoseRefinement& fit, const CorrespondenceOptions& o) {
-  return pose_sigmas(fit_covariance(fit, o), fit.T_camera_body);
+  return pose_sigmas(fit_covariance(fit, o.detection_sigma_px * o.detection_sigma_px), fit.T_camera_body);
 }
 
 bool too_uncertain(const PoseRefinement& fit, const CorrespondenceOptions& o) {

@@ -59,11 +59,11 @@ double depth_misfit(const Constellation& constellation, std::span<const Blob> bl
                     const std::array<int, kMaxLeds>& blob_of_led, const Eigen::Isometry3d& T_camera_body,
                     const CorrespondenceOptions& options);
 
-// A fit's twist covariance with the noise floored at detection_sigma_px:
-// max(σ², detection_sigma_px²)·(JᵀWJ)⁻¹.
-Matrix6d fit_covariance(const PoseRefinement& fit, const CorrespondenceOptions& options);
+// A fit's twist covariance with its noise variance floored:
+// max(σ², floor_variance)·(JᵀWJ)⁻¹ [px² for the variances].
+Matrix6d fit_covariance(const PoseRefinement& fit, double floor_variance);
 // The 1-σ position [m] and rotation [rad] of a fit (pose_sigmas of
-// fit_covariance), and whether
+// fit_covariance floored at detection_sigma_px²), and whether
 // they exceed the options' max_sigma_position_m / max_sigma_rotation_rad.
 std::pair<double, double> fit_sigmas(const PoseRefinement& fit, const CorrespondenceOptions& options);
 bool too_uncertain(const PoseRefinement& fit, const CorrespondenceOptions& options);

@@ -224,7 +224,7 @@ struct LedTracker::Impl {
   // fit starts a new track (the filter restarts).
   void settle(const PoseRefinement& fit, int points, bool fresh) {
     const CorrespondenceOptions& co = options.correspondence;
-    Matrix6d covariance = std::max(fit.noise_variance, noise_floor()) * fit.unit_covariance;
+    Matrix6d covariance = detail::fit_covariance(fit, noise_floor());
     if (!fresh) pool_noise(fit.noise_variance);
     Eigen::Isometry3d T = fit.T_camera_body;
     std::pair<double, double> sigma = pose_sigmas(covariance, T);
