@@ -9,14 +9,24 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 }  // namespace
 
+constexpr int kMinPoseLeds = 4;  // EPnP and a redundant fit
+
 void gather(const Constellation& k, std::span<const Blob> blobs, const std::array<int, kMaxLeds>& blob_of_led,
             MatchedSet& s, double depth_sigma_k, double pixel_sigma) {
   s.n = 0;
   s.depths = 0;
   s.pixel_sigma = pixel_sigma;
+  // Split blobs (their centres biased by a neighbour) only when the others
+  // are too few for a pose.
+  int whole = 0;
+  for (std::size_t l = 0; l < k.leds.size(); ++l) {
+    whole += blob_of_led[l] >= 0 && !blobs[static_cast<std::size_t>(blob_of_led[l])].split;
+  }
+  const bool skip_split = whole >= kMinPoseLeds;
   for (std::size_t l = 0; l < k.leds.size(); ++l) {
     if (blob_of_led[l] < 0) continue;
     const Blob& b = blobs[static_cast<std::size_t>(blob_of_led[l])];
+    if (skip_split && b.split) continue;
     s.p[s.n] = k.leds[l].p_body;
     s.uv[s.n] = b.uv_undistorted;
     s.z[s.n] = std::numeric_limits<double>::quiet_NaN();

@@ -1,5 +1,6 @@
 #include "touchdown/pose/led_detector.hpp"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -19,6 +20,7 @@ bool DetectorOptions::validate(std::string* why) const {
   if (background < 0 || background >= threshold) return fail("background: must be in 0..threshold-1");
   if (min_area < 1 || max_area < min_area) return fail("min_area/max_area: need 1 <= min_area <= max_area");
   if (refine_margin < 0 || refine_margin > 16) return fail("refine_margin: must be in 0..16");
+  if (split_prominence < 0 || split_prominence > 765) return fail("split_prominence: must be in 0..765");
   if (!(white_saturation >= 0 && white_saturation <= 1)) return fail("white_saturation: must be in [0, 1]");
   if (saturation_level < 1 || saturation_level > 255) return fail("saturation_level: must be in 1..255");
   if (!(min_colour_evidence >= 0) || !std::isfinite(min_colour_evidence))
@@ -108,8 +110,24 @@ struct LedDetector::Impl {
     int area;
     int x0, y0, x1, y1;  // inclusive bounding box
   };
+  struct Window {
+    int x0, y0, x1, y1;  // inclusive
+  };
+  // A basin of the split's flood (split()).
+  struct Basin {
+    std::int32_t parent;
+    int peak;             // highest channel sum
+    int lit = 0;          // pixels of the component (brightest channel >= threshold)
+    bool border = false;  // its peak lies on the window's border: another source's glow
+    int saddle = -1;      // channel sum where it first met a basin kept apart from it
+  };
+  static constexpr int kMaxSplitWindow = 4096;  // larger windows (lamps) are not split [px]
   std::vector<Run> runs;
   std::vector<int> row_start;
+  std::vector<std::int32_t> split_labels, split_order;
+  std::vector<Basin> basins;
+  std::array<int, 3 * 255 + 2> split_hist{};
+  bool labels_valid = false;
   std::vector<Component> components;
   std::vector<int> component_of;  // per run (indexed by root)
 
@@ -201,36 +219,196 @@ struct LedDetector::Impl {
     }
   }
 
-  bool measure(const BgrImageView& img, const Component& c, Blob& b) const {
+  // True when another lit component lies within reach of c's window: its
+  // glow may then tilt c's background (the plane fit below is needed), else
+  // a constant level is exact for a symmetric spot and the plane's tilt
+  // would only follow the spot's own glow on a window that is not centred
+  // on it (integer bounding box).
+  bool crowded(const Component& c) const {
+    const int reach = options.refine_margin + std::max({8, c.x1 - c.x0 + 1, c.y1 - c.y0 + 1});
+    for (const Component& o : components) {
+      if (&o == &c) continue;
+      const int gap_x = std::max({0, o.x0 - c.x1, c.x0 - o.x1});
+      const int gap_y = std::max({0, o.y0 - c.y1, c.y0 - o.y1});
+      if (std::max(gap_x, gap_y) <= reach) return true;
+    }
+    return false;
+  }
+
+  std::int32_t basin_root(std::int32_t i) {
+    while (basins[static_cast<std::size_t>(i)].parent != i) {
+      auto& bs = basins[static_cast<std::size_t>(i)];
+      bs.parent = basins[static_cast<std::size_t>(bs.parent)].parent;
+      i = bs.parent;
+    }
+    return i;
+  }
+
+  // Splits a component that holds more than one spot: an LED merged with
+  // its reflection off the airframe, a lamp or a neighbouring LED (seen at
+  // range, where the spots' glows touch). A threshold cannot part them and
+  // their brightest channel is often clipped in both, but the channel sum
+  // (a white-clipped LED core 765, a colour-clipped reflection less) dips
+  // between them. Watershed by flooding (Vincent & Soille 1991): the
+  // window's pixels in decreasing channel sum grow basins from the local
+  // maxima; where two basins meet, the one with the lower peak is merged
+  // into the other unless its prominence (peak − the meeting level) is at
+  // least split_prominence and 10 % of its peak, and it holds pixels of the
+  // component or peaks on the window's border (the glow of a source outside
+  // the window rising toward it: its pixels belong to no spot of c). An
+  // unlit glow maximum inside the window is never a spot. Returns the number
+  // of basins left with at least min_area lit pixels (1 if the window is not
+  // flooded: labels_valid false); split_labels then holds each window
+  // pixel's basin root.
+  int split(const BgrImageView& img, const Component& c) {
+    const auto [x0, y0, x1, y1] = window_of(img, c);
+    const int ww = x1 - x0 + 1, wh = y1 - y0 + 1, n = ww * wh;
+    labels_valid = false;
+    if (options.split_prominence <= 0 || n > kMaxSplitWindow) return 1;
+    labels_valid = true;
+    split_labels.assign(static_cast<std::size_t>(n), -1);
+    split_order.resize(static_cast<std::size_t>(n));
+    basins.clear();
+    // Counting sort by channel sum, brightest first.
+    split_hist.fill(0);
+    auto sum_at = [&](int i) {
+      const std::uint8_t* p = img.row(y0 + i / ww) + 3 * (x0 + i % ww);
+      return p[0] + p[1] + p[2];
+    };
+    for (int i = 0; i < n; ++i) ++split_hist[static_cast<std::size_t>(765 - sum_at(i) + 1)];
+    for (std::size_t v = 1; v < split_hist.size(); ++v) split_hist[v] += split_hist[v - 1];
+    for (int i = 0; i < n; ++i)
+      split_order[static_cast<std::size_t>(split_hist[static_cast<std::size_t>(765 - sum_at(i))]++)] = i;
+    for (const std::int32_t i : split_order) {
+      const int px = x0 + i % ww, py = y0 + i / ww;
+      const std::uint8_t* p = img.row(py) + 3 * px;
+      const int v = p[0] + p[1] + p[2];
+      const bool lit =
+          std::max({p[0], p[1], p[2]}) >= options.threshold && px >= c.x0 && px <= c.x1 && py >= c.y0 && py <= c.y1;
+      std::array<std::int32_t, 8> roots{};
+      int k = 0;
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int qx = px + dx - x0, qy = py + dy - y0;
+          if ((dx == 0 && dy == 0) || qx < 0 || qy < 0 || qx >= ww || qy >= wh) continue;
+          const std::int32_t l = split_labels[static_cast<std::size_t>(qy * ww + qx)];
+          if (l < 0) continue;
+          const std::int32_t r = basin_root(l);
+          if (std::find(roots.begin(), roots.begin() + k, r) == roots.begin() + k)
+            roots[static_cast<std::size_t>(k++)] = r;
+        }
+      }
+      std::int32_t own;
+      if (k == 0) {
+        own = static_cast<std::int32_t>(basins.size());
+        basins.push_back({own, v, 0, px == x0 || px == x1 || py == y0 || py == y1, -1});
+      } else {
+        own = roots[0];  // the highest peak
+        for (int j = 1; j < k; ++j) {
+          if (basins[static_cast<std::size_t>(roots[static_cast<std::size_t>(j)])].peak >
+              basins[static_cast<std::size_t>(own)].peak) {
+            own = roots[static_cast<std::size_t>(j)];
+          }
+        }
+        for (int j = 0; j < k; ++j) {
+          const std::int32_t r = roots[static_cast<std::size_t>(j)];
+          if (r == own) continue;
+          Basin& low = basins[static_cast<std::size_t>(r)];
+          const int prominence = low.peak - v;
+          if ((low.lit > 0 || low.border) && prominence >= options.split_prominence && 10 * prominence >= low.peak) {
+            low.saddle = std::max(low.saddle, v);
+            Basin& high = basins[static_cast<std::size_t>(own)];
+            high.saddle = std::max(high.saddle, v);
+            continue;
+          }
+          low.parent = own;
+          basins[static_cast<std::size_t>(own)].lit += low.lit;
+        }
+      }
+      split_labels[static_cast<std::size_t>(i)] = own;
+      if (lit) ++basins[static_cast<std::size_t>(own)].lit;
+    }
+    int spots = 0;
+    for (std::int32_t& l : split_labels) {
+      l = basin_root(l);
+    }
+    for (std::size_t b = 0; b < basins.size(); ++b) {
+      if (basins[b].parent == static_cast<std::int32_t>(b) && basins[b].lit >= options.min_area) ++spots;
+    }
+    return spots;
+  }
+
+  // The window the centre and colour of c are measured over: its bounding
+  // box grown by refine_margin, clipped to the image.
+  Window window_of(const BgrImageView& img, const Component& c) const {
     const int m = options.refine_margin;
-    const int x0 = std::max(0, c.x0 - m), x1 = std::min(img.width - 1, c.x1 + m);
-    const int y0 = std::max(0, c.y0 - m), y1 = std::min(img.height - 1, c.y1 + m);
-    // Local background: the mean brightness on the window's border (a lit
-    // card or body behind the LED would otherwise pull the centre).
-    double ring = 0;
-    int ring_n = 0;
+    return {std::max(0, c.x0 - m), std::max(0, c.y0 - m), std::min(img.width - 1, c.x1 + m),
+            std::min(img.height - 1, c.y1 + m)};
+  }
+
+  // The centre and colour of component c, from the pixels of its window
+  // (with `labels`, a split component: only those labelled `label`; the
+  // labels cover the window row by row). `area`: the blob's lit pixels.
+  bool measure(const BgrImageView& img, const Component& c, const std::int32_t* labels, std::int32_t label, int area,
+               bool tilted_background, int min_sum, Blob& b) const {
+    const auto [x0, y0, x1, y1] = window_of(img, c);
+    // Local background: a plane fitted (least squares) to the unlit pixels
+    // of the window's border, so that a lit card or body behind the LED, or
+    // the glow of a reflection or lamp beside it, does not pull the centre
+    // (a constant level would leave the glow's gradient in the weights).
+    const double xc = 0.5 * (x0 + x1), yc = 0.5 * (y0 + y1);
+    double s1 = 0, sx_ = 0, sy_ = 0, sxx = 0, sxy = 0, syy = 0, sv = 0, sxv = 0, syv = 0;
     for (int y = y0; y <= y1; ++y) {
       const std::uint8_t* p = img.row(y);
       const bool edge_row = y == y0 || y == y1;
       for (int x = x0; x <= x1; x += (edge_row || x == x1) ? 1 : std::max(1, x1 - x0)) {
-        ring += std::max({p[3 * x], p[3 * x + 1], p[3 * x + 2]});
-        ++ring_n;
+        const int v = std::max({p[3 * x], p[3 * x + 1], p[3 * x + 2]});
+        if (v >= options.threshold) continue;  // another blob reaching into the window
+        const double dx = x - xc, dy = y - yc;
+        s1 += 1;
+        sx_ += dx;
+        sy_ += dy;
+        sxx += dx * dx;
+        sxy += dx * dy;
+        syy += dy * dy;
+        sv += v;
+        sxv += dx * v;
+        syv += dy * v;
       }
     }
-    const int bg = std::max(options.background, ring_n ? static_cast<int>(ring / ring_n) + 4 : 0);
+    double plane_a = 0, plane_b = 0, plane_c = 0;  // background(x, y) = a + b (x - xc) + c (y - yc)
+    if (s1 > 0) {
+      plane_a = sv / s1;
+      Eigen::Matrix3d n;
+      n << s1, sx_, sy_, sx_, sxx, sxy, sy_, sxy, syy;
+      const Eigen::Vector3d rhs(sv, sxv, syv);
+      // A border that is a line or a few pixels cannot hold a tilt: keep the mean.
+      if (tilted_background && s1 >= 8 && sxx > 0 && syy > 0 && std::abs(n.determinant()) > 1e-6 * s1 * sxx * syy) {
+        const Eigen::Vector3d abc = n.ldlt().solve(rhs);
+        plane_a = abc(0);
+        plane_b = abc(1);
+        plane_c = abc(2);
+      }
+    }
+    const double floor_bg = options.background;
     double sw = 0, sx = 0, sy = 0;
     HueEvidence halo, core;  // unclipped pixels; pixels clipped in one or two channels
     const int sat = options.saturation_level;
+    const int ww = x1 - x0 + 1;
     for (int y = y0; y <= y1; ++y) {
       const std::uint8_t* p = img.row(y);
       for (int x = x0; x <= x1; ++x) {
+        if (labels && labels[(y - y0) * ww + (x - x0)] != label) continue;
         const int blue = p[3 * x], green = p[3 * x + 1], red = p[3 * x + 2];
         const int mx = std::max({blue, green, red});
+        const double bg = std::max(floor_bg, plane_a + plane_b * (x - xc) + plane_c * (y - yc) + 4);
         if (mx <= bg) continue;
         const double w = mx - bg;
-        sw += w;
-        sx += w * x;
-        sy += w * y;
+        if (blue + green + red > min_sum) {  // the centre: a split spot's cap only
+          sw += w;
+          sx += w * x;
+          sy += w * y;
+        }
         const int clipped = (blue >= sat) + (green >= sat) + (red >= sat);
         if (clipped == 0) {
           halo.add(blue, green, red, mx, w);
@@ -242,7 +420,7 @@ struct LedDetector::Impl {
     if (!(sw > 0)) return false;
     b.uv_px = {sx / sw, sy / sw};
     b.uv_undistorted = camera.undistort(b.uv_px);
-    b.area = c.area;
+    b.area = area;
     b.intensity = sw;
     if (halo.value >= options.min_colour_evidence) {
       b.color = classify_evidence(halo, options, b.hsv);
@@ -254,6 +432,7 @@ struct LedDetector::Impl {
     }
     b.has_point = false;
     b.p_camera.setZero();
+    b.split = area < c.area;
     return true;
   }
 
@@ -289,6 +468,9 @@ LedDetector::LedDetector(const CameraModel& camera, const DetectorOptions& optio
   impl_->runs.reserve(4096);
   impl_->components.reserve(1024);
   impl_->component_of.reserve(4096);
+  impl_->split_labels.reserve(Impl::kMaxSplitWindow);
+  impl_->split_order.reserve(Impl::kMaxSplitWindow);
+  impl_->basins.reserve(Impl::kMaxSplitWindow);
 }
 
 LedDetector::~LedDetector() = default;
@@ -309,10 +491,30 @@ void LedDetector::detect(const BgrImageView& colour, const DepthImageView* depth
   d.label(colour);
   for (const auto& c : d.components) {
     if (c.area < d.options.min_area || c.area > d.options.max_area) continue;
-    Blob b;
-    if (!d.measure(colour, c, b)) continue;
-    if (depth && depth->data && !d.depth_gate(*depth, b)) continue;
-    out.push_back(b);
+    const int spots = d.split(colour, c);
+    const bool crowded = spots > 1 || d.crowded(c);
+    auto keep = [&](const std::int32_t* labels, std::int32_t label, int area, int min_sum) {
+      Blob b;
+      if (!d.measure(colour, c, labels, label, area, crowded, min_sum, b)) return;
+      if (depth && depth->data && !d.depth_gate(*depth, b)) return;
+      out.push_back(b);
+    };
+    if (!d.labels_valid || spots == 0) {
+      keep(nullptr, 0, c.area, -1);
+      continue;
+    }
+    for (std::size_t r = 0; r < d.basins.size(); ++r) {
+      const Impl::Basin& basin = d.basins[r];
+      if (basin.parent != static_cast<std::int32_t>(r) || basin.lit < d.options.min_area) continue;
+      // One spot: all of c (lit pixels of basins too small to be spots too).
+      // Split spots: only their cap above the level where they met another
+      // (below it, the other's glow is a large share of the light).
+      if (spots == 1) {
+        keep(d.split_labels.data(), static_cast<std::int32_t>(r), c.area, -1);
+      } else {
+        keep(d.split_labels.data(), static_cast<std::int32_t>(r), basin.lit, basin.saddle);
+      }
+    }
   }
   std::sort(out.begin(), out.end(), [](const Blob& a, const Blob& b) { return a.intensity > b.intensity; });
   if (out.size() > d.options.max_blobs) out.resize(d.options.max_blobs);

@@ -39,16 +39,25 @@ struct Blob {
   /// mean hue [deg], S = chroma / brightness, V = mean brightness in [0, 1].
   Eigen::Vector3d hsv = Eigen::Vector3d::Zero();
   LedColor color = LedColor::Unknown;
-  bool has_point = false;                              ///< a valid depth was found at the centre
+  bool has_point = false;  ///< a valid depth was found at the centre
+  /// Split from a blob that held more spots (DetectorOptions::split_prominence):
+  /// its centre is pulled by its neighbour's glow (up to a pixel), so a pose
+  /// fit leaves it out when enough other LEDs are matched.
+  bool split = false;
   Eigen::Vector3d p_camera = Eigen::Vector3d::Zero();  ///< back-projected centre [m]
 };
 
 struct DetectorOptions {
-  int threshold = 200;            ///< a pixel is lit if its brightest channel reaches this [DN]
-  int background = 24;            ///< brightness subtracted for the centre's weights [DN]
-  int min_area = 1;               ///< smaller blobs are noise [px]
-  int max_area = 5000;            ///< larger blobs are lamps or reflections [px]
-  int refine_margin = 2;          ///< the centre and colour use the bounding box grown by this [px]
+  int threshold = 200;    ///< a pixel is lit if its brightest channel reaches this [DN]
+  int background = 24;    ///< brightness subtracted for the centre's weights [DN]
+  int min_area = 1;       ///< smaller blobs are noise [px]
+  int max_area = 5000;    ///< larger blobs are lamps or reflections [px]
+  int refine_margin = 2;  ///< the centre and colour use the bounding box grown by this [px]
+  /// A blob holding two spots (an LED merged with its reflection, a lamp or
+  /// a neighbour) is split where the channel sum B+G+R dips between them
+  /// by at least this [DN of the sum, 0..765] and 10 % of the lower peak
+  /// (a watershed); 0 = never split.
+  int split_prominence = 60;
   double white_saturation = 0.3;  ///< chroma / brightness of the evidence below this is white
   int saturation_level = 250;     ///< a channel at or above this is clipped [DN]
   /// Least summed brightness above the background [DN] of the pixels a
