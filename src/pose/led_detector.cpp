@@ -261,7 +261,8 @@ struct LedDetector::Impl {
   // flooded: labels_valid false); split_labels then holds each window
   // pixel's basin root.
   int split(const BgrImageView& img, const Component& c) {
-    const auto [x0, y0, x1, y1] = window_of(img, c);
+    const Window win = window_of(img, c);
+    const int x0 = win.x0, y0 = win.y0, x1 = win.x1, y1 = win.y1;
     const int ww = x1 - x0 + 1, wh = y1 - y0 + 1, n = ww * wh;
     labels_valid = false;
     if (options.split_prominence <= 0 || n > kMaxSplitWindow) return 1;
@@ -351,7 +352,8 @@ struct LedDetector::Impl {
   // labels cover the window row by row). `area`: the blob's lit pixels.
   bool measure(const BgrImageView& img, const Component& c, const std::int32_t* labels, std::int32_t label, int area,
                bool tilted_background, int min_sum, Blob& b) const {
-    const auto [x0, y0, x1, y1] = window_of(img, c);
+    const Window win = window_of(img, c);
+    const int x0 = win.x0, y0 = win.y0, x1 = win.x1, y1 = win.y1;
     // Local background: a plane fitted (least squares) to the unlit pixels
     // of the window's border, so that a lit card or body behind the LED, or
     // the glow of a reflection or lamp beside it, does not pull the centre
