@@ -347,11 +347,19 @@ struct LedDetector::Impl {
             std::min(img.height - 1, c.y1 + m)};
   }
 
+  // Which pixels of a component's window make one blob.
+  struct Spot {
+    const std::int32_t* labels = nullptr;  // a split component: per window pixel (row by row) its basin
+    std::int32_t label = 0;                // ... and only pixels labelled so count
+    int area = 0;                          // the blob's lit pixels
+    int min_sum = -1;                      // the centre uses only pixels whose channel sum exceeds this
+    bool tilted_background = false;        // fit a plane background (a neighbour's glow) instead of a level
+  };
+
   // The centre and colour of component c, from the pixels of its window
-  // (with `labels`, a split component: only those labelled `label`; the
-  // labels cover the window row by row). `area`: the blob's lit pixels.
-  bool measure(const BgrImageView& img, const Component& c, const std::int32_t* labels, std::int32_t label, int area,
-               bool tilted_background, int min_sum, Blob& b) const {
+  // that belong to `spot`.
+  bool measure(const BgrImageView& img, const Component& c, const Spot& spot, Blob& b) const {
+    const std::int32_t* labels = spot.labels;
     const Window win = window_of(img, c);
     const int x0 = win.x0, y0 = win.y0, x1 = win.x1, y1 = win.y1;
     // Local background: a plane fitted (least squares) to the unlit pixels
@@ -385,7 +393,8 @@ struct LedDetector::Impl {
       n << s1, sx_, sy_, sx_, sxx, sxy, sy_, sxy, syy;
       const Eigen::Vector3d rhs(sv, sxv, syv);
       // A border that is a line or a few pixels cannot hold a tilt: keep the mean.
-      if (tilted_background && s1 >= 8 && sxx > 0 && syy > 0 && std::abs(n.determinant()) > 1e-6 * s1 * sxx * syy) {
+      if (spot.tilted_background && s1 >= 8 && sxx > 0 && syy > 0 &&
+          std::abs(n.determinant()) > 1e-6 * s1 * sxx * syy) {
         const Eigen::Vector3d abc = n.ldlt().solve(rhs);
         plane_a = abc(0);
         plane_b = abc(1);
@@ -400,13 +409,13 @@ struct LedDetector::Impl {
     for (int y = y0; y <= y1; ++y) {
       const std::uint8_t* p = img.row(y);
       for (int x = x0; x <= x1; ++x) {
-        if (labels && labels[(y - y0) * ww + (x - x0)] != label) continue;
+        if (labels && labels[(y - y0) * ww + (x - x0)] != spot.label) continue;
         const int blue = p[3 * x], green = p[3 * x + 1], red = p[3 * x + 2];
         const int mx = std::max({blue, green, red});
         const double bg = std::max(floor_bg, plane_a + plane_b * (x - xc) + plane_c * (y - yc) + 4);
         if (mx <= bg) continue;
         const double w = mx - bg;
-        if (blue + green + red > min_sum) {  // the centre: a split spot's cap only
+        if (blue + green + red > spot.min_sum) {  // the centre: a split spot's cap only
           sw += w;
           sx += w * x;
           sy += w * y;
@@ -422,7 +431,7 @@ struct LedDetector::Impl {
     if (!(sw > 0)) return false;
     b.uv_px = {sx / sw, sy / sw};
     b.uv_undistorted = camera.undistort(b.uv_px);
-    b.area = area;
+    b.area = spot.area;
     b.intensity = sw;
     if (halo.value >= options.min_colour_evidence) {
       b.color = classify_evidence(halo, options, b.hsv);
@@ -434,7 +443,7 @@ struct LedDetector::Impl {
     }
     b.has_point = false;
     b.p_camera.setZero();
-    b.split = area < c.area;
+    b.split = spot.area < c.area;
     return true;
   }
 
@@ -497,7 +506,7 @@ void LedDetector::detect(const BgrImageView& colour, const DepthImageView* depth
     const bool crowded = spots > 1 || d.crowded(c);
     auto keep = [&](const std::int32_t* labels, std::int32_t label, int area, int min_sum) {
       Blob b;
-      if (!d.measure(colour, c, labels, label, area, crowded, min_sum, b)) return;
+      if (!d.measure(colour, c, {labels, label, area, min_sum, crowded}, b)) return;
       if (depth && depth->data && !d.depth_gate(*depth, b)) return;
       out.push_back(b);
     };
