@@ -9,24 +9,41 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 }  // namespace
 
-constexpr int kMinPoseLeds = 4;  // EPnP and a redundant fit
+constexpr int kMinPoseLeds = 4;         // EPnP and a redundant fit
+constexpr double kMergedAreaRatio = 4;  // a blob this many times the median matched area holds two sources
 
 void gather(const Constellation& k, std::span<const Blob> blobs, const std::array<int, kMaxLeds>& blob_of_led,
             MatchedSet& s, double depth_sigma_k, double pixel_sigma) {
   s.n = 0;
   s.depths = 0;
   s.pixel_sigma = pixel_sigma;
-  // Split blobs (their centres biased by a neighbour) only when the others
-  // are too few for a pose.
-  int whole = 0;
+  // Merged blobs only when the others are too few for a pose: first ones
+  // far larger than the other matched LEDs' (an LED and its reflection or
+  // a neighbour joined without a dip between them: the centre lies between
+  // the sources), then split ones (their centres pulled by up to a pixel by
+  // the neighbour they were split from).
+  std::array<double, kMaxLeds> areas{};
+  std::size_t n_areas = 0;
   for (std::size_t l = 0; l < k.leds.size(); ++l) {
-    whole += blob_of_led[l] >= 0 && !blobs[static_cast<std::size_t>(blob_of_led[l])].split;
+    if (blob_of_led[l] >= 0) areas[n_areas++] = blobs[static_cast<std::size_t>(blob_of_led[l])].area;
   }
-  const bool skip_split = whole >= kMinPoseLeds;
+  const auto mid = areas.begin() + static_cast<std::ptrdiff_t>(n_areas / 2);
+  std::nth_element(areas.begin(), mid, areas.begin() + static_cast<std::ptrdiff_t>(n_areas));
+  const double oversized = n_areas > 0 ? kMergedAreaRatio * *mid : kInf;
+  int joined = 0, split = 0;
   for (std::size_t l = 0; l < k.leds.size(); ++l) {
     if (blob_of_led[l] < 0) continue;
     const Blob& b = blobs[static_cast<std::size_t>(blob_of_led[l])];
-    if (skip_split && b.split) continue;
+    joined += b.area > oversized;
+    split += b.area <= oversized && b.split;
+  }
+  const int matched = static_cast<int>(n_areas);
+  const bool skip_joined = matched - joined >= kMinPoseLeds;
+  const bool skip_split = skip_joined && matched - joined - split >= kMinPoseLeds;
+  for (std::size_t l = 0; l < k.leds.size(); ++l) {
+    if (blob_of_led[l] < 0) continue;
+    const Blob& b = blobs[static_cast<std::size_t>(blob_of_led[l])];
+    if ((skip_joined && b.area > oversized) || (skip_split && b.split)) continue;
     s.p[s.n] = k.leds[l].p_body;
     s.uv[s.n] = b.uv_undistorted;
     s.z[s.n] = std::numeric_limits<double>::quiet_NaN();

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "pose/ambiguity.hpp"
+#include "pose/assignment.hpp"
 #include "pose/pose_filter.hpp"
 #include "pose/pose_test_util.hpp"
 #include "test_util.hpp"
@@ -233,6 +234,42 @@ TEST(Correspondence, SecondPassFindsLedsOutshoneByReflections) {
     tp::CorrespondenceOptions first_only;
     first_only.max_blobs_retry = first_only.max_blobs;
     EXPECT_FALSE(tp::find_correspondences(cam, k, blobs, first_only).ok()) << trial;
+  }
+}
+
+// A blob far larger than the other matched LEDs' is an LED joined with its
+// reflection (its centre between the two): it stays out of the fit while
+// four others remain (split blobs go out only after it), and is used when
+// fewer remain. At an LED's size, the fit takes it and is pulled.
+TEST(Correspondence, BlobFarLargerThanTheOthersStaysOutOfTheFit) {
+  const auto k = f450();
+  const auto cam = d435().pinhole();
+  touchdown::Rng rng(29);
+  for (int trial = 0; trial < 10; ++trial) {
+    const auto T = looking_up(rng, rng.uniform(0.8, 1.5));
+    auto blobs = blobs_of(k, cam, T, rng, 0.0);
+    blobs[2].uv_undistorted += Eigen::Vector2d(2.0, 1.5);  // pulled toward its reflection
+    blobs[2].uv_px = blobs[2].uv_undistorted;
+    const auto pulled = tp::find_correspondences(cam, k, blobs);
+    ASSERT_EQ(pulled.status, tp::PoseStatus::Ok) << trial;
+    EXPECT_GT(pulled.fit.rms_px, 0.2) << trial;
+    blobs[2].area = 10 * blobs[0].area;
+    blobs[4].split = blobs[5].split = true;  // four whole + two split: the joined one goes, the split stay
+    const auto c = tp::find_correspondences(cam, k, blobs);
+    ASSERT_EQ(c.status, tp::PoseStatus::Ok) << trial;
+    EXPECT_EQ(c.blob_of_led[2], 2) << trial;  // matched, not fitted
+    EXPECT_LT(c.fit.rms_px, 1e-6) << trial;
+    EXPECT_LT((c.fit.T_camera_body.translation() - T.translation()).norm(), 1e-6) << trial;
+    // LEDs 4 and 5 unseen: three whole ones are too few, the joined one is used.
+    std::array<int, tp::kMaxLeds> assignment{};
+    assignment.fill(-1);
+    for (int l = 0; l < 4; ++l) assignment[static_cast<std::size_t>(l)] = l;
+    tp::detail::MatchedSet set;
+    tp::detail::gather(k, blobs, assignment, tp::CorrespondenceOptions{}, set);
+    EXPECT_EQ(set.n, 4u) << trial;
+    assignment[4] = 4;  // with split LED 4: four without the joined one, which goes; the split one stays
+    tp::detail::gather(k, blobs, assignment, tp::CorrespondenceOptions{}, set);
+    EXPECT_EQ(set.n, 4u) << trial;
   }
 }
 
