@@ -253,7 +253,7 @@ TEST(Correspondence, BlobFarLargerThanTheOthersStaysOutOfTheFit) {
     const auto pulled = tp::find_correspondences(cam, k, blobs);
     ASSERT_EQ(pulled.status, tp::PoseStatus::Ok) << trial;
     EXPECT_GT(pulled.fit.rms_px, 0.2) << trial;
-    blobs[2].area = 10 * blobs[0].area;
+    blobs[2].area = 3 * blobs[0].area;
     blobs[4].split = blobs[5].split = true;  // four whole + two split: the joined one goes, the split stay
     const auto c = tp::find_correspondences(cam, k, blobs);
     ASSERT_EQ(c.status, tp::PoseStatus::Ok) << trial;
