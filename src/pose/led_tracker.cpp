@@ -369,8 +369,11 @@ struct LedTracker::Impl {
       return estimate;
     }
     led_to_blob = c.blob_of_led;
-    tracking = false;  // a fresh track: no velocity yet
-    have_velocity = false;
+    // A fresh track, whose velocity comes from the previous frame's pose if
+    // that frame had one (settle(): `tracking`). A board moving faster than
+    // the tracking gate per frame loses its track every frame; without the
+    // velocity the next prediction would lose it again, and every frame
+    // would need the full search (measured: 100 ms frames at 0.5 m).
     settle(c.fit, c.matched, true);
     return estimate;
   }

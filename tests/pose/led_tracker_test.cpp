@@ -335,6 +335,31 @@ TEST(LedTracker, TracksASmoothTrajectoryWithoutReinitialising) {
   EXPECT_EQ(reinit, 1);  // the first frame only
 }
 
+// A board moving faster than the tracking gate per frame (a constant
+// 0.04 m/frame across a camera 0.6 m away: ~40 px per frame, gate 15 px):
+// the first frames are searched, after which the track's velocity, taken
+// from the previous frame's pose even when that came from the search,
+// predicts the LEDs within the gate. Without it every frame is searched.
+TEST(LedTracker, FastBoardIsTrackedOnceItsVelocityIsKnown) {
+  const auto k = f450();
+  const auto model = d435();
+  const auto cam = model.pinhole();
+  tp::LedTracker tracker(model, k);
+  touchdown::Rng rng(27);
+  Eigen::Isometry3d T = looking_up(rng, 0.6);
+  T.translation().x() = -0.25;
+  int reinit = 0;
+  for (int f = 0; f < 12; ++f) {
+    T.translation().x() += 0.04;
+    T.linear() = T.linear() * Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const auto& e = tracker.track_blobs(blobs_of(k, cam, T, rng, 0.1));
+    ASSERT_TRUE(e.ok()) << "frame " << f << ": " << tp::to_string(e.status);
+    reinit += e.reinitialised;
+    EXPECT_LT((e.T_camera_body.translation() - T.translation()).norm(), 0.01) << f;
+  }
+  EXPECT_LE(reinit, 2);
+}
+
 TEST(LedTracker, ReinitialisesAfterLossAndNeverInventsAPose) {
   const auto k = f450();
   const auto model = d435();
