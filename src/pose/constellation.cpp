@@ -84,6 +84,20 @@ double Constellation::radius() const {
 }
 
 namespace {
+// What is wrong with an emission half-angle [deg], or "" if nothing. Below
+// 3.2 degrees it is taken for radians (π rad is 180°): no LED on a pose
+// board is that narrow, and a cone that narrow would hide it from almost
+// every view, so a value in radians would silently lose the board.
+std::string half_angle_problem(double deg) {
+  if (!(deg > 0 && deg < 180)) return "must be in (0, 180) degrees, got " + detail::format_exact(deg);
+  if (deg < 3.2) {
+    return "is " + detail::format_exact(deg) + " degrees, a cone no LED board uses: radians? (" +
+           detail::format_exact(deg) +
+           " rad = " + detail::format_exact(std::round(deg * 180 / std::numbers::pi * 10) / 10) + " degrees)";
+  }
+  return "";
+}
+
 // Eigenvalues (ascending) of the LEDs' scatter matrix about the centroid.
 Eigen::Vector3d scatter_eigenvalues(const Constellation& k) {
   const Eigen::Vector3d c = k.centroid();
@@ -116,8 +130,8 @@ bool Constellation::validate(std::string* why) const {
     const Eigen::Vector3d& n = leds[i].normal;
     if (!n.allFinite() || (leds[i].has_normal() && std::abs(n.norm() - 1) > 1e-6))
       return fail("leds[" + std::to_string(i) + "].normal: must be a unit vector (or zero: omnidirectional)");
-    if (!(leds[i].half_angle_deg > 0 && leds[i].half_angle_deg < 180))
-      return fail("leds[" + std::to_string(i) + "].half_angle_deg: must be in (0, 180) degrees");
+    if (const std::string p = half_angle_problem(leds[i].half_angle_deg); !p.empty())
+      return fail("leds[" + std::to_string(i) + "].half_angle_deg: " + p);
     for (std::size_t j = 0; j < i; ++j) {
       if ((leds[i].p_body - leds[j].p_body).norm() < 1e-3) {
         return fail("leds[" + std::to_string(i) + "]: duplicates leds[" + std::to_string(j) + "] (closer than 1 mm)");
@@ -155,9 +169,8 @@ Constellation parse_constellation(std::string_view yaml_text, std::string_view s
             if (!led.has_normal())
               r.fail(h, key + ".half_angle_deg", "needs a normal (an LED without one shines everywhere)");
             led.half_angle_deg = r.number(h, key + ".half_angle_deg");
-            if (!(led.half_angle_deg > 0 && led.half_angle_deg < 180))
-              r.fail(h, key + ".half_angle_deg",
-                     "must be in (0, 180) degrees, got " + r.text(h, key + ".half_angle_deg"));
+            if (const std::string p = half_angle_problem(led.half_angle_deg); !p.empty())
+              r.fail(h, key + ".half_angle_deg", p);
           }
           if (leds[i]["color"]) {
             const auto name = r.text(leds[i]["color"], key + ".color");

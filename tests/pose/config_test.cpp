@@ -266,6 +266,14 @@ TEST(ConstellationYaml, BundledFrontBoardFacesForward) {
   EXPECT_TRUE((k.T_body_marker.linear() * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitX(), 1e-12));
   std::string why;
   EXPECT_TRUE(k.validate(&why)) << why;
+  // The library's check is the parser's: a half-angle in radians is refused.
+  auto narrow = k;
+  narrow.leds[2].half_angle_deg = std::numbers::pi / 3;
+  EXPECT_FALSE(narrow.validate(&why));
+  EXPECT_NE(why.find("leds[2].half_angle_deg: is 1.04"), std::string::npos) << why;
+  EXPECT_NE(why.find("radians? (1.04"), std::string::npos) << why;
+  narrow.leds[2].half_angle_deg = 3.5;  // narrow, but degrees
+  EXPECT_TRUE(narrow.validate(&why)) << why;
 }
 
 TEST(ConstellationYaml, MarkerDefaultsAndColourDefault) {
@@ -331,6 +339,9 @@ std::vector<touchdown::test::BadInput> constellation_cases() {
       {"HalfAngle180",
        "leds:\n  - {xyz: [0, 0, 0], normal: [0, 0, -1], half_angle_deg: 180}\n",
        {"leds[0].half_angle_deg: must be in (0, 180)"}},
+      {"HalfAngleInRadians",
+       "leds:\n  - {xyz: [0, 0, 0], normal: [0, 0, -1], half_angle_deg: 0.7854}\n",
+       {"cfg.yaml:2: leds[0].half_angle_deg: is 0.7854 degrees", "radians? (0.7854 rad = 45 degrees)"}},
       {"HalfAngleNegative",
        "leds:\n  - {xyz: [0, 0, 0], normal: [0, 0, -1], half_angle_deg: -30}\n",
        {"leds[0].half_angle_deg: must be in (0, 180)"}},
