@@ -12,10 +12,15 @@
 //   pose_robustness [--configs N=20] [--frames N=90] [--seed S=1000]
 //                   [--profile clean|harsh=harsh] [--no-depth] [--fuse]
 //                   [--max-sigma X] [--max-wrong-ok N] [--min-success R]
-//                   [--calibration] [--centroids]
+//                   [--calibration] [--centroids] [--floor-px X=0.1]
 //
 // --calibration prints the reported sigma against the true error by sigma
 // bin; --centroids the matched, un-merged blobs' centre error by blob area.
+// It also counts the frames with >= 4 un-merged LEDs whose pose could pass
+// the uncertainty gate at all: the Cramér–Rao bound of the pose from those
+// LEDs at --floor-px detection noise (and their depths) within the gate;
+// the others have no pose to report under the gate however good the
+// detector.
 //
 // With --max-wrong-ok / --min-success it is a check (ctest): exit 1 when the
 // suite has more wrong-ok frames or a lower success over all frames with >= 4
@@ -31,6 +36,7 @@
 #include <string_view>
 #include <vector>
 
+#include "touchdown/pose/gauss_newton.hpp"
 #include "touchdown/pose/led_tracker.hpp"
 #include "touchdown/pose/pose_benchmark.hpp"
 #include "touchdown/pose/synthetic.hpp"
@@ -50,6 +56,7 @@ struct Args {
   bool calibration = false;  // print error / sigma by sigma bin
   bool centroids = false;    // print the matched blobs' centre errors by blob area
   double max_sigma = -1;     // < 0: the tracker's default
+  double floor_px = 0.1;     // detection noise of the feasibility bound [px]
   long max_wrong_ok = -1;    // < 0: no check
   double min_success = -1;   // < 0: no check
 };
@@ -93,6 +100,8 @@ Args parse(int argc, char** argv) {
       a.profile = *p;
     } else if (k == "--max-sigma") {
       a.max_sigma = std::atof(v);
+    } else if (k == "--floor-px") {
+      a.floor_px = std::atof(v);
     } else if (k == "--max-wrong-ok") {
       a.max_wrong_ok = std::atol(v);
     } else if (k == "--min-success") {
@@ -102,6 +111,7 @@ Args parse(int argc, char** argv) {
     }
   }
   if (a.configs < 1 || a.frames < 1) usage("--configs and --frames must be positive");
+  if (!(a.floor_px > 0)) usage("--floor-px must be positive");
   return a;
 }
 
@@ -156,6 +166,33 @@ void print_centroids(const std::array<std::vector<std::pair<double, double>>, 2>
   }
 }
 
+// Could a frame's pose pass the uncertainty gate at all? The Cramér–Rao
+// bound of the pose from the LEDs visible and un-merged at the true pose,
+// with unbiased detections of `floor_px` noise (and their depths, as the
+// tracker fuses them): true when its 1-σ is within the gate. A frame that
+// fails it has no pose to report under the gate however good the detector.
+bool feasible(const tp::CameraModel& camera, const tp::Constellation& k, const tp::RenderedFrame& frame,
+              const Eigen::Isometry3d& T, const tp::TrackerOptions& o, double floor_px) {
+  std::vector<Eigen::Vector3d> p;
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<double> z, sz;
+  for (std::size_t l = 0; l < frame.led_visible.size(); ++l) {
+    if (!frame.led_visible[l] || frame.led_merged[l]) continue;
+    const Eigen::Vector3d c = T * k.leds[l].p_body;
+    p.push_back(k.leds[l].p_body);
+    uv.push_back(camera.pinhole().project(c));
+    z.push_back(c.z());
+    sz.push_back(o.correspondence.depth_sigma_k * c.z() * c.z() + 0.002);
+  }
+  if (p.size() < 4) return false;
+  tp::DepthConstraints depth;
+  if (o.use_depth && o.correspondence.fuse_depth) depth = {z, sz, floor_px};
+  const tp::PoseRefinement r = tp::refine_pose_gauss_newton(camera.pinhole(), p, uv, T, {}, depth);
+  if (!r.ok()) return false;
+  const auto [position, rotation] = tp::pose_sigmas(floor_px * floor_px * r.unit_covariance, T);
+  return position <= o.correspondence.max_sigma_position_m && rotation <= o.correspondence.max_sigma_rotation_rad;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -169,8 +206,9 @@ int main(int argc, char** argv) {
   tp::RenderOptions render = tp::apply_profile({}, args.profile);
   render.render_marker = false;
   const tp::CameraModel camera;
-  long total = 0, ok = 0, wrong = 0, usable = 0, ok_usable = 0;
-  std::map<std::string, long> failures;  // why frames with >= 4 un-merged LEDs have no pose
+  long total = 0, ok = 0, wrong = 0, usable = 0, ok_usable = 0, possible = 0, ok_possible = 0;
+  std::map<std::string, long> failures;           // why frames with >= 4 un-merged LEDs have no pose
+  std::map<std::string, long> possible_failures;  // ... those of them that could pass the gate
   std::vector<Calib> calib;
   std::array<std::vector<std::pair<double, double>>, 2> centre_errors;  // static, moving: (area, error px)
   for (int c = 0; c < args.configs; ++c) {
@@ -198,6 +236,9 @@ int main(int argc, char** argv) {
           clear += frame.led_visible[l] && !frame.led_merged[l] ? 1 : 0;
         }
         const bool is_usable = clear >= 4;
+        const bool is_possible =
+            is_usable && feasible(camera, k, frame, trajectory[i].T_camera_body, options, args.floor_px);
+        possible += is_possible;
         if (args.centroids && e.ok()) {
           for (std::size_t l = 0; l < frame.led_visible.size(); ++l) {
             const int b = tracker.led_to_blob()[l];
@@ -213,11 +254,13 @@ int main(int argc, char** argv) {
         config_usable += is_usable;
         if (!e.ok()) {
           if (is_usable) ++failures[std::string(tp::to_string(e.status))];
+          if (is_possible) ++possible_failures[std::string(tp::to_string(e.status))];
           continue;
         }
         ++config_ok;
         ++ok;
         ok_usable += is_usable;
+        ok_possible += is_possible;
         config_ok_usable += is_usable;
         const auto [position, rotation] = tp::pose_error(e.T_camera_body, trajectory[i].T_camera_body);
         if (args.calibration) calib.push_back({e.sigma_rotation_rad, rotation, e.sigma_position_m, position});
@@ -246,6 +289,11 @@ int main(int argc, char** argv) {
       std::string(tp::to_string(args.profile)).c_str(), args.use_depth ? "depth" : "no depth", total, ok, usable,
       success, wrong, ok ? 100.0 * static_cast<double>(wrong) / static_cast<double>(ok) : 0.0);
   for (const auto& [why, n] : failures) std::printf("  no pose with >= 4 un-merged LEDs: %-28s %ld\n", why.c_str(), n);
+  std::printf(
+      "of those, %ld could pass the uncertainty gate (Cramer-Rao bound at %.2f px from the un-merged LEDs), of them "
+      "ok %.4f\n",
+      possible, args.floor_px, possible ? static_cast<double>(ok_possible) / static_cast<double>(possible) : 1.0);
+  for (const auto& [why, n] : possible_failures) std::printf("  no pose, could pass: %-28s %ld\n", why.c_str(), n);
   if (args.calibration) print_calibration(calib);
   if (args.centroids) print_centroids(centre_errors);
   bool pass = true;
