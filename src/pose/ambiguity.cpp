@@ -23,11 +23,11 @@ bool triangle_frame(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Ei
   return true;
 }
 
+}  // namespace
+
 double rotation_angle(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
   return Eigen::AngleAxisd(a.transpose() * b).angle();
 }
-
-}  // namespace
 
 bool has_rigid_symmetry(const Constellation& k) {
   const std::size_t n = k.leds.size();

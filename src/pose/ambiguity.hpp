@@ -33,6 +33,9 @@
 
 namespace touchdown::pose::detail {
 
+// The angle of the rotation between a and b [rad].
+double rotation_angle(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b);
+
 // What does not change between frames: the constellation's best-fit plane
 // and whether it has a rigid symmetry.
 struct ConstellationShape {

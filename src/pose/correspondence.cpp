@@ -1,11 +1,13 @@
 #include "touchdown/pose/correspondence.hpp"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "pose/ambiguity.hpp"
 #include "pose/assignment.hpp"
+#include "pose/p3p.hpp"
 #include "touchdown/core/units.hpp"
 #include "touchdown/pose/epnp.hpp"
 
@@ -23,6 +25,7 @@ bool CorrespondenceOptions::validate(std::string* why) const {
     return fail("max_blobs_retry: must be in max_blobs..32");
   }
   if (max_hypotheses < 1) return fail("max_hypotheses: must be positive");
+  if (!(p3p_gate >= 0) || !std::isfinite(p3p_gate)) return fail("p3p_gate: must be >= 0");
   if (min_leds < 4) return fail("min_leds: must be at least 4");
   if (search_min_leds < 4 || search_min_leds > static_cast<int>(kMaxLeds)) {
     return fail("search_min_leds: must be in 4..16");
@@ -49,6 +52,7 @@ bool CorrespondenceOptions::validate(std::string* why) const {
 namespace {
 
 using Quad = std::array<std::size_t, 4>;
+constexpr std::size_t kNone = static_cast<std::size_t>(-1);
 
 // Every 4-subset of {0, …, n−1} in lexicographic order, until `visit`
 // returns false. Returns false when stopped.
@@ -105,6 +109,7 @@ class Search {
   // LED explained well).
   bool consider(const Quad& L, const Quad& B) {
     if (best_.hypotheses >= o_.max_hypotheses) return false;
+    if (!fourth_fits(L, B)) return true;
     ++best_.hypotheses;
     std::array<Eigen::Vector3d, 4> p4;
     std::array<Eigen::Vector2d, 4> uv4;
@@ -174,6 +179,57 @@ class Search {
   }
 
  private:
+  // The P3P pre-test (p3p.hpp): the poses that put LEDs L[0..2] on blobs
+  // B[0..2] exactly (up to four) must put LED L[3] within p3p_gate ×
+  // inlier_px of blob B[3], else the hypothesis is dropped before EPnP
+  // (which costs ~10× as much). The solutions depend on L and B[0..2] only, and the search
+  // varies B[3] innermost: they are cached. No solution (noise can turn a
+  // double root complex; collinear LEDs) admits every B[3].
+  bool fourth_fits(const Quad& L, const Quad& B) {
+    if (o_.p3p_gate <= 0) return true;
+    if (L != cached_leds_) {
+      cached_leds_ = L;
+      const Eigen::Vector3d& p1 = k_.leds[L[0]].p_body;
+      const Eigen::Vector3d e1 = k_.leds[L[1]].p_body - p1, e2 = k_.leds[L[2]].p_body - p1;
+      Eigen::Matrix3d basis;
+      basis << e1, e2, e1.cross(e2);
+      // LED L[3] in the frame of the triangle (edges and their normal),
+      // which a rigid motion preserves.
+      const Eigen::FullPivLU<Eigen::Matrix3d> lu(basis);
+      leds_usable_ = lu.isInvertible() && e1.cross(e2).norm() > 1e-3 * e1.norm() * e2.norm();
+      if (leds_usable_) fourth_in_triangle_ = lu.solve(k_.leds[L[3]].p_body - p1);
+      sides_ = {(k_.leds[L[1]].p_body - k_.leds[L[2]].p_body).norm(), e2.norm(), e1.norm()};
+      cached_blobs_valid_ = false;
+    }
+    if (!leds_usable_) return true;
+    if (!cached_blobs_valid_ || cached_blobs_[0] != B[0] || cached_blobs_[1] != B[1] || cached_blobs_[2] != B[2]) {
+      cached_blobs_ = B;
+      cached_blobs_valid_ = true;
+      std::array<Eigen::Vector3d, 3> j;
+      for (std::size_t i = 0; i < 3; ++i) {
+        const Eigen::Vector2d& uv = blobs_[B[i]].uv_undistorted;
+        j[i] = Eigen::Vector3d((uv.x() - cam_.cx) / cam_.fx, (uv.y() - cam_.cy) / cam_.fy, 1).normalized();
+      }
+      const detail::P3pSolutions sol = detail::solve_p3p(j[0], j[1], j[2], sides_[0], sides_[1], sides_[2]);
+      predicted_count_ = 0;
+      for (int k = 0; k < sol.count; ++k) {
+        const Eigen::Vector3d& d = sol.s[static_cast<std::size_t>(k)];
+        const Eigen::Vector3d q1 = d(0) * j[0], f1 = d(1) * j[1] - q1, f2 = d(2) * j[2] - q1;
+        const Eigen::Vector3d q4 =
+            q1 + fourth_in_triangle_(0) * f1 + fourth_in_triangle_(1) * f2 + fourth_in_triangle_(2) * f1.cross(f2);
+        if (q4.z() > 1e-6) predicted_[static_cast<std::size_t>(predicted_count_++)] = cam_.project(q4);
+      }
+      no_solution_ = sol.count == 0;
+    }
+    if (no_solution_) return true;
+    const double gate = o_.p3p_gate * o_.inlier_px;
+    for (int k = 0; k < predicted_count_; ++k) {
+      if ((predicted_[static_cast<std::size_t>(k)] - blobs_[B[3]].uv_undistorted).squaredNorm() <= gate * gate)
+        return true;
+    }
+    return false;
+  }
+
   // Gates a refined pose with the LED assignment `assign` (`matched` LEDs)
   // must pass.
   bool plausible(const PoseRefinement& fit, const std::array<int, kMaxLeds>& assign, std::size_t matched) const {
@@ -211,6 +267,13 @@ class Search {
   double margin_;
   Correspondence best_;
   double best_score_ = std::numeric_limits<double>::infinity();
+  // fourth_fits()'s caches.
+  Quad cached_leds_{{kNone, kNone, kNone, kNone}}, cached_blobs_{};
+  bool cached_blobs_valid_ = false, leds_usable_ = false, no_solution_ = true;
+  Eigen::Vector3d fourth_in_triangle_ = Eigen::Vector3d::Zero();
+  std::array<double, 3> sides_{};
+  std::array<Eigen::Vector2d, 4> predicted_{};
+  int predicted_count_ = 0;
 };
 
 }  // namespace

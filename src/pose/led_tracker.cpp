@@ -46,6 +46,8 @@ bool TrackerOptions::validate(std::string* why) const {
   if (!(reinit_rms_px > 0)) return fail("reinit_rms_px: must be positive");
   if (!(mad_ratio > 0)) return fail("mad_ratio: must be positive");
   if (!(centre_gate > 0)) return fail("centre_gate: must be positive");
+  if (!(max_jump_m > 0)) return fail("max_jump_m: must be positive");
+  if (!(max_jump_rad > 0)) return fail("max_jump_rad: must be positive");
   if (!(duplicate_fraction >= 0 && duplicate_fraction < 1)) return fail("duplicate_fraction: must be in [0, 1)");
   if (!(confirm_rms_px > 0)) return fail("confirm_rms_px: must be positive");
   if (!(fusion_max_frames >= 1 && fusion_max_frames <= 1e6)) return fail("fusion_max_frames: must be in [1, 1e6]");
@@ -73,6 +75,9 @@ struct LedTracker::Impl {
   std::size_t noise_next = 0;
   bool tracking = false;
   bool have_velocity = false;
+  // The last and the one-before-last poses were reported Ok: a prediction
+  // from them is vouched for (try_track()'s jump test).
+  bool last_ok = false, previous_ok = false;
   Eigen::Isometry3d last_pose = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d previous_pose = Eigen::Isometry3d::Identity();
   detail::OptimalMatcher matcher;
@@ -241,6 +246,8 @@ struct LedTracker::Impl {
       sigma = {std::max(fused.first, k * sigma.first), std::max(fused.second, k * sigma.second)};
     }
     previous_pose = last_pose;
+    previous_ok = last_ok;
+    last_ok = false;
     have_velocity = tracking;
     last_pose = fit.T_camera_body;  // the track follows the measurements
     tracking = true;
@@ -260,6 +267,7 @@ struct LedTracker::Impl {
       return;
     }
     estimate.status = PoseStatus::Ok;
+    last_ok = true;
     estimate.T_camera_body = T;
     estimate.rms_px = fit.rms_px;
     estimate.points = points;
@@ -299,6 +307,7 @@ struct LedTracker::Impl {
     estimate.sigma_position_m = estimate.sigma_rotation_rad = 0;
     tracking = false;
     have_velocity = false;
+    last_ok = previous_ok = false;
     led_to_blob.fill(-1);
   }
 
@@ -332,6 +341,14 @@ struct LedTracker::Impl {
       if (f2.ok()) fit = f2;
     }
     if (fit.rms_px > options.reinit_rms_px) return false;
+    // Not the board if it jumped off a prediction made from vouched-for
+    // poses; a prediction from an uncertain fit (or a velocity from one)
+    // may itself be wrong.
+    const bool vouched = last_ok && (previous_ok || !(options.constant_velocity && have_velocity));
+    if (vouched && ((fit.T_camera_body.translation() - T.translation()).norm() > options.max_jump_m ||
+                    detail::rotation_angle(fit.T_camera_body.linear(), T.linear()) > options.max_jump_rad)) {
+      return false;
+    }
     // The search's rule (ambiguity.hpp), with the prediction to settle the
     // mirrored branch; anything but Ok ends the track.
     const PoseStatus verdict = detail::vet_fit(pin, constellation, shape, work, led_to_blob, fit, &T,

@@ -6,6 +6,7 @@
 #include <opencv2/core/eigen.hpp>
 #include <vector>
 
+#include "pose/p3p.hpp"
 #include "pose/pose_test_util.hpp"
 #include "test_util.hpp"
 #include "touchdown/core/random.hpp"
@@ -158,4 +159,79 @@ TEST(Epnp, FourPointsOfEachShape) {
     }
     EXPECT_GE(good, 95) << "shape " << int(shape);
   }
+}
+
+// Grunert's P3P (src/pose/p3p.hpp): the true distances are among the
+// solutions, and so is every solution OpenCV's P3P finds on the same rays.
+TEST(P3p, FindsTheTrueDistancesAndEveryOpenCvSolution) {
+  touchdown::Rng rng(13);
+  const cv::Matx33d K(kCamera.fx, 0, kCamera.cx, 0, kCamera.fy, kCamera.cy, 0, 0, 1);
+  int opencv_solutions = 0, opencv_matched = 0, exact = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const auto p = constellation(Shape::NonPlanar, rng, 3);
+    const auto T = random_pose(rng);
+    std::array<Eigen::Vector3d, 3> j;
+    Eigen::Vector3d truth;
+    std::vector<cv::Point3d> obj;
+    std::vector<cv::Point2d> img;
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector3d q = T * p[static_cast<std::size_t>(i)];
+      truth(i) = q.norm();
+      j[static_cast<std::size_t>(i)] = q.normalized();
+      const Eigen::Vector2d uv = kCamera.project(q);
+      obj.emplace_back(p[static_cast<std::size_t>(i)].x(), p[static_cast<std::size_t>(i)].y(),
+                       p[static_cast<std::size_t>(i)].z());
+      img.emplace_back(uv.x(), uv.y());
+    }
+    const double a = (p[1] - p[2]).norm(), b = (p[0] - p[2]).norm(), c = (p[0] - p[1]).norm();
+    const auto sol = tp::detail::solve_p3p(j[0], j[1], j[2], a, b, c);
+    ASSERT_GE(sol.count, 1) << trial;
+    int best = 0;
+    for (int s = 1; s < sol.count; ++s) {
+      if ((sol.s[static_cast<std::size_t>(s)] - truth).norm() < (sol.s[static_cast<std::size_t>(best)] - truth).norm())
+        best = s;
+    }
+    const Eigen::Vector3d& d = sol.s[static_cast<std::size_t>(best)];
+    // Exact for a simple root; a double root (the camera on the "danger
+    // cylinder") is found to about 1e-3 (Newton converges slowly there).
+    EXPECT_LT((d - truth).norm(), 1e-3 * truth.norm()) << trial;
+    if ((d - truth).norm() < 1e-6 * truth.norm()) ++exact;
+    std::vector<cv::Mat> rvecs, tvecs;
+    cv::solveP3P(obj, img, K, cv::noArray(), rvecs, tvecs, cv::SOLVEPNP_P3P);
+    for (std::size_t s = 0; s < rvecs.size(); ++s) {
+      cv::Mat R;
+      cv::Rodrigues(rvecs[s], R);
+      Eigen::Matrix3d Re;
+      cv::cv2eigen(R, Re);
+      const Eigen::Vector3d t(tvecs[s].at<double>(0), tvecs[s].at<double>(1), tvecs[s].at<double>(2));
+      Eigen::Vector3d dist;
+      bool in_front = true;
+      for (int i = 0; i < 3; ++i) {
+        const Eigen::Vector3d q = Re * p[static_cast<std::size_t>(i)] + t;
+        dist(i) = q.norm();
+        in_front = in_front && q.dot(j[static_cast<std::size_t>(i)]) > 0.999 * dist(i);  // on the ray, not behind
+      }
+      if (!in_front) continue;
+      ++opencv_solutions;
+      // OpenCV's P3P is itself accurate to ~1e-3 only (against the truth).
+      for (int k = 0; k < sol.count; ++k) {
+        if ((sol.s[static_cast<std::size_t>(k)] - dist).norm() < 2e-2 * dist.norm()) {
+          ++opencv_matched;
+          break;
+        }
+      }
+    }
+  }
+  EXPECT_GE(exact, 290);
+  EXPECT_GT(opencv_solutions, 300);
+  EXPECT_GE(opencv_matched, opencv_solutions * 99 / 100);
+}
+
+TEST(P3p, DegenerateInputGivesNoSolution) {
+  const Eigen::Vector3d j = Eigen::Vector3d::UnitZ();
+  EXPECT_EQ(tp::detail::solve_p3p(j, j, j, 0.1, 0.1, 0.1).count, 0);  // one ray: no triangle fits
+  EXPECT_EQ(tp::detail::solve_p3p(j, Eigen::Vector3d(0.1, 0, 1).normalized(), Eigen::Vector3d(0, 0.1, 1).normalized(),
+                                  0, 0.1, 0.1)
+                .count,
+            0);
 }

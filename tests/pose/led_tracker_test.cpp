@@ -273,6 +273,40 @@ TEST(Correspondence, BlobFarLargerThanTheOthersStaysOutOfTheFit) {
   }
 }
 
+// The P3P pre-test drops hypotheses whose fourth LED is far from where the
+// first three put it, before EPnP: the same assignments as without it, from
+// far fewer EPnP solves (six LED-coloured distractors around the board and
+// one LED unseen, so that the search never stops early).
+TEST(Correspondence, P3pPreTestKeepsTheAnswerAndSavesSolves) {
+  const auto k = f450();
+  const auto cam = d435().pinhole();
+  touchdown::Rng rng(31);
+  tp::CorrespondenceOptions off;
+  off.p3p_gate = 0;
+  std::size_t with = 0, without = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    const auto T = looking_up(rng, rng.uniform(0.6, 2.5));
+    auto blobs = blobs_of(k, cam, T, rng, 0.2);
+    blobs.pop_back();
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    for (const auto& b : blobs) centre += b.uv_undistorted / static_cast<double>(blobs.size());
+    for (int d = 0; d < 6; ++d) {  // distractors among the LEDs
+      tp::Blob x = blobs[static_cast<std::size_t>(d % 5)];
+      x.uv_undistorted = centre + Eigen::Vector2d(rng.uniform(-60, 60), rng.uniform(-60, 60));
+      x.uv_px = x.uv_undistorted;
+      blobs.push_back(x);
+    }
+    const auto on = tp::find_correspondences(cam, k, blobs);
+    const auto plain = tp::find_correspondences(cam, k, blobs, off);
+    EXPECT_EQ(on.status, plain.status) << trial;
+    EXPECT_EQ(on.blob_of_led, plain.blob_of_led) << trial;
+    with += on.hypotheses;
+    without += plain.hypotheses;
+  }
+  EXPECT_LT(2 * with, without) << with << " vs " << without;
+  std::printf("P3P pre-test: %zu EPnP solves vs %zu without\n", with, without);
+}
+
 TEST(Correspondence, WorksWithoutColourClasses) {
   auto k = f450();
   for (auto& l : k.leds) l.color = tp::LedColor::White;
@@ -358,6 +392,31 @@ TEST(LedTracker, FastBoardIsTrackedOnceItsVelocityIsKnown) {
     EXPECT_LT((e.T_camera_body.translation() - T.translation()).norm(), 0.01) << f;
   }
   EXPECT_LE(reinit, 2);
+}
+
+// A tracked fit that jumped off a prediction from vouched-for poses is not
+// taken: with the jump limits made tiny, every frame of a smooth track goes
+// to the full search; with the defaults only the first.
+TEST(LedTracker, JumpOffThePredictionGoesToTheSearch) {
+  const auto k = f450();
+  const auto model = d435();
+  const auto cam = model.pinhole();
+  tp::TrackerOptions tight;
+  tight.max_jump_m = 1e-6;
+  tight.max_jump_rad = 1e-6;
+  for (const bool jump_limited : {false, true}) {
+    tp::LedTracker tracker(model, k, jump_limited ? tight : tp::TrackerOptions{});
+    touchdown::Rng rng(33);
+    Eigen::Isometry3d T = looking_up(rng, 1.0);
+    int reinit = 0;
+    for (int f = 0; f < 10; ++f) {
+      T.translation().x() += 0.01;
+      const auto& e = tracker.track_blobs(blobs_of(k, cam, T, rng, 0.1));
+      ASSERT_TRUE(e.ok()) << f;
+      reinit += e.reinitialised;
+    }
+    EXPECT_EQ(reinit, jump_limited ? 10 : 1) << jump_limited;
+  }
 }
 
 TEST(LedTracker, ReinitialisesAfterLossAndNeverInventsAPose) {
