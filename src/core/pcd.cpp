@@ -299,12 +299,14 @@ void read_binary(std::istream& in, std::string_view source, const PcdHeader& h, 
   std::array<const PcdField*, 3> f{};
   for (int a = 0; a < 3; ++a) f[a] = &h.fields[static_cast<std::size_t>(h.xyz[a])];
   cloud.points.resize(static_cast<std::size_t>(h.points));
-  constexpr std::size_t kChunkPoints = 1 << 14;
-  std::vector<std::uint8_t> buf(kChunkPoints * h.point_size);
+  // At most the bytes the file holds (`need` <= `have`): a header with a
+  // huge COUNT and few points must not size the buffer by the chunk.
+  const std::size_t chunk_points = std::min<std::size_t>(std::size_t{1} << 14, cloud.points.size());
+  std::vector<std::uint8_t> buf(chunk_points * h.point_size);
   const bool fast = f[0]->type == 'F' && f[0]->size == 4 && f[1]->type == 'F' && f[1]->size == 4 && f[2]->type == 'F' &&
                     f[2]->size == 4;
-  for (std::size_t start = 0; start < cloud.points.size(); start += kChunkPoints) {
-    const std::size_t n = std::min(kChunkPoints, cloud.points.size() - start);
+  for (std::size_t start = 0; start < cloud.points.size(); start += chunk_points) {
+    const std::size_t n = std::min(chunk_points, cloud.points.size() - start);
     in.read(reinterpret_cast<char*>(buf.data()), static_cast<std::streamsize>(n * h.point_size));
     if (static_cast<std::size_t>(in.gcount()) != n * h.point_size) {
       parse_fail(source, "truncated binary data at point " +
@@ -336,6 +338,12 @@ void read_compressed(std::istream& in, std::string_view source, const PcdHeader&
   if (have < compressed) {
     parse_fail(source, "truncated binary_compressed data: block of " + std::to_string(compressed) +
                            " bytes, file has " + std::to_string(have));
+  }
+  // LZF expands at most 264 bytes per 3-byte back-reference: a block that
+  // claims more is corrupt (checked before allocating its output).
+  if (uncompressed > 88 * compressed + 264) {
+    parse_fail(source, "corrupt binary_compressed data: " + std::to_string(compressed) + " bytes cannot decode to " +
+                           std::to_string(uncompressed));
   }
   std::vector<std::uint8_t> packed(static_cast<std::size_t>(compressed));
   in.read(reinterpret_cast<char*>(packed.data()), static_cast<std::streamsize>(compressed));

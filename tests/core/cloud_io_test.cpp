@@ -220,6 +220,22 @@ TEST(CloudIoBadInput, PcdCorruptCompressedStream) {
   EXPECT_NE(e.find("corrupt binary_compressed"), std::string::npos) << e;
 }
 
+// Found by fuzz_pcd: a field with a huge COUNT sized the binary reader's
+// chunk buffer by it (16,384 points × 4 MB) although the file held no
+// point; a compressed block claiming more output than LZF can produce from
+// its size allocated that output before failing.
+TEST(CloudIoBadInput, PcdHugeCountsAllocateOnlyWhatTheFileHolds) {
+  const std::string head = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1000000\n";
+  EXPECT_EQ(parse_pcd(head + "WIDTH 0\nHEIGHT 2\nDATA binary\n" + binary_bytes({1, 2, 3})).points.size(), 0u);
+  auto e = pcd_error(head + "WIDTH 2\nHEIGHT 1\nDATA binary\n" + binary_bytes({1, 2, 3, 4, 5, 6}));
+  EXPECT_NE(e.find("truncated binary data: 2 points need 8000016 bytes, file has 24"), std::string::npos) << e;
+  std::string block(8, '\0');
+  const std::uint32_t sizes[2] = {10, 1200000000u};  // 10 bytes claimed to decode to 1.2 GB
+  std::memcpy(block.data(), sizes, 8);
+  e = pcd_error(kHead3 + "WIDTH 100000000\nHEIGHT 1\nDATA binary_compressed\n" + block + std::string(10, '\x01'));
+  EXPECT_NE(e.find("corrupt binary_compressed data: 10 bytes cannot decode to 1200000000"), std::string::npos) << e;
+}
+
 TEST(CloudIoBadInput, PcdHeaderCountMismatch) {
   auto e = pcd_error(kHead3 + "WIDTH 3\nHEIGHT 1\nPOINTS 4\nDATA ascii\n1 2 3\n");
   EXPECT_NE(e.find("header mismatch: POINTS 4 but WIDTH*HEIGHT"), std::string::npos) << e;
