@@ -75,9 +75,10 @@ struct LedTracker::Impl {
   std::size_t noise_next = 0;
   bool tracking = false;
   bool have_velocity = false;
-  // The last and the one-before-last poses were reported Ok: a prediction
-  // from them is vouched for (try_track()'s jump test).
-  bool last_ok = false, previous_ok = false;
+  // The one-before-last frame's pose was reported Ok (the last frame's is
+  // `estimate`): with it, a prediction is vouched for (try_track()'s jump
+  // test).
+  bool previous_ok = false;
   Eigen::Isometry3d last_pose = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d previous_pose = Eigen::Isometry3d::Identity();
   detail::OptimalMatcher matcher;
@@ -246,8 +247,7 @@ struct LedTracker::Impl {
       sigma = {std::max(fused.first, k * sigma.first), std::max(fused.second, k * sigma.second)};
     }
     previous_pose = last_pose;
-    previous_ok = last_ok;
-    last_ok = false;
+    previous_ok = estimate.status == PoseStatus::Ok;  // still the last frame's
     have_velocity = tracking;
     last_pose = fit.T_camera_body;  // the track follows the measurements
     tracking = true;
@@ -267,7 +267,6 @@ struct LedTracker::Impl {
       return;
     }
     estimate.status = PoseStatus::Ok;
-    last_ok = true;
     estimate.T_camera_body = T;
     estimate.rms_px = fit.rms_px;
     estimate.points = points;
@@ -307,7 +306,7 @@ struct LedTracker::Impl {
     estimate.sigma_position_m = estimate.sigma_rotation_rad = 0;
     tracking = false;
     have_velocity = false;
-    last_ok = previous_ok = false;
+    previous_ok = false;
     led_to_blob.fill(-1);
   }
 
@@ -344,7 +343,8 @@ struct LedTracker::Impl {
     // Not the board if it jumped off a prediction made from vouched-for
     // poses; a prediction from an uncertain fit (or a velocity from one)
     // may itself be wrong.
-    const bool vouched = last_ok && (previous_ok || !(options.constant_velocity && have_velocity));
+    const bool vouched =
+        estimate.status == PoseStatus::Ok && (previous_ok || !(options.constant_velocity && have_velocity));
     if (vouched && ((fit.T_camera_body.translation() - T.translation()).norm() > options.max_jump_m ||
                     detail::rotation_angle(fit.T_camera_body.linear(), T.linear()) > options.max_jump_rad)) {
       return false;
