@@ -1,12 +1,19 @@
 #include "touchdown/pose/gauss_newton.hpp"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::pose {
+
+namespace {
+// Most depths GaussNewtonOptions::depth_outlier_sigma leaves out of one fit.
+constexpr std::size_t kMaxDepthOutliers = 3;
+}  // namespace
 
 bool reprojection_residual(const PinholeCamera& cam, const Eigen::Isometry3d& T, const Eigen::Vector3d& p_body,
                            const Eigen::Vector2d& uv, Eigen::Vector2d& r, Eigen::Matrix<double, 2, 6>* J) {
@@ -38,6 +45,9 @@ bool GaussNewtonOptions::validate(std::string* why) const {
   if (max_iterations < 1 || max_iterations > 1000) return invalid(why, "max_iterations: must be in 1..1000");
   if (!(step_tolerance >= 0) || !std::isfinite(step_tolerance)) return invalid(why, "step_tolerance: must be >= 0");
   if (!(huber_px >= 0) || !std::isfinite(huber_px)) return invalid(why, "huber_px: must be >= 0 px (0 = off)");
+  if (!(depth_outlier_sigma >= 0) || !std::isfinite(depth_outlier_sigma)) {
+    return invalid(why, "depth_outlier_sigma: must be >= 0 (0 = off)");
+  }
   return true;
 }
 
@@ -64,6 +74,13 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
   Eigen::Vector2d r;
   Eigen::Matrix<double, 2, 6> J;
   Eigen::Matrix<double, 1, 6> Jd;
+  // Depths left out as outliers (GaussNewtonOptions::depth_outlier_sigma).
+  std::array<std::size_t, kMaxDepthOutliers> dropped{};
+  std::size_t n_dropped = 0;
+  auto is_dropped = [&](std::size_t i) {
+    return std::find(dropped.begin(), dropped.begin() + static_cast<std::ptrdiff_t>(n_dropped), i) !=
+           dropped.begin() + static_cast<std::ptrdiff_t>(n_dropped);
+  };
   auto accumulate = [&](const Eigen::Isometry3d& pose, double& cost, bool with_jacobian) {
     H.setZero();
     g.setZero();
@@ -85,6 +102,7 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
                           with_jacobian ? &Jd : nullptr)) {
         return false;
       }
+      if (is_dropped(i)) continue;
       ++depth_count;
       const double ed = std::abs(rd);
       const double wd = o.huber_px > 0 && ed > o.huber_px ? o.huber_px / ed : 1.0;
@@ -97,23 +115,58 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
     return true;
   };
   double cost = 0;
-  out.status = RefineStatus::MaxIterations;
-  for (int it = 0; it < o.max_iterations; ++it) {
+  // Gauss–Newton steps from T; false if the problem is degenerate.
+  auto iterate = [&]() {
+    out.status = RefineStatus::MaxIterations;
+    for (int it = 0; it < o.max_iterations; ++it) {
+      if (!accumulate(T, cost, true)) return false;
+      const Eigen::LDLT<Matrix6d> ldlt(H);
+      if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 1e-12 * H.diagonal().maxCoeff()).all()) {
+        return false;
+      }
+      const Vector6d dx = -ldlt.solve(g);
+      T = se3_exp(dx) * T;
+      ++out.iterations;
+      if (dx.norm() < o.step_tolerance) {
+        out.status = RefineStatus::Converged;
+        break;
+      }
+    }
+    return true;
+  };
+  if (!iterate()) {
+    out.status = RefineStatus::Degenerate;
+    return out;
+  }
+  // Outlying depths, worst first, each removal refitted from there. Judged
+  // at the fit that still holds them by the studentized residual
+  // r / (σ √(1 − h)), h = J H⁻¹ Jᵀ its leverage: a depth the fit leans on
+  // pulls the fit toward itself, and its plain residual understates how far
+  // off it is (Cook & Weisberg 1982, ch. 2).
+  while (with_depth && o.depth_outlier_sigma > 0 && n_dropped < dropped.size()) {
     if (!accumulate(T, cost, true)) {
       out.status = RefineStatus::Degenerate;
       return out;
     }
-    const Eigen::LDLT<Matrix6d> ldlt(H);
-    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 1e-12 * H.diagonal().maxCoeff()).all()) {
+    const Eigen::LDLT<Matrix6d> info(H);
+    double worst = o.depth_outlier_sigma;
+    std::size_t arg = n;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!std::isfinite(depth.z_m[i]) || !(depth.sigma_m[i] > 0) || is_dropped(i)) continue;
+      double rd = 0;
+      if (!depth_residual(T, p_body[i], depth.z_m[i], depth.pixel_sigma_px / depth.sigma_m[i], rd, &Jd)) continue;
+      const double leverage = (Jd * info.solve(Jd.transpose()))(0, 0);
+      const double off = std::abs(rd) / (depth.pixel_sigma_px * std::sqrt(std::max(1 - leverage, 1e-3)));
+      if (off > worst) {
+        worst = off;
+        arg = i;
+      }
+    }
+    if (arg == n) break;
+    dropped[n_dropped++] = arg;
+    if (!iterate()) {
       out.status = RefineStatus::Degenerate;
       return out;
-    }
-    const Vector6d dx = -ldlt.solve(g);
-    T = se3_exp(dx) * T;
-    out.iterations = it + 1;
-    if (dx.norm() < o.step_tolerance) {
-      out.status = RefineStatus::Converged;
-      break;
     }
   }
   if (!accumulate(T, cost, true)) {

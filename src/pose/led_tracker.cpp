@@ -1,8 +1,10 @@
 #include "touchdown/pose/led_tracker.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <tuple>
 
 #include "pose/ambiguity.hpp"
@@ -52,6 +54,10 @@ bool TrackerOptions::validate(std::string* why) const {
   if (!(confirm_rms_px > 0)) return fail("confirm_rms_px: must be positive");
   if (!(fusion_max_frames >= 1 && fusion_max_frames <= 1e6)) return fail("fusion_max_frames: must be in [1, 1e6]");
   if (noise_pool_frames < 0 || noise_pool_frames > 1000) return fail("noise_pool_frames: must be in 0..1000");
+  if (noise_pool_min_fits < 1 || (noise_pool_frames > 0 && noise_pool_min_fits > noise_pool_frames)) {
+    return fail("noise_pool_min_fits: must be in 1..noise_pool_frames");
+  }
+  if (!std::isfinite(shared_blob_margin_px)) return fail("shared_blob_margin_px: must be finite (< 0 = off)");
   if (!(min_detection_sigma_px > 0 && min_detection_sigma_px <= correspondence.detection_sigma_px)) {
     return fail("min_detection_sigma_px: must be in (0, correspondence.detection_sigma_px]");
   }
@@ -273,11 +279,60 @@ struct LedTracker::Impl {
     estimate.covariance = covariance;
   }
 
+  // A matched blob that an unmatched LED's reprojection also falls in is
+  // the two LEDs merged (seen at range or grazing: their spots touch): its
+  // centre lies between them and belongs to neither, so its LED leaves the
+  // fit (the joined-blob rule in gather() needs the area to show it; two
+  // small spots merged are often not twice a single one). "Falls in":
+  // within 1.5 × the blob's radius √(area/π) (+ shared_blob_margin_px), as
+  // the fit, pulled onto the blob by its LED, puts the other LED up to the
+  // spots' separation away (two touching spots: 1.4 merged radii). Only
+  // while the fit keeps correspondence.search_min_leds points: a merged
+  // blob inflates the fit's residuals and so its sigma, and a 4-point fit
+  // without it cannot show its other blobs' errors (2 degrees of freedom
+  // without depth; seen: 0.11 rad wrong at 3 m, a split fragment 1 px off).
+  // Refits (and refills `set`) if any left; returns true then.
+  bool drop_shared_blobs(PoseRefinement& fit, detail::MatchedSet& set) {
+    const CorrespondenceOptions& co = options.correspondence;
+    const Eigen::Vector3d camera_body = detail::camera_in_body(fit.T_camera_body);
+    int matched = 0;
+    for (std::size_t i = 0; i < constellation.leds.size(); ++i) matched += led_to_blob[i] >= 0;
+    const std::array<int, kMaxLeds> before = led_to_blob;
+    bool dropped = false;
+    for (std::size_t i = 0; i < constellation.leds.size() && matched > co.min_leds; ++i) {
+      if (led_to_blob[i] < 0) continue;
+      const Blob& b = work[static_cast<std::size_t>(led_to_blob[i])];
+      const double radius = 1.5 * std::sqrt(b.area / std::numbers::pi) + options.shared_blob_margin_px;
+      for (std::size_t j = 0; j < constellation.leds.size(); ++j) {
+        if (j == i || led_to_blob[j] >= 0) continue;
+        const Led& other = constellation.leds[j];
+        const Eigen::Vector3d q = fit.T_camera_body * other.p_body;
+        if (!(q.z() > 1e-6) || !other.emits_toward(camera_body, emission_margin)) continue;
+        if ((pin.project(q) - b.uv_undistorted).norm() > radius) continue;
+        led_to_blob[i] = -1;
+        --matched;
+        dropped = true;
+        break;
+      }
+    }
+    if (!dropped) return false;
+    detail::gather(constellation, work, led_to_blob, co, set);
+    if (set.n < static_cast<std::size_t>(co.search_min_leds)) {
+      led_to_blob = before;
+      detail::gather(constellation, work, led_to_blob, co, set);
+      return false;
+    }
+    const PoseRefinement refit =
+        refine_pose_gauss_newton(pin, set.points(), set.pixels(), fit.T_camera_body, co.refine, set.depth());
+    if (refit.ok()) fit = refit;
+    return true;
+  }
+
   // The detection-noise variance floor (TrackerOptions::noise_pool_frames).
   double noise_floor() {
     const double sd = options.correspondence.detection_sigma_px;
     const int n = static_cast<int>(noise_pool.size());
-    if (options.noise_pool_frames == 0 || 3 * n < options.noise_pool_frames) return sd * sd;
+    if (options.noise_pool_frames == 0 || n < options.noise_pool_min_fits) return sd * sd;
     noise_sorted.assign(noise_pool.begin(), noise_pool.end());
     const auto mid = noise_sorted.begin() + n / 2;
     std::nth_element(noise_sorted.begin(), mid, noise_sorted.end());
@@ -339,6 +394,7 @@ struct LedTracker::Impl {
                                                          options.correspondence.refine, set.depth());
       if (f2.ok()) fit = f2;
     }
+    if (options.shared_blob_margin_px >= 0) drop_shared_blobs(fit, set);
     if (fit.rms_px > options.reinit_rms_px) return false;
     // Not the board if it jumped off a prediction made from vouched-for
     // poses; a prediction from an uncertain fit (or a velocity from one)
@@ -386,12 +442,24 @@ struct LedTracker::Impl {
       return estimate;
     }
     led_to_blob = c.blob_of_led;
+    PoseRefinement fit = c.fit;
+    int matched = c.matched;
+    detail::MatchedSet set;
+    if (options.shared_blob_margin_px >= 0 && drop_shared_blobs(fit, set)) {
+      const PoseStatus verdict = detail::vet_fit(pin, constellation, shape, work, led_to_blob, fit, nullptr,
+                                                 options.correspondence.accept_rms_px, options.correspondence);
+      if (verdict != PoseStatus::Ok && verdict != PoseStatus::Uncertain) {
+        lose(verdict);
+        return estimate;
+      }
+      matched = static_cast<int>(set.n);
+    }
     // A fresh track, whose velocity comes from the previous frame's pose if
     // that frame had one (settle(): `tracking`). A board moving faster than
     // the tracking gate per frame loses its track every frame; without the
     // velocity the next prediction would lose it again, and every frame
     // would need the full search (measured: 100 ms frames at 0.5 m).
-    settle(c.fit, c.matched, true);
+    settle(fit, matched, true);
     return estimate;
   }
 };

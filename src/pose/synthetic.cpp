@@ -607,12 +607,14 @@ void SyntheticCamera::Impl::render_leds(const Eigen::Isometry3d* poses, int n, c
     draw_spot(led.p_body, uv, sigma, gain, o.bloom_fraction * exposure, core_colour(led.color));
     lit[lit_count++] = {uv, lit_radius(sigma, gain), i};
     if (!extras[i].reflection) continue;
-    // Its reflection off the airframe: dimmer and wider, no bloom.
+    // Its reflection off the airframe: wider, no bloom, and returning
+    // reflection_gain of the LED's light (a Gaussian spot's light is
+    // gain·2πσ², so the wider spot's peak is lower by (σ/σ_q)²).
     const Eigen::Vector3d q = T * extras[i].reflection_body;
     if (q.z() < kMinDepth) continue;
     const Eigen::Vector2d uv_q = camera.project(q);
     const double sigma_q = 1.5 * sigma + 1;
-    const double gain_q = o.reflection_gain * gain;
+    const double gain_q = o.reflection_gain * gain * (sigma / sigma_q) * (sigma / sigma_q);
     draw_spot(extras[i].reflection_body, uv_q, sigma_q, gain_q, 0, core_colour(led.color));
     lit[lit_count++] = {uv_q, lit_radius(sigma_q, gain_q), i + count};
   }

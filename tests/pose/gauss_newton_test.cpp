@@ -122,6 +122,7 @@ TEST(GaussNewtonOptions, ValidateNamesTheFieldAndRefineRefusesBadOptions) {
   touchdown::test::expect_validate_names_fields<O>({
       {"max_iterations:", [](O& o) { o.max_iterations = 0; }},
       {"huber_px:", [](O& o) { o.huber_px = -1; }},
+      {"depth_outlier_sigma:", [](O& o) { o.depth_outlier_sigma = -1; }},
   });
   O o;
   o.huber_px = -1;
@@ -185,6 +186,37 @@ TEST(GaussNewton, MeasuredDepthsTightenAQuasiPlanarFit) {
   }
   EXPECT_LT(err_fused, 0.5 * err_pixels);
   EXPECT_LT(sigma_fused, 0.5 * sigma_pixels);
+}
+
+// A depth far off the pose (the camera saw a housing in front of the LED)
+// is left out: the fit equals the one without that depth, and its noise
+// estimate stays the pixels'; with the truncation off (0) the depth pulls
+// the fit and inflates the noise estimate.
+TEST(GaussNewton, DepthFarOffThePoseIsLeftOut) {
+  touchdown::Rng rng(14);
+  for (int k = 0; k < 20; ++k) {
+    const auto p = constellation(Shape::QuasiPlanar, rng);
+    const auto T = random_pose(rng);
+    const auto uv = observe(T, p, rng, 0.2);
+    std::vector<double> z, sigma;
+    for (const auto& q : p) z.push_back((T * q).z() + 0.001 * rng.normal()), sigma.push_back(0.001);
+    std::vector<double> without = z;
+    z[0] -= 0.03;  // 30 sigma nearer
+    without[0] = std::nan("");
+    const auto init = perturb(T, rng);
+    const auto robust = tp::refine_pose_gauss_newton(kCamera, p, uv, init, {}, {z, sigma, 0.2});
+    const auto reference = tp::refine_pose_gauss_newton(kCamera, p, uv, init, {}, {without, sigma, 0.2});
+    tp::GaussNewtonOptions all;
+    all.depth_outlier_sigma = 0;
+    const auto pulled = tp::refine_pose_gauss_newton(kCamera, p, uv, init, all, {z, sigma, 0.2});
+    ASSERT_TRUE(robust.ok() && reference.ok() && pulled.ok()) << k;
+    EXPECT_LT((robust.T_camera_body.translation() - reference.T_camera_body.translation()).norm(), 1e-9) << k;
+    EXPECT_LT(Eigen::AngleAxisd(robust.T_camera_body.linear().transpose() * reference.T_camera_body.linear()).angle(),
+              1e-9)
+        << k;
+    EXPECT_NEAR(robust.noise_variance, reference.noise_variance, 1e-9) << k;
+    EXPECT_GT(pulled.noise_variance, 10 * robust.noise_variance) << k;
+  }
 }
 
 TEST(GaussNewton, DepthsNotOnePerPointThrow) {

@@ -397,6 +397,61 @@ TEST(LedTracker, FastBoardIsTrackedOnceItsVelocityIsKnown) {
 // A tracked fit that jumped off a prediction from vouched-for poses is not
 // taken: with the jump limits made tiny, every frame of a smooth track goes
 // to the full search; with the defaults only the first.
+// Two LEDs 1.5 cm apart seen from 1.2 m: their spots merge into one blob
+// between them, 1.7× a single LED's area (not enough for the joined-blob
+// rule). The LED it is matched to must not pull the fit: the other LED's
+// reprojection falls inside the blob, so the blob leaves the fit (five
+// LEDs remain).
+TEST(LedTracker, BlobTwoLedsShareStaysOutOfTheFit) {
+  tp::Constellation k;
+  const std::array<tp::LedColor, 7> colours{tp::LedColor::Red,   tp::LedColor::Green, tp::LedColor::Blue,
+                                            tp::LedColor::White, tp::LedColor::Red,   tp::LedColor::Green,
+                                            tp::LedColor::Blue};
+  const std::array<Eigen::Vector3d, 7> at{Eigen::Vector3d(-0.2, -0.15, 0),   Eigen::Vector3d(0.2, -0.15, 0.06),
+                                          Eigen::Vector3d(0.2, 0.15, 0),     Eigen::Vector3d(-0.2, 0.15, 0.08),
+                                          Eigen::Vector3d(0, 0, 0.03),       Eigen::Vector3d(0.2, -0.135, 0.06),
+                                          Eigen::Vector3d(-0.05, 0.12, 0.04)};
+  for (std::size_t i = 0; i < at.size(); ++i) k.leds.push_back({at[i], colours[i]});
+  const auto cam = d435();
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
+  T.translation() << 0.1, -0.05, 1.2;
+  auto run = [&](double margin) {
+    tp::TrackerOptions o;
+    o.shared_blob_margin_px = margin;
+    tp::LedTracker tracker(cam, k, o);
+    touchdown::Rng rng(48);
+    double worst = 0;
+    int ok = 0;
+    for (int f = 0; f < 20; ++f) {
+      auto blobs = blobs_of(k, cam.pinhole(), T, rng, 0.05);
+      for (auto& b : blobs) b.area = 30;
+      blobs[1].uv_undistorted = blobs[1].uv_px = 0.5 * (blobs[1].uv_undistorted + blobs[5].uv_undistorted);
+      blobs[1].area = 50;
+      blobs.erase(blobs.begin() + 5);
+      const auto& e = tracker.track_blobs(blobs);
+      if (!e.ok()) continue;
+      ++ok;
+      worst = std::max(worst, rotation_error(e.T_camera_body, T));
+      if (margin < 0) continue;
+      EXPECT_EQ(e.points, 5) << f;
+      for (std::size_t l = 0; l < k.leds.size(); ++l) {  // the shared blob is out
+        const int b = tracker.led_to_blob()[l];
+        if (b >= 0) {
+          EXPECT_NE(tracker.blobs()[static_cast<std::size_t>(b)].area, 50) << f;
+        }
+      }
+    }
+    return std::pair{ok, worst};
+  };
+  const auto [ok_on, worst_on] = run(0.5);
+  EXPECT_GE(ok_on, 19);
+  EXPECT_LT(worst_on, 0.005);
+  // Without the rule the blob pulls the fit.
+  const auto [ok_off, worst_off] = run(-1);
+  EXPECT_GT(worst_off, 3 * worst_on) << ok_off;
+}
+
 TEST(LedTracker, JumpOffThePredictionGoesToTheSearch) {
   const auto k = f450();
   const auto model = d435();
@@ -454,6 +509,9 @@ TEST(LedTracker, RejectsBadConfiguration) {
   using O = tp::TrackerOptions;
   touchdown::test::expect_validate_names_fields<O>({
       {"noise_pool_frames:", [](O& t) { t.noise_pool_frames = -1; }},
+      {"noise_pool_min_fits:", [](O& t) { t.noise_pool_min_fits = 0; }},
+      {"noise_pool_min_fits:", [](O& t) { t.noise_pool_min_fits = 31; }},
+      {"shared_blob_margin_px:", [](O& t) { t.shared_blob_margin_px = std::nan(""); }},
       {"min_detection_sigma_px:", [](O& t) { t.min_detection_sigma_px = 0; }},
       {"min_detection_sigma_px:", [](O& t) { t.min_detection_sigma_px = 0.5; }},
   });
@@ -651,6 +709,36 @@ TEST(LedTracker, PooledNoiseFloorFollowsAQuietSensor) {
   EXPECT_LT(sigma, 2.0 * rms);
   const auto [rms_fixed, sigma_fixed] = run(0);
   EXPECT_GT(sigma_fixed, 2.5 * rms_fixed);
+}
+
+// The pool replaces the default floor once it holds noise_pool_min_fits
+// tracked fits, not before: with a quiet sensor the sigma drops at that
+// frame (the first frame is the search's, which is not pooled).
+TEST(LedTracker, PooledFloorStartsAfterItsMinimumFits) {
+  const auto k = f450();
+  const auto cam = d435();
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() << 0.05, 0.02, 1.5;
+  for (const int min_fits : {3, 8}) {
+    touchdown::Rng rng(46);
+    tp::TrackerOptions o;
+    o.noise_pool_min_fits = min_fits;
+    tp::LedTracker tracker(cam, k, o);
+    std::vector<double> sigma;
+    for (int i = 0; i < 12; ++i) {
+      const auto& e = tracker.track_blobs(blobs_of(k, cam.pinhole(), T, rng, 0.03));
+      ASSERT_TRUE(e.ok()) << i;
+      sigma.push_back(e.sigma_rotation_rad);
+    }
+    // Frame i is fitted with i - 1 pooled fits.
+    for (int i = 1; i < 12; ++i) {
+      if (i - 1 < min_fits) {
+        EXPECT_GT(sigma[i], 2 * sigma[11]) << "min_fits " << min_fits << " frame " << i;
+      } else {
+        EXPECT_LT(sigma[i], 1.5 * sigma[11]) << "min_fits " << min_fits << " frame " << i;
+      }
+    }
+  }
 }
 
 // A board too far to vouch for gives Uncertain frames — no pose, the 1-σ

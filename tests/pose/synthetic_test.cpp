@@ -755,6 +755,39 @@ TEST(RenderProfile, ReflectionsAddDimSpotsNearTheirLeds) {
   EXPECT_GT(far_lit(with), 3);
 }
 
+// A reflection returns reflection_gain of its LED's light, however wide
+// its spot: the red light summed around each spot (unclipped, no bloom, no
+// noise) against the option, at a near and a far range.
+TEST(RenderProfile, ReflectionReturnsItsShareOfTheLedsLight) {
+  for (const double distance : {0.6, 2.5}) {
+    for (const double share : {0.3, 1.0}) {
+      tp::RenderOptions o = clean();
+      o.led_gain = 0.95;  // no pixel clips; the reflection far above the 8-bit steps
+      o.bloom_fraction = 0;
+      o.reflection_probability = 1;
+      o.reflection_gain = share;
+      o.reflection_offset = 0.08 * distance;  // ~50 px apart: two separate spots
+      const tp::Constellation k = single_led(tp::LedColor::Red);
+      tp::RenderedFrame frame;
+      tp::SyntheticCamera(d435(), k, o).render(ahead(distance), ahead(distance), 5, 0, frame);
+      const tp::BgrImage& img = frame.colour;
+      const Eigen::Vector2d uv = d435().project(Eigen::Vector3d(0, 0, distance));
+      const double bg = img.pixels[2];  // a corner: background only
+      double near = 0, far = 0;
+      for (int v = 0; v < img.height; ++v) {
+        for (int u = 0; u < img.width; ++u) {
+          const double r = (Eigen::Vector2d(u, v) - uv).norm();
+          if (r > 80) continue;
+          const double red = img.pixels[3 * (static_cast<std::size_t>(v) * img.width + u) + 2] - bg;
+          (r < 20 ? near : far) += red;
+        }
+      }
+      ASSERT_GT(near, 0);
+      EXPECT_NEAR(far / near, share, 0.1 * share) << "distance " << distance;
+    }
+  }
+}
+
 TEST(RandomConstellation, ValidDeterministicAndVaried) {
   std::set<std::size_t> sizes;
   for (std::uint64_t s = 0; s < 40; ++s) {

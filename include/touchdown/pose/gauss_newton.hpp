@@ -22,6 +22,13 @@ struct GaussNewtonOptions {
   int max_iterations = 20;
   double step_tolerance = 1e-12;  ///< stop when |Δξ| falls below this
   double huber_px = 0;            ///< Huber threshold [px]; 0 = plain least squares
+  /// After convergence, the measured depth (DepthConstraints) farthest off
+  /// the fit, if more than this many of its σ, is left out and the fit
+  /// repeated from there; up to 3 depths. A depth camera at an LED often
+  /// sees something else (a housing in front of it, an edge, a saturated
+  /// spot). Judged at the fit that still holds the depth, so consistent
+  /// depths outvote one bad one. 0 = every depth counts.
+  double depth_outlier_sigma = 4;
   /// False (with the offending field and why in *why) for an invalid value.
   bool validate(std::string* why) const;
 };

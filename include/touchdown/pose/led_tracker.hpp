@@ -71,8 +71,8 @@ struct TrackerOptions {
   /// blob biases persist from frame to frame, so frames are not independent.
   double fusion_max_frames = 4;
   /// The detection noise a fit's covariance assumes is at least the frame's
-  /// own residual σ̂² = cost / dof and a floor. Until the track has
-  /// noise_pool_frames / 3 tracked fits the floor is
+  /// own residual σ̂² = cost / dof and a floor. Until the pool holds
+  /// noise_pool_min_fits tracked fits the floor is
   /// correspondence.detection_sigma_px; then it is the noise scale measured
   /// on this camera: 1.25 × the median σ̂² of the last noise_pool_frames
   /// tracked fits (1.25 covers the median's bias below the mean of a χ²
@@ -83,6 +83,15 @@ struct TrackerOptions {
   /// has its poses' sigma overstated (measured on the harsh renderer:
   /// error/σ median 0.1 at the fixed floor, 0.3–1 with the pool). 0 = off.
   int noise_pool_frames = 30;
+  /// Fits the pool needs before it replaces the default floor: the median
+  /// of 5 σ̂² with 6–14 degrees of freedom each is within a factor 2 of the
+  /// noise (measured: 5 instead of 10 turns 36 of 1,600 harsh-suite frames
+  /// from too uncertain to ok, 0 wrong-ok; docs/benchmarks.md).
+  int noise_pool_min_fits = 5;
+  /// A matched blob within 1.5 × its radius √(area/π) + this [px] of an
+  /// unmatched, facing LED's reprojection is the two LEDs merged and leaves
+  /// the fit (while more than correspondence.min_leds remain). < 0 = off.
+  double shared_blob_margin_px = 0.5;
   double min_detection_sigma_px = 0.05;  ///< [px] the pooled floor's lower bound
   bool validate(std::string* why) const;
 };

@@ -120,7 +120,12 @@ struct RenderOptions {
   /// fixed per seed) a dimmer, wider spot of the LED's colour at
   /// reflection_offset from it on the airframe (with the airframe's depth).
   double reflection_probability = 0;
-  double reflection_gain = 0.3;     ///< the reflection's peak relative to its LED's
+  /// The light a reflection returns (summed over its spot) relative to its
+  /// LED's direct light. A passive surface returns a fraction: glossy
+  /// plastic reflects 4–10 % specularly (more at grazing incidence), so
+  /// 0.3 is a harsh case. Its spot is wider (σ_q = 1.5 σ + 1 px), so its
+  /// peak is lower than the LED's by 0.3 (σ/σ_q)².
+  double reflection_gain = 0.3;
   double reflection_offset = 0.03;  ///< [m] LED–reflection distance on the airframe
   /// Fraction of the lamps that look like LEDs: LED-sized (2–5 px) and of an
   /// LED class's colour.
