@@ -143,11 +143,13 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
   // r / (σ √(1 − h)), h = J H⁻¹ Jᵀ its leverage: a depth the fit leans on
   // pulls the fit toward itself, and its plain residual understates how far
   // off it is (Cook & Weisberg 1982, ch. 2).
+  bool accumulated = false;  // H, g and cost hold T's (the last outlier check's)
   while (with_depth && o.depth_outlier_sigma > 0 && n_dropped < dropped.size()) {
     if (!accumulate(T, cost, true)) {
       out.status = RefineStatus::Degenerate;
       return out;
     }
+    accumulated = true;
     const Eigen::LDLT<Matrix6d> info(H);
     double worst = o.depth_outlier_sigma;
     std::size_t arg = n;
@@ -164,12 +166,13 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
     }
     if (arg == n) break;
     dropped[n_dropped++] = arg;
+    accumulated = false;
     if (!iterate()) {
       out.status = RefineStatus::Degenerate;
       return out;
     }
   }
-  if (!accumulate(T, cost, true)) {
+  if (!accumulated && !accumulate(T, cost, true)) {
     out.status = RefineStatus::Degenerate;
     return out;
   }

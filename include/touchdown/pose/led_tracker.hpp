@@ -90,7 +90,8 @@ struct TrackerOptions {
   int noise_pool_min_fits = 5;
   /// A matched blob within 1.5 × its radius √(area/π) + this [px] of an
   /// unmatched, facing LED's reprojection is the two LEDs merged and leaves
-  /// the fit (while more than correspondence.min_leds remain). < 0 = off.
+  /// the fit, as long as the fit keeps correspondence.search_min_leds
+  /// points. < 0 = off.
   double shared_blob_margin_px = 0.5;
   double min_detection_sigma_px = 0.05;  ///< [px] the pooled floor's lower bound
   bool validate(std::string* why) const;
