@@ -24,3 +24,6 @@ find_package(TBB REQUIRED)
 # for the constellation bundle adjustment.
 find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs calib3d aruco)
 find_package(Ceres 2 REQUIRED)
+# Landing trajectory: NLopt for the time allocation (and SLSQP as the QP
+# solver's reference in tests and benchmarks).
+find_package(NLopt REQUIRED)
