@@ -86,7 +86,7 @@ struct CorridorOptions {
   double h_touchdown = 0.5;  ///< height of the rear/touchdown split above the pad [m], > 0
   double deflate = 0.3;      ///< horizontal shrink of the touchdown part toward the pad centre [m], ≥ 0
   double dilate = 0.2;       ///< ε_d: vertical growth of each part across h_T per dilation step [m], > 0
-  int max_dilations = 5;     ///< dilation steps tried before `no_overlap`
+  int max_dilations = 20;    ///< dilation steps tried before `no_overlap`
   double radius = 0.25;      ///< r_q: drone radius, every face moves inward by it [m], ≥ 0
   double margin = 1.0;       ///< free box: bounding box of start and goal grown by this (not below the pad) [m], ≥ 0
   std::optional<CameraFov> camera;  ///< no camera: no FoV constraint

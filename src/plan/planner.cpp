@@ -1,0 +1,735 @@
+// Landing trajectory planner (planner.hpp): the minimum-jerk piecewise
+// Bézier QP in the moving pad's frame, its world-frame limits, the online
+// time allocation and the diagnosis of infeasible problems.
+#include "touchdown/plan/planner.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <nlopt.hpp>
+
+#include "touchdown/core/error.hpp"
+#include "touchdown/plan/qp.hpp"
+
+namespace touchdown::plan {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kOctagon = 8;  // sides of the polygon inscribed in a rotating pad's limit circle
+
+Eigen::Matrix2d rot2(double angle) {
+  Eigen::Matrix2d R;
+  R << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
+  return R;
+}
+
+bool finite(const KinematicState& s) { return s.p.allFinite() && s.v.allFinite() && s.a.allFinite(); }
+
+using Clock = std::chrono::steady_clock;
+double micros_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+}
+
+// The T-independent matrices of one order: derivative matrices D_j (with
+// respect to τ), the jerk Gram form D₃ᵀ G D₃, and the elevations of the
+// velocity (n−1 → n) and acceleration (n−2 → n) control points.
+struct OrderTables {
+  int n = 0;
+  std::array<Eigen::MatrixXd, 3> D;
+  Eigen::MatrixXd jerk;  // per unit duration: divide by T⁵
+  Eigen::MatrixXd E1, E2;
+  explicit OrderTables(int order) : n(order) {
+    for (int j = 0; j < 3; ++j) D[static_cast<std::size_t>(j)] = derivative_matrix(n, j);
+    jerk = jerk_cost_matrix(n, 1.0);
+    E1 = elevation_matrix(n - 1, 1);
+    E2 = elevation_matrix(n - 2, 2);
+  }
+};
+
+// The constraint rows of one set of durations, sparse (each touches a few
+// control points): equalities (start, goal, continuity) and inequalities
+// (corridor, velocity, acceleration). Their count does not depend on the
+// durations. `skip` leaves a group out (the diagnosis); for Boundary that is
+// the goal's velocity and acceleration (the start is measured, the goal's
+// position is the point of the plan, continuity is the curve's own).
+class QpBuilder {
+ public:
+  QpBuilder(const KinematicState& start, const KinematicState& goal, const PadMotion& pad,
+            const PlannerOptions& options, const std::vector<Polytope>& polytopes)
+      : start_(start), goal_(goal), pad_(pad), o_(options), polytopes_(polytopes), t_(options.order) {}
+
+  int variables() const { return o_.segments * (o_.order + 1) * 3; }
+  static int index(int order, int segment, int point, int axis) { return (segment * (order + 1) + point) * 3 + axis; }
+
+  // The rows of the inequalities (and, with equalities = true, of the
+  // equalities) at durations T.
+  void collect(const std::vector<double>& T, int skip_group, bool equalities) const {
+    terms_.clear();
+    rows_eq_.clear();
+    rows_in_.clear();
+    if (equalities) collect_equalities(T, skip_group);
+    if (skip_group != static_cast<int>(ConstraintGroup::Corridor)) add_corridor();
+    if (skip_group != static_cast<int>(ConstraintGroup::Velocity)) add_limits(T, 1);
+    if (skip_group != static_cast<int>(ConstraintGroup::Acceleration)) add_limits(T, 2);
+  }
+
+  // The whole QP in the control points (the exported form).
+  void build(const std::vector<double>& T, QpProblem& qp, int skip_group = -1) const {
+    const int n = o_.order, s = o_.segments, N = variables();
+    collect(T, skip_group, true);
+    qp.order = n;
+    qp.segments = s;
+    qp.P.setZero(N, N);
+    qp.q.setZero(N);
+    qp.constant = 0;
+    for (int k = 0; k < s; ++k) {
+      const double scale = 2 / std::pow(T[static_cast<std::size_t>(k)], 5);
+      for (int axis = 0; axis < 3; ++axis) {
+        for (int i = 0; i <= n; ++i) {
+          for (int j = 0; j <= n; ++j) qp.P(index(n, k, i, axis), index(n, k, j, axis)) = scale * t_.jerk(i, j);
+        }
+      }
+    }
+    fill(rows_eq_, qp.A_eq, qp.b_eq, qp.eq_groups, N);
+    fill(rows_in_, qp.A_in, qp.b_in, qp.in_groups, N);
+  }
+
+  // The same QP with the equalities eliminated (what the planner solves):
+  // per axis, every control point is an affine function c = C y + c₀ of the
+  // free ones y (the start fixes a segment's first three, continuity of p,
+  // v, a the next segment's first three, the goal the last segment's last
+  // three), so the QP has 3F variables, no equalities, and a definite
+  // Hessian blockdiag(H, H, H), H = Σ_k C_kᵀ Q_k C_k.
+  struct Reduced {
+    int F = 0;             // free control points per axis
+    Eigen::MatrixXd C;     // M × F (M control points per axis)
+    Eigen::MatrixXd c0;    // M × 3
+    Eigen::MatrixXd P, A;  // 3F × 3F, m × 3F
+    Eigen::VectorXd q, b;  // 3F, m
+    std::vector<ConstraintGroup> groups;
+  };
+  void reduce(const std::vector<double>& T, Reduced& r, int skip_group = -1) const {
+    const int n = o_.order, s = o_.segments, M = s * (n + 1);
+    const bool relax_goal = skip_group == static_cast<int>(ConstraintGroup::Boundary);
+    collect(T, skip_group, false);
+    r.F = 0;
+    for (int k = 0; k < s; ++k) {
+      for (int i = 3; i <= n; ++i) r.F += (k == s - 1 && i >= n - (relax_goal ? 0 : 2)) ? 0 : 1;
+    }
+    const int F = r.F;
+    r.C.setZero(M, F);
+    r.c0.setZero(M, 3);
+    auto row_copy = [&](int dst, int src, double f) {  // row dst += f · row src (affine)
+      r.C.row(dst) += f * r.C.row(src);
+      r.c0.row(dst) += f * r.c0.row(src);
+    };
+    const double nn = n * (n - 1.0);
+    int free_index = 0;
+    for (int k = 0; k < s; ++k) {
+      const int base = k * (n + 1);
+      const double Tk = T[static_cast<std::size_t>(k)];
+      if (k == 0) {
+        r.c0.row(base) = start_.p.transpose();
+        r.c0.row(base + 1) = (start_.p + start_.v * Tk / n).transpose();
+        r.c0.row(base + 2) = (start_.a * Tk * Tk / nn + 2 * (start_.p + start_.v * Tk / n) - start_.p).transpose();
+      } else {
+        const int prev = base - (n + 1);
+        const double f = Tk / T[static_cast<std::size_t>(k - 1)];
+        row_copy(base, prev + n, 1);
+        row_copy(base + 1, prev + n, 1 + f);
+        row_copy(base + 1, prev + n - 1, -f);
+        row_copy(base + 2, base + 1, 2);
+        row_copy(base + 2, base, -1);
+        row_copy(base + 2, prev + n, f * f);
+        row_copy(base + 2, prev + n - 1, -2 * f * f);
+        row_copy(base + 2, prev + n - 2, f * f);
+      }
+      const bool last = k == s - 1;
+      for (int i = 3; i <= n; ++i) {
+        if (last && !relax_goal && i >= n - 2) continue;
+        if (last && relax_goal && i == n) continue;
+        r.C(base + i, free_index++) = 1;
+      }
+      if (last) {
+        r.c0.row(base + n) = goal_.p.transpose();
+        if (!relax_goal) {
+          r.c0.row(base + n - 1) = (goal_.p - goal_.v * Tk / n).transpose();
+          r.c0.row(base + n - 2) = (goal_.a * Tk * Tk / nn + 2 * (goal_.p - goal_.v * Tk / n) - goal_.p).transpose();
+        }
+      }
+    }
+    // Hessian and gradient, per axis.
+    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(F, F);
+    Eigen::MatrixXd g = Eigen::MatrixXd::Zero(F, 3);
+    for (int k = 0; k < s; ++k) {
+      const double scale = 2 / std::pow(T[static_cast<std::size_t>(k)], 5);
+      const auto Ck = r.C.middleRows(k * (n + 1), n + 1);
+      const Eigen::MatrixXd QC = scale * t_.jerk * Ck;
+      H.noalias() += Ck.transpose() * QC;
+      g.noalias() += QC.transpose() * r.c0.middleRows(k * (n + 1), n + 1);
+    }
+    r.P.setZero(3 * F, 3 * F);
+    r.q.resize(3 * F);
+    for (int a = 0; a < 3; ++a) {
+      r.P.block(a * F, a * F, F, F) = H;
+      r.q.segment(a * F, F) = g.col(a);
+    }
+    // Inequalities in y.
+    r.A.setZero(static_cast<Eigen::Index>(rows_in_.size()), 3 * F);
+    r.b.resize(static_cast<Eigen::Index>(rows_in_.size()));
+    r.groups.resize(rows_in_.size());
+    for (std::size_t row = 0; row < rows_in_.size(); ++row) {
+      double rhs = rows_in_[row].rhs;
+      for (std::size_t t = rows_in_[row].begin; t < rows_in_[row].end; ++t) {
+        const int m = terms_[t].var / 3, a = terms_[t].var % 3;
+        const double c = terms_[t].coefficient;
+        if (F > 0) r.A.row(static_cast<Eigen::Index>(row)).segment(a * F, F) += c * r.C.row(m);
+        rhs -= c * r.c0(m, a);
+      }
+      r.b(static_cast<Eigen::Index>(row)) = rhs;
+      r.groups[row] = rows_in_[row].group;
+    }
+  }
+
+ private:
+  struct Term {
+    int var;
+    double coefficient;
+  };
+  struct Row {
+    ConstraintGroup group;
+    double rhs;
+    std::size_t begin, end;  // terms_[begin, end)
+  };
+  void open_row(std::vector<Row>& rows, ConstraintGroup group, double rhs) const {
+    rows.push_back({group, rhs, terms_.size(), terms_.size()});
+  }
+  void term(std::vector<Row>& rows, int var, double coefficient) const {
+    if (coefficient == 0) return;
+    terms_.push_back({var, coefficient});
+    rows.back().end = terms_.size();
+  }
+
+  void fill(const std::vector<Row>& rows, Eigen::MatrixXd& A, Eigen::VectorXd& b, std::vector<ConstraintGroup>& groups,
+            int N) const {
+    A.setZero(static_cast<Eigen::Index>(rows.size()), N);
+    b.resize(static_cast<Eigen::Index>(rows.size()));
+    groups.resize(rows.size());
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      for (std::size_t t = rows[r].begin; t < rows[r].end; ++t) {
+        A(static_cast<Eigen::Index>(r), terms_[t].var) += terms_[t].coefficient;
+      }
+      b(static_cast<Eigen::Index>(r)) = rows[r].rhs;
+      groups[r] = rows[r].group;
+    }
+  }
+
+  void collect_equalities(const std::vector<double>& T, int skip_group) const {
+    const int n = o_.order, s = o_.segments;
+    const std::array<const Eigen::Vector3d*, 3> start_d = {&start_.p, &start_.v, &start_.a};
+    const std::array<const Eigen::Vector3d*, 3> goal_d = {&goal_.p, &goal_.v, &goal_.a};
+    for (int j = 0; j < 3; ++j) {
+      const auto& D = t_.D[static_cast<std::size_t>(j)];
+      const double f0 = 1 / std::pow(T.front(), j), f1 = 1 / std::pow(T.back(), j);
+      for (int axis = 0; axis < 3; ++axis) {
+        open_row(rows_eq_, ConstraintGroup::Boundary, (*start_d[static_cast<std::size_t>(j)])(axis));
+        for (int i = 0; i <= n; ++i) term(rows_eq_, index(n, 0, i, axis), f0 * D(0, i));
+        if (j == 0 || skip_group != static_cast<int>(ConstraintGroup::Boundary)) {
+          open_row(rows_eq_, ConstraintGroup::Boundary, (*goal_d[static_cast<std::size_t>(j)])(axis));
+          for (int i = 0; i <= n; ++i) term(rows_eq_, index(n, s - 1, i, axis), f1 * D(D.rows() - 1, i));
+        }
+      }
+      for (int k = 0; k + 1 < s; ++k) {
+        const double fa = 1 / std::pow(T[static_cast<std::size_t>(k)], j);
+        const double fb = 1 / std::pow(T[static_cast<std::size_t>(k + 1)], j);
+        for (int axis = 0; axis < 3; ++axis) {
+          open_row(rows_eq_, ConstraintGroup::Boundary, 0);
+          for (int i = 0; i <= n; ++i) {
+            term(rows_eq_, index(n, k, i, axis), fa * D(D.rows() - 1, i));
+            term(rows_eq_, index(n, k + 1, i, axis), -fb * D(0, i));
+          }
+        }
+      }
+    }
+  }
+
+  void add_corridor() const {
+    const int n = o_.order;
+    for (int k = 0; k < static_cast<int>(polytopes_.size()); ++k) {
+      const Polytope& poly = polytopes_[static_cast<std::size_t>(k)];
+      for (int i = 0; i <= n; ++i) {
+        for (int f = 0; f < poly.faces(); ++f) {
+          open_row(rows_in_, ConstraintGroup::Corridor, poly.b(f));
+          for (int axis = 0; axis < 3; ++axis) term(rows_in_, index(n, k, i, axis), poly.A(f, axis));
+        }
+      }
+    }
+  }
+
+  // World-frame limits of the velocity (j = 1) or acceleration (j = 2)
+  // control points (planner.hpp).
+  void add_limits(const std::vector<double>& T, int j) const {
+    const int n = o_.order;
+    const double limit = j == 1 ? o_.v_max : o_.a_max;
+    const ConstraintGroup group = j == 1 ? ConstraintGroup::Velocity : ConstraintGroup::Acceleration;
+    const double w = pad_.yaw_rate;
+    const Eigen::Matrix2d R0 = rot2(pad_.yaw);
+    const Eigen::Vector2d vb_xy = R0.transpose() * pad_.velocity.head<2>();
+    for (int k = 0; k < o_.segments; ++k) {
+      const double Tk = T[static_cast<std::size_t>(k)];
+      const double f = 1 / std::pow(Tk, j);
+      const auto& D = t_.D[static_cast<std::size_t>(j)];  // (n−j+1) × (n+1), divided by T^j below
+      // z: exact in every case (the pad turns about z and does not accelerate vertically).
+      const double vz = j == 1 ? pad_.velocity.z() : 0.0;
+      for (int i = 0; i < D.rows(); ++i) {
+        for (const double sign : {1.0, -1.0}) {
+          open_row(rows_in_, group, limit - sign * vz);
+          for (int m = 0; m <= n; ++m) term(rows_in_, index(n, k, m, 2), sign * f * D(i, m));
+        }
+      }
+      if (w == 0) {
+        // Translating pad: world = R0 (pad-frame quantity) + the pad's constant world velocity; exact per axis.
+        const Eigen::Vector2d pad_world = j == 1 ? Eigen::Vector2d(pad_.velocity.head<2>()) : Eigen::Vector2d::Zero();
+        for (int i = 0; i < D.rows(); ++i) {
+          for (int axis = 0; axis < 2; ++axis) {
+            for (const double sign : {1.0, -1.0}) {
+              open_row(rows_in_, group, limit - sign * pad_world(axis));
+              for (int m = 0; m <= n; ++m) {
+                for (int c = 0; c < 2; ++c) term(rows_in_, index(n, k, m, c), sign * f * D(i, m) * R0(axis, c));
+              }
+            }
+          }
+        }
+        continue;
+      }
+      // Rotating pad: the pad-frame vector u (velocity: v_b + v + ω e_z × p;
+      // acceleration: a + 2ω e_z × v + ω e_z × (ω e_z × p) + ω e_z × v_b),
+      // elevated to order n, inside the octagon inscribed in ‖u_xy‖ ≤ limit.
+      // Per elevated control point i: u_i = Σ_m (Cx(i,m) c_m + Cj(i,m) J c_m)
+      // + constant, J(x, y) = (−y, x).
+      const Eigen::MatrixXd Hv = t_.E1 * t_.D[1] / Tk;  // (n+1) × (n+1)
+      Eigen::MatrixXd Cx, Cj;
+      Eigen::Vector2d constant;
+      if (j == 1) {
+        Cx = Hv;
+        Cj = w * Eigen::MatrixXd::Identity(n + 1, n + 1);
+        constant = vb_xy;
+      } else {
+        Cx = t_.E2 * t_.D[2] / (Tk * Tk) - w * w * Eigen::MatrixXd::Identity(n + 1, n + 1);
+        Cj = 2 * w * Hv;
+        constant = w * Eigen::Vector2d(-vb_xy.y(), vb_xy.x());
+      }
+      const double apothem = limit * std::cos(kPi / kOctagon);
+      for (int i = 0; i <= n; ++i) {
+        for (int side = 0; side < kOctagon; ++side) {
+          const double th = 2 * kPi * side / kOctagon;
+          const Eigen::Vector2d d(std::cos(th), std::sin(th));
+          // d · (x c + y J c) = x (d · c) + y (d · J c), d · J c = −d_x c_y + d_y c_x.
+          open_row(rows_in_, group, apothem - d.dot(constant));
+          for (int m = 0; m <= n; ++m) {
+            const double cx = Cx(i, m), cj = Cj(i, m);
+            term(rows_in_, index(n, k, m, 0), cx * d.x() + cj * d.y());
+            term(rows_in_, index(n, k, m, 1), cx * d.y() - cj * d.x());
+          }
+        }
+      }
+    }
+  }
+
+  KinematicState start_, goal_;
+  PadMotion pad_;
+  PlannerOptions o_;
+  const std::vector<Polytope>& polytopes_;
+  OrderTables t_;
+  mutable std::vector<Term> terms_;
+  mutable std::vector<Row> rows_eq_, rows_in_;
+};
+
+// Solves the reduced QP of a set of durations (QpBuilder::reduce) and maps
+// the answer back to the control points.
+class ReducedRunner {
+ public:
+  explicit ReducedRunner(const QpBuilder& builder) : builder_(builder) {}
+  QpStatus solve(const std::vector<double>& T, bool warm, int skip_group = -1) {
+    builder_.reduce(T, r_, skip_group);
+    const int F = r_.F;
+    y_.setZero(3 * F);
+    if (F == 0) {  // every control point fixed: feasible or not
+      status_ = (r_.b.size() == 0 || r_.b.minCoeff() >= -1e-9) ? QpStatus::Optimal : QpStatus::Infeasible;
+      iterations_ = 0;
+    } else {
+      status_ = solver_.solve(r_.P, r_.q, Eigen::MatrixXd(0, 3 * F), Eigen::VectorXd(0), r_.A, r_.b, warm);
+      iterations_ = solver_.iterations();
+      y_ = solver_.x();
+    }
+    return status_;
+  }
+  int iterations() const { return iterations_; }
+  // Control points (segment, point, axis) of the last solution.
+  Eigen::VectorXd control_points() const {
+    const auto M = r_.C.rows();
+    Eigen::VectorXd x(3 * M);
+    for (Eigen::Index m = 0; m < M; ++m) {
+      for (int a = 0; a < 3; ++a) {
+        x(3 * m + a) = r_.c0(m, a) + (r_.F > 0 ? r_.C.row(m).dot(y_.segment(a * r_.F, r_.F)) : 0.0);
+      }
+    }
+    return x;
+  }
+
+ private:
+  const QpBuilder& builder_;
+  QpBuilder::Reduced r_;
+  QpSolver solver_;
+  Eigen::VectorXd y_;
+  QpStatus status_ = QpStatus::Infeasible;
+  int iterations_ = 0;
+};
+
+double jerk_of(const Eigen::VectorXd& x, int order, const std::vector<double>& T) {
+  std::vector<Eigen::Vector3d> cps(static_cast<std::size_t>(x.size() / 3));
+  for (std::size_t i = 0; i < cps.size(); ++i) cps[i] = x.segment<3>(static_cast<Eigen::Index>(3 * i));
+  return PiecewiseBezier(order, T, std::move(cps)).jerk_cost();
+}
+
+PiecewiseBezier curve_from(const Eigen::VectorXd& x, int order, const std::vector<double>& T) {
+  std::vector<Eigen::Vector3d> cps(static_cast<std::size_t>(x.size() / 3));
+  for (std::size_t i = 0; i < cps.size(); ++i) {
+    cps[i] = x.segment<3>(static_cast<Eigen::Index>(3 * i));
+  }
+  return PiecewiseBezier(order, T, std::move(cps));
+}
+
+// The heuristic first guess of the durations: distance over a third of the
+// speed limit, split by the lengths of the legs through the corridor's
+// junction (the Chebyshev centre of the parts' overlap) when there is one.
+std::vector<double> initial_durations(const KinematicState& start, const KinematicState& goal, const PlannerOptions& o,
+                                      const std::vector<Polytope>& polytopes) {
+  std::vector<double> T(static_cast<std::size_t>(o.segments));
+  const double total = std::max(2.0 * (goal.p - start.p).norm() / o.v_max + 1.0, o.segments * o.time.min);
+  std::vector<double> legs(T.size(), 1.0);
+  if (polytopes.size() >= 2) {
+    Polytope overlap = polytopes[polytopes.size() - 2];
+    overlap.intersect(polytopes.back());
+    const ChebyshevBall ball = chebyshev_ball(overlap);
+    if (ball.radius > 0) {
+      const double a = (ball.centre - start.p).norm(), b = (goal.p - ball.centre).norm();
+      std::fill(legs.begin(), legs.end() - 1, std::max(a, 0.1) / static_cast<double>(legs.size() - 1));
+      legs.back() = std::max(b, 0.1);
+    }
+  }
+  double sum = 0;
+  for (const double l : legs) sum += l;
+  for (std::size_t k = 0; k < T.size(); ++k) T[k] = std::clamp(total * legs[k] / sum, o.time.min, o.time.max);
+  return T;
+}
+
+struct Allocation {
+  std::vector<double> T;
+  double objective = std::numeric_limits<double>::infinity();
+  bool feasible = false;
+  int evaluations = 0;
+};
+
+// J(T) + ρ ΣT for feasible durations; infeasible ones get a penalty above
+// every feasible value that falls as the durations grow (slower is more
+// often within the limits), so the search walks out of the infeasible set.
+struct AllocationContext {
+  ReducedRunner* runner;
+  const PlannerOptions* o;
+  Allocation* best;
+  std::vector<double> T;
+};
+
+constexpr double kPenalty = 1e12;
+
+double allocation_objective(unsigned n, const double* x, double* /*grad*/, void* data) {
+  auto* c = static_cast<AllocationContext*>(data);
+  for (unsigned k = 0; k < n; ++k) c->T[k] = std::clamp(x[k], c->o->time.min, c->o->time.max);
+  ++c->best->evaluations;
+  const QpStatus status = c->runner->solve(c->T, true);
+  double sum = 0;
+  for (const double t : c->T) sum += t;
+  double value;
+  if (status == QpStatus::Optimal) {
+    value = jerk_of(c->runner->control_points(), c->o->order, c->T) + c->o->time.rho * sum;
+  } else {
+    value = kPenalty * (1 + c->o->segments * c->o->time.max - sum);
+  }
+  if (value < c->best->objective) {
+    c->best->objective = value;
+    c->best->T = c->T;
+    c->best->feasible = status == QpStatus::Optimal;
+  }
+  return value;
+}
+
+Allocation allocate_time(const QpBuilder& builder, const PlannerOptions& o, const std::vector<double>& guess) {
+  ReducedRunner runner(builder);
+  Allocation best;
+  AllocationContext ctx{&runner, &o, &best, guess};
+  const auto s = static_cast<unsigned>(o.segments);
+  // A coarse grid first (4 per segment, up to 3 segments) so that the local
+  // search starts in the best basin, then the heuristic guess.
+  if (s <= 3) {
+    const int per = 4;
+    int total = 1;
+    for (unsigned k = 0; k < s; ++k) total *= per;
+    std::vector<double> g(s);
+    for (int idx = 0; idx < total; ++idx) {
+      int rest = idx;
+      for (unsigned k = 0; k < s; ++k) {
+        const int m = rest % per;
+        rest /= per;
+        // Log-spaced in [min, max] (short durations matter most).
+        g[k] = o.time.min * std::pow(o.time.max / o.time.min, (m + 0.5) / per);
+      }
+      allocation_objective(s, g.data(), nullptr, &ctx);
+    }
+  }
+  allocation_objective(s, guess.data(), nullptr, &ctx);
+  std::vector<double> x = best.T;
+  nlopt::opt opt(s >= 2 ? nlopt::LN_BOBYQA : nlopt::LN_SBPLX, s);
+  opt.set_lower_bounds(std::vector<double>(s, o.time.min));
+  opt.set_upper_bounds(std::vector<double>(s, o.time.max));
+  opt.set_min_objective(allocation_objective, &ctx);
+  opt.set_xtol_rel(1e-4);
+  opt.set_maxeval(std::max(1, o.time.max_evaluations - best.evaluations));
+  std::vector<double> step(s);
+  for (unsigned k = 0; k < s; ++k) step[k] = std::min(0.25 * (o.time.max - o.time.min), std::max(0.1, 0.2 * x[k]));
+  opt.set_initial_step(step);
+  double f = 0;
+  try {
+    opt.optimize(x, f);
+  } catch (const std::exception&) {
+    // NLopt's stops (round-off, bounds) keep the best point, which ctx tracked.
+  }
+  return best;
+}
+
+std::vector<ConstraintGroup> diagnose(const QpBuilder& builder, const std::vector<double>& T, bool corridor) {
+  std::vector<ConstraintGroup> groups = {ConstraintGroup::Boundary, ConstraintGroup::Velocity,
+                                         ConstraintGroup::Acceleration};
+  if (corridor) groups.insert(groups.begin() + 1, ConstraintGroup::Corridor);
+  std::vector<ConstraintGroup> conflicts;
+  ReducedRunner runner(builder);
+  for (const ConstraintGroup g : groups) {
+    if (runner.solve(T, false, static_cast<int>(g)) == QpStatus::Optimal) conflicts.push_back(g);
+  }
+  return conflicts;
+}
+
+}  // namespace
+
+Eigen::Vector3d PadMotion::position(double t) const {
+  const Eigen::Vector2d vb = rot2(yaw).transpose() * velocity.head<2>();
+  Eigen::Vector2d xy;
+  if (yaw_rate == 0) {
+    xy = velocity.head<2>() * t;
+  } else {
+    // ∫ R_z(θ) dθ = [[sin θ, cos θ], [−cos θ, sin θ]].
+    auto M = [](double th) {
+      Eigen::Matrix2d m;
+      m << std::sin(th), std::cos(th), -std::cos(th), std::sin(th);
+      return m;
+    };
+    xy = (M(heading(t)) - M(yaw)) * vb / yaw_rate;
+  }
+  return {xy.x(), xy.y(), velocity.z() * t};
+}
+
+Eigen::Vector3d PadMotion::world_velocity(double t) const {
+  const Eigen::Vector2d xy = rot2(heading(t)) * rot2(yaw).transpose() * velocity.head<2>();
+  return {xy.x(), xy.y(), velocity.z()};
+}
+
+KinematicState PadMotion::to_world(double t, const KinematicState& rel) const {
+  const Eigen::Vector2d vb2 = rot2(yaw).transpose() * velocity.head<2>();
+  const Eigen::Vector3d vb(vb2.x(), vb2.y(), velocity.z());
+  const Eigen::Vector3d w(0, 0, yaw_rate);
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  R.topLeftCorner<2, 2>() = rot2(heading(t));
+  KinematicState out;
+  out.p = position(t) + R * rel.p;
+  out.v = R * (vb + rel.v + w.cross(rel.p));
+  out.a = R * (rel.a + 2 * w.cross(rel.v) + w.cross(w.cross(rel.p)) + w.cross(vb));
+  return out;
+}
+
+const char* to_string(ConstraintGroup group) {
+  switch (group) {
+    case ConstraintGroup::Boundary:
+      return "boundary";
+    case ConstraintGroup::Corridor:
+      return "corridor";
+    case ConstraintGroup::Velocity:
+      return "velocity";
+    case ConstraintGroup::Acceleration:
+      return "acceleration";
+  }
+  return "unknown";
+}
+
+const char* to_string(PlanStatus status) {
+  switch (status) {
+    case PlanStatus::Ok:
+      return "ok";
+    case PlanStatus::Infeasible:
+      return "infeasible";
+    case PlanStatus::NoCorridor:
+      return "no_corridor";
+  }
+  return "unknown";
+}
+
+bool PlannerOptions::validate(std::string* why) const {
+  if (order < 5 || order > 20) return invalid(why, "order: must be in [5, 20], got " + std::to_string(order));
+  if (segments < 1 || segments > 16)
+    return invalid(why, "segments: must be in [1, 16], got " + std::to_string(segments));
+  if (corridor && segments < 2) return invalid(why, "segments: a corridor needs at least 2 segments");
+  if (!(v_max > 0) || !std::isfinite(v_max)) return invalid(why, "limits.v_max: must be > 0 and finite");
+  if (!(a_max > 0) || !std::isfinite(a_max)) return invalid(why, "limits.a_max: must be > 0 and finite");
+  if (!durations.empty()) {
+    if (static_cast<int>(durations.size()) != segments) {
+      return invalid(why, "durations: need one per segment (" + std::to_string(segments) + "), got " +
+                              std::to_string(durations.size()));
+    }
+    for (std::size_t k = 0; k < durations.size(); ++k) {
+      if (!(durations[k] > 0) || !std::isfinite(durations[k])) {
+        return invalid(why, "durations[" + std::to_string(k) + "]: must be > 0 and finite");
+      }
+    }
+  }
+  if (!(time.min > 0) || !std::isfinite(time.max) || !(time.max > time.min)) {
+    return invalid(why, "time: need 0 < min < max (finite)");
+  }
+  if (!(time.rho >= 0) || !std::isfinite(time.rho)) return invalid(why, "time.rho: must be >= 0 and finite");
+  if (time.max_evaluations < 1) return invalid(why, "time.max_evaluations: must be >= 1");
+  if (corridor && !corridor->validate(why)) return false;
+  for (std::size_t i = 0; i < obstacles.size(); ++i) {
+    const Box& b = obstacles[i];
+    if (!b.min.allFinite() || !b.max.allFinite() || (b.min.array() > b.max.array()).any()) {
+      return invalid(why, "obstacles[" + std::to_string(i) + "]: min must not exceed max (finite)");
+    }
+  }
+  return true;
+}
+
+std::vector<std::string> QpProblem::variable_names() const {
+  std::vector<std::string> names;
+  const char* axes = "xyz";
+  for (int k = 0; k < segments; ++k) {
+    for (int i = 0; i <= order; ++i) {
+      for (int a = 0; a < 3; ++a) names.push_back("s" + std::to_string(k) + ".c" + std::to_string(i) + "." + axes[a]);
+    }
+  }
+  return names;
+}
+
+void QpProblem::definite(Eigen::MatrixXd& P_out, Eigen::VectorXd& q_out) const {
+  P_out = P;
+  q_out = q;
+  const double rho = std::max(P.diagonal().mean(), 1e-12);
+  for (Eigen::Index r = 0; r < A_eq.rows(); ++r) {
+    const double norm2 = A_eq.row(r).squaredNorm();
+    if (norm2 == 0) continue;
+    P_out.noalias() += (rho / norm2) * A_eq.row(r).transpose() * A_eq.row(r);
+    q_out -= (rho / norm2) * b_eq(r) * A_eq.row(r).transpose();
+  }
+}
+
+KinematicState default_goal(const PlannerOptions& options) {
+  KinematicState g;
+  g.p = Eigen::Vector3d(0, 0, options.corridor ? options.corridor->h_touchdown : 0.5);
+  return g;
+}
+
+PlanResult plan(const KinematicState& start, const std::optional<KinematicState>& goal_in, const PadMotion& pad,
+                const PlannerOptions& options) {
+  std::string why;
+  if (!options.validate(&why)) throw InvalidArgument(why);
+  if (!finite(start)) throw InvalidArgument("start: every value must be finite");
+  if (goal_in && !finite(*goal_in)) throw InvalidArgument("goal: every value must be finite");
+  const KinematicState goal = goal_in ? *goal_in : default_goal(options);
+  if (!options.corridor) return plan_in_corridor(start, goal, pad, options, {});
+  Corridor corridor = build_corridor(start.p, goal.p, options.obstacles, *options.corridor);
+  if (corridor.status == CorridorStatus::StartBlocked) {
+    throw InvalidArgument("start.p: outside the corridor: " + corridor.message);
+  }
+  if (corridor.status == CorridorStatus::GoalBlocked) {
+    throw InvalidArgument("goal.p: outside the corridor: " + corridor.message);
+  }
+  if (!corridor.ok()) {
+    PlanResult result;
+    result.status = PlanStatus::NoCorridor;
+    result.message = std::string(to_string(corridor.status)) + ": " + corridor.message;
+    result.corridor = std::move(corridor);
+    return result;
+  }
+  PlanResult result = plan_in_corridor(start, goal, pad, options, corridor.per_segment(options.segments));
+  result.corridor = std::move(corridor);
+  return result;
+}
+
+PlanResult plan_in_corridor(const KinematicState& start, const KinematicState& goal, const PadMotion& pad,
+                            const PlannerOptions& options, const std::vector<Polytope>& segment_polytopes) {
+  std::string why;
+  if (!options.validate(&why)) throw InvalidArgument(why);
+  if (!finite(start)) throw InvalidArgument("start: every value must be finite");
+  if (!finite(goal)) throw InvalidArgument("goal: every value must be finite");
+  if (!pad.velocity.allFinite() || !std::isfinite(pad.yaw_rate) || !std::isfinite(pad.yaw)) {
+    throw InvalidArgument("pad: every value must be finite");
+  }
+  if (!segment_polytopes.empty()) {
+    if (static_cast<int>(segment_polytopes.size()) != options.segments) {
+      throw InvalidArgument("corridor: need one polytope per segment (" + std::to_string(options.segments) + "), got " +
+                            std::to_string(segment_polytopes.size()));
+    }
+    if (!segment_polytopes.front().contains(start.p, 1e-9)) throw InvalidArgument("start.p: outside the corridor");
+    if (!segment_polytopes.back().contains(goal.p, 1e-9)) throw InvalidArgument("goal.p: outside the corridor");
+  }
+  PlanResult result;
+  result.segment_polytopes = segment_polytopes;
+  const QpBuilder builder(start, goal, pad, options, result.segment_polytopes);
+  std::vector<double> T = options.durations;
+  if (T.empty()) {
+    const auto t0 = Clock::now();
+    const Allocation a =
+        allocate_time(builder, options, initial_durations(start, goal, options, result.segment_polytopes));
+    result.allocation_ms = micros_since(t0) / 1000;
+    result.evaluations = a.evaluations;
+    T = a.T;
+  }
+  builder.build(T, result.qp);
+  ReducedRunner runner(builder);
+  const auto t1 = Clock::now();
+  const QpStatus status = runner.solve(T, false);
+  result.qp_us = micros_since(t1);
+  result.qp_iterations = runner.iterations();
+  if (status != QpStatus::Optimal) {
+    result.status = PlanStatus::Infeasible;
+    result.conflicts = diagnose(builder, T, options.corridor.has_value());
+    result.message = std::string("QP ") + to_string(status) + " at durations";
+    for (const double t : T) result.message += " " + std::to_string(t);
+    if (!result.conflicts.empty()) {
+      result.message += "; feasible without:";
+      for (const ConstraintGroup g : result.conflicts) result.message += std::string(" ") + to_string(g);
+    } else {
+      result.message += "; no single constraint group restores feasibility";
+    }
+    result.trajectory = curve_from(runner.control_points(), options.order, T);
+    return result;
+  }
+  result.status = PlanStatus::Ok;
+  result.trajectory = curve_from(runner.control_points(), options.order, T);
+  result.cost = result.trajectory.jerk_cost();
+  double sum = 0;
+  for (const double t : T) sum += t;
+  result.objective = result.cost + options.time.rho * sum;
+  return result;
+}
+
+}  // namespace touchdown::plan

@@ -1,0 +1,326 @@
+// landing_plan end to end: the bundled problem, JSON schema, the exported QP
+// against the JSON's control points, the samples CSV, the SVG, bad input and
+// an infeasible problem.
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "test_util.hpp"
+
+namespace td = touchdown;
+using td::test::AppRun;
+using td::test::TempDir;
+
+namespace {
+
+AppRun run(const std::string& args, const TempDir& dir) { return td::test::run_app(LANDING_PLAN_EXE, args, dir); }
+
+std::string bundled() { return (std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/plans/landing.yaml").string(); }
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+Eigen::MatrixXd matrix_of(const nlohmann::json& j) {
+  Eigen::MatrixXd m(static_cast<Eigen::Index>(j.size()), j.empty() ? 0 : static_cast<Eigen::Index>(j[0].size()));
+  for (std::size_t r = 0; r < j.size(); ++r) {
+    for (std::size_t c = 0; c < j[r].size(); ++c) {
+      m(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = j[r][c].get<double>();
+    }
+  }
+  return m;
+}
+
+Eigen::VectorXd vector_of(const nlohmann::json& j) {
+  Eigen::VectorXd v(static_cast<Eigen::Index>(j.size()));
+  for (std::size_t i = 0; i < j.size(); ++i) v(static_cast<Eigen::Index>(i)) = j[i].get<double>();
+  return v;
+}
+
+// The JSON's control points flattened in (segment, control point, axis) order.
+Eigen::VectorXd control_points_of(const nlohmann::json& j) {
+  std::vector<double> x;
+  for (const auto& s : j["segments"]) {
+    for (const auto& c : s["control_points"]) {
+      for (const auto& v : c) x.push_back(v.get<double>());
+    }
+  }
+  return Eigen::Map<Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()));
+}
+
+std::vector<std::vector<double>> csv_rows(const std::string& text, std::string& header) {
+  std::istringstream in(text);
+  std::getline(in, header);
+  std::vector<std::vector<double>> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::istringstream cells(line);
+    std::string cell;
+    while (std::getline(cells, cell, ',')) row.push_back(std::stod(cell));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// Runs the bundled problem once with every output (shared by the tests below).
+struct BundledRun {
+  TempDir dir;
+  AppRun result;
+  nlohmann::json json;
+  BundledRun() {
+    result = run(bundled() + " --json --export-qp " + (dir / "qp.json").string() + " --plot " +
+                     (dir / "plan.svg").string() + " --samples " + (dir / "samples.csv").string(),
+                 dir);
+    if (result.code == 0) json = nlohmann::json::parse(result.out);
+  }
+};
+
+}  // namespace
+
+TEST(LandingPlanApp, BundledProblemJson) {
+  BundledRun b;
+  ASSERT_EQ(b.result.code, 0) << b.result.err;
+  const auto& j = b.json;
+  for (const char* key : {"status", "cost", "order", "segments", "corridor", "time_allocation", "qp", "seconds"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_FALSE(j.contains("conflicts"));
+  EXPECT_FALSE(j.contains("message"));
+  EXPECT_EQ(j["status"], "ok");
+  EXPECT_GT(j["cost"].get<double>(), 0);
+  EXPECT_EQ(j["order"], 7);
+  EXPECT_GT(j["time_allocation"]["evaluations"].get<int>(), 0);
+  EXPECT_GE(j["time_allocation"]["ms"].get<double>(), 0);
+  EXPECT_GE(j["qp"]["iterations"].get<int>(), 0);
+  EXPECT_GE(j["qp"]["us"].get<double>(), 0);
+  EXPECT_GT(j["seconds"].get<double>(), 0);
+  ASSERT_EQ(j["segments"].size(), 2u);
+  ASSERT_EQ(j["corridor"].size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const auto& s = j["segments"][k];
+    EXPECT_GT(s["duration"].get<double>(), 0);
+    ASSERT_EQ(s["control_points"].size(), 8u);
+    const Eigen::MatrixXd A = matrix_of(j["corridor"][k]["A"]);
+    const Eigen::VectorXd bvec = vector_of(j["corridor"][k]["b"]);
+    ASSERT_EQ(A.cols(), 3);
+    ASSERT_EQ(A.rows(), bvec.size());
+    for (const auto& c : s["control_points"]) {
+      ASSERT_EQ(c.size(), 3u);
+      const Eigen::Vector3d p(c[0].get<double>(), c[1].get<double>(), c[2].get<double>());
+      EXPECT_LE((A * p - bvec).maxCoeff(), 1e-9) << "segment " << k << " control point " << p.transpose();
+    }
+  }
+  // From the start to the default goal: the pad centre at h_touchdown.
+  const auto& first = j["segments"][0]["control_points"][0];
+  const auto& last = j["segments"][1]["control_points"][7];
+  EXPECT_NEAR(first[0].get<double>(), -3, 1e-9);
+  EXPECT_NEAR(first[2].get<double>(), 2, 1e-9);
+  EXPECT_NEAR(last[0].get<double>(), 0, 1e-9);
+  EXPECT_NEAR(last[1].get<double>(), 0, 1e-9);
+  EXPECT_NEAR(last[2].get<double>(), 0.5, 1e-9);
+}
+
+TEST(LandingPlanApp, ExportedQpAgreesWithTheJson) {
+  BundledRun b;
+  ASSERT_EQ(b.result.code, 0) << b.result.err;
+  const auto qp = nlohmann::json::parse(td::test::read_text(b.dir / "qp.json"));
+  for (const char* key : {"P", "q", "A_eq", "b_eq", "A_in", "b_in", "constant", "variables"}) {
+    EXPECT_TRUE(qp.contains(key)) << key;
+  }
+  const Eigen::VectorXd x = control_points_of(b.json);
+  ASSERT_EQ(x.size(), 2 * 8 * 3);
+  ASSERT_EQ(qp["variables"].size(), static_cast<std::size_t>(x.size()));
+  EXPECT_EQ(qp["variables"][0], "s0.c0.x");
+  EXPECT_EQ(qp["variables"][47], "s1.c7.z");
+  const Eigen::MatrixXd P = matrix_of(qp["P"]);
+  const Eigen::VectorXd q = vector_of(qp["q"]);
+  ASSERT_EQ(P.rows(), x.size());
+  ASSERT_EQ(P.cols(), x.size());
+  ASSERT_EQ(q.size(), x.size());
+  // cost = ½ xᵀPx + qᵀx + constant at the JSON's control points.
+  const double cost = b.json["cost"].get<double>();
+  const double value = 0.5 * x.dot(P * x) + q.dot(x) + qp["constant"].get<double>();
+  EXPECT_NEAR(value, cost, 1e-6 * std::abs(cost));
+  // The control points meet the exported constraints.
+  const Eigen::MatrixXd A_eq = matrix_of(qp["A_eq"]), A_in = matrix_of(qp["A_in"]);
+  const Eigen::VectorXd b_eq = vector_of(qp["b_eq"]), b_in = vector_of(qp["b_in"]);
+  ASSERT_GT(A_eq.rows(), 0);
+  ASSERT_GT(A_in.rows(), 0);
+  ASSERT_EQ(A_eq.cols(), x.size());
+  ASSERT_EQ(A_in.cols(), x.size());
+  for (Eigen::Index r = 0; r < A_eq.rows(); ++r) {
+    EXPECT_NEAR(A_eq.row(r).dot(x), b_eq(r),
+                1e-7 * std::max(1.0, A_eq.row(r).cwiseAbs().sum() * x.cwiseAbs().maxCoeff()))
+        << "equality row " << r;
+  }
+  for (Eigen::Index r = 0; r < A_in.rows(); ++r) {
+    EXPECT_LE(A_in.row(r).dot(x), b_in(r) + 1e-7 * std::max(1.0, A_in.row(r).cwiseAbs().sum()))
+        << "inequality row " << r << " (" << qp["in_groups"][static_cast<std::size_t>(r)] << ")";
+  }
+}
+
+TEST(LandingPlanApp, SamplesEveryMillisecondWithinTheLimits) {
+  BundledRun b;
+  ASSERT_EQ(b.result.code, 0) << b.result.err;
+  std::string header;
+  const auto rows = csv_rows(td::test::read_text(b.dir / "samples.csv"), header);
+  EXPECT_EQ(header, "t,px,py,pz,vx,vy,vz,ax,ay,az,world_vx,world_vy,world_vz,world_ax,world_ay,world_az");
+  const double total =
+      b.json["segments"][0]["duration"].get<double>() + b.json["segments"][1]["duration"].get<double>();
+  ASSERT_EQ(rows.size(), static_cast<std::size_t>(std::floor(total * 1000 + 1e-6)) + 1);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& r = rows[i];
+    ASSERT_EQ(r.size(), 16u) << "row " << i;
+    EXPECT_NEAR(r[0], static_cast<double>(i) * 1e-3, 1e-9);
+    // A pad driving straight at 2 m/s along world x: world velocity = pad
+    // velocity + relative velocity, world acceleration = relative acceleration.
+    EXPECT_NEAR(r[10], r[4] + 2.0, 1e-6);
+    EXPECT_NEAR(r[11], r[5], 1e-6);
+    EXPECT_NEAR(r[12], r[6], 1e-6);
+    for (int a = 0; a < 3; ++a)
+      EXPECT_NEAR(r[static_cast<std::size_t>(13 + a)], r[static_cast<std::size_t>(7 + a)], 1e-6);
+    // The limits (4 m/s, 4 m/s² per world axis) hold on the sampled curve.
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_LE(std::abs(r[static_cast<std::size_t>(10 + a)]), 4 + 1e-6) << "t = " << r[0];
+      EXPECT_LE(std::abs(r[static_cast<std::size_t>(13 + a)]), 4 + 1e-6) << "t = " << r[0];
+    }
+  }
+  // The drone (radius 0.25 m) keeps clear of the antenna mast all the way
+  // (the corridor's guarantee, checked on the curve itself).
+  const Eigen::Vector3d mast_min(-1.6, -0.15, 0), mast_max(-1.45, 0.15, 0.7);
+  for (const auto& r : rows) {
+    const Eigen::Vector3d p(r[1], r[2], r[3]);
+    const Eigen::Vector3d outside = (mast_min - p).cwiseMax(p - mast_max).cwiseMax(0.0);
+    EXPECT_GE(outside.norm(), 0.25) << "t = " << r[0];
+  }
+  // Starts at the start state, ends near the goal at rest relative to the pad.
+  EXPECT_NEAR(rows.front()[1], -3, 1e-9);
+  EXPECT_NEAR(rows.front()[3], 2, 1e-9);
+  EXPECT_NEAR(rows.front()[4], 0.3, 1e-9);
+  EXPECT_NEAR(rows.back()[3], 0.5, 1e-3);
+  EXPECT_NEAR(rows.back()[4], 0, 1e-2);
+}
+
+TEST(LandingPlanApp, SvgAndSummary) {
+  BundledRun b;
+  ASSERT_EQ(b.result.code, 0) << b.result.err;
+  const std::string svg = td::test::read_text(b.dir / "plan.svg");
+  EXPECT_TRUE(svg.rfind("<svg", 0) == 0 || svg.rfind("<?xml", 0) == 0) << svg.substr(0, 80);
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
+  EXPECT_NE(svg.find("landing.yaml: ok"), std::string::npos);
+  for (const char* part : {"top view", "side view", "rear view", "world-frame velocity", "world-frame acceleration",
+                           "touchdown corridor", "obstacle", "field of view"}) {
+    EXPECT_NE(svg.find(part), std::string::npos) << part;
+  }
+  // The human summary.
+  const AppRun s = run(bundled(), b.dir);
+  EXPECT_EQ(s.code, 0) << s.err;
+  EXPECT_NE(s.out.find("landing.yaml: ok"), std::string::npos) << s.out;
+  EXPECT_NE(s.out.find("cost"), std::string::npos) << s.out;
+  EXPECT_NE(s.out.find("time alloc"), std::string::npos) << s.out;
+  EXPECT_NE(s.out.find("final QP"), std::string::npos) << s.out;
+}
+
+TEST(LandingPlanApp, InfeasibleIsExitOneWithConflicts) {
+  TempDir dir;
+  // A tiny acceleration limit and fixed durations: only the acceleration
+  // limit stands between the problem and a plan.
+  td::test::write_text(dir / "p.yaml", td::test::replace_key_line(td::test::read_text(bundled()), "limits",
+                                                                  "limits: {v_max: 4.0, a_max: 0.05}\n"
+                                                                  "durations: [2.5, 2.0]"));
+  const AppRun r = run((dir / "p.yaml").string() + " --json --samples " + (dir / "s.csv").string() + " --export-qp " +
+                           (dir / "qp.json").string() + " --plot " + (dir / "p.svg").string(),
+                       dir);
+  ASSERT_EQ(r.code, 1) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["status"], "infeasible");
+  ASSERT_TRUE(j.contains("conflicts"));
+  bool acceleration = false;
+  for (const auto& c : j["conflicts"]) acceleration = acceleration || c == "acceleration";
+  EXPECT_TRUE(acceleration) << j["conflicts"];
+  EXPECT_FALSE(j["message"].get<std::string>().empty());
+  EXPECT_TRUE(j["segments"].empty());
+  EXPECT_EQ(j["corridor"].size(), 2u);
+  // No trajectory, no samples; the QP and the plot still tell why.
+  EXPECT_FALSE(std::filesystem::exists(dir / "s.csv"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "qp.json"));
+  EXPECT_NE(td::test::read_text(dir / "p.svg").find("infeasible"), std::string::npos);
+  // The summary says so too, with the same exit code.
+  const AppRun s = run((dir / "p.yaml").string(), dir);
+  EXPECT_EQ(s.code, 1);
+  EXPECT_NE(s.out.find("infeasible"), std::string::npos) << s.out;
+  EXPECT_NE(s.out.find("acceleration"), std::string::npos) << s.out;
+}
+
+// ---- bad input: exit 2, one line naming the file and the key, no output ----
+
+namespace {
+
+struct BadProblem {
+  const char* name;
+  std::string yaml;
+  std::string expected;  // in the one stderr line, after "p.yaml"
+};
+
+std::vector<BadProblem> bad_problems() {
+  const std::string y = td::test::read_text(bundled());
+  using td::test::replace_key_line;
+  return {
+      {"missing limits", replace_key_line(y, "limits", ""), "limits: missing"},
+      {"NaN", replace_key_line(y, "limits", "limits: {v_max: .nan, a_max: 4.0}"), "limits.v_max: expected a number"},
+      {"negative v_max", replace_key_line(y, "limits", "limits: {v_max: -1, a_max: 4.0}"),
+       "limits.v_max: must be > 0, got -1"},
+      {"zero duration", replace_key_line(y, "segments", "segments: 2\ndurations: [1, 0]"),
+       "durations[1]: must be > 0, got 0"},
+      {"order 4", replace_key_line(y, "order", "order: 4"), "order: must be in 5..20, got 4"},
+      {"start inside the obstacle", replaced(y, "p: [-3.0, 0.0, 2.0]", "p: [-1.5, 0.0, 0.4]"),
+       "start.p: outside the corridor"},
+      {"start behind the camera", replaced(y, "p: [-3.0, 0.0, 2.0]", "p: [1.5, 0.0, 1.0]"),
+       "start.p: outside the corridor"},
+      {"unknown key", replace_key_line(y, "order", "order: 7\ncolour: red"), "colour: unknown key"},
+      {"unknown nested key", replaced(y, "  radius: 0.25", "  radius: 0.25\n  radious: 0.3"),
+       "corridor.radious: unknown key"},
+  };
+}
+
+}  // namespace
+
+TEST(LandingPlanAppBadInput, ExitTwoOneLineNoOutputs) {
+  for (const auto& c : bad_problems()) {
+    SCOPED_TRACE(c.name);
+    TempDir dir;
+    td::test::write_text(dir / "p.yaml", c.yaml);
+    const AppRun r = run((dir / "p.yaml").string() + " --json --export-qp " + (dir / "qp.json").string() + " --plot " +
+                             (dir / "p.svg").string() + " --samples " + (dir / "s.csv").string(),
+                         dir);
+    EXPECT_EQ(r.code, 2) << r.out << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find("p.yaml"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
+    EXPECT_EQ(dir.files(), std::vector<std::string>{"p.yaml"});
+  }
+}
+
+TEST(LandingPlanAppBadInput, MissingFileAndMissingOutputDirectory) {
+  TempDir dir;
+  AppRun r = run((dir / "nope.yaml").string(), dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("nope.yaml: cannot open"), std::string::npos) << r.err;
+  // One output into a missing directory: nothing is written, not even the others.
+  r = run(bundled() + " --plot " + (dir / "p.svg").string() + " --samples " + (dir / "missing/s.csv").string(), dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("missing"), std::string::npos) << r.err;
+  EXPECT_TRUE(dir.files().empty());
+}
