@@ -78,7 +78,7 @@ void QpSolver::resize(int n, int m_eq, int m_in) {
   m_eq_ = m_eq;
   m_in_ = m_in;
   const int m = m_eq + m_in;
-  llt_ = Eigen::LLT<Eigen::MatrixXd>(n);
+  llt_.compute(Eigen::MatrixXd::Identity(n, n));  // sizes its storage (solve() then reuses it)
   J_.resize(n, n);
   R_.resize(n, n);
   normals_.resize(n, m);
