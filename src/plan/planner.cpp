@@ -389,12 +389,6 @@ class ReducedRunner {
   int iterations_ = 0;
 };
 
-double jerk_of(const Eigen::VectorXd& x, int order, const std::vector<double>& T) {
-  std::vector<Eigen::Vector3d> cps(static_cast<std::size_t>(x.size() / 3));
-  for (std::size_t i = 0; i < cps.size(); ++i) cps[i] = x.segment<3>(static_cast<Eigen::Index>(3 * i));
-  return PiecewiseBezier(order, T, std::move(cps)).jerk_cost();
-}
-
 PiecewiseBezier curve_from(const Eigen::VectorXd& x, int order, const std::vector<double>& T) {
   std::vector<Eigen::Vector3d> cps(static_cast<std::size_t>(x.size() / 3));
   for (std::size_t i = 0; i < cps.size(); ++i) {
@@ -430,7 +424,6 @@ std::vector<double> initial_durations(const KinematicState& start, const Kinemat
 struct Allocation {
   std::vector<double> T;
   double objective = std::numeric_limits<double>::infinity();
-  bool feasible = false;
   int evaluations = 0;
 };
 
@@ -455,14 +448,13 @@ double allocation_objective(unsigned n, const double* x, double* /*grad*/, void*
   for (const double t : c->T) sum += t;
   double value;
   if (status == QpStatus::Optimal) {
-    value = jerk_of(c->runner->control_points(), c->o->order, c->T) + c->o->time.rho * sum;
+    value = curve_from(c->runner->control_points(), c->o->order, c->T).jerk_cost() + c->o->time.rho * sum;
   } else {
     value = kPenalty * (1 + c->o->segments * c->o->time.max - sum);
   }
   if (value < c->best->objective) {
     c->best->objective = value;
     c->best->T = c->T;
-    c->best->feasible = status == QpStatus::Optimal;
   }
   return value;
 }

@@ -43,8 +43,6 @@ void rotate_columns(Eigen::MatrixXd& M, Eigen::Index i, Eigen::Index j, double c
   }
 }
 
-bool all_finite(const Eigen::Ref<const Eigen::MatrixXd>& M) { return M.allFinite(); }
-
 }  // namespace
 
 bool QpOptions::validate(std::string* why) const {
@@ -167,7 +165,7 @@ QpStatus QpSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& P, const Eigen
   if (A_in.rows() != b_in.size() || (A_in.rows() > 0 && A_in.cols() != n)) {
     throw InvalidArgument("qp: A_in must be m_in x n and b_in of size m_in");
   }
-  if (!all_finite(P) || !q.allFinite() || !all_finite(A_eq) || !b_eq.allFinite() || !all_finite(A_in) ||
+  if (!P.allFinite() || !q.allFinite() || !A_eq.allFinite() || !b_eq.allFinite() || !A_in.allFinite() ||
       !b_in.allFinite()) {
     throw InvalidArgument("qp: every entry of P, q, A and b must be finite");
   }
