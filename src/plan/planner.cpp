@@ -621,18 +621,6 @@ std::vector<std::string> QpProblem::variable_names() const {
   return names;
 }
 
-void QpProblem::definite(Eigen::MatrixXd& P_out, Eigen::VectorXd& q_out) const {
-  P_out = P;
-  q_out = q;
-  const double rho = std::max(P.diagonal().mean(), 1e-12);
-  for (Eigen::Index r = 0; r < A_eq.rows(); ++r) {
-    const double norm2 = A_eq.row(r).squaredNorm();
-    if (norm2 == 0) continue;
-    P_out.noalias() += (rho / norm2) * A_eq.row(r).transpose() * A_eq.row(r);
-    q_out -= (rho / norm2) * b_eq(r) * A_eq.row(r).transpose();
-  }
-}
-
 KinematicState default_goal(const PlannerOptions& options) {
   KinematicState g;
   g.p = Eigen::Vector3d(0, 0, options.corridor ? options.corridor->h_touchdown : 0.5);

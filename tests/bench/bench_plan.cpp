@@ -28,32 +28,50 @@ const tp::PlanResult& reference() {
   return r;
 }
 
+// The bundled problem with tight limits (v_max 2.5 m/s over ground while the
+// pad drives at 2 m/s, a_max 1 m/s², ρ = 5 for shorter durations): its QP at
+// the allocated durations has active acceleration and velocity rows.
+const tp::PlanResult& tight() {
+  static const tp::PlanResult r = [] {
+    tp::PlannerOptions o = problem().options;
+    o.v_max = 2.5;
+    o.a_max = 1.0;
+    o.time.rho = 5.0;
+    return tp::plan(problem().start, problem().goal, problem().pad, o);
+  }();
+  return r;
+}
+
+const tp::QpProblem& bench_qp(int variant) { return variant == 0 ? reference().qp : tight().qp; }
+
 tp::KinematicState goal() { return problem().goal ? *problem().goal : tp::default_goal(problem().options); }
 
-// The full 48-variable QP at the chosen durations (definite stand-in).
+// The full 48-variable QP at the chosen durations, as exported by
+// --export-qp (P is only semidefinite: the solver eliminates the 27
+// equalities, then solves the 21-variable rest). Arguments: problem
+// (0 bundled, 1 tight limits), warm start.
 void BM_QpGoldfarbIdnani(benchmark::State& state) {
-  const tp::QpProblem& qp = reference().qp;
-  Eigen::MatrixXd P;
-  Eigen::VectorXd q;
-  qp.definite(P, q);
+  const tp::QpProblem& qp = bench_qp(static_cast<int>(state.range(0)));
   tp::QpSolver solver;
-  const bool warm = state.range(0) != 0;
-  (void)solver.solve(P, q, qp.A_eq, qp.b_eq, qp.A_in, qp.b_in);
+  const bool warm = state.range(1) != 0;
+  (void)solver.solve(qp.P, qp.q, qp.A_eq, qp.b_eq, qp.A_in, qp.b_in);
   for (auto _ : state) {
-    benchmark::DoNotOptimize(solver.solve(P, q, qp.A_eq, qp.b_eq, qp.A_in, qp.b_in, warm));
+    benchmark::DoNotOptimize(solver.solve(qp.P, qp.q, qp.A_eq, qp.b_eq, qp.A_in, qp.b_in, warm));
   }
   state.counters["iterations"] = solver.iterations();
-  state.counters["variables"] = static_cast<double>(P.rows());
+  state.counters["active"] = static_cast<double>(solver.active_set().size());
+  state.counters["variables"] = static_cast<double>(qp.P.rows());
   state.counters["inequalities"] = static_cast<double>(qp.A_in.rows());
+  state.counters["cost"] = solver.objective() + qp.constant;
 }
-BENCHMARK(BM_QpGoldfarbIdnani)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_QpGoldfarbIdnani)->Args({0, 0})->Args({0, 1})->Args({1, 0})->Args({1, 1})->Unit(benchmark::kMicrosecond);
 
 // The same QP with its equalities eliminated (x = x₀ + Z y, Z a basis of
 // A_eq's null space from a QR, set up outside the timing): 21 variables,
 // the inequalities only — the size of the QP the planner solves per set
 // of durations (it eliminates the equalities in closed form instead).
 void BM_QpReduced(benchmark::State& state) {
-  const tp::QpProblem& qp = reference().qp;
+  const tp::QpProblem& qp = bench_qp(static_cast<int>(state.range(0)));
   const Eigen::Index n = qp.P.rows(), me = qp.A_eq.rows();
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(qp.A_eq.transpose());
   const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(n, n);
@@ -64,7 +82,7 @@ void BM_QpReduced(benchmark::State& state) {
   const Eigen::MatrixXd A = qp.A_in * Z;
   const Eigen::VectorXd b = qp.b_in - qp.A_in * x0;
   tp::QpSolver solver;
-  const bool warm = state.range(0) != 0;
+  const bool warm = state.range(1) != 0;
   (void)solver.solve(P, q, Eigen::MatrixXd(0, n - me), Eigen::VectorXd(0), A, b);
   for (auto _ : state) {
     benchmark::DoNotOptimize(solver.solve(P, q, Eigen::MatrixXd(0, n - me), Eigen::VectorXd(0), A, b, warm));
@@ -74,7 +92,7 @@ void BM_QpReduced(benchmark::State& state) {
   state.counters["iterations"] = solver.iterations();
   state.counters["variables"] = static_cast<double>(n - me);
 }
-BENCHMARK(BM_QpReduced)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_QpReduced)->Args({0, 0})->Args({0, 1})->Args({1, 0})->Args({1, 1})->Unit(benchmark::kMicrosecond);
 
 struct SlsqpRow {
   const tp::QpProblem* qp;
@@ -99,8 +117,9 @@ double slsqp_in(unsigned n, const double* x, double* grad, void* data) {
 }
 
 // NLopt's SLSQP on the same QP, from the same cold start (x = 0).
+// Argument: problem (0 bundled, 1 tight limits).
 void BM_QpSlsqp(benchmark::State& state) {
-  const tp::QpProblem& qp = reference().qp;
+  const tp::QpProblem& qp = bench_qp(static_cast<int>(state.range(0)));
   const auto n = static_cast<unsigned>(qp.P.rows());
   std::vector<SlsqpRow> eq, in;
   for (Eigen::Index r = 0; r < qp.A_eq.rows(); ++r) eq.push_back({&qp, r});
@@ -120,10 +139,10 @@ void BM_QpSlsqp(benchmark::State& state) {
     }
     benchmark::DoNotOptimize(x.data());
   }
-  state.counters["cost"] = f;
-  state.counters["our_cost"] = reference().cost;
+  state.counters["cost"] = f + qp.constant;
+  state.counters["our_cost"] = (state.range(0) == 0 ? reference() : tight()).cost;
 }
-BENCHMARK(BM_QpSlsqp)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_QpSlsqp)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 // What one time-allocation evaluation costs: the planner's QP at fixed
 // durations (rows, elimination of the equalities, the reduced QP).

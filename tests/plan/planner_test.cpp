@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "touchdown/core/error.hpp"
+#include "touchdown/plan/qp.hpp"
 
 namespace tp = touchdown::plan;
 
@@ -205,6 +206,47 @@ TEST(Planner, TimeAllocationBeatsTheGrid) {
   ASSERT_LT(grid_best, INFINITY);
   EXPECT_LE(r.objective, grid_best * (1 + 1e-9));
   EXPECT_LT(r.evaluations, 961 / 4);
+}
+
+// Two independent eliminations of the same QP: the planner's closed-form
+// one (per axis, in the Bézier structure) and QpSolver's Gauss–Jordan one
+// on the exported 48-variable QP (semidefinite P, 27 equalities). With
+// tight limits several velocity/acceleration rows are active; both must
+// give the same control points and cost.
+TEST(Planner, ExportedQpSolvedDirectlyGivesThePlannersAnswer) {
+  tp::KinematicState start;
+  start.p = Eigen::Vector3d(-3, 0.2, 2);
+  start.v = Eigen::Vector3d(0.3, 0, 0);
+  tp::PadMotion pad;
+  pad.velocity = Eigen::Vector3d(2, 0, 0);
+  tp::PlannerOptions o = planner_with_corridor();
+  o.v_max = 2.5;
+  o.a_max = 1.0;
+  o.time.rho = 5;
+  const tp::PlanResult r = tp::plan(start, std::nullopt, pad, o);
+  ASSERT_TRUE(r.ok()) << r.message;
+  const tp::QpProblem& qp = r.qp;
+  ASSERT_EQ(qp.P.rows(), 48);
+  Eigen::VectorXd shift = Eigen::VectorXd::Zero(48);  // every control point moved by 1 m in x: no jerk
+  for (int i = 0; i < 16; ++i) shift(3 * i) = 1;
+  ASSERT_LT((qp.P * shift).norm(), 1e-9 * qp.P.norm());  // P is singular: no definite stand-in used
+  tp::QpSolver solver;
+  ASSERT_EQ(solver.solve(qp.P, qp.q, qp.A_eq, qp.b_eq, qp.A_in, qp.b_in), tp::QpStatus::Optimal);
+  EXPECT_EQ(solver.equality_rank(), 27);
+  EXPECT_GE(solver.active_set().size(), 3u);
+  EXPECT_NEAR(solver.objective() + qp.constant, r.cost, 1e-7 * r.cost);
+  double worst = 0;
+  for (int k = 0; k < r.trajectory.segments(); ++k) {
+    for (int i = 0; i <= r.trajectory.order(); ++i) {
+      const int id = k * (r.trajectory.order() + 1) + i;
+      const Eigen::Vector3d c = solver.x().segment<3>(3 * id);
+      worst =
+          std::max(worst, (c - r.trajectory.all_control_points()[static_cast<std::size_t>(id)]).cwiseAbs().maxCoeff());
+    }
+  }
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_LT(solver.kkt().stationarity, 1e-6);
+  EXPECT_LT(solver.kkt().primal, 1e-9);
 }
 
 TEST(Planner, InfeasibleProblemsNameTheConflictingGroup) {

@@ -212,6 +212,83 @@ TEST(QpSolver, RandomInstancesEqualSlsqp) {
   EXPECT_GT(active_total, 30);  // the instances do exercise the inequalities
 }
 
+// P only semidefinite (rank n − k) but definite on A_eq's null space: the
+// elimination makes the problem strictly convex. Oracle: the KKT system of
+// the equalities and the inequalities active at our answer, solved by a
+// plain LU, with non-negative multipliers; and SLSQP's minimiser.
+TEST(QpSolver, SemidefiniteHessianDefiniteOnTheEqualitiesNullSpace) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> g(0, 1);
+  for (int trial = 0; trial < 10; ++trial) {
+    const int n = 8 + trial, m_eq = 3, k = 2 + trial % 2;
+    QpInstance p = qp_random_instance(n, m_eq, 2 * n, rng);
+    const Eigen::MatrixXd B = Eigen::MatrixXd::NullaryExpr(n, n - k, [&] { return g(rng); });
+    p.P = B * B.transpose() / n;  // rank n − k ≤ n: singular
+    tp::QpSolver solver;
+    ASSERT_EQ(solver.solve(p.P, p.q, p.A_eq, p.b_eq, p.A_in, p.b_in), tp::QpStatus::Optimal) << trial;
+    const Eigen::VectorXd reference = qp_slsqp_solve(p);
+    EXPECT_LT((solver.x() - reference).cwiseAbs().maxCoeff(), 1e-6) << trial;
+    EXPECT_LT(solver.kkt().stationarity, 1e-8 * (1 + p.q.norm())) << trial;
+    EXPECT_LT(solver.kkt().primal, 1e-9) << trial;
+    EXPECT_LT(solver.kkt().dual, 1e-12) << trial;
+  }
+  // Singular on the null space too (a free direction of zero curvature): not convex enough.
+  const Eigen::MatrixXd P = Eigen::Vector3d(1, 1, 0).asDiagonal();
+  Eigen::MatrixXd E(1, 3);
+  E << 1, 0, 0;
+  tp::QpSolver solver;
+  EXPECT_EQ(solver.solve(P, Eigen::Vector3d(0, 0, 1), E, Eigen::VectorXd::Constant(1, 2), Eigen::MatrixXd(0, 3),
+                         Eigen::VectorXd(0)),
+            tp::QpStatus::NotConvex);
+  // ... and pinned by a second equality it is fine: x = (2, −q_y, 5).
+  Eigen::MatrixXd E2(2, 3);
+  E2 << 1, 0, 0, 0, 0, 1;
+  ASSERT_EQ(
+      solver.solve(P, Eigen::Vector3d(0, 0.5, 1), E2, Eigen::Vector2d(2, 5), Eigen::MatrixXd(0, 3), Eigen::VectorXd(0)),
+      tp::QpStatus::Optimal);
+  EXPECT_LT((solver.x() - Eigen::Vector3d(2, -0.5, 5)).norm(), 1e-12);
+  EXPECT_LT((solver.multipliers_eq() - Eigen::Vector2d(-2, -1)).norm(), 1e-12);  // P x + q + Aᵀλ = 0
+}
+
+// More equalities than variables, dependent and consistent (each row twice,
+// scaled, plus sums): the rank is found, the answer and KKT residuals hold.
+TEST(QpSolver, DependentEqualitiesBeyondTheVariableCount) {
+  std::mt19937 rng(12);
+  const QpInstance base = qp_random_instance(6, 3, 10, rng);
+  QpInstance p = base;
+  p.A_eq.resize(8, 6);
+  p.b_eq.resize(8);
+  p.A_eq.topRows(3) = base.A_eq;
+  p.b_eq.head(3) = base.b_eq;
+  p.A_eq.middleRows(3, 3) = -2.5 * base.A_eq;
+  p.b_eq.segment(3, 3) = -2.5 * base.b_eq;
+  p.A_eq.row(6) = base.A_eq.row(0) + base.A_eq.row(2);
+  p.b_eq(6) = base.b_eq(0) + base.b_eq(2);
+  p.A_eq.row(7) = 1e3 * base.A_eq.row(1);
+  p.b_eq(7) = 1e3 * base.b_eq(1);
+  tp::QpSolver reduced, full;
+  ASSERT_EQ(reduced.solve(base.P, base.q, base.A_eq, base.b_eq, base.A_in, base.b_in), tp::QpStatus::Optimal);
+  ASSERT_EQ(full.solve(p.P, p.q, p.A_eq, p.b_eq, p.A_in, p.b_in), tp::QpStatus::Optimal);
+  EXPECT_EQ(full.equality_rank(), 3);
+  EXPECT_LT((full.x() - reduced.x()).norm(), 1e-10);
+  EXPECT_LT(full.kkt().stationarity, 1e-9 * (1 + p.q.norm()));
+  EXPECT_LT(full.kkt().primal, 1e-9);
+  // 7 independent equalities on 6 variables: x is fixed by six, the 7th contradicts.
+  Eigen::MatrixXd A = Eigen::MatrixXd::Identity(7, 6);
+  A(6, 0) = 1;
+  A(6, 1) = 1;
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(7);
+  b(6) = 1;
+  EXPECT_EQ(full.solve(p.P, p.q, A, b, Eigen::MatrixXd(0, 6), Eigen::VectorXd(0)), tp::QpStatus::Infeasible);
+  b(6) = 0;  // consistent: x = 0 whatever the objective, the inequalities then decide
+  EXPECT_EQ(full.solve(p.P, p.q, A, b, Eigen::MatrixXd(0, 6), Eigen::VectorXd(0)), tp::QpStatus::Optimal);
+  EXPECT_LT(full.x().norm(), 1e-12);
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(1, 6);
+  G(0, 3) = -1;  // −x₃ ≤ −1 contradicts x₃ = 0
+  EXPECT_EQ(full.solve(p.P, p.q, A, b, G, Eigen::VectorXd::Constant(1, -1)), tp::QpStatus::Infeasible);
+  EXPECT_EQ(full.blocking_constraint(), 0);
+}
+
 TEST(QpSolver, WarmStartGivesTheSameAnswerInFewerSteps) {
   std::mt19937 rng(6);
   QpInstance p = qp_random_instance(20, 2, 50, rng);

@@ -27,8 +27,9 @@
 ///    exact.
 ///
 /// The cost matrix of a jerk cost is only semi-definite (quadratics have no
-/// jerk); the solver gets P + ρ A_eqᵀ A_eq, q − ρ A_eqᵀ b_eq, which is
-/// definite and has the same minimiser on the equality set.
+/// jerk); the planner eliminates the equalities in closed form (the start,
+/// the goal and continuity fix three control points each), and the QP in
+/// the remaining control points is definite.
 ///
 /// Allocation: plan() allocates (a corridor, the QP's matrices); the QP
 /// solves inside the time allocation reuse one work space. Thread-safe:
@@ -109,11 +110,6 @@ struct QpProblem {
   std::vector<ConstraintGroup> eq_groups, in_groups;  ///< the group of each row
   /// "s<segment>.c<control point>.<axis>" per variable, in the order of x.
   [[nodiscard]] std::vector<std::string> variable_names() const;
-  /// A definite stand-in for a solver that needs one: P + ρ ÂᵀÂ and
-  /// q − ρ Âᵀb̂ (Â, b̂ the equality rows scaled to unit norm, ρ the mean of
-  /// P's diagonal), which equals the objective plus a constant on the
-  /// equality set, so the minimiser is the same.
-  void definite(Eigen::MatrixXd& P_out, Eigen::VectorXd& q_out) const;
 };
 
 struct PlanResult {
