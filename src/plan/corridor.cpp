@@ -369,6 +369,12 @@ bool CorridorOptions::validate(std::string* why) const {
   if (!(margin >= 0 && std::isfinite(margin))) {
     return invalid(why, "corridor.margin: must be >= 0 and finite, got " + num(margin));
   }
+  if (margin < radius) {  // the free box shrunk by the radius would exclude the start and the goal
+    return invalid(why,
+                   "corridor.margin: must be >= corridor.radius (the free box around start and goal is shrunk by "
+                   "the drone radius), got " +
+                       num(margin) + " < " + num(radius));
+  }
   if (camera) {
     if (const std::string w = camera_problem(*camera); !w.empty()) return invalid(why, "corridor.camera." + w);
   }

@@ -587,6 +587,11 @@ TEST(CorridorBuild, InvalidInputThrowsNamingTheField) {
       {"corridor.radius", [](CorridorOptions& o) { o.radius = -1; }},
       {"corridor.radius", [](CorridorOptions& o) { o.radius = INFINITY; }},
       {"corridor.margin", [](CorridorOptions& o) { o.margin = -0.5; }},
+      {"corridor.margin",
+       [](CorridorOptions& o) {
+         o.radius = 0.3;
+         o.margin = 0.2;
+       }},
       {"corridor.camera.fov_deg",
        [](CorridorOptions& o) {
          o.camera = CameraFov{};

@@ -229,7 +229,7 @@ TEST(ProblemIo, RoundTripOfRandomProblems) {
       c.dilate = positive();
       c.max_dilations = 1 + trial % 9;
       c.radius = std::abs(awkward());
-      c.margin = std::abs(awkward());
+      c.margin = c.radius + std::abs(awkward());
       if (trial % 2 == 0) {
         CameraFov cam;
         cam.T_pad_camera.translation() = vec();

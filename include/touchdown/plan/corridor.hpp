@@ -88,7 +88,7 @@ struct CorridorOptions {
   double dilate = 0.2;       ///< ε_d: vertical growth of each part across h_T per dilation step [m], > 0
   int max_dilations = 20;    ///< dilation steps tried before `no_overlap`
   double radius = 0.25;      ///< r_q: drone radius, every face moves inward by it [m], ≥ 0
-  double margin = 1.0;       ///< free box: bounding box of start and goal grown by this (not below the pad) [m], ≥ 0
+  double margin = 1.0;  ///< free box: bounding box of start and goal grown by this (not below the pad) [m], ≥ radius
   std::optional<CameraFov> camera;  ///< no camera: no FoV constraint
   /// False (with "field: what is wrong" in *why) for an invalid value.
   bool validate(std::string* why) const;
