@@ -624,7 +624,8 @@ int main(int argc, char** argv) {
                  "velocity and acceleration); only when planned");
 
   return td::app::run(app, argc, argv, [&]() -> int {
-    const tp::PlanProblem problem = tp::load_plan_problem(problem_path);
+    tp::PlanProblem problem = tp::load_plan_problem(problem_path);
+    problem.options.export_qp = !qp_path.empty();
     const auto t0 = std::chrono::steady_clock::now();
     tp::PlanResult r;
     try {

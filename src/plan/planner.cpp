@@ -683,7 +683,7 @@ PlanResult plan_in_corridor(const KinematicState& start, const KinematicState& g
     result.evaluations = a.evaluations;
     T = a.T;
   }
-  builder.build(T, result.qp);
+  if (options.export_qp) builder.build(T, result.qp);
   ReducedRunner runner(builder);
   const auto t1 = Clock::now();
   const QpStatus status = runner.solve(T, false);

@@ -24,7 +24,11 @@ const tp::PlanProblem& problem() {
 }
 
 const tp::PlanResult& reference() {
-  static const tp::PlanResult r = tp::plan(problem().start, problem().goal, problem().pad, problem().options);
+  static const tp::PlanResult r = [] {
+    tp::PlannerOptions o = problem().options;
+    o.export_qp = true;
+    return tp::plan(problem().start, problem().goal, problem().pad, o);
+  }();
   return r;
 }
 
@@ -37,6 +41,7 @@ const tp::PlanResult& tight() {
     o.v_max = 2.5;
     o.a_max = 1.0;
     o.time.rho = 5.0;
+    o.export_qp = true;
     return tp::plan(problem().start, problem().goal, problem().pad, o);
   }();
   return r;

@@ -32,6 +32,7 @@ tp::PlannerOptions planner_loose(int order, int segments, std::vector<double> du
   o.v_max = 100;
   o.a_max = 100;
   o.durations = std::move(durations);
+  o.export_qp = true;
   return o;
 }
 
@@ -223,6 +224,7 @@ TEST(Planner, ExportedQpSolvedDirectlyGivesThePlannersAnswer) {
   o.v_max = 2.5;
   o.a_max = 1.0;
   o.time.rho = 5;
+  o.export_qp = true;
   const tp::PlanResult r = tp::plan(start, std::nullopt, pad, o);
   ASSERT_TRUE(r.ok()) << r.message;
   const tp::QpProblem& qp = r.qp;

@@ -87,6 +87,11 @@ struct PlannerOptions {
   /// No corridor: unconstrained space (obstacles then unused).
   std::optional<CorridorOptions> corridor;
   std::vector<Box> obstacles;  ///< pad frame
+  /// Fill PlanResult::qp with the dense QP at the chosen durations (for
+  /// --export-qp or another solver). Off by default: a replanning loop does
+  /// not need it, and its ~150 KB of matrices per plan cost more than the
+  /// plan itself once glibc hands the freed heap back to the system.
+  bool export_qp = false;
   /// False (with "field: what is wrong" in *why) for an invalid value.
   bool validate(std::string* why) const;
 };
@@ -121,7 +126,7 @@ struct PlanResult {
   std::vector<ConstraintGroup> conflicts;   ///< when infeasible: each group whose relaxation restores feasibility
   Corridor corridor;                        ///< when options.corridor is set
   std::vector<Polytope> segment_polytopes;  ///< one per segment (empty without a corridor)
-  QpProblem qp;                             ///< at the chosen durations
+  QpProblem qp;                             ///< at the chosen durations (only with options.export_qp)
   int evaluations = 0;                      ///< QPs solved by the time allocation (0 with fixed durations)
   double allocation_ms = 0;                 ///< wall time of the time allocation
   int qp_iterations = 0;                    ///< of the final QP
