@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -133,6 +134,40 @@ Capsule Airframe::leg(std::size_t i) const {
 
 Sphere Airframe::foot(std::size_t i) const { return {Eigen::Vector3d(legs[i].x(), legs[i].y(), foot_z), foot_radius}; }
 
+// The motors alone (no tilting servo is modelled) must set thrust, roll,
+// pitch and yaw independently: the 4 × n allocation matrix about the centre
+// of mass (the mixer's, flight_control.cpp) must have rank 4. The common
+// ways to lose a row get their own message.
+std::string Airframe::control_problem() const {
+  const std::size_t n = motor_count();
+  if (n < 4) {
+    return "arms.angles_deg: " + std::to_string(n) +
+           " fixed motors cannot set thrust, roll, pitch and yaw independently (a tricopter needs a tilting yaw "
+           "servo, which the twin does not model): use 4 or more arms";
+  }
+  if (std::all_of(spin.begin(), spin.end(), [&](int s) { return s == spin.front(); })) {
+    return "motors.spin: every motor spins the same way, so their reaction torques cannot be balanced and the "
+           "airframe cannot hold its heading: give about half of them -1";
+  }
+  Eigen::MatrixXd A(4, static_cast<Eigen::Index>(n));
+  const Eigen::Vector3d com = centre_of_mass();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d r = motor_position(i) - com;
+    const auto c = static_cast<Eigen::Index>(i);
+    A(0, c) = 1.0;
+    A(1, c) = r.y() / motor_radius;  // rows scaled to O(1) for the rank test
+    A(2, c) = -r.x() / motor_radius;
+    A(3, c) = -spin[i];
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A);
+  const auto& sv = svd.singularValues();
+  if (sv(3) < 1e-6 * sv(0)) {
+    return "arms.angles_deg: the motors cannot set roll, pitch and yaw independently (motors on one line, or spins "
+           "that mirror the geometry): the control allocation has rank < 4";
+  }
+  return "";
+}
+
 bool Airframe::validate(std::string* why) const {
   auto fail = [&](const std::string& w) {
     if (why) *why = w;
@@ -154,13 +189,35 @@ bool Airframe::validate(std::string* why) const {
     if (s != 1 && s != -1) return fail("motors.spin: entries must be 1 or -1");
   }
   if (!positive(max_thrust)) return fail("motors.max_thrust: must be positive");
-  if (max_thrust * static_cast<double>(motor_count()) < 1.2 * total_mass() * 9.80665) {
-    return fail("motors.max_thrust: the motors cannot lift the airframe with a 20% margin");
+  const double thrust_to_weight = max_thrust * static_cast<double>(motor_count()) / (total_mass() * 9.80665);
+  if (thrust_to_weight < kMinThrustToWeight) {
+    return fail("motors.max_thrust: the motors lift " + fmt(thrust_to_weight) + " times the weight (" +
+                fmt(total_mass()) + " kg), need at least " + fmt(kMinThrustToWeight) + " to hover with control margin");
   }
   if (!positive(motor_time_constant)) return fail("motors.time_constant: must be positive");
-  if (!(torque_coefficient >= 0)) return fail("motors.torque_coefficient: must be >= 0");
+  if (!(torque_coefficient > 0) || !std::isfinite(torque_coefficient)) {
+    return fail(
+        "motors.torque_coefficient: must be > 0 (without the rotors' reaction torque nothing yaws the airframe), "
+        "got " +
+        fmt(torque_coefficient));
+  }
+  if (const std::string w = control_problem(); !w.empty()) return fail(w);
   if (!positive(prop_radius)) return fail("propellers.radius: must be positive");
   if (!positive(prop_thickness)) return fail("propellers.thickness: must be positive");
+  for (std::size_t i = 0; i < motor_count(); ++i) {
+    for (std::size_t j = i + 1; j < motor_count(); ++j) {
+      const double d = (motor_position(i) - motor_position(j)).head<2>().norm();
+      if (d < 2 * prop_radius) {
+        std::string hint;
+        bool radians = true;
+        for (const double a : arm_angles_deg) radians = radians && std::abs(a) <= 2 * std::numbers::pi + 1e-9;
+        if (radians) hint = " (arms.angles_deg are all within ±2π: written in radians?)";
+        return fail("propellers.radius: the propellers of arms " + std::to_string(i + 1) + " and " +
+                    std::to_string(j + 1) + " overlap: motors " + fmt(d) + " m apart, need at least 2 × " +
+                    fmt(prop_radius) + hint);
+      }
+    }
+  }
   if (!positive(gear_mass)) return fail("landing_gear.mass: must be positive, got " + fmt(gear_mass));
   if (!positive(foot_radius)) return fail("landing_gear.foot_radius: must be positive");
   if (!(leg_radius >= 0)) return fail("landing_gear.leg_radius: must be >= 0");

@@ -182,6 +182,14 @@ class Run {
         controller.idle(v);
         for (double& m : motor_) m += (0.0 - m) * motor_alpha;  // disarmed: spin down
       }
+      // A non-finite command must never reach ODE (its normalisation asserts
+      // abort the process): the run ends as unstable instead.
+      if (!std::all_of(motor_.begin(), motor_.end(), [](double m) { return std::isfinite(m); })) {
+        res.status = RunStatus::Unstable;
+        res.steps = step;
+        res.sim_time = static_cast<double>(step) * dt;
+        return res;
+      }
       for (std::size_t i = 0; i < motor_.size(); ++i) {
         const Eigen::Vector3d& r = motor_r_[i];
         dBodyAddRelForceAtRelPos(body_, 0, 0, motor_[i], r.x(), r.y(), r.z());

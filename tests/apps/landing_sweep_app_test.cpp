@@ -73,6 +73,24 @@ TEST(LandingSweepAppBadInput, AirframeKeyIsNamed) {
   EXPECT_FALSE(std::filesystem::exists(dir / "runs.csv"));
 }
 
+// Issue 11: a tricopter (3 fixed motors) made ODE abort the process with a
+// normalisation assert (exit 134) through the singular mixer; now it is
+// refused up front, naming the key, with exit 2.
+TEST(LandingSweepAppBadInput, TricopterIsRefusedNotAborted) {
+  TempDir dir;
+  const auto terrain = flat_stl(dir);
+  std::string y = td::test::read_text(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/airframes/f450.yaml");
+  y.replace(y.find("[45, 135, 225, 315]"), 19, "[60, 180, 300]");
+  y.replace(y.find("[1, -1, 1, -1]"), 14, "[1, -1, 1]");
+  td::test::write_text(dir / "tri.yaml", y);
+  const AppRun r =
+      run(terrain + " --airframe " + (dir / "tri.yaml").string() + " --threads 1 --headings 1 --runs 1", dir);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("tri.yaml"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("arms.angles_deg"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
 TEST(LandingSweepAppBadInput, TerrainNotCoveringTheFootprint) {
   TempDir dir;
   const auto terrain = flat_stl(dir);

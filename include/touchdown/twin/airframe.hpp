@@ -61,11 +61,21 @@ struct Airframe {
   /// The default airframe (a DJI F450; the numbers of data/airframes/f450.yaml).
   static Airframe f450();
 
-  /// False, with "key: problem", when the airframe is not physical: a
-  /// non-positive mass or size, legs not below the body, feet above the
-  /// propellers, fewer than 3 legs, a non-convex support set, the centre of
-  /// mass outside it, mismatched motor lists.
+  /// Least max-thrust-to-weight ratio validate() accepts (hover plus
+  /// control margin).
+  static constexpr double kMinThrustToWeight = 1.3;
+
+  /// False, with "key: problem", when the airframe is not physical or
+  /// cannot fly: a non-positive mass or size, legs not below the body, feet
+  /// above the propellers, fewer than 3 legs, a non-convex support set, the
+  /// centre of mass outside it, mismatched motor lists, thrust below
+  /// kMinThrustToWeight × weight, motors that cannot set thrust, roll, pitch
+  /// and yaw independently (fewer than 4, all spinning one way, no reaction
+  /// torque, on one line), overlapping propellers.
   [[nodiscard]] bool validate(std::string* why) const;
+  /// Empty, or "key: problem" when the motors cannot control thrust, roll,
+  /// pitch and yaw independently (part of validate()).
+  [[nodiscard]] std::string control_problem() const;
 
   [[nodiscard]] std::size_t motor_count() const { return arm_angles_deg.size(); }
   [[nodiscard]] double total_mass() const;
