@@ -16,6 +16,17 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitBadInput = 2;
 inline constexpr int kExitInternal = 3;
 
+/// Validator of an output path: it must end in `ext` (".svg", ".csv",
+/// ".json"), so that a file named x.png never receives SVG text.
+inline CLI::Validator output_extension(const std::string& ext) {
+  return CLI::Validator(
+      [ext](std::string& path) -> std::string {
+        if (path.size() >= ext.size() && path.compare(path.size() - ext.size(), ext.size(), ext) == 0) return "";
+        return "the file is written as " + ext.substr(1) + ": its name must end in " + ext + ", got " + path;
+      },
+      "*" + ext);
+}
+
 /// Parses the command line and runs `body`, mapping exceptions to one line
 /// on stderr and the conventional exit codes.
 template <typename Body>

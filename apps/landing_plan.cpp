@@ -615,13 +615,16 @@ int main(int argc, char** argv) {
   app.add_option("PROBLEM", problem_path, "landing problem YAML (data/plans/landing.yaml is an example)")->required();
   app.add_flag("--json", json, "print one JSON object on stdout instead of the summary");
   app.add_option("--export-qp", qp_path,
-                 "write the QP at the chosen durations as JSON (P, q, A_eq, b_eq, A_in, b_in, constant, variables)");
+                 "write the QP at the chosen durations as JSON (P, q, A_eq, b_eq, A_in, b_in, constant, variables)")
+      ->check(td::app::output_extension(".json"));
   app.add_option("--plot", plot_path,
                  "write an SVG: top/side/rear views with the corridor, obstacles and field of view, and the "
-                 "world-frame velocity and acceleration against the limits");
+                 "world-frame velocity and acceleration against the limits")
+      ->check(td::app::output_extension(".svg"));
   app.add_option("--samples", samples_path,
                  "write the trajectory every 1 ms as CSV (pad-frame position, velocity, acceleration; world-frame "
-                 "velocity and acceleration); only when planned");
+                 "velocity and acceleration); only when planned")
+      ->check(td::app::output_extension(".csv"));
 
   return td::app::run(app, argc, argv, [&]() -> int {
     tp::PlanProblem problem = tp::load_plan_problem(problem_path);

@@ -134,6 +134,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"full", "seed"}))
       ->capture_default_str();
   app.add_option("--seed", o.seed, "random seed (same seed -> same result for any thread count)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--threads", o.threads, "worker threads, 0 = all cores")->capture_default_str();
   app.add_option("--time-budget", o.time_budget, "anytime: stop after the round that passes this many seconds, 0 = off")
@@ -141,12 +142,15 @@ int main(int argc, char** argv) {
   double search_radius = 0, search_spacing = 0;
   app.add_option("--search-radius", search_radius,
                  "also try landing points on a grid within this radius [m] and report the best (x, y, psi)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--search-spacing", search_spacing, "grid spacing of the search [m], 0 = radius/2")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--step", o.simulation.step, "physics step [s]")->capture_default_str();
-  app.add_option("--runs-csv", runs_csv_path, "write one CSV row per run");
-  app.add_option("--plot", plot_path, "write an SVG of S(psi) per heading with the threshold");
+  app.add_option("--runs-csv", runs_csv_path, "write one CSV row per run")->check(td::app::output_extension(".csv"));
+  app.add_option("--plot", plot_path, "write an SVG of S(psi) per heading with the threshold")
+      ->check(td::app::output_extension(".svg"));
   app.add_flag("--json", json, "print one JSON object on stdout");
 
   return td::app::run(app, argc, argv, [&]() -> int {

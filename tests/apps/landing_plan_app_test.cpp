@@ -323,4 +323,12 @@ TEST(LandingPlanAppBadInput, MissingFileAndMissingOutputDirectory) {
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("missing"), std::string::npos) << r.err;
   EXPECT_TRUE(dir.files().empty());
+  // Each output's name must match what is written into it.
+  for (const std::string& bad : {" --plot " + (dir / "p.png").string(), " --samples " + (dir / "s.txt").string(),
+                                 " --export-qp " + (dir / "qp.yaml").string()}) {
+    r = run(bundled() + bad, dir);
+    EXPECT_EQ(r.code, 2) << bad;
+    EXPECT_NE(r.err.find("its name must end in"), std::string::npos) << r.err;
+    EXPECT_TRUE(dir.files().empty());
+  }
 }

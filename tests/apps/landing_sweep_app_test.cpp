@@ -105,6 +105,15 @@ TEST(LandingSweepAppBadInput, BadOptionsAndFiles) {
   EXPECT_EQ(run(terrain + " --headings 0", dir).code, 2);
   EXPECT_EQ(run(terrain + " --metric best", dir).code, 2);
   EXPECT_EQ(run(terrain + " --friction 1.0,0.5", dir).code, 2);
+  // Issue 11: accepted before (negative radius, a seed that wrapped, SVG written into a .png).
+  EXPECT_EQ(run(terrain + " --search-radius -0.2", dir).code, 2);
+  EXPECT_EQ(run(terrain + " --seed -1", dir).code, 2);
+  const AppRun png = run(terrain + " --plot " + (dir / "x.png").string(), dir);
+  EXPECT_EQ(png.code, 2);
+  EXPECT_NE(png.err.find("--plot"), std::string::npos) << png.err;
+  EXPECT_NE(png.err.find("must end in .svg"), std::string::npos) << png.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.png"));
+  EXPECT_EQ(run(terrain + " --runs-csv " + (dir / "runs.txt").string(), dir).code, 2);
   const AppRun r = run((dir / "missing.stl").string(), dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("missing.stl: cannot open"), std::string::npos) << r.err;
