@@ -149,15 +149,10 @@ std::string Airframe::control_problem() const {
     return "motors.spin: every motor spins the same way, so their reaction torques cannot be balanced and the "
            "airframe cannot hold its heading: give about half of them -1";
   }
-  Eigen::MatrixXd A(4, static_cast<Eigen::Index>(n));
-  const Eigen::Vector3d com = centre_of_mass();
-  for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d r = motor_position(i) - com;
-    const auto c = static_cast<Eigen::Index>(i);
-    A(0, c) = 1.0;
-    A(1, c) = r.y() / motor_radius;  // rows scaled to O(1) for the rank test
-    A(2, c) = -r.x() / motor_radius;
-    A(3, c) = -spin[i];
+  Eigen::MatrixXd A = control_allocation(centre_of_mass());
+  for (Eigen::Index r = 0; r < A.rows(); ++r) {  // rows scaled to O(1) for the rank test
+    const double norm = A.row(r).norm();
+    if (norm > 0) A.row(r) /= norm;
   }
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A);
   const auto& sv = svd.singularValues();
@@ -166,6 +161,20 @@ std::string Airframe::control_problem() const {
            "that mirror the geometry): the control allocation has rank < 4";
   }
   return "";
+}
+
+Eigen::MatrixXd Airframe::control_allocation(const Eigen::Vector3d& com) const {
+  const std::size_t n = motor_count();
+  Eigen::MatrixXd A(4, static_cast<Eigen::Index>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d r = motor_position(i) - com;
+    const auto c = static_cast<Eigen::Index>(i);
+    A(0, c) = 1.0;
+    A(1, c) = r.y();                          // roll torque of a thrust along +z at r
+    A(2, c) = -r.x();                         // pitch torque
+    A(3, c) = -spin[i] * torque_coefficient;  // reaction torque opposes the spin
+  }
+  return A;
 }
 
 bool Airframe::validate(std::string* why) const {

@@ -127,17 +127,8 @@ double LandDetector::limit_thrust(double thrust) const {
   return stage_ >= GroundContact ? std::min(thrust, ramp_ * thrust_at_contact_) : thrust;
 }
 
-Mixer::Mixer(const Airframe& af, const Eigen::Vector3d& com) : max_thrust_(af.max_thrust) {
-  const std::size_t n = af.motor_count();
-  allocation_.resize(4, static_cast<Eigen::Index>(n));
-  for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d r = af.motor_position(i) - com;
-    const auto c = static_cast<Eigen::Index>(i);
-    allocation_(0, c) = 1.0;
-    allocation_(1, c) = r.y();                                // roll torque of a thrust along +z at r
-    allocation_(2, c) = -r.x();                               // pitch torque
-    allocation_(3, c) = -af.spin[i] * af.torque_coefficient;  // reaction torque opposes the spin
-  }
+Mixer::Mixer(const Airframe& af, const Eigen::Vector3d& com)
+    : allocation_(af.control_allocation(com)), max_thrust_(af.max_thrust) {
   pseudo_inverse_ = allocation_.transpose() * (allocation_ * allocation_.transpose()).inverse();
 }
 

@@ -150,6 +150,12 @@ class Run {
     detail::Scratch scratch;
     std::vector<bool> foot_touch(af_.legs.size());
 
+    auto unstable = [&](long step) {
+      res.status = RunStatus::Unstable;
+      res.steps = step;
+      res.sim_time = static_cast<double>(step) * dt;
+      return res;
+    };
     for (long step = 0; step < max_steps; ++step) {
       const Eigen::Vector3d p = vec_of(dBodyGetPosition(body_));
       const Eigen::Vector3d v = vec_of(dBodyGetLinearVel(body_));
@@ -159,10 +165,7 @@ class Run {
       const bool off_map = p.x() < tb.min.x() || p.x() > tb.max.x() || p.y() < tb.min.y() || p.y() > tb.max.y();
       if (!p.allFinite() || !v.allFinite() || !R.allFinite() || p.z() < terrain_floor || off_map || v.norm() > 30.0 ||
           w_world.norm() > 200.0) {
-        res.status = RunStatus::Unstable;
-        res.steps = step;
-        res.sim_time = static_cast<double>(step) * dt;
-        return res;
+        return unstable(step);
       }
       const Eigen::Vector3d w = R.transpose() * w_world;
       const double nut = nutation_of(R);
@@ -184,12 +187,7 @@ class Run {
       }
       // A non-finite command must never reach ODE (its normalisation asserts
       // abort the process): the run ends as unstable instead.
-      if (!std::all_of(motor_.begin(), motor_.end(), [](double m) { return std::isfinite(m); })) {
-        res.status = RunStatus::Unstable;
-        res.steps = step;
-        res.sim_time = static_cast<double>(step) * dt;
-        return res;
-      }
+      if (!std::all_of(motor_.begin(), motor_.end(), [](double m) { return std::isfinite(m); })) return unstable(step);
       for (std::size_t i = 0; i < motor_.size(); ++i) {
         const Eigen::Vector3d& r = motor_r_[i];
         dBodyAddRelForceAtRelPos(body_, 0, 0, motor_[i], r.x(), r.y(), r.z());

@@ -76,6 +76,9 @@ struct Airframe {
   /// Empty, or "key: problem" when the motors cannot control thrust, roll,
   /// pitch and yaw independently (part of validate()).
   [[nodiscard]] std::string control_problem() const;
+  /// The 4 × n control allocation about `com`: column i is the [thrust;
+  /// roll, pitch, yaw torque] of 1 N from motor i (the mixer's matrix).
+  [[nodiscard]] Eigen::MatrixXd control_allocation(const Eigen::Vector3d& com) const;
 
   [[nodiscard]] std::size_t motor_count() const { return arm_angles_deg.size(); }
   [[nodiscard]] double total_mass() const;
