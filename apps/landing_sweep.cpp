@@ -36,18 +36,18 @@ void write_text_atomically(const std::string& path, const std::string& text) {
 std::string runs_csv(const tw::SweepResult& r) {
   std::ostringstream os;
   os << std::setprecision(9);
-  os << "heading_deg,run,status,final_nutation_rad,final_roll_rad,final_pitch_rad,max_touchdown_nutation_rad,"
+  os << "heading_deg,run,status,reason,final_nutation_rad,final_roll_rad,final_pitch_rad,max_touchdown_nutation_rad,"
         "offset_m,prop_strike,arm_strike,body_strike,tipped,all_feet_down,start_dx_m,start_dy_m,heading_error_deg,"
         "roll0_deg,pitch0_deg,land_speed_mps,friction,sim_seconds\n";
   for (const auto& run : r.runs) {
     const auto& c = run.conditions;
     const auto& x = run.result;
-    os << td::rad_to_deg(c.heading) << "," << run.run << "," << tw::to_string(x.status) << "," << x.nutation << ","
-       << x.roll << "," << x.pitch << "," << x.max_touchdown_nutation << "," << x.offset << "," << x.prop_strike << ","
-       << x.arm_strike << "," << x.body_strike << "," << x.tipped << "," << x.all_feet_in_contact << ","
-       << c.start_offset.x() << "," << c.start_offset.y() << "," << td::rad_to_deg(c.heading_error) << ","
-       << td::rad_to_deg(c.roll) << "," << td::rad_to_deg(c.pitch) << "," << c.land_speed << "," << c.friction << ","
-       << x.sim_time << "\n";
+    os << td::rad_to_deg(c.heading) << "," << run.run << "," << tw::to_string(x.status) << "," << x.reason << ","
+       << x.nutation << "," << x.roll << "," << x.pitch << "," << x.max_touchdown_nutation << "," << x.offset << ","
+       << x.prop_strike << "," << x.arm_strike << "," << x.body_strike << "," << x.tipped << ","
+       << x.all_feet_in_contact << "," << c.start_offset.x() << "," << c.start_offset.y() << ","
+       << td::rad_to_deg(c.heading_error) << "," << td::rad_to_deg(c.roll) << "," << td::rad_to_deg(c.pitch) << ","
+       << c.land_speed << "," << c.friction << "," << x.sim_time << "\n";
   }
   return os.str();
 }
@@ -87,10 +87,13 @@ std::string plot_svg(const tw::SweepResult& r, double yaw_max_deg) {
        << Y(td::rad_to_deg(run.result.nutation)) << "' r='2' fill='#999'/>\n";
   }
   os << "<polyline fill='none' stroke='#1f5fbf' stroke-width='2' points='";
-  for (const auto& h : r.headings) os << X(td::rad_to_deg(h.yaw)) << "," << Y(td::rad_to_deg(h.score)) << " ";
+  for (const auto& h : r.headings) {
+    if (h.scored()) os << X(td::rad_to_deg(h.yaw)) << "," << Y(td::rad_to_deg(h.score)) << " ";
+  }
   os << "'/>\n";
   for (std::size_t j = 0; j < r.headings.size(); ++j) {
     const auto& h = r.headings[j];
+    if (!h.scored()) continue;
     os << "<circle cx='" << X(td::rad_to_deg(h.yaw)) << "' cy='" << Y(td::rad_to_deg(h.score)) << "' r='"
        << (static_cast<int>(j) == r.best ? 6 : 3.5) << "' fill='" << (h.safe ? "#2a9d3a" : "#d62728") << "'/>\n";
   }
@@ -147,7 +150,17 @@ int main(int argc, char** argv) {
   app.add_option("--search-spacing", search_spacing, "grid spacing of the search [m], 0 = radius/2")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  std::string unknown_fill = "block";
+  app.add_option("--unknown-fill", unknown_fill,
+                 "point clouds: fill regions the camera never observed as a block up to their highest rim or as a "
+                 "pit (either way a heading over them is unsafe: unobserved terrain)")
+      ->check(CLI::IsMember({"block", "pit"}))
+      ->capture_default_str();
   app.add_option("--step", o.simulation.step, "physics step [s]")->capture_default_str();
+  app.add_option("--timeout", o.simulation.timeout,
+                 "simulated seconds a landing may take; a run still moving then is invalid (timeout), not scored")
+      ->check(CLI::Range(0.1, 600.0))
+      ->capture_default_str();
   app.add_option("--runs-csv", runs_csv_path, "write one CSV row per run")->check(td::app::output_extension(".csv"));
   app.add_option("--plot", plot_path, "write an SVG of S(psi) per heading with the threshold")
       ->check(td::app::output_extension(".svg"));
@@ -165,6 +178,8 @@ int main(int argc, char** argv) {
     if (!o.validate(&why)) throw td::InvalidArgument(why);
     const tw::Airframe airframe = airframe_path.empty() ? tw::Airframe::f450() : tw::load_airframe(airframe_path);
     td::terrain::TerrainOptions cloud_options;
+    cloud_options.height_map.unknown_fill =
+        unknown_fill == "pit" ? td::terrain::UnknownFill::Pit : td::terrain::UnknownFill::Block;
     if (!extrinsics_path.empty()) {
       const auto e = td::terrain::load_extrinsics(extrinsics_path);
       cloud_options.T_world_camera = e.T_world_camera;
@@ -196,9 +211,12 @@ int main(int argc, char** argv) {
     if (!runs_csv_path.empty()) write_text_atomically(runs_csv_path, runs_csv(r));
     if (!plot_path.empty()) write_text_atomically(plot_path, plot_svg(r, yaw_max_deg));
 
-    const auto& best = r.headings[static_cast<std::size_t>(r.best)];
+    const tw::HeadingScore* best = r.best >= 0 ? &r.headings[static_cast<std::size_t>(r.best)] : nullptr;
     const double lps = static_cast<double>(r.landings()) / r.seconds;
+    const std::string why_not = tw::unsafe_summary(r);
     if (json) {
+      // NaN (no settled run) is JSON null, never a number standing in for it.
+      auto num = [](double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(round6(v)); };
       nlohmann::json j;
       j["terrain"] = terrain_path;
       j["airframe"] = airframe_path.empty() ? "built-in f450" : airframe_path;
@@ -206,27 +224,40 @@ int main(int argc, char** argv) {
       j["threshold_parts"] = {{"tip_rad", round6(r.threshold.tip_rad)},
                               {"prop_strike_rad", round6(r.threshold.prop_strike_rad)}};
       j["ground_z"] = round6(r.ground_z);
-      j["best"] = {{"yaw_deg", round6(td::rad_to_deg(best.yaw))},
-                   {"score_rad", round6(best.score)},
-                   {"safe", r.safe},
-                   {"x", round6(o.landing_point.x())},
-                   {"y", round6(o.landing_point.y())}};
+      j["landing_point"] = {{"x", round6(o.landing_point.x())}, {"y", round6(o.landing_point.y())}};
+      j["land"] = r.safe;
+      j["unsafe_reasons"] = why_not;
+      if (best) {
+        j["best"] = {{"yaw_deg", round6(td::rad_to_deg(best->yaw))},
+                     {"score_rad", num(best->score)},
+                     {"safe", r.safe},
+                     {"x", round6(o.landing_point.x())},
+                     {"y", round6(o.landing_point.y())}};
+      } else {
+        j["best"] = nullptr;
+      }
       nlohmann::json safe = nlohmann::json::array();
       nlohmann::json hs = nlohmann::json::array();
       for (const auto& h : r.headings) {
         if (h.safe) safe.push_back(round6(td::rad_to_deg(h.yaw)));
         hs.push_back({{"yaw_deg", round6(td::rad_to_deg(h.yaw))},
-                      {"score_rad", round6(h.score)},
-                      {"mean_rad", round6(h.mean)},
-                      {"max_touchdown_rad", round6(h.max_touchdown)},
+                      {"score_rad", num(h.score)},
+                      {"mean_rad", num(h.mean)},
+                      {"max_touchdown_rad", num(h.max_touchdown)},
+                      {"runs", h.runs},
                       {"prop_strike_runs", h.prop_strike_runs},
                       {"arm_strike_runs", h.arm_strike_runs},
                       {"body_strike_runs", h.body_strike_runs},
                       {"tipped_runs", h.tipped_runs},
                       {"invalid_runs", h.invalid_runs},
+                      {"timeout_runs", h.timeout_runs},
+                      {"unstable_runs", h.unstable_runs},
+                      {"invalid_reason", h.invalid_reason},
+                      {"unobserved_terrain", h.unobserved},
                       {"feet_not_all_down_runs", h.feet_not_all_down_runs},
                       {"max_offset_m", round6(h.max_offset)},
-                      {"safe", h.safe}});
+                      {"safe", h.safe},
+                      {"reason", std::string(tw::to_string(h.reason))}});
       }
       j["safe_headings_deg"] = safe;
       j["headings"] = hs;
@@ -237,7 +268,8 @@ int main(int argc, char** argv) {
           cs.push_back({{"x", round6(c.xy.x())},
                         {"y", round6(c.xy.y())},
                         {"yaw_deg", round6(td::rad_to_deg(c.yaw))},
-                        {"score_rad", round6(c.score)},
+                        {"score_rad", num(c.score)},
+                        {"unobserved_terrain", c.unobserved},
                         {"safe", c.safe}});
         }
         j["search"] = cs;
@@ -256,29 +288,47 @@ int main(int argc, char** argv) {
                 << lps << " landings/s; one landing simulates " << r.run_sim_to_wall << "x faster than real time)\n"
                 << std::setprecision(3) << "  safety threshold " << r.threshold.value() << " rad (tip-over "
                 << r.threshold.tip_rad << ", propeller strike " << r.threshold.prop_strike_rad << ")\n"
-                << "  heading   S(psi)   mean    touchdown  strikes tipped invalid  safe\n";
+                << "  heading  S(psi)    mean  touchdown   prop   arm  body  tipped  invalid  verdict\n"
+                << "    [deg]   [rad]   [rad]      [rad]   (runs with a strike, of " << r.rounds_completed << ")\n";
+      auto rad = [](double v) {
+        std::ostringstream s;
+        if (std::isnan(v)) {
+          s << "-";
+        } else {
+          s << std::fixed << std::setprecision(3) << v;
+        }
+        return s.str();
+      };
       for (const auto& h : r.headings) {
-        std::cout << "  " << std::setw(6) << std::setprecision(1) << td::rad_to_deg(h.yaw) << std::setprecision(3)
-                  << "  " << std::setw(7) << h.score << "  " << std::setw(6) << h.mean << "  " << std::setw(8)
-                  << h.max_touchdown << "  " << std::setw(7)
-                  << h.prop_strike_runs + h.arm_strike_runs + h.body_strike_runs << " " << std::setw(6) << h.tipped_runs
-                  << " " << std::setw(7) << h.invalid_runs << "  " << (h.safe ? "yes" : "no") << "\n";
+        std::string verdict = h.safe ? "safe" : "unsafe: " + std::string(tw::to_string(h.reason));
+        if (h.reason == tw::UnsafeReason::InvalidRuns) verdict = "invalid (" + h.invalid_reason + ")";
+        std::cout << "  " << std::setw(7) << std::setprecision(1) << td::rad_to_deg(h.yaw) << std::setprecision(3)
+                  << " " << std::setw(7) << rad(h.score) << " " << std::setw(7) << rad(h.mean) << " " << std::setw(10)
+                  << rad(h.max_touchdown) << " " << std::setw(6) << h.prop_strike_runs << std::setw(6)
+                  << h.arm_strike_runs << std::setw(6) << h.body_strike_runs << std::setw(8) << h.tipped_runs
+                  << std::setw(9) << h.invalid_runs << "  " << verdict << "\n";
       }
       for (const auto& c : search.candidates) {
         if (!c.covered) continue;
         std::cout << "  search: (" << c.xy.x() << ", " << c.xy.y() << ") best heading " << std::setprecision(1)
-                  << td::rad_to_deg(c.yaw) << std::setprecision(3) << " deg, S = " << c.score << " rad"
-                  << (c.safe ? "" : " (unsafe)") << "\n";
+                  << td::rad_to_deg(c.yaw) << std::setprecision(3) << " deg, S = " << rad(c.score) << " rad"
+                  << (c.safe         ? ""
+                      : c.unobserved ? " (unsafe: unobserved terrain)"
+                                     : " (unsafe)")
+                  << "\n";
       }
       if (r.safe) {
         std::cout << "  decision: land at (" << o.landing_point.x() << ", " << o.landing_point.y() << "), heading "
-                  << std::setprecision(1) << td::rad_to_deg(best.yaw) << " deg (S = " << std::setprecision(3)
-                  << best.score << " rad)\n";
+                  << std::setprecision(1) << td::rad_to_deg(best->yaw) << " deg (S = " << std::setprecision(3)
+                  << best->score << " rad, threshold " << r.threshold.value() << " rad)\n";
       } else {
         std::cout << "  decision: do not land at (" << o.landing_point.x() << ", " << o.landing_point.y()
-                  << ") (best heading " << std::setprecision(1) << td::rad_to_deg(best.yaw)
-                  << " deg has S = " << std::setprecision(3) << best.score << " rad, threshold " << r.threshold.value()
-                  << " rad)\n";
+                  << "): no safe heading (" << why_not << ")";
+        if (best) {
+          std::cout << "; lowest S " << std::setprecision(3) << best->score << " rad at heading "
+                    << std::setprecision(1) << td::rad_to_deg(best->yaw) << " deg";
+        }
+        std::cout << "\n";
       }
     }
     return td::app::kExitOk;

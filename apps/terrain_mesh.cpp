@@ -48,6 +48,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--max-hole", opt.height_map.max_hole, "widest gap filled by interpolation [m]")
       ->capture_default_str();
+  std::string unknown_fill = "block";
+  app.add_option("--unknown-fill", unknown_fill,
+                 "wider enclosed gaps (never observed) are marked unknown and filled as a block up to their highest "
+                 "rim or as a pit")
+      ->check(CLI::IsMember({"block", "pit"}))
+      ->capture_default_str();
   app.add_option("--voxel", opt.voxel, "voxel downsampling edge [m]; < 0 = half the cell, 0 = off")
       ->capture_default_str();
   app.add_option("--outlier-k", opt.outliers.k, "neighbours for statistical outlier removal, 0 = off")
@@ -64,6 +70,8 @@ int main(int argc, char** argv) {
   return td::app::run(app, argc, argv, [&]() -> int {
     const auto t0 = std::chrono::steady_clock::now();
     opt.height_map.aggregate = agg == "max" ? td::terrain::CellAggregate::Max : td::terrain::CellAggregate::Median;
+    opt.height_map.unknown_fill =
+        unknown_fill == "pit" ? td::terrain::UnknownFill::Pit : td::terrain::UnknownFill::Block;
     if (crop_box.size() == 6) {
       opt.crop_box_body = Eigen::AlignedBox3d(Eigen::Vector3d(crop_box[0], crop_box[1], crop_box[2]),
                                               Eigen::Vector3d(crop_box[3], crop_box[4], crop_box[5]));
@@ -97,8 +105,8 @@ int main(int argc, char** argv) {
       j["points_used"] = r.points_used;
       j["cells"] = r.cells;
       j["holes_filled"] = r.holes_filled;
-      j["large_holes"] = r.large_holes;
-      j["large_hole_cells"] = r.large_hole_cells;
+      j["unknown_regions"] = r.unknown_regions;
+      j["unknown_cells"] = r.unknown_cells;
       j["triangles"] = r.triangles;
       auto um = [](double v) { return std::round(v * 1e6) / 1e6 + 0.0; };  // micrometres are plenty
       j["bounds"] = {{"min", {um(r.bounds.min.x()), um(r.bounds.min.y()), um(r.bounds.min.z())}},
@@ -111,7 +119,7 @@ int main(int argc, char** argv) {
                 << r.points_flying << " flying pixels, " << r.points_cropped << " cropped, " << r.points_after_voxel
                 << " after voxel grid, " << r.points_outliers << " outliers, " << r.points_used << " used\n"
                 << "  cells:     " << r.cells << " measured, " << r.holes_filled << " filled by interpolation, "
-                << r.large_holes << " larger holes left open (" << r.large_hole_cells << " cells)\n"
+                << r.unknown_regions << " unobserved regions marked unknown (" << r.unknown_cells << " cells)\n"
                 << "  mesh:      " << r.triangles << " triangles, closed solid, bounds " << fmt_vec(r.bounds.min)
                 << " .. " << fmt_vec(r.bounds.max) << " m\n"
                 << "  time:      " << std::fixed << std::setprecision(3) << seconds << " s\n";

@@ -11,6 +11,43 @@
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::terrain {
+namespace {
+
+// Calls f(cells) for each 4-connected region of empty cells that does not
+// touch the grid border, in scan order of its first cell.
+template <class F>
+void for_each_enclosed_empty_region(const HeightMap& map, F&& f) {
+  const int nx = map.nx(), ny = map.ny();
+  std::vector<std::uint8_t> seen(static_cast<std::size_t>(nx) * ny, 0);
+  std::vector<std::pair<int, int>> stack;
+  std::vector<std::size_t> region;
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      if (map.valid(i, j) || seen[map.index(i, j)]) continue;
+      bool border = false;
+      region.clear();
+      stack.assign(1, {i, j});
+      seen[map.index(i, j)] = 1;
+      while (!stack.empty()) {
+        const auto [ci, cj] = stack.back();
+        stack.pop_back();
+        region.push_back(map.index(ci, cj));
+        if (ci == 0 || cj == 0 || ci == nx - 1 || cj == ny - 1) border = true;
+        const std::array<std::array<int, 2>, 4> nb{{{ci - 1, cj}, {ci + 1, cj}, {ci, cj - 1}, {ci, cj + 1}}};
+        for (const auto& [ni, nj] : nb) {
+          if (ni < 0 || nj < 0 || ni >= nx || nj >= ny) continue;
+          const std::size_t k = map.index(ni, nj);
+          if (seen[k] || map.valid(ni, nj)) continue;
+          seen[k] = 1;
+          stack.push_back({ni, nj});
+        }
+      }
+      if (!border) f(region);
+    }
+  }
+}
+
+}  // namespace
 
 HeightMap::HeightMap(double x0, double y0, double cell, int nx, int ny)
     : x0_(x0),
@@ -55,6 +92,8 @@ bool HeightMapOptions::validate(std::string* why) const {
   if (!(max_hole >= 0) || !std::isfinite(max_hole)) return invalid(why, "max_hole: must be >= 0 m");
   if (!(max_fill_slope > 0)) return invalid(why, "max_fill_slope: must be positive");
   if (max_cells == 0) return invalid(why, "max_cells: must be positive");
+  if (!(pit_depth > 0) || !std::isfinite(pit_depth))
+    return invalid(why, "pit_depth: must be a positive number of metres");
   return true;
 }
 
@@ -160,36 +199,39 @@ HoleReport fill_holes(HeightMap& map, double max_gap, double max_fill_slope) {
   }
   report.filled_cells = fills.size();
 
-  // Enclosed empty regions (4-connected, not touching the grid border).
-  std::vector<std::uint8_t> seen(static_cast<std::size_t>(nx) * ny, 0);
-  std::vector<std::pair<int, int>> stack;
-  for (int j = 0; j < ny; ++j) {
-    for (int i = 0; i < nx; ++i) {
-      if (map.valid(i, j) || seen[map.index(i, j)]) continue;
-      std::size_t size = 0;
-      bool border = false;
-      stack.assign(1, {i, j});
-      seen[map.index(i, j)] = 1;
-      while (!stack.empty()) {
-        const auto [ci, cj] = stack.back();
-        stack.pop_back();
-        ++size;
-        if (ci == 0 || cj == 0 || ci == nx - 1 || cj == ny - 1) border = true;
-        const std::array<std::array<int, 2>, 4> nb{{{ci - 1, cj}, {ci + 1, cj}, {ci, cj - 1}, {ci, cj + 1}}};
-        for (const auto& [ni, nj] : nb) {
-          if (ni < 0 || nj < 0 || ni >= nx || nj >= ny) continue;
-          const std::size_t k = map.index(ni, nj);
-          if (seen[k] || map.valid(ni, nj)) continue;
-          seen[k] = 1;
-          stack.push_back({ni, nj});
+  for_each_enclosed_empty_region(map, [&](const std::vector<std::size_t>& region) {
+    ++report.large_holes;
+    report.large_hole_cells += region.size();
+  });
+  return report;
+}
+
+UnknownReport fill_unknown(HeightMap& map, UnknownFill fill, double pit_depth) {
+  UnknownReport report;
+  const int nx = map.nx(), ny = map.ny();
+  std::vector<std::size_t> regions;  // cell indices, region by region
+  std::vector<std::pair<std::size_t, float>> heights;
+  for_each_enclosed_empty_region(map, [&](const std::vector<std::size_t>& region) {
+    ++report.regions;
+    report.cells += region.size();
+    float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
+    for (const std::size_t k : region) {
+      const int i = static_cast<int>(k % nx), j = static_cast<int>(k / nx);
+      for (int dj = -1; dj <= 1; ++dj) {
+        for (int di = -1; di <= 1; ++di) {
+          const int ni = i + di, nj = j + dj;
+          if (ni < 0 || nj < 0 || ni >= nx || nj >= ny || !map.valid(ni, nj)) continue;
+          lo = std::min(lo, map.height(ni, nj));
+          hi = std::max(hi, map.height(ni, nj));
         }
       }
-      if (!border) {
-        ++report.large_holes;
-        report.large_hole_cells += size;
-      }
     }
-  }
+    // Enclosed: the rim has at least one valid cell.
+    const float z = fill == UnknownFill::Block ? hi : lo - static_cast<float>(pit_depth);
+    for (const std::size_t k : region) heights.emplace_back(k, z);
+  });
+  // Set after the search so that one region's fill is not another's rim.
+  for (const auto& [k, z] : heights) map.set(static_cast<int>(k % nx), static_cast<int>(k / nx), z, CellState::Unknown);
   return report;
 }
 

@@ -16,6 +16,7 @@ bool TerrainOptions::validate(std::string* why) const {
     return fail("cell must be a positive number of metres");
   if (!(height_map.max_hole >= 0) || !std::isfinite(height_map.max_hole)) return fail("max-hole must be >= 0 metres");
   if (!(height_map.max_fill_slope > 0)) return fail("max fill slope must be positive");
+  if (!(height_map.pit_depth > 0) || !std::isfinite(height_map.pit_depth)) return fail("pit-depth must be positive");
   if (!(flying_pixel_threshold >= 0) || !std::isfinite(flying_pixel_threshold)) {
     return fail("flying-pixel threshold must be >= 0 metres");
   }
@@ -74,10 +75,11 @@ TerrainResult mesh_terrain(PointCloud cloud, const TerrainOptions& o) {
   }
   cloud = PointCloud{};  // release before meshing
   const HoleReport holes = fill_holes(result.height_map, o.height_map.max_hole, o.height_map.max_fill_slope);
+  const UnknownReport unknown = fill_unknown(result.height_map, o.height_map.unknown_fill, o.height_map.pit_depth);
   r.cells = result.height_map.count(CellState::Measured);
   r.holes_filled = holes.filled_cells;
-  r.large_holes = holes.large_holes;
-  r.large_hole_cells = holes.large_hole_cells;
+  r.unknown_regions = unknown.regions;
+  r.unknown_cells = unknown.cells;
 
   result.mesh = triangulate_solid(result.height_map, o.base_thickness);
   r.triangles = result.mesh.triangles.size();
@@ -92,9 +94,10 @@ TerrainResult mesh_terrain(PointCloud cloud, const TerrainOptions& o) {
   for (std::size_t k = 0; k < ntop; ++k) r.bounds.extend(result.mesh.vertices[k].cast<double>());
   std::string msg =
       "terrain mesh of " + std::to_string(r.triangles) + " triangles from " + std::to_string(r.points_used) + " points";
-  if (r.large_holes > 0) {
-    msg += "; " + std::to_string(r.large_holes) + " hole(s) wider than " + std::to_string(o.height_map.max_hole) +
-           " m left open (" + std::to_string(r.large_hole_cells) + " cells)";
+  if (r.unknown_regions > 0) {
+    msg += "; " + std::to_string(r.unknown_regions) + " unobserved region(s) wider than " +
+           std::to_string(o.height_map.max_hole) + " m marked unknown (" + std::to_string(r.unknown_cells) +
+           " cells, filled as " + (o.height_map.unknown_fill == UnknownFill::Block ? "blocks" : "pits") + ")";
   }
   return finish(TerrainStatus::Success, std::move(msg));
 }

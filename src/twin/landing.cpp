@@ -150,8 +150,9 @@ class Run {
     detail::Scratch scratch;
     std::vector<bool> foot_touch(af_.legs.size());
 
-    auto unstable = [&](long step) {
+    auto unstable = [&](long step, const char* why) {
       res.status = RunStatus::Unstable;
+      res.reason = why;
       res.steps = step;
       res.sim_time = static_cast<double>(step) * dt;
       return res;
@@ -163,10 +164,11 @@ class Run {
       const Eigen::Matrix3d R = rotation_of(body_);
       const auto& tb = sim_.terrain().bounds();
       const bool off_map = p.x() < tb.min.x() || p.x() > tb.max.x() || p.y() < tb.min.y() || p.y() > tb.max.y();
-      if (!p.allFinite() || !v.allFinite() || !R.allFinite() || p.z() < terrain_floor || off_map || v.norm() > 30.0 ||
-          w_world.norm() > 200.0) {
-        return unstable(step);
-      }
+      if (!p.allFinite() || !v.allFinite() || !R.allFinite()) return unstable(step, "non-finite state");
+      if (p.z() < terrain_floor) return unstable(step, "fell through the terrain");
+      if (off_map) return unstable(step, "left the mapped terrain");
+      if (v.norm() > 30.0) return unstable(step, "speed above 30 m/s");
+      if (w_world.norm() > 200.0) return unstable(step, "spin above 200 rad/s");
       const Eigen::Vector3d w = R.transpose() * w_world;
       const double nut = nutation_of(R);
       if (touched) res.max_touchdown_nutation = std::max(res.max_touchdown_nutation, nut);
@@ -187,7 +189,9 @@ class Run {
       }
       // A non-finite command must never reach ODE (its normalisation asserts
       // abort the process): the run ends as unstable instead.
-      if (!std::all_of(motor_.begin(), motor_.end(), [](double m) { return std::isfinite(m); })) return unstable(step);
+      if (!std::all_of(motor_.begin(), motor_.end(), [](double m) { return std::isfinite(m); })) {
+        return unstable(step, "non-finite motor command");
+      }
       for (std::size_t i = 0; i < motor_.size(); ++i) {
         const Eigen::Vector3d& r = motor_r_[i];
         dBodyAddRelForceAtRelPos(body_, 0, 0, motor_[i], r.x(), r.y(), r.z());
@@ -296,7 +300,10 @@ class Run {
       } else {
         still_timer = 0;
       }
-      if (step + 1 == max_steps) res.status = RunStatus::Timeout;
+      if (step + 1 == max_steps) {
+        res.status = RunStatus::Timeout;
+        res.reason = "did not come to rest before the timeout";
+      }
     }
     const Eigen::Matrix3d R = rotation_of(body_);
     const Eigen::Vector3d p = vec_of(dBodyGetPosition(body_));
@@ -311,7 +318,10 @@ class Run {
     res.offset = (origin.head<2>() - lc.landing_point).norm();
     res.tipped = res.nutation > opt_.tip_nutation;
     res.all_feet_in_contact = std::all_of(foot_touch.begin(), foot_touch.end(), [](bool b) { return b; });
-    if (!p.allFinite() || !R.allFinite()) res.status = RunStatus::Unstable;
+    if (!p.allFinite() || !R.allFinite()) {
+      res.status = RunStatus::Unstable;
+      res.reason = "non-finite state";
+    }
     return res;
   }
 

@@ -6,15 +6,66 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <mutex>
-#include <numbers>
 
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/core/units.hpp"
 
 namespace touchdown::twin {
-namespace {}
+namespace {
+
+std::string fixed3(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3f", v);
+  return buf;
+}
+
+// Why the terrain does not cover the footprint disk: how far the disk sticks
+// out of the scanned area (its radius minus the distance from the centre to
+// the nearest uncovered point, sampled every centimetre) and the scan's extent.
+std::string off_scan_message(const TerrainModel& terrain, const Eigen::Vector2d& centre, double radius) {
+  const int n = std::max(1, static_cast<int>(std::ceil(radius / 0.01)));
+  double nearest = radius;
+  for (int j = -n; j <= n; ++j) {
+    for (int i = -n; i <= n; ++i) {
+      const Eigen::Vector2d d = Eigen::Vector2d(i, j) * (radius / n);
+      if (d.norm() > radius + 1e-12 || d.norm() >= nearest) continue;
+      if (!terrain.top_z(centre.x() + d.x(), centre.y() + d.y())) nearest = d.norm();
+    }
+  }
+  const auto& b = terrain.bounds();
+  return "terrain does not cover the footprint (radius " + fixed3(radius) + " m) around the landing point (" +
+         fixed3(centre.x()) + ", " + fixed3(centre.y()) + "): it sticks out of the scanned area by " +
+         fixed3(radius - nearest) + " m; the scan covers x in [" + fixed3(b.min.x()) + ", " + fixed3(b.max.x()) +
+         "], y in [" + fixed3(b.min.y()) + ", " + fixed3(b.max.y()) + "] m";
+}
+
+// Whether any part of the twin that can touch the ground (feet, arms,
+// propellers, body), at heading `yaw` over `point`, would be over terrain the
+// camera never observed; `pad` widens every part for the perturbations.
+bool over_unknown(const TerrainModel& terrain, const Airframe& af, const Eigen::Vector2d& point, double yaw,
+                  double pad) {
+  if (terrain.unknown_cells().empty()) return false;
+  const Eigen::Rotation2Dd R(yaw);
+  auto world = [&](const Eigen::Vector3d& body) -> Eigen::Vector2d { return point + R * body.head<2>(); };
+  for (const auto& leg : af.legs) {
+    const Eigen::Vector2d p = point + R * leg;
+    if (terrain.unknown_near(p, p, std::max(af.foot_radius, af.leg_radius) + pad)) return true;
+  }
+  for (std::size_t i = 0; i < af.motor_count(); ++i) {
+    const Capsule arm = af.arm(i);
+    if (terrain.unknown_near(world(arm.a), world(arm.b), arm.radius + pad)) return true;
+    const Eigen::Vector2d m = world(af.motor_position(i));
+    if (terrain.unknown_near(m, m, af.prop_radius + pad)) return true;
+  }
+  const Box body = af.body_box();
+  return terrain.unknown_in_box(world(body.centre), body.half_extents.head<2>(), yaw, pad);
+}
+
+}  // namespace
 
 bool SweepOptions::validate(std::string* why) const {
   auto fail = [&](const std::string& w) {
@@ -73,9 +124,7 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
   const auto zlp = terrain->max_top_z(o.landing_point, footprint);
   if (!zlp) {
     out.status = SweepStatus::FootprintNotCovered;
-    out.message = "terrain does not cover the footprint (radius " + std::to_string(footprint) +
-                  " m) around the landing point (" + std::to_string(o.landing_point.x()) + ", " +
-                  std::to_string(o.landing_point.y()) + ")";
+    out.message = off_scan_message(*terrain, o.landing_point, footprint);
     return out;
   }
   out.ground_z = *zlp;
@@ -136,10 +185,19 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
   out.rounds_completed = rounds;
   out.completeness = static_cast<double>(rounds) / m;
 
-  // Scores (eq. 3 per run, eq. 6 per heading, eq. 7 overall).
+  // Scores (eq. 3 per run, eq. 6 per heading, eq. 7 overall). Only settled
+  // runs have a final nutation to score; any other run makes its heading
+  // unsafe (and says why) without inventing a nutation for it.
   const double threshold = out.threshold.value();
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   out.headings.resize(static_cast<std::size_t>(n));
-  for (int j = 0; j < n; ++j) out.headings[static_cast<std::size_t>(j)].yaw = j * yaw_max / n;
+  // The perturbations move the twin by ~3 σ_xy and turn it by ~3 σ_yaw.
+  const double pad = 3 * o.perturbation.sigma_xy + footprint * 3 * deg_to_rad(o.perturbation.sigma_yaw_deg);
+  for (int j = 0; j < n; ++j) {
+    auto& h = out.headings[static_cast<std::size_t>(j)];
+    h.yaw = j * yaw_max / n;
+    h.unobserved = over_unknown(*terrain, airframe, o.landing_point, h.yaw, pad);
+  }
   for (const auto& r : out.runs) {
     auto& h = out.headings[static_cast<std::size_t>(r.heading)];
     const RunResult& res = r.result;
@@ -147,7 +205,8 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
     out.simulated_seconds += res.sim_time;
     if (!res.valid()) {
       ++h.invalid_runs;
-      h.score = std::max(h.score, std::numbers::pi);  // never safe
+      ++(res.status == RunStatus::Timeout ? h.timeout_runs : h.unstable_runs);
+      if (h.invalid_reason.empty()) h.invalid_reason = to_string(res.status) + ": " + res.reason;
       continue;
     }
     h.score = std::max(h.score, res.nutation);
@@ -161,20 +220,35 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
     h.max_offset = std::max(h.max_offset, res.offset);
   }
   for (auto& h : out.headings) {
-    const int valid = h.runs - h.invalid_runs;
-    if (valid > 0) h.mean /= valid;
-    h.safe = h.runs > 0 && h.invalid_runs == 0 && h.score < threshold;
-    if (o.metric == SafetyMetric::Full) {
-      h.safe =
-          h.safe && h.prop_strike_runs == 0 && h.arm_strike_runs == 0 && h.body_strike_runs == 0 && h.tipped_runs == 0;
+    if (h.scored()) {
+      h.mean /= h.runs - h.invalid_runs;
+    } else {
+      h.score = h.mean = h.max_touchdown = nan;
     }
+    const bool full = o.metric == SafetyMetric::Full;
+    if (h.unobserved) {
+      h.reason = UnsafeReason::UnobservedTerrain;
+    } else if (h.runs == 0 || h.invalid_runs > 0) {
+      h.reason = UnsafeReason::InvalidRuns;
+    } else if (full && h.tipped_runs > 0) {
+      h.reason = UnsafeReason::TipsOver;
+    } else if (full && h.body_strike_runs > 0) {
+      h.reason = UnsafeReason::BodyStrike;
+    } else if (full && h.arm_strike_runs > 0) {
+      h.reason = UnsafeReason::ArmStrike;
+    } else if (full && h.prop_strike_runs > 0) {
+      h.reason = UnsafeReason::PropellerStrike;
+    } else if (!(h.score < threshold)) {
+      h.reason = UnsafeReason::AboveThreshold;
+    }
+    h.safe = h.reason == UnsafeReason::None;
   }
   // ψ* = argmin S over safe headings (ties: the lowest heading); if none is
-  // safe, the lowest score overall, reported as unsafe.
+  // safe, the lowest score among scored headings, reported as unsafe.
   for (int pass = 0; pass < 2 && out.best < 0; ++pass) {
     for (int j = 0; j < n; ++j) {
       const auto& h = out.headings[static_cast<std::size_t>(j)];
-      if (pass == 0 && !h.safe) continue;
+      if ((pass == 0 && !h.safe) || !h.scored()) continue;
       if (out.best < 0 || h.score < out.headings[static_cast<std::size_t>(out.best)].score) out.best = j;
     }
   }
@@ -188,6 +262,51 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
     out.run_sim_to_wall = ratios[ratios.size() / 2];
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+std::string_view to_string(UnsafeReason reason) {
+  switch (reason) {
+    case UnsafeReason::None:
+      return "";
+    case UnsafeReason::UnobservedTerrain:
+      return "unobserved terrain";
+    case UnsafeReason::InvalidRuns:
+      return "invalid runs";
+    case UnsafeReason::TipsOver:
+      return "tips over";
+    case UnsafeReason::BodyStrike:
+      return "body strike";
+    case UnsafeReason::ArmStrike:
+      return "arm strike";
+    case UnsafeReason::PropellerStrike:
+      return "propeller strike";
+    case UnsafeReason::AboveThreshold:
+      return "S above the threshold";
+  }
+  return "?";
+}
+
+std::string unsafe_summary(const SweepResult& r) {
+  if (r.safe) return {};
+  std::string out;
+  for (int k = static_cast<int>(UnsafeReason::UnobservedTerrain); k <= static_cast<int>(UnsafeReason::AboveThreshold);
+       ++k) {
+    const auto reason = static_cast<UnsafeReason>(k);
+    int count = 0;
+    const HeadingScore* first = nullptr;
+    for (const auto& h : r.headings) {
+      if (h.reason != reason) continue;
+      ++count;
+      if (!first) first = &h;
+    }
+    if (count == 0) continue;
+    if (!out.empty()) out += "; ";
+    out += std::to_string(count) + (count == 1 ? " heading: " : " headings: ") + std::string(to_string(reason));
+    if (reason == UnsafeReason::InvalidRuns && !first->invalid_reason.empty()) {
+      out += " (" + first->invalid_reason + ")";
+    }
+  }
   return out;
 }
 
@@ -222,20 +341,32 @@ SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<cons
                    [&](const SearchCandidate& a, const SearchCandidate& b) {
                      return (a.xy - options.landing_point).norm() < (b.xy - options.landing_point).norm() - 1e-12;
                    });
+  // The nearest safe point wins (ties within a ring: the lower score), so
+  // once one is found, farther rings are not flown. Without any safe point,
+  // the lowest score among the covered ones is reported as unsafe.
+  double safe_distance = std::numeric_limits<double>::infinity();
+  auto rank = [](const SearchCandidate& x) {
+    return std::isnan(x.score) ? std::numeric_limits<double>::infinity() : x.score;
+  };
   for (std::size_t k = 0; k < out.candidates.size(); ++k) {
     auto& c = out.candidates[k];
+    if ((c.xy - options.landing_point).norm() > safe_distance + 1e-9) break;
+    c.evaluated = true;
     SweepOptions o = options;
     o.landing_point = c.xy;
     SweepResult r = run_sweep(airframe, terrain, o);
     if (r.status == SweepStatus::FootprintNotCovered) continue;  // off the map
     c.covered = true;
     c.best = r.best;
-    c.yaw = r.headings[static_cast<std::size_t>(r.best)].yaw;
-    c.score = r.headings[static_cast<std::size_t>(r.best)].score;
+    c.yaw = r.best >= 0 ? r.headings[static_cast<std::size_t>(r.best)].yaw : 0.0;
+    c.score =
+        r.best >= 0 ? r.headings[static_cast<std::size_t>(r.best)].score : std::numeric_limits<double>::quiet_NaN();
     c.safe = r.safe;
-    const bool better = out.best < 0 || (c.safe && !out.candidates[static_cast<std::size_t>(out.best)].safe) ||
-                        (c.safe == out.candidates[static_cast<std::size_t>(out.best)].safe &&
-                         c.score < out.candidates[static_cast<std::size_t>(out.best)].score);
+    c.unobserved =
+        std::all_of(r.headings.begin(), r.headings.end(), [](const HeadingScore& h) { return h.unobserved; });
+    if (c.safe) safe_distance = std::min(safe_distance, (c.xy - options.landing_point).norm());
+    const SearchCandidate* b = out.best >= 0 ? &out.candidates[static_cast<std::size_t>(out.best)] : nullptr;
+    const bool better = !b || (c.safe && !b->safe) || (c.safe == b->safe && rank(c) < rank(*b));
     if (better) {
       out.best = static_cast<int>(k);
       out.sweep = std::move(r);

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "touchdown/core/cloud_io.hpp"
 #include "touchdown/core/error.hpp"
@@ -11,8 +12,27 @@
 
 namespace touchdown::twin {
 
-TerrainModel::TerrainModel(TriangleMesh mesh) : mesh_(std::move(mesh)) {
+UnknownCells UnknownCells::of(const terrain::HeightMap& map) {
+  UnknownCells u;
+  if (map.count(terrain::CellState::Unknown) == 0) return u;
+  u.x0 = map.x0();
+  u.y0 = map.y0();
+  u.cell = map.cell();
+  u.nx = map.nx();
+  u.ny = map.ny();
+  u.unknown.resize(static_cast<std::size_t>(u.nx) * u.ny);
+  for (int j = 0; j < u.ny; ++j)
+    for (int i = 0; i < u.nx; ++i) u.unknown[map.index(i, j)] = map.state(i, j) == terrain::CellState::Unknown;
+  return u;
+}
+
+TerrainModel::TerrainModel(TriangleMesh mesh, UnknownCells unknown)
+    : mesh_(std::move(mesh)), unknown_(std::move(unknown)) {
   if (mesh_.triangles.empty()) throw InvalidArgument("terrain mesh has no triangles");
+  if (!unknown_.empty() && (unknown_.nx <= 0 || unknown_.ny <= 0 || !(unknown_.cell > 0) ||
+                            unknown_.unknown.size() != static_cast<std::size_t>(unknown_.nx) * unknown_.ny)) {
+    throw InvalidArgument("terrain unknown-cell grid: size does not match nx x ny");
+  }
   bounds_ = bounds_of(mesh_);
   const std::size_t n = mesh_.triangles.size();
   tri_box_.resize(n);
@@ -162,6 +182,58 @@ std::optional<double> TerrainModel::max_top_z(const Eigen::Vector2d& centre, dou
   return best;
 }
 
+namespace {
+
+// Calls hit(centre) for the centre of every unknown cell whose square
+// overlaps the axis-aligned box [lo, hi]; stops early when hit returns true.
+template <class F>
+bool any_unknown_cell(const UnknownCells& u, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, F&& hit) {
+  if (u.empty()) return false;
+  const int i0 = std::max(0, static_cast<int>(std::floor((lo.x() - u.x0) / u.cell)));
+  const int j0 = std::max(0, static_cast<int>(std::floor((lo.y() - u.y0) / u.cell)));
+  const int i1 = std::min(u.nx - 1, static_cast<int>(std::floor((hi.x() - u.x0) / u.cell)));
+  const int j1 = std::min(u.ny - 1, static_cast<int>(std::floor((hi.y() - u.y0) / u.cell)));
+  for (int j = j0; j <= j1; ++j) {
+    for (int i = i0; i <= i1; ++i) {
+      if (!u.unknown[static_cast<std::size_t>(j) * u.nx + i]) continue;
+      if (hit(Eigen::Vector2d(u.x0 + (i + 0.5) * u.cell, u.y0 + (j + 0.5) * u.cell))) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+// Both tests below are conservative: a cell counts when its centre is
+// within the shape's reach plus the cell's half diagonal, so a cell whose
+// corner only nearly touches the shape (by < 0.41 cell) is also counted.
+// For terrain nobody has seen, erring towards "unknown" is the safe side.
+bool TerrainModel::unknown_near(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double radius) const {
+  const double reach = radius + 0.5 * unknown_.cell * std::numbers::sqrt2;
+  const Eigen::Vector2d lo = a.cwiseMin(b).array() - reach, hi = a.cwiseMax(b).array() + reach;
+  const Eigen::Vector2d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  return any_unknown_cell(unknown_, lo, hi, [&](const Eigen::Vector2d& c) {
+    const double t = len2 > 0 ? std::clamp((c - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    return (a + t * ab - c).norm() <= reach;
+  });
+}
+
+bool TerrainModel::unknown_in_box(const Eigen::Vector2d& centre, const Eigen::Vector2d& half, double yaw,
+                                  double pad) const {
+  const double reach = pad + 0.5 * unknown_.cell * std::numbers::sqrt2;
+  const double cy = std::cos(yaw), sy = std::sin(yaw);
+  const double ex = std::abs(cy) * half.x() + std::abs(sy) * half.y() + reach;
+  const double ey = std::abs(sy) * half.x() + std::abs(cy) * half.y() + reach;
+  return any_unknown_cell(unknown_, centre - Eigen::Vector2d(ex, ey), centre + Eigen::Vector2d(ex, ey),
+                          [&](const Eigen::Vector2d& c) {
+                            const Eigen::Vector2d d = c - centre;
+                            const Eigen::Vector2d local(cy * d.x() + sy * d.y(), -sy * d.x() + cy * d.y());
+                            const Eigen::Vector2d out = (local.cwiseAbs() - half).cwiseMax(0.0);
+                            return out.norm() <= reach;
+                          });
+}
+
 std::shared_ptr<const TerrainModel> load_terrain_model(const std::filesystem::path& path,
                                                        const terrain::TerrainOptions& cloud_options) {
   std::string ext = path.extension().string();
@@ -181,7 +253,7 @@ std::shared_ptr<const TerrainModel> load_terrain_model(const std::filesystem::pa
   if (cloud.empty()) throw ParseError(path.string() + ": the point cloud is empty");
   auto result = terrain::mesh_terrain(std::move(cloud), cloud_options);
   if (!result.ok()) throw InvalidArgument(path.string() + ": " + result.message);
-  return std::make_shared<const TerrainModel>(std::move(result.mesh));
+  return std::make_shared<const TerrainModel>(std::move(result.mesh), UnknownCells::of(result.height_map));
 }
 
 }  // namespace touchdown::twin

@@ -188,3 +188,28 @@ TEST(LandingSweepApp, SameSeedSameJsonForOneAndTwoThreads) {
   }
   EXPECT_EQ(a.dump(), b.dump());
 }
+
+TEST(LandingSweepApp, RunsThatTimeOutAreShownAsInvalidNeverAsANutation) {
+  TempDir dir;
+  const auto terrain = flat_stl(dir);
+  const AppRun text = run(terrain + " --headings 2 --runs 2 --timeout 0.3", dir);
+  ASSERT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("invalid (timeout: did not come to rest before the timeout)"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("decision: do not land at (0.000, 0.000): no safe heading (2 headings: invalid runs"),
+            std::string::npos)
+      << text.out;
+  EXPECT_EQ(text.out.find("3.142"), std::string::npos) << text.out;
+  const AppRun js = run(terrain + " --headings 2 --runs 2 --timeout 0.3 --json", dir);
+  ASSERT_EQ(js.code, 0) << js.err;
+  const auto j = nlohmann::json::parse(js.out);
+  EXPECT_TRUE(j["best"].is_null());
+  EXPECT_FALSE(j["land"].get<bool>());
+  for (const auto& h : j["headings"]) {
+    EXPECT_TRUE(h["score_rad"].is_null());
+    EXPECT_EQ(h["timeout_runs"].get<int>(), 2);
+    EXPECT_EQ(h["reason"].get<std::string>(), "invalid runs");
+  }
+  const AppRun bad = run(terrain + " --timeout 0", dir);
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("--timeout"), std::string::npos) << bad.err;
+}

@@ -125,7 +125,7 @@ TEST(TerrainMesher, ReportCountsAddUp) {
   // each: 170).
   const double cells = static_cast<double>(rep.cells + rep.holes_filled);
   EXPECT_NEAR(cells, 6830.0, 0.025 * 6830.0);
-  EXPECT_EQ(rep.large_holes, 0u);
+  EXPECT_EQ(rep.unknown_regions, 0u);
   EXPECT_EQ(rep.triangles, r.mesh.triangles.size());
   // Extremes over ~7000 cells of the noisy ground (sparse border cells included).
   EXPECT_NEAR(rep.bounds.max.z(), 0.0, 0.025);

@@ -140,3 +140,69 @@ TEST(Sweep, InclineScoresItsAngleAtEveryHeadingWithPerturbations) {
     EXPECT_TRUE(h.safe);
   }
 }
+
+TEST(Sweep, RunsThatDoNotSettleAreNotScoredAndMakeTheHeadingUnsafe) {
+  // 0.3 s is too short to descend 0.8 m: every run times out. Before, each
+  // got S = π standing in for a nutation nobody measured.
+  auto o = small(3, 2);
+  o.simulation.timeout = 0.3;
+  const auto r = tw::run_sweep(tw::Airframe::f450(), td::test::flat_terrain(), o);
+  ASSERT_TRUE(r.ok());
+  EXPECT_FALSE(r.safe);
+  EXPECT_EQ(r.best, -1);  // no heading has a settled run to score
+  for (const auto& h : r.headings) {
+    EXPECT_TRUE(std::isnan(h.score));
+    EXPECT_FALSE(h.scored());
+    EXPECT_EQ(h.invalid_runs, 2);
+    EXPECT_EQ(h.timeout_runs, 2);
+    EXPECT_EQ(h.unstable_runs, 0);
+    EXPECT_EQ(h.reason, tw::UnsafeReason::InvalidRuns);
+    EXPECT_EQ(h.invalid_reason, "timeout: did not come to rest before the timeout");
+  }
+  for (const auto& run : r.runs) EXPECT_EQ(run.result.status, tw::RunStatus::Timeout);
+  EXPECT_EQ(tw::unsafe_summary(r), "3 headings: invalid runs (timeout: did not come to rest before the timeout)");
+}
+
+TEST(Sweep, UnsafeReasonsAreTheMostSevereAndTheSummaryCountsThem) {
+  // A 10° incline (S ≈ 0.175 rad) is safe at every heading: no reasons.
+  const auto slope = td::test::incline_terrain(10 * kRadPerDeg);
+  auto o = small(2, 1);
+  auto r = tw::run_sweep(tw::Airframe::f450(), slope, o);
+  ASSERT_TRUE(r.safe);
+  EXPECT_EQ(tw::unsafe_summary(r), "");
+  for (const auto& h : r.headings) EXPECT_EQ(h.reason, tw::UnsafeReason::None);
+  // A 32° incline (the tip-over angle is 28°) tips the F450 over; across
+  // the slope it may also tumble off the 8 m patch (an invalid run).
+  const auto steep =
+      td::test::analytic_terrain([](double x, double) { return std::tan(32 * kRadPerDeg) * x; }, 4.0, 0.1);
+  for (const auto metric : {tw::SafetyMetric::Full, tw::SafetyMetric::Seed}) {
+    o.metric = metric;
+    r = tw::run_sweep(tw::Airframe::f450(), steep, o);
+    EXPECT_FALSE(r.safe);
+    // The paper's metric ignores tip-overs as such: S is above the threshold.
+    const auto scored_reason =
+        metric == tw::SafetyMetric::Full ? tw::UnsafeReason::TipsOver : tw::UnsafeReason::AboveThreshold;
+    int tipped = 0, invalid = 0;
+    for (const auto& h : r.headings) {
+      if (h.reason == tw::UnsafeReason::InvalidRuns) {
+        ++invalid;
+        EXPECT_EQ(h.invalid_runs, 1);
+        EXPECT_TRUE(std::isnan(h.score));
+      } else {
+        ++tipped;
+        EXPECT_EQ(h.reason, scored_reason) << h.yaw;
+        EXPECT_EQ(h.tipped_runs, 1);
+        EXPECT_GT(h.score, r.threshold.value());
+      }
+    }
+    EXPECT_GE(tipped, 1);
+    std::string expected;
+    if (invalid > 0) {
+      expected = std::to_string(invalid) + (invalid == 1 ? " heading" : " headings") + ": invalid runs (" +
+                 r.headings[0].invalid_reason + "); ";
+    }
+    expected += std::to_string(tipped) + (tipped == 1 ? " heading: " : " headings: ") +
+                std::string(tw::to_string(scored_reason));
+    EXPECT_EQ(tw::unsafe_summary(r), expected);
+  }
+}

@@ -15,17 +15,31 @@ namespace touchdown::terrain {
 
 enum class CellAggregate { Max, Median };
 
+/// How a region the camera never observed (an enclosed empty region that
+/// interpolation did not fill: the inside of a cup, the shadow behind a
+/// box) is filled so that the terrain stays a closed solid. Either way its
+/// cells are marked CellState::Unknown and a landing over them is refused.
+enum class UnknownFill {
+  Block,  ///< a block up to the highest cell on the region's rim
+  Pit,    ///< a pit `pit_depth` below the lowest cell on the rim
+};
+
 struct HeightMapOptions {
   double cell = 0.02;  ///< cell edge, metres
   CellAggregate aggregate = CellAggregate::Median;
   double max_hole = 0.10;              ///< widest gap filled by interpolation, metres
   double max_fill_slope = 1.0;         ///< steeper gaps are shadows: filled at the lower side
   std::size_t max_cells = 50'000'000;  ///< refuse grids larger than this
+  UnknownFill unknown_fill = UnknownFill::Block;
+  double pit_depth = 1.0;  ///< metres below the lowest rim cell, for UnknownFill::Pit
   /// False (with the offending field and why in *why) for an invalid value.
   bool validate(std::string* why) const;
 };
 
-enum class CellState : std::uint8_t { Empty, Measured, Filled };
+/// Empty: no data (outside the scan, or not yet filled). Measured: from
+/// points. Filled: interpolated across a small gap. Unknown: in a region the
+/// camera never observed, given a pessimistic height (UnknownFill).
+enum class CellState : std::uint8_t { Empty, Measured, Filled, Unknown };
 
 /// Regular grid of heights. Cell (i, j) covers x ∈ [x0 + i·cell, x0 + (i+1)·cell)
 /// and the same in y; its height is attached to the cell centre.
@@ -85,6 +99,18 @@ struct HoleReport {
 /// result does not depend on the scan order. Enclosed regions that stay
 /// empty are reported.
 HoleReport fill_holes(HeightMap& map, double max_gap, double max_fill_slope = 1.0);
+
+struct UnknownReport {
+  std::size_t regions = 0;  ///< enclosed empty regions marked unknown
+  std::size_t cells = 0;    ///< cells in them
+};
+
+/// Marks every enclosed empty region (4-connected, not touching the grid
+/// border: the scan saw all around it but not into it) CellState::Unknown
+/// and gives it a height by `fill` (a block at the highest rim cell, or a
+/// pit `pit_depth` below the lowest). Empty regions that reach the border
+/// stay empty: they are outside the scan. Call after fill_holes.
+UnknownReport fill_unknown(HeightMap& map, UnknownFill fill, double pit_depth);
 
 /// Triangulates the valid cells into a closed solid: the top surface through
 /// the cell centres (two triangles per 2×2 block of valid cells), vertical

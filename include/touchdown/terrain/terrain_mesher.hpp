@@ -51,8 +51,10 @@ struct TerrainReport {
   std::size_t points_used = 0;   ///< points that went into the height map
   std::size_t cells = 0;         ///< cells with a measured height
   std::size_t holes_filled = 0;  ///< cells filled by interpolation
-  std::size_t large_holes = 0;
-  std::size_t large_hole_cells = 0;
+  /// Enclosed regions the camera never observed (wider than max_hole):
+  /// marked CellState::Unknown and filled by HeightMapOptions::unknown_fill.
+  std::size_t unknown_regions = 0;
+  std::size_t unknown_cells = 0;
   std::size_t triangles = 0;
   Bounds3 bounds;  ///< of the mesh's top surface
   double seconds = 0.0;

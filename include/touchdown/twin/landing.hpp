@@ -91,6 +91,9 @@ struct TracePoint {
 
 struct RunResult {
   RunStatus status = RunStatus::Unstable;
+  /// Why a run is not `Settled` (a fixed phrase, e.g. "left the mapped
+  /// terrain"); empty for a settled run.
+  const char* reason = "";
   double roll = 0, pitch = 0, yaw = 0;  ///< final attitude [rad]
   double nutation = 0;                  ///< eq. (3): N = acos(cos φ · cos θ), final
   double max_touchdown_nutation = 0;    ///< largest N from first contact to the end

@@ -55,16 +55,44 @@ struct SweepOptions {
 };
 
 struct HeadingScore {
-  double yaw = 0;            ///< ψ_j [rad]
-  double score = 0;          ///< S(ψ) = max over runs of the final nutation (eq. 6) [rad]
-  double mean = 0;           ///< mean final nutation [rad]
-  double max_touchdown = 0;  ///< max nutation during touchdown over runs [rad]
+  double yaw = 0;  ///< ψ_j [rad]
+  /// S(ψ) = max over the settled runs of the final nutation (eq. 6) [rad].
+  /// Runs that did not settle (timeout, unstable) are not scored: NaN when
+  /// no run settled. A heading with any such run is unsafe.
+  double score = 0;
+  double mean = 0;           ///< mean final nutation of the settled runs [rad] (NaN if none)
+  double max_touchdown = 0;  ///< max nutation during touchdown over settled runs [rad]
   int runs = 0;
+  /// Settled runs with each kind of strike (a run counts once per kind).
   int prop_strike_runs = 0, arm_strike_runs = 0, body_strike_runs = 0;
-  int tipped_runs = 0, invalid_runs = 0, feet_not_all_down_runs = 0;
+  int tipped_runs = 0, feet_not_all_down_runs = 0;
+  int invalid_runs = 0;  ///< timeout_runs + unstable_runs
+  int timeout_runs = 0, unstable_runs = 0;
+  /// "timeout: …" / "unstable: …" of the first invalid run; empty if none.
+  std::string invalid_reason;
+  /// The twin's feet, arms, propellers or body would be over terrain the
+  /// camera never observed (TerrainModel::unknown_under): never safe.
+  bool unobserved = false;
   double max_offset = 0;  ///< [m]
   bool safe = false;      ///< under the threshold and clean by the chosen metric
+  /// Why the heading is unsafe (the most severe reason, a fixed phrase:
+  /// see to_string(UnsafeReason)); None when safe.
+  enum class UnsafeReason {
+    None,
+    UnobservedTerrain,
+    InvalidRuns,
+    TipsOver,
+    BodyStrike,
+    ArmStrike,
+    PropellerStrike,
+    AboveThreshold
+  } reason = UnsafeReason::None;
+  [[nodiscard]] bool scored() const { return runs > invalid_runs; }
 };
+using UnsafeReason = HeadingScore::UnsafeReason;
+/// "unobserved terrain", "invalid runs", "tips over", "body strike", "arm
+/// strike", "propeller strike", "S above the threshold" ("" for None).
+std::string_view to_string(UnsafeReason reason);
 
 struct RunRecord {
   int heading = 0, run = 0;
@@ -87,7 +115,9 @@ struct SweepResult {
   SafetyThreshold threshold;
   double ground_z = 0;  ///< z_lp used
   std::vector<HeadingScore> headings;
-  int best = -1;                 ///< index of ψ* (lowest score among safe headings, else lowest score)
+  /// Index of ψ*: the lowest score among safe headings, else the lowest
+  /// score among scored headings; -1 when no run at any heading settled.
+  int best = -1;
   bool safe = false;             ///< ψ* is safe: land there; false: do not land
   std::vector<RunRecord> runs;   ///< heading-major
   int rounds_completed = 0;      ///< runs per heading actually flown (anytime)
@@ -108,10 +138,12 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
 /// One candidate landing point of a search.
 struct SearchCandidate {
   Eigen::Vector2d xy = Eigen::Vector2d::Zero();
-  bool covered = false;  ///< the terrain covers the footprint there
-  int best = -1;         ///< best heading index at this point
-  double yaw = 0;        ///< its heading [rad]
-  double score = 0;      ///< its S(ψ) [rad]
+  bool evaluated = false;   ///< swept (false: beyond the nearest safe point's ring)
+  bool covered = false;     ///< the terrain covers the footprint there
+  bool unobserved = false;  ///< every heading is over unobserved terrain
+  int best = -1;            ///< best heading index at this point (-1: no run settled)
+  double yaw = 0;           ///< its heading [rad]
+  double score = 0;         ///< its S(ψ) [rad]; NaN when no run settled
   bool safe = false;
 };
 
@@ -127,11 +159,20 @@ struct SearchResult {
 
 /// Beyond the paper: also explores landing points on a square grid of
 /// `spacing` (0: radius / 2) within `radius` of options.landing_point, runs
-/// the sweep at each, and returns the best (x, y, ψ): the lowest score among
-/// safe points, ties going to the point nearer the requested one. Points
-/// where the terrain does not cover the footprint are skipped.
+/// the sweep at each, nearest first, and returns the best (x, y, ψ): the
+/// safe point nearest the requested one (among equally near ones, the
+/// lowest score); points farther than it are not flown. Without a safe
+/// point, the lowest score among the covered points, as unsafe. Points
+/// where the terrain does not cover the footprint are skipped; points over
+/// unobserved terrain are unsafe like any other unsafe heading.
 SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<const TerrainModel> terrain,
                                   const SweepOptions& options, double radius, double spacing = 0);
+
+/// Why no heading is safe, one class per reason with its heading count,
+/// most severe first: "6 headings: propeller strike; 2 headings: invalid
+/// runs (timeout: did not come to rest before the timeout)". Empty when
+/// the sweep found a safe heading.
+std::string unsafe_summary(const SweepResult& result);
 
 /// The conditions of run `run` at heading `heading` (what run_sweep flies).
 LandingConditions sweep_conditions(const SweepOptions& options, double ground_z, double yaw, int heading, int run);

@@ -17,12 +17,25 @@
 
 namespace touchdown::twin {
 
+/// Where the terrain was never observed: a regular grid of flags (cell
+/// (i, j) covers x ∈ [x0 + i·cell, x0 + (i+1)·cell), the same in y), from the
+/// height map's CellState::Unknown cells. Empty: everything is known.
+struct UnknownCells {
+  double x0 = 0, y0 = 0, cell = 1;
+  int nx = 0, ny = 0;
+  std::vector<std::uint8_t> unknown;  ///< nx·ny, row-major (j·nx + i)
+  [[nodiscard]] bool empty() const { return unknown.empty(); }
+  /// The unknown cells of a height map (empty when it has none).
+  static UnknownCells of(const terrain::HeightMap& map);
+};
+
 /// Immutable after construction; every const member is safe to call from
 /// many threads at once.
 class TerrainModel {
  public:
-  /// Throws touchdown::InvalidArgument for a mesh without triangles.
-  explicit TerrainModel(TriangleMesh mesh);
+  /// Throws touchdown::InvalidArgument for a mesh without triangles or an
+  /// `unknown` grid whose size does not match its flags.
+  explicit TerrainModel(TriangleMesh mesh, UnknownCells unknown = {});
 
   [[nodiscard]] const TriangleMesh& mesh() const { return mesh_; }
   [[nodiscard]] const Bounds3& bounds() const { return bounds_; }
@@ -44,6 +57,15 @@ class TerrainModel {
   /// A cheap test whether anything at all can touch a body in `box`.
   [[nodiscard]] double max_z_near(const Eigen::AlignedBox3d& box) const;
 
+  [[nodiscard]] const UnknownCells& unknown_cells() const { return unknown_; }
+  /// True when an unknown cell's square comes within `radius` of the
+  /// segment a–b (a capsule; a disk when a == b).
+  [[nodiscard]] bool unknown_near(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double radius) const;
+  /// True when an unknown cell's square overlaps the rectangle of half
+  /// extents `half` centred at `centre` and turned by `yaw` (padded by `pad`).
+  [[nodiscard]] bool unknown_in_box(const Eigen::Vector2d& centre, const Eigen::Vector2d& half, double yaw,
+                                    double pad) const;
+
   /// Triangle vertices as doubles.
   [[nodiscard]] Eigen::Vector3d vertex(std::uint32_t tri, int k) const {
     return mesh_.vertices[mesh_.triangles[tri][static_cast<std::size_t>(k)]].cast<double>();
@@ -51,6 +73,7 @@ class TerrainModel {
 
  private:
   TriangleMesh mesh_;
+  UnknownCells unknown_;
   Bounds3 bounds_;
   double x0_ = 0, y0_ = 0, cell_ = 1;
   int nx_ = 1, ny_ = 1;
