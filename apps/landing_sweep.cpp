@@ -16,6 +16,7 @@
 #include "touchdown/core/units.hpp"
 #include "touchdown/terrain/extrinsics.hpp"
 #include "touchdown/twin/sweep.hpp"
+#include "touchdown/twin/sweep_plot.hpp"
 
 namespace {
 
@@ -52,55 +53,6 @@ std::string runs_csv(const tw::SweepResult& r) {
   return os.str();
 }
 
-// S(ψ) against heading with the threshold, like the paper's figure of final
-// nutation per heading; every run's final nutation as a dot.
-std::string plot_svg(const tw::SweepResult& r, double yaw_max_deg) {
-  const double W = 720, H = 400, L = 70, R = 20, T = 30, B = 50;
-  double ymax = td::rad_to_deg(r.threshold.value() * 1.3);
-  for (const auto& h : r.headings) ymax = std::max(ymax, td::rad_to_deg(std::min(h.score, 1.6)) * 1.1);
-  auto X = [&](double deg) { return L + (W - L - R) * deg / yaw_max_deg; };
-  auto Y = [&](double deg) { return H - B - (H - T - B) * std::min(deg, ymax) / ymax; };
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(1);
-  os << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H
-     << "' font-family='sans-serif' font-size='12'>\n"
-     << "<rect width='100%' height='100%' fill='white'/>\n"
-     << "<text x='" << W / 2
-     << "' y='18' text-anchor='middle'>Landing sweep: worst final nutation S(psi) per heading</text>\n"
-     << "<line x1='" << L << "' y1='" << H - B << "' x2='" << W - R << "' y2='" << H - B << "' stroke='black'/>\n"
-     << "<line x1='" << L << "' y1='" << T << "' x2='" << L << "' y2='" << H - B << "' stroke='black'/>\n";
-  for (int k = 0; k <= 6; ++k) {
-    const double deg = yaw_max_deg * k / 6, v = ymax * k / 6;
-    os << "<text x='" << X(deg) << "' y='" << H - B + 16 << "' text-anchor='middle'>" << deg << "</text>\n"
-       << "<text x='" << L - 6 << "' y='" << Y(v) + 4 << "' text-anchor='end'>" << v << "</text>\n";
-  }
-  os << "<text x='" << W / 2 << "' y='" << H - 12 << "' text-anchor='middle'>heading [deg]</text>\n"
-     << "<text x='16' y='" << H / 2 << "' transform='rotate(-90 16," << H / 2
-     << ")' text-anchor='middle'>nutation [deg]</text>\n";
-  const double thr = td::rad_to_deg(r.threshold.value());
-  os << "<line x1='" << L << "' y1='" << Y(thr) << "' x2='" << W - R << "' y2='" << Y(thr)
-     << "' stroke='red' stroke-dasharray='6,4'/>\n<text x='" << W - R - 4 << "' y='" << Y(thr) - 5
-     << "' text-anchor='end' fill='red'>safety threshold " << thr << " deg</text>\n";
-  for (const auto& run : r.runs) {
-    if (!run.result.valid()) continue;
-    os << "<circle cx='" << X(td::rad_to_deg(run.conditions.heading)) << "' cy='"
-       << Y(td::rad_to_deg(run.result.nutation)) << "' r='2' fill='#999'/>\n";
-  }
-  os << "<polyline fill='none' stroke='#1f5fbf' stroke-width='2' points='";
-  for (const auto& h : r.headings) {
-    if (h.scored()) os << X(td::rad_to_deg(h.yaw)) << "," << Y(td::rad_to_deg(h.score)) << " ";
-  }
-  os << "'/>\n";
-  for (std::size_t j = 0; j < r.headings.size(); ++j) {
-    const auto& h = r.headings[j];
-    if (!h.scored()) continue;
-    os << "<circle cx='" << X(td::rad_to_deg(h.yaw)) << "' cy='" << Y(td::rad_to_deg(h.score)) << "' r='"
-       << (static_cast<int>(j) == r.best ? 6 : 3.5) << "' fill='" << (h.safe ? "#2a9d3a" : "#d62728") << "'/>\n";
-  }
-  os << "</svg>\n";
-  return os.str();
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -119,7 +71,10 @@ int main(int argc, char** argv) {
   app.add_option("--extrinsics", extrinsics_path, "camera pose YAML when TERRAIN is a camera-frame point cloud");
   app.add_option("--headings", o.headings, "number of headings n")->capture_default_str();
   app.add_option("--runs", o.runs, "runs per heading m")->capture_default_str();
-  app.add_option("--yaw-max", o.yaw_max_deg, "psi_max [deg]; 0 = 180 for half-turn-symmetric airframes, else 360")
+  app.add_option(
+         "--yaw-max", o.yaw_max_deg,
+         "psi_max [deg]; 0 = 360 / the airframe's symmetry order (the turn after which its feet, motors and body "
+         "repeat: 180 for the F450)")
       ->capture_default_str();
   app.add_option("--landing-point", landing_point, "x,y of the landing point [m]")->delimiter(',')->expected(2);
   app.add_option("--hover-offset", o.hover_offset, "start this high above the terrain under the footprint [m]")
@@ -146,6 +101,12 @@ int main(int argc, char** argv) {
   app.add_option("--search-radius", search_radius,
                  "also try landing points on a grid within this radius [m] and report the best (x, y, psi)")
       ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  std::string search_prefer = "lowest";
+  app.add_option("--search-prefer", search_prefer,
+                 "which safe point the search returns: lowest (lowest S) or nearest (nearest the landing point; "
+                 "farther points are not flown)")
+      ->check(CLI::IsMember({"lowest", "nearest"}))
       ->capture_default_str();
   app.add_option("--search-spacing", search_spacing, "grid spacing of the search [m], 0 = radius/2")
       ->check(CLI::NonNegativeNumber)
@@ -196,8 +157,11 @@ int main(int argc, char** argv) {
       };
     }
     tw::SearchResult search;
+    const Eigen::Vector2d requested = o.landing_point;
     if (search_radius > 0) {
-      search = tw::search_landing_point(airframe, terrain, o, search_radius, search_spacing);
+      search = tw::search_landing_point(
+          airframe, terrain, o, search_radius, search_spacing,
+          search_prefer == "nearest" ? tw::SearchPreference::Nearest : tw::SearchPreference::LowestScore);
       if (!search.ok()) throw td::InvalidArgument(search.message);
       o.landing_point = search.candidates[static_cast<std::size_t>(search.best)].xy;
     } else {
@@ -206,10 +170,14 @@ int main(int argc, char** argv) {
       if (!search.sweep.ok()) throw td::InvalidArgument(search.sweep.message);
     }
     const tw::SweepResult& r = search.sweep;
-    const double yaw_max_deg =
-        o.yaw_max_deg > 0 ? o.yaw_max_deg : (airframe.symmetric_under_half_turn() ? 180.0 : 360.0);
     if (!runs_csv_path.empty()) write_text_atomically(runs_csv_path, runs_csv(r));
-    if (!plot_path.empty()) write_text_atomically(plot_path, plot_svg(r, yaw_max_deg));
+    if (!plot_path.empty()) {
+      const tw::SweepPlotLabels labels{std::filesystem::path(terrain_path).filename().string(),
+                                       airframe_path.empty() ? "F450 (built in)" : airframe.name};
+      write_text_atomically(plot_path, search.candidates.empty() ? tw::sweep_plot_svg(r, labels)
+                                                                 : tw::search_plot_svg(search, requested, search_radius,
+                                                                                       airframe, *terrain, labels));
+    }
 
     const tw::HeadingScore* best = r.best >= 0 ? &r.headings[static_cast<std::size_t>(r.best)] : nullptr;
     const double lps = static_cast<double>(r.landings()) / r.seconds;

@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <Eigen/Geometry>
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
@@ -88,23 +89,24 @@ Eigen::Matrix3d Airframe::inertia_about_com() const {
   return I;
 }
 
-bool Airframe::symmetric_under_half_turn() const {
-  auto has_leg = [&](const Eigen::Vector2d& q) {
-    return std::any_of(legs.begin(), legs.end(), [&](const Eigen::Vector2d& l) { return (l - q).norm() < 1e-9; });
+int Airframe::symmetry_order() const {
+  // Points match within 0.1 mm (YAML angles in degrees are rarely exact).
+  constexpr double tol = 1e-4;
+  auto maps_onto = [&](const std::vector<Eigen::Vector2d>& pts, const Eigen::Rotation2Dd& R) {
+    return std::all_of(pts.begin(), pts.end(), [&](const Eigen::Vector2d& p) {
+      const Eigen::Vector2d q = R * p;
+      return std::any_of(pts.begin(), pts.end(), [&](const Eigen::Vector2d& r) { return (r - q).norm() < tol; });
+    });
   };
-  for (const auto& l : legs) {
-    if (!has_leg(-l)) return false;
+  std::vector<Eigen::Vector2d> motors;
+  for (std::size_t i = 0; i < motor_count(); ++i) motors.push_back(motor_position(i).head<2>());
+  const Eigen::Vector2d h = 0.5 * body_size.head<2>();
+  const std::vector<Eigen::Vector2d> body{{h.x(), h.y()}, {-h.x(), h.y()}, {-h.x(), -h.y()}, {h.x(), -h.y()}};
+  for (int k = 12; k > 1; --k) {
+    const Eigen::Rotation2Dd R(2 * std::numbers::pi / k);
+    if (maps_onto(legs, R) && maps_onto(motors, R) && maps_onto(body, R)) return k;
   }
-  for (std::size_t i = 0; i < motor_count(); ++i) {
-    const Eigen::Vector3d m = motor_position(i);
-    bool found = false;
-    for (std::size_t j = 0; j < motor_count(); ++j) {
-      const Eigen::Vector3d n = motor_position(j);
-      if (std::abs(m.x() + n.x()) < 1e-9 && std::abs(m.y() + n.y()) < 1e-9 && spin[i] == spin[j]) found = true;
-    }
-    if (!found) return false;
-  }
-  return true;
+  return 1;
 }
 
 Box Airframe::body_box() const { return {Eigen::Vector3d::Zero(), 0.5 * body_size}; }

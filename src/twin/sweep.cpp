@@ -114,6 +114,7 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
   if (!terrain) throw InvalidArgument("sweep: no terrain");
 
   SweepResult out;
+  out.landing_point = o.landing_point;
   out.threshold = compute_safety_threshold(airframe);
   // Footprint: everything the twin covers seen from above.
   double footprint = 0;
@@ -134,8 +135,8 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
   sim_opt.controller.land_speed = o.land_speed;
   const LandingSimulator sim(airframe, terrain, sim_opt);
 
-  const double yaw_max =
-      deg_to_rad(o.yaw_max_deg > 0 ? o.yaw_max_deg : (airframe.symmetric_under_half_turn() ? 180.0 : 360.0));
+  const double yaw_max = deg_to_rad(o.yaw_max_deg > 0 ? o.yaw_max_deg : 360.0 / airframe.symmetry_order());
+  out.yaw_max = yaw_max;
   const int n = o.headings, m = o.runs;
   out.runs.resize(static_cast<std::size_t>(n) * m);
   for (int j = 0; j < n; ++j) {
@@ -321,7 +322,7 @@ std::string_view to_string(SweepStatus status) {
 }
 
 SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<const TerrainModel> terrain,
-                                  const SweepOptions& options, double radius, double spacing) {
+                                  const SweepOptions& options, double radius, double spacing, SearchPreference prefer) {
   if (!(radius >= 0) || !std::isfinite(radius)) throw InvalidArgument("search radius must be >= 0");
   if (spacing <= 0) spacing = radius > 0 ? radius / 2 : 1.0;
   if (!(spacing > 0) || !std::isfinite(spacing)) throw InvalidArgument("search spacing must be positive");
@@ -341,9 +342,10 @@ SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<cons
                    [&](const SearchCandidate& a, const SearchCandidate& b) {
                      return (a.xy - options.landing_point).norm() < (b.xy - options.landing_point).norm() - 1e-12;
                    });
-  // The nearest safe point wins (ties within a ring: the lower score), so
-  // once one is found, farther rings are not flown. Without any safe point,
-  // the lowest score among the covered ones is reported as unsafe.
+  // Safe beats unsafe, then the lower score. Preferring the nearest safe
+  // point, the first ring with one ends the search (ties within a ring go
+  // to the lower score). Without any safe point, the lowest score among the
+  // covered ones is reported as unsafe.
   double safe_distance = std::numeric_limits<double>::infinity();
   auto rank = [](const SearchCandidate& x) {
     return std::isnan(x.score) ? std::numeric_limits<double>::infinity() : x.score;
@@ -364,7 +366,9 @@ SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<cons
     c.safe = r.safe;
     c.unobserved =
         std::all_of(r.headings.begin(), r.headings.end(), [](const HeadingScore& h) { return h.unobserved; });
-    if (c.safe) safe_distance = std::min(safe_distance, (c.xy - options.landing_point).norm());
+    if (c.safe && prefer == SearchPreference::Nearest) {
+      safe_distance = std::min(safe_distance, (c.xy - options.landing_point).norm());
+    }
     const SearchCandidate* b = out.best >= 0 ? &out.candidates[static_cast<std::size_t>(out.best)] : nullptr;
     const bool better = !b || (c.safe && !b->safe) || (c.safe == b->safe && rank(c) < rank(*b));
     if (better) {

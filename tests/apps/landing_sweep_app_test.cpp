@@ -55,6 +55,15 @@ TEST(LandingSweepApp, JsonCsvAndPlot) {
   const std::string svg = td::test::read_text(dir / "s.svg");
   EXPECT_NE(svg.find("<svg"), std::string::npos);
   EXPECT_NE(svg.find("safety threshold"), std::string::npos);
+  // The title names the terrain, the airframe, the point and the run count;
+  // the legend explains every marker; the y axis is in the table's radians.
+  EXPECT_NE(svg.find("Landing sweep: flat.stl, F450 (built in), landing point (0, 0) m, 4 headings x 2 runs"),
+            std::string::npos);
+  for (const char* legend : {"S(ψ), safe heading", "run with a strike", "run tipped over", "run invalid (not scored)",
+                             "over unobserved terrain", "final nutation N [rad]", "land at heading"}) {
+    EXPECT_NE(svg.find(legend), std::string::npos) << legend;
+  }
+  EXPECT_EQ(svg.find("nan"), std::string::npos);
 }
 
 TEST(LandingSweepAppBadInput, AirframeKeyIsNamed) {
@@ -209,6 +218,12 @@ TEST(LandingSweepApp, RunsThatTimeOutAreShownAsInvalidNeverAsANutation) {
     EXPECT_EQ(h["timeout_runs"].get<int>(), 2);
     EXPECT_EQ(h["reason"].get<std::string>(), "invalid runs");
   }
+  // The plot puts the invalid runs in their band and no S line point for them.
+  ASSERT_EQ(run(terrain + " --headings 2 --runs 2 --timeout 0.3 --plot " + (dir / "bad.svg").string(), dir).code, 0);
+  const std::string svg = td::test::read_text(dir / "bad.svg");
+  EXPECT_NE(svg.find(">do not land: 2 headings:<"), std::string::npos);  // wrapped in the legend
+  EXPECT_NE(svg.find("invalid runs"), std::string::npos);
+  EXPECT_EQ(svg.find("nan"), std::string::npos);
   const AppRun bad = run(terrain + " --timeout 0", dir);
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("--timeout"), std::string::npos) << bad.err;

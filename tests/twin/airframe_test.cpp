@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <numbers>
 #include <sstream>
 
 #include "test_util.hpp"
@@ -60,6 +61,32 @@ TEST(Airframe, MassCentreAndInertiaFromTheParts) {
   EXPECT_NEAR(I(2, 2), iz, 1e-12);
   EXPECT_TRUE(a.symmetric_under_half_turn());
   EXPECT_NEAR(a.ground_z(), -0.18, 1e-12);
+}
+
+TEST(Airframe, SymmetryOrderCountsContactGeometryNotSpins) {
+  auto a = tw::Airframe::f450();
+  EXPECT_EQ(a.symmetry_order(), 2);  // legs on a 0.30 x 0.16 m rectangle
+  a.legs = {{0.12, 0.0}, {0.0, 0.12}, {-0.12, 0.0}, {0.0, -0.12}};
+  EXPECT_EQ(a.symmetry_order(), 4);  // square gear, X arms, square body
+  a.body_size.x() = 0.2;
+  EXPECT_EQ(a.symmetry_order(), 2);  // an oblong body breaks the quarter turn
+  // A hexacopter with alternating spins and six feet under its arms: a half
+  // turn maps motor 0 (30°, +1) onto motor 3 (210°, -1). Spins do not count,
+  // so 180° is enough (it used to sweep 360°); the square body box is what
+  // keeps it from 60°.
+  tw::Airframe hexa = tw::Airframe::f450();
+  hexa.arm_angles_deg = {30, 90, 150, 210, 270, 330};
+  hexa.spin = {1, -1, 1, -1, 1, -1};
+  hexa.motor_radius = 0.3;
+  hexa.legs.clear();
+  for (int k = 0; k < 6; ++k) {
+    const double t = (30 + 60 * k) * std::numbers::pi / 180;
+    hexa.legs.emplace_back(0.14 * std::cos(t), 0.14 * std::sin(t));
+  }
+  std::string why;
+  ASSERT_TRUE(hexa.validate(&why)) << why;
+  EXPECT_EQ(hexa.symmetry_order(), 2);
+  EXPECT_TRUE(hexa.symmetric_under_half_turn());
 }
 
 TEST(Airframe, AsymmetricGearIsNotHalfTurnSymmetric) {

@@ -9,8 +9,8 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <cstdio>
+#include <limits>
 #include <random>
 
 #include "../test_util.hpp"
@@ -19,6 +19,7 @@
 #include "touchdown/terrain/height_map.hpp"
 #include "touchdown/terrain/terrain_mesher.hpp"
 #include "touchdown/twin/sweep.hpp"
+#include "touchdown/twin/sweep_plot.hpp"
 
 namespace td = touchdown;
 namespace tt = touchdown::terrain;
@@ -44,8 +45,8 @@ tt::HeightMap flat_with_hole(double hx, double hy, double half_hole, tt::Unknown
     for (int i = 0; i < m.nx(); ++i) {
       const bool in_hole = std::abs(m.centre_x(i) - hx) < half_hole && std::abs(m.centre_y(j) - hy) < half_hole;
       // A 10 cm rim around the hole, as the top of an object.
-      const bool rim = !in_hole && std::abs(m.centre_x(i) - hx) < half_hole + 0.1 &&
-                       std::abs(m.centre_y(j) - hy) < half_hole + 0.1;
+      const bool rim =
+          !in_hole && std::abs(m.centre_x(i) - hx) < half_hole + 0.1 && std::abs(m.centre_y(j) - hy) < half_hole + 0.1;
       if (!in_hole) m.set(i, j, rim ? 0.3f : 0.0f, tt::CellState::Measured);
     }
   }
@@ -109,16 +110,16 @@ TEST(UnknownTerrain, HeadingsOverUnobservedTerrainAreUnsafeWithThatReason) {
   // landing point: at heading 0 a prop centre sits at (0.159, 0.159), its
   // disk reaches x = 0.286, short of 0.45; so every heading is clear.
   auto o = quick(4, 1);
-  const auto clear = tw::run_sweep(tw::Airframe::f450(), model_of(flat_with_hole(0.75, 0, 0.3, tt::UnknownFill::Block)),
-                                   o);
+  const auto clear =
+      tw::run_sweep(tw::Airframe::f450(), model_of(flat_with_hole(0.75, 0, 0.3, tt::UnknownFill::Block)), o);
   ASSERT_TRUE(clear.ok()) << clear.message;
   EXPECT_TRUE(clear.safe);
   for (const auto& h : clear.headings) EXPECT_FALSE(h.unobserved);
   // Now the unknown square starts 0.25 m east: a prop disk overlaps it at
   // every heading (the twin spans 0.352 m in its diagonal directions and
   // ≥ 0.25 m in every direction between them).
-  const auto over = tw::run_sweep(tw::Airframe::f450(), model_of(flat_with_hole(0.55, 0, 0.3, tt::UnknownFill::Block)),
-                                  o);
+  const auto over =
+      tw::run_sweep(tw::Airframe::f450(), model_of(flat_with_hole(0.55, 0, 0.3, tt::UnknownFill::Block)), o);
   ASSERT_TRUE(over.ok()) << over.message;
   EXPECT_FALSE(over.safe);
   for (const auto& h : over.headings) {
@@ -319,7 +320,7 @@ TEST(UnknownTerrainRealScan, SearchFindsTheNearestPointClearOfUnknownTerrain) {
   // Ask for a point 0.2 m from the bare table towards the shadow: its
   // footprint overlaps the shadow.
   o.landing_point = s.bare - Eigen::Vector2d(0.2, 0.0);
-  const auto r = tw::search_landing_point(tw::Airframe::f450(), s.terrain, o, 0.3, 0.1);
+  const auto r = tw::search_landing_point(tw::Airframe::f450(), s.terrain, o, 0.3, 0.1, tw::SearchPreference::Nearest);
   ASSERT_TRUE(r.ok()) << r.message;
   ASSERT_FALSE(r.candidates.empty());
   EXPECT_FALSE(r.candidates[0].safe);  // the requested point itself
@@ -341,4 +342,24 @@ TEST(UnknownTerrainRealScan, SearchFindsTheNearestPointClearOfUnknownTerrain) {
   const auto& h = r.sweep.headings[static_cast<std::size_t>(r.sweep.best)];
   EXPECT_FALSE(h.unobserved);
   EXPECT_TRUE(h.safe);
+  // The search's top view shows the unobserved cells and the chosen footprint.
+  const std::string svg =
+      tw::search_plot_svg(r, o.landing_point, 0.3, tw::Airframe::f450(), *s.terrain, {"table", "F450"});
+  EXPECT_NE(svg.find("fill='url(#unk)'/>"), std::string::npos);
+  EXPECT_NE(svg.find("Landing-point search"), std::string::npos);
+  EXPECT_EQ(svg.find("nan"), std::string::npos);
+  // Preferring the lowest S flies every candidate and may go farther, but
+  // never to a point over unobserved terrain.
+  const auto low = tw::search_landing_point(tw::Airframe::f450(), s.terrain, o, 0.3, 0.1);
+  ASSERT_GE(low.best, 0);
+  const auto& lb = low.candidates[static_cast<std::size_t>(low.best)];
+  EXPECT_TRUE(lb.safe);
+  EXPECT_FALSE(lb.unobserved);
+  EXPECT_LE(lb.score, best.score);
+  for (const auto& c : low.candidates) {
+    EXPECT_TRUE(c.evaluated);
+    if (c.safe) {
+      EXPECT_GE(c.score, lb.score);
+    }
+  }
 }

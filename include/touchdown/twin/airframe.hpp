@@ -87,9 +87,16 @@ struct Airframe {
   [[nodiscard]] Eigen::Vector3d motor_position(std::size_t i) const;
   /// Lowest point of the feet (z of the ground plane when standing level).
   [[nodiscard]] double ground_z() const { return foot_z - foot_radius; }
-  /// True when a half turn about z maps the airframe onto itself, so that
-  /// headings ψ and ψ + 180° are equivalent.
-  [[nodiscard]] bool symmetric_under_half_turn() const;
+  /// The largest k ≤ 12 such that turning the airframe by 360°/k about z
+  /// maps every part that can touch the ground onto a part of the same
+  /// kind: feet onto feet, motors (propeller disks, arms) onto motors, the
+  /// body box onto itself. Motor spin directions do not count: they change
+  /// the yaw reaction torque, not what touches the terrain where. Headings ψ
+  /// and ψ + 360°/k then land the same shape, so a sweep needs only
+  /// [0, 360°/k) (a hexacopter with six legs: 60°; the F450: 180°).
+  [[nodiscard]] int symmetry_order() const;
+  /// symmetry_order() is even.
+  [[nodiscard]] bool symmetric_under_half_turn() const { return symmetry_order() % 2 == 0; }
 
   [[nodiscard]] Box body_box() const;
   [[nodiscard]] Capsule arm(std::size_t i) const;

@@ -34,9 +34,11 @@ enum class SafetyMetric {
 };
 
 struct SweepOptions {
-  int headings = 20;       ///< n
-  int runs = 10;           ///< m per heading
-  double yaw_max_deg = 0;  ///< ψ_max; 0 = 180 if the airframe is half-turn symmetric, else 360
+  int headings = 20;  ///< n
+  int runs = 10;      ///< m per heading
+  /// ψ_max; 0 = automatic: 360° / Airframe::symmetry_order() (the
+  /// airframe's contact geometry repeats after that turn).
+  double yaw_max_deg = 0;
   Eigen::Vector2d landing_point = Eigen::Vector2d::Zero();
   double hover_offset = 0.8;  ///< Δz [m]
   double land_speed = 0.7;    ///< MPC_LAND_SPEED [m/s]
@@ -113,7 +115,9 @@ struct SweepResult {
   std::string message;  ///< why, when status is not Ok
   [[nodiscard]] bool ok() const { return status == SweepStatus::Ok; }
   SafetyThreshold threshold;
-  double ground_z = 0;  ///< z_lp used
+  Eigen::Vector2d landing_point = Eigen::Vector2d::Zero();  ///< (x_lp, y_lp) swept
+  double ground_z = 0;                                      ///< z_lp used
+  double yaw_max = 0;                                       ///< ψ_max used [rad]: headings are j ψ_max / n
   std::vector<HeadingScore> headings;
   /// Index of ψ*: the lowest score among safe headings, else the lowest
   /// score among scored headings; -1 when no run at any heading settled.
@@ -157,16 +161,22 @@ struct SearchResult {
   SweepResult sweep;  ///< the full sweep at the best candidate
 };
 
+/// Which safe candidate a search returns.
+enum class SearchPreference {
+  LowestScore,  ///< the lowest S among safe points (ties: the nearer one)
+  Nearest,      ///< the safe point nearest the requested one (ties: the lower S); farther rings are not flown
+};
+
 /// Beyond the paper: also explores landing points on a square grid of
 /// `spacing` (0: radius / 2) within `radius` of options.landing_point, runs
-/// the sweep at each, nearest first, and returns the best (x, y, ψ): the
-/// safe point nearest the requested one (among equally near ones, the
-/// lowest score); points farther than it are not flown. Without a safe
-/// point, the lowest score among the covered points, as unsafe. Points
-/// where the terrain does not cover the footprint are skipped; points over
-/// unobserved terrain are unsafe like any other unsafe heading.
+/// the sweep at each, nearest first, and returns the best (x, y, ψ) by
+/// `prefer`. Without a safe point, the lowest score among the covered
+/// points, reported unsafe. Points where the terrain does not cover the
+/// footprint are skipped; points over unobserved terrain are unsafe (so
+/// never chosen as safe).
 SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<const TerrainModel> terrain,
-                                  const SweepOptions& options, double radius, double spacing = 0);
+                                  const SweepOptions& options, double radius, double spacing = 0,
+                                  SearchPreference prefer = SearchPreference::LowestScore);
 
 /// Why no heading is safe, one class per reason with its heading count,
 /// most severe first: "6 headings: propeller strike; 2 headings: invalid
