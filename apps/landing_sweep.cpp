@@ -2,6 +2,7 @@
 // m noisy runs and pick the safest heading (issue 3).
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -147,15 +148,34 @@ int main(int argc, char** argv) {
       cloud_options.T_body_camera = e.T_body_camera;
     }
     const auto terrain = tw::load_terrain_model(terrain_path, cloud_options);
+    // One progress bar with an ETA on stderr (a terminal only); the line is
+    // closed before anything else is printed.
+    bool bar_open = false;
+    const auto bar_start = std::chrono::steady_clock::now();
+    std::size_t last_drawn = 0;
     if (isatty(STDERR_FILENO)) {
-      o.progress = [](std::size_t done, std::size_t total) {
-        if (done % 5 != 0 && done != total) return;
-        const int width = 40, filled = static_cast<int>(width * done / total);
+      o.progress = [&](std::size_t done, std::size_t total) {
+        if (done != total && done < last_drawn + std::max<std::size_t>(1, total / 200)) return;
+        last_drawn = done;
+        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - bar_start).count();
+        const int width = 40, filled = static_cast<int>(width * done / std::max<std::size_t>(1, total));
         std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
-                  << std::string(static_cast<std::size_t>(width - filled), '.') << "] " << done << "/" << total
-                  << (done == total ? "\n" : "") << std::flush;
+                  << std::string(static_cast<std::size_t>(width - filled), '.') << "] " << done << "/" << total;
+        if (done > 0 && done < total) {
+          const double left = elapsed * static_cast<double>(total - done) / static_cast<double>(done);
+          std::cerr << "  " << static_cast<long>(std::ceil(left)) << " s left ";
+        } else {
+          std::cerr << "  " << std::fixed << std::setprecision(1) << elapsed << " s      ";
+        }
+        std::cerr << std::flush;
+        bar_open = done != total;
+        if (done == total) std::cerr << "\n";
       };
     }
+    auto close_bar = [&] {
+      if (bar_open) std::cerr << "\n";
+      bar_open = false;
+    };
     tw::SearchResult search;
     const Eigen::Vector2d requested = o.landing_point;
     if (search_radius > 0) {
@@ -169,6 +189,7 @@ int main(int argc, char** argv) {
       // The user's landing point is off the terrain: bad input for the app.
       if (!search.sweep.ok()) throw td::InvalidArgument(search.sweep.message);
     }
+    close_bar();  // e.g. a --time-budget stop: the summary gets its own line
     const tw::SweepResult& r = search.sweep;
     if (!runs_csv_path.empty()) write_text_atomically(runs_csv_path, runs_csv(r));
     if (!plot_path.empty()) {

@@ -350,12 +350,21 @@ SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<cons
   auto rank = [](const SearchCandidate& x) {
     return std::isnan(x.score) ? std::numeric_limits<double>::infinity() : x.score;
   };
+  // One progress count across all candidates (a candidate off the scan or
+  // not flown counts as done).
+  const std::size_t per = static_cast<std::size_t>(options.headings) * options.runs;
+  const std::size_t total = per * out.candidates.size();
   for (std::size_t k = 0; k < out.candidates.size(); ++k) {
     auto& c = out.candidates[k];
     if ((c.xy - options.landing_point).norm() > safe_distance + 1e-9) break;
     c.evaluated = true;
     SweepOptions o = options;
     o.landing_point = c.xy;
+    if (options.progress) {
+      o.progress = [&options, base = k * per, total](std::size_t done, std::size_t) {
+        options.progress(base + done, total);
+      };
+    }
     SweepResult r = run_sweep(airframe, terrain, o);
     if (r.status == SweepStatus::FootprintNotCovered) continue;  // off the map
     c.covered = true;
@@ -376,6 +385,7 @@ SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<cons
       out.sweep = std::move(r);
     }
   }
+  if (options.progress) options.progress(total, total);
   if (out.best < 0) {
     out.status = SweepStatus::FootprintNotCovered;
     out.message = "terrain does not cover the footprint at any landing point within " + std::to_string(radius) +

@@ -81,8 +81,8 @@ void diamond(std::ostream& os, double x, double y, double r, const char* fill) {
 }
 void cross(std::ostream& os, double x, double y, double r, const char* stroke, double width = 2) {
   os << "<path d='M" << num(x - r, 1) << "," << num(y - r, 1) << " L" << num(x + r, 1) << "," << num(y + r, 1) << " M"
-     << num(x - r, 1) << "," << num(y + r, 1) << " L" << num(x + r, 1) << "," << num(y - r, 1) << "' stroke='"
-     << stroke << "' stroke-width='" << width << "'/>\n";
+     << num(x - r, 1) << "," << num(y + r, 1) << " L" << num(x + r, 1) << "," << num(y - r, 1) << "' stroke='" << stroke
+     << "' stroke-width='" << width << "'/>\n";
 }
 void square(std::ostream& os, double x, double y, double r, const char* stroke) {
   os << "<rect x='" << num(x - r, 1) << "' y='" << num(y - r, 1) << "' width='" << num(2 * r, 1) << "' height='"
@@ -149,8 +149,8 @@ void heading_panel(std::ostream& os, const SweepResult& r, double ox, double oy,
   }
   const double xstep = heading_step(yaw_max_deg);
   for (double d = 0; d <= yaw_max_deg + 1e-9; d += xstep) {
-    os << "<line x1='" << num(X(d), 1) << "' y1='" << num(B, 1) << "' x2='" << num(X(d), 1) << "' y2='"
-       << num(B + 5, 1) << "' stroke='black'/>\n";
+    os << "<line x1='" << num(X(d), 1) << "' y1='" << num(B, 1) << "' x2='" << num(X(d), 1) << "' y2='" << num(B + 5, 1)
+       << "' stroke='black'/>\n";
     text(os, X(d), B + 18, num(d, 1), " text-anchor='middle'");
   }
   os << "<rect x='" << num(L, 1) << "' y='" << num(T, 1) << "' width='" << num(R - L, 1) << "' height='"
@@ -161,10 +161,9 @@ void heading_panel(std::ostream& os, const SweepResult& r, double ox, double oy,
   text(os, L - 6, band + 4, "invalid", " text-anchor='end' fill='" + std::string(kInvalid) + "'");
 
   // Threshold.
-  os << "<line x1='" << num(L, 1) << "' y1='" << num(Y(thr), 1) << "' x2='" << num(R, 1) << "' y2='"
-     << num(Y(thr), 1) << "' stroke='" << kUnsafe << "' stroke-dasharray='6,4'/>\n";
-  text(os, R - 4, Y(thr) - 5,
-       "safety threshold " + num(thr, 3) + " rad (" + num(rad_to_deg(thr), 1) + " deg)",
+  os << "<line x1='" << num(L, 1) << "' y1='" << num(Y(thr), 1) << "' x2='" << num(R, 1) << "' y2='" << num(Y(thr), 1)
+     << "' stroke='" << kUnsafe << "' stroke-dasharray='6,4'/>\n";
+  text(os, R - 4, Y(thr) - 5, "safety threshold " + num(thr, 3) + " rad (" + num(rad_to_deg(thr), 1) + " deg)",
        " text-anchor='end' fill='" + std::string(kUnsafe) + "'");
 
   // Runs: settled ones at their nutation, the others in the invalid band;
@@ -231,9 +230,9 @@ void heading_panel(std::ostream& os, const SweepResult& r, double ox, double oy,
   });
   // The verdict, wrapped to the legend's width.
   ly += 8;
-  std::string verdict = r.safe ? "land at heading " + num(rad_to_deg(r.headings[static_cast<std::size_t>(r.best)].yaw),
-                                                          1) + " deg"
-                               : "do not land: " + unsafe_summary(r);
+  std::string verdict =
+      r.safe ? "land at heading " + num(rad_to_deg(r.headings[static_cast<std::size_t>(r.best)].yaw), 1) + " deg"
+             : "do not land: " + unsafe_summary(r);
   std::istringstream words(verdict);
   std::string word, line;
   while (words >> word) {
@@ -328,8 +327,8 @@ std::string search_plot_svg(const SearchResult& search, const Eigen::Vector2d& r
          << (unknown ? "url(#unk)" : fill) << "'/>\n";
     }
   }
-  os << "<rect x='" << num(L, 1) << "' y='" << num(T, 1) << "' width='" << num(size, 1) << "' height='"
-     << num(size, 1) << "' fill='none' stroke='black'/>\n";
+  os << "<rect x='" << num(L, 1) << "' y='" << num(T, 1) << "' width='" << num(size, 1) << "' height='" << num(size, 1)
+     << "' fill='none' stroke='black'/>\n";
   // Axes ticks in metres.
   const double tick = nice_step(2 * half, 5);
   for (double v = std::ceil((requested.x() - half) / tick) * tick; v <= requested.x() + half + 1e-9; v += tick) {
@@ -341,8 +340,7 @@ std::string search_plot_svg(const SearchResult& search, const Eigen::Vector2d& r
   text(os, L + size / 2, T + size + 34, "x [m]", " text-anchor='middle'");
   text(os, L - 44, T + size / 2, "y [m]", " text-anchor='middle'");
   // The search circle and the requested point.
-  circle(os, PX(requested.x()), PY(requested.y()), radius * scale, "none",
-         " stroke='#1f5fbf' stroke-dasharray='5,4'");
+  circle(os, PX(requested.x()), PY(requested.y()), radius * scale, "none", " stroke='#1f5fbf' stroke-dasharray='5,4'");
   cross(os, PX(requested.x()), PY(requested.y()), 6, "black", 1.5);
   // Candidates, their markers sized to the grid (the nearest neighbour of
   // the requested point is one spacing away).
@@ -361,8 +359,7 @@ std::string search_plot_svg(const SearchResult& search, const Eigen::Vector2d& r
       circle(os, x, y, mr * 0.85, "white", " stroke='#555' stroke-width='1.5'");
     } else {
       circle(os, x, y, mr, score_colour(c.score, thr),
-             std::string(" stroke='") + (c.safe ? "black" : kUnsafe) + "' stroke-width='" + (c.safe ? "1" : "2") +
-                 "'");
+             std::string(" stroke='") + (c.safe ? "black" : kUnsafe) + "' stroke-width='" + (c.safe ? "1" : "2") + "'");
       if (!c.safe) cross(os, x, y, mr * 0.55, kUnsafe, 1.5);
     }
   }
@@ -377,13 +374,15 @@ std::string search_plot_svg(const SearchResult& search, const Eigen::Vector2d& r
       const Capsule arm = af.arm(i);
       const Eigen::Vector2d a = W2(arm.a), b = W2(arm.b);
       os << "<line x1='" << num(PX(a.x()), 1) << "' y1='" << num(PY(a.y()), 1) << "' x2='" << num(PX(b.x()), 1)
-         << "' y2='" << num(PY(b.y()), 1) << "' stroke='" << colour << "' stroke-width='" << num(std::max(2.0, 2 * arm.radius * scale), 1) << "'/>\n";
+         << "' y2='" << num(PY(b.y()), 1) << "' stroke='" << colour << "' stroke-width='"
+         << num(std::max(2.0, 2 * arm.radius * scale), 1) << "'/>\n";
       circle(os, PX(b.x()), PY(b.y()), af.prop_radius * scale, "none",
              std::string(" stroke='") + colour + "' stroke-width='1.5'");
     }
     const Box body = af.body_box();
     os << "<polygon points='";
-    for (const auto& s : {Eigen::Vector2d(1, 1), Eigen::Vector2d(-1, 1), Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, -1)}) {
+    for (const auto& s :
+         {Eigen::Vector2d(1, 1), Eigen::Vector2d(-1, 1), Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, -1)}) {
       const Eigen::Vector2d p = W2(Eigen::Vector3d(s.x() * body.half_extents.x(), s.y() * body.half_extents.y(), 0));
       os << num(PX(p.x()), 1) << "," << num(PY(p.y()), 1) << " ";
     }
