@@ -78,7 +78,9 @@ int main(int argc, char** argv) {
   tp::ArucoOptions aruco;
   bool no_depth = false, jsonl = false, fuse = false;
   app.add_option("SEQUENCE_DIR", sequence_dir, "directory of NNNNNN.png frames (+ NNNNNN.depth.png)");
-  app.add_option("--camera", camera_file, "camera YAML (default: SEQUENCE_DIR/camera.yaml)");
+  app.add_option("--camera", camera_file,
+                 "camera file: touchdown camera YAML, OpenCV calibration YAML or ROS camera_info YAML "
+                 "(default: SEQUENCE_DIR/camera.yaml)");
   app.add_option("--constellation", constellation_file,
                  "LED constellation YAML (default: SEQUENCE_DIR/constellation.yaml)");
   app.add_option("--method", method, "led or aruco")->check(CLI::IsMember({"led", "aruco"}))->capture_default_str();
@@ -101,7 +103,8 @@ int main(int argc, char** argv) {
   double min_distance = 0.4, max_distance = 3.0;
   tp::RenderOptions ropt;
   render->add_option("OUT_DIR", out_dir, "directory to create")->required();
-  render->add_option("--camera", r_camera, "camera YAML (default: a D435 colour stream at 848x480)");
+  render->add_option("--camera", r_camera,
+                     "camera file, as for SEQUENCE_DIR (default: a D435 colour stream at 848x480)");
   render->add_option("--constellation", r_constellation, "constellation YAML (default: the built-in F450 six-LED set)");
   render->add_option("--trajectory", trajectory, "static or moving")
       ->check(CLI::IsMember({"static", "moving"}))
@@ -145,7 +148,8 @@ int main(int argc, char** argv) {
   int bench_frames = 300;
   bench->add_option("--frames", bench_frames, "frames per sequence")->capture_default_str();
   bench->add_option("--seed", seed, "random seed")->capture_default_str();
-  bench->add_option("--camera", r_camera, "camera YAML (default: a D435 colour stream at 848x480)");
+  bench->add_option("--camera", r_camera,
+                    "camera file, as for SEQUENCE_DIR (default: a D435 colour stream at 848x480)");
   bench->add_option("--constellation", r_constellation,
                     "constellation YAML: one scenario in --geometry (default: two built-in scenarios, the F450's "
                     "downward LEDs from below and the paper's front board in the chase geometry)");
@@ -263,7 +267,8 @@ int main(int argc, char** argv) {
     if (sequence_dir.empty()) throw td::InvalidArgument("SEQUENCE_DIR is required (or a subcommand; see --help)");
     const fs::path dir(sequence_dir);
     const auto frames_list = tp::list_sequence(dir);
-    const auto camera = tp::load_camera(config_path(camera_file, dir, "camera.yaml", "--camera"));
+    const fs::path camera_path = config_path(camera_file, dir, "camera.yaml", "--camera");
+    const auto camera = tp::load_camera(camera_path);
     const auto k =
         tp::load_constellation(config_path(constellation_file, dir, "constellation.yaml", "--constellation"));
     std::optional<tp::LedTracker> tracker;
@@ -285,6 +290,7 @@ int main(int argc, char** argv) {
     int ok = 0;
     std::vector<double> ms, rms, pos_err, rot_err;
     std::size_t ti = 0;
+    bool depth_scale_checked = false;
     for (const auto& f : frames_list) {
       const bool want_depth = method == "led" && !no_depth && f.depth;
       tp::read_frame(f, colour, want_depth ? &depth : nullptr);
@@ -292,6 +298,17 @@ int main(int argc, char** argv) {
         throw td::ParseError(f.colour.string() + ": image is " + std::to_string(colour.width) + "x" +
                              std::to_string(colour.height) + " but the camera is " + std::to_string(camera.width) +
                              "x" + std::to_string(camera.height));
+      }
+      // The first depth frame with enough measurements tells whether the
+      // camera's depth_scale fits its unit: a wrong one would make the
+      // depth gate drop every LED without a word.
+      if (want_depth && !depth_scale_checked) {
+        const auto check = tp::check_depth_scale(depth.view(), camera.depth_scale);
+        depth_scale_checked = check.conclusive;
+        if (!check.plausible) {
+          throw td::ParseError(camera_path.string() + ": " + check.message + " (seen in " +
+                               f.depth->filename().string() + ")");
+        }
       }
       const tp::DepthImageView dv = depth.view();
       const auto t0 = std::chrono::steady_clock::now();

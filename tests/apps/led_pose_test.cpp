@@ -1,12 +1,14 @@
 // led_pose end to end: render → track against the rendered ground truth
-// (LED with and without depth, ArUco), determinism, the benchmark table, and
-// one test per bad-input case (exit 2, one line on stderr, nothing on stdout).
+// (LED with and without depth, ArUco), determinism, the benchmark table,
+// OpenCV and ROS camera files, and one test per bad-input case (exit 2, one
+// line on stderr, nothing on stdout).
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cstdint>
 #include <filesystem>
+#include <iomanip>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
@@ -17,6 +19,7 @@
 #include <vector>
 
 #include "test_util.hpp"
+#include "touchdown/pose/camera.hpp"
 
 namespace td = touchdown;
 namespace fs = std::filesystem;
@@ -392,4 +395,101 @@ TEST(LedPoseAppBadInput, TruncatedPngFrame) {
   const AppRun r = run(seq.string() + " --jsonl", dir);
   expect_bad_input(r, "000001.png");
   EXPECT_NE(r.err.find("CRC"), std::string::npos) << r.err;
+}
+
+// ---- camera files users already have (issue 11) --------------------------------------
+
+namespace {
+
+// The sequence's camera as OpenCV's calibration sample saves it, written
+// by cv::FileStorage itself.
+void write_opencv_camera(const fs::path& file, const touchdown::pose::CameraModel& c, bool with_size = true) {
+  cv::FileStorage out(file.string(), cv::FileStorage::WRITE);
+  out << "calibration_time"
+      << "Thu Jan 30 14:43:57 2020";
+  if (with_size) out << "image_width" << c.width << "image_height" << c.height;
+  out << "camera_matrix" << cv::Mat(cv::Matx33d(c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1));
+  out << "distortion_coefficients" << cv::Mat(cv::Matx<double, 1, 5>(c.distortion.data()));
+  out << "avg_reprojection_error" << 0.21;
+}
+
+// The sequence's camera as camera_calibration_parsers writes a ROS
+// camera_info YAML (http://wiki.ros.org/camera_calibration_parsers).
+std::string ros_camera_yaml(const touchdown::pose::CameraModel& c, const std::string& model = "plumb_bob") {
+  std::ostringstream os;
+  os << std::setprecision(17);
+  os << "image_width: " << c.width << "\nimage_height: " << c.height << "\ncamera_name: ground_camera\n"
+     << "camera_matrix:\n  rows: 3\n  cols: 3\n  data: [" << c.fx << ", 0, " << c.cx << ", 0, " << c.fy << ", " << c.cy
+     << ", 0, 0, 1]\n"
+     << "distortion_model: " << model << "\ndistortion_coefficients:\n  rows: 1\n  cols: 5\n  data: [";
+  for (std::size_t i = 0; i < 5; ++i) os << (i ? ", " : "") << c.distortion[i];
+  os << "]\nrectification_matrix:\n  rows: 3\n  cols: 3\n  data: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n"
+     << "projection_matrix:\n  rows: 3\n  cols: 4\n  data: [" << c.fx * 0.98 << ", 0, " << c.cx << ", 0, 0, "
+     << c.fy * 0.98 << ", " << c.cy << ", 0, 0, 0, 1, 0]\n";
+  return os.str();
+}
+
+}  // namespace
+
+// The same intrinsics in an OpenCV or ROS file give the very same poses.
+TEST(LedPoseApp, OpenCvAndRosCameraFilesGiveTheSamePoses) {
+  TempDir dir;
+  const auto seq = rendered_sequence(dir);
+  const auto camera = touchdown::pose::load_camera(seq / "camera.yaml");
+  write_opencv_camera(dir / "calib.yml", camera);
+  ASSERT_EQ(td::test::read_text(dir / "calib.yml").rfind("%YAML:1.0", 0), 0u);
+  td::test::write_text(dir / "ost.yaml", ros_camera_yaml(camera));
+  const AppRun own = run(seq.string() + " --jsonl", dir);
+  const AppRun opencv = run(seq.string() + " --jsonl --camera " + (dir / "calib.yml").string(), dir);
+  const AppRun ros = run(seq.string() + " --jsonl --camera " + (dir / "ost.yaml").string(), dir);
+  ASSERT_EQ(own.code, 0) << own.err;
+  ASSERT_EQ(opencv.code, 0) << opencv.err;
+  ASSERT_EQ(ros.code, 0) << ros.err;
+  EXPECT_GE(check_jsonl(opencv.out, seq, true), 11);
+  EXPECT_EQ(without_ms(opencv.out), without_ms(own.out));
+  EXPECT_EQ(without_ms(ros.out), without_ms(own.out));
+}
+
+TEST(LedPoseAppBadInput, OpenCvCameraWithoutImageSize) {
+  TempDir dir;
+  const auto seq = rendered_sequence(dir);
+  write_opencv_camera(dir / "calib.yml", touchdown::pose::load_camera(seq / "camera.yaml"), false);
+  const AppRun r = run(seq.string() + " --jsonl --camera " + (dir / "calib.yml").string(), dir);
+  expect_bad_input(r, "calib.yml");
+  EXPECT_NE(r.err.find("image_width: missing"), std::string::npos) << r.err;
+}
+
+TEST(LedPoseAppBadInput, RosCameraWithFisheyeModel) {
+  TempDir dir;
+  const auto seq = rendered_sequence(dir);
+  td::test::write_text(dir / "ost.yaml",
+                       ros_camera_yaml(touchdown::pose::load_camera(seq / "camera.yaml"), "equidistant"));
+  const AppRun r = run(seq.string() + " --jsonl --camera " + (dir / "ost.yaml").string(), dir);
+  expect_bad_input(r, "ost.yaml:");
+  EXPECT_NE(r.err.find("distortion_model: equidistant (fisheye) is not supported"), std::string::npos) << r.err;
+}
+
+// A depth_scale in the wrong unit would let the depth gate drop every LED
+// in silence: reported at the first depth frame, naming the camera file.
+TEST(LedPoseAppBadInput, ImplausibleDepthScale) {
+  TempDir dir;
+  const auto seq = rendered_sequence(dir);
+  const std::string yaml = td::test::read_text(seq / "camera.yaml");
+  const struct {
+    std::string scale, needle;
+  } cases[] = {{"1", "depth_scale: 1 m per unit puts the median depth at"},
+               {"0.000001", "depth_scale: 1e-06 m per unit puts the median depth at"}};
+  for (const auto& c : cases) {
+    td::test::write_text(dir / "cam.yaml", td::test::replace_key_line(yaml, "depth_scale", "depth_scale: " + c.scale));
+    const AppRun r = run(seq.string() + " --jsonl --camera " + (dir / "cam.yaml").string(), dir);
+    expect_bad_input(r, (dir / "cam.yaml").string() + ": " + c.needle);
+    EXPECT_NE(r.err.find("millimetres needs depth_scale: 0.001"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("000000.depth.png"), std::string::npos) << r.err;
+    // Without depth images the scale is never used.
+    const AppRun no_depth = run(seq.string() + " --jsonl --no-depth --camera " + (dir / "cam.yaml").string(), dir);
+    EXPECT_EQ(no_depth.code, 0) << no_depth.err;
+  }
+  // The sequence's own camera.yaml is named when it is the one at fault.
+  td::test::write_text(seq / "camera.yaml", td::test::replace_key_line(yaml, "depth_scale", "depth_scale: 1"));
+  expect_bad_input(run(seq.string(), dir), (seq / "camera.yaml").string() + ": depth_scale: 1 m per unit");
 }

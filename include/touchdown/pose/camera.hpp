@@ -3,12 +3,16 @@
 /// Camera intrinsics for the LED pose pipeline: a pinhole model with
 /// optional Brown–Conrady distortion (OpenCV's k1, k2, p1, p2, k3 order) and
 /// the scale of an aligned 16-bit depth image, loaded from the camera YAML
-/// (docs/formats.md). Thread-safe: plain values.
+/// or from the calibration files users already have: OpenCV's FileStorage
+/// YAML and ROS camera_info YAML (docs/formats.md). Thread-safe: plain
+/// values and free functions without shared state.
 #include <Eigen/Core>
 #include <array>
 #include <filesystem>
 #include <string>
 #include <string_view>
+
+#include "touchdown/pose/image.hpp"
 
 namespace touchdown::pose {
 
@@ -43,11 +47,36 @@ struct CameraModel {
   bool validate(std::string* why) const;
 };
 
-/// Parses the camera YAML; throws ParseError "source:line: key: what".
+/// Parses a camera file, its format told by its content (docs/formats.md):
+/// touchdown's camera YAML; an OpenCV calibration file (cv::FileStorage
+/// YAML: `camera_matrix`/`cameraMatrix`, `distortion_coefficients`/
+/// `distCoeffs`, `image_width`, `image_height`); a ROS camera_info YAML
+/// (camera_calibration_parsers: the same names plus `distortion_model`).
+/// Throws ParseError "source:line: key: what", also for what touchdown's
+/// model cannot represent (fisheye/equidistant, non-zero rational or
+/// thin-prism terms, skew, binning).
 CameraModel parse_camera(std::string_view yaml_text, std::string_view source);
-/// Loads the camera YAML; IoError if unreadable, ParseError if malformed.
+/// Loads a camera file (any format parse_camera reads); IoError if
+/// unreadable, ParseError if malformed.
 CameraModel load_camera(const std::filesystem::path& path);
-/// The camera as YAML (round-trips through parse_camera).
+/// The camera as touchdown's YAML (round-trips through parse_camera).
 std::string camera_to_yaml(const CameraModel& camera);
+
+/// What a real depth image says about CameraModel::depth_scale: a scale in
+/// the wrong unit (1 for millimetres, 0.001 for centimetres) puts every
+/// depth far outside any scene a ground camera sees.
+struct DepthScaleCheck {
+  int samples = 0;          ///< nonzero pixels on the sampling grid
+  double median_raw = 0;    ///< their median, in units of the depth image
+  double median_m = 0;      ///< median_raw × depth_scale [m]
+  bool conclusive = false;  ///< at least `min_samples` nonzero pixels: the median tells
+  bool plausible = true;    ///< median_m within [min_m, max_m], or not conclusive
+  std::string message;      ///< when implausible: "depth_scale: ..." with the scale that would fit
+};
+/// Median of the nonzero pixels of `depth` on a grid of at most 64×64
+/// pixels (cheap: a few thousand reads); plausible when it lies in
+/// [min_m, max_m] metres. Allocates the grid's samples.
+DepthScaleCheck check_depth_scale(const DepthImageView& depth, double depth_scale, double min_m = 0.05,
+                                  double max_m = 50.0, int min_samples = 16);
 
 }  // namespace touchdown::pose
