@@ -3,6 +3,8 @@
 #include <sys/wait.h>
 
 #include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
 
 #include "test_util.hpp"
 #include "touchdown/core/mesh_io.hpp"
@@ -227,4 +229,57 @@ TEST(LandingSweepApp, RunsThatTimeOutAreShownAsInvalidNeverAsANutation) {
   const AppRun bad = run(terrain + " --timeout 0", dir);
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("--timeout"), std::string::npos) << bad.err;
+}
+
+namespace {
+// Every key of a JSON value, recursively (array elements included).
+void collect_keys(const nlohmann::json& j, std::set<std::string>& keys) {
+  if (j.is_object()) {
+    for (const auto& [k, v] : j.items()) {
+      keys.insert(k);
+      collect_keys(v, keys);
+    }
+  } else if (j.is_array()) {
+    for (const auto& v : j) collect_keys(v, keys);
+  }
+}
+}  // namespace
+
+TEST(LandingSweepApp, EveryPrintedKeyAndCsvValueIsDocumented) {
+  // docs/formats.md, section "Landing sweep output": each JSON key and CSV
+  // column appears there in backticks, and so does every status and reason
+  // the runs printed.
+  const std::string docs = td::test::read_text(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "docs/formats.md");
+  const auto at = docs.find("## Landing sweep output");
+  ASSERT_NE(at, std::string::npos);
+  const std::string section = docs.substr(at, docs.find("\n## ", at + 1) - at);
+  TempDir dir;
+  const auto terrain = flat_stl(dir);
+  std::set<std::string> keys;
+  std::set<std::string> values;
+  // A search (with its keys), and timeouts (with their reasons).
+  for (const std::string extra : {" --search-radius 0.2 --search-spacing 0.2", " --timeout 0.3"}) {
+    const AppRun r = run(terrain + " --headings 2 --runs 2 --json --runs-csv " + (dir / "r.csv").string() + extra, dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    collect_keys(nlohmann::json::parse(r.out), keys);
+    std::istringstream csv(td::test::read_text(dir / "r.csv"));
+    std::string line;
+    std::getline(csv, line);
+    std::istringstream header(line);
+    for (std::string col; std::getline(header, col, ',');) keys.insert(col);
+    while (std::getline(csv, line)) {
+      std::istringstream row(line);
+      std::string heading, run_index, status, reason;
+      std::getline(row, heading, ',');
+      std::getline(row, run_index, ',');
+      std::getline(row, status, ',');
+      std::getline(row, reason, ',');
+      values.insert(status);
+      if (!reason.empty()) values.insert(reason);
+    }
+  }
+  EXPECT_GT(keys.size(), 40u);
+  EXPECT_TRUE(values.count("timeout"));
+  for (const auto& k : keys) EXPECT_NE(section.find("`" + k + "`"), std::string::npos) << "undocumented key " << k;
+  for (const auto& v : values) EXPECT_NE(section.find(v), std::string::npos) << "undocumented value " << v;
 }
