@@ -77,7 +77,10 @@ int main(int argc, char** argv) {
          "psi_max [deg]; 0 = 360 / the airframe's symmetry order (the turn after which its feet, motors and body "
          "repeat: 180 for the F450)")
       ->capture_default_str();
-  app.add_option("--landing-point", landing_point, "x,y of the landing point [m]")->delimiter(',')->expected(2);
+  app.add_option("--landing-point", landing_point, "x,y of the landing point [m]")
+      ->delimiter(',')
+      ->expected(2)
+      ->default_str("0,0");
   app.add_option("--hover-offset", o.hover_offset, "start this high above the terrain under the footprint [m]")
       ->capture_default_str();
   app.add_option("--land-speed", o.land_speed, "descent speed, PX4 MPC_LAND_SPEED [m/s]")->capture_default_str();
@@ -88,7 +91,8 @@ int main(int argc, char** argv) {
   app.add_option("--sigma-speed", sigma_speed, "land speed sigma [m/s]")->capture_default_str();
   app.add_option("--friction", friction, "ground friction range min,max (drawn uniformly per run)")
       ->delimiter(',')
-      ->expected(2);
+      ->expected(2)
+      ->default_str("0.6,1");
   app.add_option("--metric", metric, "full: strikes and tip-overs are unsafe; seed: the paper's final-nutation rule")
       ->check(CLI::IsMember({"full", "seed"}))
       ->capture_default_str();

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <tuple>
 
 #include "core/io_util.hpp"
 #include "core/yaml_util.hpp"
@@ -57,7 +58,7 @@ double Airframe::total_mass() const { return body_mass + motor_mass * static_cas
 
 Eigen::Vector3d Airframe::motor_position(std::size_t i) const {
   const double a = deg_to_rad(arm_angles_deg[i]);
-  return {motor_radius * std::cos(a), motor_radius * std::sin(a), motor_z};
+  return {motor_radius * std::cos(a), motor_radius * std::sin(a), motor_zs.empty() ? motor_z : motor_zs[i]};
 }
 
 Eigen::Vector3d Airframe::centre_of_mass() const {
@@ -117,7 +118,7 @@ Capsule Airframe::arm(std::size_t i) const {
   const Eigen::Vector3d dir(m.x(), m.y(), 0.0);
   const double inner = std::min(0.5 * body_size.x() / std::max(1e-9, std::abs(dir.normalized().x())),
                                 0.5 * body_size.y() / std::max(1e-9, std::abs(dir.normalized().y())));
-  const Eigen::Vector3d a = dir.normalized() * std::min(inner, dir.norm()) + Eigen::Vector3d(0, 0, motor_z);
+  const Eigen::Vector3d a = dir.normalized() * std::min(inner, dir.norm()) + Eigen::Vector3d(0, 0, m.z());
   return {a, m, arm_radius};
 }
 
@@ -186,6 +187,23 @@ bool Airframe::validate(std::string* why) const {
   };
   auto positive = [](double v) { return v > 0 && std::isfinite(v); };
   if (!positive(body_mass)) return fail("body.mass: must be positive, got " + fmt(body_mass));
+  // Masses are kilograms: a multirotor body over 100 kg, a motor over 10 kg
+  // or landing gear over 50 kg was almost certainly written in grams.
+  for (const auto& [key, mass, limit] :
+       {std::tuple{"body.mass", body_mass, 100.0}, std::tuple{"motors.mass", motor_mass, 10.0},
+        std::tuple{"landing_gear.mass", gear_mass, 50.0}}) {
+    if (mass > limit) {
+      return fail(std::string(key) + ": " + fmt(mass) + " kg is implausible for a multirotor (more than " + fmt(limit) +
+                  " kg): masses are in kilograms, written in grams?");
+    }
+  }
+  if (!motor_zs.empty() && motor_zs.size() != arm_angles_deg.size()) {
+    return fail("arms.motor_z: a list needs one z per arm (" + std::to_string(arm_angles_deg.size()) + "), got " +
+                std::to_string(motor_zs.size()));
+  }
+  for (const double z : motor_zs) {
+    if (!std::isfinite(z)) return fail("arms.motor_z: must be finite");
+  }
   if (!(body_size.array() > 0).all() || !body_size.allFinite())
     return fail("body.size: all three sizes must be positive");
   if (motor_count() < 3) return fail("arms.angles_deg: need at least 3 arms");
@@ -218,7 +236,10 @@ bool Airframe::validate(std::string* why) const {
   for (std::size_t i = 0; i < motor_count(); ++i) {
     for (std::size_t j = i + 1; j < motor_count(); ++j) {
       const double d = (motor_position(i) - motor_position(j)).head<2>().norm();
-      if (d < 2 * prop_radius) {
+      // Coaxial pairs share an axis but turn in planes apart by more than a
+      // propeller's thickness.
+      const double dz = std::abs(motor_position(i).z() - motor_position(j).z());
+      if (d < 2 * prop_radius && dz < 2 * prop_thickness) {
         std::string hint;
         bool radians = true;
         for (const double a : arm_angles_deg) radians = radians && std::abs(a) <= 2 * std::numbers::pi + 1e-9;
@@ -227,6 +248,19 @@ bool Airframe::validate(std::string* why) const {
                     std::to_string(j + 1) + " overlap: motors " + fmt(d) + " m apart, need at least 2 × " +
                     fmt(prop_radius) + hint);
       }
+    }
+  }
+  // A propeller turning through the body: its disk reaches into the body's
+  // footprint within the body's height.
+  for (std::size_t i = 0; i < motor_count(); ++i) {
+    const Disk d = propeller(i);
+    const Eigen::Vector2d h = 0.5 * body_size.head<2>();
+    const Eigen::Vector2d out = (d.centre.head<2>().cwiseAbs() - h).cwiseMax(0.0);
+    const bool in_height = std::abs(d.centre.z()) < 0.5 * body_size.z() + d.half_thickness;
+    if (in_height && out.norm() < d.radius) {
+      return fail("propellers.radius: the propeller of arm " + std::to_string(i + 1) +
+                  " cuts into the body (its disk reaches " + fmt(d.radius - out.norm()) +
+                  " m into body.size at the same height): lengthen arms.motor_radius or raise propellers.height");
     }
   }
   if (!positive(gear_mass)) return fail("landing_gear.mass: must be positive, got " + fmt(gear_mass));
@@ -240,7 +274,9 @@ bool Airframe::validate(std::string* why) const {
     if (!(ground_z() < d.centre.z() - d.half_thickness - 1e-3)) {
       return fail("landing_gear.foot_z: the feet do not reach below the propellers");
     }
-    if (!(ground_z() < motor_z - arm_radius)) return fail("landing_gear.foot_z: the feet do not reach below the arms");
+    if (!(ground_z() < motor_position(i).z() - arm_radius)) {
+      return fail("landing_gear.foot_z: the feet do not reach below the arms");
+    }
   }
   if (legs.size() < 3) return fail("landing_gear.legs: need at least 3 legs, got " + std::to_string(legs.size()));
   const auto hull = hull_indices(legs);
@@ -278,7 +314,14 @@ Airframe parse_airframe(std::string_view yaml_text, std::string_view source) {
         r.only(arms, "arms.", {"angles_deg", "motor_radius", "motor_z", "capsule_radius"});
         a.arm_angles_deg = r.numbers(r.child(arms, "arms.", "angles_deg"), "arms.angles_deg");
         a.motor_radius = r.number(r.child(arms, "arms.", "motor_radius"), "arms.motor_radius");
-        a.motor_z = r.number(r.child(arms, "arms.", "motor_z"), "arms.motor_z");
+        const auto motor_z = r.child(arms, "arms.", "motor_z");
+        if (motor_z.IsSequence()) {
+          a.motor_zs = r.numbers(motor_z, "arms.motor_z");
+          if (a.motor_zs.empty()) r.fail(motor_z, "arms.motor_z", "an empty list");
+          a.motor_z = a.motor_zs.front();
+        } else {
+          a.motor_z = r.number(motor_z, "arms.motor_z");
+        }
         a.arm_radius = r.number(r.child(arms, "arms.", "capsule_radius"), "arms.capsule_radius");
 
         const auto motors = r.child(root, "", "motors");

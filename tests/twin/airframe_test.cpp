@@ -8,6 +8,8 @@
 
 #include "test_util.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/twin/sweep.hpp"
+#include "twin_test_util.hpp"
 
 namespace td = touchdown;
 namespace tw = touchdown::twin;
@@ -89,6 +91,44 @@ TEST(Airframe, SymmetryOrderCountsContactGeometryNotSpins) {
   EXPECT_TRUE(hexa.symmetric_under_half_turn());
 }
 
+TEST(Airframe, CoaxialLayoutGetsPerMotorZAndLands) {
+  // An X8: four arms, a motor above and one below each arm end, the pair
+  // turning opposite ways. Same xy, planes 0.08 m apart: not overlapping.
+  const std::string x8 = R"(name: X8 coaxial
+body: {size: [0.16, 0.16, 0.06], mass: 1.2}
+arms: {angles_deg: [45, 135, 225, 315, 45, 135, 225, 315], motor_radius: 0.3,
+       motor_z: [0.06, 0.06, 0.06, 0.06, -0.02, -0.02, -0.02, -0.02], capsule_radius: 0.012}
+motors: {mass: 0.06, spin: [1, -1, 1, -1, -1, 1, -1, 1], max_thrust: 8.0, time_constant: 0.04, torque_coefficient: 0.016}
+propellers: {radius: 0.15, thickness: 0.01, height: 0.01}
+landing_gear: {mass: 0.35, top_z: -0.03, foot_z: -0.22, leg_radius: 0.008, foot_radius: 0.01,
+               legs: [[0.18, 0.1], [0.18, -0.1], [-0.18, -0.1], [-0.18, 0.1]]}
+)";
+  const auto a = tw::parse_airframe(x8, "x8.yaml");
+  ASSERT_EQ(a.motor_count(), 8u);
+  EXPECT_NEAR(a.motor_position(0).z(), 0.06, 1e-12);
+  EXPECT_NEAR(a.motor_position(4).z(), -0.02, 1e-12);
+  EXPECT_NEAR((a.motor_position(0) - a.motor_position(4)).head<2>().norm(), 0.0, 1e-12);
+  EXPECT_EQ(a.symmetry_order(), 2);
+  tw::SweepOptions o;
+  o.headings = 2;
+  o.runs = 1;
+  const auto r = tw::run_sweep(a, td::test::flat_terrain(), o);
+  ASSERT_TRUE(r.ok());
+  for (const auto& h : r.headings) {
+    EXPECT_EQ(h.invalid_runs, 0) << h.invalid_reason;
+    EXPECT_LT(h.score, 0.05);
+  }
+  // The same pairs in one plane overlap.
+  std::string flat_x8 = x8;
+  flat_x8.replace(flat_x8.find("-0.02, -0.02, -0.02, -0.02"), 26, "0.06, 0.06, 0.06, 0.06");
+  try {
+    (void)tw::parse_airframe(flat_x8, "x8.yaml");
+    ADD_FAILURE() << "overlapping coaxial propellers accepted";
+  } catch (const td::ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("propellers of arms 1 and 5 overlap"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Airframe, AsymmetricGearIsNotHalfTurnSymmetric) {
   auto a = tw::Airframe::f450();
   a.legs = {{0.15, 0.08}, {0.15, -0.08}, {-0.10, -0.08}, {-0.10, 0.08}};
@@ -143,6 +183,13 @@ std::vector<td::test::BadInput> airframe_cases() {
       {"AnglesInRadians",
        replace(y, "  angles_deg: [45, 135, 225, 315]", "  angles_deg: [0.785, 2.356, 3.927, 5.498]"),
        {"propellers.radius", "overlap", "written in radians?"}},
+      {"MassInGrams", replace(y, "  mass: 0.95", "  mass: 950"), {"body.mass: 950 kg is implausible", "grams?"}},
+      {"PropellerCutsTheBody",
+       replace(y, "  motor_radius: 0.225", "  motor_radius: 0.16"),
+       {"propellers.radius: the propeller of arm 1 cuts into the body"}},
+      {"MotorZListTooShort",
+       replace(y, "  motor_z: 0.03", "  motor_z: [0.03, 0.03]"),
+       {"arms.motor_z: a list needs one z per arm (4), got 2"}},
       {"SpinWithTwoNumbers", replace(y, "  spin: [1, -1, 1, -1]", "  spin: [1, -1]"), {"motors.spin: expected 4"}},
       {"NonNumericMass", replace(y, "  mass: 0.35", "  mass: heavy"), {"landing_gear.mass: expected a number"}},
       {"InvalidYaml", "body: [1\n", {"invalid YAML"}},

@@ -40,6 +40,9 @@ struct Airframe {
   std::vector<double> arm_angles_deg{45, 135, 225, 315};
   double motor_radius = 0.225;
   double motor_z = 0.03;
+  /// Per-motor z (coaxial layouts: a motor above and one below each arm
+  /// end); empty = motor_z for every motor. YAML: `arms.motor_z` as a list.
+  std::vector<double> motor_zs;
   double arm_radius = 0.012;
   double motor_mass = 0.05;
   std::vector<int> spin{1, -1, 1, -1};  ///< +1 counter-clockwise seen from above
