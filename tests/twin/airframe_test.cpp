@@ -185,7 +185,7 @@ std::vector<td::test::BadInput> airframe_cases() {
        {"propellers.radius", "overlap", "written in radians?"}},
       {"MassInGrams", replace(y, "  mass: 0.95", "  mass: 950"), {"body.mass: 950 kg is implausible", "grams?"}},
       {"PropellerCutsTheBody",
-       replace(y, "  motor_radius: 0.225", "  motor_radius: 0.16"),
+       replace(replace(y, "  motor_radius: 0.225", "  motor_radius: 0.2"), "  height: 0.02", "  height: 0.0"),
        {"propellers.radius: the propeller of arm 1 cuts into the body"}},
       {"MotorZListTooShort",
        replace(y, "  motor_z: 0.03", "  motor_z: [0.03, 0.03]"),
