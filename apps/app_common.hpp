@@ -2,9 +2,12 @@
 // Shared plumbing of the command-line apps: exit codes and error lines
 // (DESIGN.md, app conventions): 0 success, 2 bad usage or input, 3 internal.
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <iostream>
+#include <sstream>
 #include <string>
 
 #include "touchdown/core/error.hpp"
@@ -25,6 +28,25 @@ inline CLI::Validator output_extension(const std::string& ext) {
         return "the file is written as " + ext.substr(1) + ": its name must end in " + ext + ", got " + path;
       },
       "*" + ext);
+}
+
+/// Validator of a number option: finite and within [lo, hi] (`(` or `)`
+/// with lo_open / hi_open). --help shows the range; a value outside it is
+/// refused naming the option ("--slope: 95 is outside [0, 80)"). Vector
+/// options check each element.
+inline CLI::Validator number_in(double lo, double hi, bool lo_open = false, bool hi_open = false) {
+  std::ostringstream os;
+  os << (lo_open ? "(" : "[") << lo << ", " << hi << (hi_open ? ")" : "]");
+  const std::string range = os.str();
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0') return "";  // not a number: the option's own conversion says so
+        const bool ok = std::isfinite(v) && (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+        return ok ? "" : text + " is outside " + range;
+      },
+      "in " + range);
 }
 
 /// Parses the command line and runs `body`, mapping exceptions to one line

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "app_common.hpp"
+#include "frames.hpp"
 #include "touchdown/core/atomic_file.hpp"
 #include "touchdown/core/units.hpp"
 #include "touchdown/terrain/extrinsics.hpp"
@@ -69,7 +70,13 @@ int main(int argc, char** argv) {
       ->required();
   app.add_option("--airframe", airframe_path,
                  "airframe YAML (default: the built-in DJI F450, data/airframes/f450.yaml)");
-  app.add_option("--extrinsics", extrinsics_path, "camera pose YAML when TERRAIN is a camera-frame point cloud");
+  bool assume_world = false;
+  auto* extrinsics = app.add_option("--extrinsics", extrinsics_path,
+                                    "camera pose YAML when TERRAIN is a camera-frame point cloud (not for a mesh)")
+                         ->default_str("none");
+  app.add_flag("--assume-world-frame", assume_world,
+               "TERRAIN is a world-frame cloud (z up) although it looks like a camera frame (docs/formats.md)")
+      ->excludes(extrinsics);
   app.add_option("--headings", o.headings, "number of headings n")->capture_default_str();
   app.add_option("--runs", o.runs, "runs per heading m")->capture_default_str();
   app.add_option(
@@ -147,11 +154,20 @@ int main(int argc, char** argv) {
     cloud_options.height_map.unknown_fill =
         unknown_fill == "pit" ? td::terrain::UnknownFill::Pit : td::terrain::UnknownFill::Block;
     if (!extrinsics_path.empty()) {
-      const auto e = td::terrain::load_extrinsics(extrinsics_path);
+      const auto e = td::app::load_extrinsics_with_warnings(app.get_name(), extrinsics_path);
       cloud_options.T_world_camera = e.T_world_camera;
       cloud_options.T_body_camera = e.T_body_camera;
     }
-    const auto terrain = tw::load_terrain_model(terrain_path, cloud_options);
+    tw::TerrainFile terrain_file = tw::read_terrain_file(terrain_path);
+    if (terrain_file.is_mesh() && (!extrinsics_path.empty() || assume_world)) {
+      throw td::InvalidArgument(terrain_path + ": is a mesh, always in the world frame: " +
+                                (assume_world ? "--assume-world-frame" : "--extrinsics") +
+                                " applies to point clouds only");
+    }
+    if (!terrain_file.is_mesh() && extrinsics_path.empty() && !assume_world) {
+      td::app::require_world_frame(terrain_path, terrain_file.cloud);
+    }
+    const auto terrain = tw::make_terrain_model(std::move(terrain_file), cloud_options);
     // One progress bar with an ETA on stderr (a terminal only); the line is
     // closed before anything else is printed.
     bool bar_open = false;

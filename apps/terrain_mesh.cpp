@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "app_common.hpp"
+#include "frames.hpp"
 #include "touchdown/core/cloud_io.hpp"
 #include "touchdown/core/mesh_io.hpp"
 #include "touchdown/terrain/extrinsics.hpp"
@@ -30,23 +31,37 @@ int main(int argc, char** argv) {
   std::string input, output, extrinsics_path, agg = "median", save_cloud;
   td::terrain::TerrainOptions opt;
   std::vector<double> crop_box;
-  bool json = false;
+  bool json = false, assume_world = false;
+  using td::app::number_in;
   app.add_option("INPUT", input,
-                 "point cloud: .pcd, .ply, .xyz, .csv, .txt (camera frame, or world frame without --extrinsics)")
+                 "point cloud: .pcd, .ply, .xyz, .csv, .txt (camera frame with --extrinsics, else world frame z up)")
       ->required();
   app.add_option("-o,--output", output, "terrain mesh to write: .stl (binary), .ply or .obj")->required();
-  app.add_option("--extrinsics", extrinsics_path,
-                 "camera pose YAML (xyz [m] + rpy_deg [deg], or a 4x4 matrix); see docs/formats.md");
-  app.add_option("--cell", opt.height_map.cell, "height-map cell edge [m]")->capture_default_str();
+  auto* extrinsics =
+      app.add_option("--extrinsics", extrinsics_path,
+                     "camera pose YAML (xyz [m] + rpy_deg [deg], or a 4x4 matrix) of a camera-frame INPUT; see "
+                     "docs/formats.md")
+          ->default_str("none");
+  app.add_flag("--assume-world-frame", assume_world,
+               "INPUT is in the world frame (z up) although it looks like a camera frame (organized, a PCD "
+               "VIEWPOINT, or a depth-like shape: docs/formats.md)")
+      ->excludes(extrinsics);
+  app.add_option("--cell", opt.height_map.cell, "height-map cell edge [m]")
+      ->check(number_in(0.001, 10))
+      ->capture_default_str();
   app.add_option("--crop-radius", opt.crop_radius, "drop points closer than this to the camera [m], 0 = off")
+      ->check(number_in(0, 100))
       ->capture_default_str();
   app.add_option("--crop-box", crop_box, "drop points inside this body-frame box [m]: xmin,ymin,zmin,xmax,ymax,zmax")
       ->delimiter(',')
-      ->expected(6);
+      ->expected(6)
+      ->check(number_in(-100, 100))
+      ->default_str("off");
   app.add_option("--agg", agg, "per-cell height: max or median")
       ->check(CLI::IsMember({"max", "median"}))
       ->capture_default_str();
   app.add_option("--max-hole", opt.height_map.max_hole, "widest gap filled by interpolation [m]")
+      ->check(number_in(0, 100))
       ->capture_default_str();
   std::string unknown_fill = "block";
   app.add_option("--unknown-fill", unknown_fill,
@@ -54,17 +69,24 @@ int main(int argc, char** argv) {
                  "rim or as a pit")
       ->check(CLI::IsMember({"block", "pit"}))
       ->capture_default_str();
-  app.add_option("--voxel", opt.voxel, "voxel downsampling edge [m]; < 0 = half the cell, 0 = off")
+  app.add_option("--voxel", opt.voxel, "voxel downsampling edge [m]; -1 (< 0) = half the cell, 0 = off")
+      ->check(number_in(-1, 10))
       ->capture_default_str();
   app.add_option("--outlier-k", opt.outliers.k, "neighbours for statistical outlier removal, 0 = off")
+      ->check(number_in(0, 100))
       ->capture_default_str();
   app.add_option("--outlier-std", opt.outliers.std_ratio, "outlier threshold: mean + this many std devs")
+      ->check(number_in(0, 100, true))
       ->capture_default_str();
   app.add_option("--flying-threshold", opt.flying_pixel_threshold,
                  "jump-edge filter for organized clouds: depth jump [m] at 1 m range (scales with z^2), 0 = off")
+      ->check(number_in(0, 10))
       ->capture_default_str();
-  app.add_option("--base", opt.base_thickness, "solid thickness below the lowest cell [m]")->capture_default_str();
-  app.add_option("--save-cloud", save_cloud, "also write the filtered world-frame cloud (.pcd binary, .ply, .xyz)");
+  app.add_option("--base", opt.base_thickness, "solid thickness below the lowest cell [m]")
+      ->check(number_in(0, 100, true))
+      ->capture_default_str();
+  app.add_option("--save-cloud", save_cloud, "also write the filtered world-frame cloud (.pcd binary, .ply, .xyz)")
+      ->default_str("none");
   app.add_flag("--json", json, "print one JSON object on stdout");
 
   return td::app::run(app, argc, argv, [&]() -> int {
@@ -82,7 +104,7 @@ int main(int argc, char** argv) {
     td::mesh_format_from_path(output);
     if (!save_cloud.empty()) td::cloud_format_from_path(save_cloud);
     if (!extrinsics_path.empty()) {
-      const auto ext = td::terrain::load_extrinsics(extrinsics_path);
+      const auto ext = td::app::load_extrinsics_with_warnings(app.get_name(), extrinsics_path);
       opt.T_world_camera = ext.T_world_camera;
       opt.T_body_camera = ext.T_body_camera;
     }
@@ -90,6 +112,7 @@ int main(int argc, char** argv) {
 
     td::PointCloud cloud = td::read_cloud(input);
     if (cloud.empty()) throw td::ParseError(input + ": the point cloud is empty");
+    if (extrinsics_path.empty() && !assume_world) td::app::require_world_frame(input, cloud);
     td::terrain::TerrainResult result = td::terrain::mesh_terrain(std::move(cloud), opt);
     if (!result.ok()) throw td::InvalidArgument(input + ": " + result.message);
     if (!save_cloud.empty()) td::write_cloud(result.filtered_cloud, save_cloud);

@@ -1,9 +1,13 @@
 // terrain_synth: scan a synthetic terrain with a simulated depth camera and
 // write the cloud (and the camera extrinsics) — how data/terrains/ is made.
+#include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <sstream>
 
 #include "app_common.hpp"
 #include "touchdown/core/atomic_file.hpp"
@@ -12,6 +16,22 @@
 #include "touchdown/terrain/extrinsics.hpp"
 #include "touchdown/terrain/filters.hpp"
 #include "touchdown/terrain/synthetic.hpp"
+
+namespace {
+
+// Ranges of the size options (docs/cli.md).
+constexpr int kMaxSide = 8192;            // --width, --height [px]
+constexpr double kMaxPixels = 4194304.0;  // width x height (2048 x 2048; 1920 x 1080 fits)
+constexpr double kBytesPerPixel = 52.0;   // 2 depth images (16) + cloud (12) + writer (24)
+constexpr int kMaxRocks = 1000;           // --rubble-count
+
+std::string gigabytes(double bytes) {
+  std::ostringstream os;
+  os << std::setprecision(2) << bytes / 1e9 << " GB";
+  return os.str();
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   namespace td = touchdown;
@@ -22,54 +42,102 @@ int main(int argc, char** argv) {
   syn::Shape shape;
   syn::DepthCamera cam;
   double cam_height = 1.2, cam_x = 0, cam_y = 0, cam_yaw_deg = 0, noise_scale = 1.0;
-  std::vector<double> plateau_size;
+  std::vector<double> plateau_size{shape.plateau_size.x(), shape.plateau_size.y()};
+  std::vector<double> post{shape.post_xy.x(), shape.post_xy.y(), shape.post_radius, shape.post_height};
   std::uint64_t seed = 1;
   bool json = false;
+  using td::app::number_in;
   app.add_option("KIND", kind, "flat, incline, step, plateau, rubble or post")->required();
   app.add_option("-o,--output", output, "cloud to write: .pcd, .ply, .xyz")->required();
-  app.add_option("--extrinsics-out", extrinsics_out, "write the camera pose YAML here (for terrain_mesh --extrinsics)");
-  app.add_option("--frame", frame, "camera (organized, optical frame) or world")
+  app.add_option("--extrinsics-out", extrinsics_out, "write the camera pose YAML here (for terrain_mesh --extrinsics)")
+      ->default_str("none");
+  app.add_option("--frame", frame, "camera (organized, optical frame) or world (unorganized, finite points, z up)")
       ->check(CLI::IsMember({"camera", "world"}))
       ->capture_default_str();
   app.add_option("--encoding", encoding, "PCD encoding: ascii, binary or binary_compressed")
       ->check(CLI::IsMember({"ascii", "binary", "binary_compressed"}))
       ->capture_default_str();
-  app.add_option("--camera-height", cam_height, "camera height above the origin [m]")->capture_default_str();
-  app.add_option("--camera-x", cam_x, "camera x [m]")->capture_default_str();
-  app.add_option("--camera-y", cam_y, "camera y [m]")->capture_default_str();
-  app.add_option("--camera-yaw", cam_yaw_deg, "camera yaw [deg]")->capture_default_str();
-  app.add_option("--width", cam.width, "image width [px]")->capture_default_str();
-  app.add_option("--height", cam.height, "image height [px]")->capture_default_str();
-  app.add_option("--fx", cam.fx, "focal length [px] (fy = fx; principal point at the centre)")->capture_default_str();
+  app.add_option("--camera-height", cam_height, "camera height above the origin [m] (depth range 0.2-10 m)")
+      ->check(number_in(0, 10, true))
+      ->capture_default_str();
+  app.add_option("--camera-x", cam_x, "camera x [m]")->check(number_in(-1000, 1000))->capture_default_str();
+  app.add_option("--camera-y", cam_y, "camera y [m]")->check(number_in(-1000, 1000))->capture_default_str();
+  app.add_option("--camera-yaw", cam_yaw_deg, "camera yaw [deg]")->check(number_in(-360, 360))->capture_default_str();
+  app.add_option("--width", cam.width, "image width [px]; width x height at most 4194304 pixels")
+      ->check(number_in(1, kMaxSide))
+      ->capture_default_str();
+  app.add_option("--height", cam.height, "image height [px]")->check(number_in(1, kMaxSide))->capture_default_str();
+  app.add_option("--fx", cam.fx, "focal length [px] (fy = fx; principal point at the centre)")
+      ->check(number_in(0, 100000, true))
+      ->capture_default_str();
   app.add_option("--noise-scale", noise_scale, "multiplies depth noise, dropouts and outliers (0 = ideal)")
+      ->check(number_in(0, 100))
       ->capture_default_str();
   app.add_option("--azimuth", shape.azimuth_deg, "direction the incline rises / the step goes up [deg]")
+      ->check(number_in(-360, 360))
       ->capture_default_str();
-  app.add_option("--slope", shape.slope_deg, "incline angle [deg]")->capture_default_str();
-  app.add_option("--step-height", shape.step_height, "step height [m]")->capture_default_str();
-  app.add_option("--edge-offset", shape.edge_offset, "step edge distance from the origin [m]")->capture_default_str();
-  app.add_option("--plateau-height", shape.plateau_height, "plateau height [m]")->capture_default_str();
-  app.add_option("--plateau-size", plateau_size, "plateau length,width [m]")->delimiter(',')->expected(2);
-  app.add_option("--rubble-count", shape.rubble_count, "number of rocks")->capture_default_str();
-  app.add_option("--rubble-height", shape.rubble_max_height, "tallest rock [m]")->capture_default_str();
-  std::vector<double> post;
-  app.add_option("--post", post, "post: x,y,radius,height [m]")->delimiter(',')->expected(4);
-  app.add_option("--seed", seed, "random seed")->capture_default_str();
+  app.add_option("--slope", shape.slope_deg, "incline angle [deg]")
+      ->check(number_in(0, 80, false, true))
+      ->capture_default_str();
+  app.add_option("--step-height", shape.step_height, "step height [m] (< 0: a step down)")
+      ->check(number_in(-5, 5))
+      ->capture_default_str();
+  app.add_option("--edge-offset", shape.edge_offset, "step edge distance from the origin [m]")
+      ->check(number_in(-1000, 1000))
+      ->capture_default_str();
+  app.add_option("--plateau-height", shape.plateau_height, "plateau height [m] (< 0: a pit)")
+      ->check(number_in(-5, 5))
+      ->capture_default_str();
+  app.add_option("--plateau-size", plateau_size, "plateau length,width [m]")
+      ->delimiter(',')
+      ->expected(2)
+      ->check(number_in(0, 1000, true))
+      ->capture_default_str();
+  app.add_option("--rubble-count", shape.rubble_count, "number of rocks")
+      ->check(number_in(0, kMaxRocks))
+      ->capture_default_str();
+  app.add_option("--rubble-height", shape.rubble_max_height, "tallest rock [m]")
+      ->check(number_in(0, 5))
+      ->capture_default_str();
+  app.add_option("--post", post,
+                 "post: x,y,radius,height [m] (x, y in [-1000, 1000], radius in (0, 100], height in "
+                 "[-5, 5])")
+      ->delimiter(',')
+      ->expected(4)
+      ->check(number_in(-1000, 1000))
+      ->capture_default_str();
+  app.add_option("--seed", seed, "random seed")->check(number_in(0, 1e18))->capture_default_str();
   app.add_flag("--json", json, "print one JSON object on stdout");
 
   return td::app::run(app, argc, argv, [&]() -> int {
     shape.kind = syn::shape_kind_from_string(kind);
-    if (plateau_size.size() == 2) shape.plateau_size = {plateau_size[0], plateau_size[1]};
-    if (post.size() == 4) {
-      shape.post_xy = {post[0], post[1]};
-      shape.post_radius = post[2];
-      shape.post_height = post[3];
+    shape.plateau_size = {plateau_size[0], plateau_size[1]};
+    if (!(post[2] > 0 && post[2] <= 100)) throw td::InvalidArgument("--post: radius must be in (0, 100] m");
+    if (!(std::abs(post[3]) <= 5)) throw td::InvalidArgument("--post: height must be in [-5, 5] m");
+    shape.post_xy = {post[0], post[1]};
+    shape.post_radius = post[2];
+    shape.post_height = post[3];
+    // Memory before allocating: the renderer holds two depth images
+    // (doubles) and the cloud (3 floats), the writer up to twice the cloud.
+    const double pixels = static_cast<double>(cam.width) * cam.height;
+    if (pixels > kMaxPixels) {
+      throw td::InvalidArgument("--width x --height = " + std::to_string(cam.width) + " x " +
+                                std::to_string(cam.height) + " = " + std::to_string(static_cast<long long>(pixels)) +
+                                " pixels needs ~" + gigabytes(pixels * kBytesPerPixel) + "; the limit is " +
+                                std::to_string(static_cast<long long>(kMaxPixels)) + " pixels (~" +
+                                gigabytes(kMaxPixels * kBytesPerPixel) + ")");
     }
     shape.rubble_seed = seed;
     shape.prepare();
-    if (cam.width <= 0 || cam.height <= 0 || !(cam.fx > 0))
-      throw td::InvalidArgument("--width, --height and --fx must be positive");
-    if (!(noise_scale >= 0)) throw td::InvalidArgument("--noise-scale must be >= 0");
+    // The depth camera sees from 0.2 m: it must be that far above the terrain under it.
+    const double ground = shape.height(cam_x, cam_y);
+    if (!(cam_height - ground >= cam.min_range)) {
+      std::ostringstream os;
+      os << "--camera-height: the camera at (" << cam_x << ", " << cam_y << ", " << cam_height << ") is "
+         << cam_height - ground << " m above the terrain under it (z = " << ground << "); it sees from "
+         << cam.min_range << " m";
+      throw td::InvalidArgument(os.str());
+    }
     cam = syn::DepthCamera::centred(cam.width, cam.height, cam.fx);
     cam.subpixel *= noise_scale;
     cam.dropout_fraction *= noise_scale;
@@ -77,9 +145,16 @@ int main(int argc, char** argv) {
     cam.flying_pixels = noise_scale > 0;
     const Eigen::Isometry3d T = syn::nadir_camera_pose(cam_x, cam_y, cam_height, touchdown::deg_to_rad(cam_yaw_deg));
     td::PointCloud cloud = syn::render_depth_scan(shape, cam, T, seed);
+    if (std::none_of(cloud.points.begin(), cloud.points.end(), [](const Eigen::Vector3f& p) { return p.allFinite(); }))
+      throw td::InvalidArgument("no terrain point lies within the depth camera's " + std::to_string(cam.min_range) +
+                                "-" + std::to_string(cam.max_range) + " m range: lower --camera-height");
     if (frame == "world") {
+      // Not organized (even when no pixel was lost): a world-frame cloud has
+      // no pixel grid, and terrain_mesh/landing_sweep take an organized
+      // cloud for a camera frame.
       td::terrain::remove_non_finite(cloud);
       td::terrain::transform_cloud(cloud, T);
+      cloud.mark_unorganized();
     }
     if (td::cloud_format_from_path(output) == td::CloudFormat::Pcd) {
       const auto enc = encoding == "ascii"    ? td::PcdEncoding::Ascii

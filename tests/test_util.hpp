@@ -153,6 +153,26 @@ inline std::string replace_key_line(const std::string& yaml, const std::string& 
   return out;
 }
 
+/// DESIGN (app conventions): every option of a CLI11 --help text that takes
+/// a value (TEXT, INT, UINT, FLOAT) and is not required shows its default
+/// ("--cell FLOAT=0.02", "--crop-box FLOAT=off x 6").
+inline void expect_help_shows_defaults(const std::string& help) {
+  std::istringstream in(help);
+  std::string line;
+  int options = 0;
+  while (std::getline(in, line)) {
+    const auto start = line.find_first_not_of(' ');
+    if (start == std::string::npos || line[start] != '-') continue;
+    const std::string head = line.substr(start, line.find("  ", start) - start);
+    const bool takes_value = head.find(" TEXT") != std::string::npos || head.find(" INT") != std::string::npos ||
+                             head.find(" UINT") != std::string::npos || head.find(" FLOAT") != std::string::npos;
+    if (!takes_value || head.find("REQUIRED") != std::string::npos) continue;
+    ++options;
+    EXPECT_NE(head.find('='), std::string::npos) << "no default shown: " << line;
+  }
+  EXPECT_GT(options, 3) << help;
+}
+
 inline AppRun run_app(const std::string& exe, const std::string& args, const TempDir& dir) {
   const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
   const std::string cmd = exe + " " + args + " >" + out.string() + " 2>" + err.string();

@@ -43,6 +43,7 @@ struct PcdHeader {
   PcdData data = PcdData::Ascii;
   std::size_t point_size = 0;  // bytes per point record
   std::array<int, 3> xyz{-1, -1, -1};
+  std::array<double, 7> viewpoint{0, 0, 0, 1, 0, 0, 0};
 };
 
 // Reads one scalar of the given PCD type from raw little-endian bytes.
@@ -171,7 +172,16 @@ PcdHeader read_header(std::istream& in, std::string_view source) {
         h.have_points = true;
       }
     } else if (key == "VIEWPOINT") {
-      continue;
+      // tx ty tz qw qx qy qz: kept as evidence of a sensor-frame cloud.
+      if (tok.size() != 8) {
+        detail::parse_fail_line(source, line_no, "header VIEWPOINT: expected 7 numbers (tx ty tz qw qx qy qz)");
+      }
+      for (std::size_t i = 0; i < 7; ++i) {
+        if (!detail::parse_double(tok[i + 1], h.viewpoint[i]) || !std::isfinite(h.viewpoint[i])) {
+          detail::parse_fail_line(source, line_no,
+                                  "header VIEWPOINT: '" + std::string(tok[i + 1]) + "' is not a finite number");
+        }
+      }
     } else if (key == "DATA") {
       if (tok.size() != 2) detail::parse_fail_line(source, line_no, "header DATA: expected one word");
       if (tok[1] == "ascii") {
@@ -241,6 +251,7 @@ PointCloud make_cloud(const PcdHeader& h) {
   PointCloud c;
   c.width = static_cast<std::uint32_t>(h.width);
   c.height = static_cast<std::uint32_t>(h.height);
+  c.viewpoint = h.viewpoint;
   return c;
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <numbers>
 #include <sstream>
 #include <vector>
 
@@ -37,10 +38,26 @@ Eigen::Vector3d vec3(const detail::YamlReader& r, const YAML::Node& node, const 
   return {v[0], v[1], v[2]};
 }
 
+// True when rpy_deg values look like radians: every angle within ±2π and at
+// least one that is not a whole number of degrees ([3.14159, 0, 1.5708]).
+bool looks_like_radians(const Eigen::Vector3d& v) {
+  const bool small = (v.array().abs() <= 2 * std::numbers::pi).all();
+  const bool fractional = (v.array() != v.array().round()).any();
+  return small && fractional;
+}
+
+std::string list3(const Eigen::Vector3d& v) {
+  std::ostringstream os;
+  os << std::setprecision(6) << "[" << v.x() + 0.0 << ", " << v.y() + 0.0 << ", " << v.z() + 0.0 << "]";
+  return os.str();
+}
+
 // Reads one pose map: {xyz, rpy_deg} or {matrix}. `prefix` is "" or
-// "body.". `rpy` is the key's earlier name (also degrees), still read.
+// "body.". `rpy` is the key's earlier name (also degrees), still read. The
+// rotation is required: a missing one is never taken for the identity
+// (issue 11: an xyz-only file put the terrain above the camera).
 Eigen::Isometry3d parse_pose(const detail::YamlReader& r, const YAML::Node& map, const std::string& prefix,
-                             bool allow_body) {
+                             bool allow_body, std::vector<std::string>& warnings) {
   if (allow_body) {
     r.only(map, prefix, {"xyz", "rpy_deg", "rpy", "matrix", "body"});
   } else {
@@ -53,10 +70,23 @@ Eigen::Isometry3d parse_pose(const detail::YamlReader& r, const YAML::Node& map,
   const YAML::Node rpy = map[rpy_name];
   const std::string rpy_key = prefix + rpy_name;
   if (matrix && (xyz || rpy)) r.fail(map, prefix + "matrix", "give either matrix or xyz/rpy_deg, not both");
-  if (!matrix && !xyz && !rpy) r.fail(map, prefix + "xyz", "missing: expected xyz/rpy_deg or matrix");
   if (!matrix) {
-    return pose_from_xyz_rpy(xyz ? vec3(r, xyz, prefix + "xyz") : Eigen::Vector3d::Zero(),
-                             rpy ? Eigen::Vector3d(vec3(r, rpy, rpy_key) * kRadPerDeg) : Eigen::Vector3d::Zero());
+    const Eigen::Vector3d t = xyz ? vec3(r, xyz, prefix + "xyz") : Eigen::Vector3d::Zero();
+    if (!rpy) {
+      r.fail(map, rpy_key,
+             "missing: the camera's rotation is required (rpy_deg: [roll, pitch, yaw] in degrees, or a 4x4 "
+             "matrix); a camera looking straight down is rpy_deg: [180, 0, 0]");
+    }
+    const Eigen::Vector3d deg = vec3(r, rpy, rpy_key);
+    if (looks_like_radians(deg)) {
+      std::string where(r.source);
+      if (rpy.Mark().line >= 0) where += ":" + std::to_string(rpy.Mark().line + 1);
+      warnings.push_back(where + ": " + rpy_key + ": " + list3(deg) +
+                         " look like radians (all within +-2 pi, not whole degrees) but are read as degrees; if "
+                         "radians were meant, write " +
+                         list3((deg / kRadPerDeg * 100).array().round().matrix() / 100));
+    }
+    return pose_from_xyz_rpy(t, deg * kRadPerDeg);
   }
   const std::string key = prefix + "matrix";
   const auto v = flat_numbers(r, matrix, key);
@@ -88,8 +118,8 @@ Extrinsics parse_extrinsics(std::string_view yaml_text, std::string_view source)
   const detail::YamlReader r{source};
   Extrinsics e;
   try {
-    e.T_world_camera = parse_pose(r, root, "", true);
-    if (const YAML::Node body = root["body"]) e.T_body_camera = parse_pose(r, body, "body.", false);
+    e.T_world_camera = parse_pose(r, root, "", true, e.warnings);
+    if (const YAML::Node body = root["body"]) e.T_body_camera = parse_pose(r, body, "body.", false, e.warnings);
   } catch (const YAML::Exception& ex) {
     throw ParseError(std::string(source) + ":" + std::to_string(ex.mark.line + 1) + ": " + ex.msg);
   }

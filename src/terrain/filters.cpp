@@ -101,6 +101,7 @@ void transform_cloud(PointCloud& cloud, const Eigen::Isometry3d& T) {
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
   for (auto& p : cloud.points) p = R * p + t;
+  cloud.viewpoint = PointCloud{}.viewpoint;  // the points are now in a frame of our making
 }
 
 bool CropOptions::validate(std::string* why) const {

@@ -234,26 +234,39 @@ bool TerrainModel::unknown_in_box(const Eigen::Vector2d& centre, const Eigen::Ve
                           });
 }
 
-std::shared_ptr<const TerrainModel> load_terrain_model(const std::filesystem::path& path,
-                                                       const terrain::TerrainOptions& cloud_options) {
+TerrainFile read_terrain_file(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  const bool mesh_ext = ext == ".stl" || ext == ".obj";
-  const bool ply = ext == ".ply";
-  if (mesh_ext) return std::make_shared<const TerrainModel>(read_mesh(path));
-  if (ply) {
+  TerrainFile file;
+  file.path = path;
+  if (ext == ".stl" || ext == ".obj") {
+    file.mesh = read_mesh(path);
+    return file;
+  }
+  if (ext == ".ply") {
     try {
-      return std::make_shared<const TerrainModel>(read_mesh(path));
+      file.mesh = read_mesh(path);
+      return file;
     } catch (const ParseError&) {
-      // A PLY without faces is a point cloud: mesh it below.
+      // A PLY without faces is a point cloud.
     }
   }
-  PointCloud cloud = read_cloud(path);
-  if (cloud.empty()) throw ParseError(path.string() + ": the point cloud is empty");
-  auto result = terrain::mesh_terrain(std::move(cloud), cloud_options);
-  if (!result.ok()) throw InvalidArgument(path.string() + ": " + result.message);
+  file.cloud = read_cloud(path);
+  if (file.cloud.empty()) throw ParseError(path.string() + ": the point cloud is empty");
+  return file;
+}
+
+std::shared_ptr<const TerrainModel> make_terrain_model(TerrainFile file, const terrain::TerrainOptions& cloud_options) {
+  if (file.mesh) return std::make_shared<const TerrainModel>(std::move(*file.mesh));
+  auto result = terrain::mesh_terrain(std::move(file.cloud), cloud_options);
+  if (!result.ok()) throw InvalidArgument(file.path.string() + ": " + result.message);
   return std::make_shared<const TerrainModel>(std::move(result.mesh), UnknownCells::of(result.height_map));
+}
+
+std::shared_ptr<const TerrainModel> load_terrain_model(const std::filesystem::path& path,
+                                                       const terrain::TerrainOptions& cloud_options) {
+  return make_terrain_model(read_terrain_file(path), cloud_options);
 }
 
 }  // namespace touchdown::twin

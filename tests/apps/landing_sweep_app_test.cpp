@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "test_util.hpp"
+#include "touchdown/core/cloud_io.hpp"
 #include "touchdown/core/mesh_io.hpp"
 #include "touchdown/terrain/height_map.hpp"
 
@@ -28,6 +29,22 @@ std::string flat_stl(const TempDir& dir) {
   td::write_mesh(td::terrain::triangulate_solid(m, 0.1), path);
   return path.string();
 }
+
+// An organized 64 x 64 grid of a flat floor at z = 0 (world frame, 1.6 m
+// square): what a world-frame cloud that kept its pixel grid looks like.
+std::string organized_world_pcd(const TempDir& dir) {
+  td::PointCloud c;
+  c.width = 64;
+  c.height = 64;
+  for (int v = 0; v < 64; ++v)
+    for (int u = 0; u < 64; ++u)
+      c.points.emplace_back(0.025f * static_cast<float>(u - 32), 0.025f * static_cast<float>(v - 32), 0.f);
+  const auto path = dir / "grid.pcd";
+  td::write_pcd(c, path);
+  return path.string();
+}
+
+void expect_one_line(const AppRun& r) { EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err; }
 
 }  // namespace
 
@@ -282,4 +299,84 @@ TEST(LandingSweepApp, EveryPrintedKeyAndCsvValueIsDocumented) {
   EXPECT_TRUE(values.count("timeout"));
   for (const auto& k : keys) EXPECT_NE(section.find("`" + k + "`"), std::string::npos) << "undocumented key " << k;
   for (const auto& v : values) EXPECT_NE(section.find(v), std::string::npos) << "undocumented value " << v;
+}
+
+// Issue 11: `landing_sweep step.pcd` without --extrinsics swept the
+// camera-frame cloud as if z were up. Refused now, with the ways out.
+TEST(LandingSweepAppBadInput, CameraFrameCloudWithoutExtrinsics) {
+  TempDir dir;
+  const auto step = std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/terrains/step.pcd";
+  const AppRun r = run(step.string() + " --headings 1 --runs 1", dir);
+  EXPECT_EQ(r.code, 2) << r.err;
+  expect_one_line(r);
+  EXPECT_NE(r.err.find("step.pcd: looks like a camera-frame point cloud: it is organized (424 x 240 pixels)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("--extrinsics FILE"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--assume-world-frame"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+TEST(LandingSweepApp, AssumeWorldFrameAcceptsAnOrganizedWorldCloud) {
+  TempDir dir;
+  const auto grid = organized_world_pcd(dir);
+  const AppRun refused = run(grid + " --headings 1 --runs 1", dir);
+  EXPECT_EQ(refused.code, 2) << refused.err;
+  expect_one_line(refused);
+  const AppRun r = run(grid + " --headings 1 --runs 1 --assume-world-frame --json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(j["ground_z"].get<double>(), 0.0, 1e-6);
+  EXPECT_TRUE(j["best"]["safe"].get<bool>());
+}
+
+// Data we did not make: PCL's real organized stereo scan of a table.
+TEST(LandingSweepAppBadInput, RealPclTableScanWithoutExtrinsics) {
+  TempDir dir;
+  const AppRun r = run(td::test::data_path("pcl/table_scene_mug_stereo_textured.pcd").string(), dir);
+  EXPECT_EQ(r.code, 2) << r.err;
+  expect_one_line(r);
+  EXPECT_NE(r.err.find("looks like a camera-frame point cloud: it is organized (640 x 480 pixels)"), std::string::npos)
+      << r.err;
+}
+
+// Issue 11: --extrinsics was silently ignored when the terrain is a mesh.
+TEST(LandingSweepAppBadInput, ExtrinsicsWithAMesh) {
+  TempDir dir;
+  const auto terrain = flat_stl(dir);
+  const auto cam = std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/terrains/step.extrinsics.yaml";
+  AppRun r = run(terrain + " --extrinsics " + cam.string(), dir);
+  EXPECT_EQ(r.code, 2) << r.err;
+  expect_one_line(r);
+  EXPECT_NE(r.err.find("flat.stl: is a mesh, always in the world frame: --extrinsics applies to point clouds only"),
+            std::string::npos)
+      << r.err;
+  r = run(terrain + " --assume-world-frame", dir);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("--assume-world-frame applies to point clouds only"), std::string::npos) << r.err;
+}
+
+// Issue 11: an xyz-only extrinsics file was read with the identity rotation.
+TEST(LandingSweepAppBadInput, ExtrinsicsWithoutRotation) {
+  TempDir dir;
+  const auto step = std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/terrains/step.pcd";
+  td::test::write_text(dir / "cam.yaml", "xyz: [0, 0, 1.2]\n");
+  const AppRun r = run(step.string() + " --extrinsics " + (dir / "cam.yaml").string(), dir);
+  EXPECT_EQ(r.code, 2) << r.err;
+  expect_one_line(r);
+  EXPECT_NE(r.err.find("cam.yaml:1: rpy_deg: missing"), std::string::npos) << r.err;
+}
+
+// Issue 11: rpy in radians was read as degrees without a word.
+TEST(LandingSweepApp, RpyInRadiansGetsAWarning) {
+  TempDir dir;
+  const auto grid = organized_world_pcd(dir);
+  td::test::write_text(dir / "cam.yaml", "xyz: [0, 0, 0]\nrpy_deg: [0.5, 0, 0]\n");
+  const AppRun r = run(grid + " --headings 1 --runs 1 --extrinsics " + (dir / "cam.yaml").string(), dir);
+  EXPECT_EQ(r.code, 0) << r.err;
+  expect_one_line(r);
+  EXPECT_NE(r.err.find("landing_sweep: warning: " + (dir / "cam.yaml").string() +
+                       ":2: rpy_deg: [0.5, 0, 0] look like radians"),
+            std::string::npos)
+      << r.err;
 }

@@ -48,6 +48,22 @@ std::string small_step_pcd() {
   return s.str();
 }
 
+// An organized 60 x 40 frame of a flat floor 1.2 m below a downward-looking
+// camera, in the camera's optical frame.
+std::string organized_camera_pcd() {
+  std::stringstream s;
+  td::PointCloud c;
+  c.width = 60;
+  c.height = 40;
+  for (int v = 0; v < 40; ++v)
+    for (int u = 0; u < 60; ++u)
+      c.points.emplace_back(0.02f * static_cast<float>(u - 30), 0.02f * static_cast<float>(v - 20), 1.2f);
+  td::write_pcd(c, s, td::PcdEncoding::Binary);
+  return s.str();
+}
+
+void expect_one_line(const AppRun& r) { EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err; }
+
 }  // namespace
 
 TEST(TerrainMeshApp, JsonReportAndClosedMesh) {
@@ -157,4 +173,108 @@ TEST(TerrainMeshAppBadInput, BadOptionsAndExtrinsics) {
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("unknown mesh format"), std::string::npos) << r.err;
   EXPECT_EQ(dir.files().size(), 2u);
+}
+
+// Issue 11: a camera-frame cloud meshed without --extrinsics came out upside
+// down (z is depth) without a word. Refused now, with the way out.
+TEST(TerrainMeshAppBadInput, OrganizedCameraFrameWithoutExtrinsics) {
+  TempDir dir;
+  expect_bad_input(dir, "frame.pcd", organized_camera_pcd(), "looks like a camera-frame point cloud");
+  const AppRun r = run((dir / "frame.pcd").string() + " -o " + (dir / "o.stl").string(), dir);
+  EXPECT_NE(r.err.find("organized (60 x 40 pixels)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--extrinsics FILE"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--assume-world-frame"), std::string::npos) << r.err;
+}
+
+TEST(TerrainMeshApp, AssumeWorldFrameAcceptsAnOrganizedCloud) {
+  TempDir dir;
+  td::test::write_text(dir / "frame.pcd", organized_camera_pcd());
+  const AppRun r =
+      run((dir / "frame.pcd").string() + " -o " + (dir / "o.stl").string() + " --assume-world-frame --json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  EXPECT_NEAR(nlohmann::json::parse(r.out)["bounds"]["max"][2].get<double>(), 1.2, 1e-6);
+  // With its camera pose it is a floor at z = 0.
+  td::test::write_text(dir / "cam.yaml", "xyz: [0, 0, 1.2]\nrpy_deg: [180, 0, 0]\n");
+  const AppRun e = run((dir / "frame.pcd").string() + " -o " + (dir / "o.stl").string() + " --extrinsics " +
+                           (dir / "cam.yaml").string() + " --json",
+                       dir);
+  ASSERT_EQ(e.code, 0) << e.err;
+  EXPECT_NEAR(nlohmann::json::parse(e.out)["bounds"]["max"][2].get<double>(), 0.0, 1e-6);
+  // Both at once contradict each other.
+  const AppRun both = run((dir / "frame.pcd").string() + " -o " + (dir / "o.stl").string() + " --extrinsics " +
+                              (dir / "cam.yaml").string() + " --assume-world-frame",
+                          dir);
+  EXPECT_EQ(both.code, 2);
+  expect_one_line(both);
+}
+
+// Data we did not make: PCL's real organized stereo scan of a table.
+TEST(TerrainMeshAppBadInput, RealPclTableScanWithoutExtrinsics) {
+  TempDir dir;
+  const auto table = td::test::data_path("pcl/table_scene_mug_stereo_textured.pcd");
+  const AppRun r = run(table.string() + " -o " + (dir / "t.stl").string(), dir);
+  EXPECT_EQ(r.code, 2) << r.err;
+  expect_one_line(r);
+  EXPECT_NE(r.err.find("table_scene_mug_stereo_textured.pcd: looks like a camera-frame point cloud: it is organized "
+                       "(640 x 480 pixels)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "t.stl"));
+}
+
+// Issue 11: an xyz-only extrinsics file meant the identity rotation.
+TEST(TerrainMeshAppBadInput, ExtrinsicsWithoutRotation) {
+  TempDir dir;
+  td::test::write_text(dir / "frame.pcd", organized_camera_pcd());
+  td::test::write_text(dir / "cam.yaml", "xyz: [0, 0, 1.2]\n");
+  const AppRun r = run(
+      (dir / "frame.pcd").string() + " -o " + (dir / "o.stl").string() + " --extrinsics " + (dir / "cam.yaml").string(),
+      dir);
+  EXPECT_EQ(r.code, 2);
+  expect_one_line(r);
+  EXPECT_NE(r.err.find("cam.yaml:1: rpy_deg: missing"), std::string::npos) << r.err;
+}
+
+// Issue 11: rpy in radians was read as degrees without a word; now a
+// one-line warning on stderr (the run goes on: it is a plausible value).
+TEST(TerrainMeshApp, RpyInRadiansGetsAWarning) {
+  TempDir dir;
+  td::test::write_text(dir / "frame.pcd", organized_camera_pcd());
+  td::test::write_text(dir / "cam.yaml", "xyz: [0, 0, 1.2]\nrpy_deg: [3.14159, 0, 1.5708]\n");
+  const AppRun r = run(
+      (dir / "frame.pcd").string() + " -o " + (dir / "o.stl").string() + " --extrinsics " + (dir / "cam.yaml").string(),
+      dir);
+  EXPECT_EQ(r.code, 0) << r.err;
+  expect_one_line(r);
+  EXPECT_NE(r.err.find("terrain_mesh: warning: " + (dir / "cam.yaml").string() +
+                       ":2: rpy_deg: [3.14159, 0, 1.5708] look like radians"),
+            std::string::npos)
+      << r.err;
+}
+
+// Issue 11 item 4: every size option has a range; outside it, exit 2 naming the option.
+TEST(TerrainMeshAppBadInput, OptionsOutOfRange) {
+  TempDir dir;
+  td::test::write_text(dir / "step.pcd", small_step_pcd());
+  for (const char* opt :
+       {"--cell 0", "--cell 100", "--outlier-k 1000000", "--outlier-std 0", "--voxel 1e9", "--voxel nan",
+        "--crop-radius -1", "--max-hole inf", "--base 0", "--flying-threshold -0.1", "--crop-box 0,0,0,1,1,1e9"}) {
+    SCOPED_TRACE(opt);
+    const AppRun r = run((dir / "step.pcd").string() + " -o " + (dir / "o.stl").string() + " " + opt, dir);
+    EXPECT_EQ(r.code, 2) << r.err;
+    expect_one_line(r);
+    const std::string name = std::string(opt).substr(0, std::string(opt).find(' '));
+    EXPECT_NE(r.err.find(name + ": "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("is outside"), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "o.stl"));
+}
+
+// DESIGN: --help shows the default of every option that takes a value.
+TEST(TerrainMeshApp, HelpShowsEveryDefault) {
+  TempDir dir;
+  const AppRun r = run("--help", dir);
+  ASSERT_EQ(r.code, 0);
+  td::test::expect_help_shows_defaults(r.out);
 }

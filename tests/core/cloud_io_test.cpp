@@ -196,6 +196,30 @@ TEST(CloudIo, ReadsPclCompressedUnorganizedCloud) {
 
 const std::string kHead3 = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n";
 
+// Issue 11: the VIEWPOINT is kept as evidence of a sensor-frame cloud (PCL's
+// organized frames record the sensor's orientation, 180 deg about x).
+TEST(CloudIo, PcdViewpointIsKept) {
+  const auto table = td::read_cloud(td::test::data_path("pcl/table_scene_mug_stereo_textured.pcd"));
+  EXPECT_TRUE(table.has_viewpoint());
+  EXPECT_EQ(table.viewpoint, (std::array<double, 7>{0, 0, 0, 0, 1, 0, 0}));
+  EXPECT_FALSE(td::read_cloud(td::test::data_path("pcl/bunny.pcd")).has_viewpoint());  // v.5: no VIEWPOINT
+  EXPECT_FALSE(td::read_cloud(td::test::data_path("pcl/milk_color.pcd")).has_viewpoint());
+  // -q is the same rotation as q.
+  EXPECT_FALSE(parse_pcd(kHead3 + "WIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 -1 0 0 0\nDATA ascii\n1 2 3\n").has_viewpoint());
+  EXPECT_TRUE(parse_pcd(kHead3 + "WIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 1.5 1 0 0 0\nDATA ascii\n1 2 3\n").has_viewpoint());
+  // Writers write the identity.
+  std::stringstream out;
+  td::write_pcd(table, out, td::PcdEncoding::Binary);
+  EXPECT_FALSE(td::read_pcd(out, "out").has_viewpoint());
+}
+
+TEST(CloudIoBadInput, PcdViewpointNotSevenNumbers) {
+  auto e = pcd_error(kHead3 + "WIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0\nDATA ascii\n1 2 3\n");
+  EXPECT_NE(e.find("mem.pcd:8: header VIEWPOINT: expected 7 numbers"), std::string::npos) << e;
+  e = pcd_error(kHead3 + "WIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 nan\nDATA ascii\n1 2 3\n");
+  EXPECT_NE(e.find("header VIEWPOINT: 'nan' is not a finite number"), std::string::npos) << e;
+}
+
 TEST(CloudIoBadInput, PcdTruncatedBinary) {
   const std::string text = kHead3 + "WIDTH 3\nHEIGHT 1\nPOINTS 3\nDATA binary\n" + binary_bytes({1, 2, 3, 4, 5, 6, 7});
   const auto e = pcd_error(text);

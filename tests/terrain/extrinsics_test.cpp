@@ -95,14 +95,51 @@ INSTANTIATE_TEST_SUITE_P(
         {"MatrixWithThreeNumbers", "matrix: [1, 0, 0]\n", {"expected 16 numbers"}},
         {"MatrixAndXyz", "xyz: [0, 0, 0]\nmatrix: [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]\n", {"not both"}},
         {"BodyXyzWithTwoNumbers",
-         "body:\n  xyz: [0, 0]\nxyz: [0, 0, 1]\n",
+         "body:\n  xyz: [0, 0]\nxyz: [0, 0, 1]\nrpy_deg: [180, 0, 0]\n",
          {"cam.yaml:2: body.xyz: expected 3 numbers"}},
+        // Issue 11: a file with only xyz was read with the identity rotation
+        // (a camera looking up): the terrain ended up above the camera.
+        {"XyzOnlyHasNoRotation",
+         "xyz: [0, 0, 1.5]\n",
+         {"cam.yaml:1: rpy_deg: missing", "rotation is required", "rpy_deg: [180, 0, 0]"}},
+        {"BodyXyzOnlyHasNoRotation",
+         "xyz: [0, 0, 1.5]\nrpy_deg: [180, 0, 0]\nbody:\n  xyz: [0.06, 0, -0.04]\n",
+         {"cam.yaml:4: body.rpy_deg: missing"}},
         {"InvalidYaml", "xyz: [0, 0, 1\n", {"invalid YAML"}},
         {"NotAMapping", "- 1\n- 2\n", {"expected a YAML mapping"}},
-        {"Empty", "{}", {"xyz: missing"}},
+        {"Empty", "{}", {"rpy_deg: missing"}},
         {"NaN", "xyz: [.nan, 0, 1]\n", {"xyz: expected a number, got '.nan'"}},
         {"RpyAndRpyDeg", "rpy_deg: [180, 0, 0]\nrpy: [180, 0, 0]\n", {"cam.yaml:2: rpy: give rpy_deg only"}},
     }),
     td::test::bad_input_name);
+
+// Issue 11: rpy given in radians was read as degrees without a word.
+TEST(Extrinsics, RpyThatLooksLikeRadiansIsReadAsDegreesWithAWarning) {
+  const auto e = tt::parse_extrinsics("xyz: [0, 0, 1.2]\nrpy_deg: [3.14159, 0, 1.5708]\n", "cam.yaml");
+  EXPECT_TRUE(e.T_world_camera.linear().isApprox(
+      tt::rotation_from_rpy(3.14159 * std::numbers::pi / 180, 0, 1.5708 * std::numbers::pi / 180)));
+  ASSERT_EQ(e.warnings.size(), 1u);
+  const std::string& w = e.warnings[0];
+  EXPECT_EQ(w.find('\n'), std::string::npos) << w;
+  EXPECT_NE(w.find("cam.yaml:2: rpy_deg: [3.14159, 0, 1.5708] look like radians"), std::string::npos) << w;
+  EXPECT_NE(w.find("write [180, 0, 90]"), std::string::npos) << w;
+  // The legacy key and the body section are checked too.
+  const auto b = tt::parse_extrinsics("rpy: [180, 0, 0]\nbody:\n  rpy: [0, -0.5, 0]\n", "b.yaml");
+  ASSERT_EQ(b.warnings.size(), 1u);
+  EXPECT_NE(b.warnings[0].find("b.yaml:3: body.rpy: [0, -0.5, 0] look like radians"), std::string::npos)
+      << b.warnings[0];
+}
+
+TEST(Extrinsics, DegreesAndMatricesGiveNoWarning) {
+  for (const char* yaml :
+       {"rpy_deg: [180, 0, 90]\n", "rpy_deg: [0, 0, 0]\n", "rpy_deg: [2, -3, 6]\n", "rpy_deg: [179.5, 0.5, 30]\n",
+        "rpy_deg: [0, 0, 7.5]\n", "matrix: [1, 0, 0, 0, 0, -1, 0, 0, 0, 0, -1, 1.2, 0, 0, 0, 1]\n"}) {
+    EXPECT_TRUE(tt::parse_extrinsics(yaml, "cam.yaml").warnings.empty()) << yaml;
+  }
+  // What terrain_synth --extrinsics-out writes reads back without warnings.
+  tt::Extrinsics e;
+  e.T_world_camera = tt::pose_from_xyz_rpy({0, 0, 1.2}, {std::numbers::pi, 0, 0});
+  EXPECT_TRUE(tt::parse_extrinsics(tt::format_extrinsics(e, true), "x").warnings.empty());
+}
 
 TEST(ExtrinsicsBadInput, MissingFile) { EXPECT_THROW(tt::load_extrinsics("/nonexistent/cam.yaml"), td::IoError); }

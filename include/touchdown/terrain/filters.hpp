@@ -24,7 +24,7 @@ std::size_t remove_non_finite(PointCloud& cloud);
 /// clouds are left alone. Returns how many points were invalidated.
 std::size_t remove_flying_pixels(PointCloud& organized_camera, double threshold_at_1m);
 
-/// p ← T · p for every point.
+/// p ← T · p for every point; the cloud's `viewpoint` becomes the identity.
 void transform_cloud(PointCloud& cloud, const Eigen::Isometry3d& T);
 
 struct CropOptions {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "touchdown/core/mesh.hpp"
+#include "touchdown/core/point_cloud.hpp"
 #include "touchdown/terrain/terrain_mesher.hpp"
 
 namespace touchdown::twin {
@@ -84,10 +85,31 @@ class TerrainModel {
   std::vector<std::array<int, 2>> tri_cell_;  // first bucket of each triangle
 };
 
-/// Loads a terrain for the twin: a mesh file (.stl, .obj, .ply with faces)
-/// as is, or a point cloud (.pcd, .ply without faces, .xyz/.csv/.txt) meshed
-/// by the terrain stage with `cloud_options` (its camera pose included).
-/// Throws touchdown::Error subclasses naming the file.
+/// A terrain file as read: a mesh (.stl, .obj, .ply with faces) or a point
+/// cloud (.pcd, .ply without faces, .xyz/.csv/.txt). A caller can look at
+/// it before it becomes a TerrainModel: whether it is a mesh (always world
+/// frame, so a camera pose does not apply) and, for a cloud, which frame it
+/// looks like (terrain::camera_frame_evidence).
+struct TerrainFile {
+  std::filesystem::path path;
+  std::optional<TriangleMesh> mesh;  ///< set for a mesh file
+  PointCloud cloud;                  ///< the points of a cloud file (empty for a mesh)
+  [[nodiscard]] bool is_mesh() const { return mesh.has_value(); }
+};
+
+/// Reads a terrain file. Throws touchdown::Error subclasses naming the file
+/// (an empty cloud included).
+TerrainFile read_terrain_file(const std::filesystem::path& path);
+
+/// The twin's terrain from a file read by read_terrain_file: a mesh as is,
+/// or a cloud meshed by the terrain stage with `cloud_options` (its camera
+/// pose included; the identity takes the cloud to be world-frame as it is:
+/// this function does not check the frame). Throws touchdown::Error
+/// subclasses naming the file.
+std::shared_ptr<const TerrainModel> make_terrain_model(TerrainFile file,
+                                                       const terrain::TerrainOptions& cloud_options = {});
+
+/// make_terrain_model(read_terrain_file(path), cloud_options).
 std::shared_ptr<const TerrainModel> load_terrain_model(const std::filesystem::path& path,
                                                        const terrain::TerrainOptions& cloud_options = {});
 
