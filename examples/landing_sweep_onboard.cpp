@@ -41,14 +41,15 @@ int main(int argc, char** argv) {
     return 0;
   }
 
-  const auto& best = result.headings[static_cast<std::size_t>(result.best)];
   std::cout << result.landings() << " landings in " << result.seconds << " s, " << 100 * result.completeness
             << " % of the full sweep\n";
   if (result.safe) {
+    const auto& best = result.headings[static_cast<std::size_t>(result.best)];
     std::cout << "land at heading " << best.yaw * 180 / std::numbers::pi << " deg (worst nutation " << best.score
               << " rad, threshold " << result.threshold.value() << " rad)\n";
   } else {
-    std::cout << "do not land here\n";
+    // Why: e.g. "20 headings: unobserved terrain" or "4 headings: tips over".
+    std::cout << "do not land here: " << td::twin::unsafe_summary(result) << "\n";
   }
   return 0;
 }
