@@ -77,8 +77,12 @@ int main(int argc, char** argv) {
   app.add_flag("--assume-world-frame", assume_world,
                "TERRAIN is a world-frame cloud (z up) although it looks like a camera frame (docs/formats.md)")
       ->excludes(extrinsics);
-  app.add_option("--headings", o.headings, "number of headings n")->capture_default_str();
-  app.add_option("--runs", o.runs, "runs per heading m")->capture_default_str();
+  app.add_option("--headings", o.headings, "number of headings n (headings x runs <= 1,000,000)")
+      ->check(CLI::Range(1, tw::SweepOptions::kMaxHeadings))
+      ->capture_default_str();
+  app.add_option("--runs", o.runs, "runs per heading m")
+      ->check(CLI::Range(1, tw::SweepOptions::kMaxRuns))
+      ->capture_default_str();
   app.add_option(
          "--yaw-max", o.yaw_max_deg,
          "psi_max [deg]; 0 = 360 / the airframe's symmetry order (the turn after which its feet, motors and body "

@@ -3,6 +3,7 @@
 // the synthetic camera (`render`) and the LED-vs-ArUco table (`benchmark`).
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -63,6 +64,31 @@ std::string fixed(double v, int digits) {
   std::ostringstream os;
   os << std::fixed << std::setprecision(digits) << v;
   return os.str();
+}
+
+// Library messages name option fields (`noise_sigma: must be in [0, 100]`);
+// the user typed flags. Names the flag instead, for render's options.
+std::string in_flag_terms(std::string message) {
+  static const std::pair<const char*, const char*> names[] = {
+      {"make_trajectory: ", ""},
+      {"increase min_distance or reduce margin_px", "increase --min-distance"},
+      {"min_distance, max_distance: need 0 < min_distance <= max_distance",
+       "--min-distance, --max-distance: need 0 < --min-distance <= --max-distance"},
+      {"noise_sigma", "--noise"},
+      {"distractor_count", "--distractors"},
+      {"led_dropout_probability", "--dropout"},
+      {"camera_tilt_deg", "--camera-tilt"},
+      {"aruco_size", "--aruco-size"},
+      {"aruco_id", "--aruco-id"},
+      {"frames must", "--frames must"},
+  };
+  for (const auto& [field, flag] : names) {
+    for (std::size_t at = message.find(field); at != std::string::npos;
+         at = message.find(field, at + std::strlen(flag))) {
+      message.replace(at, std::strlen(field), flag);
+    }
+  }
+  return message;
 }
 
 }  // namespace
@@ -182,15 +208,19 @@ int main(int argc, char** argv) {
       r.aruco_id = aruco.marker_id;
       r.aruco_size = aruco.marker_size;
       std::string why;
-      if (!r.validate(&why)) throw td::InvalidArgument(why);
+      if (!r.validate(&why)) throw td::InvalidArgument(in_flag_terms(why));
       tp::TrajectoryOptions to;
       to.min_distance = min_distance;
       to.max_distance = max_distance;
       to.geometry = geometry == "chase" ? tp::CameraGeometry::Chase : tp::CameraGeometry::Facing;
       to.camera_tilt_deg = camera_tilt_deg;
-      const auto samples =
-          tp::make_trajectory(trajectory == "static" ? tp::TrajectoryKind::Static : tp::TrajectoryKind::Moving, frames,
-                              seed, camera, k, to);
+      std::vector<tp::TrajectorySample> samples;
+      try {
+        samples = tp::make_trajectory(trajectory == "static" ? tp::TrajectoryKind::Static : tp::TrajectoryKind::Moving,
+                                      frames, seed, camera, k, to);
+      } catch (const td::InvalidArgument& e) {
+        throw td::InvalidArgument(in_flag_terms(e.what()));
+      }
       tp::write_sequence(out_dir, camera, k, samples, r, seed);
       std::cerr << "led_pose: wrote " << samples.size() << " frames to " << out_dir << "\n";
       return td::app::kExitOk;

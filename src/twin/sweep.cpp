@@ -72,8 +72,20 @@ bool SweepOptions::validate(std::string* why) const {
     if (why) *why = w;
     return false;
   };
-  if (headings < 1) return fail("headings must be >= 1");
-  if (runs < 1) return fail("runs must be >= 1");
+  if (headings < 1 || headings > kMaxHeadings) {
+    return fail("headings must be in 1.." + std::to_string(kMaxHeadings) + " (one every 0.1 deg), got " +
+                std::to_string(headings));
+  }
+  if (runs < 1 || runs > kMaxRuns) {
+    return fail("runs must be in 1.." + std::to_string(kMaxRuns) + ", got " + std::to_string(runs));
+  }
+  if (const long long n = static_cast<long long>(headings) * runs; n > kMaxLandings) {
+    // Refused before anything is allocated, with what it would have cost.
+    return fail("headings x runs = " + std::to_string(n) + " landings is more than " + std::to_string(kMaxLandings) +
+                ": ~" + std::to_string(n * static_cast<long long>(sizeof(RunRecord)) / 1'000'000) +
+                " MB of run records and ~" + std::to_string(n / 100 / 3600) +
+                " h at 100 landings/s; use fewer headings or runs, or --time-budget");
+  }
   if (!(yaw_max_deg >= 0 && yaw_max_deg <= 360)) return fail("yaw-max must be in [0, 360] degrees (0 = automatic)");
   if (!landing_point.allFinite()) return fail("landing point must be finite");
   if (!(hover_offset > 0)) return fail("hover-offset must be positive");
@@ -327,7 +339,13 @@ SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<cons
   if (spacing <= 0) spacing = radius > 0 ? radius / 2 : 1.0;
   if (!(spacing > 0) || !std::isfinite(spacing)) throw InvalidArgument("search spacing must be positive");
   SearchResult out;
-  const int n = static_cast<int>(std::floor(radius / spacing + 1e-9));
+  const double half_width = std::floor(radius / spacing + 1e-9);
+  if (half_width > 50) {
+    throw InvalidArgument("search radius / spacing = " + std::to_string(radius / spacing) + " gives more than " +
+                          std::to_string(101 * 101) +
+                          " candidate points; use a search spacing of at least radius / 50");
+  }
+  const int n = static_cast<int>(half_width);
   for (int j = -n; j <= n; ++j) {
     for (int i = -n; i <= n; ++i) {
       const Eigen::Vector2d d(i * spacing, j * spacing);

@@ -380,3 +380,24 @@ TEST(LandingSweepApp, RpyInRadiansGetsAWarning) {
             std::string::npos)
       << r.err;
 }
+
+TEST(LandingSweepAppBadInput, AbsurdCountsAreRefusedBeforeAnythingIsAllocated) {
+  // Issue 11: these ended in std::bad_alloc (exit 3) or ran unbounded.
+  TempDir dir;
+  const auto terrain = flat_stl(dir);
+  const AppRun huge = run(terrain + " --headings 1000000 --runs 1000000", dir);
+  EXPECT_EQ(huge.code, 2) << huge.err;
+  EXPECT_NE(huge.err.find("--headings"), std::string::npos) << huge.err;
+  const AppRun product = run(terrain + " --headings 3600 --runs 1000", dir);
+  EXPECT_EQ(product.code, 2) << product.err;
+  EXPECT_NE(product.err.find("headings x runs = 3600000 landings is more than 1000000"), std::string::npos)
+      << product.err;
+  EXPECT_NE(product.err.find("MB of run records"), std::string::npos) << product.err;
+  const AppRun grid = run(terrain + " --search-radius 100 --search-spacing 0.001", dir);
+  EXPECT_EQ(grid.code, 2) << grid.err;
+  EXPECT_NE(grid.err.find("candidate points"), std::string::npos) << grid.err;
+  for (const AppRun* r : {&huge, &product, &grid}) {
+    EXPECT_EQ(std::count(r->err.begin(), r->err.end(), '\n'), 1) << r->err;
+    EXPECT_TRUE(r->out.empty());
+  }
+}

@@ -360,6 +360,19 @@ TEST(LedPoseAppBadInput, ConstellationConeKeys) {
   }
 }
 
+TEST(LedPoseAppBadInput, RenderErrorsNameTheFlagNotTheField) {
+  // Issue 11: `--noise -1` was reported as `noise_sigma: ...`.
+  TempDir dir;
+  const AppRun noise = run("render " + (dir / "a").string() + " --frames 2 --noise -1", dir);
+  expect_bad_input(noise, "--noise: must be in [0, 100] DN");
+  EXPECT_EQ(noise.err.find("noise_sigma"), std::string::npos) << noise.err;
+  const AppRun dropout = run("render " + (dir / "b").string() + " --frames 2 --dropout 2", dir);
+  expect_bad_input(dropout, "--dropout: must be in [0, 1]");
+  const AppRun distance = run("render " + (dir / "c").string() + " --frames 2 --min-distance 5 --max-distance 1", dir);
+  expect_bad_input(distance, "--min-distance, --max-distance");
+  EXPECT_EQ(distance.err.find("make_trajectory"), std::string::npos) << distance.err;
+}
+
 TEST(LedPoseAppBadInput, UnknownArucoDictionary) {
   TempDir dir;
   const auto seq = rendered_sequence(dir);

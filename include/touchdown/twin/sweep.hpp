@@ -34,8 +34,11 @@ enum class SafetyMetric {
 };
 
 struct SweepOptions {
-  int headings = 20;  ///< n
-  int runs = 10;      ///< m per heading
+  static constexpr int kMaxHeadings = 3600;           ///< one every 0.1°
+  static constexpr int kMaxRuns = 10000;              ///< per heading
+  static constexpr long long kMaxLandings = 1000000;  ///< headings × runs
+  int headings = 20;                                  ///< n, 1..kMaxHeadings
+  int runs = 10;                                      ///< m per heading, 1..kMaxRuns
   /// ψ_max; 0 = automatic: 360° / Airframe::symmetry_order() (the
   /// airframe's contact geometry repeats after that turn).
   double yaw_max_deg = 0;
