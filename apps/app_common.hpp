@@ -6,10 +6,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 #include <string>
 
+#include "touchdown/core/atomic_file.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/version.hpp"
 
@@ -21,6 +24,17 @@ inline constexpr int kExitInternal = 3;
 
 /// Validator of an output path: it must end in `ext` (".svg", ".csv",
 /// ".json"), so that a file named x.png never receives SVG text.
+/// Writes `text` to `path` through a temporary file and a rename, so a
+/// failed write never leaves a partial output; IoError naming `path`.
+inline void write_text_atomically(const std::string& path, const std::string& text) {
+  touchdown::write_file_atomically(path, [&](const std::filesystem::path& tmp) {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    out.flush();
+    if (!out) throw touchdown::IoError(path + ": write failed");
+  });
+}
+
 inline CLI::Validator output_extension(const std::string& ext) {
   return CLI::Validator(
       [ext](std::string& path) -> std::string {

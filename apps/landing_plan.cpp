@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "app_common.hpp"
-#include "touchdown/core/atomic_file.hpp"
+#include "touchdown/core/xml.hpp"
 #include "touchdown/plan/planner.hpp"
 #include "touchdown/plan/problem_io.hpp"
 
@@ -527,39 +527,6 @@ std::string plot_svg(const PlotInput& in) {
   return os.str();
 }
 
-// Escapes the characters SVG text cannot hold as they are.
-std::string xml_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
-void write_text_atomically(const std::string& path, const std::string& text) {
-  td::write_file_atomically(path, [&](const fs::path& tmp) {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    out.flush();
-    if (!out) throw td::IoError(path + ": write failed");
-  });
-}
-
 std::string summary(const std::string& path, const tp::PlanProblem& pb, const tp::PlanResult& r, double seconds) {
   std::ostringstream os;
   os << "landing_plan: " << path << ": " << tp::to_string(r.status) << "\n";
@@ -655,7 +622,7 @@ int main(int argc, char** argv) {
         title +=
             ", cost " + fixed(r.cost, 3) + " m\u00b2/s\u2075, T = " + fixed(r.trajectory.total_duration(), 2) + " s";
       }
-      const PlotInput in{xml_escape(title), &problem, &r,
+      const PlotInput in{td::xml_escape(title), &problem, &r,
                          problem.goal ? *problem.goal : tp::default_goal(problem.options)};
       outputs.emplace_back(plot_path, plot_svg(in));
     }
@@ -664,7 +631,7 @@ int main(int argc, char** argv) {
       const fs::path dir = fs::absolute(path).parent_path();
       if (!fs::is_directory(dir)) throw td::IoError(path + ": directory " + dir.string() + " does not exist");
     }
-    for (const auto& [path, text] : outputs) write_text_atomically(path, text);
+    for (const auto& [path, text] : outputs) td::app::write_text_atomically(path, text);
 
     if (json) {
       std::cout << result_json(r, problem.options.order, seconds).dump() << "\n";

@@ -14,7 +14,6 @@
 
 #include "app_common.hpp"
 #include "frames.hpp"
-#include "touchdown/core/atomic_file.hpp"
 #include "touchdown/core/units.hpp"
 #include "touchdown/terrain/extrinsics.hpp"
 #include "touchdown/twin/sweep.hpp"
@@ -26,15 +25,6 @@ namespace td = touchdown;
 namespace tw = touchdown::twin;
 
 double round6(double v) { return std::round(v * 1e6) / 1e6 + 0.0; }
-
-void write_text_atomically(const std::string& path, const std::string& text) {
-  td::write_file_atomically(path, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    out.flush();
-    if (!out) throw td::IoError(path + ": write failed");
-  });
-}
 
 std::string runs_csv(const tw::SweepResult& r) {
   std::ostringstream os;
@@ -215,13 +205,14 @@ int main(int argc, char** argv) {
     }
     close_bar();  // e.g. a --time-budget stop: the summary gets its own line
     const tw::SweepResult& r = search.sweep;
-    if (!runs_csv_path.empty()) write_text_atomically(runs_csv_path, runs_csv(r));
+    if (!runs_csv_path.empty()) td::app::write_text_atomically(runs_csv_path, runs_csv(r));
     if (!plot_path.empty()) {
       const tw::SweepPlotLabels labels{std::filesystem::path(terrain_path).filename().string(),
                                        airframe_path.empty() ? "F450 (built in)" : airframe.name};
-      write_text_atomically(plot_path, search.candidates.empty() ? tw::sweep_plot_svg(r, labels)
-                                                                 : tw::search_plot_svg(search, requested, search_radius,
-                                                                                       airframe, *terrain, labels));
+      td::app::write_text_atomically(
+          plot_path, search.candidates.empty()
+                         ? tw::sweep_plot_svg(r, labels)
+                         : tw::search_plot_svg(search, requested, search_radius, airframe, *terrain, labels));
     }
 
     const tw::HeadingScore* best = r.best >= 0 ? &r.headings[static_cast<std::size_t>(r.best)] : nullptr;

@@ -168,11 +168,7 @@ int main(int argc, char** argv) {
       td::terrain::Extrinsics e;
       if (frame == "camera") e.T_world_camera = T;
       const std::string text = td::terrain::format_extrinsics(e, false);
-      td::write_file_atomically(extrinsics_out, [&](const std::filesystem::path& tmp) {
-        std::ofstream out(tmp);
-        out << text;
-        if (!out) throw td::IoError(extrinsics_out + ": write failed");
-      });
+      td::app::write_text_atomically(extrinsics_out, text);
     }
     if (json) {
       nlohmann::json j{{"kind", kind},         {"output", output},       {"points", cloud.size()},

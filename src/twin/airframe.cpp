@@ -112,6 +112,13 @@ int Airframe::symmetry_order() const {
 
 Box Airframe::body_box() const { return {Eigen::Vector3d::Zero(), 0.5 * body_size}; }
 
+double Airframe::footprint_radius() const {
+  double r = 0;
+  for (std::size_t i = 0; i < motor_count(); ++i) r = std::max(r, motor_position(i).head<2>().norm() + prop_radius);
+  for (const auto& l : legs) r = std::max(r, l.norm() + foot_radius);
+  return r;
+}
+
 Capsule Airframe::arm(std::size_t i) const {
   const Eigen::Vector3d m = motor_position(i);
   // From the edge of the body box to the motor.

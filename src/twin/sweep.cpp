@@ -128,12 +128,7 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
   SweepResult out;
   out.landing_point = o.landing_point;
   out.threshold = compute_safety_threshold(airframe);
-  // Footprint: everything the twin covers seen from above.
-  double footprint = 0;
-  for (std::size_t i = 0; i < airframe.motor_count(); ++i) {
-    footprint = std::max(footprint, airframe.motor_position(i).head<2>().norm() + airframe.prop_radius);
-  }
-  for (const auto& l : airframe.legs) footprint = std::max(footprint, l.norm() + airframe.foot_radius);
+  const double footprint = airframe.footprint_radius();
   const auto zlp = terrain->max_top_z(o.landing_point, footprint);
   if (!zlp) {
     out.status = SweepStatus::FootprintNotCovered;

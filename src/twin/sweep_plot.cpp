@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "touchdown/core/units.hpp"
+#include "touchdown/core/xml.hpp"
 
 namespace touchdown::twin {
 namespace {
@@ -43,29 +44,6 @@ double heading_step(double yaw_max_deg) {
   return 90.0;
 }
 
-std::string escape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 constexpr const char* kSafe = "#2a9d3a";
 constexpr const char* kUnsafe = "#d62728";
 constexpr const char* kStrike = "#ff7f0e";
@@ -97,7 +75,7 @@ void circle(std::ostream& os, double x, double y, double r, const std::string& f
      << extra << "/>\n";
 }
 void text(std::ostream& os, double x, double y, const std::string& s, const std::string& extra = "") {
-  os << "<text x='" << num(x, 1) << "' y='" << num(y, 1) << "'" << extra << ">" << escape(s) << "</text>\n";
+  os << "<text x='" << num(x, 1) << "' y='" << num(y, 1) << "'" << extra << ">" << xml_escape(s) << "</text>\n";
 }
 
 // Green (S = 0) through yellow to red (S at or above the threshold).
@@ -280,11 +258,7 @@ std::string search_plot_svg(const SearchResult& search, const Eigen::Vector2d& r
   heading_panel(os, r, 0, 16, W, H1 - 16);
 
   // ---- top view of the search ----------------------------------------------
-  double reach = 0;
-  for (std::size_t i = 0; i < af.motor_count(); ++i) {
-    reach = std::max(reach, af.motor_position(i).head<2>().norm() + af.prop_radius);
-  }
-  for (const auto& l : af.legs) reach = std::max(reach, l.norm() + af.foot_radius);
+  const double reach = af.footprint_radius();
   const double half = radius + reach + 0.1;
   const double size = H2 - 90, L = 70, T = H1 + 40;
   const double scale = size / (2 * half);

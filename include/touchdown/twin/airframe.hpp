@@ -102,6 +102,9 @@ struct Airframe {
   [[nodiscard]] bool symmetric_under_half_turn() const { return symmetry_order() % 2 == 0; }
 
   [[nodiscard]] Box body_box() const;
+  /// Radius of everything the twin covers seen from above, about the body
+  /// origin: the farthest propeller disk edge or foot.
+  [[nodiscard]] double footprint_radius() const;
   [[nodiscard]] Capsule arm(std::size_t i) const;
   [[nodiscard]] Disk propeller(std::size_t i) const;
   [[nodiscard]] Capsule leg(std::size_t i) const;
