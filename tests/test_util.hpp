@@ -119,6 +119,15 @@ inline void write_text(const std::filesystem::path& p, const std::string& text) 
   out << text;
 }
 
+/// `s` with the first `from` replaced by `to`; a test failure when `s` has
+/// no `from` (the edit the test means to make would silently not happen).
+inline std::string replace(std::string s, const std::string& from, const std::string& to) {
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) s.replace(at, from.size(), to);
+  return s;
+}
+
 inline std::string read_text(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   std::ostringstream s;

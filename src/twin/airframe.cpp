@@ -50,11 +50,53 @@ std::vector<std::size_t> hull_indices(const std::vector<Eigen::Vector2d>& p) {
   return h;
 }
 
+// Empty, or "key: problem" for landing gear that is not physical: feet not
+// below the body, arms and propellers, or fewer than 3 legs.
+std::string gear_problem(const Airframe& a) {
+  auto positive = [](double v) { return v > 0 && std::isfinite(v); };
+  if (!positive(a.gear_mass)) return "landing_gear.mass: must be positive, got " + fmt(a.gear_mass);
+  if (!positive(a.foot_radius)) return "landing_gear.foot_radius: must be positive";
+  if (!(a.leg_radius >= 0)) return "landing_gear.leg_radius: must be >= 0";
+  if (!(a.foot_z < a.gear_top_z)) return "landing_gear.foot_z: the feet must be below the legs' top_z";
+  if (!(a.gear_top_z <= 0.5 * a.body_size.z() + 1e-12)) return "landing_gear.top_z: the legs start above the body";
+  if (!(a.ground_z() < -0.5 * a.body_size.z())) return "landing_gear.foot_z: the feet are not below the body";
+  for (std::size_t i = 0; i < a.motor_count(); ++i) {
+    const Disk d = a.propeller(i);
+    if (!(a.ground_z() < d.centre.z() - d.half_thickness - 1e-3)) {
+      return "landing_gear.foot_z: the feet do not reach below the propellers";
+    }
+    if (!(a.ground_z() < a.motor_position(i).z() - a.arm_radius)) {
+      return "landing_gear.foot_z: the feet do not reach below the arms";
+    }
+  }
+  if (a.legs.size() < 3) {
+    return "landing_gear.legs: need at least 3 legs (or `landing_gear: none` for an airframe that stands on its "
+           "body), got " +
+           std::to_string(a.legs.size());
+  }
+  return "";
+}
+
 }  // namespace
 
 Airframe Airframe::f450() { return Airframe{}; }
 
-double Airframe::total_mass() const { return body_mass + motor_mass * static_cast<double>(motor_count()) + gear_mass; }
+double Airframe::total_mass() const {
+  return body_mass + motor_mass * static_cast<double>(motor_count()) + (has_landing_gear() ? gear_mass : 0.0);
+}
+
+std::vector<Eigen::Vector3d> Airframe::support_points() const {
+  std::vector<Eigen::Vector3d> p;
+  if (has_landing_gear()) {
+    for (std::size_t i = 0; i < legs.size(); ++i) p.push_back(foot(i).centre);
+  } else {
+    const Eigen::Vector3d h = 0.5 * body_size;
+    for (const auto& [sx, sy] : {std::pair{1, 1}, std::pair{-1, 1}, std::pair{-1, -1}, std::pair{1, -1}}) {
+      p.emplace_back(sx * h.x(), sy * h.y(), -h.z());
+    }
+  }
+  return p;
+}
 
 Eigen::Vector3d Airframe::motor_position(std::size_t i) const {
   const double a = deg_to_rad(arm_angles_deg[i]);
@@ -116,7 +158,7 @@ double Airframe::footprint_radius() const {
   double r = 0;
   for (std::size_t i = 0; i < motor_count(); ++i) r = std::max(r, motor_position(i).head<2>().norm() + prop_radius);
   for (const auto& l : legs) r = std::max(r, l.norm() + foot_radius);
-  return r;
+  return std::max(r, 0.5 * body_size.head<2>().norm());
 }
 
 Capsule Airframe::arm(std::size_t i) const {
@@ -270,23 +312,35 @@ bool Airframe::validate(std::string* why) const {
                   " m into body.size at the same height): lengthen arms.motor_radius or raise propellers.height");
     }
   }
-  if (!positive(gear_mass)) return fail("landing_gear.mass: must be positive, got " + fmt(gear_mass));
-  if (!positive(foot_radius)) return fail("landing_gear.foot_radius: must be positive");
-  if (!(leg_radius >= 0)) return fail("landing_gear.leg_radius: must be >= 0");
-  if (!(foot_z < gear_top_z)) return fail("landing_gear.foot_z: the feet must be below the legs' top_z");
-  if (!(gear_top_z <= 0.5 * body_size.z() + 1e-12)) return fail("landing_gear.top_z: the legs start above the body");
-  if (!(ground_z() < -0.5 * body_size.z())) return fail("landing_gear.foot_z: the feet are not below the body");
-  for (std::size_t i = 0; i < motor_count(); ++i) {
-    const Disk d = propeller(i);
-    if (!(ground_z() < d.centre.z() - d.half_thickness - 1e-3)) {
-      return fail("landing_gear.foot_z: the feet do not reach below the propellers");
-    }
-    if (!(ground_z() < motor_position(i).z() - arm_radius)) {
-      return fail("landing_gear.foot_z: the feet do not reach below the arms");
+  if (has_landing_gear()) {
+    if (const std::string w = gear_problem(*this); !w.empty()) return fail(w);
+  } else {
+    // Without landing gear the body's bottom face must be the lowest part:
+    // arms or propellers hanging below it would be what the airframe rests
+    // on, and they are not landing gear.
+    for (std::size_t i = 0; i < motor_count(); ++i) {
+      const Disk d = propeller(i);
+      const double prop_low = d.centre.z() - d.half_thickness, arm_low = motor_position(i).z() - arm_radius;
+      if (!(ground_z() < std::min(prop_low, arm_low) - 1e-3)) {
+        return fail("landing_gear: none, but the " + std::string(prop_low < arm_low ? "propeller" : "arm") +
+                    " of arm " + std::to_string(i + 1) + " reaches down to z = " + fmt(std::min(prop_low, arm_low)) +
+                    ", not above the body's bottom (z = " + fmt(ground_z()) +
+                    "): the airframe would rest on it; describe the legs or skids it stands on");
+      }
     }
   }
-  if (legs.size() < 3) return fail("landing_gear.legs: need at least 3 legs, got " + std::to_string(legs.size()));
-  const auto hull = hull_indices(legs);
+  std::vector<Eigen::Vector2d> support;
+  for (const auto& p : support_points()) support.push_back(p.head<2>());
+  const auto hull = hull_indices(support);
+  if (!has_landing_gear()) {
+    // The body's bottom face is the support polygon.
+    const Eigen::Vector2d c = centre_of_mass().head<2>(), h = 0.5 * body_size.head<2>();
+    if (!(c.cwiseAbs().array() < h.array() - 1e-9).all()) {
+      return fail("body.size: the centre of mass (" + fmt(c.x()) + ", " + fmt(c.y()) +
+                  ") is not above the body's bottom face, which the airframe stands on (landing_gear: none)");
+    }
+    return true;
+  }
   if (hull.size() < 3) return fail("landing_gear.legs: the legs are collinear: no support polygon");
   if (hull.size() != legs.size()) {
     for (std::size_t i = 0; i < legs.size(); ++i) {
@@ -352,6 +406,12 @@ Airframe parse_airframe(std::string_view yaml_text, std::string_view source) {
         a.prop_height = r.number(r.child(props, "propellers.", "height"), "propellers.height");
 
         const auto gear = r.child(root, "", "landing_gear");
+        if (gear.IsScalar()) {  // `landing_gear: none`: the airframe stands on its body box
+          if (gear.Scalar() != "none") r.fail(gear, "landing_gear", "expected a mapping or `none`");
+          a.legs.clear();
+          a.gear_mass = 0;
+          return;
+        }
         r.only(gear, "landing_gear.", {"mass", "top_z", "foot_z", "leg_radius", "foot_radius", "legs"});
         a.gear_mass = r.number(r.child(gear, "landing_gear.", "mass"), "landing_gear.mass");
         a.gear_top_z = r.number(r.child(gear, "landing_gear.", "top_z"), "landing_gear.top_z");

@@ -151,6 +151,8 @@ void collide_convex(const TerrainModel& terrain, const Shape& shape, const Eigen
     Contact c;
     c.position = to_eigen(&pos);
     c.normal = to_eigen(&dir).normalized();
+    // A touching (zero-depth) pair can leave MPR without a direction.
+    if (!c.position.allFinite() || !c.normal.allFinite() || !(c.normal.squaredNorm() > 0.5)) continue;
     // Orient from the terrain into the part.
     if (c.normal.dot(shape.c - c.position) < 0) c.normal = -c.normal;
     c.depth = depth;
@@ -291,7 +293,151 @@ void collide_box(const TerrainModel& terrain, const Eigen::Vector3d& centre, con
                  const Eigen::Vector3d& half_extents, Scratch& scratch, std::vector<Contact>& out) {
   const BoxShape s{centre, axes, half_extents};
   const Eigen::Vector3d ext = axes.cwiseAbs() * half_extents;
-  collide_convex(terrain, s, Eigen::AlignedBox3d(centre - ext, centre + ext), box_support, box_center, scratch, out);
+  const Eigen::AlignedBox3d aabb(centre - ext, centre + ext);
+  // One MPR point per triangle does not hold a box resting on a face: the
+  // points move with the portal from step to step and may all fall on one
+  // side, so the box rocks and never comes to rest. Points fixed to either
+  // body do: the box's corners inside the terrain and the terrain's
+  // vertices inside the box.
+  std::vector<Contact>& found = scratch.contacts;
+  found.clear();
+  scratch.triangles.clear();
+  terrain.triangles_overlapping(aabb, scratch.triangles);
+  // A corner inside the terrain solid leaves through the nearest face it is
+  // behind (its projection inside the triangle, no deeper than the box's
+  // smallest half extent).
+  const double max_depth = half_extents.minCoeff();
+  bool corner_in[8] = {false, false, false, false, false, false, false, false};  // bit i: + along axis i
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Vector3d sign((k & 1) ? 1.0 : -1.0, (k & 2) ? 1.0 : -1.0, (k & 4) ? 1.0 : -1.0);
+    const Eigen::Vector3d corner = centre + axes * sign.cwiseProduct(half_extents);
+    Contact best;
+    best.depth = std::numeric_limits<double>::infinity();
+    for (std::uint32_t t : scratch.triangles) {
+      const Eigen::Vector3d a = terrain.vertex(t, 0), b = terrain.vertex(t, 1), c = terrain.vertex(t, 2);
+      const Eigen::Vector3d n = face_normal(a, b, c);
+      const double d = (corner - a).dot(n);
+      if (d >= 0 || -d > max_depth || -d >= best.depth) continue;
+      const Eigen::Vector3d on_plane = corner - d * n;
+      if ((closest_point_on_triangle(on_plane, a, b, c) - on_plane).squaredNorm() > 1e-12) continue;
+      best.position = corner;
+      best.normal = n;
+      best.depth = -d;
+    }
+    if (std::isfinite(best.depth)) {
+      found.push_back(best);
+      corner_in[k] = true;
+    }
+  }
+  // Whether the corners inside the terrain already hold a terrain point
+  // `q` (box frame) pushing through face axis `f`: it lies inside the hull
+  // of their projections onto that face, which is the whole face (4 of its
+  // corners inside) or half of it (3). Such points would only repeat the
+  // corners' support, and picking among them (level ground under a level
+  // face has dozens, all about as deep) would change from step to step.
+  auto covered = [&](const Eigen::Vector3d& q, int f) {
+    const int a = (f + 1) % 3, b = (f + 2) % 3;
+    bool in[2][2] = {{false, false}, {false, false}};
+    int count = 0;
+    for (int k = 0; k < 8; ++k) {
+      if (!corner_in[k]) continue;
+      const int sa = (k >> a) & 1, sb = (k >> b) & 1;
+      count += !in[sa][sb];
+      in[sa][sb] = true;
+    }
+    if (count == 4) return true;
+    if (count < 3) return false;
+    for (int sa = 0; sa < 2; ++sa) {
+      for (int sb = 0; sb < 2; ++sb) {
+        if (in[sa][sb]) continue;  // the missing corner: covered on the far side of its diagonal
+        const double ma = sa ? 1.0 : -1.0, mb = sb ? 1.0 : -1.0;
+        return ma * q[a] / half_extents[a] + mb * q[b] / half_extents[b] <= 0;
+      }
+    }
+    return false;
+  };
+  // A terrain vertex inside the box pushes it out through the nearest of
+  // the faces that look at the terrain there (outward normal against the
+  // vertex normal): a vertex of level ground just inside the bottom face
+  // near a side face belongs to the bottom face, not the side.
+  auto& vn = scratch.vertex_normals;
+  vn.clear();
+  for (std::uint32_t t : scratch.triangles) {
+    const Eigen::Vector3d a = terrain.vertex(t, 0), b = terrain.vertex(t, 1), c = terrain.vertex(t, 2);
+    const Eigen::Vector3d n = (b - a).cross(c - a);  // area-weighted
+    for (int k = 0; k < 3; ++k) vn.emplace_back(terrain.vertex_index(t, k), n);
+  }
+  std::sort(vn.begin(), vn.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  for (std::size_t i = 0; i < vn.size();) {
+    const std::uint32_t v = vn[i].first;
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    for (; i < vn.size() && vn[i].first == v; ++i) normal += vn[i].second;
+    const Eigen::Vector3d p = terrain.mesh().vertices[v].cast<double>();
+    const Eigen::Vector3d q = axes.transpose() * (p - centre);
+    const Eigen::Vector3d slack = half_extents - q.cwiseAbs();
+    if (!(slack.array() > 0).all() || !(normal.squaredNorm() > 0)) continue;
+    normal.normalize();
+    int face = -1;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d outward = (q[k] >= 0 ? 1.0 : -1.0) * axes.col(k);
+      if (outward.dot(normal) < -0.2 && (face < 0 || slack[k] < slack[face])) face = k;
+    }
+    if (face < 0 || covered(q, face)) continue;
+    Contact c;
+    c.position = p;
+    c.normal = -(q[face] >= 0 ? 1.0 : -1.0) * axes.col(face);
+    c.depth = slack[face];
+    found.push_back(c);
+  }
+  if (found.empty()) {
+    collide_convex(terrain, s, aabb, box_support, box_center, scratch, found);
+  }
+  // At most 8, spread over the contact area by their positions alone
+  // (farthest-point sampling from the point farthest from the centroid):
+  // choosing by depth would swap points of nearly equal depth from step to
+  // step along a resting edge, and the box would rock. The deepest point
+  // joins them when it is deeper than every chosen one by more than 0.1 mm.
+  constexpr std::size_t kMax = 8;
+  if (found.size() <= kMax) {
+    out.insert(out.end(), found.begin(), found.end());
+    return;
+  }
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const Contact& c : found) centroid += c.position;
+  centroid /= static_cast<double>(found.size());
+  std::vector<double> gap(found.size(), std::numeric_limits<double>::infinity());
+  std::vector<bool> taken(found.size(), false);
+  double deepest_taken = 0;
+  auto take = [&](std::size_t i) {
+    taken[i] = true;
+    deepest_taken = std::max(deepest_taken, found[i].depth);
+    out.push_back(found[i]);
+    for (std::size_t k = 0; k < found.size(); ++k) {
+      gap[k] = std::min(gap[k], (found[k].position - found[i].position).squaredNorm());
+    }
+  };
+  std::size_t first_pick = 0;
+  for (std::size_t k = 1; k < found.size(); ++k) {
+    if ((found[k].position - centroid).squaredNorm() > (found[first_pick].position - centroid).squaredNorm()) {
+      first_pick = k;
+    }
+  }
+  take(first_pick);
+  for (std::size_t n = 1; n < kMax; ++n) {
+    std::size_t next = found.size();
+    for (std::size_t k = 0; k < found.size(); ++k) {
+      if (!taken[k] && (next == found.size() || gap[k] > gap[next])) next = k;
+    }
+    if (n + 1 == kMax) {  // the last place: the deepest, if it is clearly deeper
+      std::size_t deepest = found.size();
+      for (std::size_t k = 0; k < found.size(); ++k) {
+        if (!taken[k] && (deepest == found.size() || found[k].depth > found[deepest].depth)) deepest = k;
+      }
+      if (deepest < found.size() && found[deepest].depth > deepest_taken + 1e-4) next = deepest;
+    }
+    if (next == found.size()) break;
+    take(next);
+  }
 }
 
 }  // namespace touchdown::twin::detail

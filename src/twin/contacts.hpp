@@ -9,6 +9,7 @@
 // supplies contact points; ODE still does all the dynamics.
 #include <Eigen/Core>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "touchdown/twin/airframe.hpp"
@@ -34,6 +35,8 @@ double closest_segment_triangle(const Eigen::Vector3d& p0, const Eigen::Vector3d
 
 struct Scratch {
   std::vector<std::uint32_t> triangles;
+  std::vector<std::pair<std::uint32_t, Eigen::Vector3d>> vertex_normals;
+  std::vector<Contact> contacts;
 };
 
 /// World-frame primitives → contacts appended to `out`.
@@ -43,6 +46,10 @@ void collide_capsule(const TerrainModel& terrain, const Eigen::Vector3d& a, cons
                      Scratch& scratch, std::vector<Contact>& out);
 void collide_disk(const TerrainModel& terrain, const Eigen::Vector3d& centre, const Eigen::Vector3d& axis,
                   double radius, double half_thickness, Scratch& scratch, std::vector<Contact>& out);
+/// Box contacts: its corners inside the terrain and the terrain's vertices
+/// inside the box (points fixed to one body, so a resting box keeps its
+/// support), or, when neither touches, MPR contacts (an edge across an
+/// edge); at most 8, spread over the contact area.
 void collide_box(const TerrainModel& terrain, const Eigen::Vector3d& centre, const Eigen::Matrix3d& axes,
                  const Eigen::Vector3d& half_extents, Scratch& scratch, std::vector<Contact>& out);
 

@@ -148,7 +148,8 @@ class Run {
     std::vector<PartKind> contact_kind;
     std::vector<int> contact_foot;
     detail::Scratch scratch;
-    std::vector<bool> foot_touch(af_.legs.size());
+    // One flag per foot; without landing gear, per bottom corner of the body.
+    std::vector<bool> foot_touch(af_.has_landing_gear() ? af_.legs.size() : 4);
 
     auto unstable = [&](long step, const char* why) {
       res.status = RunStatus::Unstable;
@@ -204,14 +205,14 @@ class Run {
       contact_foot.clear();
       auto world = [&](const Eigen::Vector3d& q) { return Eigen::Vector3d(p + R * (q - com_)); };
       auto tag = [&](std::size_t before, PartKind kind, int foot) {
-        // At most kMaxContactsPerPart per part, the deepest: enough for a
-        // stable support, and ODE's LCP cost grows with the cube of the
-        // contact count.
-        constexpr std::size_t kMaxContactsPerPart = 4;
-        if (contacts.size() - before > kMaxContactsPerPart) {
+        // At most 4 contacts per part (8 for the body box: its corners), the
+        // deepest: enough for a stable support, and ODE's LCP cost grows
+        // with the cube of the contact count.
+        const std::size_t max_contacts = kind == PartKind::Body ? 8 : 4;
+        if (contacts.size() - before > max_contacts) {
           std::stable_sort(contacts.begin() + static_cast<std::ptrdiff_t>(before), contacts.end(),
                            [](const detail::Contact& a, const detail::Contact& b) { return a.depth > b.depth; });
-          contacts.resize(before + kMaxContactsPerPart);
+          contacts.resize(before + max_contacts);
         }
         for (std::size_t k = before; k < contacts.size(); ++k) {
           contact_kind.push_back(kind);
@@ -251,6 +252,12 @@ class Run {
       }
       std::fill(foot_touch.begin(), foot_touch.end(), false);
       for (std::size_t k = 0; k < contacts.size(); ++k) {
+        // A non-finite contact or one without a normal must never reach ODE
+        // (as for motor commands: its normalisation asserts abort).
+        if (!contacts[k].position.allFinite() || !std::isfinite(contacts[k].depth) ||
+            !(std::abs(contacts[k].normal.squaredNorm() - 1.0) < 1e-6)) {
+          continue;
+        }
         switch (contact_kind[k]) {
           case PartKind::Foot:
           case PartKind::Leg:
@@ -263,7 +270,14 @@ class Run {
             res.prop_strike = true;
             break;
           case PartKind::Body:
-            res.body_strike = true;
+            // Without landing gear the body is what the airframe lands on:
+            // touching is no strike, and its bottom corners stand in for the
+            // feet.
+            if (af_.has_landing_gear()) {
+              res.body_strike = true;
+            } else if (const int c = bottom_corner_of(R.transpose() * (contacts[k].position - p) + com_); c >= 0) {
+              foot_touch[static_cast<std::size_t>(c)] = true;
+            }
             break;
         }
         dContact c{};
@@ -326,6 +340,18 @@ class Run {
   }
 
  private:
+  // Which bottom corner of the body box (0..3) a body-frame contact point
+  // is at (within 1 mm), or -1.
+  [[nodiscard]] int bottom_corner_of(const Eigen::Vector3d& q) const {
+    const Eigen::Vector3d h = 0.5 * af_.body_size;
+    constexpr double tol = 1e-3;
+    if (std::abs(q.z() + h.z()) > tol || std::abs(std::abs(q.x()) - h.x()) > tol ||
+        std::abs(std::abs(q.y()) - h.y()) > tol) {
+      return -1;
+    }
+    return (q.x() > 0 ? 1 : 0) + (q.y() > 0 ? 2 : 0);
+  }
+
   const LandingSimulator& sim_;
   const Airframe& af_;
   const SimulationOptions& opt_;

@@ -23,22 +23,22 @@ double disk_lowest_z(const Eigen::Vector3d& c, const Eigen::Vector3d& n, double 
   return c.z() - radius * std::sqrt(std::max(0.0, 1.0 - nz * nz)) - half_t * std::abs(nz);
 }
 
-// Support polygon: indices of the legs on the convex hull in order.
-std::vector<std::size_t> support_polygon(const Airframe& af) {
-  const auto& p = af.legs;
+// Support polygon: indices of the support points on the convex hull in order.
+std::vector<std::size_t> support_polygon(const Airframe& af, const std::vector<Eigen::Vector3d>& p) {
   const Eigen::Vector2d c = af.centre_of_mass().head<2>();
   std::vector<std::size_t> idx(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) idx[i] = i;
   std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
     return std::atan2(p[a].y() - c.y(), p[a].x() - c.x()) < std::atan2(p[b].y() - c.y(), p[b].x() - c.x());
   });
-  return idx;  // validate() guarantees every leg is a hull vertex and c is inside
+  return idx;  // validate() guarantees every support point is a hull vertex and c is inside
 }
 
 }  // namespace
 
 Eigen::Isometry3d pose_tilted_about_edge(const Airframe& af, std::size_t a, std::size_t b, double angle) {
-  const Eigen::Vector3d fa = af.foot(a).centre, fb = af.foot(b).centre;
+  const auto support = af.support_points();
+  const Eigen::Vector3d fa = support.at(a), fb = support.at(b);
   const Eigen::Vector2d n = outward_normal(fa.head<2>(), fb.head<2>(), af.centre_of_mass().head<2>());
   const Eigen::Vector3d u(n.x(), n.y(), 0.0);
   const Eigen::Vector3d axis = Eigen::Vector3d::UnitZ().cross(u);  // rotates +u downwards
@@ -61,17 +61,18 @@ Eigen::Isometry3d pose_standing(const Airframe& af, double x, double y, double g
 SafetyThreshold compute_safety_threshold(const Airframe& af) {
   SafetyThreshold t;
   const Eigen::Vector3d com = af.centre_of_mass();
-  const auto poly = support_polygon(af);
+  const auto support = af.support_points();
+  const auto poly = support_polygon(af, support);
   const std::size_t n = poly.size();
 
   // (a) tip-over about each support edge.
   t.tip_rad = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t a = poly[k], b = poly[(k + 1) % n];
-    const Eigen::Vector3d fa = af.foot(a).centre;
-    const Eigen::Vector2d nrm = outward_normal(fa.head<2>(), af.foot(b).centre.head<2>(), com.head<2>());
+    const Eigen::Vector3d& fa = support[a];
+    const Eigen::Vector2d nrm = outward_normal(fa.head<2>(), support[b].head<2>(), com.head<2>());
     const double d = -(com.head<2>() - fa.head<2>()).dot(nrm);  // > 0: inside
-    const double h = com.z() - af.foot_z;
+    const double h = com.z() - fa.z();
     const double angle = std::atan2(d, h);
     if (angle < t.tip_rad) {
       t.tip_rad = angle;
@@ -80,14 +81,14 @@ SafetyThreshold compute_safety_threshold(const Airframe& af) {
     }
   }
 
-  // (b) propeller strike, pivoting about each foot in every outward
+  // (b) propeller (or arm) strike, pivoting about each foot in every outward
   // direction between the normals of its two edges (edges included).
   t.prop_strike_rad = std::numbers::pi / 2;
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t prev = poly[(k + n - 1) % n], cur = poly[k], next = poly[(k + 1) % n];
-    const Eigen::Vector3d pivot = af.foot(cur).centre;
-    const Eigen::Vector2d n1 = outward_normal(af.foot(prev).centre.head<2>(), pivot.head<2>(), com.head<2>());
-    const Eigen::Vector2d n2 = outward_normal(pivot.head<2>(), af.foot(next).centre.head<2>(), com.head<2>());
+    const Eigen::Vector3d& pivot = support[cur];
+    const Eigen::Vector2d n1 = outward_normal(support[prev].head<2>(), pivot.head<2>(), com.head<2>());
+    const Eigen::Vector2d n2 = outward_normal(pivot.head<2>(), support[next].head<2>(), com.head<2>());
     const double a1 = std::atan2(n1.y(), n1.x());
     double a2 = std::atan2(n2.y(), n2.x());
     while (a2 < a1) a2 += 2 * std::numbers::pi;
@@ -104,6 +105,11 @@ SafetyThreshold compute_safety_threshold(const Airframe& af) {
           const Disk d = af.propeller(i);
           lowest =
               std::min(lowest, disk_lowest_z(pivot + R * (d.centre - pivot), R * d.axis, d.radius, d.half_thickness));
+          // The arm (it reaches the ground first on a low-slung frame
+          // without landing gear).
+          const Capsule a = af.arm(i);
+          lowest =
+              std::min(lowest, std::min((pivot + R * (a.a - pivot)).z(), (pivot + R * (a.b - pivot)).z()) - a.radius);
         }
         return lowest - af.ground_z();
       };

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <numbers>
 #include <sstream>
+#include <utility>
 
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
@@ -22,7 +23,8 @@ namespace tw = touchdown::twin;
 
 namespace {
 
-std::string random_airframe(td::Rng& rng) {
+// Without landing gear (`gearless`) the airframe stands on its body box.
+std::string random_airframe(td::Rng& rng, bool gearless = false) {
   auto U = [&](double lo, double hi) { return rng.uniform(lo, hi); };
   const int arms = std::array<int, 3>{4, 6, 8}[static_cast<std::size_t>(std::min(2.0, std::floor(U(0, 3))))];
   const bool coaxial = arms == 8 && U(0, 1) < 0.5;
@@ -50,6 +52,10 @@ std::string random_airframe(td::Rng& rng) {
     << ", torque_coefficient: " << U(0.005, 0.03) << "}\n";
   y << "propellers: {radius: " << U(0.05, 0.25) << ", thickness: " << U(0.005, 0.02) << ", height: " << U(0.01, 0.05)
     << "}\n";
+  if (gearless) {
+    y << "landing_gear: none\n";
+    return y.str();
+  }
   y << "landing_gear: {mass: " << U(0.05, 1) << ", top_z: " << -0.5 * bz << ", foot_z: " << U(-0.4, -0.12)
     << ", leg_radius: " << U(0.004, 0.015) << ", foot_radius: " << U(0.005, 0.02) << ", legs: [";
   const int legs = 3 + static_cast<int>(std::floor(U(0, 4)));
@@ -64,12 +70,15 @@ std::string random_airframe(td::Rng& rng) {
 
 }  // namespace
 
-TEST(AirframeProperty, RandomAirframesLandOnFlatGroundOrAreRefusedByKey) {
-  td::Rng rng(2026, 11);
+namespace {
+
+// Draws `count` airframes, lands each that loads on flat ground, returns
+// {landed, refused}.
+std::pair<int, int> land_random_airframes(td::Rng& rng, int count, bool gearless) {
   const auto flat = td::test::analytic_terrain([](double, double) { return 0.0; }, 1.6, 0.05);
   int landed = 0, refused = 0;
-  for (int k = 0; k < 40; ++k) {
-    const std::string yaml = random_airframe(rng);
+  for (int k = 0; k < count; ++k) {
+    const std::string yaml = random_airframe(rng, gearless);
     tw::Airframe af;
     try {
       af = tw::parse_airframe(yaml, "random.yaml");
@@ -87,16 +96,33 @@ TEST(AirframeProperty, RandomAirframesLandOnFlatGroundOrAreRefusedByKey) {
     o.threads = 1;
     o.seed = static_cast<std::uint64_t>(k);
     const auto r = tw::run_sweep(af, flat, o);
-    ASSERT_TRUE(r.ok()) << r.message << "\n" << yaml;
+    EXPECT_TRUE(r.ok()) << r.message << "\n" << yaml;
     for (const auto& h : r.headings) {
       EXPECT_EQ(h.invalid_runs, 0) << h.invalid_reason << "\n" << yaml;
       EXPECT_LT(h.score, 0.05) << yaml;
       EXPECT_EQ(h.tipped_runs, 0) << yaml;
+      EXPECT_EQ(h.body_strike_runs, 0) << yaml;
     }
     ++landed;
   }
+  return {landed, refused};
+}
+
+}  // namespace
+
+TEST(AirframeProperty, RandomAirframesLandOnFlatGroundOrAreRefusedByKey) {
+  td::Rng rng(2026, 11);
+  const auto [landed, refused] = land_random_airframes(rng, 40, false);
   // Both outcomes occur: the ranges are wide enough to reach the checks.
   EXPECT_GT(landed, 5);
   EXPECT_GT(refused, 5);
   std::printf("random airframes: %d landed, %d refused\n", landed, refused);
+}
+
+TEST(AirframeProperty, RandomAirframesWithoutLandingGearLandOnTheirBodyOrAreRefusedByKey) {
+  td::Rng rng(2026, 12);
+  const auto [landed, refused] = land_random_airframes(rng, 30, true);
+  EXPECT_GT(landed, 5);
+  EXPECT_GT(refused, 3);
+  std::printf("random airframes without landing gear: %d landed, %d refused\n", landed, refused);
 }

@@ -24,12 +24,7 @@ std::string error_of(const std::string& yaml) {
   return td::test::error_of([&] { tw::parse_airframe(yaml, "af.yaml"); });
 }
 
-std::string replace(std::string s, const std::string& from, const std::string& to) {
-  const auto at = s.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) s.replace(at, from.size(), to);
-  return s;
-}
+using td::test::replace;
 
 }  // namespace
 

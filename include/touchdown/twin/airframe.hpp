@@ -53,7 +53,9 @@ struct Airframe {
   double prop_radius = 0.127;
   double prop_thickness = 0.01;
   double prop_height = 0.02;  ///< disk centre above the motor
-  // landing gear
+  // landing gear; `legs` empty = no landing gear (YAML `landing_gear: none`):
+  // the airframe rests on the bottom face of its body box, and the gear
+  // fields below are not used
   double gear_mass = 0.35;
   double gear_top_z = -0.03;
   double foot_z = -0.17;
@@ -71,7 +73,8 @@ struct Airframe {
   /// False, with "key: problem", when the airframe is not physical or
   /// cannot fly: a non-positive mass or size, legs not below the body, feet
   /// above the propellers, fewer than 3 legs, a non-convex support set, the
-  /// centre of mass outside it, mismatched motor lists, thrust below
+  /// centre of mass outside it, (without landing gear) arms or propellers
+  /// reaching below the body, mismatched motor lists, thrust below
   /// kMinThrustToWeight × weight, motors that cannot set thrust, roll, pitch
   /// and yaw independently (fewer than 4, all spinning one way, no reaction
   /// torque, on one line), overlapping propellers.
@@ -88,8 +91,17 @@ struct Airframe {
   [[nodiscard]] Eigen::Vector3d centre_of_mass() const;     ///< body frame
   [[nodiscard]] Eigen::Matrix3d inertia_about_com() const;  ///< body axes, kg m²
   [[nodiscard]] Eigen::Vector3d motor_position(std::size_t i) const;
-  /// Lowest point of the feet (z of the ground plane when standing level).
-  [[nodiscard]] double ground_z() const { return foot_z - foot_radius; }
+  /// The airframe has legs; without, it stands on its body box.
+  [[nodiscard]] bool has_landing_gear() const { return !legs.empty(); }
+  /// What the airframe stands on when level, in the body frame: the foot
+  /// sphere centres, or without landing gear the four bottom corners of the
+  /// body box. Their convex hull is the support polygon.
+  [[nodiscard]] std::vector<Eigen::Vector3d> support_points() const;
+  /// Radius of the support points (the foot radius; 0 for body corners).
+  [[nodiscard]] double support_radius() const { return has_landing_gear() ? foot_radius : 0.0; }
+  /// Lowest point of the feet, or of the body without landing gear (z of
+  /// the ground plane when standing level).
+  [[nodiscard]] double ground_z() const { return has_landing_gear() ? foot_z - foot_radius : -0.5 * body_size.z(); }
   /// The largest k ≤ 12 such that turning the airframe by 360°/k about z
   /// maps every part that can touch the ground onto a part of the same
   /// kind: feet onto feet, motors (propeller disks, arms) onto motors, the
@@ -103,7 +115,7 @@ struct Airframe {
 
   [[nodiscard]] Box body_box() const;
   /// Radius of everything the twin covers seen from above, about the body
-  /// origin: the farthest propeller disk edge or foot.
+  /// origin: the farthest propeller disk edge, foot or body corner.
   [[nodiscard]] double footprint_radius() const;
   [[nodiscard]] Capsule arm(std::size_t i) const;
   [[nodiscard]] Disk propeller(std::size_t i) const;

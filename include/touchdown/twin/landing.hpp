@@ -98,10 +98,14 @@ struct RunResult {
   double nutation = 0;                  ///< eq. (3): N = acos(cos φ · cos θ), final
   double max_touchdown_nutation = 0;    ///< largest N from first contact to the end
   double offset = 0;                    ///< final horizontal distance from the landing point [m]
+  /// Parts that should not touch did: propellers, arms, the body box (not
+  /// for an airframe without landing gear, which stands on its body).
   bool prop_strike = false, arm_strike = false, body_strike = false;
-  bool tipped = false;               ///< final nutation above SimulationOptions::tip_nutation
-  bool all_feet_in_contact = false;  ///< every foot touching the terrain at rest
-  double sim_time = 0;               ///< simulated seconds
+  bool tipped = false;  ///< final nutation above SimulationOptions::tip_nutation
+  /// Every foot touching the terrain at rest (without landing gear: every
+  /// bottom corner of the body).
+  bool all_feet_in_contact = false;
+  double sim_time = 0;  ///< simulated seconds
   long steps = 0;
   Eigen::Vector3d final_position = Eigen::Vector3d::Zero();  ///< centre of mass
   std::vector<TracePoint> trace;

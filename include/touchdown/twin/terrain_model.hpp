@@ -67,6 +67,10 @@ class TerrainModel {
   [[nodiscard]] bool unknown_in_box(const Eigen::Vector2d& centre, const Eigen::Vector2d& half, double yaw,
                                     double pad) const;
 
+  /// Index of vertex k of triangle `tri` (shared between triangles).
+  [[nodiscard]] std::uint32_t vertex_index(std::uint32_t tri, int k) const {
+    return mesh_.triangles[tri][static_cast<std::size_t>(k)];
+  }
   /// Triangle vertices as doubles.
   [[nodiscard]] Eigen::Vector3d vertex(std::uint32_t tri, int k) const {
     return mesh_.vertices[mesh_.triangles[tri][static_cast<std::size_t>(k)]].cast<double>();
