@@ -291,7 +291,7 @@ int main(int argc, char** argv) {
                 << " headings x " << r.rounds_completed << " runs) in " << r.seconds << " s (" << std::setprecision(0)
                 << lps << " landings/s; one landing simulates " << r.run_sim_to_wall << "x faster than real time)\n"
                 << std::setprecision(3) << "  safety threshold " << r.threshold.value() << " rad (tip-over "
-                << r.threshold.tip_rad << ", propeller strike " << r.threshold.prop_strike_rad << ")\n"
+                << r.threshold.tip_rad << ", propeller or arm strike " << r.threshold.prop_strike_rad << ")\n"
                 << "  heading  S(psi)    mean  touchdown   prop   arm  body  tipped  invalid  verdict\n"
                 << "    [deg]   [rad]   [rad]      [rad]   (runs with a strike, of " << r.rounds_completed << ")\n";
       auto rad = [](double v) {

@@ -129,6 +129,26 @@ TEST(Gearless, LandsOnLevelGroundOnItsBodyWithoutStrikes) {
   }
 }
 
+// A flat bottom face on a plane rests at the plane's angle at any heading.
+TEST(Gearless, InclineGivesItsAngle) {
+  const auto a = gearless();
+  tw::SimulationOptions opt;
+  opt.tip_nutation = tw::compute_safety_threshold(a).tip_rad;
+  for (double alpha : {5.0, 10.0}) {
+    const tw::LandingSimulator sim(a, touchdown::test::incline_terrain(alpha * kRadPerDeg), opt);
+    for (double h : {0.0, 45.0, 90.0}) {
+      tw::LandingConditions c;
+      c.heading = h * kRadPerDeg;
+      c.ground_z = std::tan(alpha * kRadPerDeg) * 0.1;
+      const auto r = sim.land(c);
+      ASSERT_EQ(r.status, tw::RunStatus::Settled) << alpha << " " << h << " " << r.reason;
+      EXPECT_NEAR(r.nutation, alpha * kRadPerDeg, 0.02) << "incline " << alpha << " deg, heading " << h;
+      EXPECT_TRUE(r.all_feet_in_contact) << alpha << " " << h;
+      EXPECT_FALSE(r.strike()) << alpha << " " << h;
+    }
+  }
+}
+
 TEST(Gearless, SweepOnLevelGroundIsSafeAndOverAStepEdgeIsNot) {
   const auto a = gearless();
   tw::SweepOptions o;
