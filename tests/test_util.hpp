@@ -69,6 +69,22 @@ std::string error_of(F&& f) {
   return "<no error>";
 }
 
+/// The ParseError message of `parse(text, source)`; a test failure when it
+/// parses or throws anything else.
+template <typename Parse>
+std::string parse_error_of(Parse parse, const std::string& text, const std::string& source) {
+  try {
+    (void)parse(text, source);
+  } catch (const touchdown::ParseError& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "not a ParseError: " << e.what() << "\n" << text;
+    return {};
+  }
+  ADD_FAILURE() << "parsed without error:\n" << text;
+  return {};
+}
+
 /// One way to spoil an Options struct, and the field its validate() must
 /// then name first ("field:").
 template <typename Options>
@@ -102,6 +118,12 @@ struct BadInput {
   std::vector<std::string> expected;
 };
 inline void PrintTo(const BadInput& b, std::ostream* os) { *os << b.name; }
+/// The error `message` a BadInput case got is one line holding every
+/// expected part (file, line, key, problem).
+inline void expect_one_line_naming(const std::string& message, const BadInput& input) {
+  EXPECT_EQ(message.find('\n'), std::string::npos) << "one line, got: " << message;
+  for (const auto& part : input.expected) EXPECT_NE(message.find(part), std::string::npos) << message;
+}
 /// Test-name generator for INSTANTIATE_TEST_SUITE_P over BadInput tables.
 inline std::string bad_input_name(const ::testing::TestParamInfo<BadInput>& info) { return info.param.name; }
 

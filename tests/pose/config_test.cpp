@@ -26,19 +26,10 @@ namespace {
 
 fs::path source_path(const std::string& rel) { return fs::path(TOUCHDOWN_SOURCE_DIR) / rel; }
 
-// The ParseError message of parsing `yaml` (fails the test when it parses).
+// The ParseError message of parsing `yaml` as "cfg.yaml" (fails the test when it parses).
 template <typename Parse>
 std::string parse_error(Parse parse, const std::string& yaml) {
-  try {
-    parse(yaml, "cfg.yaml");
-  } catch (const touchdown::ParseError& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "not a ParseError: " << e.what() << "\n" << yaml;
-    return {};
-  }
-  ADD_FAILURE() << "parsed without error:\n" << yaml;
-  return {};
+  return touchdown::test::parse_error_of(parse, yaml, "cfg.yaml");
 }
 
 std::string camera_error(const std::string& yaml) { return parse_error(tp::parse_camera, yaml); }
@@ -138,9 +129,7 @@ TEST(CameraYaml, BundledD435Loads) {
 class CameraYamlBadInput : public ::testing::TestWithParam<touchdown::test::BadInput> {};
 
 TEST_P(CameraYamlBadInput, OneErrorNamingTheKey) {
-  const auto m = camera_error(GetParam().text);
-  EXPECT_EQ(m.find('\n'), std::string::npos) << "one line, got: " << m;
-  for (const auto& part : GetParam().expected) EXPECT_CONTAINS(m, part);
+  touchdown::test::expect_one_line_naming(camera_error(GetParam().text), GetParam());
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -292,9 +281,7 @@ TEST(ConstellationYaml, MarkerDefaultsAndColourDefault) {
 class ConstellationYamlBadInput : public ::testing::TestWithParam<touchdown::test::BadInput> {};
 
 TEST_P(ConstellationYamlBadInput, OneErrorNamingTheKey) {
-  const auto m = constellation_error(GetParam().text);
-  EXPECT_EQ(m.find('\n'), std::string::npos) << "one line, got: " << m;
-  for (const auto& part : GetParam().expected) EXPECT_CONTAINS(m, part);
+  touchdown::test::expect_one_line_naming(constellation_error(GetParam().text), GetParam());
 }
 
 namespace {
