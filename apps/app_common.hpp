@@ -8,6 +8,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -61,6 +62,37 @@ inline CLI::Validator number_in(double lo, double hi, bool lo_open = false, bool
         return ok ? "" : text + " is outside " + range;
       },
       "in " + range);
+}
+
+/// A memory or disk estimate for an error line: "0.22 GB", "3.5 GB", "106 GB".
+inline std::string gigabytes(double bytes) {
+  std::ostringstream os;
+  const double gb = bytes / 1e9;
+  if (gb < 10) {
+    os << std::setprecision(2) << gb;
+  } else {
+    os << std::fixed << std::setprecision(0) << gb;
+  }
+  os << " GB";
+  return os.str();
+}
+
+/// A large count for an error line, three significant digits: "4.07e10", "1e10".
+inline std::string large_count(double v) {
+  if (!(v >= 1e6)) {
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(0) << v;
+    return os.str();
+  }
+  int exponent = static_cast<int>(std::floor(std::log10(v)));
+  double mantissa = std::round(v / std::pow(10.0, exponent) * 100) / 100;
+  if (mantissa >= 10) {  // 9.999e9 rounds to 10e9
+    mantissa /= 10;
+    ++exponent;
+  }
+  std::ostringstream os;
+  os << mantissa << "e" << exponent;
+  return os.str();
 }
 
 /// Parses the command line and runs `body`, mapping exceptions to one line

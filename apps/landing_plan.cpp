@@ -32,6 +32,10 @@ namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
 constexpr int kExitNotOk = 1;  // infeasible or no corridor: a result, but no trajectory to fly
+// --samples: one ~220-byte row per millisecond, built in memory before it is
+// written; a trajectory of 16 segments of up to 1000 s would take ~3.5 GB.
+constexpr double kMaxSampledSeconds = 1000;
+constexpr double kCsvBytesPerRow = 220;
 
 double round3(double v) { return std::round(v * 1e3) / 1e3 + 0.0; }
 
@@ -590,8 +594,12 @@ int main(int argc, char** argv) {
       ->check(td::app::output_extension(".svg"));
   app.add_option("--samples", samples_path,
                  "write the trajectory every 1 ms as CSV (pad-frame position, velocity, acceleration; world-frame "
-                 "velocity and acceleration); only when planned")
+                 "velocity and acceleration); only when planned, for a trajectory of at most 1000 s")
       ->check(td::app::output_extension(".csv"));
+  // PROBLEM's counts and sizes have their ranges in the file format
+  // (docs/formats.md): order 5..20, segments 1..16, durations and time.min,
+  // time.max in [0.001, 1000] s, time.max_evaluations 1..100000,
+  // corridor.max_dilations 1..100.
 
   return td::app::run(app, argc, argv, [&]() -> int {
     tp::PlanProblem problem = tp::load_plan_problem(problem_path);
@@ -626,7 +634,18 @@ int main(int argc, char** argv) {
                          problem.goal ? *problem.goal : tp::default_goal(problem.options)};
       outputs.emplace_back(plot_path, plot_svg(in));
     }
-    if (!samples_path.empty() && r.ok()) outputs.emplace_back(samples_path, samples_csv(r.trajectory, problem.pad));
+    if (!samples_path.empty() && r.ok()) {
+      // Refused before the rows are built, with what they would take.
+      if (const double T = r.trajectory.total_duration(); T > kMaxSampledSeconds) {
+        const double rows = std::floor(T * 1000) + 1;
+        throw td::InvalidArgument("--samples: the trajectory lasts " + fixed(T, 1) +
+                                  " s: " + std::to_string(static_cast<long long>(rows)) + " rows of 1 ms, ~" +
+                                  td::app::gigabytes(rows * kCsvBytesPerRow) + " of CSV; the limit is " +
+                                  fixed(kMaxSampledSeconds, 0) + " s (~" +
+                                  td::app::gigabytes(kMaxSampledSeconds * 1000 * kCsvBytesPerRow) + ")");
+      }
+      outputs.emplace_back(samples_path, samples_csv(r.trajectory, problem.pad));
+    }
     for (const auto& [path, text] : outputs) {
       const fs::path dir = fs::absolute(path).parent_path();
       if (!fs::is_directory(dir)) throw td::IoError(path + ": directory " + dir.string() + " does not exist");

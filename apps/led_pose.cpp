@@ -19,12 +19,18 @@
 #include "touchdown/pose/pose_benchmark.hpp"
 #include "touchdown/pose/sequence.hpp"
 #include "touchdown/pose/synthetic.hpp"
+#include "touchdown/pose/trajectory.hpp"
 
 namespace {
 
 namespace td = touchdown;
 namespace tp = touchdown::pose;
 namespace fs = std::filesystem;
+using td::app::number_in;
+
+// Largest id of any dictionary (ARUCO_ORIGINAL has 1024 markers); the
+// dictionary's own size is checked when the options are validated.
+constexpr int kMaxArucoId = 1023;
 
 // The camera/constellation YAML given, else the one a rendered sequence carries.
 fs::path config_path(const std::string& given, const fs::path& dir, const char* file, const char* option) {
@@ -66,8 +72,51 @@ std::string fixed(double v, int digits) {
   return os.str();
 }
 
+// What rendering costs, measured on the 848x480 and 3840x2160 cameras
+// (docs/cli.md): the PNGs of a frame take ~2.6 bytes a pixel on disk
+// (noisy colour + depth), rendering and writing them ~90 ns a pixel, and
+// the benchmark ~45 ns a pixel (rendering, LED tracking and ArUco).
+constexpr double kPngBytesPerPixel = 2.6;
+constexpr double kRenderSecondsPerPixel = 90e-9;
+constexpr double kBenchmarkSecondsPerPixel = 45e-9;
+// Largest requests (frames x pixels): ~26 GB of PNGs and ~15 min for
+// render (24,567 frames at 848x480); ~75 min for the benchmark (40,946
+// frames per sequence with the three default scenarios at 848x480).
+constexpr double kMaxRenderPixels = 1e10;
+constexpr double kMaxBenchmarkPixels = 1e11;
+
+std::string duration_text(double seconds) {
+  std::ostringstream os;
+  os << std::setprecision(2);
+  if (seconds < 120) {
+    os << seconds << " s";
+  } else if (seconds < 7200) {
+    os << seconds / 60 << " min";
+  } else {
+    os << seconds / 3600 << " h";
+  }
+  return os.str();
+}
+
+std::string size_text(const tp::CameraModel& c) { return std::to_string(c.width) + "x" + std::to_string(c.height); }
+
+// The renderer's image limit, checked before anything is allocated, naming
+// the camera file (`what`: "--camera FILE").
+void check_render_size(const tp::CameraModel& c, const std::string& what) {
+  const double pixels = static_cast<double>(c.width) * c.height;
+  if (pixels <= static_cast<double>(tp::SyntheticCamera::kMaxPixels)) return;
+  throw td::InvalidArgument(
+      what + ": " + std::to_string(c.width) + " x " + std::to_string(c.height) + " = " +
+      std::to_string(static_cast<long long>(pixels)) + " pixels needs ~" +
+      td::app::gigabytes(pixels * tp::SyntheticCamera::kBytesPerPixel) + " a frame to render; the limit is " +
+      std::to_string(tp::SyntheticCamera::kMaxPixels) + " pixels (4096 x 4096, ~" +
+      td::app::gigabytes(static_cast<double>(tp::SyntheticCamera::kMaxPixels) * tp::SyntheticCamera::kBytesPerPixel) +
+      ")");
+}
+
 // Library messages name option fields (`noise_sigma: must be in [0, 100]`);
-// the user typed flags. Names the flag instead, for render's options.
+// the user typed flags. Names the flag instead, for render's options and
+// the ArUco baseline's.
 std::string in_flag_terms(std::string message) {
   static const std::pair<const char*, const char*> names[] = {
       {"make_trajectory: ", ""},
@@ -80,7 +129,13 @@ std::string in_flag_terms(std::string message) {
       {"camera_tilt_deg", "--camera-tilt"},
       {"aruco_size", "--aruco-size"},
       {"aruco_id", "--aruco-id"},
+      {"aruco_dictionary", "--aruco-dict"},
       {"frames must", "--frames must"},
+      // The ArUco baseline's options (sequence mode).
+      {"ArUco options: ", ""},
+      {"marker_size", "--aruco-size"},
+      {"marker_id", "--aruco-id"},
+      {"dictionary: unknown", "--aruco-dict: unknown"},
   };
   for (const auto& [field, flag] : names) {
     for (std::size_t at = message.find(field); at != std::string::npos;
@@ -112,8 +167,12 @@ int main(int argc, char** argv) {
   app.add_option("--method", method, "led or aruco")->check(CLI::IsMember({"led", "aruco"}))->capture_default_str();
   app.add_option("--aruco-dict", aruco.dictionary, "ArUco dictionary (4X4_50, 6X6_250, APRILTAG_36h11, ...)")
       ->capture_default_str();
-  app.add_option("--aruco-id", aruco.marker_id, "ArUco marker id on the airframe")->capture_default_str();
-  app.add_option("--aruco-size", aruco.marker_size, "ArUco marker edge [m]")->capture_default_str();
+  app.add_option("--aruco-id", aruco.marker_id, "ArUco marker id on the airframe (below the dictionary's size)")
+      ->check(number_in(0, kMaxArucoId))
+      ->capture_default_str();
+  app.add_option("--aruco-size", aruco.marker_size, "ArUco marker edge [m]")
+      ->check(number_in(0, 10, true))
+      ->capture_default_str();
   app.add_flag("--no-depth", no_depth, "ignore depth images (2-D gating only)");
   app.add_flag("--fuse", fuse,
                "report poses fused over the track's frames (a Kalman filter) instead of each frame's own; "
@@ -129,8 +188,9 @@ int main(int argc, char** argv) {
   double min_distance = 0.4, max_distance = 3.0;
   tp::RenderOptions ropt;
   render->add_option("OUT_DIR", out_dir, "directory to create")->required();
-  render->add_option("--camera", r_camera,
-                     "camera file, as for SEQUENCE_DIR (default: a D435 colour stream at 848x480)");
+  render->add_option(
+      "--camera", r_camera,
+      "camera file, as for SEQUENCE_DIR, up to 4096x4096 pixels (default: a D435 colour stream at 848x480)");
   render->add_option("--constellation", r_constellation, "constellation YAML (default: the built-in F450 six-LED set)");
   render->add_option("--trajectory", trajectory, "static or moving")
       ->check(CLI::IsMember({"static", "moving"}))
@@ -142,12 +202,19 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"facing", "chase"}))
       ->capture_default_str();
   render->add_option("--camera-tilt", camera_tilt_deg, "chase: camera tilt above the horizontal [deg]")
+      ->check(number_in(0, 80))
       ->capture_default_str();
-  render->add_option("--frames", frames, "number of frames")->capture_default_str();
-  render->add_option("--seed", seed, "random seed")->capture_default_str();
+  render
+      ->add_option("--frames", frames,
+                   "number of frames (frames x camera pixels <= 1e10: 24,567 frames at 848x480, ~26 GB of PNGs)")
+      ->check(number_in(1, tp::kMaxTrajectoryFrames))
+      ->capture_default_str();
+  render->add_option("--seed", seed, "random seed")->check(number_in(0, 1e18))->capture_default_str();
   render->add_option("--min-distance", min_distance, "closest camera-constellation (LED centroid) distance [m]")
+      ->check(number_in(0, tp::kMaxTrajectoryDistance, true))
       ->capture_default_str();
   render->add_option("--max-distance", max_distance, "farthest camera-constellation distance [m]")
+      ->check(number_in(0, tp::kMaxTrajectoryDistance, true))
       ->capture_default_str();
   std::string profile = "clean";
   const auto profile_names = CLI::IsMember({"clean", "harsh"});
@@ -158,24 +225,38 @@ int main(int argc, char** argv) {
       ->check(profile_names)
       ->capture_default_str();
   // Set explicitly, these override the profile's values.
-  auto* noise_opt = render->add_option("--noise", ropt.noise_sigma, "sensor noise [DN] (default: the profile's)");
+  auto* noise_opt = render->add_option("--noise", ropt.noise_sigma, "sensor noise [DN] (default: the profile's)")
+                        ->check(number_in(0, 100));
   auto* distractors_opt =
-      render->add_option("--distractors", ropt.distractor_count, "bright lamps in view (default: the profile's)");
-  auto* dropout_opt = render->add_option("--dropout", ropt.led_dropout_probability,
-                                         "per-LED per-frame dropout probability (default: the profile's)");
+      render->add_option("--distractors", ropt.distractor_count, "bright lamps in view (default: the profile's)")
+          ->check(number_in(0, 100));
+  auto* dropout_opt = render
+                          ->add_option("--dropout", ropt.led_dropout_probability,
+                                       "per-LED per-frame dropout probability (default: the profile's)")
+                          ->check(number_in(0, 1));
   render->add_option("--aruco-dict", aruco.dictionary, "ArUco dictionary of the rendered marker")
       ->capture_default_str();
-  render->add_option("--aruco-id", aruco.marker_id, "ArUco id")->capture_default_str();
-  render->add_option("--aruco-size", aruco.marker_size, "ArUco marker edge [m]")->capture_default_str();
+  render->add_option("--aruco-id", aruco.marker_id, "ArUco id (below the dictionary's size)")
+      ->check(number_in(0, kMaxArucoId))
+      ->capture_default_str();
+  render->add_option("--aruco-size", aruco.marker_size, "ArUco marker edge [m]")
+      ->check(number_in(0, 10, true))
+      ->capture_default_str();
 
   // --- benchmark ---
   auto* bench = app.add_subcommand("benchmark", "render static and moving sequences and compare LED and ArUco");
   bool json = false;
   int bench_frames = 300;
-  bench->add_option("--frames", bench_frames, "frames per sequence")->capture_default_str();
-  bench->add_option("--seed", seed, "random seed")->capture_default_str();
-  bench->add_option("--camera", r_camera,
-                    "camera file, as for SEQUENCE_DIR (default: a D435 colour stream at 848x480)");
+  bench
+      ->add_option("--frames", bench_frames,
+                   "frames per sequence (frames x sequences x camera pixels <= 1e11: 40,946 frames with the "
+                   "default scenarios at 848x480, ~75 min)")
+      ->check(number_in(1, tp::kMaxTrajectoryFrames))
+      ->capture_default_str();
+  bench->add_option("--seed", seed, "random seed")->check(number_in(0, 1e18))->capture_default_str();
+  bench->add_option(
+      "--camera", r_camera,
+      "camera file, as for SEQUENCE_DIR, up to 4096x4096 pixels (default: a D435 colour stream at 848x480)");
   bench->add_option("--constellation", r_constellation,
                     "constellation YAML: one scenario in --geometry (default: two built-in scenarios, the F450's "
                     "downward LEDs from below and the paper's front board in the chase geometry)");
@@ -183,6 +264,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"facing", "chase"}))
       ->capture_default_str();
   bench->add_option("--camera-tilt", camera_tilt_deg, "chase: camera tilt above the horizontal [deg]")
+      ->check(number_in(0, 80))
       ->capture_default_str();
   bench->add_option("--profile", profile, "with --constellation: clean or harsh rendering")
       ->check(profile_names)
@@ -199,6 +281,18 @@ int main(int argc, char** argv) {
     };
     if (*render) {
       const auto camera = camera_or_default(r_camera);
+      // Refused before anything is allocated, with what it would cost.
+      check_render_size(camera, "--camera " + r_camera);
+      if (const double pixels = static_cast<double>(frames) * camera.width * camera.height; pixels > kMaxRenderPixels) {
+        throw td::InvalidArgument("--frames " + std::to_string(frames) + " at " + size_text(camera) + ": " +
+                                  td::app::large_count(pixels) + " pixels to render, ~" +
+                                  td::app::gigabytes(pixels * kPngBytesPerPixel) + " of PNGs and ~" +
+                                  duration_text(pixels * kRenderSecondsPerPixel) + "; the limit is " +
+                                  td::app::large_count(kMaxRenderPixels) + " pixels (" +
+                                  std::to_string(static_cast<long long>(
+                                      kMaxRenderPixels / (static_cast<double>(camera.width) * camera.height))) +
+                                  " frames at " + size_text(camera) + ")");
+      }
       const auto k = constellation_or_default(r_constellation);
       tp::RenderOptions r = tp::apply_profile({}, *tp::parse_render_profile(profile));
       if (noise_opt->count()) r.noise_sigma = ropt.noise_sigma;
@@ -228,6 +322,7 @@ int main(int argc, char** argv) {
     if (*bench) {
       tp::PoseBenchmarkOptions o;
       o.camera = camera_or_default(r_camera);
+      check_render_size(o.camera, "--camera " + r_camera);
       if (r_constellation.empty()) {
         o.scenarios = tp::default_benchmark_scenarios();
       } else {
@@ -237,6 +332,17 @@ int main(int argc, char** argv) {
                                camera_tilt_deg, *tp::parse_render_profile(profile)});
       }
       o.frames = bench_frames;
+      const auto sequences = static_cast<double>(2 * o.scenarios.size());  // static and moving
+      const double frame_pixels = static_cast<double>(o.camera.width) * o.camera.height;
+      if (const double pixels = bench_frames * sequences * frame_pixels; pixels > kMaxBenchmarkPixels) {
+        throw td::InvalidArgument(
+            "--frames " + std::to_string(bench_frames) + ": " + std::to_string(2 * o.scenarios.size()) +
+            " sequences of " + size_text(o.camera) + " frames, " + td::app::large_count(pixels) +
+            " pixels to render and track, ~" + duration_text(pixels * kBenchmarkSecondsPerPixel) + "; the limit is " +
+            td::app::large_count(kMaxBenchmarkPixels) + " pixels (" +
+            std::to_string(static_cast<long long>(kMaxBenchmarkPixels / (sequences * frame_pixels))) +
+            " frames per sequence here)");
+      }
       o.seed = seed;
       o.use_depth = !no_depth;
       o.tracker.fuse_frames = fuse;
@@ -309,7 +415,11 @@ int main(int argc, char** argv) {
       to.fuse_frames = fuse;
       tracker.emplace(camera, k, to);
     } else {
-      marker.emplace(camera, k.T_body_marker, aruco);
+      try {
+        marker.emplace(camera, k.T_body_marker, aruco);
+      } catch (const td::InvalidArgument& e) {
+        throw td::InvalidArgument(in_flag_terms(e.what()));
+      }
     }
     // Ground truth, when the sequence carries it (a rendered one does).
     std::vector<tp::GroundTruthSample> truth;

@@ -25,12 +25,6 @@ constexpr double kMaxPixels = 4194304.0;  // width x height (2048 x 2048; 1920 x
 constexpr double kBytesPerPixel = 52.0;   // 2 depth images (16) + cloud (12) + writer (24)
 constexpr int kMaxRocks = 1000;           // --rubble-count
 
-std::string gigabytes(double bytes) {
-  std::ostringstream os;
-  os << std::setprecision(2) << bytes / 1e9 << " GB";
-  return os.str();
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -123,9 +117,9 @@ int main(int argc, char** argv) {
     if (pixels > kMaxPixels) {
       throw td::InvalidArgument("--width x --height = " + std::to_string(cam.width) + " x " +
                                 std::to_string(cam.height) + " = " + std::to_string(static_cast<long long>(pixels)) +
-                                " pixels needs ~" + gigabytes(pixels * kBytesPerPixel) + "; the limit is " +
+                                " pixels needs ~" + td::app::gigabytes(pixels * kBytesPerPixel) + "; the limit is " +
                                 std::to_string(static_cast<long long>(kMaxPixels)) + " pixels (~" +
-                                gigabytes(kMaxPixels * kBytesPerPixel) + ")");
+                                td::app::gigabytes(kMaxPixels * kBytesPerPixel) + ")");
     }
     shape.rubble_seed = seed;
     shape.prepare();

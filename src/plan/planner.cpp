@@ -590,13 +590,13 @@ bool PlannerOptions::validate(std::string* why) const {
                               std::to_string(durations.size()));
     }
     for (std::size_t k = 0; k < durations.size(); ++k) {
-      if (!(durations[k] > 0) || !std::isfinite(durations[k])) {
-        return invalid(why, "durations[" + std::to_string(k) + "]: must be > 0 and finite");
+      if (!(durations[k] >= kMinSegmentDuration && durations[k] <= kMaxSegmentDuration)) {
+        return invalid(why, "durations[" + std::to_string(k) + "]: must be in [0.001, 1000] s");
       }
     }
   }
-  if (!(time.min > 0) || !std::isfinite(time.max) || !(time.max > time.min)) {
-    return invalid(why, "time: need 0 < min < max (finite)");
+  if (!(time.min >= kMinSegmentDuration) || !(time.max <= kMaxSegmentDuration) || !(time.max > time.min)) {
+    return invalid(why, "time: need 0.001 <= min < max <= 1000 s");
   }
   if (!(time.rho >= 0) || !std::isfinite(time.rho)) return invalid(why, "time.rho: must be >= 0 and finite");
   if (time.max_evaluations < 1) return invalid(why, "time.max_evaluations: must be >= 1");

@@ -67,6 +67,14 @@ double non_negative(const YamlReader& r, const YAML::Node& n, const std::string&
   return v;
 }
 
+// A segment duration [s]: kMinSegmentDuration..kMaxSegmentDuration.
+double duration(const YamlReader& r, const YAML::Node& n, const std::string& key, double v) {
+  if (!(v >= kMinSegmentDuration && v <= kMaxSegmentDuration)) {
+    r.fail(n, key, "must be in [" + num(kMinSegmentDuration) + ", " + num(kMaxSegmentDuration) + "] s, got " + num(v));
+  }
+  return v;
+}
+
 int integer_in(const YamlReader& r, const YAML::Node& n, const std::string& key, int lo, int hi) {
   const int v = r.integer(n, key);
   if (v < lo || v > hi) {
@@ -104,8 +112,8 @@ PadMotion read_pad(const YamlReader& r, const YAML::Node& map) {
 
 void read_time(const YamlReader& r, const YAML::Node& map, TimeAllocationOptions& t) {
   only(r, map, "time.", {"min", "max", "rho", "max_evaluations"});
-  if (const YAML::Node n = map["min"]) t.min = positive(r, n, "time.min");
-  if (const YAML::Node n = map["max"]) t.max = positive(r, n, "time.max");
+  if (const YAML::Node n = map["min"]) t.min = duration(r, n, "time.min", r.number(n, "time.min"));
+  if (const YAML::Node n = map["max"]) t.max = duration(r, n, "time.max", r.number(n, "time.max"));
   if (!(t.min < t.max)) {
     const YAML::Node at = map["max"] ? map["max"] : map["min"];
     r.fail(at, map["max"] ? "time.max" : "time.min",
@@ -219,7 +227,7 @@ void read_problem(const YamlReader& r, const YAML::Node& root, PlanProblem& p) {
   if (const YAML::Node n = root["durations"]) {
     const auto d = r.numbers(n, "durations");
     for (std::size_t i = 0; i < d.size(); ++i) {
-      if (!(d[i] > 0)) r.fail(n[i], "durations[" + std::to_string(i) + "]", "must be > 0, got " + num(d[i]));
+      duration(r, n[i], "durations[" + std::to_string(i) + "]", d[i]);
     }
     if (d.size() != static_cast<std::size_t>(o.segments)) {
       r.fail(n, "durations",

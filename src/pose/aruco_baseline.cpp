@@ -44,8 +44,8 @@ bool ArucoOptions::validate(std::string* why) const {
     return fail("marker_id: " + std::to_string(marker_id) + " is not in dictionary " + std::string(dict->name) +
                 " (ids 0.." + std::to_string(n - 1) + ")");
   }
-  if (!std::isfinite(marker_size) || !(marker_size > 0)) {
-    return fail("marker_size: must be a positive edge length in metres, got " + format_number(marker_size));
+  if (!(marker_size > 0 && marker_size <= 10)) {
+    return fail("marker_size: must be an edge length in (0, 10] m, got " + format_number(marker_size));
   }
   if (!(detection_sigma_px > 0) || !std::isfinite(detection_sigma_px))
     return fail("detection_sigma_px: must be positive");

@@ -17,14 +17,23 @@ bool PoseBenchmarkOptions::validate(std::string* why) const {
   };
   std::string w;
   if (!camera.validate(&w)) return fail("camera: " + w);
+  if (static_cast<long long>(camera.width) * camera.height > SyntheticCamera::kMaxPixels) {
+    return fail("camera: " + std::to_string(camera.width) + " x " + std::to_string(camera.height) +
+                " pixels is more than the renderer's limit of " + std::to_string(SyntheticCamera::kMaxPixels) +
+                " (4096 x 4096)");
+  }
   if (scenarios.empty() && !constellation.validate(&w)) return fail("constellation: " + w);
   for (const auto& sc : scenarios) {
     if (!sc.constellation.validate(&w)) return fail("scenarios[" + sc.name + "].constellation: " + w);
     if (!(sc.camera_tilt_deg >= 0 && sc.camera_tilt_deg <= 80))
       return fail("scenarios[" + sc.name + "].camera_tilt_deg: must be in [0, 80]");
   }
-  if (frames < 1 || frames > 100000) return fail("frames: must be in 1..100000");
-  if (!(min_distance > 0 && max_distance > min_distance)) return fail("distances: need 0 < min < max");
+  if (frames < 1 || frames > kMaxTrajectoryFrames) {
+    return fail("frames: must be in 1.." + std::to_string(kMaxTrajectoryFrames));
+  }
+  if (!(min_distance > 0 && max_distance > min_distance && max_distance <= kMaxTrajectoryDistance)) {
+    return fail("distances: need 0 < min < max <= " + std::to_string(static_cast<int>(kMaxTrajectoryDistance)) + " m");
+  }
   if (!(success_px > 0)) return fail("success_px: must be positive");
   if (!aruco.validate(&w)) return fail("aruco: " + w);
   if (!rendered_options().validate(&w)) return fail("render: " + w);

@@ -318,6 +318,12 @@ SyntheticCamera::SyntheticCamera(CameraModel camera, Constellation constellation
     : impl_(std::make_unique<Impl>()) {
   std::string why;
   if (!camera.validate(&why)) throw InvalidArgument("SyntheticCamera: camera: " + why);
+  if (const long long pixels = static_cast<long long>(camera.width) * camera.height; pixels > kMaxPixels) {
+    throw InvalidArgument("SyntheticCamera: camera: " + std::to_string(camera.width) + " x " +
+                          std::to_string(camera.height) + " = " + std::to_string(pixels) +
+                          " pixels is more than the renderer's limit of " + std::to_string(kMaxPixels) +
+                          " (4096 x 4096)");
+  }
   if (!constellation.validate(&why)) throw InvalidArgument("SyntheticCamera: constellation: " + why);
   if (!options.validate(&why)) throw InvalidArgument("SyntheticCamera: options: " + why);
   impl_->camera = std::move(camera);

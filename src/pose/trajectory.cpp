@@ -120,8 +120,9 @@ Eigen::Isometry3d fitted_pose(const CameraModel& camera, const Constellation& k,
 }  // namespace
 
 bool TrajectoryOptions::validate(std::string* why) const {
-  if (!(min_distance > 0) || !(max_distance >= min_distance) || !std::isfinite(max_distance)) {
-    return invalid(why, "min_distance, max_distance: need 0 < min_distance <= max_distance (finite) [m]");
+  if (!(min_distance > 0) || !(max_distance >= min_distance) || !(max_distance <= kMaxTrajectoryDistance)) {
+    return invalid(why, "min_distance, max_distance: need 0 < min_distance <= max_distance <= " +
+                            std::to_string(static_cast<int>(kMaxTrajectoryDistance)) + " m");
   }
   if (!(fps > 0) || !std::isfinite(fps)) return invalid(why, "fps: must be positive [Hz]");
   if (!(margin_px >= 0) || !std::isfinite(margin_px)) return invalid(why, "margin_px: must be >= 0 px");
@@ -132,7 +133,10 @@ bool TrajectoryOptions::validate(std::string* why) const {
 std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, std::uint64_t seed,
                                               const CameraModel& camera, const Constellation& constellation,
                                               const TrajectoryOptions& o) {
-  if (frames < 1) throw InvalidArgument("make_trajectory: frames must be >= 1");
+  if (frames < 1 || frames > kMaxTrajectoryFrames) {
+    throw InvalidArgument("make_trajectory: frames must be in 1.." + std::to_string(kMaxTrajectoryFrames) + ", got " +
+                          std::to_string(frames));
+  }
   std::string why;
   if (!o.validate(&why)) throw InvalidArgument("make_trajectory: " + why);
   if (!camera.validate(&why)) throw InvalidArgument("make_trajectory: camera: " + why);

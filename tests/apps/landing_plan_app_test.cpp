@@ -282,7 +282,9 @@ std::vector<BadProblem> bad_problems() {
       {"negative v_max", replace_key_line(y, "limits", "limits: {v_max: -1, a_max: 4.0}"),
        "limits.v_max: must be > 0, got -1"},
       {"zero duration", replace_key_line(y, "segments", "segments: 2\ndurations: [1, 0]"),
-       "durations[1]: must be > 0, got 0"},
+       "durations[1]: must be in [0.001, 1000] s, got 0"},
+      {"duration of 1e5 s", replace_key_line(y, "segments", "segments: 2\ndurations: [1, 1e5]"),
+       "durations[1]: must be in [0.001, 1000] s, got 100000"},
       {"order 4", replace_key_line(y, "order", "order: 4"), "order: must be in 5..20, got 4"},
       {"start inside the obstacle", replaced(y, "p: [-3.0, 0.0, 2.0]", "p: [-1.5, 0.0, 0.4]"),
        "start.p: outside the corridor"},
@@ -331,4 +333,29 @@ TEST(LandingPlanAppBadInput, MissingFileAndMissingOutputDirectory) {
     EXPECT_NE(r.err.find("its name must end in"), std::string::npos) << r.err;
     EXPECT_TRUE(dir.files().empty());
   }
+}
+
+// Issue 11: the samples CSV is built in memory, one ~220-byte row per
+// millisecond: a trajectory of 1200 s wrote 264 MB and exit 0 (16 segments of
+// 1000 s would take ~3.5 GB). Refused before the rows are built, with the
+// estimate, and no output file is written.
+TEST(LandingPlanAppBadInput, SamplesOfAVeryLongTrajectoryAreRefused) {
+  TempDir dir;
+  td::test::write_text(dir / "p.yaml",
+                       "start: {p: [-3, 0, 2]}\nlimits: {v_max: 4, a_max: 4}\nsegments: 2\n"
+                       "durations: [600, 600]\n");
+  AppRun r =
+      run((dir / "p.yaml").string() + " --samples " + (dir / "s.csv").string() + " --plot " + (dir / "p.svg").string(),
+          dir);
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find("--samples: the trajectory lasts 1200.0 s: 1200001 rows of 1 ms, ~0.26 GB of CSV; the limit "
+                       "is 1000 s"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(dir.files(), std::vector<std::string>{"p.yaml"});
+  // Without --samples the plan itself is fine.
+  r = run((dir / "p.yaml").string(), dir);
+  EXPECT_EQ(r.code, 0) << r.err;
 }

@@ -364,13 +364,91 @@ TEST(LedPoseAppBadInput, RenderErrorsNameTheFlagNotTheField) {
   // Issue 11: `--noise -1` was reported as `noise_sigma: ...`.
   TempDir dir;
   const AppRun noise = run("render " + (dir / "a").string() + " --frames 2 --noise -1", dir);
-  expect_bad_input(noise, "--noise: must be in [0, 100] DN");
+  expect_bad_input(noise, "--noise: -1 is outside [0, 100]");
   EXPECT_EQ(noise.err.find("noise_sigma"), std::string::npos) << noise.err;
   const AppRun dropout = run("render " + (dir / "b").string() + " --frames 2 --dropout 2", dir);
-  expect_bad_input(dropout, "--dropout: must be in [0, 1]");
+  expect_bad_input(dropout, "--dropout: 2 is outside [0, 1]");
   const AppRun distance = run("render " + (dir / "c").string() + " --frames 2 --min-distance 5 --max-distance 1", dir);
   expect_bad_input(distance, "--min-distance, --max-distance");
   EXPECT_EQ(distance.err.find("make_trajectory"), std::string::npos) << distance.err;
+}
+
+// Issue 11: every count and size option has a range, shown by --help and
+// checked before anything is read or allocated. Before: --frames 100000000
+// ended in std::bad_alloc (exit 3); --seed -1 wrapped to 2^64 - 1;
+// --max-distance 1e9 rendered a drone 1e9 m away with every LED "visible";
+// benchmark --camera-tilt 1e9 and --aruco-size 1e300 were accepted.
+TEST(LedPoseAppBadInput, CountsAndSizesHaveRanges) {
+  TempDir dir;
+  const std::string out = (dir / "out").string();
+  struct Case {
+    std::string args, needle;
+  };
+  const std::vector<Case> cases = {
+      {"render " + out + " --frames 100000000", "--frames: 100000000 is outside [1, 100000]"},
+      {"render " + out + " --frames 0", "--frames: 0 is outside [1, 100000]"},
+      {"render " + out + " --frames 1e9", "--frames: 1e9 is outside [1, 100000]"},
+      {"render " + out + " --seed -1", "--seed: -1 is outside [0, 1e+18]"},
+      {"render " + out + " --max-distance 1e9", "--max-distance: 1e9 is outside (0, 100]"},
+      {"render " + out + " --min-distance nan", "--min-distance: nan is outside (0, 100]"},
+      {"render " + out + " --camera-tilt 90", "--camera-tilt: 90 is outside [0, 80]"},
+      {"render " + out + " --distractors 1e9", "--distractors: 1e9 is outside [0, 100]"},
+      {"render " + out + " --dropout 2", "--dropout: 2 is outside [0, 1]"},
+      {"render " + out + " --noise -1", "--noise: -1 is outside [0, 100]"},
+      {"render " + out + " --aruco-id 1e9", "--aruco-id: 1e9 is outside [0, 1023]"},
+      {"render " + out + " --aruco-size 0", "--aruco-size: 0 is outside (0, 10]"},
+      {"benchmark --frames 0", "--frames: 0 is outside [1, 100000]"},
+      {"benchmark --seed -1", "--seed: -1 is outside [0, 1e+18]"},
+      {"benchmark --camera-tilt 1e9", "--camera-tilt: 1e9 is outside [0, 80]"},
+      {out + " --method aruco --aruco-size 1e300", "--aruco-size: 1e300 is outside (0, 10]"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.args);
+    expect_bad_input(run(c.args, dir), c.needle);
+  }
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  // --help shows the ranges.
+  const AppRun help = run("render --help", dir);
+  EXPECT_EQ(help.code, 0);
+  EXPECT_NE(help.out.find("[1, 100000]"), std::string::npos) << help.out;
+  EXPECT_NE(help.out.find("(0, 100]"), std::string::npos) << help.out;
+}
+
+// Issue 11: the apps estimate what a request costs before starting. Before:
+// --frames 100000 started an hour of rendering into ~106 GB of PNGs; a
+// 32768 x 32768 camera file ended in std::bad_alloc (exit 3) after trying to
+// allocate ~31 GB; benchmark --frames 100000 ran for hours.
+TEST(LedPoseAppBadInput, RequestsTooLargeAreRefusedWithAnEstimate) {
+  TempDir dir;
+  const AppRun frames = run("render " + (dir / "a").string() + " --frames 100000", dir);
+  expect_bad_input(frames,
+                   "--frames 100000 at 848x480: 4.07e10 pixels to render, ~106 GB of PNGs and ~61 min; the "
+                   "limit is 1e10 pixels (24567 frames at 848x480)");
+  td::test::write_text(dir / "big.yaml",
+                       "width: 32768\nheight: 32768\nfx: 20000\nfy: 20000\ncx: 16383.5\ncy: 16383.5\n");
+  const std::string big = (dir / "big.yaml").string();
+  const AppRun camera = run("render " + (dir / "b").string() + " --frames 1 --camera " + big, dir);
+  expect_bad_input(camera, "--camera " + big +
+                               ": 32768 x 32768 = 1073741824 pixels needs ~31 GB a frame to render; "
+                               "the limit is 16777216 pixels (4096 x 4096, ~0.49 GB)");
+  const AppRun bench_camera = run("benchmark --frames 1 --camera " + big, dir);
+  expect_bad_input(bench_camera, "--camera " + big + ": 32768 x 32768");
+  const AppRun bench = run("benchmark --frames 100000", dir);
+  expect_bad_input(bench,
+                   "--frames 100000: 6 sequences of 848x480 frames, 2.44e11 pixels to render and track, ~3.1 "
+                   "h; the limit is 1e11 pixels (40946 frames per sequence here)");
+  // Nothing was written, not even a staging directory.
+  EXPECT_EQ(dir.files(), std::vector<std::string>{"big.yaml"});
+}
+
+// The ArUco baseline's errors name the flags too (was "ArUco options:
+// marker_id: ...").
+TEST(LedPoseAppBadInput, ArucoErrorsNameTheFlag) {
+  TempDir dir;
+  const auto seq = rendered_sequence(dir);
+  const AppRun r = run(seq.string() + " --method aruco --aruco-id 60", dir);
+  expect_bad_input(r, "--aruco-id: 60 is not in dictionary 4X4_50 (ids 0..49)");
+  EXPECT_EQ(r.err.find("marker_id"), std::string::npos) << r.err;
 }
 
 TEST(LedPoseAppBadInput, UnknownArucoDictionary) {

@@ -300,6 +300,11 @@ TEST(Planner, RejectsBadInput) {
   o = {};
   o.durations = {1, 0};
   EXPECT_NE(message(o).find("durations[1]"), std::string::npos);
+  o.durations = {1, 2000};  // issue 11: reported infeasible (the QP "not convex")
+  EXPECT_NE(message(o).find("durations[1]: must be in [0.001, 1000] s"), std::string::npos);
+  o = {};
+  o.time.max = 1e9;
+  EXPECT_NE(message(o).find("time: need 0.001 <= min < max <= 1000 s"), std::string::npos);
   o = {};
   o.durations = {1};
   EXPECT_NE(message(o).find("durations"), std::string::npos);

@@ -202,6 +202,8 @@ TEST(ProblemIo, RoundTripOfRandomProblems) {
   std::uniform_int_distribution<int> exponent(-12, 12);
   auto awkward = [&]() { return u(rng) * std::pow(10.0, exponent(rng)); };
   auto positive = [&]() { return std::abs(awkward()) + 1e-300; };
+  // A segment duration in [0.001, 100] s with awkward digits.
+  auto duration = [&]() { return 1e-3 + std::abs(u(rng)) * std::pow(10.0, exponent(rng) % 3); };
   auto vec = [&]() { return Eigen::Vector3d(awkward(), awkward(), awkward()); };
   for (int trial = 0; trial < 200; ++trial) {
     PlanProblem p;
@@ -216,9 +218,9 @@ TEST(ProblemIo, RoundTripOfRandomProblems) {
     o.v_max = positive();
     o.a_max = positive();
     if (trial % 3 == 0) {
-      for (int k = 0; k < o.segments; ++k) o.durations.push_back(positive());
+      for (int k = 0; k < o.segments; ++k) o.durations.push_back(duration());
     }
-    o.time.min = positive();
+    o.time.min = duration();
     o.time.max = o.time.min * (1.5 + std::abs(u(rng)));
     o.time.rho = std::abs(awkward());
     o.time.max_evaluations = 1 + trial;
@@ -299,7 +301,17 @@ std::vector<test::BadInput> problem_io_bad_inputs() {
       {"NegativeVMax", r("v_max: 4", "v_max: -1"), {"p.yaml:4: limits.v_max: must be > 0, got -1"}},
       {"ZeroDuration",
        r("durations: [1.5, 1, 2]", "durations: [1.5, 0, 2]"),
-       {"p.yaml:7: durations[1]: must be > 0, got 0"}},
+       {"p.yaml:7: durations[1]: must be in [0.001, 1000] s, got 0"}},
+      // Issue 11: 1e5 s was reported "infeasible" (the QP not convex), 1e-300 s
+      // as "qp: every entry of P, q, A and b must be finite".
+      {"HugeDuration",
+       r("durations: [1.5, 1, 2]", "durations: [1.5, 1e5, 2]"),
+       {"p.yaml:7: durations[1]: must be in [0.001, 1000] s, got 100000"}},
+      {"TinyDuration",
+       r("durations: [1.5, 1, 2]", "durations: [1.5, 1e-300, 2]"),
+       {"p.yaml:7: durations[1]: must be in [0.001, 1000] s, got 1e-300"}},
+      {"HugeTimeMax", r("max: 6,", "max: 1e9,"), {"p.yaml:8: time.max: must be in [0.001, 1000] s, got 1e+09"}},
+      {"TinyTimeMin", r("min: 0.2,", "min: 1e-4,"), {"p.yaml:8: time.min: must be in [0.001, 1000] s, got 0.0001"}},
       {"DurationCount",
        r("durations: [1.5, 1, 2]", "durations: [1.5, 1]"),
        {"p.yaml:7: durations: expected one per segment (3), got 2"}},

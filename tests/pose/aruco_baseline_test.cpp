@@ -560,8 +560,9 @@ TEST(ArucoOptions, IdOutsideTheDictionaryIsRejected) {
   EXPECT_TRUE(o.validate(&why)) << why;
 }
 
-TEST(ArucoOptions, NonPositiveSizeIsRejected) {
-  for (double size : {-0.1, 0.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+TEST(ArucoOptions, SizeOutsideTheRangeIsRejected) {
+  // Issue 11: a 1e300 m marker was accepted (no pose on any frame, no word why).
+  for (double size : {-0.1, 0.0, std::nan(""), std::numeric_limits<double>::infinity(), 10.01, 1e300}) {
     ArucoOptions o;
     o.marker_size = size;
     std::string why;

@@ -151,6 +151,25 @@ TEST_P(SyntheticCentroid, SpotCentroidIsTheProjection) {
 }
 INSTANTIATE_TEST_SUITE_P(Distortion, SyntheticCentroid, ::testing::Values(false, true));
 
+// Issue 11: a 32768 x 32768 camera file (valid for the pose pipeline) made
+// the renderer allocate ~30 GB and end in std::bad_alloc.
+TEST(SyntheticCamera, RefusesImagesLargerThanItsLimit) {
+  tp::CameraModel cam = d435();
+  cam.width = cam.height = 32768;
+  cam.fx = cam.fy = 20000;
+  cam.cx = cam.cy = 16383.5;
+  try {
+    const tp::SyntheticCamera synth(cam, f450());
+    ADD_FAILURE() << "a 32768 x 32768 camera was accepted";
+  } catch (const touchdown::InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("32768 x 32768"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("16777216"), std::string::npos) << e.what();
+  }
+  cam.width = cam.height = 4096;  // the limit itself is accepted
+  cam.cx = cam.cy = 2047.5;
+  EXPECT_NO_THROW(tp::SyntheticCamera(cam, f450()));
+}
+
 TEST(SyntheticCamera, SpotsGrowAsTheDroneComesClose) {
   const tp::CameraModel cam = d435();
   const tp::Constellation k = f450();
@@ -567,12 +586,22 @@ TEST(Trajectory, BadOptionsThrow) {
   o = {};
   o.min_distance = 0.05;  // the constellation cannot fit
   EXPECT_THROW(tp::make_trajectory(tp::TrajectoryKind::Moving, 10, 1, cam, k, o), touchdown::InvalidArgument);
+  // Issue 11: 100,000,000 frames ended in std::bad_alloc (136 bytes a sample),
+  // and a drone 1e9 m away was rendered with every LED "visible".
+  EXPECT_THROW(tp::make_trajectory(tp::TrajectoryKind::Static, tp::kMaxTrajectoryFrames + 1, 1, cam, k),
+               touchdown::InvalidArgument);
+  EXPECT_THROW(tp::make_trajectory(tp::TrajectoryKind::Static, 100000000, 1, cam, k), touchdown::InvalidArgument);
+  o.max_distance = 1e9;
+  EXPECT_THROW(tp::make_trajectory(tp::TrajectoryKind::Static, 10, 1, cam, k, o), touchdown::InvalidArgument);
+  o.max_distance = tp::kMaxTrajectoryDistance;
+  EXPECT_TRUE(o.validate(nullptr));
   // validate() names the field.
   using O = tp::TrajectoryOptions;
   touchdown::test::expect_validate_names_fields<O>({
       {"fps:", [](O& t) { t.fps = 0; }},
       {"margin_px:", [](O& t) { t.margin_px = -1; }},
       {"min_distance, max_distance:", [](O& t) { t.max_distance = 0.1; }},
+      {"min_distance, max_distance:", [](O& t) { t.max_distance = 101; }},
       {"camera_tilt_deg:", [](O& t) { t.camera_tilt_deg = 95; }},
   });
 }

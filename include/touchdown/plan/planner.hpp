@@ -66,8 +66,16 @@ struct PadMotion {
   [[nodiscard]] KinematicState to_world(double t, const KinematicState& relative) const;
 };
 
+/// [s] Range of a segment's duration, fixed or allocated. The jerk cost
+/// scales as T⁻⁵: beyond it the QP loses its precision (at 2000 s the
+/// solver finds it not convex, at 1e-300 s its entries overflow).
+inline constexpr double kMinSegmentDuration = 1e-3;
+inline constexpr double kMaxSegmentDuration = 1000;
+
 struct TimeAllocationOptions {
-  double min = 0.3;  ///< per-segment duration bounds [s], 0 < min < max
+  /// Per-segment duration bounds [s], kMinSegmentDuration <= min < max <=
+  /// kMaxSegmentDuration.
+  double min = 0.3;
   double max = 8;
   double rho = 1;  ///< weight of the total duration in J(T) + ρ ΣT [cost units per s], ≥ 0
   int max_evaluations = 300;
@@ -81,7 +89,8 @@ struct PlannerOptions {
   int segments = 2;  ///< ≥ 1 (≥ 2 with a corridor)
   double v_max = 3;  ///< per-axis world-frame limits [m/s], [m/s²], > 0
   double a_max = 5;
-  /// Fixed segment durations [s] (one per segment); empty: time allocation.
+  /// Fixed segment durations [s] (one per segment, each in
+  /// [kMinSegmentDuration, kMaxSegmentDuration]); empty: time allocation.
   std::vector<double> durations;
   TimeAllocationOptions time;
   /// No corridor: unconstrained space (obstacles then unused).

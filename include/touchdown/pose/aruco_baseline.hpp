@@ -34,7 +34,8 @@ struct ArucoOptions {
   /// case-insensitive, a leading "DICT_" is accepted too).
   std::string dictionary = "4X4_50";
   int marker_id = 3;  ///< the marker on the airframe; others in view are ignored
-  /// [m] edge of the black square (border included, quiet zone excluded).
+  /// [m] edge of the black square (border included, quiet zone excluded), in
+  /// (0, 10].
   /// Print the marker with a white margin of at least a quarter of this
   /// edge: with a narrower one on a darker background, aruco takes the
   /// margin's outer edge for a duplicate candidate and drops the marker

@@ -186,8 +186,17 @@ struct RenderedFrame {
 /// it) may allocate.
 class SyntheticCamera {
  public:
-  /// Throws InvalidArgument naming the option when the camera, the
-  /// constellation or the options are invalid.
+  /// Largest image the renderer takes (4096 x 4096; 3840 x 2160 fits): a
+  /// frame needs about kBytesPerPixel of working memory per pixel, so this
+  /// is ~0.5 GB.
+  static constexpr long long kMaxPixels = 4096LL * 4096;
+  /// Working memory per pixel: BGR light and depth buffers (16 bytes), the
+  /// undistortion rays (8), the output images (5).
+  static constexpr double kBytesPerPixel = 29;
+
+  /// Throws InvalidArgument naming the option when the camera (also one of
+  /// more than kMaxPixels pixels), the constellation or the options are
+  /// invalid.
   SyntheticCamera(CameraModel camera, Constellation constellation, RenderOptions options = {});
   ~SyntheticCamera();
   SyntheticCamera(SyntheticCamera&&) noexcept;

@@ -40,9 +40,16 @@ enum class CameraGeometry {
   Chase,
 };
 
+/// Most frames make_trajectory makes (and led_pose renders): 100000 frames
+/// are 55 minutes at 30 Hz.
+inline constexpr int kMaxTrajectoryFrames = 100000;
+/// [m] Farthest camera–constellation distance: beyond it an LED board is a
+/// few pixels wide and the 16-bit depth image (65.5 m at 1 mm) saturates.
+inline constexpr double kMaxTrajectoryDistance = 100.0;
+
 struct TrajectoryOptions {
-  double min_distance = 0.4;  ///< [m] camera–constellation (centroid) distance
-  double max_distance = 3.0;  ///< [m]
+  double min_distance = 0.4;  ///< [m] camera–constellation (centroid) distance, in (0, max_distance]
+  double max_distance = 3.0;  ///< [m] at most kMaxTrajectoryDistance
   double fps = 30;            ///< [Hz] sample rate
   double margin_px = 16;      ///< every LED stays this far inside the image
   CameraGeometry geometry = CameraGeometry::Facing;
@@ -59,7 +66,8 @@ struct TrajectorySample {
 /// A trajectory of the drone seen by the camera in `options.geometry` that
 /// keeps every LED inside the image by `margin_px` (the lateral offset,
 /// then the tilt, shrink where needed). Deterministic in `seed`. Throws InvalidArgument for invalid
-/// options (frames < 1, distances not 0 < min ≤ max, fps ≤ 0) or when the
+/// options (frames outside 1..kMaxTrajectoryFrames, distances not 0 < min ≤ max ≤
+/// kMaxTrajectoryDistance, fps ≤ 0) or when the
 /// constellation cannot fit in the image at min_distance.
 std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, std::uint64_t seed,
                                               const CameraModel& camera, const Constellation& constellation,
