@@ -201,9 +201,10 @@ int main(int argc, char** argv) {
                    "chase: the paper's ground-vehicle camera, tilted up, with the drone behind and above it")
       ->check(CLI::IsMember({"facing", "chase"}))
       ->capture_default_str();
-  render->add_option("--camera-tilt", camera_tilt_deg, "chase: camera tilt above the horizontal [deg]")
-      ->check(number_in(0, 80))
-      ->capture_default_str();
+  auto* render_tilt =
+      render->add_option("--camera-tilt", camera_tilt_deg, "chase: camera tilt above the horizontal [deg]")
+          ->check(number_in(0, 80))
+          ->capture_default_str();
   render
       ->add_option("--frames", frames,
                    "number of frames (frames x camera pixels <= 1e10: 24,567 frames at 848x480, ~26 GB of PNGs)")
@@ -260,15 +261,18 @@ int main(int argc, char** argv) {
   bench->add_option("--constellation", r_constellation,
                     "constellation YAML: one scenario in --geometry (default: two built-in scenarios, the F450's "
                     "downward LEDs from below and the paper's front board in the chase geometry)");
-  bench->add_option("--geometry", geometry, "with --constellation: facing or chase")
-      ->check(CLI::IsMember({"facing", "chase"}))
-      ->capture_default_str();
-  bench->add_option("--camera-tilt", camera_tilt_deg, "chase: camera tilt above the horizontal [deg]")
-      ->check(number_in(0, 80))
-      ->capture_default_str();
-  bench->add_option("--profile", profile, "with --constellation: clean or harsh rendering")
-      ->check(profile_names)
-      ->capture_default_str();
+  auto* bench_geometry = bench->add_option("--geometry", geometry, "with --constellation: facing or chase")
+                             ->check(CLI::IsMember({"facing", "chase"}))
+                             ->capture_default_str();
+  auto* bench_tilt =
+      bench
+          ->add_option("--camera-tilt", camera_tilt_deg,
+                       "with --constellation and --geometry chase: camera tilt above the horizontal [deg]")
+          ->check(number_in(0, 80))
+          ->capture_default_str();
+  auto* bench_profile = bench->add_option("--profile", profile, "with --constellation: clean or harsh rendering")
+                            ->check(profile_names)
+                            ->capture_default_str();
   bench->add_flag("--no-depth", no_depth, "LED method without depth");
   bench->add_flag("--fuse", fuse, "LED method: poses fused over the track's frames");
   bench->add_flag("--json", json, "print one JSON object on stdout");
@@ -279,7 +283,12 @@ int main(int argc, char** argv) {
     auto constellation_or_default = [&](const std::string& f) {
       return f.empty() ? tp::default_constellation() : tp::load_constellation(f);
     };
+    // Options that would be silently ignored are errors (issue 11).
+    auto refuse_unused = [](const CLI::Option* opt, const std::string& why) {
+      if (opt->count()) throw td::InvalidArgument(opt->get_name() + ": " + why);
+    };
     if (*render) {
+      if (geometry != "chase") refuse_unused(render_tilt, "applies only with --geometry chase");
       const auto camera = camera_or_default(r_camera);
       // Refused before anything is allocated, with what it would cost.
       check_render_size(camera, "--camera " + r_camera);
@@ -320,6 +329,16 @@ int main(int argc, char** argv) {
       return td::app::kExitOk;
     }
     if (*bench) {
+      if (r_constellation.empty()) {
+        const std::string why =
+            "applies only with --constellation (the default scenarios fix their own geometry, "
+            "tilt and rendering)";
+        refuse_unused(bench_geometry, why);
+        refuse_unused(bench_tilt, why);
+        refuse_unused(bench_profile, why);
+      } else if (geometry != "chase") {
+        refuse_unused(bench_tilt, "applies only with --geometry chase");
+      }
       tp::PoseBenchmarkOptions o;
       o.camera = camera_or_default(r_camera);
       check_render_size(o.camera, "--camera " + r_camera);

@@ -414,6 +414,30 @@ TEST(LedPoseAppBadInput, CountsAndSizesHaveRanges) {
   EXPECT_NE(help.out.find("(0, 100]"), std::string::npos) << help.out;
 }
 
+// Issue 11: options that would be silently ignored are errors. Before,
+// benchmark --camera-tilt, --geometry and --profile did nothing without
+// --constellation, and --camera-tilt nothing without --geometry chase.
+TEST(LedPoseAppBadInput, OptionsThatDoNotApplyAreRefused) {
+  TempDir dir;
+  const std::string out = (dir / "out").string();
+  const std::string board = std::string(TOUCHDOWN_SOURCE_DIR) + "/data/constellations/front_board.yaml";
+  struct Case {
+    std::string args, needle;
+  };
+  const std::vector<Case> cases = {
+      {"benchmark --camera-tilt 20", "--camera-tilt: applies only with --constellation"},
+      {"benchmark --geometry chase", "--geometry: applies only with --constellation"},
+      {"benchmark --profile harsh", "--profile: applies only with --constellation"},
+      {"benchmark --constellation " + board + " --camera-tilt 20", "--camera-tilt: applies only with --geometry chase"},
+      {"render " + out + " --camera-tilt 20", "--camera-tilt: applies only with --geometry chase"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.args);
+    expect_bad_input(run(c.args, dir), c.needle);
+  }
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
 // Issue 11: the apps estimate what a request costs before starting. Before:
 // --frames 100000 started an hour of rendering into ~106 GB of PNGs; a
 // 32768 x 32768 camera file ended in std::bad_alloc (exit 3) after trying to
