@@ -50,33 +50,6 @@ std::vector<std::size_t> hull_indices(const std::vector<Eigen::Vector2d>& p) {
   return h;
 }
 
-// Empty, or "key: problem" for landing gear that is not physical: feet not
-// below the body, arms and propellers, or fewer than 3 legs.
-std::string gear_problem(const Airframe& a) {
-  auto positive = [](double v) { return v > 0 && std::isfinite(v); };
-  if (!positive(a.gear_mass)) return "landing_gear.mass: must be positive, got " + fmt(a.gear_mass);
-  if (!positive(a.foot_radius)) return "landing_gear.foot_radius: must be positive";
-  if (!(a.leg_radius >= 0)) return "landing_gear.leg_radius: must be >= 0";
-  if (!(a.foot_z < a.gear_top_z)) return "landing_gear.foot_z: the feet must be below the legs' top_z";
-  if (!(a.gear_top_z <= 0.5 * a.body_size.z() + 1e-12)) return "landing_gear.top_z: the legs start above the body";
-  if (!(a.ground_z() < -0.5 * a.body_size.z())) return "landing_gear.foot_z: the feet are not below the body";
-  for (std::size_t i = 0; i < a.motor_count(); ++i) {
-    const Disk d = a.propeller(i);
-    if (!(a.ground_z() < d.centre.z() - d.half_thickness - 1e-3)) {
-      return "landing_gear.foot_z: the feet do not reach below the propellers";
-    }
-    if (!(a.ground_z() < a.motor_position(i).z() - a.arm_radius)) {
-      return "landing_gear.foot_z: the feet do not reach below the arms";
-    }
-  }
-  if (a.legs.size() < 3) {
-    return "landing_gear.legs: need at least 3 legs (or `landing_gear: none` for an airframe that stands on its "
-           "body), got " +
-           std::to_string(a.legs.size());
-  }
-  return "";
-}
-
 }  // namespace
 
 Airframe Airframe::f450() { return Airframe{}; }
@@ -312,9 +285,7 @@ bool Airframe::validate(std::string* why) const {
                   " m into body.size at the same height): lengthen arms.motor_radius or raise propellers.height");
     }
   }
-  if (has_landing_gear()) {
-    if (const std::string w = gear_problem(*this); !w.empty()) return fail(w);
-  } else {
+  if (!has_landing_gear()) {
     // Without landing gear the body's bottom face must be the lowest part:
     // arms or propellers hanging below it would be what the airframe rests
     // on, and they are not landing gear.
@@ -328,11 +299,6 @@ bool Airframe::validate(std::string* why) const {
                     "): the airframe would rest on it; describe the legs or skids it stands on");
       }
     }
-  }
-  std::vector<Eigen::Vector2d> support;
-  for (const auto& p : support_points()) support.push_back(p.head<2>());
-  const auto hull = hull_indices(support);
-  if (!has_landing_gear()) {
     // The body's bottom face is the support polygon.
     const Eigen::Vector2d c = centre_of_mass().head<2>(), h = 0.5 * body_size.head<2>();
     if (!(c.cwiseAbs().array() < h.array() - 1e-9).all()) {
@@ -341,6 +307,28 @@ bool Airframe::validate(std::string* why) const {
     }
     return true;
   }
+  if (!positive(gear_mass)) return fail("landing_gear.mass: must be positive, got " + fmt(gear_mass));
+  if (!positive(foot_radius)) return fail("landing_gear.foot_radius: must be positive");
+  if (!(leg_radius >= 0)) return fail("landing_gear.leg_radius: must be >= 0");
+  if (!(foot_z < gear_top_z)) return fail("landing_gear.foot_z: the feet must be below the legs' top_z");
+  if (!(gear_top_z <= 0.5 * body_size.z() + 1e-12)) return fail("landing_gear.top_z: the legs start above the body");
+  if (!(ground_z() < -0.5 * body_size.z())) return fail("landing_gear.foot_z: the feet are not below the body");
+  for (std::size_t i = 0; i < motor_count(); ++i) {
+    const Disk d = propeller(i);
+    if (!(ground_z() < d.centre.z() - d.half_thickness - 1e-3)) {
+      return fail("landing_gear.foot_z: the feet do not reach below the propellers");
+    }
+    if (!(ground_z() < motor_position(i).z() - arm_radius)) {
+      return fail("landing_gear.foot_z: the feet do not reach below the arms");
+    }
+  }
+  if (legs.size() < 3) {
+    return fail(
+        "landing_gear.legs: need at least 3 legs (or `landing_gear: none` for an airframe that stands on its body), "
+        "got " +
+        std::to_string(legs.size()));
+  }
+  const auto hull = hull_indices(legs);
   if (hull.size() < 3) return fail("landing_gear.legs: the legs are collinear: no support polygon");
   if (hull.size() != legs.size()) {
     for (std::size_t i = 0; i < legs.size(); ++i) {

@@ -397,7 +397,7 @@ void collide_box(const TerrainModel& terrain, const Eigen::Vector3d& centre, con
   // choosing by depth would swap points of nearly equal depth from step to
   // step along a resting edge, and the box would rock. The deepest point
   // joins them when it is deeper than every chosen one by more than 0.1 mm.
-  constexpr std::size_t kMax = 8;
+  constexpr std::size_t kMax = kMaxBoxContacts;
   if (found.size() <= kMax) {
     out.insert(out.end(), found.begin(), found.end());
     return;

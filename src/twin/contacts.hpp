@@ -8,6 +8,7 @@
 // landings in parallel. ODE's manual allows any collision system that
 // supplies contact points; ODE still does all the dynamics.
 #include <Eigen/Core>
+#include <cstddef>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -46,10 +47,12 @@ void collide_capsule(const TerrainModel& terrain, const Eigen::Vector3d& a, cons
                      Scratch& scratch, std::vector<Contact>& out);
 void collide_disk(const TerrainModel& terrain, const Eigen::Vector3d& centre, const Eigen::Vector3d& axis,
                   double radius, double half_thickness, Scratch& scratch, std::vector<Contact>& out);
+/// Most contacts collide_box gives.
+inline constexpr std::size_t kMaxBoxContacts = 8;
 /// Box contacts: its corners inside the terrain and the terrain's vertices
 /// inside the box (points fixed to one body, so a resting box keeps its
 /// support), or, when neither touches, MPR contacts (an edge across an
-/// edge); at most 8, spread over the contact area.
+/// edge); at most kMaxBoxContacts, spread over the contact area.
 void collide_box(const TerrainModel& terrain, const Eigen::Vector3d& centre, const Eigen::Matrix3d& axes,
                  const Eigen::Vector3d& half_extents, Scratch& scratch, std::vector<Contact>& out);
 

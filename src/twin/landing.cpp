@@ -148,8 +148,9 @@ class Run {
     std::vector<PartKind> contact_kind;
     std::vector<int> contact_foot;
     detail::Scratch scratch;
-    // One flag per foot; without landing gear, per bottom corner of the body.
-    std::vector<bool> foot_touch(af_.has_landing_gear() ? af_.legs.size() : 4);
+    // One flag per support point: a foot, or without landing gear a bottom
+    // corner of the body.
+    std::vector<bool> foot_touch(af_.support_points().size());
 
     auto unstable = [&](long step, const char* why) {
       res.status = RunStatus::Unstable;
@@ -205,10 +206,10 @@ class Run {
       contact_foot.clear();
       auto world = [&](const Eigen::Vector3d& q) { return Eigen::Vector3d(p + R * (q - com_)); };
       auto tag = [&](std::size_t before, PartKind kind, int foot) {
-        // At most 4 contacts per part (8 for the body box: its corners), the
-        // deepest: enough for a stable support, and ODE's LCP cost grows
-        // with the cube of the contact count.
-        const std::size_t max_contacts = kind == PartKind::Body ? 8 : 4;
+        // At most 4 contacts per part (the body box: what collide_box
+        // chose), the deepest: enough for a stable support, and ODE's LCP
+        // cost grows with the cube of the contact count.
+        const std::size_t max_contacts = kind == PartKind::Body ? detail::kMaxBoxContacts : 4;
         if (contacts.size() - before > max_contacts) {
           std::stable_sort(contacts.begin() + static_cast<std::ptrdiff_t>(before), contacts.end(),
                            [](const detail::Contact& a, const detail::Contact& b) { return a.depth > b.depth; });

@@ -147,6 +147,17 @@ void expect_bad_input(const AppRun& r, const std::string& needle) {
 
 std::string file_bytes(const fs::path& p) { return td::test::read_text(p); }
 
+// Command lines, each of which must be refused naming `needle`.
+struct RefusedArgs {
+  std::string args, needle;
+};
+void expect_each_refused(const std::vector<RefusedArgs>& cases, const TempDir& dir) {
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.args);
+    expect_bad_input(run(c.args, dir), c.needle);
+  }
+}
+
 }  // namespace
 
 // ---- tracking a rendered sequence -------------------------------------------------
@@ -381,31 +392,26 @@ TEST(LedPoseAppBadInput, RenderErrorsNameTheFlagNotTheField) {
 TEST(LedPoseAppBadInput, CountsAndSizesHaveRanges) {
   TempDir dir;
   const std::string out = (dir / "out").string();
-  struct Case {
-    std::string args, needle;
-  };
-  const std::vector<Case> cases = {
-      {"render " + out + " --frames 100000000", "--frames: 100000000 is outside [1, 100000]"},
-      {"render " + out + " --frames 0", "--frames: 0 is outside [1, 100000]"},
-      {"render " + out + " --frames 1e9", "--frames: 1e9 is outside [1, 100000]"},
-      {"render " + out + " --seed -1", "--seed: -1 is outside [0, 1e+18]"},
-      {"render " + out + " --max-distance 1e9", "--max-distance: 1e9 is outside (0, 100]"},
-      {"render " + out + " --min-distance nan", "--min-distance: nan is outside (0, 100]"},
-      {"render " + out + " --camera-tilt 90", "--camera-tilt: 90 is outside [0, 80]"},
-      {"render " + out + " --distractors 1e9", "--distractors: 1e9 is outside [0, 100]"},
-      {"render " + out + " --dropout 2", "--dropout: 2 is outside [0, 1]"},
-      {"render " + out + " --noise -1", "--noise: -1 is outside [0, 100]"},
-      {"render " + out + " --aruco-id 1e9", "--aruco-id: 1e9 is outside [0, 1023]"},
-      {"render " + out + " --aruco-size 0", "--aruco-size: 0 is outside (0, 10]"},
-      {"benchmark --frames 0", "--frames: 0 is outside [1, 100000]"},
-      {"benchmark --seed -1", "--seed: -1 is outside [0, 1e+18]"},
-      {"benchmark --camera-tilt 1e9", "--camera-tilt: 1e9 is outside [0, 80]"},
-      {out + " --method aruco --aruco-size 1e300", "--aruco-size: 1e300 is outside (0, 10]"},
-  };
-  for (const auto& c : cases) {
-    SCOPED_TRACE(c.args);
-    expect_bad_input(run(c.args, dir), c.needle);
-  }
+  expect_each_refused(
+      {
+          {"render " + out + " --frames 100000000", "--frames: 100000000 is outside [1, 100000]"},
+          {"render " + out + " --frames 0", "--frames: 0 is outside [1, 100000]"},
+          {"render " + out + " --frames 1e9", "--frames: 1e9 is outside [1, 100000]"},
+          {"render " + out + " --seed -1", "--seed: -1 is outside [0, 1e+18]"},
+          {"render " + out + " --max-distance 1e9", "--max-distance: 1e9 is outside (0, 100]"},
+          {"render " + out + " --min-distance nan", "--min-distance: nan is outside (0, 100]"},
+          {"render " + out + " --camera-tilt 90", "--camera-tilt: 90 is outside [0, 80]"},
+          {"render " + out + " --distractors 1e9", "--distractors: 1e9 is outside [0, 100]"},
+          {"render " + out + " --dropout 2", "--dropout: 2 is outside [0, 1]"},
+          {"render " + out + " --noise -1", "--noise: -1 is outside [0, 100]"},
+          {"render " + out + " --aruco-id 1e9", "--aruco-id: 1e9 is outside [0, 1023]"},
+          {"render " + out + " --aruco-size 0", "--aruco-size: 0 is outside (0, 10]"},
+          {"benchmark --frames 0", "--frames: 0 is outside [1, 100000]"},
+          {"benchmark --seed -1", "--seed: -1 is outside [0, 1e+18]"},
+          {"benchmark --camera-tilt 1e9", "--camera-tilt: 1e9 is outside [0, 80]"},
+          {out + " --method aruco --aruco-size 1e300", "--aruco-size: 1e300 is outside (0, 10]"},
+      },
+      dir);
   EXPECT_FALSE(fs::exists(dir / "out"));
   // --help shows the ranges.
   const AppRun help = run("render --help", dir);
@@ -421,20 +427,16 @@ TEST(LedPoseAppBadInput, OptionsThatDoNotApplyAreRefused) {
   TempDir dir;
   const std::string out = (dir / "out").string();
   const std::string board = std::string(TOUCHDOWN_SOURCE_DIR) + "/data/constellations/front_board.yaml";
-  struct Case {
-    std::string args, needle;
-  };
-  const std::vector<Case> cases = {
-      {"benchmark --camera-tilt 20", "--camera-tilt: applies only with --constellation"},
-      {"benchmark --geometry chase", "--geometry: applies only with --constellation"},
-      {"benchmark --profile harsh", "--profile: applies only with --constellation"},
-      {"benchmark --constellation " + board + " --camera-tilt 20", "--camera-tilt: applies only with --geometry chase"},
-      {"render " + out + " --camera-tilt 20", "--camera-tilt: applies only with --geometry chase"},
-  };
-  for (const auto& c : cases) {
-    SCOPED_TRACE(c.args);
-    expect_bad_input(run(c.args, dir), c.needle);
-  }
+  expect_each_refused(
+      {
+          {"benchmark --camera-tilt 20", "--camera-tilt: applies only with --constellation"},
+          {"benchmark --geometry chase", "--geometry: applies only with --constellation"},
+          {"benchmark --profile harsh", "--profile: applies only with --constellation"},
+          {"benchmark --constellation " + board + " --camera-tilt 20",
+           "--camera-tilt: applies only with --geometry chase"},
+          {"render " + out + " --camera-tilt 20", "--camera-tilt: applies only with --geometry chase"},
+      },
+      dir);
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
