@@ -22,8 +22,10 @@ pkg_check_modules(CCD REQUIRED IMPORTED_TARGET ccd)
 find_package(TBB REQUIRED)
 # LED pose: OpenCV for image I/O, rendering and the ArUco baseline; Ceres
 # for the constellation bundle adjustment.
-find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs calib3d aruco)
+find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs calib3d aruco videoio)
 find_package(Ceres 2 REQUIRED)
 # Landing trajectory: NLopt for the time allocation (and SLSQP as the QP
 # solver's reference in tests and benchmarks).
 find_package(NLopt REQUIRED)
+# Landing test world: FCL for the drone's collisions with scene objects.
+find_package(fcl 0.7 REQUIRED)

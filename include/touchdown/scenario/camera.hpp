@@ -1,0 +1,91 @@
+#pragma once
+/// \file
+/// The drone's downward camera, rendered headless with OpenCV
+/// (src/scenario/render.cpp): the ground texture of the map and the markers
+/// by perspective warp, objects by projecting their solids into a z-buffer,
+/// sun shadows, and weather as image effects (fog by depth, rain and snow
+/// streaks, dust haze, falling leaves, ground snow/leaves/wetness with sun
+/// glare, low-light noise), motion blur at speed. Each frame also gives the
+/// semantic mask, the depth image and the marker's visible and true areas
+/// (the RLaGA paper's eq. 5 reward inputs).
+///
+/// Thread-safety: one Renderer per thread. render() reuses its buffers.
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "touchdown/pose/image.hpp"
+#include "touchdown/scenario/scenario.hpp"
+
+namespace touchdown::scenario {
+
+/// Pinhole camera under the drone: optical axis down (−z body) tilted
+/// forward by tilt_deg, image "up" towards the body's +x.
+struct CameraOptions {
+  int width = 640;
+  int height = 480;
+  double hfov_deg = 90;  ///< horizontal field of view (fx = width/2 / tan(hfov/2))
+  double tilt_deg = 0;   ///< forward tilt from nadir
+  double rate_hz = 10;   ///< frames per second delivered to the landing system
+  double exposure_s = 0.02;  ///< motion blur = speed × exposure
+  Eigen::Vector3d offset_body{0, 0, -0.05};  ///< optical centre in the body frame [m]
+
+  [[nodiscard]] bool validate(std::string* why) const;
+  [[nodiscard]] double fx() const;
+  /// Intrinsic matrix (square pixels, principal point at the image centre).
+  [[nodiscard]] Eigen::Matrix3d K() const;
+  /// Camera (optical: x right, y down, z forward) → body.
+  [[nodiscard]] Eigen::Isometry3d T_body_camera() const;
+};
+
+/// Semantic mask labels.
+enum Label : std::uint8_t {
+  kGround = 0,
+  kMarker = 1,      ///< the target marker (with its white margin)
+  kDistractor = 2,  ///< distractor markers and patterns
+  kStaticObject = 3,
+  kDynamicObject = 4,
+  kSky = 5,
+};
+
+/// What the world looks like at one instant.
+struct SceneState {
+  double t = 0;
+  int frame_index = 0;  ///< seeds the frame's particles and noise
+  Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d v_world = Eigen::Vector3d::Zero();  ///< drone velocity (motion blur)
+  std::vector<Eigen::Isometry3d> T_world_dynamic;     ///< one per scenario dynamic object
+};
+
+struct CameraFrame {
+  int width = 0;
+  int height = 0;
+  pose::BgrImage image;
+  std::vector<std::uint8_t> mask;  ///< Label per pixel, row-major
+  std::vector<float> depth;        ///< along the optical axis [m]; +inf for sky
+  /// Target-marker pixels visible in the mask (occlusion by objects counts,
+  /// weather does not) and the area its quadrilateral would cover with
+  /// nothing in the way, clipped to the image [px] (eq. 5 inputs).
+  double marker_area_visible_px = 0;
+  double marker_area_truth_px = 0;
+};
+
+class Renderer {
+ public:
+  /// Throws InvalidArgument for invalid camera options or scenario.
+  Renderer(const Scenario& scenario, const CameraOptions& camera);
+  ~Renderer();
+  Renderer(Renderer&&) noexcept;
+  Renderer& operator=(Renderer&&) noexcept;
+
+  void render(const SceneState& state, CameraFrame& out);
+  [[nodiscard]] const CameraOptions& camera() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace touchdown::scenario

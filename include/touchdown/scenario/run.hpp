@@ -1,0 +1,94 @@
+#pragma once
+/// \file
+/// One scenario run, closed loop: world → camera → landing system → world,
+/// and its outcome with the RLaGA paper's violation semantics:
+/// violation = a collision with any object, or a final landing position more
+/// than 1.5 m from the marker centre (including no landing within the time
+/// limit). Classified automatically (the paper did it by hand from videos):
+///   Type I    landed at a false-positive location (a detection elsewhere
+///             triggered the descent);
+///   Type II   no landing: the marker was never (or not long enough) detected;
+///   Type III  collision.
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "touchdown/scenario/camera.hpp"
+#include "touchdown/scenario/landing_system.hpp"
+#include "touchdown/scenario/world.hpp"
+
+namespace touchdown::scenario {
+
+enum class Violation {
+  none,
+  type_i,    ///< landed > radius from the marker: a false detection led it there
+  type_ii,   ///< did not land in time
+  type_iii,  ///< collision
+};
+std::string_view to_string(Violation v);
+
+struct RunOptions {
+  CameraOptions camera;
+  FlightOptions flight;
+  double violation_radius = 1.5;  ///< [m]
+  /// Called for every camera frame after the system has seen it (video,
+  /// inspection). May be empty.
+  std::function<void(const CameraFrame&, const SystemOutput&, const DroneState&)> on_frame;
+  /// Drives the dynamic objects with motion `external`: fills one action per
+  /// such object each physics step. May be empty (they stay).
+  std::function<void(const World&, std::vector<ObjectAction>&)> external;
+
+  [[nodiscard]] bool validate(std::string* why) const;
+};
+
+struct TrajectorySample {
+  double t = 0;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  double yaw_deg = 0;
+  std::string_view phase;
+};
+
+/// Per camera frame: the eq. 5 reward inputs and what the system detected.
+struct FrameRecord {
+  double t = 0;
+  double marker_area_visible_px = 0;
+  double marker_area_truth_px = 0;
+  int detections = 0;        ///< markers the system reported
+  int accepted = 0;          ///< of which counted as the target
+  int false_accepted = 0;    ///< accepted, but not on the true marker (mask)
+};
+
+struct Timing {
+  double render_s = 0;
+  double system_s = 0;   ///< detection and decision
+  double physics_s = 0;  ///< flight, objects, collisions
+  double total_s = 0;
+};
+
+struct ScenarioResult {
+  bool violation = false;
+  Violation type = Violation::none;
+  std::string message;  ///< one line: what happened
+  bool landed = false;
+  bool collided = false;
+  CollisionEvent collision;
+  double dtl = 0;  ///< distance from the final (landing) position to the marker centre, horizontal [m]
+  double ttl = 0;  ///< time to landing [s]; the time limit when it did not land
+  Eigen::Vector3d final_position = Eigen::Vector3d::Zero();
+  bool descent_started = false;
+  double descent_time = 0;
+  Eigen::Vector2d descent_target = Eigen::Vector2d::Zero();
+  bool false_detection = false;  ///< some accepted detection was not on the true marker
+  std::vector<TrajectorySample> trajectory;  ///< every physics step
+  std::vector<FrameRecord> frames;
+  Timing timing;
+};
+
+/// Runs `system` in `scenario` until it lands, collides or the time limit.
+/// Throws InvalidArgument for invalid options or scenario.
+ScenarioResult run_scenario(const Scenario& scenario, LandingSystem& system, const RunOptions& options = {});
+
+}  // namespace touchdown::scenario

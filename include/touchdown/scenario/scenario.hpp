@@ -1,0 +1,159 @@
+#pragma once
+/// \file
+/// A marker-landing test scenario (RLaGA paper's world, headless): the map,
+/// the landing marker and distractors, static and moving objects, weather,
+/// and where the drone starts with which approximate (GPS-like) target.
+///
+/// Every number a search may draw or mutate has its bounds in one table,
+/// `property_bounds()`; `Scenario::validate` and the file readers check
+/// against it, `random_scenario` draws from it. Files are YAML or JSON
+/// (docs/formats.md, "Landing scenarios") and round-trip exactly: angles are
+/// kept in degrees as written, numbers are written with 17 significant digits.
+///
+/// World frame: x east, y north, z up [m]; the ground is the plane z = 0.
+/// Yaw and heading angles are counter-clockwise from +x, in degrees.
+#include <Eigen/Core>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace touchdown::scenario {
+
+enum class MapKind { ground, lawn };  ///< concrete, city-like / grass, natural
+enum class DistractorKind {
+  wrong_id,   ///< a valid marker of the same dictionary with another id
+  lookalike,  ///< the target's code with `flipped_bits` cells inverted
+  pattern,    ///< a random black-and-white grid with a marker's border
+};
+enum class StaticKind { box, chair, pole, tree };
+enum class DynamicKind { person, dog, bird };
+enum class MotionKind {
+  still,     ///< stays at its start
+  line,      ///< walks `extent` metres along its heading and back, repeatedly
+  circle,    ///< circles with radius `extent`, centre to its left
+  wander,    ///< seeded random walk within `extent` of its start
+  external,  ///< moved by an external controller (up/down/left/right/stay)
+};
+
+struct Marker {
+  std::string dictionary = "4X4_50";  ///< OpenCV ArUco dictionary name
+  int id = 0;
+  double size = 1.0;  ///< black-border edge [m]; a white margin of one cell surrounds it
+  Eigen::Vector2d position{0, 0};
+  double yaw_deg = 0;
+};
+
+struct Distractor {
+  DistractorKind kind = DistractorKind::wrong_id;
+  int id = 1;            ///< wrong_id: the marker drawn; pattern: seed of the grid
+  int flipped_bits = 1;  ///< lookalike: cells inverted in the target's code
+  double size = 1.0;
+  Eigen::Vector2d position{0, 0};
+  double yaw_deg = 0;
+};
+
+/// Simple solids: box = its extents; chair = seat width, depth, back height;
+/// pole = diameter, diameter, height; tree = crown diameter, trunk diameter,
+/// height.
+struct StaticObject {
+  StaticKind kind = StaticKind::box;
+  Eigen::Vector2d position{0, 0};
+  double yaw_deg = 0;
+  Eigen::Vector3d size{1, 1, 1};
+};
+
+/// A moving object. size = length, width, height [m] (a person's height is
+/// its z size); a bird flies at `altitude`, the others walk on the ground.
+struct DynamicObject {
+  DynamicKind kind = DynamicKind::person;
+  Eigen::Vector3d size{0.5, 0.4, 1.75};
+  Eigen::Vector2d position{0, 0};  ///< start
+  double altitude = 0;             ///< bird only [m]
+  double heading_deg = 0;          ///< start heading
+  double speed = 1.0;              ///< [m/s]
+  MotionKind motion = MotionKind::line;
+  double extent = 5.0;  ///< line length, circle radius or wander radius [m]
+};
+
+/// Weather: every property in [0, 1] is an intensity, unless a unit is given.
+struct Weather {
+  double fog = 0;  ///< extinction coefficient [1/m] (visibility 3.912/fog)
+  double rain = 0;
+  double snow = 0;
+  double dust = 0;
+  double leaves = 0;          ///< falling leaves
+  double ground_wetness = 0;  ///< darkens the ground and reflects the sun (glare)
+  double ground_snow = 0;     ///< snow cover of the ground (and of the marker)
+  double ground_leaves = 0;   ///< leaf cover of the ground (and of the marker)
+  double sun_elevation_deg = 50;
+  double sun_azimuth_deg = 135;
+  double ambient = 1.0;  ///< light level (1 = overcast day; low light adds sensor noise)
+};
+
+/// The drone starts hovering at `position`; its landing system is given the
+/// target marker.position + gps_error (a GPS-like approximate position).
+struct DroneStart {
+  Eigen::Vector3d position{-8, 0, 12};
+  double yaw_deg = 0;
+  Eigen::Vector2d gps_error{0, 0};
+};
+
+struct Scenario {
+  MapKind map = MapKind::ground;
+  std::uint64_t seed = 1;  ///< textures, particles and wandering objects
+  double time_limit = 60;  ///< [s]; no landing by then is a violation
+  Marker marker;
+  std::vector<Distractor> distractors;
+  std::vector<StaticObject> static_objects;
+  std::vector<DynamicObject> dynamic_objects;
+  Weather weather;
+  DroneStart drone;
+
+  /// The approximate target the landing system is given.
+  [[nodiscard]] Eigen::Vector2d gps_target() const { return marker.position + drone.gps_error; }
+  /// False (with "key: what", e.g. "static_objects[2].size: ...") when a
+  /// property is outside its bounds or the scenario is inconsistent.
+  [[nodiscard]] bool validate(std::string* why) const;
+};
+
+/// One row of the bounds table. Keys name the file's keys; list elements
+/// use "[]" (e.g. "static_objects[].size"). A vector property bounds each
+/// component.
+struct PropertyBound {
+  std::string_view key;
+  double min = 0;
+  double max = 0;
+  std::string_view unit;     ///< "m", "deg", "m/s", "1/m", "" (intensity or count)
+  std::string_view meaning;  ///< one line for docs and --help
+  bool integer = false;
+};
+
+/// The one table of realistic bounds (docs/formats.md prints it).
+const std::vector<PropertyBound>& property_bounds();
+/// The row for `key`; throws InvalidArgument for an unknown key.
+const PropertyBound& property_bound(std::string_view key);
+
+std::string_view to_string(MapKind);
+std::string_view to_string(DistractorKind);
+std::string_view to_string(StaticKind);
+std::string_view to_string(DynamicKind);
+std::string_view to_string(MotionKind);
+
+/// Reads a scenario from YAML (JSON is YAML too). Unknown keys, missing
+/// keys, NaN and values outside property_bounds() throw ParseError naming
+/// "source:line: key: what".
+Scenario parse_scenario(std::string_view text, std::string_view source);
+Scenario load_scenario(const std::filesystem::path& path);
+/// The scenario as YAML or JSON; parse_scenario(to_yaml(s)) == s exactly.
+std::string to_yaml(const Scenario& s);
+std::string to_json(const Scenario& s);
+bool operator==(const Scenario& a, const Scenario& b);
+
+/// A random valid scenario drawn from property_bounds(): same seed, same
+/// scenario. `map` fixes the map (else drawn).
+Scenario random_scenario(std::uint64_t seed);
+Scenario random_scenario(std::uint64_t seed, MapKind map);
+
+}  // namespace touchdown::scenario

@@ -1,0 +1,102 @@
+#pragma once
+/// \file
+/// The landing world at fixed steps: a velocity-controlled multirotor with
+/// acceleration limits and a PX4-like land mode, the scenario's moving
+/// objects (scripted or driven by an external controller), collisions of the
+/// drone's real shape with every object (FCL), and landing detection.
+/// Same scenario and commands → bit-identical states.
+///
+/// Thread-safety: one World per thread. step() does not allocate.
+#include <Eigen/Geometry>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "touchdown/scenario/geometry.hpp"
+#include "touchdown/scenario/scenario.hpp"
+#include "touchdown/twin/airframe.hpp"
+
+namespace touchdown::scenario {
+
+/// The flight model's limits, after PX4's multicopter position controller
+/// parameters (MPC_XY_VEL_MAX, MPC_Z_VEL_MAX_UP/DN, MPC_ACC_HOR, MPC_LAND_SPEED, ...).
+struct FlightOptions {
+  twin::Airframe airframe;         ///< the drone's shape (default F450-like)
+  double rate_hz = 50;             ///< physics steps per second
+  double max_speed_xy = 5;         ///< [m/s]
+  double max_speed_up = 3;         ///< [m/s]
+  double max_speed_down = 1.5;     ///< [m/s]
+  double max_accel_xy = 3;         ///< [m/s²]
+  double max_accel_z = 2;          ///< [m/s²]
+  double velocity_time_constant = 0.3;  ///< first-order response to the setpoint [s]
+  double max_yaw_rate_deg = 60;    ///< [deg/s]
+  double land_speed = 0.7;         ///< land mode descent [m/s] (MPC_LAND_SPEED)
+  double land_slow_altitude = 1.5; ///< below this the descent slows to land_speed/2 (MPC_LAND_ALT2)
+  double land_detect_time = 0.5;   ///< on the ground this long = landed (LNDMC_TRIG_TIME)
+
+  [[nodiscard]] bool validate(std::string* why) const;
+};
+
+/// What a landing system commands. In land mode the vehicle descends at the
+/// land speed and the horizontal velocity setpoint still applies (PX4 lets
+/// the pilot or an offboard system nudge the position during landing).
+struct DroneCommand {
+  Eigen::Vector3d velocity_world = Eigen::Vector3d::Zero();  ///< [m/s]; z ignored in land mode
+  double yaw_rate_deg = 0;
+  bool land = false;  ///< switch to land mode (latched)
+};
+
+/// External control of a moving object, as the RLaGA paper's RL agent:
+/// one action per step, at the object's speed, in world axes (up = +y).
+enum class ObjectAction { stay, up, down, left, right };
+
+struct DroneState {
+  double t = 0;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();      ///< body centre [m]
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();      ///< [m/s]
+  Eigen::Vector3d acceleration = Eigen::Vector3d::Zero();  ///< [m/s²]
+  double yaw_deg = 0;
+  bool land_mode = false;
+  bool on_ground = false;
+  bool landed = false;  ///< land detector: on the ground for land_detect_time
+  [[nodiscard]] Eigen::Isometry3d T_world_body() const;  ///< attitude from the thrust direction and yaw
+};
+
+struct CollisionEvent {
+  double t = 0;
+  int object = -1;  ///< index in static_objects, then dynamic_objects
+  std::string what;  ///< e.g. "static_objects[1] (pole)"
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< contact on the drone [m]
+};
+
+class World {
+ public:
+  World(const Scenario& scenario, const FlightOptions& flight = {});
+  ~World();
+  World(World&&) noexcept;
+  World& operator=(World&&) noexcept;
+
+  /// One step of 1/rate_hz. `actions` has one entry per dynamic object with
+  /// motion `external` (in order); empty = all stay. After a collision or a
+  /// landing the world no longer moves the drone.
+  void step(const DroneCommand& command, std::span<const ObjectAction> actions = {});
+
+  [[nodiscard]] double time() const;
+  [[nodiscard]] double dt() const;
+  [[nodiscard]] const DroneState& drone() const;
+  /// Poses of the dynamic objects (origin under the object's middle, x along its heading).
+  [[nodiscard]] const std::vector<Eigen::Isometry3d>& dynamic_poses() const;
+  [[nodiscard]] const std::vector<Eigen::Vector3d>& dynamic_velocities() const;
+  /// The first collision, if any (the run stops there).
+  [[nodiscard]] const CollisionEvent* collision() const;
+  [[nodiscard]] const Scenario& scenario() const;
+  /// Number of dynamic objects with motion `external`.
+  [[nodiscard]] int external_count() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace touchdown::scenario
