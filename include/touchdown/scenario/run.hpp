@@ -48,7 +48,7 @@ struct TrajectorySample {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
   double yaw_deg = 0;
-  std::string_view phase;
+  std::string phase;  ///< the landing system's phase at this step
 };
 
 /// Per camera frame: the eq. 5 reward inputs and what the system detected.

@@ -31,8 +31,10 @@ struct FlightOptions {
   double max_accel_z = 2;          ///< [m/s²]
   double velocity_time_constant = 0.3;  ///< first-order response to the setpoint [s]
   double max_yaw_rate_deg = 60;    ///< [deg/s]
-  double land_speed = 0.7;         ///< land mode descent [m/s] (MPC_LAND_SPEED)
-  double land_slow_altitude = 1.5; ///< below this the descent slows to land_speed/2 (MPC_LAND_ALT2)
+  double land_speed = 0.7;         ///< land mode descent near the ground [m/s] (MPC_LAND_SPEED)
+  /// Land mode descends at max_speed_down above this height and at
+  /// land_speed below it (MPC_LAND_ALT2) [m].
+  double land_slow_altitude = 2.0;
   double land_detect_time = 0.5;   ///< on the ground this long = landed (LNDMC_TRIG_TIME)
 
   [[nodiscard]] bool validate(std::string* why) const;
