@@ -129,7 +129,7 @@ ScenarioResult run_scenario(const Scenario& scenario, LandingSystem& system, con
     world.step(out.command, actions);
     r.timing.physics_s += seconds_since(t2);
     const DroneState& now = world.drone();
-    r.trajectory.push_back({now.t, now.position, now.velocity, now.yaw_deg, out.phase});
+    r.trajectory.push_back({now.t, now.position, now.velocity, now.yaw_deg, std::string(out.phase)});
     if (world.collision() || now.landed) break;
   }
 
