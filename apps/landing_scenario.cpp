@@ -1,0 +1,284 @@
+// landing_scenario: runs a landing system under test in a marker-landing
+// scenario (docs/formats.md, "Landing scenarios") and reports the outcome
+// with the RLaGA paper's violation types; or writes a random valid scenario.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+#include <sstream>
+#include <string>
+
+#include "app_common.hpp"
+#include "touchdown/core/atomic_file.hpp"
+#include "touchdown/scenario/run.hpp"
+#include "touchdown/scenario/scenario.hpp"
+
+namespace {
+
+namespace td = touchdown;
+namespace ts = touchdown::scenario;
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+using namespace touchdown::app;
+
+std::string fixed(double v, int digits) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(digits) << v;
+  return os.str();
+}
+
+double round3(double v) { return std::round(v * 1e3) / 1e3 + 0.0; }
+
+Json vec_json(const Eigen::Ref<const Eigen::VectorXd>& v) {
+  Json a = Json::array();
+  for (Eigen::Index i = 0; i < v.size(); ++i) a.push_back(round3(v(i)));
+  return a;
+}
+
+Json result_json(const std::string& scenario_path, std::string_view system, const ts::ScenarioResult& r) {
+  Json j;
+  j["scenario"] = scenario_path;
+  j["system"] = system;
+  j["violation"] = r.violation;
+  j["type"] = ts::to_string(r.type);
+  j["message"] = r.message;
+  j["landed"] = r.landed;
+  j["dtl"] = round3(r.dtl);
+  j["ttl"] = round3(r.ttl);
+  j["final_position"] = vec_json(r.final_position);
+  if (r.collided) {
+    j["collision"] = {
+        {"t", round3(r.collision.t)}, {"object", r.collision.what}, {"point", vec_json(r.collision.point)}};
+  }
+  j["descent"] = {{"started", r.descent_started}};
+  if (r.descent_started) {
+    j["descent"]["t"] = round3(r.descent_time);
+    j["descent"]["target"] = vec_json(r.descent_target);
+  }
+  j["false_detection"] = r.false_detection;
+  Json frames = Json::array();
+  for (const auto& f : r.frames) {
+    frames.push_back({{"t", round3(f.t)},
+                      {"marker_area_visible_px", f.marker_area_visible_px},
+                      {"marker_area_truth_px", round3(f.marker_area_truth_px)},
+                      {"detections", f.detections},
+                      {"accepted", f.accepted},
+                      {"false_accepted", f.false_accepted}});
+  }
+  j["frames"] = std::move(frames);
+  j["timing"] = {{"render_s", round3(r.timing.render_s)},
+                 {"system_s", round3(r.timing.system_s)},
+                 {"physics_s", round3(r.timing.physics_s)},
+                 {"total_s", round3(r.timing.total_s)}};
+  return j;
+}
+
+std::string log_csv(const ts::ScenarioResult& r, double dt) {
+  std::ostringstream os;
+  os << "t,x,y,z,vx,vy,vz,yaw_deg,phase,marker_area_visible_px,marker_area_truth_px,detections,accepted,false_"
+        "accepted\n";
+  std::size_t f = 0;
+  for (const auto& s : r.trajectory) {
+    os << fixed(s.t, 3) << ',' << fixed(s.position.x(), 4) << ',' << fixed(s.position.y(), 4) << ','
+       << fixed(s.position.z(), 4) << ',' << fixed(s.velocity.x(), 4) << ',' << fixed(s.velocity.y(), 4) << ','
+       << fixed(s.velocity.z(), 4) << ',' << fixed(s.yaw_deg, 3) << ',' << s.phase;
+    // A frame is taken at the start of the step that ends at s.t.
+    if (f < r.frames.size() && std::abs(r.frames[f].t + dt - s.t) < 0.5 * dt) {
+      const auto& fr = r.frames[f++];
+      os << ',' << fr.marker_area_visible_px << ',' << fixed(fr.marker_area_truth_px, 1) << ',' << fr.detections << ','
+         << fr.accepted << ',' << fr.false_accepted;
+    } else {
+      os << ",,,,,";
+    }
+    os << '\n';
+  }
+  return os.str();
+}
+
+/// The camera view with the system's detections, phase and state drawn on.
+cv::Mat overlay(const ts::CameraFrame& frame, const ts::SystemOutput& out, const ts::DroneState& s) {
+  cv::Mat img(frame.height, frame.width, CV_8UC3);
+  std::memcpy(img.data, frame.image.pixels.data(), frame.image.pixels.size());
+  for (const auto& d : out.detections) {
+    std::vector<cv::Point> quad;
+    for (const auto& c : d.corners)
+      quad.emplace_back(static_cast<int>(std::lround(c.x())), static_cast<int>(std::lround(c.y())));
+    const cv::Scalar colour = d.accepted ? cv::Scalar(0, 255, 0) : cv::Scalar(0, 0, 255);
+    cv::polylines(img, quad, true, colour, 2);
+    cv::putText(img, "id " + std::to_string(d.id), quad[0] + cv::Point(4, -6), cv::FONT_HERSHEY_SIMPLEX, 0.5, colour,
+                1);
+  }
+  const std::string line =
+      "t " + fixed(s.t, 1) + " s  alt " + fixed(s.position.z(), 1) + " m  " + std::string(out.phase);
+  cv::rectangle(img, cv::Rect(0, 0, frame.width, 24), cv::Scalar(0, 0, 0), cv::FILLED);
+  cv::putText(img, line, cv::Point(6, 17), cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(255, 255, 255), 1);
+  return img;
+}
+
+void banner(cv::Mat& img, const ts::ScenarioResult& r) {
+  const std::string text =
+      r.violation ? "VIOLATION Type " + std::string(ts::to_string(r.type)) : "LANDED (no violation)";
+  const cv::Scalar colour = r.violation ? cv::Scalar(0, 0, 200) : cv::Scalar(0, 140, 0);
+  cv::rectangle(img, cv::Rect(0, img.rows - 40, img.cols, 40), colour, cv::FILLED);
+  cv::putText(img, text + "  DTL " + fixed(r.dtl, 2) + " m", cv::Point(8, img.rows - 13), cv::FONT_HERSHEY_SIMPLEX, 0.7,
+              cv::Scalar(255, 255, 255), 2);
+}
+
+/// Writes frames to `path` (.mp4 or .avi) through a temporary file in the
+/// same directory, renamed when complete.
+class Video {
+ public:
+  Video(const std::string& path, double fps, int w, int h) : path_(path) {
+    const fs::path p(path);
+    tmp_ = (p.parent_path() / ("." + p.stem().string() + ".partial" + p.extension().string())).string();
+    const int fourcc = p.extension() == ".avi" ? cv::VideoWriter::fourcc('M', 'J', 'P', 'G')
+                                               : cv::VideoWriter::fourcc('m', 'p', '4', 'v');
+    if (!writer_.open(tmp_, fourcc, fps, cv::Size(w, h)))
+      throw td::IoError(path + ": cannot open a video writer (" + p.extension().string() + ")");
+  }
+  ~Video() {
+    if (!done_) {
+      writer_.release();
+      std::error_code ec;
+      fs::remove(tmp_, ec);
+    }
+  }
+  void write(const cv::Mat& img) { writer_.write(img); }
+  void finish() {
+    writer_.release();
+    std::error_code ec;
+    fs::rename(tmp_, path_, ec);
+    if (ec) throw td::IoError(path_ + ": cannot rename the finished video: " + ec.message());
+    done_ = true;
+  }
+
+ private:
+  std::string path_, tmp_;
+  cv::VideoWriter writer_;
+  bool done_ = false;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "Run a marker-landing system under test in a scenario (weather, markers, objects) and classify the "
+      "outcome; or write a random scenario.",
+      "landing_scenario"};
+  app.require_subcommand(1);
+
+  auto* run_cmd = app.add_subcommand("run", "run a landing system in a scenario");
+  std::string scenario_path, system = "opencv-mls", video_path, log_path, snapshot_path;
+  bool json = false;
+  double snapshot_t = -1;
+  ts::RunOptions options;
+  run_cmd->add_option("SCENARIO", scenario_path, "scenario YAML or JSON (docs/formats.md)")->required();
+  run_cmd->add_option("--system", system, "landing system under test")
+      ->check(CLI::IsMember({"opencv-mls", "mm-mls"}))
+      ->capture_default_str();
+  run_cmd->add_option("--video", video_path, "write the camera view with detections and the outcome (.mp4 or .avi)")
+      ->check([](const std::string& p) {
+        const auto ext = fs::path(p).extension();
+        return ext == ".mp4" || ext == ".avi" ? std::string() : "--video: must end in .mp4 or .avi, got '" + p + "'";
+      });
+  run_cmd->add_option("--log", log_path, "per-step CSV: trajectory, phase, eq. 5 marker areas, detections")
+      ->check(output_extension(".csv"));
+  run_cmd->add_option("--snapshot", snapshot_path, "write the overlaid camera frame at --snapshot-t as PNG")
+      ->check(output_extension(".png"));
+  run_cmd->add_option("--snapshot-t", snapshot_t, "time of the snapshot [s] (default: the last frame)")
+      ->check(number_in(0, 3600));
+  run_cmd->add_flag("--json", json, "one JSON object on stdout");
+  run_cmd->add_option("--width", options.camera.width, "camera image width [px]")
+      ->check(number_in(16, 4096))
+      ->capture_default_str();
+  run_cmd->add_option("--height", options.camera.height, "camera image height [px]")
+      ->check(number_in(16, 4096))
+      ->capture_default_str();
+  run_cmd->add_option("--hfov", options.camera.hfov_deg, "horizontal field of view [deg]")
+      ->check(number_in(10, 170, true, true))
+      ->capture_default_str();
+  run_cmd->add_option("--tilt", options.camera.tilt_deg, "camera tilt forward from nadir [deg]")
+      ->check(number_in(0, 80))
+      ->capture_default_str();
+  run_cmd->add_option("--camera-rate", options.camera.rate_hz, "frames per second")
+      ->check(number_in(0, 50, true))
+      ->capture_default_str();
+
+  auto* random_cmd = app.add_subcommand("random", "write a random valid scenario drawn from the bounds table");
+  std::uint64_t seed = 1;
+  std::string out_path, map = "any";
+  random_cmd->add_option("--seed", seed, "random seed")->capture_default_str();
+  random_cmd->add_option("--map", map, "ground, lawn or any")
+      ->check(CLI::IsMember({"ground", "lawn", "any"}))
+      ->capture_default_str();
+  random_cmd->add_option("-o,--output", out_path, "scenario file to write (.yaml or .json)")
+      ->required()
+      ->check([](const std::string& p) {
+        const auto ext = fs::path(p).extension();
+        return ext == ".yaml" || ext == ".yml" || ext == ".json" ? std::string()
+                                                                 : "--output: must end in .yaml, .yml or .json";
+      });
+
+  return run(app, argc, argv, [&]() -> int {
+    if (*random_cmd) {
+      const ts::Scenario s = map == "any"    ? ts::random_scenario(seed)
+                             : map == "lawn" ? ts::random_scenario(seed, ts::MapKind::lawn)
+                                             : ts::random_scenario(seed, ts::MapKind::ground);
+      const bool as_json = fs::path(out_path).extension() == ".json";
+      write_text_atomically(out_path, as_json ? ts::to_json(s) : ts::to_yaml(s));
+      std::cerr << "landing_scenario: wrote " << out_path << " (" << ts::to_string(s.map) << ", "
+                << s.static_objects.size() << " static, " << s.dynamic_objects.size() << " moving objects, "
+                << s.distractors.size() << " distractors)\n";
+      return kExitOk;
+    }
+    const ts::Scenario scenario = ts::load_scenario(scenario_path);
+    auto sut = ts::make_landing_system(system);
+    std::optional<Video> video;
+    if (!video_path.empty())
+      video.emplace(video_path, options.camera.rate_hz, options.camera.width, options.camera.height);
+    cv::Mat last, snapshot;
+    double best_dt = 1e9;
+    options.on_frame = [&](const ts::CameraFrame& f, const ts::SystemOutput& out, const ts::DroneState& s) {
+      if (!video && snapshot_path.empty()) return;
+      last = overlay(f, out, s);
+      if (video) video->write(last);
+      if (!snapshot_path.empty() && snapshot_t >= 0 && std::abs(s.t - snapshot_t) < best_dt) {
+        best_dt = std::abs(s.t - snapshot_t);
+        snapshot = last.clone();
+      }
+    };
+    const ts::ScenarioResult r = ts::run_scenario(scenario, *sut, options);
+    if (!last.empty()) banner(last, r);
+    if (video) {
+      // Hold the outcome on screen for a second.
+      for (int i = 0; i < static_cast<int>(std::ceil(options.camera.rate_hz)); ++i) video->write(last);
+      video->finish();
+    }
+    if (!snapshot_path.empty()) {
+      cv::Mat img = snapshot.empty() ? last : snapshot;
+      if (snapshot.empty() == false) banner(img, r);
+      std::vector<unsigned char> png;
+      cv::imencode(".png", img, png);
+      write_text_atomically(snapshot_path, std::string(png.begin(), png.end()));
+    }
+    if (!log_path.empty()) write_text_atomically(log_path, log_csv(r, 1.0 / options.flight.rate_hz));
+    if (json) {
+      std::cout << result_json(scenario_path, sut->name(), r).dump(2) << "\n";
+    } else {
+      std::cout << "scenario   " << scenario_path << " (" << ts::to_string(scenario.map) << ")\n"
+                << "system     " << sut->name() << "\n"
+                << "outcome    " << (r.violation ? "VIOLATION" : "ok") << ": " << r.message << "\n"
+                << "DTL        " << fixed(r.dtl, 2) << " m   TTL " << fixed(r.ttl, 1) << " s\n"
+                << "frames     " << r.frames.size() << "   steps " << r.trajectory.size() << "\n"
+                << "time       " << fixed(r.timing.total_s, 3) << " s (render " << fixed(r.timing.render_s, 3)
+                << ", system " << fixed(r.timing.system_s, 3) << ", physics " << fixed(r.timing.physics_s, 3) << ")\n";
+    }
+    return kExitOk;
+  });
+}
