@@ -1,1 +1,145 @@
-// TODO(issue 12): being written.
+// Closed-loop runs: each violation type produced by a hand-built scenario
+// and classified, a clean landing, and bit-identical replays.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "touchdown/core/error.hpp"
+#include "touchdown/scenario/run.hpp"
+
+namespace touchdown::scenario {
+namespace {
+
+/// Clear weather, marker at the origin, the drone 8 m west at 12 m with
+/// the GPS target 1 m off.
+Scenario run_clear_scenario() {
+  Scenario s;
+  s.map = MapKind::ground;
+  s.seed = 7;
+  s.time_limit = 60;
+  s.marker.dictionary = "6X6_250";
+  s.marker.id = 3;
+  s.marker.size = 1.0;
+  s.drone.position = {-8, 0, 12};
+  s.drone.gps_error = {1.0, -0.5};
+  return s;
+}
+
+ScenarioResult run_with(const Scenario& s, std::string_view system = "opencv-mls") {
+  auto sut = make_landing_system(system);
+  return run_scenario(s, *sut);
+}
+
+TEST(RunScenario, ClearWeatherLandsOnTheMarker) {
+  const ScenarioResult r = run_with(run_clear_scenario());
+  EXPECT_FALSE(r.violation) << r.message;
+  EXPECT_EQ(r.type, Violation::none);
+  EXPECT_TRUE(r.landed);
+  EXPECT_LT(r.dtl, 0.5) << r.message;
+  EXPECT_TRUE(r.descent_started);
+  // The 5 s sighting gate: the descent starts ≥ 5 s after the first sighting.
+  double first_seen = -1;
+  for (const auto& f : r.frames) {
+    if (f.accepted > 0) {
+      first_seen = f.t;
+      break;
+    }
+  }
+  ASSERT_GE(first_seen, 0);
+  EXPECT_GE(r.descent_time - first_seen, 5.0 - 1e-9);
+  EXPECT_FALSE(r.false_detection);
+  EXPECT_LT(r.ttl, 45);
+}
+
+TEST(RunScenario, LookalikeMarkerLeadsToATypeILanding) {
+  // A look-alike 2 cells off the target's code (6X6_250 corrects up to 3 at
+  // OpenCV's default error-correction rate) where the GPS says the marker
+  // is; the real marker is 14 m away, out of view.
+  Scenario s = run_clear_scenario();
+  Distractor fake;
+  fake.kind = DistractorKind::lookalike;
+  fake.flipped_bits = 2;
+  fake.position = {14, 0};
+  s.distractors = {fake};
+  s.drone.position = {6, 0, 12};
+  s.drone.gps_error = {14, 0};
+  const ScenarioResult r = run_with(s);
+  EXPECT_TRUE(r.violation);
+  EXPECT_EQ(r.type, Violation::type_i) << r.message;
+  EXPECT_TRUE(r.landed);
+  EXPECT_NEAR(r.dtl, 14.0, 1.0);
+  EXPECT_TRUE(r.false_detection);
+  EXPECT_NEAR((r.descent_target - fake.position).norm(), 0.0, 0.5);
+}
+
+TEST(RunScenario, DenseFogIsATypeIIViolation) {
+  Scenario s = run_clear_scenario();
+  s.weather.fog = 0.4;
+  s.time_limit = 30;
+  const ScenarioResult r = run_with(s);
+  EXPECT_TRUE(r.violation);
+  EXPECT_EQ(r.type, Violation::type_ii) << r.message;
+  EXPECT_FALSE(r.landed);
+  EXPECT_FALSE(r.descent_started);
+  EXPECT_DOUBLE_EQ(r.ttl, 30);
+  for (const auto& f : r.frames) EXPECT_EQ(f.accepted, 0);
+}
+
+TEST(RunScenario, PoleOnTheDescentPathIsATypeIIICollision) {
+  Scenario s = run_clear_scenario();
+  StaticObject pole;
+  pole.kind = StaticKind::pole;
+  pole.position = {0.35, 0.2};
+  pole.size = {0.12, 0.12, 4.0};
+  s.static_objects = {pole};
+  const ScenarioResult r = run_with(s);
+  EXPECT_TRUE(r.violation);
+  EXPECT_EQ(r.type, Violation::type_iii) << r.message;
+  EXPECT_TRUE(r.collided);
+  EXPECT_EQ(r.collision.what, "static_objects[0] (pole)");
+  // It hit the pole on the way down, below the pole's top.
+  EXPECT_LT(r.collision.point.z(), 4.0 + 0.05);
+  EXPECT_TRUE(r.descent_started);
+}
+
+TEST(RunScenario, ReplayIsBitIdentical) {
+  Scenario s = run_clear_scenario();
+  DynamicObject dog;
+  dog.kind = DynamicKind::dog;
+  dog.size = {0.8, 0.3, 0.6};
+  dog.motion = MotionKind::wander;
+  dog.position = {3, 3};
+  dog.speed = 1.5;
+  s.dynamic_objects = {dog};
+  s.weather.rain = 0.5;
+  s.weather.ambient = 0.4;
+  const Scenario replay = parse_scenario(to_json(s), "replay.json");
+  const ScenarioResult a = run_with(s), b = run_with(replay);
+  EXPECT_EQ(a.type, b.type);
+  EXPECT_EQ(a.message, b.message);
+  ASSERT_EQ(a.trajectory.size(), b.trajectory.size());
+  for (std::size_t i = 0; i < a.trajectory.size(); ++i) {
+    ASSERT_EQ(std::memcmp(a.trajectory[i].position.data(), b.trajectory[i].position.data(), 3 * sizeof(double)), 0)
+        << "step " << i;
+    ASSERT_EQ(a.trajectory[i].phase, b.trajectory[i].phase);
+  }
+  ASSERT_EQ(a.frames.size(), b.frames.size());
+  for (std::size_t i = 0; i < a.frames.size(); ++i) {
+    EXPECT_EQ(a.frames[i].marker_area_visible_px, b.frames[i].marker_area_visible_px);
+    EXPECT_EQ(a.frames[i].detections, b.frames[i].detections);
+  }
+}
+
+TEST(RunScenario, RejectsInvalidOptionsAndUnknownSystems) {
+  RunOptions o;
+  o.violation_radius = -1;
+  auto sut = make_landing_system("opencv-mls");
+  EXPECT_THROW(run_scenario(run_clear_scenario(), *sut, o), InvalidArgument);
+  EXPECT_THROW(make_landing_system("px4-precland"), InvalidArgument);
+  MlsOptions m;
+  m.seen_time = -1;
+  EXPECT_THROW(make_landing_system("mm-mls", m), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace touchdown::scenario
