@@ -44,7 +44,8 @@ std::string_view name_of(E e, const std::array<std::string_view, N>& names) {
 // ---- the bounds table -----------------------------------------------------------------
 
 // 2^53: the largest integer every JSON reader (IEEE doubles) reads exactly.
-constexpr double kMaxSeed = 9007199254740992.0;
+constexpr std::uint64_t kMaxSeedInteger = std::uint64_t{1} << 53;
+constexpr double kMaxSeed = static_cast<double>(kMaxSeedInteger);
 // Half the side of the map area [m]: everything starts within ±kMapHalf.
 constexpr double kMapHalf = 20.0;
 // The largest dictionary (ARUCO_ORIGINAL) has 1024 codes; validate() checks
@@ -327,8 +328,10 @@ std::string_view to_string(MotionKind k) { return name_of(k, kMotionNames); }
 bool Scenario::validate(std::string* why) const {
   Checker c;
   if (static_cast<std::size_t>(map) >= kMapNames.size()) c.fail("map: unknown map kind");
-  c.value("seed", "seed", static_cast<double>(seed));
-  if (!c.failed() && static_cast<double>(seed) > kMaxSeed) c.fail("seed: must be at most 2^53");
+  // Compared as integers: 2^53 + 1 would round to 2^53 as a double.
+  if (seed > kMaxSeedInteger) {
+    c.fail("seed: must be an integer in [0, " + num(kMaxSeed) + "], got " + std::to_string(seed));
+  }
   c.value("time_limit", "time_limit", time_limit);
 
   const auto* dict = pose::detail::find_aruco_dictionary(marker.dictionary);
@@ -518,7 +521,7 @@ class ScenarioReader {
 
  private:
   void read_marker(const YAML::Node& n, Marker& m) {
-    nodes_["marker"] = n;
+    remember("marker", n);
     only(n, "marker.", {"dictionary", "id", "size", "position", "yaw_deg"});
     m.position = vec2(r_.child(n, "marker.", "position"), "marker.position");
     if (const YAML::Node v = n["dictionary"]) m.dictionary = text(v, "marker.dictionary");
@@ -528,7 +531,7 @@ class ScenarioReader {
   }
 
   void read_weather(const YAML::Node& n, Weather& w) {
-    nodes_["weather"] = n;
+    remember("weather", n);
     only(n, "weather.",
          {"fog", "rain", "snow", "dust", "leaves", "ground_wetness", "ground_snow", "ground_leaves",
           "sun_elevation_deg", "sun_azimuth_deg", "ambient"});
@@ -549,7 +552,7 @@ class ScenarioReader {
   }
 
   void read_drone(const YAML::Node& n, DroneStart& d) {
-    nodes_["drone"] = n;
+    remember("drone", n);
     only(n, "drone.", {"position", "yaw_deg", "gps_error"});
     d.position = vec3(r_.child(n, "drone.", "position"), "drone.position");
     if (const YAML::Node v = n["yaw_deg"]) d.yaw_deg = number(v, "drone.yaw_deg");
@@ -561,17 +564,22 @@ class ScenarioReader {
   void read_list(const YAML::Node& root, const std::string& key, std::vector<T>& out, ReadElement&& read_element) {
     const YAML::Node list = root[key];
     if (!list) return;
-    nodes_[key] = list;
+    // The key's own line: a block list starts on the line after it.
+    YAML::Node at = list;
+    for (const auto& kv : root) {
+      if (kv.first.Scalar() == key) at.reset(kv.first);  // operator= would overwrite `list`
+    }
+    remember(key, at);
     if (list.IsNull()) return;  // "distractors:" with nothing after it: none
-    if (!list.IsSequence()) r_.fail(list, key, "expected a list");
+    if (!list.IsSequence()) r_.fail(at, key, "expected a list");
     const PropertyBound& count = property_bound(key);
     if (static_cast<double>(list.size()) > count.max) {
-      r_.fail(list, key, "at most " + num(count.max) + " allowed, got " + std::to_string(list.size()));
+      r_.fail(at, key, "at most " + num(count.max) + " allowed, got " + std::to_string(list.size()));
     }
     out.assign(list.size(), T{});
     for (std::size_t i = 0; i < list.size(); ++i) {
       const std::string name = key + "[" + std::to_string(i) + "]";
-      nodes_[name] = list[i];
+      remember(name, list[i]);
       read_element(list[i], name + ".", out[i]);
     }
   }
@@ -591,33 +599,33 @@ class ScenarioReader {
   }
 
   double number(const YAML::Node& n, const std::string& key) {
-    nodes_[key] = n;
+    remember(key, n);
     return r_.number(n, key);
   }
   int integer(const YAML::Node& n, const std::string& key) {
-    nodes_[key] = n;
+    remember(key, n);
     return r_.integer(n, key);
   }
   std::string text(const YAML::Node& n, const std::string& key) {
-    nodes_[key] = n;
+    remember(key, n);
     return r_.text(n, key);
   }
   Eigen::Vector2d vec2(const YAML::Node& n, const std::string& key) {
-    nodes_[key] = n;
+    remember(key, n);
     const auto v = r_.numbers(n, key);
     if (v.size() != 2) r_.fail(n, key, "expected 2 numbers [x, y], got " + std::to_string(v.size()));
     return {v[0], v[1]};
   }
   Eigen::Vector3d vec3(const YAML::Node& n, const std::string& key) {
-    nodes_[key] = n;
+    remember(key, n);
     const auto v = r_.vec3(n, key);
     return {v[0], v[1], v[2]};
   }
   // Digits only: a uint64 must not go through a double.
   std::uint64_t read_seed(const YAML::Node& n) {
-    nodes_["seed"] = n;
+    remember("seed", n);
     std::uint64_t v = 0;
-    if (!n.IsScalar() || !detail::parse_int(detail::trim(n.Scalar()), v) || static_cast<double>(v) > kMaxSeed) {
+    if (!n.IsScalar() || !detail::parse_int(detail::trim(n.Scalar()), v) || v > kMaxSeedInteger) {
       r_.fail(n, "seed",
               "expected an integer in [0, " + num(kMaxSeed) + "]" +
                   (n.IsScalar() ? ", got '" + n.Scalar() + "'" : std::string()));
@@ -639,15 +647,21 @@ class ScenarioReader {
   // of the closest enclosing key the file gave ("static_objects[2].size[1]"
   // -> "static_objects[2].size" -> "static_objects[2]" -> ...).
   [[noreturn]] void fail_at_key(const std::string& why) const {
-    std::string key = why.substr(0, why.find(": "));
+    const std::string named = why.substr(0, why.find(": "));
+    const std::string what = why.substr(std::min(why.size(), named.size() + 2));
+    std::string key = named;
     while (!key.empty()) {
-      if (const auto it = nodes_.find(key); it != nodes_.end()) {
-        r_.fail(it->second, key, why.substr(std::min(why.size(), key.size() + 2)));
-      }
+      if (const auto it = nodes_.find(key); it != nodes_.end()) r_.fail(it->second, named, what);
       const auto cut = key.find_last_of(".[");
       key.resize(cut == std::string::npos ? 0 : cut);
     }
     throw ParseError(std::string(r_.source) + ": " + why);
+  }
+
+  // YAML::Node's operator= writes into the node it refers to: rebind instead.
+  void remember(const std::string& key, const YAML::Node& n) {
+    nodes_.erase(key);
+    nodes_.emplace(key, n);
   }
 
   const YamlReader& r_;
@@ -857,14 +871,18 @@ class Drawer {
  public:
   explicit Drawer(std::uint64_t seed) : rng_(seed, 0) {}
 
-  double uniform(double lo, double hi, double step) {
-    return std::clamp(std::round(rng_.uniform(lo, hi) / step) * step, lo, hi);
+  // Uniform in [lo, hi], rounded to 1/per_unit: the division by a whole
+  // number gives the double nearest the decimal (2.01, not 2.0100000000000002);
+  // + 0.0 turns -0 into 0.
+  double uniform(double lo, double hi, double per_unit) {
+    return std::clamp(std::round(rng_.uniform(lo, hi) * per_unit) / per_unit + 0.0, lo, hi);
   }
-  double angle() { return uniform(-180, 180, 0.1); }
+  double fraction() { return rng_.uniform(); }
+  double angle() { return uniform(-180, 180, 10); }
   // Within the bounds of `key` (component j for per-component rows).
-  double in_row(std::string_view key, double step) {
+  double in_row(std::string_view key, double per_unit) {
     const PropertyBound& b = property_bound(key);
-    return uniform(b.min, b.max, step);
+    return uniform(b.min, b.max, per_unit);
   }
   int integer(int lo, int hi) {  // in [lo, hi]
     return lo + static_cast<int>(rng_.next() % static_cast<std::uint64_t>(hi - lo + 1));
@@ -873,8 +891,8 @@ class Drawer {
   Eigen::Vector2d around(const Eigen::Vector2d& centre, double r_min, double r_max) {
     const double r = rng_.uniform(r_min, r_max), phi = rng_.uniform(0, 2 * std::numbers::pi);
     const Eigen::Vector2d p = centre + r * Eigen::Vector2d(std::cos(phi), std::sin(phi));
-    return {std::clamp(std::round(p.x() * 100) / 100, -kMapHalf, kMapHalf),
-            std::clamp(std::round(p.y() * 100) / 100, -kMapHalf, kMapHalf)};
+    return {std::clamp(std::round(p.x() * 100) / 100 + 0.0, -kMapHalf, kMapHalf),
+            std::clamp(std::round(p.y() * 100) / 100 + 0.0, -kMapHalf, kMapHalf)};
   }
   std::uint64_t bits() { return rng_.next(); }
 
@@ -890,7 +908,7 @@ Eigen::Vector3d draw_size(Drawer& d, std::string_view list, std::string_view kin
   Eigen::Vector3d size;
   const std::string whole = kind_key(list, kind, "size");
   for (int j = 0; j < 3; ++j) {
-    size[j] = find_bound(whole) ? d.in_row(whole, 0.01) : d.in_row(whole + "[" + std::to_string(j) + "]", 0.01);
+    size[j] = find_bound(whole) ? d.in_row(whole, 100) : d.in_row(whole + "[" + std::to_string(j) + "]", 100);
   }
   return size;
 }
@@ -900,7 +918,7 @@ void draw_distractors(Drawer& d, Scenario& s, const pose::detail::ArucoDictionar
   const Footprint target = marker_square(s.marker.position, s.marker.yaw_deg, s.marker.size, dict.bits);
   for (int k = 0; k < n; ++k) {
     Distractor x;
-    const double kind = d.uniform(0, 1, 1e-9);
+    const double kind = d.fraction();
     x.kind = kind < 0.4 ? DistractorKind::wrong_id : kind < 0.7 ? DistractorKind::lookalike : DistractorKind::pattern;
     if (x.kind == DistractorKind::wrong_id) {
       x.id = d.integer(0, dict.codes - 2);
@@ -909,7 +927,7 @@ void draw_distractors(Drawer& d, Scenario& s, const pose::detail::ArucoDictionar
       x.id = d.integer(0, static_cast<int>(kMaxMarkerId));
     }
     x.flipped_bits = x.kind == DistractorKind::lookalike ? d.integer(1, 4) : 1;
-    x.size = d.uniform(0.5, 1.5, 0.01);
+    x.size = d.uniform(0.5, 1.5, 100);
     x.yaw_deg = d.angle();
     // A few tries to find free ground near the marker, else no distractor.
     for (int attempt = 0; attempt < 10; ++attempt) {
@@ -932,7 +950,7 @@ void draw_static_objects(Drawer& d, Scenario& s) {
   for (int k = 0; k < n; ++k) {
     StaticObject o;
     o.kind = static_cast<StaticKind>(d.integer(0, static_cast<int>(kStaticNames.size()) - 1));
-    o.position = {d.uniform(-12, 12, 0.01), d.uniform(-12, 12, 0.01)};
+    o.position = {d.uniform(-12, 12, 100), d.uniform(-12, 12, 100)};
     o.yaw_deg = d.angle();
     o.size = draw_size(d, "static_objects", to_string(o.kind));
     if (o.kind == StaticKind::pole) o.size.y() = o.size.x();
@@ -947,20 +965,20 @@ void draw_dynamic_objects(Drawer& d, Scenario& s) {
   const int n = d.integer(0, 3);
   for (int k = 0; k < n; ++k) {
     DynamicObject o;
-    const double kind = d.uniform(0, 1, 1e-9);
+    const double kind = d.fraction();
     o.kind = kind < 0.5 ? DynamicKind::person : kind < 0.75 ? DynamicKind::dog : DynamicKind::bird;
     const std::string_view name = to_string(o.kind);
     o.size = draw_size(d, "dynamic_objects", name);
-    o.position = {d.uniform(-12, 12, 0.01), d.uniform(-12, 12, 0.01)};
-    o.altitude = d.in_row(kind_key("dynamic_objects", name, "altitude"), 0.01);
+    o.position = {d.uniform(-12, 12, 100), d.uniform(-12, 12, 100)};
+    o.altitude = d.in_row(kind_key("dynamic_objects", name, "altitude"), 100);
     o.heading_deg = d.angle();
     // From a stroll to the kind's top speed.
     o.speed = d.uniform(0.2 * property_bound(kind_key("dynamic_objects", name, "speed")).max,
-                        property_bound(kind_key("dynamic_objects", name, "speed")).max, 0.01);
+                        property_bound(kind_key("dynamic_objects", name, "speed")).max, 100);
     // Scripted motions only: `external` needs a controller.
     o.motion = o.kind == DynamicKind::bird ? (d.chance(0.5) ? MotionKind::line : MotionKind::circle)
                                            : static_cast<MotionKind>(d.integer(0, 3));
-    o.extent = d.uniform(2, 10, 0.01);
+    o.extent = d.uniform(2, 10, 100);
     s.dynamic_objects.push_back(o);
   }
 }
@@ -969,9 +987,9 @@ void draw_weather(Drawer& d, Scenario& s) {
   Weather& w = s.weather;
   const bool lawn = s.map == MapKind::lawn;
   // Each effect is off half of the time (leaves mostly on the lawn).
-  const auto effect = [&](double p_on, double lo, double hi) { return d.chance(p_on) ? d.uniform(lo, hi, 0.01) : 0.0; };
+  const auto effect = [&](double p_on, double lo, double hi) { return d.chance(p_on) ? d.uniform(lo, hi, 100) : 0.0; };
   // Fog mostly light (visibility over 26 m); dense fog now and then.
-  if (d.chance(0.5)) w.fog = d.chance(0.8) ? d.uniform(0, 0.15, 0.001) : d.uniform(0.15, 0.4, 0.001);
+  if (d.chance(0.5)) w.fog = d.chance(0.8) ? d.uniform(0, 0.15, 1000) : d.uniform(0.15, 0.4, 1000);
   w.rain = effect(0.5, 0, 1);
   w.snow = effect(0.5, 0, 1);
   w.dust = effect(0.5, 0, 1);
@@ -979,9 +997,9 @@ void draw_weather(Drawer& d, Scenario& s) {
   w.ground_wetness = effect(0.5, 0, 1);
   w.ground_snow = effect(0.5, 0, 1);
   w.ground_leaves = effect(lawn ? 0.5 : 0.2, 0, 1);
-  w.sun_elevation_deg = d.in_row("weather.sun_elevation_deg", 0.1);
-  w.sun_azimuth_deg = d.in_row("weather.sun_azimuth_deg", 0.1);
-  w.ambient = d.chance(0.7) ? d.uniform(0.6, 1, 0.01) : d.uniform(0.15, 0.6, 0.01);
+  w.sun_elevation_deg = d.in_row("weather.sun_elevation_deg", 10);
+  w.sun_azimuth_deg = d.in_row("weather.sun_azimuth_deg", 10);
+  w.ambient = d.chance(0.7) ? d.uniform(0.6, 1, 100) : d.uniform(0.15, 0.6, 100);
 }
 
 // 5-15 m from the marker at 8-15 m, outside every static object (a few
@@ -989,9 +1007,9 @@ void draw_weather(Drawer& d, Scenario& s) {
 void draw_drone(Drawer& d, Scenario& s) {
   DroneStart& drone = s.drone;
   drone.yaw_deg = d.angle();
-  drone.gps_error = {d.uniform(-3, 3, 0.01), d.uniform(-3, 3, 0.01)};
+  drone.gps_error = {d.uniform(-3, 3, 100), d.uniform(-3, 3, 100)};
   for (int attempt = 0; attempt < 20; ++attempt) {
-    drone.position << d.around(s.marker.position, 5, 15), d.uniform(8, 15, 0.01);
+    drone.position << d.around(s.marker.position, 5, 15), d.uniform(8, 15, 100);
     const bool clear = std::none_of(s.static_objects.begin(), s.static_objects.end(), [&](const StaticObject& o) {
       return static_footprint(o).contains(drone.position.head<2>()) &&
              drone.position.z() < o.size.z() + kDroneClearance;
@@ -1013,8 +1031,8 @@ Scenario random_scenario(std::uint64_t seed, MapKind map) {
   s.time_limit = d.uniform(45, 120, 1);
   const auto* dict = pose::detail::find_aruco_dictionary(s.marker.dictionary);
   s.marker.id = d.integer(0, dict->codes - 1);
-  s.marker.size = d.uniform(0.5, 1.5, 0.01);
-  s.marker.position = {d.uniform(-3, 3, 0.01), d.uniform(-3, 3, 0.01)};
+  s.marker.size = d.uniform(0.5, 1.5, 100);
+  s.marker.position = {d.uniform(-3, 3, 100), d.uniform(-3, 3, 100)};
   s.marker.yaw_deg = d.angle();
   draw_distractors(d, s, *dict);
   draw_static_objects(d, s);
