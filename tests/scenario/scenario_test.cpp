@@ -505,6 +505,20 @@ TEST(ScenarioBounds, DocsListEveryRow) {
   }
 }
 
+// The example of docs/formats.md, "Landing scenarios", is a valid file.
+TEST(ScenarioIo, DocsExampleParses) {
+  const std::string docs = test::read_text(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "docs/formats.md");
+  const auto section = docs.find("## Landing scenarios");
+  ASSERT_NE(section, std::string::npos);
+  const auto begin = docs.find("```yaml\n", section);
+  ASSERT_NE(begin, std::string::npos);
+  const auto end = docs.find("```", begin + 8);
+  const Scenario s = parse_scenario(docs.substr(begin + 8, end - begin - 8), "formats.md");
+  EXPECT_EQ(s.distractors.size(), 2u);
+  EXPECT_EQ(s.static_objects.size(), 2u);
+  EXPECT_EQ(s.dynamic_objects.size(), 2u);
+}
+
 // ---- names ----
 
 TEST(ScenarioNames, EnumsHaveTheirFileNames) {
