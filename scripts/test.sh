@@ -15,7 +15,7 @@ root=$(pwd)
 jobs=${JOBS:-2}
 fuzz_seconds=${FUZZ_SECONDS:-20}
 fuzzers=(fuzz_pcd fuzz_ply fuzz_xyz fuzz_extrinsics fuzz_ground_truth fuzz_camera fuzz_constellation fuzz_airframe
-  fuzz_plan_problem)
+  fuzz_plan_problem fuzz_scenario)
 
 scripts/setup-deps.sh
 
