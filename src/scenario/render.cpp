@@ -1,1 +1,1343 @@
-// TODO(issue 12): being written.
+// The drone's downward camera (camera.hpp), headless: a software renderer
+// built for ≤ 2 ms per 640×480 frame on one core.
+//
+// Per frame, in this order:
+//  1. ground: every pixel's ray meets the plane z = 0; 1/depth and the ray
+//     are affine in pixel coordinates, so one division per pixel gives the
+//     depth and the world point, which samples a periodic, mip-mapped
+//     procedural texture of the map (bilinear, mip level from the footprint);
+//  2. markers and distractors: the same ray/plane intersection over each
+//     quadrilateral's bounding box, sampled from the marker's own mip-mapped
+//     image (so the marker stays sharp from 1 m), label kMarker/kDistractor;
+//  3. sun shadows: every solid's vertices projected along the sun onto the
+//     ground, convex hull, drawn into the image through the camera;
+//  4. objects: solids tessellated once, clipped at the near plane and
+//     rasterised with a z-buffer (1/z interpolated in screen space, which is
+//     exact for perspective), flat Lambertian shading;
+//  5. weather as image effects: wet-ground sun glare (Blinn–Phong lobe about
+//     the sun's mirror direction), fog and dust by Koschmieder's law
+//     I = J·t + A·(1 − t), t = exp(−β·depth), motion blur along the image
+//     velocity of the ground, rain streaks / snow flakes / leaves as 3-D
+//     particles moved during the exposure, low light as gain and sensor noise.
+// Ground snow, leaf litter and wetness are baked into the ground texture and
+// into the marker images (they lie on the marker too).
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <numbers>
+#include <opencv2/aruco.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#include <string>
+
+#include "pose/aruco_dictionary.hpp"
+#include "touchdown/core/error.hpp"
+#include "touchdown/core/random.hpp"
+#include "touchdown/scenario/camera.hpp"
+#include "touchdown/scenario/geometry.hpp"
+
+namespace touchdown::scenario {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+double rad(double d) { return d * kPi / 180.0; }
+
+std::string num(double v) {
+  std::string s = std::to_string(v);
+  while (s.size() > 1 && s.back() == '0') s.pop_back();
+  if (!s.empty() && s.back() == '.') s.pop_back();
+  return s;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- camera --
+
+bool CameraOptions::validate(std::string* why) const {
+  if (width < 16 || width > 4096) return invalid(why, "width: " + std::to_string(width) + " px is outside [16, 4096]");
+  if (height < 16 || height > 4096) {
+    return invalid(why, "height: " + std::to_string(height) + " px is outside [16, 4096]");
+  }
+  if (!(hfov_deg > 10 && hfov_deg < 170)) {
+    return invalid(why, "hfov_deg: " + num(hfov_deg) + " deg is outside (10, 170)");
+  }
+  if (!(tilt_deg >= 0 && tilt_deg <= 80)) return invalid(why, "tilt_deg: " + num(tilt_deg) + " deg is outside [0, 80]");
+  if (!(rate_hz > 0 && rate_hz <= 100)) return invalid(why, "rate_hz: " + num(rate_hz) + " Hz is outside (0, 100]");
+  if (!(exposure_s >= 0 && exposure_s <= 0.2)) {
+    return invalid(why, "exposure_s: " + num(exposure_s) + " s is outside [0, 0.2]");
+  }
+  if (!offset_body.allFinite()) return invalid(why, "offset_body: must be finite");
+  return true;
+}
+
+double CameraOptions::fx() const { return 0.5 * width / std::tan(0.5 * rad(hfov_deg)); }
+
+Eigen::Matrix3d CameraOptions::K() const {
+  // Pixel centres at integer coordinates (OpenCV's convention), so the
+  // image centre is ((w − 1)/2, (h − 1)/2).
+  Eigen::Matrix3d k = Eigen::Matrix3d::Identity();
+  k(0, 0) = k(1, 1) = fx();
+  k(0, 2) = 0.5 * (width - 1);
+  k(1, 2) = 0.5 * (height - 1);
+  return k;
+}
+
+Eigen::Isometry3d CameraOptions::T_body_camera() const {
+  // Columns = camera axes in the body frame at nadir: x right = −y body,
+  // y down = −x body (image up = forward), z = −z body (looking down).
+  Eigen::Matrix3d nadir;
+  nadir << 0, -1, 0, -1, 0, 0, 0, 0, -1;
+  // Rotating about the camera's x axis by +tilt leans z towards body +x:
+  // z' = nadir · (0, −sin, cos) = (sin, 0, −cos).
+  const Eigen::Matrix3d R = nadir * Eigen::AngleAxisd(rad(tilt_deg), Eigen::Vector3d::UnitX()).toRotationMatrix();
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = R;
+  T.translation() = offset_body;
+  return T;
+}
+
+// -------------------------------------------------------------- renderer --
+
+namespace {
+
+using Bgr = std::array<std::uint8_t, 3>;
+
+// The ground texture: 2048² texels of 2.5 cm = 51.2 m, repeated (its noise
+// and features are periodic, so the seams do not show).
+constexpr int kGroundTexels = 2048;
+constexpr double kGroundTexel = 0.025;
+constexpr int kMarkerTexelsPerCell = 32;
+constexpr double kNear = 0.05;       // near plane [m]
+constexpr double kMaxGround = 1000;  // the ground ends (sky) 1 km away along the axis
+const Bgr kSkyBgr{232, 205, 172};    // light blue, seen only at strong tilt
+
+std::uint8_t sat8(double v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0, 255.0) + 0.5); }
+std::uint8_t sat8i(int v) { return static_cast<std::uint8_t>(std::clamp(v, 0, 255)); }
+
+// Bilinear blend of two BGRA texels with weight t ∈ [0, 256] on b, two
+// channels per 32-bit lane (no lane overflows: 255·256 < 2^16).
+inline std::uint32_t lerp_bgra(std::uint32_t a, std::uint32_t b, std::uint32_t t) {
+  const std::uint32_t s = 256 - t;
+  const std::uint32_t rb = (((a & 0xFF00FFu) * s + (b & 0xFF00FFu) * t) >> 8) & 0xFF00FFu;
+  const std::uint32_t ga = (((a >> 8) & 0xFF00FFu) * s + ((b >> 8) & 0xFF00FFu) * t) & 0xFF00FF00u;
+  return rb | ga;
+}
+
+inline int floor_int(float v) {
+  const int i = static_cast<int>(v);
+  return i - (v < static_cast<float>(i) ? 1 : 0);
+}
+
+// floor(log2(q)) for q ≥ 1 from the float's exponent bits; 0 below 1.
+inline int mip_level(float q, int levels) {
+  if (!(q >= 1.0f)) return 0;
+  const int e = static_cast<int>((std::bit_cast<std::uint32_t>(q) >> 23) & 0xFFu) - 127;
+  return std::min(e, levels - 1);
+}
+
+// ---- periodic procedural noise (textures tile without seams) ----
+
+cv::Mat wrap_resize(const cv::Mat& src, int out, int interpolation) {
+  const int n = src.rows, pad = 2, scale = out / n;
+  cv::Mat padded, up;
+  cv::copyMakeBorder(src, padded, pad, pad, pad, pad, cv::BORDER_WRAP);
+  cv::resize(padded, up, cv::Size((n + 2 * pad) * scale, (n + 2 * pad) * scale), 0, 0, interpolation);
+  return up(cv::Rect(pad * scale, pad * scale, out, out)).clone();
+}
+
+/// Periodic value noise in about [−1, 1] at `res`² with `cells` lattice cells
+/// per period (bicubic between lattice values).
+cv::Mat periodic_noise(int res, int cells, cv::RNG& rng) {
+  cv::Mat grid(cells, cells, CV_32F);
+  rng.fill(grid, cv::RNG::UNIFORM, -1.0f, 1.0f);
+  if (cells >= res) return grid;
+  return wrap_resize(grid, res, cv::INTER_CUBIC);
+}
+
+/// Sum of octaves at 512², upsampled to the texture (cheap construction).
+cv::Mat fbm(cv::RNG& rng, std::initializer_list<std::pair<int, float>> octaves) {
+  constexpr int kRes = 512;
+  cv::Mat sum = cv::Mat::zeros(kRes, kRes, CV_32F);
+  for (const auto& [cells, weight] : octaves) sum += weight * periodic_noise(kRes, cells, rng);
+  return wrap_resize(sum, kGroundTexels, cv::INTER_LINEAR);
+}
+
+/// The value of `noise` below which a fraction `fraction` of texels lie.
+float quantile(const cv::Mat& noise, double fraction) {
+  std::vector<float> v;
+  v.reserve(static_cast<std::size_t>(noise.total() / 16 + 1));
+  for (int y = 0; y < noise.rows; y += 4) {
+    const float* row = noise.ptr<float>(y);
+    for (int x = 0; x < noise.cols; x += 4) v.push_back(row[x]);
+  }
+  const auto k = static_cast<std::size_t>(std::clamp(fraction, 0.0, 1.0) * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+/// Soft coverage mask: ≈ `fraction` of the texels covered, 8 cm soft edges.
+cv::Mat coverage(const cv::Mat& noise, double fraction) {
+  cv::Mat a(noise.size(), CV_32F);
+  if (fraction <= 0) return cv::Mat::zeros(noise.size(), CV_32F);
+  if (fraction >= 0.999) return cv::Mat::ones(noise.size(), CV_32F);
+  const float thr = quantile(noise, 1.0 - fraction);
+  const float inv_width = 1.0f / 0.06f;
+  for (int y = 0; y < noise.rows; ++y) {
+    const float* n = noise.ptr<float>(y);
+    float* o = a.ptr<float>(y);
+    for (int x = 0; x < noise.cols; ++x) o[x] = std::clamp((n[x] - thr) * inv_width + 0.5f, 0.0f, 1.0f);
+  }
+  return a;
+}
+
+/// Draws `draw(offset)` at the 9 periodic copies so features crossing the
+/// texture's edge continue on the other side.
+template <class Draw>
+void draw_wrapped(Draw draw) {
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) draw(cv::Point(dx * kGroundTexels, dy * kGroundTexels));
+  }
+}
+
+/// Concrete (city-like): tonal variation, aggregate grain, slab seams every
+/// 3.2 m, worn paint (a yellow line, a dashed white line, parking stalls),
+/// cracks and oil stains. Float BGR.
+cv::Mat concrete_texture(cv::RNG& rng) {
+  const int n = kGroundTexels;
+  const cv::Mat tone = fbm(rng, {{4, 0.5f}, {16, 0.3f}, {64, 0.2f}});
+  const cv::Mat wear = fbm(rng, {{32, 0.6f}, {128, 0.4f}});
+  cv::Mat grain(n, n, CV_32F);
+  rng.fill(grain, cv::RNG::NORMAL, 0.0f, 1.0f);
+  // Stains: dark blotches, blurred, at 512² then upsampled.
+  cv::Mat stain = cv::Mat::zeros(512, 512, CV_32F);
+  const int stains = 30;
+  for (int i = 0; i < stains; ++i) {
+    const cv::Point c(rng.uniform(0, 512), rng.uniform(0, 512));
+    const cv::Size axes(rng.uniform(4, 26), rng.uniform(4, 18));
+    const double angle = rng.uniform(0.0, 180.0), strength = rng.uniform(0.3, 1.0);
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        cv::ellipse(stain, c + cv::Point(dx * 512, dy * 512), axes, angle, 0, 360, cv::Scalar(strength), -1,
+                    cv::LINE_AA);
+      }
+    }
+  }
+  cv::Mat padded;
+  cv::copyMakeBorder(stain, padded, 16, 16, 16, 16, cv::BORDER_WRAP);
+  cv::GaussianBlur(padded, padded, cv::Size(0, 0), 4.0);
+  stain = wrap_resize(padded(cv::Rect(16, 16, 512, 512)).clone(), n, cv::INTER_LINEAR);
+  // Cracks: random walks, 1 texel wide.
+  cv::Mat crack = cv::Mat::zeros(n, n, CV_8U);
+  for (int i = 0; i < 40; ++i) {
+    std::vector<cv::Point> walk;
+    cv::Point2d p(rng.uniform(0.0, static_cast<double>(n)), rng.uniform(0.0, static_cast<double>(n)));
+    double heading = rng.uniform(0.0, 2 * kPi);
+    const int steps = rng.uniform(15, 70);
+    for (int s = 0; s < steps; ++s) {
+      walk.emplace_back(static_cast<int>(p.x), static_cast<int>(p.y));
+      heading += rng.gaussian(0.45);
+      p += 4.0 * cv::Point2d(std::cos(heading), std::sin(heading));
+    }
+    draw_wrapped([&](cv::Point o) {
+      std::vector<cv::Point> w(walk);
+      for (auto& q : w) q += o;
+      cv::polylines(crack, w, false, cv::Scalar(255), 1, cv::LINE_AA);
+    });
+  }
+  cv::Mat out(n, n, CV_32FC3);
+  const cv::Vec3f base(146, 150, 152), yellow(40, 185, 225), white(225, 228, 228);
+  for (int y = 0; y < n; ++y) {
+    const float* t = tone.ptr<float>(y);
+    const float* w = wear.ptr<float>(y);
+    const float* g = grain.ptr<float>(y);
+    const float* st = stain.ptr<float>(y);
+    const std::uint8_t* cr = crack.ptr<std::uint8_t>(y);
+    cv::Vec3f* o = out.ptr<cv::Vec3f>(y);
+    const bool seam_row = (y % 128) < 2;
+    for (int x = 0; x < n; ++x) {
+      const float lum = 1.0f + 0.09f * t[x] + 0.05f * g[x];
+      cv::Vec3f c = base * lum + cv::Vec3f(3, 0, -3) * t[x];  // slight warm/cool shifts
+      if (seam_row || (x % 128) < 2) c *= 0.7f;               // slab joints (sawn, 5 cm)
+      // Paint: a yellow line along x, a dashed white line along y, stalls.
+      float paint = 0;
+      cv::Vec3f paint_colour = white;
+      if (y >= 600 && y < 605) {
+        paint = 1, paint_colour = yellow;
+      } else if (x >= 1500 && x < 1505 && (y % 256) < 160) {
+        paint = 1;
+      } else if (y >= 1100 && y < 1300 && (x % 128) >= 60 && (x % 128) < 64) {
+        paint = 1;
+      } else if (y >= 1296 && y < 1300) {
+        paint = 1;
+      }
+      if (paint > 0) {
+        const float a = std::clamp(0.95f - 0.6f * std::max(0.0f, w[x]) - 0.15f * std::abs(g[x]), 0.0f, 1.0f);
+        c = c * (1 - a) + paint_colour * (a * (1.0f + 0.04f * g[x]));
+      }
+      c *= 1.0f - 0.35f * std::min(1.0f, st[x]);
+      c *= 1.0f - 0.45f * static_cast<float>(cr[x]) / 255.0f;
+      o[x] = c;
+    }
+  }
+  return out;
+}
+
+/// Lawn: grass with clumps, dry and lush patches, fine blade noise. Float BGR.
+cv::Mat lawn_texture(cv::RNG& rng) {
+  const int n = kGroundTexels;
+  const cv::Mat patches = fbm(rng, {{4, 0.5f}, {16, 0.35f}, {64, 0.15f}});
+  const cv::Mat clumps = fbm(rng, {{128, 0.7f}, {256, 0.3f}});
+  const cv::Mat soil = fbm(rng, {{8, 0.6f}, {32, 0.4f}});
+  const float soil_thr = quantile(soil, 0.97);  // ~3 % bare soil
+  cv::Mat grain(n, n, CV_32F);
+  rng.fill(grain, cv::RNG::NORMAL, 0.0f, 1.0f);
+  cv::Mat out(n, n, CV_32FC3);
+  const cv::Vec3f lush(45, 120, 60), dry(80, 160, 150), dark(30, 80, 35), earth(60, 85, 110);
+  for (int y = 0; y < n; ++y) {
+    const float* p = patches.ptr<float>(y);
+    const float* c = clumps.ptr<float>(y);
+    const float* s = soil.ptr<float>(y);
+    const float* g = grain.ptr<float>(y);
+    cv::Vec3f* o = out.ptr<cv::Vec3f>(y);
+    for (int x = 0; x < n; ++x) {
+      const float dryness = std::clamp(0.5f * p[x] + 0.25f, 0.0f, 1.0f);
+      cv::Vec3f col = lush * (1 - dryness) + dry * dryness;
+      const float clump = std::clamp(c[x] * 1.6f, -1.0f, 1.0f);  // dark hollows, bright tufts
+      col = clump < 0 ? col * (1 + clump) + dark * (-clump) : col * (1 + 0.25f * clump);
+      const float bare = std::clamp((s[x] - soil_thr) * 20.0f, 0.0f, 1.0f);
+      col = col * (1 - bare) + earth * bare;
+      o[x] = col * (1.0f + 0.16f * g[x]);
+    }
+  }
+  return out;
+}
+
+/// Snow cover and leaf litter of the ground (BGRA, alpha = cover), periodic.
+cv::Mat cover_layer(const Weather& w, cv::RNG& rng) {
+  const int n = kGroundTexels;
+  cv::Mat cover(n, n, CV_8UC4, cv::Scalar(0, 0, 0, 0));
+  if (w.ground_snow <= 0 && w.ground_leaves <= 0) return cover;
+  const cv::Mat snow_a = coverage(fbm(rng, {{8, 0.5f}, {32, 0.3f}, {128, 0.2f}}), w.ground_snow);
+  const cv::Mat leaf_a = coverage(fbm(rng, {{16, 0.5f}, {64, 0.3f}, {256, 0.2f}}), w.ground_leaves);
+  // Single leaves of ~5–10 cm: palette chosen by 10 cm blobs of noise.
+  const cv::Mat leaf_pick = wrap_resize(periodic_noise(512, 512, rng), n, cv::INTER_NEAREST);
+  cv::Mat grain(n, n, CV_32F);
+  rng.fill(grain, cv::RNG::NORMAL, 0.0f, 1.0f);
+  const std::array<cv::Vec3f, 4> palette{cv::Vec3f(30, 95, 200), cv::Vec3f(40, 175, 215), cv::Vec3f(35, 65, 115),
+                                         cv::Vec3f(35, 45, 165)};
+  const cv::Vec3f snow(238, 238, 234);
+  for (int y = 0; y < n; ++y) {
+    const float* sa = snow_a.ptr<float>(y);
+    const float* la = leaf_a.ptr<float>(y);
+    const float* lp = leaf_pick.ptr<float>(y);
+    const float* g = grain.ptr<float>(y);
+    cv::Vec4b* o = cover.ptr<cv::Vec4b>(y);
+    for (int x = 0; x < n; ++x) {
+      const float a_l = la[x] * (lp[x] > -0.85f ? 1.0f : 0.3f);  // gaps between leaves
+      const float a_s = sa[x];
+      const float alpha = 1 - (1 - a_s) * (1 - a_l);
+      if (alpha <= 0) continue;
+      const auto idx = static_cast<std::size_t>(std::clamp(static_cast<int>((lp[x] + 1) * 2), 0, 3));
+      const cv::Vec3f leaf = palette[idx] * (1.0f + 0.12f * g[x]);
+      const cv::Vec3f c = (snow * (1.0f + 0.02f * g[x]) * (a_s * (1 - a_l)) + leaf * a_l) / alpha;
+      o[x] = cv::Vec4b(sat8(c[0]), sat8(c[1]), sat8(c[2]), sat8(255.0 * alpha));
+    }
+  }
+  return cover;
+}
+
+/// Wet surfaces look darker: light is trapped in the water film by total
+/// internal reflection (Lekner & Dorf 1988); up to ~35 % darker.
+float wet_darkening(const Weather& w) {
+  return 1.0f - 0.35f * static_cast<float>(std::clamp(w.ground_wetness, 0.0, 1.0));
+}
+
+/// Halving mip chain of a BGRA image (box filter, exact for periodic maps).
+std::vector<cv::Mat> mip_chain(const cv::Mat& level0, int min_side) {
+  std::vector<cv::Mat> mips{level0};
+  while (mips.back().cols / 2 >= min_side && mips.back().rows / 2 >= min_side) {
+    cv::Mat next;
+    cv::resize(mips.back(), next, cv::Size(mips.back().cols / 2, mips.back().rows / 2), 0, 0, cv::INTER_AREA);
+    mips.push_back(next);
+  }
+  return mips;
+}
+
+// ---- meshes ----
+
+struct Mesh {
+  std::vector<Eigen::Vector3d> v;  // vertices (world for static objects, object frame for dynamic ones)
+  std::vector<std::array<int, 3>> tri;
+  std::vector<float> tint;  // per-triangle colour variation
+  Bgr bgr{128, 128, 128};
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // bounding sphere
+  double radius = 0;
+};
+
+/// A convex solid as triangles in its parent frame, wound outwards.
+Mesh tessellate(const Solid& s, std::uint64_t seed) {
+  Mesh m;
+  m.bgr = s.bgr;
+  std::vector<Eigen::Vector3d> v;
+  std::vector<std::array<int, 3>> quads_as_tris;
+  auto add_tri = [&](int a, int b, int c) { quads_as_tris.push_back({a, b, c}); };
+  auto add_quad = [&](int a, int b, int c, int d) {
+    add_tri(a, b, c);
+    add_tri(a, c, d);
+  };
+  constexpr int kSides = 16;
+  switch (s.shape) {
+    case Solid::Shape::box: {
+      const Eigen::Vector3d h = 0.5 * s.size;
+      for (int i = 0; i < 8; ++i)
+        v.emplace_back(i & 1 ? h.x() : -h.x(), i & 2 ? h.y() : -h.y(), i & 4 ? h.z() : -h.z());
+      add_quad(0, 1, 3, 2), add_quad(4, 5, 7, 6), add_quad(0, 1, 5, 4);
+      add_quad(2, 3, 7, 6), add_quad(0, 2, 6, 4), add_quad(1, 3, 7, 5);
+      break;
+    }
+    case Solid::Shape::cylinder:
+    case Solid::Shape::cone: {
+      const double r = s.size.x(), hz = 0.5 * s.size.z();
+      const bool cone = s.shape == Solid::Shape::cone;
+      for (int i = 0; i < kSides; ++i) {
+        const double a = 2 * kPi * i / kSides;
+        v.emplace_back(r * std::cos(a), r * std::sin(a), -hz);
+        if (!cone) v.emplace_back(r * std::cos(a), r * std::sin(a), hz);
+      }
+      const int bottom = static_cast<int>(v.size());
+      v.emplace_back(0, 0, -hz);
+      v.emplace_back(0, 0, hz);
+      const int step = cone ? 1 : 2;
+      for (int i = 0; i < kSides; ++i) {
+        const int a = i * step, b = ((i + 1) % kSides) * step;
+        add_tri(bottom, a, b);
+        if (cone) {
+          add_tri(a, b, bottom + 1);
+        } else {
+          add_tri(bottom + 1, a + 1, b + 1);
+          add_quad(a, b, b + 1, a + 1);
+        }
+      }
+      break;
+    }
+    case Solid::Shape::sphere:
+    case Solid::Shape::capsule: {
+      // UV sphere (8 stacks, 12 slices); a capsule splits it at the equator.
+      const double r = s.size.x(), hl = s.shape == Solid::Shape::capsule ? 0.5 * s.size.z() : 0.0;
+      constexpr int kStacks = 8, kSlices = 12;
+      std::vector<double> ring_z, ring_r;
+      for (int i = 1; i < kStacks; ++i) {
+        const double phi = kPi * i / kStacks, z = r * std::cos(phi), rr = r * std::sin(phi);
+        if (i == kStacks / 2 && hl > 0) {
+          ring_z.push_back(hl), ring_r.push_back(rr);
+          ring_z.push_back(-hl), ring_r.push_back(rr);
+        } else {
+          ring_z.push_back(z + (z > 0 ? hl : -hl)), ring_r.push_back(rr);
+        }
+      }
+      for (std::size_t k = 0; k < ring_z.size(); ++k) {
+        for (int j = 0; j < kSlices; ++j) {
+          const double a = 2 * kPi * j / kSlices;
+          v.emplace_back(ring_r[k] * std::cos(a), ring_r[k] * std::sin(a), ring_z[k]);
+        }
+      }
+      const int top = static_cast<int>(v.size());
+      v.emplace_back(0, 0, r + hl);
+      v.emplace_back(0, 0, -r - hl);
+      const int rings = static_cast<int>(ring_z.size());
+      for (int j = 0; j < kSlices; ++j) {
+        const int jn = (j + 1) % kSlices;
+        add_tri(top, j, jn);
+        add_tri(top + 1, (rings - 1) * kSlices + j, (rings - 1) * kSlices + jn);
+        for (int k = 0; k + 1 < rings; ++k)
+          add_quad(k * kSlices + j, k * kSlices + jn, (k + 1) * kSlices + jn, (k + 1) * kSlices + j);
+      }
+      break;
+    }
+  }
+  // Every primitive is convex and centred on its origin: wind each triangle
+  // so that its normal points away from the origin.
+  for (auto& t : quads_as_tris) {
+    const Eigen::Vector3d n = (v[static_cast<std::size_t>(t[1])] - v[static_cast<std::size_t>(t[0])])
+                                  .cross(v[static_cast<std::size_t>(t[2])] - v[static_cast<std::size_t>(t[0])]);
+    const Eigen::Vector3d c =
+        v[static_cast<std::size_t>(t[0])] + v[static_cast<std::size_t>(t[1])] + v[static_cast<std::size_t>(t[2])];
+    if (n.squaredNorm() < 1e-24) continue;  // degenerate (zero-size solid)
+    if (n.dot(c) < 0) std::swap(t[1], t[2]);
+    m.tri.push_back(t);
+  }
+  for (const auto& p : v) m.v.push_back(s.pose * p);
+  Rng rng(seed);
+  for (std::size_t i = 0; i < m.tri.size(); ++i) m.tint.push_back(static_cast<float>(rng.uniform(0.93, 1.07)));
+  Eigen::Vector3d lo = m.v.front(), hi = m.v.front();
+  for (const auto& p : m.v) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  m.centre = 0.5 * (lo + hi);
+  for (const auto& p : m.v) m.radius = std::max(m.radius, (p - m.centre).norm());
+  return m;
+}
+
+// ---- polygon clipping (Sutherland–Hodgman) ----
+
+/// Keeps the part of a 3-D polygon (camera frame) with z ≥ kNear.
+void clip_near(const std::vector<Eigen::Vector3d>& in, std::vector<Eigen::Vector3d>& out) {
+  out.clear();
+  const std::size_t n = in.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d& a = in[i];
+    const Eigen::Vector3d& b = in[(i + 1) % n];
+    const bool ia = a.z() >= kNear, ib = b.z() >= kNear;
+    if (ia) out.push_back(a);
+    if (ia != ib) out.push_back(a + (b - a) * ((kNear - a.z()) / (b.z() - a.z())));
+  }
+}
+
+/// Keeps the part of a 2-D polygon inside [x0, x1] × [y0, y1].
+void clip_rect(std::vector<Eigen::Vector2d>& poly, std::vector<Eigen::Vector2d>& tmp, double x0, double y0, double x1,
+               double y1) {
+  auto pass = [&](int axis, double bound, bool keep_above) {
+    tmp.clear();
+    const std::size_t n = poly.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector2d& a = poly[i];
+      const Eigen::Vector2d& b = poly[(i + 1) % n];
+      const bool ia = keep_above ? a[axis] >= bound : a[axis] <= bound;
+      const bool ib = keep_above ? b[axis] >= bound : b[axis] <= bound;
+      if (ia) tmp.push_back(a);
+      if (ia != ib) tmp.push_back(a + (b - a) * ((bound - a[axis]) / (b[axis] - a[axis])));
+    }
+    poly.swap(tmp);
+  };
+  pass(0, x0, true);
+  pass(0, x1, false);
+  pass(1, y0, true);
+  pass(1, y1, false);
+}
+
+double shoelace(const std::vector<Eigen::Vector2d>& p) {
+  double a = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Eigen::Vector2d& q = p[(i + 1) % p.size()];
+    a += p[i].x() * q.y() - q.x() * p[i].y();
+  }
+  return 0.5 * std::abs(a);
+}
+
+// ---- markers ----
+
+/// Marker cells (0 black, 255 white) with the one-cell white margin.
+cv::Mat marker_cells(const cv::Ptr<cv::aruco::Dictionary>& dict, int bits, DistractorKind kind, int id,
+                     int flipped_bits, int target_id, std::uint64_t flip_seed) {
+  const int side = bits + 4;
+  cv::Mat cells(side, side, CV_8U, cv::Scalar(255));
+  cv::Mat inner = cells(cv::Rect(1, 1, bits + 2, bits + 2));
+  if (kind == DistractorKind::wrong_id) {
+    cv::Mat drawn;
+    cv::aruco::drawMarker(dict, id, bits + 2, drawn, 1);
+    drawn.copyTo(inner);
+    return cells;
+  }
+  cv::Mat code(bits, bits, CV_8U);
+  if (kind == DistractorKind::lookalike) {
+    code = cv::aruco::Dictionary::getBitsFromByteList(dict->bytesList.rowRange(target_id, target_id + 1), bits);
+    // Invert `flipped_bits` distinct cells, drawn by a partial Fisher–Yates.
+    std::vector<int> order(static_cast<std::size_t>(bits * bits));
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+    Rng rng(flip_seed);
+    const int flips = std::clamp(flipped_bits, 0, bits * bits);
+    for (int i = 0; i < flips; ++i) {
+      const auto j = static_cast<std::size_t>(i) +
+                     static_cast<std::size_t>(rng.next() % (order.size() - static_cast<std::size_t>(i)));
+      std::swap(order[static_cast<std::size_t>(i)], order[j]);
+      std::uint8_t& c =
+          code.at<std::uint8_t>(order[static_cast<std::size_t>(i)] / bits, order[static_cast<std::size_t>(i)] % bits);
+      c = c ? 0 : 1;
+    }
+  } else {  // pattern: a random grid, seeded by its id
+    Rng rng(static_cast<std::uint64_t>(id), 0x9A77E28ull);
+    for (int r = 0; r < bits; ++r) {
+      for (int c = 0; c < bits; ++c) code.at<std::uint8_t>(r, c) = rng.uniform() < 0.5 ? 1 : 0;
+    }
+  }
+  inner.setTo(0);
+  for (int r = 0; r < bits; ++r) {
+    for (int c = 0; c < bits; ++c) cells.at<std::uint8_t>(r + 2, c + 2) = code.at<std::uint8_t>(r, c) ? 255 : 0;
+  }
+  return cells;
+}
+
+struct Quad {
+  Label label = kMarker;
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  double cos_yaw = 1, sin_yaw = 0;
+  double side = 1;                         // with the margin [m]
+  std::array<Eigen::Vector3d, 4> corners;  // world, with margin: TL, TR, BR, BL of the image
+  std::vector<cv::Mat> mips;               // BGRA
+};
+
+/// The marker image as printed and lying on the ground: paper white, ink
+/// black, then the ground's snow/leaf cover at each texel's world point and
+/// the wet darkening.
+Quad make_quad(const cv::Mat& cells, Label label, const Eigen::Vector2d& centre, double yaw_deg, double border_size,
+               int bits, const cv::Mat& cover, const Weather& weather) {
+  Quad q;
+  q.label = label;
+  q.centre = centre;
+  q.cos_yaw = std::cos(rad(yaw_deg));
+  q.sin_yaw = std::sin(rad(yaw_deg));
+  q.side = border_size * (bits + 4) / (bits + 2);
+  const Eigen::Vector2d ex(q.cos_yaw, q.sin_yaw), ey(-q.sin_yaw, q.cos_yaw);
+  const double h = 0.5 * q.side;
+  // Image top = local +y, image right = local +x (reads correctly from above).
+  const std::array<Eigen::Vector2d, 4> c2{centre - h * ex + h * ey, centre + h * ex + h * ey, centre + h * ex - h * ey,
+                                          centre - h * ex - h * ey};
+  for (std::size_t i = 0; i < 4; ++i) q.corners[i] = Eigen::Vector3d(c2[i].x(), c2[i].y(), 0);
+  const int m = cells.cols * kMarkerTexelsPerCell;
+  cv::Mat big;
+  cv::resize(cells, big, cv::Size(m, m), 0, 0, cv::INTER_NEAREST);
+  cv::Mat img(m, m, CV_8UC4);
+  const float dark = wet_darkening(weather);
+  const double texel = q.side / m;
+  const bool any_cover = weather.ground_snow > 0 || weather.ground_leaves > 0;
+  for (int y = 0; y < m; ++y) {
+    const std::uint8_t* b = big.ptr<std::uint8_t>(y);
+    cv::Vec4b* o = img.ptr<cv::Vec4b>(y);
+    for (int x = 0; x < m; ++x) {
+      cv::Vec3f c = b[x] ? cv::Vec3f(228, 232, 232) : cv::Vec3f(28, 28, 30);
+      if (any_cover) {
+        // World point of this texel → cover texel (periodic), bilinear.
+        const double lx = (x + 0.5) * texel - h, ly = h - (y + 0.5) * texel;
+        const Eigen::Vector2d p = centre + lx * ex + ly * ey;
+        const cv::Point2f t(static_cast<float>(p.x() / kGroundTexel - 0.5),
+                            static_cast<float>(p.y() / kGroundTexel - 0.5));
+        const int tx = floor_int(t.x), ty = floor_int(t.y);
+        const float fx = t.x - static_cast<float>(tx), fy = t.y - static_cast<float>(ty);
+        cv::Vec4f acc(0, 0, 0, 0);
+        for (int k = 0; k < 4; ++k) {
+          const int xx = (tx + (k & 1)) & (kGroundTexels - 1), yy = (ty + (k >> 1)) & (kGroundTexels - 1);
+          const float wgt = ((k & 1) ? fx : 1 - fx) * ((k >> 1) ? fy : 1 - fy);
+          const cv::Vec4b v = cover.at<cv::Vec4b>(yy, xx);
+          acc += wgt * cv::Vec4f(v[0], v[1], v[2], v[3]);
+        }
+        const float a = acc[3] / 255.0f;
+        c = c * (1 - a) + cv::Vec3f(acc[0], acc[1], acc[2]) * (a > 0 ? 1.0f : 0.0f) * 1.0f;
+      }
+      c *= dark;
+      o[x] = cv::Vec4b(sat8(c[0]), sat8(c[1]), sat8(c[2]), 255);
+    }
+  }
+  q.mips = mip_chain(img, 8);
+  return q;
+}
+
+}  // namespace
+
+struct Renderer::Impl {
+  Scenario scenario;
+  CameraOptions cam;
+  double f = 0, cx = 0, cy = 0;
+  Eigen::Isometry3d T_body_camera;
+
+  std::vector<cv::Mat> ground;  // BGRA mips, periodic
+  std::vector<Quad> quads;      // distractors, then the target marker (last)
+
+  std::vector<Mesh> static_meshes;
+  std::vector<std::vector<Bgr>> static_shade;  // shaded colour per triangle
+  std::vector<std::vector<cv::Point2f>> static_shadow;
+  std::vector<std::vector<Mesh>> dynamic_meshes;  // per object, in its frame
+
+  Eigen::Vector3d sun = Eigen::Vector3d::UnitZ();  // towards the sun
+  double sun_strength = 0;                         // direct light, 0..1
+  int shadow_keep = 256;                           // ×/256 in shadow
+
+  // Fog and dust (Koschmieder): transmission by depth, airlight.
+  double beta = 0;
+  double lut_scale = 0;
+  std::vector<std::uint16_t> fog_t;  // transmission ×256 by depth bin
+  std::array<int, 3> airlight{200, 200, 200};
+
+  // Low light: gain and noise.
+  bool low_light = false;
+  std::array<std::uint8_t, 256> gain_lut{};
+  cv::Mat noise_tile;  // CV_16SC3, 256², already × sigma
+
+  // Scratch (no allocation in steady state).
+  std::vector<Eigen::Vector3d> poly3, poly3_clip, verts;
+  std::vector<Eigen::Vector2d> poly2, poly2_tmp;
+  std::vector<cv::Point2f> shadow_pts, hull;
+  std::vector<cv::Point> ipoly;
+  cv::Mat shadow_mask, overlay, blur_acc, blur_src;
+
+  void render(const SceneState& state, CameraFrame& out);
+};
+
+namespace {
+
+struct View {
+  Eigen::Matrix3d R_cw;
+  Eigen::Vector3d t_cw, c;  // world → camera; camera centre in the world
+  double h = 0;             // camera height above the ground (≥ 1 cm)
+  // Ray through pixel (x, y) in world axes with unit optical-axis component:
+  // ray = A·x + B·y + C.
+  Eigen::Vector3d A, B, C;
+  [[nodiscard]] Eigen::Vector3d cam(const Eigen::Vector3d& p_world) const { return R_cw * p_world + t_cw; }
+};
+
+}  // namespace
+
+Renderer::Renderer(const Scenario& scenario, const CameraOptions& camera) : impl_(std::make_unique<Impl>()) {
+  std::string why;
+  if (!camera.validate(&why)) throw InvalidArgument("camera." + why);
+  const pose::detail::ArucoDictionaryInfo* dict_info = pose::detail::find_aruco_dictionary(scenario.marker.dictionary);
+  if (!dict_info) {
+    throw InvalidArgument("marker.dictionary: unknown " +
+                          pose::detail::unknown_aruco_dictionary(scenario.marker.dictionary));
+  }
+  auto check_id = [&](const std::string& key, int id) {
+    if (id < 0 || id >= dict_info->codes) {
+      throw InvalidArgument(key + ": " + std::to_string(id) + " is not in " + std::string(dict_info->name) + " (0.." +
+                            std::to_string(dict_info->codes - 1) + ")");
+    }
+  };
+  check_id("marker.id", scenario.marker.id);
+  if (!(scenario.marker.size > 0 && std::isfinite(scenario.marker.size))) {
+    throw InvalidArgument("marker.size: must be positive");
+  }
+  for (std::size_t i = 0; i < scenario.distractors.size(); ++i) {
+    const Distractor& d = scenario.distractors[i];
+    const std::string key = "distractors[" + std::to_string(i) + "]";
+    if (d.kind == DistractorKind::wrong_id) check_id(key + ".id", d.id);
+    if (!(d.size > 0 && std::isfinite(d.size))) throw InvalidArgument(key + ".size: must be positive");
+  }
+
+  Impl& m = *impl_;
+  m.scenario = scenario;
+  m.cam = camera;
+  m.f = camera.fx();
+  m.cx = 0.5 * (camera.width - 1);
+  m.cy = 0.5 * (camera.height - 1);
+  m.T_body_camera = camera.T_body_camera();
+  const Weather& w = scenario.weather;
+
+  // Ground texture, cover and markers: deterministic from the seed.
+  cv::RNG rng(scenario.seed * 0x9E3779B97F4A7C15ull + 0x6A09E667ull);
+  cv::Mat base = scenario.map == MapKind::ground ? concrete_texture(rng) : lawn_texture(rng);
+  const cv::Mat cover = cover_layer(w, rng);
+  const float dark = wet_darkening(w);
+  cv::Mat tex(kGroundTexels, kGroundTexels, CV_8UC4);
+  for (int y = 0; y < kGroundTexels; ++y) {
+    const cv::Vec3f* b = base.ptr<cv::Vec3f>(y);
+    const cv::Vec4b* c = cover.ptr<cv::Vec4b>(y);
+    cv::Vec4b* o = tex.ptr<cv::Vec4b>(y);
+    for (int x = 0; x < kGroundTexels; ++x) {
+      const float a = c[x][3] / 255.0f;
+      const cv::Vec3f col = (b[x] * (1 - a) + cv::Vec3f(c[x][0], c[x][1], c[x][2]) * a) * dark;
+      o[x] = cv::Vec4b(sat8(col[0]), sat8(col[1]), sat8(col[2]), 255);
+    }
+  }
+  m.ground = mip_chain(tex, 4);
+
+  const auto dict = cv::aruco::getPredefinedDictionary(dict_info->id);
+  const int bits = dict_info->bits;
+  for (std::size_t i = 0; i < scenario.distractors.size(); ++i) {
+    const Distractor& d = scenario.distractors[i];
+    const cv::Mat cells = marker_cells(dict, bits, d.kind, d.id, d.flipped_bits, scenario.marker.id,
+                                       Rng(scenario.seed, 0xD157ull + i).next());
+    m.quads.push_back(make_quad(cells, kDistractor, d.position, d.yaw_deg, d.size, bits, cover, w));
+  }
+  const cv::Mat target = marker_cells(dict, bits, DistractorKind::wrong_id, scenario.marker.id, 0, 0, 0);
+  m.quads.push_back(make_quad(target, kMarker, scenario.marker.position, scenario.marker.yaw_deg, scenario.marker.size,
+                              bits, cover, w));
+
+  // Sun: azimuth counter-clockwise from +x (east), like every yaw here.
+  const double el = rad(w.sun_elevation_deg), az = rad(w.sun_azimuth_deg);
+  m.sun = Eigen::Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+  if (el > 0) {
+    // Direct light: weaker for a low sun, and attenuated through a ~30 m
+    // fog/dust layer along the slant path (Beer–Lambert).
+    const double beta_air = std::max(0.0, w.fog) + 0.05 * std::max(0.0, w.dust);
+    m.sun_strength = std::min(1.0, std::sin(el) / std::sin(rad(15))) * std::exp(-beta_air * 30 / std::sin(el));
+  }
+  m.shadow_keep = static_cast<int>(std::lround(256 * (1 - 0.55 * m.sun_strength)));
+
+  // Objects: tessellated once.
+  std::uint64_t mesh_seed = scenario.seed * 7919;
+  for (const auto& o : scenario.static_objects) {
+    for (const Solid& s : object_solids(o)) m.static_meshes.push_back(tessellate(s, ++mesh_seed));
+  }
+  for (const auto& o : scenario.dynamic_objects) {
+    auto& meshes = m.dynamic_meshes.emplace_back();
+    for (const Solid& s : object_solids(o)) meshes.push_back(tessellate(s, ++mesh_seed));
+  }
+  auto shade = [&](const Mesh& mesh, std::size_t t, const Eigen::Vector3d& n) {
+    // Lambert: sky light (ambient) + sun; a top face under a 50° sun ≈ 1.
+    const double lambert = 0.55 + 0.6 * m.sun_strength * std::max(0.0, n.dot(m.sun));
+    const double k = lambert * mesh.tint[t];
+    return Bgr{sat8(mesh.bgr[0] * k), sat8(mesh.bgr[1] * k), sat8(mesh.bgr[2] * k)};
+  };
+  for (const Mesh& mesh : m.static_meshes) {
+    auto& colours = m.static_shade.emplace_back();
+    for (std::size_t t = 0; t < mesh.tri.size(); ++t) {
+      const auto& tri = mesh.tri[t];
+      const Eigen::Vector3d& a = mesh.v[static_cast<std::size_t>(tri[0])];
+      const Eigen::Vector3d n = (mesh.v[static_cast<std::size_t>(tri[1])] - a)
+                                    .cross(mesh.v[static_cast<std::size_t>(tri[2])] - a)
+                                    .normalized();
+      colours.push_back(shade(mesh, t, n));
+    }
+  }
+  // Static shadows: ground polygons, once.
+  if (m.sun_strength > 0.02 && m.sun.z() > std::sin(rad(3))) {
+    for (const Mesh& mesh : m.static_meshes) {
+      std::vector<cv::Point2f> pts, hull;
+      for (const auto& p : mesh.v) {
+        const Eigen::Vector3d g = p - (std::max(0.0, p.z()) / m.sun.z()) * m.sun;
+        pts.emplace_back(static_cast<float>(g.x()), static_cast<float>(g.y()));
+      }
+      cv::convexHull(pts, hull);
+      m.static_shadow.push_back(hull);
+    }
+  }
+
+  // Fog and dust: extinction coefficients add; the airlight is their
+  // extinction-weighted colour (grey fog, tan dust).
+  const double beta_dust = 0.05 * std::max(0.0, w.dust);
+  m.beta = std::max(0.0, w.fog) + beta_dust;
+  if (m.beta > 1e-6) {
+    const double range = 12 / m.beta;  // beyond: t < 1e-5
+    m.fog_t.resize(4096);
+    m.lut_scale = static_cast<double>(m.fog_t.size() - 1) / range;
+    for (std::size_t i = 0; i < m.fog_t.size(); ++i) {
+      m.fog_t[i] =
+          static_cast<std::uint16_t>(std::lround(256 * std::exp(-m.beta * static_cast<double>(i) / m.lut_scale)));
+    }
+    m.fog_t.back() = 0;
+    const double wf = std::max(0.0, w.fog) / m.beta, wd = beta_dust / m.beta;
+    const std::array<double, 3> fog_a{205, 205, 200}, dust_a{135, 175, 205};
+    for (std::size_t c = 0; c < 3; ++c) m.airlight[c] = static_cast<int>(std::lround(wf * fog_a[c] + wd * dust_a[c]));
+  }
+
+  // Low light: the camera's auto-gain makes up part of the missing light
+  // (brightness ∝ ambient^0.6) and amplifies read and shot noise with it
+  // (sigma grows as 1/sqrt(ambient)).
+  const double ambient = std::max(0.0, w.ambient);
+  m.low_light = std::abs(ambient - 1.0) > 1e-9;
+  if (m.low_light) {
+    const double gain = std::pow(std::max(ambient, 1e-3), 0.6);
+    for (int i = 0; i < 256; ++i) m.gain_lut[static_cast<std::size_t>(i)] = sat8(i * gain);
+    const double sigma = ambient < 1 ? std::min(30.0, 3.0 * (1.0 / std::sqrt(std::max(ambient, 0.01)) - 1.0)) : 0.0;
+    m.noise_tile.create(256, 256, CV_16SC3);
+    Rng nrng(scenario.seed, 0x401523ull);
+    for (int y = 0; y < 256; ++y) {
+      auto* row = m.noise_tile.ptr<std::int16_t>(y);
+      for (int x = 0; x < 256 * 3; ++x) row[x] = static_cast<std::int16_t>(std::lround(sigma * nrng.normal()));
+    }
+  }
+}
+
+Renderer::~Renderer() = default;
+Renderer::Renderer(Renderer&&) noexcept = default;
+Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+const CameraOptions& Renderer::camera() const { return impl_->cam; }
+
+void Renderer::render(const SceneState& state, CameraFrame& out) { impl_->render(state, out); }
+
+void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
+  if (state.T_world_dynamic.size() != scenario.dynamic_objects.size()) {
+    throw InvalidArgument("state.T_world_dynamic: " + std::to_string(state.T_world_dynamic.size()) + " poses for " +
+                          std::to_string(scenario.dynamic_objects.size()) + " dynamic objects");
+  }
+  const int W = cam.width, H = cam.height;
+  const auto npix = static_cast<std::size_t>(W) * static_cast<std::size_t>(H);
+  out.width = W;
+  out.height = H;
+  out.image.resize(W, H);
+  out.mask.resize(npix);
+  out.depth.resize(npix);
+  cv::Mat img(H, W, CV_8UC3, out.image.pixels.data());
+  std::uint8_t* mask = out.mask.data();
+  float* depth = out.depth.data();
+  const Weather& weather = scenario.weather;
+
+  View v;
+  const Eigen::Isometry3d T_world_camera = state.T_world_body * T_body_camera;
+  const Eigen::Matrix3d R_wc = T_world_camera.linear();
+  v.R_cw = R_wc.transpose();
+  v.c = T_world_camera.translation();
+  v.t_cw = -(v.R_cw * v.c);
+  // A camera at or below the ground sees it from 1 cm (a landed drone's
+  // camera is above it; this only keeps the maths finite).
+  v.h = std::max(v.c.z(), 0.01);
+  v.A = R_wc.col(0) / f;
+  v.B = R_wc.col(1) / f;
+  v.C = R_wc.col(2) - v.A * cx - v.B * cy;
+  const auto project = [&](const Eigen::Vector3d& pc) {
+    return Eigen::Vector2d(f * pc.x() / pc.z() + cx, f * pc.y() / pc.z() + cy);
+  };
+
+  // ---- 1. ground ----
+  {
+    const float inv_h = static_cast<float>(1 / v.h), w_min = static_cast<float>(1 / kMaxGround);
+    const float cxw = static_cast<float>(v.c.x()), cyw = static_cast<float>(v.c.y());
+    const float lod = static_cast<float>(1 / (f * kGroundTexel));
+    const int levels = static_cast<int>(ground.size());
+    std::array<const std::uint32_t*, 16> base{};
+    std::array<float, 16> inv_texel{};
+    for (int k = 0; k < levels; ++k) {
+      base[static_cast<std::size_t>(k)] = ground[static_cast<std::size_t>(k)].ptr<std::uint32_t>(0);
+      inv_texel[static_cast<std::size_t>(k)] =
+          static_cast<float>((kGroundTexels >> k) / (kGroundTexels * kGroundTexel));
+    }
+    const float ax = static_cast<float>(v.A.x()), ay = static_cast<float>(v.A.y()), az = static_cast<float>(v.A.z());
+    for (int y = 0; y < H; ++y) {
+      const Eigen::Vector3d r0 = v.B * y + v.C;
+      const float rx0 = static_cast<float>(r0.x()), ry0 = static_cast<float>(r0.y()), rz0 = static_cast<float>(r0.z());
+      std::uint8_t* px = img.ptr<std::uint8_t>(y);
+      std::uint8_t* mk = mask + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
+      float* dp = depth + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
+      for (int x = 0; x < W; ++x) {
+        const float fx_ = static_cast<float>(x);
+        const float wdepth = -(rz0 + az * fx_) * inv_h;  // 1/depth, affine in the pixel
+        if (!(wdepth > w_min)) {
+          px[3 * x] = kSkyBgr[0], px[3 * x + 1] = kSkyBgr[1], px[3 * x + 2] = kSkyBgr[2];
+          mk[x] = kSky;
+          dp[x] = std::numeric_limits<float>::infinity();
+          continue;
+        }
+        const float s = 1.0f / wdepth;
+        const float X = cxw + s * (rx0 + ax * fx_), Y = cyw + s * (ry0 + ay * fx_);
+        const int k = mip_level(s * lod, levels);
+        const int n = kGroundTexels >> k, msk = n - 1;
+        const float u = X * inv_texel[static_cast<std::size_t>(k)] - 0.5f;
+        const float vv = Y * inv_texel[static_cast<std::size_t>(k)] - 0.5f;
+        const int ui = floor_int(u), vi = floor_int(vv);
+        const auto tu = static_cast<std::uint32_t>((u - static_cast<float>(ui)) * 256.0f);
+        const auto tv = static_cast<std::uint32_t>((vv - static_cast<float>(vi)) * 256.0f);
+        const std::uint32_t* t = base[static_cast<std::size_t>(k)];
+        const int u0 = ui & msk, u1 = (ui + 1) & msk, r0i = (vi & msk) * n, r1i = ((vi + 1) & msk) * n;
+        const std::uint32_t top = lerp_bgra(t[r0i + u0], t[r0i + u1], tu);
+        const std::uint32_t bot = lerp_bgra(t[r1i + u0], t[r1i + u1], tu);
+        const std::uint32_t c = lerp_bgra(top, bot, tv);
+        px[3 * x] = static_cast<std::uint8_t>(c);
+        px[3 * x + 1] = static_cast<std::uint8_t>(c >> 8);
+        px[3 * x + 2] = static_cast<std::uint8_t>(c >> 16);
+        mk[x] = kGround;
+        dp[x] = s;
+      }
+    }
+  }
+
+  // Clips a world polygon on the ground to the image; result in poly2.
+  const auto ground_polygon_in_image = [&](auto&& world_point, std::size_t count) {
+    poly3.clear();
+    for (std::size_t i = 0; i < count; ++i) poly3.push_back(v.cam(world_point(i)));
+    clip_near(poly3, poly3_clip);
+    poly2.clear();
+    for (const auto& p : poly3_clip) poly2.push_back(project(p));
+    if (poly2.size() >= 3) clip_rect(poly2, poly2_tmp, -0.5, -0.5, W - 0.5, H - 0.5);
+    return poly2.size() >= 3;
+  };
+
+  // ---- 2. markers and distractors ----
+  out.marker_area_truth_px = 0;
+  out.marker_area_visible_px = 0;
+  cv::Rect marker_box;
+  for (const Quad& q : quads) {
+    if (!ground_polygon_in_image([&](std::size_t i) { return q.corners[i]; }, 4)) continue;
+    if (q.label == kMarker) out.marker_area_truth_px = shoelace(poly2);
+    double x0 = W, x1 = -1, y0 = H, y1 = -1;
+    for (const auto& p : poly2)
+      x0 = std::min(x0, p.x()), x1 = std::max(x1, p.x()), y0 = std::min(y0, p.y()), y1 = std::max(y1, p.y());
+    const int bx0 = std::max(0, static_cast<int>(std::ceil(x0))),
+              bx1 = std::min(W - 1, static_cast<int>(std::floor(x1)));
+    const int by0 = std::max(0, static_cast<int>(std::ceil(y0))),
+              by1 = std::min(H - 1, static_cast<int>(std::floor(y1)));
+    if (q.label == kMarker) marker_box = cv::Rect(bx0, by0, std::max(0, bx1 - bx0 + 1), std::max(0, by1 - by0 + 1));
+    const int levels = static_cast<int>(q.mips.size());
+    const int m0 = q.mips.front().cols;
+    const double texel0 = q.side / m0;
+    const float lod = static_cast<float>(1 / (f * texel0));
+    // World (X, Y) → marker image coordinates at level 0: a = ex·d/texel, b = −ey·d/texel.
+    const float inv_t = static_cast<float>(1 / texel0);
+    const float ecx = static_cast<float>(q.cos_yaw), esy = static_cast<float>(q.sin_yaw);
+    const float half = 0.5f * static_cast<float>(m0);
+    const float dx0 = static_cast<float>(v.c.x() - q.centre.x()), dy0 = static_cast<float>(v.c.y() - q.centre.y());
+    const float ax = static_cast<float>(v.A.x()), ay = static_cast<float>(v.A.y());
+    for (int y = by0; y <= by1; ++y) {
+      const Eigen::Vector3d r0 = v.B * y + v.C;
+      const float rx0 = static_cast<float>(r0.x()), ry0 = static_cast<float>(r0.y());
+      std::uint8_t* px = img.ptr<std::uint8_t>(y);
+      std::uint8_t* mk = mask + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
+      const float* dp = depth + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
+      for (int x = bx0; x <= bx1; ++x) {
+        if (mk[x] == kSky) continue;
+        const float fx_ = static_cast<float>(x);
+        const float s = dp[x];  // the ground pass's depth: the same ray meets the same plane
+        const float dX = dx0 + s * (rx0 + ax * fx_), dY = dy0 + s * (ry0 + ay * fx_);
+        const float a = (dX * ecx + dY * esy) * inv_t + half;   // along image columns
+        const float b = half - (-dX * esy + dY * ecx) * inv_t;  // along image rows
+        if (!(a >= 0 && a < static_cast<float>(m0) && b >= 0 && b < static_cast<float>(m0))) continue;
+        const int k = mip_level(s * lod, levels);
+        const cv::Mat& mip = q.mips[static_cast<std::size_t>(k)];
+        const float scale = static_cast<float>(mip.cols) / static_cast<float>(m0);
+        const float u = std::clamp(a * scale - 0.5f, 0.0f, static_cast<float>(mip.cols - 1));
+        const float vv = std::clamp(b * scale - 0.5f, 0.0f, static_cast<float>(mip.rows - 1));
+        const int ui = static_cast<int>(u), vi = static_cast<int>(vv);
+        const int u1 = std::min(ui + 1, mip.cols - 1), v1 = std::min(vi + 1, mip.rows - 1);
+        const auto tu = static_cast<std::uint32_t>((u - static_cast<float>(ui)) * 256.0f);
+        const auto tv = static_cast<std::uint32_t>((vv - static_cast<float>(vi)) * 256.0f);
+        const auto* r0p = mip.ptr<std::uint32_t>(vi);
+        const auto* r1p = mip.ptr<std::uint32_t>(v1);
+        const std::uint32_t c = lerp_bgra(lerp_bgra(r0p[ui], r0p[u1], tu), lerp_bgra(r1p[ui], r1p[u1], tu), tv);
+        px[3 * x] = static_cast<std::uint8_t>(c);
+        px[3 * x + 1] = static_cast<std::uint8_t>(c >> 8);
+        px[3 * x + 2] = static_cast<std::uint8_t>(c >> 16);
+        mk[x] = q.label;
+      }
+    }
+  }
+
+  // ---- 3. sun shadows of the objects on the ground and markers ----
+  if (shadow_keep < 256 && sun.z() > std::sin(rad(3))) {
+    if (shadow_mask.rows != H || shadow_mask.cols != W) shadow_mask = cv::Mat::zeros(H, W, CV_8U);
+    int sx0 = W, sy0 = H, sx1 = -1, sy1 = -1;
+    const auto draw_shadow = [&](const std::vector<cv::Point2f>& ground_hull) {
+      if (ground_hull.size() < 3) return;
+      const auto corner = [&](std::size_t i) { return Eigen::Vector3d(ground_hull[i].x, ground_hull[i].y, 0); };
+      if (!ground_polygon_in_image(corner, ground_hull.size())) return;
+      ipoly.clear();
+      for (const auto& p : poly2) {
+        ipoly.emplace_back(static_cast<int>(std::lround(p.x() * 16)), static_cast<int>(std::lround(p.y() * 16)));
+        sx0 = std::min(sx0, static_cast<int>(std::floor(p.x()))),
+        sx1 = std::max(sx1, static_cast<int>(std::ceil(p.x())));
+        sy0 = std::min(sy0, static_cast<int>(std::floor(p.y()))),
+        sy1 = std::max(sy1, static_cast<int>(std::ceil(p.y())));
+      }
+      cv::fillConvexPoly(shadow_mask, ipoly, cv::Scalar(1), cv::LINE_8, 4);
+    };
+    for (const auto& hull_w : static_shadow) draw_shadow(hull_w);
+    for (std::size_t i = 0; i < dynamic_meshes.size(); ++i) {
+      const Eigen::Isometry3d& T = state.T_world_dynamic[i];
+      for (const Mesh& mesh : dynamic_meshes[i]) {
+        shadow_pts.clear();
+        for (const auto& p_local : mesh.v) {
+          const Eigen::Vector3d p = T * p_local;
+          const Eigen::Vector3d g = p - (std::max(0.0, p.z()) / sun.z()) * sun;
+          shadow_pts.emplace_back(static_cast<float>(g.x()), static_cast<float>(g.y()));
+        }
+        cv::convexHull(shadow_pts, hull);
+        draw_shadow(hull);
+      }
+    }
+    sx0 = std::max(sx0, 0), sy0 = std::max(sy0, 0), sx1 = std::min(sx1, W - 1), sy1 = std::min(sy1, H - 1);
+    const auto keep = static_cast<unsigned>(shadow_keep);
+    for (int y = sy0; y <= sy1; ++y) {
+      std::uint8_t* sm = shadow_mask.ptr<std::uint8_t>(y);
+      std::uint8_t* px = img.ptr<std::uint8_t>(y);
+      const std::uint8_t* mk = mask + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
+      for (int x = sx0; x <= sx1; ++x) {
+        if (!sm[x]) continue;
+        sm[x] = 0;
+        if (mk[x] > kDistractor) continue;  // ground, marker and distractors only
+        for (int c = 0; c < 3; ++c) px[3 * x + c] = static_cast<std::uint8_t>((px[3 * x + c] * keep) >> 8);
+      }
+    }
+  }
+
+  // ---- 4. objects: near-plane clipping and a z-buffer ----
+  const auto raster = [&](const Eigen::Vector3d& qa, const Eigen::Vector3d& qb, const Eigen::Vector3d& qc,
+                          const Bgr& col, std::uint8_t label) {
+    // Screen position and 1/z, which is affine in screen space.
+    Eigen::Vector3d a(f * qa.x() / qa.z() + cx, f * qa.y() / qa.z() + cy, 1 / qa.z());
+    Eigen::Vector3d b(f * qb.x() / qb.z() + cx, f * qb.y() / qb.z() + cy, 1 / qb.z());
+    Eigen::Vector3d c(f * qc.x() / qc.z() + cx, f * qc.y() / qc.z() + cy, 1 / qc.z());
+    double area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+    if (!(std::abs(area) > 1e-12)) return;
+    if (area < 0) std::swap(b, c), area = -area;
+    const int x0 = std::max(0, static_cast<int>(std::ceil(std::min({a.x(), b.x(), c.x()}))));
+    const int x1 = std::min(W - 1, static_cast<int>(std::floor(std::max({a.x(), b.x(), c.x()}))));
+    const int y0 = std::max(0, static_cast<int>(std::ceil(std::min({a.y(), b.y(), c.y()}))));
+    const int y1 = std::min(H - 1, static_cast<int>(std::floor(std::max({a.y(), b.y(), c.y()}))));
+    if (x0 > x1 || y0 > y1) return;
+    // Edge function of P→Q at (x, y): (Q.x − P.x)(y − P.y) − (Q.y − P.y)(x − P.x).
+    const auto edge = [](const Eigen::Vector3d& p, const Eigen::Vector3d& q, double x, double y) {
+      return (q.x() - p.x()) * (y - p.y()) - (q.y() - p.y()) * (x - p.x());
+    };
+    const double ea_dx = -(c.y() - b.y()), eb_dx = -(a.y() - c.y()), ec_dx = -(b.y() - a.y());
+    const double inv_area = 1 / area;
+    const double w_dx = (ea_dx * a.z() + eb_dx * b.z() + ec_dx * c.z()) * inv_area;
+    for (int y = y0; y <= y1; ++y) {
+      double ea = edge(b, c, x0, y), eb = edge(c, a, x0, y), ec = edge(a, b, x0, y);
+      double wz = (ea * a.z() + eb * b.z() + ec * c.z()) * inv_area;
+      std::uint8_t* px = img.ptr<std::uint8_t>(y);
+      const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
+      for (int x = x0; x <= x1; ++x, ea += ea_dx, eb += eb_dx, ec += ec_dx, wz += w_dx) {
+        if (ea < 0 || eb < 0 || ec < 0 || !(wz > 0)) continue;
+        const auto z = static_cast<float>(1 / wz);
+        if (!(z < depth[row + static_cast<std::size_t>(x)])) continue;
+        depth[row + static_cast<std::size_t>(x)] = z;
+        mask[row + static_cast<std::size_t>(x)] = label;
+        px[3 * x] = col[0], px[3 * x + 1] = col[1], px[3 * x + 2] = col[2];
+      }
+    }
+  };
+  const double tan_x = 0.5 * W / f, tan_y = 0.5 * H / f;
+  const double norm_x = std::sqrt(1 + tan_x * tan_x), norm_y = std::sqrt(1 + tan_y * tan_y);
+  const auto in_view = [&](const Eigen::Vector3d& centre_world, double r) {
+    const Eigen::Vector3d q = v.cam(centre_world);
+    if (q.z() < kNear - r) return false;
+    if ((std::abs(q.x()) - tan_x * q.z()) / norm_x > r) return false;
+    return (std::abs(q.y()) - tan_y * q.z()) / norm_y <= r;
+  };
+  const auto draw_mesh = [&](const Mesh& mesh, const Eigen::Isometry3d* T, const std::vector<Bgr>* shaded,
+                             std::uint8_t label) {
+    verts.resize(mesh.v.size());
+    for (std::size_t i = 0; i < mesh.v.size(); ++i) verts[i] = T ? (*T) * mesh.v[i] : mesh.v[i];
+    for (std::size_t t = 0; t < mesh.tri.size(); ++t) {
+      const auto& tri = mesh.tri[t];
+      const Eigen::Vector3d& p0 = verts[static_cast<std::size_t>(tri[0])];
+      const Eigen::Vector3d& p1 = verts[static_cast<std::size_t>(tri[1])];
+      const Eigen::Vector3d& p2 = verts[static_cast<std::size_t>(tri[2])];
+      const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0);
+      if (n.dot(p0 - v.c) >= 0) continue;  // back face
+      Bgr col;
+      if (shaded) {
+        col = (*shaded)[t];
+      } else {
+        const double lambert = 0.55 + 0.6 * sun_strength * std::max(0.0, n.normalized().dot(sun));
+        const double k = lambert * mesh.tint[t];
+        col = Bgr{sat8(mesh.bgr[0] * k), sat8(mesh.bgr[1] * k), sat8(mesh.bgr[2] * k)};
+      }
+      const Eigen::Vector3d q0 = v.cam(p0), q1 = v.cam(p1), q2 = v.cam(p2);
+      const int inside = (q0.z() >= kNear) + (q1.z() >= kNear) + (q2.z() >= kNear);
+      if (inside == 0) continue;
+      if (inside == 3) {
+        raster(q0, q1, q2, col, label);
+        continue;
+      }
+      poly3.assign({q0, q1, q2});
+      clip_near(poly3, poly3_clip);
+      for (std::size_t k = 1; k + 1 < poly3_clip.size(); ++k)
+        raster(poly3_clip[0], poly3_clip[k], poly3_clip[k + 1], col, label);
+    }
+  };
+  for (std::size_t i = 0; i < static_meshes.size(); ++i) {
+    if (in_view(static_meshes[i].centre, static_meshes[i].radius)) {
+      draw_mesh(static_meshes[i], nullptr, &static_shade[i], kStaticObject);
+    }
+  }
+  for (std::size_t i = 0; i < dynamic_meshes.size(); ++i) {
+    const Eigen::Isometry3d& T = state.T_world_dynamic[i];
+    for (const Mesh& mesh : dynamic_meshes[i]) {
+      if (in_view(T * mesh.centre, mesh.radius)) draw_mesh(mesh, &T, nullptr, kDynamicObject);
+    }
+  }
+
+  // The target's visible area: its label survives where nothing covers it.
+  for (int y = marker_box.y; y < marker_box.y + marker_box.height; ++y) {
+    const std::uint8_t* mk = mask + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
+    int count = 0;
+    for (int x = marker_box.x; x < marker_box.x + marker_box.width; ++x) count += mk[x] == kMarker;
+    out.marker_area_visible_px += count;
+  }
+
+  // ---- 5. weather ----
+  // Wet-ground glare: the sun's mirror image in the water film, a Blinn–Phong
+  // style lobe about the mirror direction of the view ray (sharp core from a
+  // smooth film plus a broad lobe from the rough surface under it).
+  if (weather.ground_wetness > 0 && sun_strength > 0) {
+    const double amplitude = 255 * std::clamp(weather.ground_wetness, 0.0, 1.0) * sun_strength;
+    const float lx = static_cast<float>(sun.x()), ly = static_cast<float>(sun.y()), lz = static_cast<float>(sun.z());
+    const float ax = static_cast<float>(v.A.x()), ay = static_cast<float>(v.A.y()), az = static_cast<float>(v.A.z());
+    constexpr float kCut = 0.85f;  // cos of the widest angle with visible glare (0.85^40 ≈ 0.002)
+    for (int y = 0; y < H; ++y) {
+      const Eigen::Vector3d r0 = v.B * y + v.C;
+      const float rx0 = static_cast<float>(r0.x()), ry0 = static_cast<float>(r0.y()), rz0 = static_cast<float>(r0.z());
+      std::uint8_t* px = img.ptr<std::uint8_t>(y);
+      const std::uint8_t* mk = mask + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
+      for (int x = 0; x < W; ++x) {
+        const float fx_ = static_cast<float>(x);
+        const float rx = rx0 + ax * fx_, ry = ry0 + ay * fx_, rz = rz0 + az * fx_;
+        // Mirror of the (downward) ray about the ground normal, dotted with the sun.
+        const float num = rx * lx + ry * ly - rz * lz;
+        if (num <= 0) continue;
+        const float len2 = rx * rx + ry * ry + rz * rz;
+        if (num * num < kCut * kCut * len2 || mk[x] > kDistractor) continue;
+        const double cos_a = num / std::sqrt(len2);
+        const double lobe = 0.9 * std::pow(cos_a, 600.0) + 0.35 * std::pow(cos_a, 40.0);
+        const int add = static_cast<int>(amplitude * lobe);
+        px[3 * x] = sat8i(px[3 * x] + add * 15 / 16);  // sunlight: slightly warm
+        px[3 * x + 1] = sat8i(px[3 * x + 1] + add);
+        px[3 * x + 2] = sat8i(px[3 * x + 2] + add);
+      }
+    }
+  }
+
+  // Fog and dust: Koschmieder's law per pixel, sky = airlight.
+  if (beta > 1e-6) {
+    const auto last = static_cast<float>(fog_t.size() - 1);
+    const float scale = static_cast<float>(lut_scale);
+    for (int y = 0; y < H; ++y) {
+      std::uint8_t* px = img.ptr<std::uint8_t>(y);
+      const float* dp = depth + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
+      for (int x = 0; x < W; ++x) {
+        const float bin = dp[x] * scale;
+        const int t = bin < last ? fog_t[static_cast<std::size_t>(bin)] : 0;
+        for (int c = 0; c < 3; ++c) {
+          px[3 * x + c] =
+              static_cast<std::uint8_t>((px[3 * x + c] * t + airlight[static_cast<std::size_t>(c)] * (256 - t)) >> 8);
+        }
+      }
+    }
+  }
+
+  // Motion blur: the image moves by the ground's image velocity × exposure;
+  // average shifted copies along it (a box kernel along the motion).
+  if (cam.exposure_s > 0 && state.v_world.squaredNorm() > 0) {
+    const Eigen::Vector3d axis = R_wc.col(2);
+    if (axis.z() < -1e-6) {
+      const Eigen::Vector3d p = v.c + (v.c.z() / -axis.z()) * axis;  // ground point on the optical axis
+      const Eigen::Vector3d q1 = v.R_cw * (p - (v.c + state.v_world * cam.exposure_s));
+      if (q1.z() > kNear) {
+        const Eigen::Vector2d shift = project(q1) - Eigen::Vector2d(cx, cy);
+        const double len = shift.norm();
+        if (len > 1.5) {
+          const int copies = std::min(9, static_cast<int>(std::ceil(len)) + 1);
+          img.copyTo(blur_src);
+          if (blur_acc.rows != H || blur_acc.cols != W) blur_acc.create(H, W, CV_16UC3);
+          blur_acc.setTo(0);
+          for (int k = 0; k < copies; ++k) {
+            const Eigen::Vector2d s = shift * (static_cast<double>(k) / (copies - 1) - 0.5);
+            const int dx = static_cast<int>(std::lround(s.x())), dy = static_cast<int>(std::lround(s.y()));
+            for (int y = 0; y < H; ++y) {
+              const std::uint8_t* src = blur_src.ptr<std::uint8_t>(std::clamp(y - dy, 0, H - 1));
+              std::uint16_t* acc = blur_acc.ptr<std::uint16_t>(y);
+              for (int x = 0; x < W; ++x) {
+                const int sx = std::clamp(x - dx, 0, W - 1);
+                for (int c = 0; c < 3; ++c)
+                  acc[3 * x + c] = static_cast<std::uint16_t>(acc[3 * x + c] + src[3 * sx + c]);
+              }
+            }
+          }
+          for (int y = 0; y < H; ++y) {
+            const std::uint16_t* acc = blur_acc.ptr<std::uint16_t>(y);
+            std::uint8_t* px = img.ptr<std::uint8_t>(y);
+            for (int x = 0; x < 3 * W; ++x) px[x] = static_cast<std::uint8_t>((acc[x] + copies / 2) / copies);
+          }
+        }
+      }
+    }
+  }
+
+  // Particles between the camera and the scene, seeded by (seed, frame).
+  Rng rng(scenario.seed, 0x5CE9E00000000ull + static_cast<std::uint32_t>(state.frame_index));
+  const double exposure = std::max(cam.exposure_s, 1e-3);
+  const auto sample = [&](double z_min, double z_max, Eigen::Vector3d& p) {
+    const double u = rng.uniform(-0.1 * W, 1.1 * W), vv = rng.uniform(-0.1 * H, 1.1 * H);
+    // Uniform in the frustum's volume (∝ z²): z³ uniform.
+    const double z3 = z_min * z_min * z_min + rng.uniform() * (z_max * z_max * z_max - z_min * z_min * z_min);
+    const double z = std::cbrt(z3);
+    p = Eigen::Vector3d((u - cx) / f * z, (vv - cy) / f * z, z);
+    const long xi = std::lround(u), yi = std::lround(vv);
+    if (xi >= 0 && xi < W && yi >= 0 && yi < H) {
+      return depth[static_cast<std::size_t>(yi) * static_cast<std::size_t>(W) + static_cast<std::size_t>(xi)] > z;
+    }
+    return true;
+  };
+  const auto to_fixed = [](const Eigen::Vector2d& p) {
+    return cv::Point(static_cast<int>(std::lround(p.x() * 16)), static_cast<int>(std::lround(p.y() * 16)));
+  };
+  const auto on_screen = [&](const Eigen::Vector2d& p) {
+    return std::abs(p.x()) < 4.0 * (W + H) && std::abs(p.y()) < 4.0 * (W + H);
+  };
+  // Rain: drops at terminal velocity (~6.5 m/s for 2 mm drops, Gunn &
+  // Kinzer 1949) streak over the exposure; semi-transparent and bright
+  // (they refract the sky).
+  if (weather.rain > 0) {
+    if (overlay.rows != H || overlay.cols != W) overlay.create(H, W, CV_8U);
+    overlay.setTo(0);
+    const int drops = static_cast<int>(std::lround(1500 * weather.rain));
+    for (int i = 0; i < drops; ++i) {
+      Eigen::Vector3d p;
+      const bool visible = sample(0.3, 10, p);
+      const Eigen::Vector3d vel(0, 0, -rng.uniform(5.5, 7.5));
+      if (!visible) continue;
+      const Eigen::Vector3d p1 = p + v.R_cw * (vel - state.v_world) * exposure;
+      if (p1.z() < kNear) continue;
+      const Eigen::Vector2d a = project(p), b = project(p1);
+      if (!on_screen(a) || !on_screen(b)) continue;
+      const double level = std::min(1.0, 0.25 + 0.5 / p.z());
+      cv::line(overlay, to_fixed(a), to_fixed(b), cv::Scalar(255 * level), p.z() < 1.5 ? 2 : 1, cv::LINE_AA, 4);
+    }
+    for (int y = 0; y < H; ++y) {
+      const std::uint8_t* ov = overlay.ptr<std::uint8_t>(y);
+      std::uint8_t* px = img.ptr<std::uint8_t>(y);
+      for (int x = 0; x < W; ++x) {
+        if (!ov[x]) continue;
+        const int a = ov[x] * 140 / 255;  // ≤ 55 % opaque
+        for (int c = 0; c < 3; ++c)
+          px[3 * x + c] = static_cast<std::uint8_t>(px[3 * x + c] + ((215 - px[3 * x + c]) * a >> 8));
+      }
+    }
+  }
+  // Snow: flakes of 3–10 mm falling at ~1 m/s with some flutter.
+  if (weather.snow > 0) {
+    const int flakes = static_cast<int>(std::lround(900 * weather.snow));
+    for (int i = 0; i < flakes; ++i) {
+      Eigen::Vector3d p;
+      const bool visible = sample(0.3, 12, p);
+      const Eigen::Vector3d vel(rng.normal(0, 0.3), rng.normal(0, 0.3), -rng.uniform(0.7, 1.3));
+      const double size = rng.uniform(0.003, 0.010);
+      const double grey = rng.uniform(225, 252);
+      if (!visible) continue;
+      const Eigen::Vector3d p1 = p + v.R_cw * (vel - state.v_world) * exposure;
+      if (p1.z() < kNear) continue;
+      const Eigen::Vector2d a = project(p), b = project(p1);
+      if (!on_screen(a) || !on_screen(b)) continue;
+      const double r = std::max(0.6, f * size / (2 * p.z()));
+      const cv::Scalar colour(grey, grey, grey);
+      if ((b - a).norm() > r) {
+        cv::line(img, to_fixed(a), to_fixed(b), colour, std::max(1, static_cast<int>(2 * r)), cv::LINE_AA, 4);
+      } else {
+        cv::circle(img, to_fixed(a), static_cast<int>(std::lround(r * 16)), colour, -1, cv::LINE_AA, 4);
+      }
+    }
+  }
+  // Falling leaves: 4–8 cm, opaque, autumn colours.
+  if (weather.leaves > 0) {
+    const int leaves = static_cast<int>(std::lround(40 * weather.leaves));
+    static constexpr std::array<std::array<double, 3>, 4> kLeaf{
+        {{30, 95, 200}, {40, 175, 215}, {35, 65, 115}, {35, 45, 165}}};
+    for (int i = 0; i < leaves; ++i) {
+      Eigen::Vector3d p;
+      const bool visible = sample(0.5, 15, p);
+      const double size = rng.uniform(0.04, 0.08), angle = rng.uniform(0, 180), shade = rng.uniform(0.6, 1.1);
+      const auto& c = kLeaf[static_cast<std::size_t>(rng.next() % kLeaf.size())];
+      if (!visible) continue;
+      const Eigen::Vector2d a = project(p);
+      const double ax = f * size / (2 * p.z());
+      cv::ellipse(img, to_fixed(a),
+                  cv::Size(static_cast<int>(std::lround(ax * 16)), static_cast<int>(std::lround(ax * 8))), angle, 0,
+                  360, cv::Scalar(c[0] * shade, c[1] * shade, c[2] * shade), -1, cv::LINE_AA, 4);
+    }
+  }
+
+  // Low light: auto-gain brightness and amplified sensor noise (a noise tile
+  // at a random offset per frame: cheap, and no two frames alike).
+  if (low_light) {
+    const int ox = static_cast<int>(rng.next() & 255u), oy = static_cast<int>(rng.next() & 255u);
+    for (int y = 0; y < H; ++y) {
+      std::uint8_t* px = img.ptr<std::uint8_t>(y);
+      const auto* noise = noise_tile.ptr<std::int16_t>((y + oy) & 255);
+      for (int x = 0; x < W; ++x) {
+        const int nx = 3 * ((x + ox) & 255);
+        for (int c = 0; c < 3; ++c) px[3 * x + c] = sat8i(gain_lut[px[3 * x + c]] + noise[nx + c]);
+      }
+    }
+  }
+}
+
+}  // namespace touchdown::scenario

@@ -1,1 +1,395 @@
-// TODO(issue 12): being written.
+// The downward camera (camera.hpp): the mask and areas against hand-computed
+// projections, OpenCV's own ArUco detector on the rendered frames, depth
+// against the analytic plane and solids, the z-buffer, determinism and the
+// camera options.
+#include <opencv2/aruco.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "touchdown/core/error.hpp"
+#include "touchdown/scenario/camera.hpp"
+
+namespace {
+
+using touchdown::scenario::CameraFrame;
+using touchdown::scenario::CameraOptions;
+using touchdown::scenario::Renderer;
+using touchdown::scenario::Scenario;
+using touchdown::scenario::SceneState;
+
+Scenario render_scenario(touchdown::scenario::MapKind map = touchdown::scenario::MapKind::ground) {
+  Scenario s;
+  s.map = map;
+  s.seed = 7;
+  s.marker.dictionary = "4X4_50";
+  s.marker.id = 3;
+  s.marker.size = 1.0;
+  s.marker.position = Eigen::Vector2d(0, 0);
+  return s;
+}
+
+/// Body at `p`, yawed by `yaw_deg`; the camera's own tilt comes from the options.
+SceneState render_state(const Eigen::Vector3d& p, double yaw_deg = 0, std::size_t dynamic = 0) {
+  SceneState st;
+  st.T_world_body = Eigen::Translation3d(p) * Eigen::AngleAxisd(yaw_deg * M_PI / 180, Eigen::Vector3d::UnitZ());
+  st.T_world_dynamic.assign(dynamic, Eigen::Isometry3d::Identity());
+  return st;
+}
+
+cv::Mat render_mat(const CameraFrame& f) {
+  return cv::Mat(f.height, f.width, CV_8UC3, const_cast<std::uint8_t*>(f.image.pixels.data())).clone();
+}
+
+/// The target's black-border corners (OpenCV's order: top-left, top-right,
+/// bottom-right, bottom-left of the marker image) projected by hand.
+std::array<Eigen::Vector2d, 4> render_true_corners(const Scenario& s, const CameraOptions& cam, const SceneState& st,
+                                                   double side) {
+  const double h = 0.5 * side, yaw = s.marker.yaw_deg * M_PI / 180;
+  const Eigen::Vector2d ex(std::cos(yaw), std::sin(yaw)), ey(-std::sin(yaw), std::cos(yaw));
+  const std::array<Eigen::Vector2d, 4> w{s.marker.position - h * ex + h * ey, s.marker.position + h * ex + h * ey,
+                                         s.marker.position + h * ex - h * ey, s.marker.position - h * ex - h * ey};
+  const Eigen::Isometry3d T_camera_world = (st.T_world_body * cam.T_body_camera()).inverse();
+  std::array<Eigen::Vector2d, 4> out;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Eigen::Vector3d q = cam.K() * (T_camera_world * Eigen::Vector3d(w[i].x(), w[i].y(), 0));
+    out[i] = q.head<2>() / q.z();
+  }
+  return out;
+}
+
+struct RenderDetection {
+  std::vector<int> ids;
+  std::vector<std::vector<cv::Point2f>> corners;
+};
+
+RenderDetection render_detect(const CameraFrame& f, cv::aruco::PREDEFINED_DICTIONARY_NAME dict) {
+  RenderDetection d;
+  cv::aruco::detectMarkers(render_mat(f), cv::aruco::getPredefinedDictionary(dict), d.corners, d.ids);
+  return d;
+}
+
+double render_perimeter(const std::array<Eigen::Vector2d, 4>& c) {
+  double p = 0;
+  for (std::size_t i = 0; i < 4; ++i) p += (c[(i + 1) % 4] - c[i]).norm();
+  return p;
+}
+
+}  // namespace
+
+TEST(RenderCamera, ValidateNamesTheKeyAndTheProblem) {
+  CameraOptions ok;
+  std::string why;
+  EXPECT_TRUE(ok.validate(&why)) << why;
+  const auto expect_refused = [](CameraOptions o, const std::string& key) {
+    std::string msg;
+    EXPECT_FALSE(o.validate(&msg));
+    EXPECT_EQ(msg.rfind(key + ": ", 0), 0u) << msg;
+  };
+  CameraOptions o;
+  o.width = 8;
+  expect_refused(o, "width");
+  o = {}, o.height = 5000;
+  expect_refused(o, "height");
+  o = {}, o.hfov_deg = 5;
+  expect_refused(o, "hfov_deg");
+  o = {}, o.hfov_deg = std::nan("");
+  expect_refused(o, "hfov_deg");
+  o = {}, o.tilt_deg = -1;
+  expect_refused(o, "tilt_deg");
+  o = {}, o.tilt_deg = 85;
+  expect_refused(o, "tilt_deg");
+  o = {}, o.rate_hz = 0;
+  expect_refused(o, "rate_hz");
+  o = {}, o.exposure_s = 0.5;
+  expect_refused(o, "exposure_s");
+  o = {}, o.offset_body.x() = std::numeric_limits<double>::infinity();
+  expect_refused(o, "offset_body");
+  EXPECT_FALSE(o.validate(nullptr));
+  // The renderer refuses them too, naming the camera.
+  try {
+    Renderer r(render_scenario(), o);
+    FAIL() << "accepted an infinite offset";
+  } catch (const touchdown::InvalidArgument& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("camera.offset_body: ", 0), 0u) << e.what();
+  }
+}
+
+TEST(RenderCamera, IntrinsicsAndMountingByHand) {
+  CameraOptions o;  // 640×480, 90° → fx = 320
+  EXPECT_NEAR(o.fx(), 320, 1e-9);
+  Eigen::Matrix3d K;
+  K << 320, 0, 319.5, 0, 320, 239.5, 0, 0, 1;
+  EXPECT_TRUE(o.K().isApprox(K, 1e-12));
+  o.hfov_deg = 60;
+  EXPECT_NEAR(o.fx(), 320 / std::tan(M_PI / 6), 1e-9);
+
+  CameraOptions c;
+  const Eigen::Isometry3d T0 = c.T_body_camera();
+  EXPECT_TRUE(T0.translation().isApprox(Eigen::Vector3d(0, 0, -0.05)));
+  // Nadir: optical axis down, image right = body −y, image down = body −x.
+  EXPECT_TRUE((T0.linear() * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d(0, 0, -1)));
+  EXPECT_TRUE((T0.linear() * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d(0, -1, 0)));
+  EXPECT_TRUE((T0.linear() * Eigen::Vector3d::UnitY()).isApprox(Eigen::Vector3d(-1, 0, 0)));
+  EXPECT_NEAR(T0.linear().determinant(), 1, 1e-12);
+  c.tilt_deg = 30;
+  const Eigen::Vector3d axis = c.T_body_camera().linear() * Eigen::Vector3d::UnitZ();
+  EXPECT_TRUE(axis.isApprox(Eigen::Vector3d(0.5, 0, -std::sqrt(3) / 2), 1e-12)) << axis.transpose();
+  EXPECT_TRUE((c.T_body_camera().linear() * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d(0, -1, 0)));
+}
+
+TEST(RenderCamera, RefusesUnknownDictionaryAndIdsOutside) {
+  Scenario s = render_scenario();
+  s.marker.dictionary = "5X5_42";
+  EXPECT_THROW(Renderer(s, CameraOptions{}), touchdown::InvalidArgument);
+  s = render_scenario();
+  s.marker.id = 50;
+  EXPECT_THROW(Renderer(s, CameraOptions{}), touchdown::InvalidArgument);
+  s = render_scenario();
+  s.distractors.emplace_back().id = 99;
+  EXPECT_THROW(Renderer(s, CameraOptions{}), touchdown::InvalidArgument);
+  // A state with the wrong number of dynamic poses is misuse.
+  s = render_scenario();
+  s.dynamic_objects.emplace_back();
+  Renderer r(s, CameraOptions{});
+  CameraFrame f;
+  EXPECT_THROW(r.render(render_state({0, 0, 10}), f), touchdown::InvalidArgument);
+}
+
+TEST(RenderMask, MarkerAreaByHandStraightDown) {
+  // 4X4: 6 cells of black border + one white cell each side → 8/6 of size.
+  const Scenario s = render_scenario();
+  CameraOptions cam;
+  Renderer r(s, cam);
+  CameraFrame f;
+  for (double h : {3.0, 6.0, 10.0, 20.0}) {
+    r.render(render_state({0, 0, h}), f);
+    const double side = cam.fx() * (8.0 / 6.0) / (h - 0.05);  // camera 5 cm under the body
+    EXPECT_NEAR(f.marker_area_truth_px, side * side, 1e-6 * side * side) << h;
+    EXPECT_NEAR(f.marker_area_visible_px, f.marker_area_truth_px, 0.02 * f.marker_area_truth_px + 2 * side) << h;
+  }
+  // From 0.5 m the quad (950 px) is larger than the image: truth is clipped to it.
+  r.render(render_state({0, 0, 0.5}), f);
+  EXPECT_NEAR(f.marker_area_truth_px, 640.0 * 480.0, 1e-6);
+  EXPECT_EQ(f.marker_area_visible_px, 640.0 * 480.0);
+}
+
+TEST(RenderMask, VisibleAgreesWithTruthAtAltitudesTiltsYaws) {
+  Scenario s = render_scenario();
+  s.marker.yaw_deg = 20;
+  for (double tilt : {0.0, 30.0, 60.0}) {
+    CameraOptions cam;
+    cam.tilt_deg = tilt;
+    Renderer r(s, cam);
+    CameraFrame f;
+    for (double h : {2.0, 5.0, 12.0}) {
+      for (double yaw : {0.0, 45.0, 130.0}) {
+        // Stand back so that the tilted axis meets the marker.
+        const double back = h * std::tan(tilt * M_PI / 180);
+        const Eigen::Vector3d p(-back * std::cos(yaw * M_PI / 180) + 0.3, -back * std::sin(yaw * M_PI / 180), h);
+        r.render(render_state(p, yaw), f);
+        ASSERT_GT(f.marker_area_truth_px, 20) << tilt << " " << h << " " << yaw;
+        const auto quad = render_true_corners(s, cam, render_state(p, yaw), 8.0 / 6.0);
+        EXPECT_NEAR(f.marker_area_visible_px, f.marker_area_truth_px,
+                    0.03 * f.marker_area_truth_px + 0.5 * render_perimeter(quad))
+            << tilt << " " << h << " " << yaw;
+      }
+    }
+  }
+}
+
+TEST(RenderDetection, ArucoFindsTheMarkerInClearWeatherOnBothMaps) {
+  for (auto map : {touchdown::scenario::MapKind::ground, touchdown::scenario::MapKind::lawn}) {
+    const Scenario s = render_scenario(map);
+    const CameraOptions cam;
+    Renderer r(s, cam);
+    CameraFrame f;
+    for (const Eigen::Vector3d& p :
+         {Eigen::Vector3d(0, 0, 10), Eigen::Vector3d(3, -2, 10), Eigen::Vector3d(-4, 1, 10)}) {
+      for (double yaw : {0.0, 70.0}) {
+        const SceneState st = render_state(p, yaw);
+        r.render(st, f);
+        const RenderDetection d = render_detect(f, cv::aruco::DICT_4X4_50);
+        ASSERT_EQ(d.ids.size(), 1u) << p.transpose() << " yaw " << yaw;
+        EXPECT_EQ(d.ids[0], s.marker.id);
+        const auto truth = render_true_corners(s, cam, st, s.marker.size);
+        for (std::size_t i = 0; i < 4; ++i) {
+          const Eigen::Vector2d got(d.corners[0][i].x, d.corners[0][i].y);
+          EXPECT_LT((got - truth[i]).norm(), 1.5) << "corner " << i << " at " << p.transpose();
+        }
+      }
+    }
+  }
+}
+
+TEST(RenderDetection, DenseFogHidesTheMarkerMonotonically) {
+  Scenario s = render_scenario();
+  const CameraOptions cam;
+  CameraFrame f;
+  bool failed = false;
+  std::vector<int> found;
+  for (int i = 0; i <= 8; ++i) {
+    s.weather.fog = 0.05 * i;
+    Renderer r(s, cam);
+    r.render(render_state({0, 0, 10}), f);
+    const RenderDetection d = render_detect(f, cv::aruco::DICT_4X4_50);
+    const bool ok = d.ids.size() == 1 && d.ids[0] == s.marker.id;
+    found.push_back(ok);
+    if (i == 0) {
+      EXPECT_TRUE(ok);
+    }
+    if (failed) {
+      EXPECT_FALSE(ok) << "found again at fog " << s.weather.fog;
+    }
+    failed = failed || !ok;
+  }
+  EXPECT_FALSE(found.back()) << "still found at fog 0.4 (visibility 10 m)";
+}
+
+TEST(RenderDepth, GroundIsTheAnalyticPlane) {
+  CameraOptions cam;
+  cam.tilt_deg = 30;
+  Renderer r(render_scenario(), cam);
+  CameraFrame f;
+  const SceneState st = render_state({1, 2, 7}, 35);
+  r.render(st, f);
+  const Eigen::Isometry3d T_wc = st.T_world_body * cam.T_body_camera();
+  const Eigen::Matrix3d Kinv = cam.K().inverse();
+  for (int y = 0; y < f.height; y += 37) {
+    for (int x = 0; x < f.width; x += 41) {
+      const Eigen::Vector3d ray = T_wc.linear() * (Kinv * Eigen::Vector3d(x, y, 1));  // unit optical-axis component
+      const double expected = T_wc.translation().z() / -ray.z();
+      EXPECT_NEAR(f.depth[static_cast<std::size_t>(y * f.width + x)], expected, 1e-4 * expected) << x << "," << y;
+    }
+  }
+  // Tilted 80° and pitched up: the top of the image is sky.
+  cam.tilt_deg = 80;
+  Renderer sky(render_scenario(), cam);
+  sky.render(render_state({0, 0, 5}), f);
+  EXPECT_EQ(f.mask[10], touchdown::scenario::kSky);
+  EXPECT_TRUE(std::isinf(f.depth[10]));
+  EXPECT_EQ(f.mask[f.mask.size() - 10], touchdown::scenario::kGround);
+}
+
+TEST(RenderDepth, TopFaceOfABoxAndTheZBuffer) {
+  Scenario s = render_scenario();
+  s.marker.position = Eigen::Vector2d(20, 20);
+  auto& box = s.static_objects.emplace_back();
+  box.position = Eigen::Vector2d(0, 0);
+  box.size = Eigen::Vector3d(1, 1, 2);
+  CameraOptions cam;
+  cam.offset_body.setZero();
+  {
+    Renderer r(s, cam);
+    CameraFrame f;
+    r.render(render_state({0, 0, 10}), f);
+    const std::size_t centre = 240 * 640 + 320;
+    EXPECT_EQ(f.mask[centre], touchdown::scenario::kStaticObject);
+    EXPECT_NEAR(f.depth[centre], 8.0, 1e-4);
+    EXPECT_EQ(f.mask[10 * 640 + 10], touchdown::scenario::kGround);
+  }
+  // Camera looking east and down at 45° from (−6, 0, 4): along the axis, a
+  // 3 m box at x = −4 stands in front of a person at x = −2.5.
+  cam.tilt_deg = 45;
+  s.static_objects[0].position = Eigen::Vector2d(-4, 0);
+  s.static_objects[0].size = Eigen::Vector3d(1, 1, 3);
+  auto& person = s.dynamic_objects.emplace_back();
+  person.position = Eigen::Vector2d(-2.5, 0);
+  SceneState st = render_state({-6, 0, 4}, 0, 1);
+  st.T_world_dynamic[0] = Eigen::Translation3d(-2.5, 0, 0) * Eigen::Isometry3d::Identity();
+  CameraFrame f;
+  const std::size_t centre = 240 * 640 + 320;
+  Renderer both(s, cam);
+  both.render(st, f);
+  EXPECT_EQ(f.mask[centre], touchdown::scenario::kStaticObject);
+  EXPECT_NEAR(f.depth[centre], 1.5 * std::sqrt(2.0), 2e-2);  // the box's west face at x = −4.5
+  s.static_objects.clear();
+  Renderer alone(s, cam);
+  alone.render(st, f);
+  EXPECT_EQ(f.mask[centre], touchdown::scenario::kDynamicObject);
+}
+
+TEST(RenderDeterminism, SameStateSameBytesRainChangesPerFrameMaskDoesNot) {
+  Scenario s = render_scenario();
+  s.weather.rain = 0.8;
+  s.weather.snow = 0.3;
+  s.weather.ambient = 0.4;
+  Renderer r(s, CameraOptions{});
+  CameraFrame a, b;
+  SceneState st = render_state({0.5, 0.2, 9}, 10);
+  r.render(st, a);
+  r.render(st, b);
+  EXPECT_EQ(a.image.pixels, b.image.pixels);
+  EXPECT_EQ(a.mask, b.mask);
+  Renderer again(s, CameraOptions{});
+  again.render(st, b);
+  EXPECT_EQ(a.image.pixels, b.image.pixels);
+  st.frame_index = 1;
+  r.render(st, b);
+  EXPECT_NE(a.image.pixels, b.image.pixels);
+  EXPECT_EQ(a.mask, b.mask);
+  EXPECT_EQ(a.depth, b.depth);
+}
+
+TEST(RenderOcclusion, ABoxOverTheMarkerHidesPartOfIt) {
+  Scenario s = render_scenario();
+  Renderer clear(s, CameraOptions{});
+  auto& box = s.static_objects.emplace_back();
+  box.position = Eigen::Vector2d(0.4, 0);
+  box.size = Eigen::Vector3d(0.6, 0.6, 0.5);
+  Renderer covered(s, CameraOptions{});
+  CameraFrame a, b;
+  clear.render(render_state({0, 0, 8}), a);
+  covered.render(render_state({0, 0, 8}), b);
+  EXPECT_DOUBLE_EQ(a.marker_area_truth_px, b.marker_area_truth_px);
+  EXPECT_LT(b.marker_area_visible_px, 0.85 * a.marker_area_visible_px);
+  EXPECT_GT(b.marker_area_visible_px, 0.5 * a.marker_area_visible_px);
+}
+
+// Example frames to look at (not a check): run with
+//   scenario_tests --gtest_also_run_disabled_tests --gtest_filter='*RenderExamples*'
+TEST(RenderExamples, DISABLED_WritePngs) {
+  struct Example {
+    const char* name;
+    touchdown::scenario::MapKind map;
+    void (*weather)(touchdown::scenario::Weather&);
+  };
+  using touchdown::scenario::MapKind;
+  using touchdown::scenario::Weather;
+  const std::vector<Example> examples{
+      {"clear_ground", MapKind::ground, [](Weather&) {}},
+      {"clear_lawn", MapKind::lawn, [](Weather&) {}},
+      {"fog", MapKind::ground, [](Weather& w) { w.fog = 0.08; }},
+      {"rain", MapKind::ground, [](Weather& w) { w.rain = 1, w.ground_wetness = 0.5, w.ambient = 0.6; }},
+      {"snow", MapKind::lawn, [](Weather& w) { w.snow = 1, w.ground_snow = 0.6, w.ambient = 0.8; }},
+      {"leaves", MapKind::lawn, [](Weather& w) { w.leaves = 1, w.ground_leaves = 0.5; }},
+      {"dust", MapKind::ground, [](Weather& w) { w.dust = 1; }},
+      {"wet_glare", MapKind::ground,
+       [](Weather& w) { w.ground_wetness = 1, w.sun_elevation_deg = 70, w.sun_azimuth_deg = 190; }},
+      {"low_light", MapKind::ground, [](Weather& w) { w.ambient = 0.08; }},
+  };
+  for (const auto& e : examples) {
+    Scenario s = render_scenario(e.map);
+    e.weather(s.weather);
+    auto& box = s.static_objects.emplace_back();
+    box.position = Eigen::Vector2d(3, 2.5), box.size = Eigen::Vector3d(1.2, 0.8, 1.0), box.yaw_deg = 20;
+    auto& tree = s.static_objects.emplace_back();
+    tree.kind = touchdown::scenario::StaticKind::tree;
+    tree.position = Eigen::Vector2d(-4, -3), tree.size = Eigen::Vector3d(3, 0.3, 5);
+    auto& pole = s.static_objects.emplace_back();
+    pole.kind = touchdown::scenario::StaticKind::pole;
+    pole.position = Eigen::Vector2d(2, -4), pole.size = Eigen::Vector3d(0.2, 0.2, 4);
+    s.dynamic_objects.emplace_back().kind = touchdown::scenario::DynamicKind::person;
+    s.distractors.push_back({touchdown::scenario::DistractorKind::lookalike, 1, 2, 0.8, Eigen::Vector2d(-2.5, 3), 30});
+    for (double tilt : {0.0, 50.0}) {
+      CameraOptions cam;
+      cam.tilt_deg = tilt;
+      Renderer r(s, cam);
+      SceneState st = render_state({tilt > 0 ? -9.0 : -0.5, 0.3, 10}, 0, 1);
+      st.T_world_dynamic[0] = Eigen::Translation3d(1.5, -1.5, 0) * Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ());
+      CameraFrame f;
+      r.render(st, f);
+      const std::string path = std::string("/tmp/render_") + e.name + (tilt > 0 ? "_tilt" : "") + ".png";
+      cv::imwrite(path, render_mat(f));
+    }
+  }
+}
