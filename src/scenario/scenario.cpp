@@ -13,7 +13,6 @@
 #include <initializer_list>
 #include <map>
 #include <numbers>
-#include <optional>
 #include <string>
 #include <utility>
 

@@ -8,7 +8,8 @@
 /// `property_bounds()`; `Scenario::validate` and the file readers check
 /// against it, `random_scenario` draws from it. Files are YAML or JSON
 /// (docs/formats.md, "Landing scenarios") and round-trip exactly: angles are
-/// kept in degrees as written, numbers are written with 17 significant digits.
+/// kept in degrees as written, numbers are written in the shortest form that
+/// reads back to the same double.
 ///
 /// World frame: x east, y north, z up [m]; the ground is the plane z = 0.
 /// Yaw and heading angles are counter-clockwise from +x, in degrees.
