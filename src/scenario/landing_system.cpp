@@ -125,8 +125,11 @@ class MarkerLandingSystem final : public LandingSystem {
       }
       case Phase::descend: {
         v_xy = limit((estimate_ - p) * options_.centring_gain, options_.approach_speed);
-        // Descend only while the marker is in sight; hold when it is lost.
-        v_z = seen_recently ? -options_.descent_speed : 0.0;
+        // Committed: re-centre while the marker is in sight, else keep
+        // descending on the last estimate (PX4 precision landing's
+        // opportunistic fallback: the marker often leaves the view or is
+        // occluded near the ground).
+        v_z = -options_.descent_speed;
         if (avoid_ && obstacle_below(p, altitude)) v_z = std::max(v_z, 0.5);
         if (altitude < options_.land_altitude) phase_ = Phase::land;
         break;

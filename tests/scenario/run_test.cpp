@@ -17,7 +17,7 @@ Scenario run_clear_scenario() {
   s.map = MapKind::ground;
   s.seed = 7;
   s.time_limit = 60;
-  s.marker.dictionary = "6X6_250";
+  s.marker.dictionary = "4X4_50";
   s.marker.id = 3;
   s.marker.size = 1.0;
   s.drone.position = {-8, 0, 12};
@@ -52,22 +52,24 @@ TEST(RunScenario, ClearWeatherLandsOnTheMarker) {
 }
 
 TEST(RunScenario, LookalikeMarkerLeadsToATypeILanding) {
-  // A look-alike 2 cells off the target's code (6X6_250 corrects up to 3 at
-  // OpenCV's default error-correction rate) where the GPS says the marker
-  // is; the real marker is 14 m away, out of view.
+  // A look-alike one cell off the target's code (5X5_50 corrects one cell
+  // at OpenCV's default error-correction rate; 4X4_50 none) under the
+  // drone's approach, 12 m short of the marker: at 12 m altitude the
+  // camera sees ±9 m along its flight, so the real marker stays out of view
+  // while the system locks on to the look-alike.
   Scenario s = run_clear_scenario();
+  s.marker.dictionary = "5X5_50";
   Distractor fake;
   fake.kind = DistractorKind::lookalike;
-  fake.flipped_bits = 2;
-  fake.position = {14, 0};
+  fake.flipped_bits = 1;
+  fake.position = {-12, 0};
   s.distractors = {fake};
-  s.drone.position = {6, 0, 12};
-  s.drone.gps_error = {14, 0};
+  s.drone.position = {-16, 0, 12};
   const ScenarioResult r = run_with(s);
   EXPECT_TRUE(r.violation);
   EXPECT_EQ(r.type, Violation::type_i) << r.message;
   EXPECT_TRUE(r.landed);
-  EXPECT_NEAR(r.dtl, 14.0, 1.0);
+  EXPECT_NEAR(r.dtl, 12.0, 1.0);
   EXPECT_TRUE(r.false_detection);
   EXPECT_NEAR((r.descent_target - fake.position).norm(), 0.0, 0.5);
 }
@@ -75,13 +77,13 @@ TEST(RunScenario, LookalikeMarkerLeadsToATypeILanding) {
 TEST(RunScenario, DenseFogIsATypeIIViolation) {
   Scenario s = run_clear_scenario();
   s.weather.fog = 0.4;
-  s.time_limit = 30;
+  s.time_limit = 20;
   const ScenarioResult r = run_with(s);
   EXPECT_TRUE(r.violation);
   EXPECT_EQ(r.type, Violation::type_ii) << r.message;
   EXPECT_FALSE(r.landed);
   EXPECT_FALSE(r.descent_started);
-  EXPECT_DOUBLE_EQ(r.ttl, 30);
+  EXPECT_DOUBLE_EQ(r.ttl, 20);
   for (const auto& f : r.frames) EXPECT_EQ(f.accepted, 0);
 }
 
@@ -89,8 +91,12 @@ TEST(RunScenario, PoleOnTheDescentPathIsATypeIIICollision) {
   Scenario s = run_clear_scenario();
   StaticObject pole;
   pole.kind = StaticKind::pole;
-  pole.position = {0.35, 0.2};
-  pole.size = {0.12, 0.12, 4.0};
+  // A thin pole (5 cm) standing on the marker, on the diagonal 0.28 m from
+  // its centre: from 10 m its top hides too little to stop the detection,
+  // and the rotor disk centred at (0.16, 0.16) meets it on the way down.
+  // (At (0.25, 0) it would pass between two rotors: no collision.)
+  pole.position = {0.2, 0.2};
+  pole.size = {0.05, 0.05, 4.0};
   s.static_objects = {pole};
   const ScenarioResult r = run_with(s);
   EXPECT_TRUE(r.violation);

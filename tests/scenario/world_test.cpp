@@ -140,7 +140,7 @@ TEST(World, ExternalActionsMoveObjectsInWorldAxes) {
 
 TEST(World, FlyingIntoAPoleIsACollisionWithItsName) {
   Scenario s = world_empty_scenario();
-  s.drone.position = {0, 0, 3};
+  s.drone.position = {0, 0, 4};
   StaticObject box;
   box.position = {-6, 0};
   StaticObject pole;
