@@ -1,0 +1,103 @@
+// landing_scenario end to end: the bundled scenario lands, --json/--log/
+// --snapshot outputs, random scenarios are valid and replay, bad input is
+// one line naming the key with exit 2 and no output file.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "test_util.hpp"
+
+namespace td = touchdown;
+using td::test::AppRun;
+using td::test::TempDir;
+
+namespace {
+
+AppRun scenario_app(const std::string& args, const TempDir& dir) {
+  return td::test::run_app(LANDING_SCENARIO_EXE, args, dir);
+}
+
+std::string bundled_scenario() {
+  return (std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/scenarios/clear_ground.yaml").string();
+}
+
+TEST(LandingScenarioApp, BundledScenarioLandsWithJsonLogAndSnapshot) {
+  TempDir dir;
+  const auto log = dir / "run.csv", png = dir / "frame.png";
+  const AppRun r = scenario_app("run " + bundled_scenario() + " --json --log " + log.string() + " --snapshot " +
+                                    png.string() + " --snapshot-t 12",
+                                dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["system"], "opencv-mls");
+  EXPECT_EQ(j["violation"], false) << j["message"];
+  EXPECT_EQ(j["type"], "none");
+  EXPECT_EQ(j["landed"], true);
+  EXPECT_LT(j["dtl"].get<double>(), 1.5);
+  EXPECT_GT(j["frames"].size(), 50u);
+  // eq. 5 inputs: with nothing over the marker, visible ≈ true area.
+  for (const auto& f : j["frames"]) {
+    const double truth = f["marker_area_truth_px"].get<double>();
+    if (truth > 500) {
+      EXPECT_NEAR(f["marker_area_visible_px"].get<double>(), truth, 0.1 * truth) << f.dump();
+    }
+  }
+  const std::string csv = td::test::read_text(log);
+  EXPECT_EQ(csv.rfind("t,x,y,z,vx,vy,vz,yaw_deg,phase,", 0), 0u);
+  EXPECT_NE(csv.find(",land,"), std::string::npos);
+  EXPECT_GT(std::filesystem::file_size(png), 10000u);
+}
+
+TEST(LandingScenarioApp, RandomScenariosAreValidAndRunIdentically) {
+  TempDir dir;
+  const auto yaml = dir / "random.yaml", json = dir / "random.json";
+  ASSERT_EQ(scenario_app("random --seed 5 --map lawn -o " + yaml.string(), dir).code, 0);
+  ASSERT_EQ(scenario_app("random --seed 5 --map lawn -o " + json.string(), dir).code, 0);
+  const AppRun a = scenario_app("run " + yaml.string() + " --json", dir);
+  const AppRun b = scenario_app("run " + json.string() + " --json", dir);
+  ASSERT_EQ(a.code, 0) << a.err;
+  ASSERT_EQ(b.code, 0) << b.err;
+  auto ja = nlohmann::json::parse(a.out), jb = nlohmann::json::parse(b.out);
+  for (auto* j : {&ja, &jb}) {
+    j->erase("timing");
+    j->erase("scenario");
+  }
+  EXPECT_EQ(ja, jb);
+  EXPECT_EQ(ja["frames"].size(), jb["frames"].size());
+}
+
+TEST(LandingScenarioApp, BadInputIsOneLineNamingTheKey) {
+  TempDir dir;
+  const std::string base = td::test::read_text(bundled_scenario());
+  struct Case {
+    std::string from, to, expect;
+  };
+  const std::vector<Case> cases{
+      {"  size: 1.0 ", "  size: 9.0 ", "marker.size"},
+      {"  id: 0", "  id: 77", "marker.id"},
+      {"map: ground", "map: moon", "map"},
+      {"  ambient: 1.0", "  ambient: .nan", "weather.ambient"},
+      {"  ambient: 1.0", "  ambient: 1.0\n  hail: 0.3", "weather.hail"},
+      {"  sun_elevation_deg: 50", "  sun_elevation_deg: 120", "weather.sun_elevation_deg"},
+  };
+  for (const auto& c : cases) {
+    const auto path = dir / "bad.yaml";
+    td::test::write_text(path, td::test::replace(base, c.from, c.to));
+    const auto log = dir / "out.csv";
+    const AppRun r = scenario_app("run " + path.string() + " --log " + log.string(), dir);
+    EXPECT_EQ(r.code, 2) << c.to;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("bad.yaml"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
+    EXPECT_TRUE(r.out.empty());
+    EXPECT_FALSE(std::filesystem::exists(log));
+  }
+  EXPECT_EQ(scenario_app("run " + bundled_scenario() + " --system px4", dir).code, 2);
+  EXPECT_EQ(scenario_app("run " + bundled_scenario() + " --video x.gif", dir).code, 2);
+  EXPECT_EQ(scenario_app("random --seed 1 -o x.txt", dir).code, 2);
+  EXPECT_EQ(scenario_app("run /nonexistent.yaml", dir).code, 2);
+}
+
+}  // namespace
