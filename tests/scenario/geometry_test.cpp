@@ -1,12 +1,13 @@
 // Collision geometry against hand-computed cases (FCL distance and contact),
 // with the drone as its real shape.
+#include "touchdown/scenario/geometry.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
 #include "touchdown/core/error.hpp"
-#include "touchdown/scenario/geometry.hpp"
 #include "touchdown/twin/airframe.hpp"
 
 namespace touchdown::scenario {

@@ -1,11 +1,12 @@
 // Closed-loop runs: each violation type produced by a hand-built scenario
 // and classified, a clean landing, and bit-identical replays.
+#include "touchdown/scenario/run.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstring>
 
 #include "touchdown/core/error.hpp"
-#include "touchdown/scenario/run.hpp"
 
 namespace touchdown::scenario {
 namespace {

@@ -1,11 +1,12 @@
 // The landing world's flight model, moving objects, collisions and replay.
+#include "touchdown/scenario/world.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
 
 #include "touchdown/core/error.hpp"
-#include "touchdown/scenario/world.hpp"
 
 namespace touchdown::scenario {
 namespace {
@@ -72,8 +73,8 @@ TEST(World, LandModeDescendsAtPx4SpeedsAndDetectsTheLanding) {
   EXPECT_DOUBLE_EQ(w.drone().position.z(), ground);
   // Descent (10 - 0.18 - 2) m at 1.5 m/s, 2 m at 0.7 m/s, plus the
   // acceleration ramps and the detector's 0.5 s.
-  const double expected = (10 - ground - f.land_slow_altitude) / f.max_speed_down + f.land_slow_altitude / f.land_speed +
-                          f.land_detect_time;
+  const double expected = (10 - ground - f.land_slow_altitude) / f.max_speed_down +
+                          f.land_slow_altitude / f.land_speed + f.land_detect_time;
   EXPECT_NEAR(w.time(), expected, 1.2);
   // Landed: commands no longer move it.
   const Eigen::Vector3d p = w.drone().position;

@@ -26,10 +26,10 @@ namespace touchdown::scenario {
 struct CameraOptions {
   int width = 640;
   int height = 480;
-  double hfov_deg = 90;  ///< horizontal field of view (fx = width/2 / tan(hfov/2))
-  double tilt_deg = 0;   ///< forward tilt from nadir
-  double rate_hz = 10;   ///< frames per second delivered to the landing system
-  double exposure_s = 0.02;  ///< motion blur = speed × exposure
+  double hfov_deg = 90;                      ///< horizontal field of view (fx = width/2 / tan(hfov/2))
+  double tilt_deg = 0;                       ///< forward tilt from nadir
+  double rate_hz = 10;                       ///< frames per second delivered to the landing system
+  double exposure_s = 0.02;                  ///< motion blur = speed × exposure
   Eigen::Vector3d offset_body{0, 0, -0.05};  ///< optical centre in the body frame [m]
 
   [[nodiscard]] bool validate(std::string* why) const;

@@ -69,8 +69,7 @@ class CollisionChecker {
   bool collide(int object, const Eigen::Isometry3d& T_world_body, const Eigen::Isometry3d& T_world_object,
                Proximity* contact = nullptr) const;
   /// Separation between the drone and object `i` (≥ 0; 0 when touching).
-  Proximity distance(int object, const Eigen::Isometry3d& T_world_body,
-                     const Eigen::Isometry3d& T_world_object) const;
+  Proximity distance(int object, const Eigen::Isometry3d& T_world_body, const Eigen::Isometry3d& T_world_object) const;
   /// The first object (in index order) the drone touches, or object = -1.
   /// Objects whose bounding spheres are apart are skipped without FCL.
   Proximity first_collision(const Eigen::Isometry3d& T_world_body,

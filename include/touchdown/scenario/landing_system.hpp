@@ -23,18 +23,18 @@ namespace touchdown::scenario {
 
 /// What the system is told before the run (a real system's configuration).
 struct SystemSetup {
-  CameraOptions camera;                       ///< intrinsics and mounting
-  std::string dictionary = "4X4_50";          ///< marker to look for
+  CameraOptions camera;               ///< intrinsics and mounting
+  std::string dictionary = "4X4_50";  ///< marker to look for
   int marker_id = 0;
-  double marker_size = 1.0;                   ///< [m]
-  Eigen::Vector2d gps_target{0, 0};           ///< approximate marker position [m]
+  double marker_size = 1.0;          ///< [m]
+  Eigen::Vector2d gps_target{0, 0};  ///< approximate marker position [m]
 };
 
 struct Detection {
   int id = -1;
-  std::array<Eigen::Vector2d, 4> corners;  ///< image pixels, ArUco corner order
-  double quality = 0;                      ///< the system's own measure (opencv-mls: side length [px])
-  bool accepted = false;                   ///< counted as a sighting of the target
+  std::array<Eigen::Vector2d, 4> corners;            ///< image pixels, ArUco corner order
+  double quality = 0;                                ///< the system's own measure (opencv-mls: side length [px])
+  bool accepted = false;                             ///< counted as a sighting of the target
   Eigen::Vector2d ground = Eigen::Vector2d::Zero();  ///< estimated marker centre on the ground [m]
 };
 
@@ -45,8 +45,8 @@ struct SystemInput {
 
 struct SystemOutput {
   DroneCommand command;
-  std::string_view phase = "";         ///< for logs ("approach", "search", "descend", "land", ...)
-  std::vector<Detection> detections;   ///< of this frame (empty when no frame)
+  std::string_view phase = "";        ///< for logs ("approach", "search", "descend", "land", ...)
+  std::vector<Detection> detections;  ///< of this frame (empty when no frame)
   /// The system committed to a descent this step on the strength of a
   /// detection at `target` (for classifying false-positive landings).
   bool descent_started = false;
@@ -65,15 +65,15 @@ class LandingSystem {
 
 /// Options of the reference systems (defaults after the paper's setup).
 struct MlsOptions {
-  double cruise_altitude = 10;      ///< approach and search altitude [m]
-  double approach_speed = 3;        ///< [m/s]
-  double seen_time = 5;             ///< continuous sighting before descending [s]
-  double min_quality_px = 12;       ///< marker side in pixels to count as a sighting
-  double lost_timeout = 1.0;        ///< a gap longer than this restarts the 5 s [s]
-  double descent_speed = 0.8;       ///< while re-centring [m/s]
-  double land_altitude = 1.5;       ///< below this the land command is given [m]
-  double centring_gain = 0.8;       ///< horizontal velocity per metre of offset [1/s]
-  double search_radius = 6;         ///< spiral search around the GPS target [m]
+  double cruise_altitude = 10;  ///< approach and search altitude [m]
+  double approach_speed = 3;    ///< [m/s]
+  double seen_time = 5;         ///< continuous sighting before descending [s]
+  double min_quality_px = 12;   ///< marker side in pixels to count as a sighting
+  double lost_timeout = 1.0;    ///< a gap longer than this restarts the 5 s [s]
+  double descent_speed = 0.8;   ///< while re-centring [m/s]
+  double land_altitude = 1.5;   ///< below this the land command is given [m]
+  double centring_gain = 0.8;   ///< horizontal velocity per metre of offset [1/s]
+  double search_radius = 6;     ///< spiral search around the GPS target [m]
   // mm-mls only
   double obstacle_clearance = 1.5;  ///< keep this far above/away from obstacles in the depth image [m]
 

@@ -56,9 +56,9 @@ struct FrameRecord {
   double t = 0;
   double marker_area_visible_px = 0;
   double marker_area_truth_px = 0;
-  int detections = 0;        ///< markers the system reported
-  int accepted = 0;          ///< of which counted as the target
-  int false_accepted = 0;    ///< accepted, but not on the true marker (mask)
+  int detections = 0;      ///< markers the system reported
+  int accepted = 0;        ///< of which counted as the target
+  int false_accepted = 0;  ///< accepted, but not on the true marker (mask)
 };
 
 struct Timing {
@@ -81,7 +81,7 @@ struct ScenarioResult {
   bool descent_started = false;
   double descent_time = 0;
   Eigen::Vector2d descent_target = Eigen::Vector2d::Zero();
-  bool false_detection = false;  ///< some accepted detection was not on the true marker
+  bool false_detection = false;              ///< some accepted detection was not on the true marker
   std::vector<TrajectorySample> trajectory;  ///< every physics step
   std::vector<FrameRecord> frames;
   Timing timing;

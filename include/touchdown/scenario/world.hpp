@@ -22,20 +22,20 @@ namespace touchdown::scenario {
 /// The flight model's limits, after PX4's multicopter position controller
 /// parameters (MPC_XY_VEL_MAX, MPC_Z_VEL_MAX_UP/DN, MPC_ACC_HOR, MPC_LAND_SPEED, ...).
 struct FlightOptions {
-  twin::Airframe airframe;         ///< the drone's shape (default F450-like)
-  double rate_hz = 50;             ///< physics steps per second
-  double max_speed_xy = 5;         ///< [m/s]
-  double max_speed_up = 3;         ///< [m/s]
-  double max_speed_down = 1.5;     ///< [m/s]
-  double max_accel_xy = 3;         ///< [m/s²]
-  double max_accel_z = 2;          ///< [m/s²]
+  twin::Airframe airframe;              ///< the drone's shape (default F450-like)
+  double rate_hz = 50;                  ///< physics steps per second
+  double max_speed_xy = 5;              ///< [m/s]
+  double max_speed_up = 3;              ///< [m/s]
+  double max_speed_down = 1.5;          ///< [m/s]
+  double max_accel_xy = 3;              ///< [m/s²]
+  double max_accel_z = 2;               ///< [m/s²]
   double velocity_time_constant = 0.3;  ///< first-order response to the setpoint [s]
-  double max_yaw_rate_deg = 60;    ///< [deg/s]
-  double land_speed = 0.7;         ///< land mode descent near the ground [m/s] (MPC_LAND_SPEED)
+  double max_yaw_rate_deg = 60;         ///< [deg/s]
+  double land_speed = 0.7;              ///< land mode descent near the ground [m/s] (MPC_LAND_SPEED)
   /// Land mode descends at max_speed_down above this height and at
   /// land_speed below it (MPC_LAND_ALT2) [m].
   double land_slow_altitude = 2.0;
-  double land_detect_time = 0.5;   ///< on the ground this long = landed (LNDMC_TRIG_TIME)
+  double land_detect_time = 0.5;  ///< on the ground this long = landed (LNDMC_TRIG_TIME)
 
   [[nodiscard]] bool validate(std::string* why) const;
 };
@@ -61,14 +61,14 @@ struct DroneState {
   double yaw_deg = 0;
   bool land_mode = false;
   bool on_ground = false;
-  bool landed = false;  ///< land detector: on the ground for land_detect_time
+  bool landed = false;                                   ///< land detector: on the ground for land_detect_time
   [[nodiscard]] Eigen::Isometry3d T_world_body() const;  ///< attitude from the thrust direction and yaw
 };
 
 struct CollisionEvent {
   double t = 0;
-  int object = -1;  ///< index in static_objects, then dynamic_objects
-  std::string what;  ///< e.g. "static_objects[1] (pole)"
+  int object = -1;                                  ///< index in static_objects, then dynamic_objects
+  std::string what;                                 ///< e.g. "static_objects[1] (pole)"
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< contact on the drone [m]
 };
 
