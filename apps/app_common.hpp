@@ -64,6 +64,16 @@ inline CLI::Validator number_in(double lo, double hi, bool lo_open = false, bool
       "in " + range);
 }
 
+/// `v` with `digits` decimals, for human-readable summaries.
+inline std::string fixed(double v, int digits) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(digits) << v;
+  return os.str();
+}
+
+/// `v` rounded to 3 decimals for JSON output (no negative zero).
+inline double round3(double v) { return std::round(v * 1e3) / 1e3 + 0.0; }
+
 /// A memory or disk estimate for an error line: "0.22 GB", "3.5 GB", "106 GB".
 inline std::string gigabytes(double bytes) {
   std::ostringstream os;

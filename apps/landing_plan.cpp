@@ -30,20 +30,14 @@ namespace tp = touchdown::plan;
 namespace fs = std::filesystem;
 // Keys in the order documented (docs/cli.md), not sorted.
 using Json = nlohmann::ordered_json;
+using td::app::fixed;
+using td::app::round3;
 
 constexpr int kExitNotOk = 1;  // infeasible or no corridor: a result, but no trajectory to fly
 // --samples: one ~220-byte row per millisecond, built in memory before it is
 // written; a trajectory of 16 segments of up to 1000 s would take ~3.5 GB.
 constexpr double kMaxSampledSeconds = 1000;
 constexpr double kCsvBytesPerRow = 220;
-
-double round3(double v) { return std::round(v * 1e3) / 1e3 + 0.0; }
-
-std::string fixed(double v, int digits) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << v;
-  return os.str();
-}
 
 Json matrix_json(const Eigen::Ref<const Eigen::MatrixXd>& m) {
   Json rows = Json::array();

@@ -27,14 +27,6 @@ namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 using namespace touchdown::app;
 
-std::string fixed(double v, int digits) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << v;
-  return os.str();
-}
-
-double round3(double v) { return std::round(v * 1e3) / 1e3 + 0.0; }
-
 Json vec_json(const Eigen::Ref<const Eigen::VectorXd>& v) {
   Json a = Json::array();
   for (Eigen::Index i = 0; i < v.size(); ++i) a.push_back(round3(v(i)));

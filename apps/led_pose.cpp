@@ -26,6 +26,7 @@ namespace {
 namespace td = touchdown;
 namespace tp = touchdown::pose;
 namespace fs = std::filesystem;
+using td::app::fixed;
 using td::app::number_in;
 
 // Largest id of any dictionary (ARUCO_ORIGINAL has 1024 markers); the
@@ -64,12 +65,6 @@ std::string pose_json(const std::string& frame, const tp::PoseEstimate& e, doubl
                   std::string(tp::to_string(e.status)).c_str(), e.blobs, ms);
   }
   return buf;
-}
-
-std::string fixed(double v, int digits) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << v;
-  return os.str();
 }
 
 // What rendering costs, measured on the 848x480 and 3840x2160 cameras
