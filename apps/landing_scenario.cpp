@@ -253,8 +253,12 @@ int main(int argc, char** argv) {
       video->finish();
     }
     if (!snapshot_path.empty()) {
-      cv::Mat img = snapshot.empty() ? last : snapshot;
-      if (snapshot.empty() == false) banner(img, r);
+      // `last` already carries the outcome banner.
+      cv::Mat img = last;
+      if (!snapshot.empty()) {
+        img = snapshot;
+        banner(img, r);
+      }
       std::vector<unsigned char> png;
       cv::imencode(".png", img, png);
       write_text_atomically(snapshot_path, std::string(png.begin(), png.end()));

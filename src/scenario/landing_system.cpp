@@ -56,7 +56,6 @@ class MarkerLandingSystem final : public LandingSystem {
     K_inv_ = setup.camera.K().inverse();
     T_body_camera_ = setup.camera.T_body_camera();
     phase_ = Phase::approach;
-    target_ = setup.gps_target;
     have_estimate_ = false;
     seen_since_ = -1;
     last_seen_ = -1e9;
@@ -83,7 +82,7 @@ class MarkerLandingSystem final : public LandingSystem {
     switch (phase_) {
       case Phase::approach: {
         // To the GPS target at cruise altitude; a sighting on the way takes over.
-        const Eigen::Vector2d to = target_ - p;
+        const Eigen::Vector2d to = setup_.gps_target - p;
         v_xy = limit(to * 1.0, options_.approach_speed);
         v_z = hold_altitude(options_.cruise_altitude);
         if (have_estimate_) {
@@ -254,7 +253,6 @@ class MarkerLandingSystem final : public LandingSystem {
   Eigen::Matrix3d K_inv_ = Eigen::Matrix3d::Identity();
   Eigen::Isometry3d T_body_camera_ = Eigen::Isometry3d::Identity();
   Phase phase_ = Phase::approach;
-  Eigen::Vector2d target_ = Eigen::Vector2d::Zero();
   Eigen::Vector2d estimate_ = Eigen::Vector2d::Zero();
   bool have_estimate_ = false;
   double seen_since_ = -1;
