@@ -150,7 +150,9 @@ ScenarioResult run_scenario(const Scenario& scenario, LandingSystem& system, con
     r.type = Violation::type_ii;
     r.message =
         std::string("Type II: no landing within ") + fixed(scenario.time_limit, 0) + " s (" +
-        (r.descent_started ? "the marker was lost during the descent" : "the marker was never seen long enough") + ")";
+        (r.descent_started ? "a descent started at t = " + fixed(r.descent_time, 1) + " s did not reach the ground"
+                           : std::string("the marker was never seen long enough")) +
+        ")";
   } else if (r.dtl > radius) {
     // Landed off target: something the system took for the marker led it
     // there (a false positive, the paper's Type I).
