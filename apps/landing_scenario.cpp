@@ -181,10 +181,12 @@ int main(int argc, char** argv) {
       });
   run_cmd->add_option("--log", log_path, "per-step CSV: trajectory, phase, eq. 5 marker areas, detections")
       ->check(output_extension(".csv"));
-  run_cmd->add_option("--snapshot", snapshot_path, "write the overlaid camera frame at --snapshot-t as PNG")
-      ->check(output_extension(".png"));
+  auto* snapshot_opt =
+      run_cmd->add_option("--snapshot", snapshot_path, "write the overlaid camera frame at --snapshot-t as PNG")
+          ->check(output_extension(".png"));
   run_cmd->add_option("--snapshot-t", snapshot_t, "time of the snapshot [s] (default: the last frame)")
-      ->check(number_in(0, 3600));
+      ->check(number_in(0, 3600))
+      ->needs(snapshot_opt);
   run_cmd->add_flag("--json", json, "one JSON object on stdout");
   run_cmd->add_option("--width", options.camera.width, "camera image width [px]")
       ->check(number_in(16, 4096))

@@ -96,6 +96,10 @@ TEST(LandingScenarioApp, BadInputIsOneLineNamingTheKey) {
   }
   EXPECT_EQ(scenario_app("run " + bundled_scenario() + " --system px4", dir).code, 2);
   EXPECT_EQ(scenario_app("run " + bundled_scenario() + " --video x.gif", dir).code, 2);
+  // An option that would be ignored is refused.
+  const AppRun lone_t = scenario_app("run " + bundled_scenario() + " --snapshot-t 3", dir);
+  EXPECT_EQ(lone_t.code, 2);
+  EXPECT_NE(lone_t.err.find("--snapshot"), std::string::npos) << lone_t.err;
   EXPECT_EQ(scenario_app("random --seed 1 -o x.txt", dir).code, 2);
   EXPECT_EQ(scenario_app("run /nonexistent.yaml", dir).code, 2);
 }
