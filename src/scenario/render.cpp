@@ -26,10 +26,13 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <future>
 #if defined(__x86_64__)
 #include <immintrin.h>
 #endif
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <numbers>
 #include <opencv2/aruco.hpp>
 #include <opencv2/core.hpp>
@@ -37,6 +40,7 @@
 #include <string>
 
 #include "pose/aruco_dictionary.hpp"
+#include "scenario/render_cache.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/scenario/camera.hpp"
@@ -819,7 +823,163 @@ bool has_avx2() { return false; }
 int ground_row_avx2(const GroundRow&, std::uint8_t*, std::uint8_t*, float*, int) { return 0; }
 #endif
 
+// ---- process-wide caches (render_cache.hpp) ----
+
+/// A small LRU cache of immutable values shared between threads. The first
+/// caller of a key builds the value outside the lock; callers of the same
+/// key meanwhile wait for it instead of building it again.
+template <class Key, class Value>
+class SharedCache {
+ public:
+  using Ptr = std::shared_ptr<const Value>;
+  explicit SharedCache(std::size_t capacity) : capacity_(capacity) {}
+
+  template <class Build>
+  Ptr get(const Key& key, Build&& build) {
+    std::promise<Ptr> promise;
+    std::shared_future<Ptr> value;
+    std::uint64_t id = 0;
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      for (Entry& e : entries_) {
+        if (e.key == key) {
+          e.used = ++clock_;
+          value = e.value;
+          break;
+        }
+      }
+      if (!value.valid()) {
+        if (entries_.size() >= capacity_) {
+          entries_.erase(std::min_element(entries_.begin(), entries_.end(),
+                                          [](const Entry& a, const Entry& b) { return a.used < b.used; }));
+        }
+        value = promise.get_future().share();
+        id = ++clock_;
+        entries_.push_back({key, value, id, id});
+      }
+    }
+    if (id != 0) {
+      try {
+        promise.set_value(build());
+      } catch (...) {
+        {
+          const std::lock_guard<std::mutex> lock(mutex_);
+          std::erase_if(entries_, [&](const Entry& e) { return e.id == id; });
+        }
+        promise.set_exception(std::current_exception());
+      }
+    }
+    return value.get();
+  }
+
+  void clear() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    entries_.clear();
+  }
+  std::size_t size() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return entries_.size();
+  }
+
+ private:
+  struct Entry {
+    Key key;
+    std::shared_future<Ptr> value;
+    std::uint64_t id = 0, used = 0;
+  };
+  std::mutex mutex_;
+  std::vector<Entry> entries_;
+  std::uint64_t clock_ = 0;
+  std::size_t capacity_;
+};
+
+/// Bitwise equality of doubles: a NaN key finds itself.
+bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+
+/// Everything a map texture depends on.
+struct MapTextureKey {
+  MapKind map = MapKind::ground;
+  std::uint64_t seed = 0;
+  double ground_snow = 0, ground_leaves = 0;
+  float dark = 1;  // wet darkening
+  bool operator==(const MapTextureKey& o) const {
+    return map == o.map && seed == o.seed && same_bits(ground_snow, o.ground_snow) &&
+           same_bits(ground_leaves, o.ground_leaves) &&
+           std::bit_cast<std::uint32_t>(dark) == std::bit_cast<std::uint32_t>(o.dark);
+  }
+};
+
+/// The ground texture (BGRA mips ≥ 32², one after the other, periodic,
+/// swizzled) and the cover layer the markers sample (empty without cover).
+struct MapTexture {
+  std::unique_ptr<std::uint32_t[]> texels;
+  std::array<std::uint32_t, 8> offsets{};
+  int levels = 0;
+  cv::Mat cover;
+};
+
+std::shared_ptr<const MapTexture> build_map_texture(const MapTextureKey& key) {
+  auto out = std::make_shared<MapTexture>();
+  Weather w;
+  w.ground_snow = key.ground_snow;
+  w.ground_leaves = key.ground_leaves;
+  // Deterministic from the seed: the texture first, then the cover.
+  cv::RNG rng(key.seed * 0x9E3779B97F4A7C15ull + 0x6A09E667ull);
+  cv::Mat tex = key.map == MapKind::ground ? concrete_texture(rng) : lawn_texture(rng);
+  out->cover = cover_layer(w, rng);
+  const cv::Mat& cover = out->cover;
+  const float dark = key.dark;
+  if (!cover.empty() || dark < 1) {
+    for (int y = 0; y < kGroundTexels; ++y) {
+      const cv::Vec4b* c = cover.empty() ? nullptr : cover.ptr<cv::Vec4b>(y);
+      cv::Vec4b* o = tex.ptr<cv::Vec4b>(y);
+      for (int x = 0; x < kGroundTexels; ++x) {
+        const float a = c ? c[x][3] / 255.0f : 0.0f;
+        for (int ch = 0; ch < 3; ++ch) o[x][ch] = sat8((o[x][ch] * (1 - a) + (c ? c[x][ch] : 0) * a) * dark);
+      }
+    }
+  }
+  const std::vector<cv::Mat> mips = mip_chain(tex, 32);
+  std::size_t total = 0;
+  for (const cv::Mat& level : mips) total += level.total();
+  out->texels.reset(new std::uint32_t[total]);  // not zero-filled: every texel is written below
+  std::size_t offset = 0;
+  for (const cv::Mat& level : mips) {
+    if (out->levels == static_cast<int>(out->offsets.size())) break;
+    out->offsets[static_cast<std::size_t>(out->levels++)] = static_cast<std::uint32_t>(offset);
+    swizzle_into(level, out->texels.get() + offset);
+    offset += level.total();
+  }
+  return out;
+}
+
+/// Unit normal draws of the low-light noise tile (256² × 3), from the seed.
+constexpr int kNoiseTile = 256;
+std::shared_ptr<const std::vector<double>> build_unit_noise(std::uint64_t seed) {
+  auto out = std::make_shared<std::vector<double>>(static_cast<std::size_t>(kNoiseTile * kNoiseTile * 3));
+  Rng nrng(seed, 0x401523ull);
+  for (double& v : *out) v = nrng.normal();
+  return out;
+}
+
+SharedCache<MapTextureKey, MapTexture>& map_texture_cache() {
+  static SharedCache<MapTextureKey, MapTexture> cache(detail::kMapTextureCacheCapacity);
+  return cache;
+}
+SharedCache<std::uint64_t, std::vector<double>>& unit_noise_cache() {
+  static SharedCache<std::uint64_t, std::vector<double>> cache(8);  // 1.5 MiB each
+  return cache;
+}
+
 }  // namespace
+
+namespace detail {
+void clear_render_caches() {
+  map_texture_cache().clear();
+  unit_noise_cache().clear();
+}
+std::size_t cached_map_textures() { return map_texture_cache().size(); }
+}  // namespace detail
 
 struct Renderer::Impl {
   Scenario scenario;
@@ -827,10 +987,8 @@ struct Renderer::Impl {
   double f = 0, cx = 0, cy = 0;
   Eigen::Isometry3d T_body_camera;
 
-  std::unique_ptr<std::uint32_t[]> ground;  // BGRA mips (≥ 32²) one after the other, periodic, swizzled
-  std::array<std::uint32_t, 8> ground_offsets{};
-  int ground_levels = 0;
-  std::vector<Quad> quads;  // distractors, then the target marker (last)
+  std::shared_ptr<const MapTexture> map;  // shared with other renderers of the same map (immutable)
+  std::vector<Quad> quads;                // distractors, then the target marker (last)
 
   std::vector<Mesh> static_meshes;
   std::vector<std::vector<Bgr>> static_shade;  // shaded colour per triangle
@@ -910,32 +1068,15 @@ Renderer::Renderer(const Scenario& scenario, const CameraOptions& camera) : impl
   m.T_body_camera = camera.T_body_camera();
   const Weather& w = scenario.weather;
 
-  // Ground texture, cover and markers: deterministic from the seed.
-  cv::RNG rng(scenario.seed * 0x9E3779B97F4A7C15ull + 0x6A09E667ull);
-  cv::Mat tex = scenario.map == MapKind::ground ? concrete_texture(rng) : lawn_texture(rng);
-  const cv::Mat cover = cover_layer(w, rng);
-  const float dark = wet_darkening(w);
-  if (!cover.empty() || dark < 1) {
-    for (int y = 0; y < kGroundTexels; ++y) {
-      const cv::Vec4b* c = cover.empty() ? nullptr : cover.ptr<cv::Vec4b>(y);
-      cv::Vec4b* o = tex.ptr<cv::Vec4b>(y);
-      for (int x = 0; x < kGroundTexels; ++x) {
-        const float a = c ? c[x][3] / 255.0f : 0.0f;
-        for (int ch = 0; ch < 3; ++ch) o[x][ch] = sat8((o[x][ch] * (1 - a) + (c ? c[x][ch] : 0) * a) * dark);
-      }
-    }
-  }
-  const std::vector<cv::Mat> mips = mip_chain(tex, 32);
-  std::size_t total = 0;
-  for (const cv::Mat& level : mips) total += level.total();
-  m.ground.reset(new std::uint32_t[total]);  // not zero-filled: every texel is written below
-  std::size_t offset = 0;
-  for (const cv::Mat& level : mips) {
-    if (m.ground_levels == static_cast<int>(m.ground_offsets.size())) break;
-    m.ground_offsets[static_cast<std::size_t>(m.ground_levels++)] = static_cast<std::uint32_t>(offset);
-    swizzle_into(level, m.ground.get() + offset);
-    offset += level.total();
-  }
+  // Ground texture and cover: shared by every renderer of the same map.
+  MapTextureKey key;
+  key.map = scenario.map;
+  key.seed = scenario.seed;
+  key.ground_snow = w.ground_snow;
+  key.ground_leaves = w.ground_leaves;
+  key.dark = wet_darkening(w);
+  m.map = map_texture_cache().get(key, [&] { return build_map_texture(key); });
+  const cv::Mat& cover = m.map->cover;
 
   const auto dict = cv::aruco::getPredefinedDictionary(dict_info->id);
   const int bits = dict_info->bits;
@@ -1027,10 +1168,11 @@ Renderer::Renderer(const Scenario& scenario, const CameraOptions& camera) : impl
     for (int i = 0; i < 256; ++i) m.gain_lut[static_cast<std::size_t>(i)] = sat8(i * gain);
     const double sigma = ambient < 1 ? std::min(30.0, 3.0 * (1.0 / std::sqrt(std::max(ambient, 0.01)) - 1.0)) : 0.0;
     m.noise_tile.create(256, 256, CV_16SC3);
-    Rng nrng(scenario.seed, 0x401523ull);
-    for (int y = 0; y < 256; ++y) {
+    const auto unit = unit_noise_cache().get(scenario.seed, [&] { return build_unit_noise(scenario.seed); });
+    const double* n = unit->data();
+    for (int y = 0; y < kNoiseTile; ++y) {
       auto* row = m.noise_tile.ptr<std::int16_t>(y);
-      for (int x = 0; x < 256 * 3; ++x) row[x] = static_cast<std::int16_t>(std::lround(sigma * nrng.normal()));
+      for (int x = 0; x < kNoiseTile * 3; ++x) row[x] = static_cast<std::int16_t>(std::lround(sigma * *n++));
     }
   }
 }
@@ -1078,9 +1220,9 @@ void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
   // ---- 1. ground ----
   {
     GroundRow g;
-    g.texels = ground.get();
-    g.offsets = ground_offsets.data();
-    g.levels = ground_levels;
+    g.texels = map->texels.get();
+    g.offsets = map->offsets.data();
+    g.levels = map->levels;
     g.inv_h = static_cast<float>(1 / v.h);
     g.w_min = static_cast<float>(1 / kMaxGround);
     g.cxw = static_cast<float>(v.c.x());
