@@ -778,6 +778,8 @@ __attribute__((target("avx2"))) int ground_row_avx2(const GroundRow& g, std::uin
   // BGRA → BGR within each 128-bit lane (4 pixels → 12 bytes, 4 bytes of junk).
   const __m256i pack = _mm256_setr_epi8(0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1, 0, 1, 2, 4, 5, 6, 8, 9,
                                         10, 12, 13, 14, -1, -1, -1, -1);
+  static_assert(kGround == 0, "the label store below writes 0 for the ground");
+  const __m256i sky_label = _mm256_set1_epi32(kSky), label_order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
   int x = 0;
   for (; x + 8 <= end; x += 8) {
     const __m256 xs = _mm256_add_ps(_mm256_set1_ps(static_cast<float>(x)), iota);
@@ -814,8 +816,11 @@ __attribute__((target("avx2"))) int ground_row_avx2(const GroundRow& g, std::uin
     _mm_storeu_si128(reinterpret_cast<__m128i*>(px + 3 * x), _mm256_castsi256_si128(packed));
     _mm_storeu_si128(reinterpret_cast<__m128i*>(px + 3 * x + 12), _mm256_extracti128_si256(packed, 1));
     _mm256_storeu_ps(dp + x, _mm256_blendv_ps(inf, s, valid));
-    const int bits = _mm256_movemask_ps(valid);
-    for (int i = 0; i < 8; ++i) mk[x + i] = (bits >> i) & 1 ? kGround : kSky;
+    // Labels: kGround (0) where valid, kSky elsewhere; 32 → 8 bits per pixel.
+    const __m256i labels = _mm256_andnot_si256(vmask, sky_label);
+    const __m256i bytes = _mm256_packus_epi16(_mm256_packs_epi32(labels, labels), zero);
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(mk + x),
+                     _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(bytes, label_order)));
   }
   return x;
 }
@@ -1545,11 +1550,27 @@ void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
     const double inv_area = 1 / area;
     const double w_dx = (ea_dx * a.z() + eb_dx * b.z() + ec_dx * c.z()) * inv_area;
     for (int y = y0; y <= y1; ++y) {
-      double ea = edge(b, c, x0, y), eb = edge(c, a, x0, y), ec = edge(a, b, x0, y);
+      // The row's span inside all three edges (a pixel wider each side; the
+      // test below decides), so thin triangles do not walk their whole box.
+      double lo = x0, hi = x1;
+      const auto bound = [&](double e0, double dx) {
+        if (dx > 0) {
+          lo = std::max(lo, x0 - e0 / dx);
+        } else if (dx < 0) {
+          hi = std::min(hi, x0 - e0 / dx);
+        } else if (e0 < 0) {
+          hi = -1;
+        }
+      };
+      bound(edge(b, c, x0, y), ea_dx), bound(edge(c, a, x0, y), eb_dx), bound(edge(a, b, x0, y), ec_dx);
+      if (!(lo <= hi + 2)) continue;
+      const int xs = std::max(x0, static_cast<int>(std::floor(lo)) - 1);
+      const int xe = std::min(x1, static_cast<int>(std::ceil(hi)) + 1);
+      double ea = edge(b, c, xs, y), eb = edge(c, a, xs, y), ec = edge(a, b, xs, y);
       double wz = (ea * a.z() + eb * b.z() + ec * c.z()) * inv_area;
       std::uint8_t* px = img.ptr<std::uint8_t>(y);
       const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
-      for (int x = x0; x <= x1; ++x, ea += ea_dx, eb += eb_dx, ec += ec_dx, wz += w_dx) {
+      for (int x = xs; x <= xe; ++x, ea += ea_dx, eb += eb_dx, ec += ec_dx, wz += w_dx) {
         if (ea < 0 || eb < 0 || ec < 0 || !(wz > 0)) continue;
         const auto z = static_cast<float>(1 / wz);
         if (!(z < depth[row + static_cast<std::size_t>(x)])) continue;
