@@ -26,10 +26,13 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <future>
 #if defined(__x86_64__)
 #include <immintrin.h>
 #endif
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <numbers>
 #include <opencv2/aruco.hpp>
 #include <opencv2/core.hpp>
@@ -37,6 +40,7 @@
 #include <string>
 
 #include "pose/aruco_dictionary.hpp"
+#include "scenario/render_cache.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/scenario/camera.hpp"
@@ -116,6 +120,7 @@ constexpr double kGroundTexel = 0.025;
 constexpr int kMarkerTexelsPerCell = 32;
 constexpr double kNear = 0.05;       // near plane [m]
 constexpr double kMaxGround = 1000;  // the ground ends (sky) 1 km away along the axis
+constexpr float kGlareCut = 0.85f;   // cos of the widest angle with visible glare (0.85^40 ≈ 0.002)
 const Bgr kSkyBgr{232, 205, 172};    // light blue, seen only at strong tilt
 
 std::uint8_t sat8(double v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0, 255.0) + 0.5); }
@@ -773,6 +778,8 @@ __attribute__((target("avx2"))) int ground_row_avx2(const GroundRow& g, std::uin
   // BGRA → BGR within each 128-bit lane (4 pixels → 12 bytes, 4 bytes of junk).
   const __m256i pack = _mm256_setr_epi8(0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1, 0, 1, 2, 4, 5, 6, 8, 9,
                                         10, 12, 13, 14, -1, -1, -1, -1);
+  static_assert(kGround == 0, "the label store below writes 0 for the ground");
+  const __m256i sky_label = _mm256_set1_epi32(kSky), label_order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
   int x = 0;
   for (; x + 8 <= end; x += 8) {
     const __m256 xs = _mm256_add_ps(_mm256_set1_ps(static_cast<float>(x)), iota);
@@ -809,8 +816,11 @@ __attribute__((target("avx2"))) int ground_row_avx2(const GroundRow& g, std::uin
     _mm_storeu_si128(reinterpret_cast<__m128i*>(px + 3 * x), _mm256_castsi256_si128(packed));
     _mm_storeu_si128(reinterpret_cast<__m128i*>(px + 3 * x + 12), _mm256_extracti128_si256(packed, 1));
     _mm256_storeu_ps(dp + x, _mm256_blendv_ps(inf, s, valid));
-    const int bits = _mm256_movemask_ps(valid);
-    for (int i = 0; i < 8; ++i) mk[x + i] = (bits >> i) & 1 ? kGround : kSky;
+    // Labels: kGround (0) where valid, kSky elsewhere; 32 → 8 bits per pixel.
+    const __m256i labels = _mm256_andnot_si256(vmask, sky_label);
+    const __m256i bytes = _mm256_packus_epi16(_mm256_packs_epi32(labels, labels), zero);
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(mk + x),
+                     _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(bytes, label_order)));
   }
   return x;
 }
@@ -819,7 +829,252 @@ bool has_avx2() { return false; }
 int ground_row_avx2(const GroundRow&, std::uint8_t*, std::uint8_t*, float*, int) { return 0; }
 #endif
 
+// ---- elementwise weather passes ----
+// Plain loops over contiguous bytes that the compiler vectorises, compiled
+// twice (the baseline ISA and AVX2) and picked at run time like the ground
+// kernel. Integer arithmetic only, so both builds give the same bytes.
+#if defined(__x86_64__) && defined(__GNUC__)
+#define TD_DISPATCH(name, params, args)                                         \
+  void name##_base params { name##_body args; }                                 \
+  __attribute__((target("avx2"))) void name##_avx2 params { name##_body args; } \
+  void name params {                                                            \
+    if (has_avx2()) {                                                           \
+      name##_avx2 args;                                                         \
+    } else {                                                                    \
+      name##_base args;                                                         \
+    }                                                                           \
+  }
+#else
+#define TD_DISPATCH(name, params, args) \
+  void name params { name##_body args; }
+#endif
+#define TD_BODY __attribute__((always_inline)) inline
+
+/// Fog/dust (Koschmieder) on one row: transmission ×256 from the depth
+/// table (its last entry is 0: beyond the range and the sky), then
+/// I = (J·t + A·(256 − t)) / 256 per channel.
+TD_BODY void fog_row_body(std::uint8_t* px, const float* dp, int n, const std::int32_t* table, float scale, float last,
+                          const std::int32_t* airlight, std::int32_t* t) {
+  for (int x = 0; x < n; ++x) t[x] = table[static_cast<int>(std::min(dp[x] * scale, last))];
+  const std::int32_t a0 = airlight[0], a1 = airlight[1], a2 = airlight[2];
+  for (int x = 0; x < n; ++x) {
+    const std::int32_t tx = t[x], sx = 256 - tx;
+    px[3 * x] = static_cast<std::uint8_t>((px[3 * x] * tx + a0 * sx) >> 8);
+    px[3 * x + 1] = static_cast<std::uint8_t>((px[3 * x + 1] * tx + a1 * sx) >> 8);
+    px[3 * x + 2] = static_cast<std::uint8_t>((px[3 * x + 2] * tx + a2 * sx) >> 8);
+  }
+}
+TD_DISPATCH(fog_row,
+            (std::uint8_t * px, const float* dp, int n, const std::int32_t* table, float scale, float last,
+             const std::int32_t* airlight, std::int32_t* t),
+            (px, dp, n, table, scale, last, airlight, t))
+
+/// acc[i] += src[i] (motion blur: one shifted copy).
+TD_BODY void add_row_body(std::uint16_t* acc, const std::uint8_t* src, int n) {
+  for (int i = 0; i < n; ++i) acc[i] = static_cast<std::uint16_t>(acc[i] + src[i]);
+}
+TD_DISPATCH(add_row, (std::uint16_t * acc, const std::uint8_t* src, int n), (acc, src, n))
+
+/// px[i] = (acc[i] + half) / copies as a multiply and shift (exact here:
+/// blur_division_exact below).
+TD_BODY void average_row_body(std::uint8_t* px, const std::uint16_t* acc, int n, std::uint32_t half,
+                              std::uint32_t mul) {
+  for (int i = 0; i < n; ++i) px[i] = static_cast<std::uint8_t>(((acc[i] + half) * mul) >> 16);
+}
+TD_DISPATCH(average_row, (std::uint8_t * px, const std::uint16_t* acc, int n, std::uint32_t half, std::uint32_t mul),
+            (px, acc, n, half, mul))
+
+/// Low light: brightness × gain (8.8 fixed point) plus sensor noise, saturated.
+TD_BODY void low_light_row_body(std::uint8_t* px, const std::int16_t* noise, int n, std::int32_t gain) {
+  for (int i = 0; i < n; ++i) {
+    const std::int32_t v = ((px[i] * gain + 128) >> 8) + noise[i];
+    px[i] = static_cast<std::uint8_t>(std::clamp(v, 0, 255));
+  }
+}
+TD_DISPATCH(low_light_row, (std::uint8_t * px, const std::int16_t* noise, int n, std::int32_t gain),
+            (px, noise, n, gain))
+
+/// Rain streaks: px += (215 − px)·a/256 with a = overlay·170/255 (≤ 66 % opaque).
+TD_BODY void rain_row_body(std::uint8_t* px, const std::uint8_t* ov, int n) {
+  for (int x = 0; x < n; ++x) {
+    const std::int32_t a = ov[x] * 2 / 3;
+    px[3 * x] = static_cast<std::uint8_t>(px[3 * x] + (((215 - px[3 * x]) * a) >> 8));
+    px[3 * x + 1] = static_cast<std::uint8_t>(px[3 * x + 1] + (((215 - px[3 * x + 1]) * a) >> 8));
+    px[3 * x + 2] = static_cast<std::uint8_t>(px[3 * x + 2] + (((215 - px[3 * x + 2]) * a) >> 8));
+  }
+}
+TD_DISPATCH(rain_row, (std::uint8_t * px, const std::uint8_t* ov, int n), (px, ov, n))
+
+/// (a + c/2) / c == ((a + c/2) · mul(c)) >> 16 for every sum a ≤ 255·c of
+/// c ≤ 9 copies (motion blur).
+constexpr std::uint32_t blur_divisor_mul(std::uint32_t c) { return (65536 + c - 1) / c; }
+constexpr bool blur_division_exact() {
+  for (std::uint32_t c = 1; c <= 9; ++c) {
+    for (std::uint32_t a = 0; a <= 255 * c; ++a) {
+      if ((a + c / 2) / c != (((a + c / 2) * blur_divisor_mul(c)) >> 16)) return false;
+    }
+  }
+  return true;
+}
+static_assert(blur_division_exact());
+
+// ---- process-wide caches (render_cache.hpp) ----
+
+/// A small LRU cache of immutable values shared between threads. The first
+/// caller of a key builds the value outside the lock; callers of the same
+/// key meanwhile wait for it instead of building it again.
+template <class Key, class Value>
+class SharedCache {
+ public:
+  using Ptr = std::shared_ptr<const Value>;
+  explicit SharedCache(std::size_t capacity) : capacity_(capacity) {}
+
+  template <class Build>
+  Ptr get(const Key& key, Build&& build) {
+    std::promise<Ptr> promise;
+    std::shared_future<Ptr> value;
+    std::uint64_t id = 0;
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      for (Entry& e : entries_) {
+        if (e.key == key) {
+          e.used = ++clock_;
+          value = e.value;
+          break;
+        }
+      }
+      if (!value.valid()) {
+        if (entries_.size() >= capacity_) {
+          entries_.erase(std::min_element(entries_.begin(), entries_.end(),
+                                          [](const Entry& a, const Entry& b) { return a.used < b.used; }));
+        }
+        value = promise.get_future().share();
+        id = ++clock_;
+        entries_.push_back({key, value, id, id});
+      }
+    }
+    if (id != 0) {
+      try {
+        promise.set_value(build());
+      } catch (...) {
+        {
+          const std::lock_guard<std::mutex> lock(mutex_);
+          std::erase_if(entries_, [&](const Entry& e) { return e.id == id; });
+        }
+        promise.set_exception(std::current_exception());
+      }
+    }
+    return value.get();
+  }
+
+  void clear() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    entries_.clear();
+  }
+  std::size_t size() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return entries_.size();
+  }
+
+ private:
+  struct Entry {
+    Key key;
+    std::shared_future<Ptr> value;
+    std::uint64_t id = 0, used = 0;
+  };
+  std::mutex mutex_;
+  std::vector<Entry> entries_;
+  std::uint64_t clock_ = 0;
+  std::size_t capacity_;
+};
+
+/// Bitwise equality of doubles: a NaN key finds itself.
+bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+
+/// Everything a map texture depends on.
+struct MapTextureKey {
+  MapKind map = MapKind::ground;
+  std::uint64_t seed = 0;
+  double ground_snow = 0, ground_leaves = 0;
+  float dark = 1;  // wet darkening
+  bool operator==(const MapTextureKey& o) const {
+    return map == o.map && seed == o.seed && same_bits(ground_snow, o.ground_snow) &&
+           same_bits(ground_leaves, o.ground_leaves) &&
+           std::bit_cast<std::uint32_t>(dark) == std::bit_cast<std::uint32_t>(o.dark);
+  }
+};
+
+/// The ground texture (BGRA mips ≥ 32², one after the other, periodic,
+/// swizzled) and the cover layer the markers sample (empty without cover).
+struct MapTexture {
+  std::unique_ptr<std::uint32_t[]> texels;
+  std::array<std::uint32_t, 8> offsets{};
+  int levels = 0;
+  cv::Mat cover;
+};
+
+std::shared_ptr<const MapTexture> build_map_texture(const MapTextureKey& key) {
+  auto out = std::make_shared<MapTexture>();
+  Weather w;
+  w.ground_snow = key.ground_snow;
+  w.ground_leaves = key.ground_leaves;
+  // Deterministic from the seed: the texture first, then the cover.
+  cv::RNG rng(key.seed * 0x9E3779B97F4A7C15ull + 0x6A09E667ull);
+  cv::Mat tex = key.map == MapKind::ground ? concrete_texture(rng) : lawn_texture(rng);
+  out->cover = cover_layer(w, rng);
+  const cv::Mat& cover = out->cover;
+  const float dark = key.dark;
+  if (!cover.empty() || dark < 1) {
+    for (int y = 0; y < kGroundTexels; ++y) {
+      const cv::Vec4b* c = cover.empty() ? nullptr : cover.ptr<cv::Vec4b>(y);
+      cv::Vec4b* o = tex.ptr<cv::Vec4b>(y);
+      for (int x = 0; x < kGroundTexels; ++x) {
+        const float a = c ? c[x][3] / 255.0f : 0.0f;
+        for (int ch = 0; ch < 3; ++ch) o[x][ch] = sat8((o[x][ch] * (1 - a) + (c ? c[x][ch] : 0) * a) * dark);
+      }
+    }
+  }
+  const std::vector<cv::Mat> mips = mip_chain(tex, 32);
+  std::size_t total = 0;
+  for (const cv::Mat& level : mips) total += level.total();
+  out->texels.reset(new std::uint32_t[total]);  // not zero-filled: every texel is written below
+  std::size_t offset = 0;
+  for (const cv::Mat& level : mips) {
+    if (out->levels == static_cast<int>(out->offsets.size())) break;
+    out->offsets[static_cast<std::size_t>(out->levels++)] = static_cast<std::uint32_t>(offset);
+    swizzle_into(level, out->texels.get() + offset);
+    offset += level.total();
+  }
+  return out;
+}
+
+/// Unit normal draws of the low-light noise tile (256² × 3), from the seed.
+constexpr int kNoiseTile = 256;
+std::shared_ptr<const std::vector<double>> build_unit_noise(std::uint64_t seed) {
+  auto out = std::make_shared<std::vector<double>>(static_cast<std::size_t>(kNoiseTile * kNoiseTile * 3));
+  Rng nrng(seed, 0x401523ull);
+  for (double& v : *out) v = nrng.normal();
+  return out;
+}
+
+SharedCache<MapTextureKey, MapTexture>& map_texture_cache() {
+  static SharedCache<MapTextureKey, MapTexture> cache(detail::kMapTextureCacheCapacity);
+  return cache;
+}
+SharedCache<std::uint64_t, std::vector<double>>& unit_noise_cache() {
+  static SharedCache<std::uint64_t, std::vector<double>> cache(8);  // 1.5 MiB each
+  return cache;
+}
+
 }  // namespace
+
+namespace detail {
+void clear_render_caches() {
+  map_texture_cache().clear();
+  unit_noise_cache().clear();
+}
+std::size_t cached_map_textures() { return map_texture_cache().size(); }
+}  // namespace detail
 
 struct Renderer::Impl {
   Scenario scenario;
@@ -827,10 +1082,8 @@ struct Renderer::Impl {
   double f = 0, cx = 0, cy = 0;
   Eigen::Isometry3d T_body_camera;
 
-  std::unique_ptr<std::uint32_t[]> ground;  // BGRA mips (≥ 32²) one after the other, periodic, swizzled
-  std::array<std::uint32_t, 8> ground_offsets{};
-  int ground_levels = 0;
-  std::vector<Quad> quads;  // distractors, then the target marker (last)
+  std::shared_ptr<const MapTexture> map;  // shared with other renderers of the same map (immutable)
+  std::vector<Quad> quads;                // distractors, then the target marker (last)
 
   std::vector<Mesh> static_meshes;
   std::vector<std::vector<Bgr>> static_shade;  // shaded colour per triangle
@@ -844,13 +1097,18 @@ struct Renderer::Impl {
   // Fog and dust (Koschmieder): transmission by depth, airlight.
   double beta = 0;
   double lut_scale = 0;
-  std::vector<std::uint16_t> fog_t;  // transmission ×256 by depth bin
-  std::array<int, 3> airlight{200, 200, 200};
+  std::vector<std::int32_t> fog_t;  // transmission ×256 by depth bin; the last bin (and beyond) 0
+  std::array<std::int32_t, 3> airlight{200, 200, 200};
 
   // Low light: gain and noise.
   bool low_light = false;
-  std::array<std::uint8_t, 256> gain_lut{};
-  cv::Mat noise_tile;  // CV_16SC3, 256², already × sigma
+  std::int32_t gain = 256;  // auto-gain, 8.8 fixed point
+  cv::Mat noise_tile;       // CV_16SC3, 256², already × sigma
+
+  // Wet glare: the lobe's brightening by cos² of the angle to the sun's
+  // mirror image (no pow per pixel), zero below glare_c2_min.
+  std::vector<float> glare_add;
+  float glare_c2_min = 1, glare_scale = 0;
 
   // Scratch (no allocation in steady state).
   std::vector<Eigen::Vector3d> poly3, poly3_clip, verts;
@@ -858,6 +1116,7 @@ struct Renderer::Impl {
   std::vector<cv::Point2f> shadow_pts, hull;
   std::vector<cv::Point> ipoly;
   cv::Mat shadow_mask, overlay, blur_acc, blur_src;
+  std::vector<std::int32_t> row_scratch;
 
   void render(const SceneState& state, CameraFrame& out);
 };
@@ -910,32 +1169,15 @@ Renderer::Renderer(const Scenario& scenario, const CameraOptions& camera) : impl
   m.T_body_camera = camera.T_body_camera();
   const Weather& w = scenario.weather;
 
-  // Ground texture, cover and markers: deterministic from the seed.
-  cv::RNG rng(scenario.seed * 0x9E3779B97F4A7C15ull + 0x6A09E667ull);
-  cv::Mat tex = scenario.map == MapKind::ground ? concrete_texture(rng) : lawn_texture(rng);
-  const cv::Mat cover = cover_layer(w, rng);
-  const float dark = wet_darkening(w);
-  if (!cover.empty() || dark < 1) {
-    for (int y = 0; y < kGroundTexels; ++y) {
-      const cv::Vec4b* c = cover.empty() ? nullptr : cover.ptr<cv::Vec4b>(y);
-      cv::Vec4b* o = tex.ptr<cv::Vec4b>(y);
-      for (int x = 0; x < kGroundTexels; ++x) {
-        const float a = c ? c[x][3] / 255.0f : 0.0f;
-        for (int ch = 0; ch < 3; ++ch) o[x][ch] = sat8((o[x][ch] * (1 - a) + (c ? c[x][ch] : 0) * a) * dark);
-      }
-    }
-  }
-  const std::vector<cv::Mat> mips = mip_chain(tex, 32);
-  std::size_t total = 0;
-  for (const cv::Mat& level : mips) total += level.total();
-  m.ground.reset(new std::uint32_t[total]);  // not zero-filled: every texel is written below
-  std::size_t offset = 0;
-  for (const cv::Mat& level : mips) {
-    if (m.ground_levels == static_cast<int>(m.ground_offsets.size())) break;
-    m.ground_offsets[static_cast<std::size_t>(m.ground_levels++)] = static_cast<std::uint32_t>(offset);
-    swizzle_into(level, m.ground.get() + offset);
-    offset += level.total();
-  }
+  // Ground texture and cover: shared by every renderer of the same map.
+  MapTextureKey key;
+  key.map = scenario.map;
+  key.seed = scenario.seed;
+  key.ground_snow = w.ground_snow;
+  key.ground_leaves = w.ground_leaves;
+  key.dark = wet_darkening(w);
+  m.map = map_texture_cache().get(key, [&] { return build_map_texture(key); });
+  const cv::Mat& cover = m.map->cover;
 
   const auto dict = cv::aruco::getPredefinedDictionary(dict_info->id);
   const int bits = dict_info->bits;
@@ -1009,12 +1251,33 @@ Renderer::Renderer(const Scenario& scenario, const CameraOptions& camera) : impl
     m.lut_scale = static_cast<double>(m.fog_t.size() - 1) / range;
     for (std::size_t i = 0; i < m.fog_t.size(); ++i) {
       m.fog_t[i] =
-          static_cast<std::uint16_t>(std::lround(256 * std::exp(-m.beta * static_cast<double>(i) / m.lut_scale)));
+          static_cast<std::int32_t>(std::lround(256 * std::exp(-m.beta * static_cast<double>(i) / m.lut_scale)));
     }
     m.fog_t.back() = 0;
     const double wf = std::max(0.0, w.fog) / m.beta, wd = beta_dust / m.beta;
     const std::array<double, 3> fog_a{205, 205, 200}, dust_a{135, 175, 205};
     for (std::size_t c = 0; c < 3; ++c) m.airlight[c] = static_cast<int>(std::lround(wf * fog_a[c] + wd * dust_a[c]));
+  }
+
+  // Wet-ground glare (render step 5): brightening = amplitude × lobe(cos a),
+  // tabulated over c² = cos² a ∈ [kGlareCut², 1] and interpolated linearly.
+  if (w.ground_wetness > 0 && m.sun_strength > 0) {
+    const double amplitude = 255 * std::clamp(w.ground_wetness, 0.0, 1.0) * m.sun_strength;
+    constexpr int kBins = 4096;
+    constexpr double c2_lo = static_cast<double>(kGlareCut) * kGlareCut;
+    m.glare_add.resize(kBins + 2);
+    m.glare_scale = static_cast<float>(kBins / (1 - c2_lo));
+    m.glare_c2_min = 2;  // nothing visible unless a bin says otherwise
+    for (int i = 0; i <= kBins + 1; ++i) {
+      const double c2 = std::min(1.0, c2_lo + (1 - c2_lo) * i / kBins), cos_a = std::sqrt(c2);
+      const double lobe = 0.9 * std::pow(cos_a, 600.0) + 0.35 * std::pow(cos_a, 40.0);
+      m.glare_add[static_cast<std::size_t>(i)] = static_cast<float>(amplitude * lobe);
+      // Below one level nothing shows (the add is truncated to an integer):
+      // the first bin over it bounds the pixels worth looking at.
+      if (amplitude * lobe >= 1 && m.glare_c2_min > 1) {
+        m.glare_c2_min = static_cast<float>(c2_lo + (1 - c2_lo) * std::max(0, i - 1) / kBins);
+      }
+    }
   }
 
   // Low light: the camera's auto-gain makes up part of the missing light
@@ -1023,14 +1286,14 @@ Renderer::Renderer(const Scenario& scenario, const CameraOptions& camera) : impl
   const double ambient = std::max(0.0, w.ambient);
   m.low_light = std::abs(ambient - 1.0) > 1e-9;
   if (m.low_light) {
-    const double gain = std::pow(std::max(ambient, 1e-3), 0.6);
-    for (int i = 0; i < 256; ++i) m.gain_lut[static_cast<std::size_t>(i)] = sat8(i * gain);
+    m.gain = static_cast<std::int32_t>(std::lround(256 * std::pow(std::max(ambient, 1e-3), 0.6)));
     const double sigma = ambient < 1 ? std::min(30.0, 3.0 * (1.0 / std::sqrt(std::max(ambient, 0.01)) - 1.0)) : 0.0;
     m.noise_tile.create(256, 256, CV_16SC3);
-    Rng nrng(scenario.seed, 0x401523ull);
-    for (int y = 0; y < 256; ++y) {
+    const auto unit = unit_noise_cache().get(scenario.seed, [&] { return build_unit_noise(scenario.seed); });
+    const double* n = unit->data();
+    for (int y = 0; y < kNoiseTile; ++y) {
       auto* row = m.noise_tile.ptr<std::int16_t>(y);
-      for (int x = 0; x < 256 * 3; ++x) row[x] = static_cast<std::int16_t>(std::lround(sigma * nrng.normal()));
+      for (int x = 0; x < kNoiseTile * 3; ++x) row[x] = static_cast<std::int16_t>(std::lround(sigma * *n++));
     }
   }
 }
@@ -1078,9 +1341,9 @@ void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
   // ---- 1. ground ----
   {
     GroundRow g;
-    g.texels = ground.get();
-    g.offsets = ground_offsets.data();
-    g.levels = ground_levels;
+    g.texels = map->texels.get();
+    g.offsets = map->offsets.data();
+    g.levels = map->levels;
     g.inv_h = static_cast<float>(1 / v.h);
     g.w_min = static_cast<float>(1 / kMaxGround);
     g.cxw = static_cast<float>(v.c.x());
@@ -1215,16 +1478,17 @@ void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
   // style lobe about the mirror direction of the view ray (sharp core from a
   // smooth film plus a broad lobe from the rough surface under it).
   const bool shadows_on = shadows_drawn;
-  if (weather.ground_wetness > 0 && sun_strength > 0) {
-    const double amplitude = 255 * std::clamp(weather.ground_wetness, 0.0, 1.0) * sun_strength;
+  if (!glare_add.empty()) {
     const float lx = static_cast<float>(sun.x()), ly = static_cast<float>(sun.y()), lz = static_cast<float>(sun.z());
     const float ax = static_cast<float>(v.A.x()), ay = static_cast<float>(v.A.y()), az = static_cast<float>(v.A.z());
-    constexpr float kCut = 0.85f;  // cos of the widest angle with visible glare (0.85^40 ≈ 0.002)
+    const float c2_min = glare_c2_min, c2_lo = kGlareCut * kGlareCut, scale = glare_scale;
+    const float* table = glare_add.data();
     for (int y = 0; y < H; ++y) {
       const Eigen::Vector3d r0 = v.B * y + v.C;
       const float rx0 = static_cast<float>(r0.x()), ry0 = static_cast<float>(r0.y()), rz0 = static_cast<float>(r0.z());
       std::uint8_t* px = img.ptr<std::uint8_t>(y);
       const std::uint8_t* mk = mask + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
+      const std::uint8_t* sm = shadows_on ? shadow_mask.ptr<std::uint8_t>(y) : nullptr;
       for (int x = 0; x < W; ++x) {
         const float fx_ = static_cast<float>(x);
         const float rx = rx0 + ax * fx_, ry = ry0 + ay * fx_, rz = rz0 + az * fx_;
@@ -1232,11 +1496,12 @@ void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
         const float num = rx * lx + ry * ly - rz * lz;
         if (num <= 0) continue;
         const float len2 = rx * rx + ry * ry + rz * rz;
-        if (num * num < kCut * kCut * len2 || mk[x] > kDistractor) continue;
-        if (shadows_on && shadow_mask.ptr<std::uint8_t>(y)[x]) continue;  // the sun is blocked
-        const double cos_a = num / std::sqrt(len2);
-        const double lobe = 0.9 * std::pow(cos_a, 600.0) + 0.35 * std::pow(cos_a, 40.0);
-        const int add = static_cast<int>(amplitude * lobe);
+        if (num * num < c2_min * len2 || mk[x] > kDistractor) continue;
+        if (sm && sm[x]) continue;  // the sun is blocked
+        const float bin = (num * num / len2 - c2_lo) * scale;
+        const auto i = static_cast<std::size_t>(bin);
+        const float frac = bin - static_cast<float>(i);
+        const int add = static_cast<int>(table[i] + (table[i + 1] - table[i]) * frac);
         px[3 * x] = sat8i(px[3 * x] + add * 15 / 16);  // sunlight: slightly warm
         px[3 * x + 1] = sat8i(px[3 * x + 1] + add);
         px[3 * x + 2] = sat8i(px[3 * x + 2] + add);
@@ -1285,11 +1550,27 @@ void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
     const double inv_area = 1 / area;
     const double w_dx = (ea_dx * a.z() + eb_dx * b.z() + ec_dx * c.z()) * inv_area;
     for (int y = y0; y <= y1; ++y) {
-      double ea = edge(b, c, x0, y), eb = edge(c, a, x0, y), ec = edge(a, b, x0, y);
+      // The row's span inside all three edges (a pixel wider each side; the
+      // test below decides), so thin triangles do not walk their whole box.
+      double lo = x0, hi = x1;
+      const auto bound = [&](double e0, double dx) {
+        if (dx > 0) {
+          lo = std::max(lo, x0 - e0 / dx);
+        } else if (dx < 0) {
+          hi = std::min(hi, x0 - e0 / dx);
+        } else if (e0 < 0) {
+          hi = -1;
+        }
+      };
+      bound(edge(b, c, x0, y), ea_dx), bound(edge(c, a, x0, y), eb_dx), bound(edge(a, b, x0, y), ec_dx);
+      if (!(lo <= hi + 2)) continue;
+      const int xs = std::max(x0, static_cast<int>(std::floor(lo)) - 1);
+      const int xe = std::min(x1, static_cast<int>(std::ceil(hi)) + 1);
+      double ea = edge(b, c, xs, y), eb = edge(c, a, xs, y), ec = edge(a, b, xs, y);
       double wz = (ea * a.z() + eb * b.z() + ec * c.z()) * inv_area;
       std::uint8_t* px = img.ptr<std::uint8_t>(y);
       const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
-      for (int x = x0; x <= x1; ++x, ea += ea_dx, eb += eb_dx, ec += ec_dx, wz += w_dx) {
+      for (int x = xs; x <= xe; ++x, ea += ea_dx, eb += eb_dx, ec += ec_dx, wz += w_dx) {
         if (ea < 0 || eb < 0 || ec < 0 || !(wz > 0)) continue;
         const auto z = static_cast<float>(1 / wz);
         if (!(z < depth[row + static_cast<std::size_t>(x)])) continue;
@@ -1361,20 +1642,13 @@ void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
 
   // ---- 5. weather ----
   // Fog and dust: Koschmieder's law per pixel, sky = airlight.
+  row_scratch.resize(static_cast<std::size_t>(W));
   if (beta > 1e-6) {
     const auto last = static_cast<float>(fog_t.size() - 1);
     const float scale = static_cast<float>(lut_scale);
     for (int y = 0; y < H; ++y) {
-      std::uint8_t* px = img.ptr<std::uint8_t>(y);
-      const float* dp = depth + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
-      for (int x = 0; x < W; ++x) {
-        const float bin = dp[x] * scale;
-        const int t = bin < last ? fog_t[static_cast<std::size_t>(bin)] : 0;
-        for (int c = 0; c < 3; ++c) {
-          px[3 * x + c] =
-              static_cast<std::uint8_t>((px[3 * x + c] * t + airlight[static_cast<std::size_t>(c)] * (256 - t)) >> 8);
-        }
-      }
+      fog_row(img.ptr<std::uint8_t>(y), depth + static_cast<std::size_t>(y) * static_cast<std::size_t>(W), W,
+              fog_t.data(), scale, last, airlight.data(), row_scratch.data());
     }
   }
 
@@ -1395,21 +1669,27 @@ void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
           blur_acc.setTo(0);
           for (int k = 0; k < copies; ++k) {
             const Eigen::Vector2d s = shift * (static_cast<double>(k) / (copies - 1) - 0.5);
-            const int dx = static_cast<int>(std::lround(s.x())), dy = static_cast<int>(std::lround(s.y()));
+            // Clamped to the image: columns outside take the edge pixel.
+            const int dx = std::clamp(static_cast<int>(std::lround(s.x())), -W, W);
+            const int dy = static_cast<int>(std::lround(s.y()));
+            const int xa = std::clamp(dx, 0, W), xb = std::clamp(W + dx, 0, W);  // x − dx inside [0, W)
             for (int y = 0; y < H; ++y) {
               const std::uint8_t* src = blur_src.ptr<std::uint8_t>(std::clamp(y - dy, 0, H - 1));
               std::uint16_t* acc = blur_acc.ptr<std::uint16_t>(y);
-              for (int x = 0; x < W; ++x) {
-                const int sx = std::clamp(x - dx, 0, W - 1);
-                for (int c = 0; c < 3; ++c)
-                  acc[3 * x + c] = static_cast<std::uint16_t>(acc[3 * x + c] + src[3 * sx + c]);
+              for (int x = 0; x < xa; ++x) {
+                for (int c = 0; c < 3; ++c) acc[3 * x + c] = static_cast<std::uint16_t>(acc[3 * x + c] + src[c]);
+              }
+              if (xb > xa) add_row(acc + 3 * xa, src + 3 * (xa - dx), 3 * (xb - xa));
+              for (int x = std::max(xa, xb); x < W; ++x) {
+                for (int c = 0; c < 3; ++c) {
+                  acc[3 * x + c] = static_cast<std::uint16_t>(acc[3 * x + c] + src[3 * (W - 1) + c]);
+                }
               }
             }
           }
+          const auto n = static_cast<std::uint32_t>(copies);
           for (int y = 0; y < H; ++y) {
-            const std::uint16_t* acc = blur_acc.ptr<std::uint16_t>(y);
-            std::uint8_t* px = img.ptr<std::uint8_t>(y);
-            for (int x = 0; x < 3 * W; ++x) px[x] = static_cast<std::uint8_t>((acc[x] + copies / 2) / copies);
+            average_row(img.ptr<std::uint8_t>(y), blur_acc.ptr<std::uint16_t>(y), 3 * W, n / 2, blur_divisor_mul(n));
           }
         }
       }
@@ -1456,16 +1736,7 @@ void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
       const double level = std::min(1.0, 0.25 + 0.5 / p.z());
       cv::line(overlay, to_fixed(a), to_fixed(b), cv::Scalar(255 * level), p.z() < 1.5 ? 2 : 1, cv::LINE_AA, 4);
     }
-    for (int y = 0; y < H; ++y) {
-      const std::uint8_t* ov = overlay.ptr<std::uint8_t>(y);
-      std::uint8_t* px = img.ptr<std::uint8_t>(y);
-      for (int x = 0; x < W; ++x) {
-        if (!ov[x]) continue;
-        const int a = ov[x] * 170 / 255;  // ≤ 66 % opaque
-        for (int c = 0; c < 3; ++c)
-          px[3 * x + c] = static_cast<std::uint8_t>(px[3 * x + c] + ((215 - px[3 * x + c]) * a >> 8));
-      }
-    }
+    for (int y = 0; y < H; ++y) rain_row(img.ptr<std::uint8_t>(y), overlay.ptr<std::uint8_t>(y), W);
   }
   // Snow: flakes of 3–10 mm falling at ~1 m/s with some flutter.
   if (weather.snow > 0) {
@@ -1516,9 +1787,11 @@ void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
     for (int y = 0; y < H; ++y) {
       std::uint8_t* px = img.ptr<std::uint8_t>(y);
       const auto* noise = noise_tile.ptr<std::int16_t>((y + oy) & 255);
-      for (int x = 0; x < W; ++x) {
-        const int nx = 3 * ((x + ox) & 255);
-        for (int c = 0; c < 3; ++c) px[3 * x + c] = sat8i(gain_lut[px[3 * x + c]] + noise[nx + c]);
+      // The tile repeats every 256 columns: contiguous runs up to its edge.
+      for (int x = 0; x < W;) {
+        const int nx = (x + ox) & 255, run = std::min(W - x, 256 - nx);
+        low_light_row(px + 3 * x, noise + 3 * nx, 3 * run, gain);
+        x += run;
       }
     }
   }

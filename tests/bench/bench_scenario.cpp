@@ -2,11 +2,13 @@
 // frame of the downward camera in clear weather over the concrete map with
 // a few objects (target ≤ 2 ms), the same in heavy weather (fog, dust, rain,
 // snow, falling leaves, wet glare, low light, motion blur), and building a
-// renderer (textures and marker images).
+// renderer: cold (the map texture built from scratch) and cached (a second
+// renderer on the same map shares the first one's texture).
 //
 //   build/tests/bench/bench_scenario --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
+#include "scenario/render_cache.hpp"
 #include "touchdown/scenario/camera.hpp"
 
 namespace ts = touchdown::scenario;
@@ -55,8 +57,20 @@ void run(benchmark::State& bs, bool heavy) {
 void BM_render_clear_ground(benchmark::State& bs) { run(bs, false); }
 void BM_render_heavy_weather(benchmark::State& bs) { run(bs, true); }
 
-void BM_renderer_construct(benchmark::State& bs) {
+void BM_renderer_construct_cold(benchmark::State& bs) {
   const ts::Scenario s = scene(true);
+  for (auto _ : bs) {
+    bs.PauseTiming();
+    ts::detail::clear_render_caches();
+    bs.ResumeTiming();
+    ts::Renderer r(s, ts::CameraOptions{});
+    benchmark::DoNotOptimize(&r);
+  }
+}
+
+void BM_renderer_construct_cached(benchmark::State& bs) {
+  const ts::Scenario s = scene(true);
+  const ts::Renderer first(s, ts::CameraOptions{});
   for (auto _ : bs) {
     ts::Renderer r(s, ts::CameraOptions{});
     benchmark::DoNotOptimize(&r);
@@ -67,5 +81,6 @@ void BM_renderer_construct(benchmark::State& bs) {
 
 BENCHMARK(BM_render_clear_ground)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_render_heavy_weather)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_renderer_construct)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_renderer_construct_cold)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_renderer_construct_cached)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

@@ -5,7 +5,9 @@
 #include <opencv2/aruco.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <thread>
 
+#include "scenario/render_cache.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/scenario/camera.hpp"
 
@@ -343,6 +345,107 @@ TEST(RenderOcclusion, ABoxOverTheMarkerHidesPartOfIt) {
   EXPECT_DOUBLE_EQ(a.marker_area_truth_px, b.marker_area_truth_px);
   EXPECT_LT(b.marker_area_visible_px, 0.85 * a.marker_area_visible_px);
   EXPECT_GT(b.marker_area_visible_px, 0.5 * a.marker_area_visible_px);
+}
+
+/// Weather that touches every cached and per-frame piece: ground cover and
+/// wetness (the cached texture), low light (the cached noise), particles.
+Scenario render_busy_scenario(std::uint64_t seed) {
+  Scenario s = render_scenario(touchdown::scenario::MapKind::lawn);
+  s.seed = seed;
+  s.weather.ground_snow = 0.3, s.weather.ground_leaves = 0.4, s.weather.ground_wetness = 0.6;
+  s.weather.rain = 0.5, s.weather.snow = 0.4, s.weather.leaves = 0.5, s.weather.fog = 0.02, s.weather.ambient = 0.5;
+  s.weather.sun_elevation_deg = 65;
+  auto& box = s.static_objects.emplace_back();
+  box.position = Eigen::Vector2d(1.5, 1), box.size = Eigen::Vector3d(0.8, 0.6, 0.7);
+  s.distractors.push_back({touchdown::scenario::DistractorKind::lookalike, 1, 2, 0.8, Eigen::Vector2d(-2.5, 3), 30});
+  return s;
+}
+
+std::vector<CameraFrame> render_frames(Renderer& r, int frames) {
+  std::vector<CameraFrame> out(static_cast<std::size_t>(frames));
+  for (int i = 0; i < frames; ++i) {
+    SceneState st = render_state({0.4 * i - 1.0, 0.3, 9 - 0.5 * i}, 15.0 * i);
+    st.frame_index = i;
+    st.v_world = Eigen::Vector3d(2, 0.5, -0.5);
+    r.render(st, out[static_cast<std::size_t>(i)]);
+  }
+  return out;
+}
+
+void expect_same_frames(const std::vector<CameraFrame>& a, const std::vector<CameraFrame>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].image.pixels, b[i].image.pixels) << "frame " << i;
+    EXPECT_EQ(a[i].mask, b[i].mask) << "frame " << i;
+    EXPECT_EQ(a[i].depth, b[i].depth) << "frame " << i;
+  }
+}
+
+TEST(RenderCache, ASecondRendererSharesTheTextureAndRendersTheSameBytes) {
+  namespace detail = touchdown::scenario::detail;
+  const Scenario s = render_busy_scenario(11);
+  detail::clear_render_caches();
+  std::vector<CameraFrame> cold;
+  {
+    Renderer r(s, CameraOptions{});
+    EXPECT_EQ(detail::cached_map_textures(), 1u);
+    cold = render_frames(r, 3);
+  }
+  // The renderer is gone; the cache still holds its texture.
+  EXPECT_EQ(detail::cached_map_textures(), 1u);
+  Renderer cached(s, CameraOptions{});
+  EXPECT_EQ(detail::cached_map_textures(), 1u);
+  expect_same_frames(cold, render_frames(cached, 3));
+  // Another texture between two uses of the first changes nothing either.
+  Scenario other = s;
+  other.weather.ground_snow = 0;
+  Renderer r_other(other, CameraOptions{});
+  EXPECT_EQ(detail::cached_map_textures(), 2u);
+  Renderer again(s, CameraOptions{});
+  expect_same_frames(cold, render_frames(again, 3));
+}
+
+TEST(RenderCache, HoldsAHandfulOfTexturesAndRenderersOutliveTheirEntries) {
+  namespace detail = touchdown::scenario::detail;
+  detail::clear_render_caches();
+  Scenario s = render_scenario();
+  Renderer first(s, CameraOptions{});
+  CameraFrame before, after;
+  first.render(render_state({0, 0, 6}), before);
+  for (std::uint64_t seed = 100; seed < 100 + detail::kMapTextureCacheCapacity + 2; ++seed) {
+    s.seed = seed;
+    Renderer r(s, CameraOptions{});
+    EXPECT_LE(detail::cached_map_textures(), detail::kMapTextureCacheCapacity);
+  }
+  detail::clear_render_caches();
+  EXPECT_EQ(detail::cached_map_textures(), 0u);
+  first.render(render_state({0, 0, 6}), after);  // its texture was evicted from the cache, not freed
+  EXPECT_EQ(before.image.pixels, after.image.pixels);
+}
+
+TEST(RenderThreads, TwoThreadsRenderTheSameBytesAsOneThread) {
+  namespace detail = touchdown::scenario::detail;
+  const Scenario s = render_busy_scenario(23);
+  detail::clear_render_caches();
+  std::vector<CameraFrame> single;
+  {
+    Renderer r(s, CameraOptions{});
+    single = render_frames(r, 4);
+  }
+  // Both threads construct at once on an empty cache (one builds, the other
+  // waits for it), then render concurrently with their own renderers.
+  detail::clear_render_caches();
+  std::array<std::vector<CameraFrame>, 2> parallel;
+  std::vector<std::thread> threads;
+  for (std::size_t i = 0; i < parallel.size(); ++i) {
+    threads.emplace_back([&, i] {
+      Renderer r(s, CameraOptions{});
+      parallel[i] = render_frames(r, 4);
+    });
+  }
+  for (auto& t : threads) t.join();
+  expect_same_frames(single, parallel[0]);
+  expect_same_frames(single, parallel[1]);
 }
 
 // Example frames to look at (not a check): run with

@@ -10,6 +10,9 @@
 /// (the RLaGA paper's eq. 5 reward inputs).
 ///
 /// Thread-safety: one Renderer per thread. render() reuses its buffers.
+/// Renderers on the same map share its texture (immutable, through a
+/// thread-safe process-wide cache of a few maps), so constructing renderers
+/// from several threads at once is safe and the second one on a map is fast.
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <memory>
