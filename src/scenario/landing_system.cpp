@@ -563,6 +563,7 @@ class MarkerLandingSystem final : public LandingSystem {
     co.radius = setup_.drone_radius;
     co.margin = 2.0;
     co.deflate = 0.3;
+    co.dilate = 0.5;
     po.corridor = co;
     plan::KinematicState start;
     const double tau = t - plan_t0_;
@@ -594,6 +595,15 @@ class MarkerLandingSystem final : public LandingSystem {
       b.max -= c3;
     }
     po.obstacles = boxes_;
+    // The corridor's split between the approach part and the column above
+    // the landing point: just over the highest obstacle, so that the two
+    // parts overlap after a dilation step or two (from the land altitude
+    // it would take one 0.5 m step per half metre of obstacle, each costing
+    // a few hundred µs of polytope work).
+    double top = 0;
+    for (const plan::Box& b : boxes_) top = std::max(top, b.max.z());
+    po.corridor->h_touchdown =
+        std::clamp(top + co.radius, options_.land_altitude, std::max(options_.land_altitude, start.p.z()));
     plan::PlanResult r;
     try {
       r = plan::plan(start, goal, plan::PadMotion{}, po);
