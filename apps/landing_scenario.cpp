@@ -1,6 +1,7 @@
 // landing_scenario: runs a landing system under test in a marker-landing
 // scenario (docs/formats.md, "Landing scenarios") and reports the outcome
 // with the RLaGA paper's violation types; or writes a random valid scenario.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -13,9 +14,11 @@
 #include <opencv2/videoio.hpp>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include "app_common.hpp"
 #include "touchdown/core/atomic_file.hpp"
+#include "touchdown/scenario/campaign.hpp"
 #include "touchdown/scenario/run.hpp"
 #include "touchdown/scenario/scenario.hpp"
 
@@ -156,6 +159,79 @@ class Video {
   bool done_ = false;
 };
 
+std::string percent(int n, int of) { return fixed(of > 0 ? 100.0 * n / of : 0.0, 1) + " %"; }
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const std::size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+std::string campaign_csv(const ts::CampaignResult& c, const std::vector<std::string>& names) {
+  std::ostringstream os;
+  os << "scenario,map,violation,type,landed,dtl,ttl,false_detection,flight_s,frames,wall_s,render_s,system_s,"
+        "message\n";
+  for (std::size_t i = 0; i < c.entries.size(); ++i) {
+    const auto& e = c.entries[i];
+    std::string msg = e.message;
+    for (char& ch : msg)
+      if (ch == '"') ch = '\'';
+    os << names[i] << ',' << ts::to_string(e.map) << ',' << (e.violation ? 1 : 0) << ',' << ts::to_string(e.type) << ','
+       << (e.landed ? 1 : 0) << ',' << fixed(e.dtl, 3) << ',' << fixed(e.ttl, 2) << ',' << (e.false_detection ? 1 : 0)
+       << ',' << fixed(e.flight_s, 2) << ',' << e.frames << ',' << fixed(e.timing.total_s, 3) << ','
+       << fixed(e.timing.render_s, 3) << ',' << fixed(e.timing.system_s, 3) << ",\"" << msg << "\"\n";
+  }
+  return os.str();
+}
+
+Json campaign_json(const ts::CampaignResult& c, const std::string& source, const ts::CampaignOptions& o) {
+  const auto& s = c.summary;
+  Json j;
+  j["scenarios"] = source;
+  j["system"] = o.system;
+  j["detection_roi"] = o.mls.detection_roi;
+  j["threads"] = o.threads;
+  j["count"] = s.scenarios;
+  j["violations"] = s.violations;
+  j["violation_rate"] = round3(s.violation_rate());
+  j["type_i"] = s.type_i;
+  j["type_ii"] = s.type_ii;
+  j["type_iii"] = s.type_iii;
+  j["flight_s"] = round3(s.flight_s);
+  j["wall_s"] = round3(s.wall_s);
+  j["timing"] = {{"render_s", round3(s.timing.render_s)},
+                 {"system_s", round3(s.timing.system_s)},
+                 {"physics_s", round3(s.timing.physics_s)},
+                 {"total_s", round3(s.timing.total_s)}};
+  return j;
+}
+
+void print_campaign(const ts::CampaignResult& c, const std::string& source, const ts::CampaignOptions& o) {
+  const auto& s = c.summary;
+  std::vector<double> dtl, ttl;
+  for (const auto& e : c.entries) {
+    if (!e.landed) continue;
+    dtl.push_back(e.dtl);
+    ttl.push_back(e.ttl);
+  }
+  const double other = s.timing.total_s - s.timing.render_s - s.timing.system_s - s.timing.physics_s;
+  const auto share = [&](double v) { return fixed(s.timing.total_s > 0 ? 100 * v / s.timing.total_s : 0.0, 0) + " %"; };
+  std::cout << "campaign   " << s.scenarios << " scenarios: " << source << "\n"
+            << "system     " << o.system << (o.mls.detection_roi ? "" : " (whole-frame detection)") << "\n"
+            << "violations " << s.violations << "/" << s.scenarios << " (" << percent(s.violations, s.scenarios)
+            << "): type I " << s.type_i << " (" << percent(s.type_i, s.scenarios) << "), type II " << s.type_ii << " ("
+            << percent(s.type_ii, s.scenarios) << "), type III " << s.type_iii << " ("
+            << percent(s.type_iii, s.scenarios) << ")\n"
+            << "landed     " << dtl.size() << ": median DTL " << fixed(median(dtl), 2) << " m, median TTL "
+            << fixed(median(ttl), 1) << " s\n"
+            << "time       " << fixed(s.wall_s, 1) << " s wall on " << o.threads << " threads for "
+            << fixed(s.flight_s, 0) << " s of flight (" << fixed(s.wall_s > 0 ? s.flight_s / s.wall_s : 0.0, 0)
+            << "x real time); per scenario " << fixed(s.scenarios > 0 ? s.timing.total_s / s.scenarios : 0.0, 2)
+            << " s: render " << share(s.timing.render_s) << ", system " << share(s.timing.system_s) << ", physics "
+            << share(s.timing.physics_s) << ", other " << share(other) << "\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -219,7 +295,72 @@ int main(int argc, char** argv) {
                                                                  : "--output: must end in .yaml, .yml or .json";
       });
 
+  auto* campaign_cmd = app.add_subcommand(
+      "campaign",
+      "run many scenarios (random ones by seed, or the given files) in parallel; violation rate and type mix");
+  std::vector<std::string> campaign_files;
+  std::uint64_t first_seed = 1;
+  int count = 100;
+  std::string campaign_map = "any", csv_path;
+  bool campaign_json_out = false, whole_frame = false;
+  ts::CampaignOptions campaign;
+  campaign.threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  auto* files_opt = campaign_cmd->add_option("SCENARIO", campaign_files, "scenario files (default: random ones)");
+  campaign_cmd->add_option("--seed", first_seed, "seed of the first random scenario")
+      ->capture_default_str()
+      ->excludes(files_opt);
+  campaign_cmd->add_option("--count", count, "random scenarios")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str()
+      ->excludes(files_opt);
+  campaign_cmd->add_option("--map", campaign_map, "map of the random scenarios: ground, lawn or any")
+      ->check(CLI::IsMember({"ground", "lawn", "any"}))
+      ->capture_default_str()
+      ->excludes(files_opt);
+  campaign_cmd->add_option("--system", campaign.system, "landing system under test")
+      ->check(CLI::IsMember({"opencv-mls", "mm-mls"}))
+      ->capture_default_str();
+  campaign_cmd->add_option("--threads", campaign.threads, "worker threads")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  campaign_cmd->add_flag("--whole-frame-detection", whole_frame,
+                         "detect in the whole frame every time (no tracking ROI), as the published baseline");
+  campaign_cmd->add_option("--csv", csv_path, "one row per scenario")->check(output_extension(".csv"));
+  campaign_cmd->add_flag("--json", campaign_json_out, "the summary as one JSON object on stdout");
+
   return run(app, argc, argv, [&]() -> int {
+    if (*campaign_cmd) {
+      std::vector<ts::Scenario> scenarios;
+      std::vector<std::string> names;
+      std::string source;
+      if (!campaign_files.empty()) {
+        for (const auto& f : campaign_files) {
+          scenarios.push_back(ts::load_scenario(f));
+          names.push_back(f);
+        }
+        source = std::to_string(campaign_files.size()) + " files";
+      } else {
+        std::optional<ts::MapKind> m;
+        if (campaign_map != "any") m = campaign_map == "lawn" ? ts::MapKind::lawn : ts::MapKind::ground;
+        scenarios = ts::random_scenarios(first_seed, count, m);
+        for (int i = 0; i < count; ++i)
+          names.push_back("seed " + std::to_string(first_seed + static_cast<std::uint64_t>(i)));
+        source = "random, seeds " + std::to_string(first_seed) + ".." +
+                 std::to_string(first_seed + static_cast<std::uint64_t>(count) - 1) + ", map " + campaign_map;
+      }
+      campaign.mls.detection_roi = !whole_frame;
+      // The campaign's threads are the parallelism: OpenCV's own would
+      // oversubscribe the cores.
+      cv::setNumThreads(1);
+      const ts::CampaignResult c = ts::run_campaign(scenarios, campaign);
+      if (!csv_path.empty()) write_text_atomically(csv_path, campaign_csv(c, names));
+      if (campaign_json_out) {
+        std::cout << campaign_json(c, source, campaign).dump(2) << "\n";
+      } else {
+        print_campaign(c, source, campaign);
+      }
+      return kExitOk;
+    }
     if (*random_cmd) {
       const ts::Scenario s = map == "any"    ? ts::random_scenario(seed)
                              : map == "lawn" ? ts::random_scenario(seed, ts::MapKind::lawn)

@@ -14,8 +14,10 @@
 #include <opencv2/aruco.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "pose/aruco_dictionary.hpp"
+#include "scenario/marker_detector.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/plan/planner.hpp"
 
@@ -228,8 +230,7 @@ class ObstacleGrid {
 /// OpenCV-MLS and, with `avoid_obstacles`, MM-MLS.
 class MarkerLandingSystem final : public LandingSystem {
  public:
-  MarkerLandingSystem(const MlsOptions& options, bool avoid_obstacles)
-      : options_(options), avoid_(avoid_obstacles), parameters_(cv::aruco::DetectorParameters::create()) {}
+  MarkerLandingSystem(const MlsOptions& options, bool avoid_obstacles) : options_(options), avoid_(avoid_obstacles) {}
 
   std::string_view name() const override { return avoid_ ? "mm-mls" : "opencv-mls"; }
 
@@ -241,7 +242,7 @@ class MarkerLandingSystem final : public LandingSystem {
     const auto* dict = pose::detail::find_aruco_dictionary(setup.dictionary);
     if (!dict) throw InvalidArgument("landing system: dictionary: unknown " + setup.dictionary);
     setup_ = setup;
-    dictionary_ = cv::aruco::getPredefinedDictionary(dict->id);
+    detector_.emplace(cv::aruco::getPredefinedDictionary(dict->id), options_.detection_roi);
     K_inv_ = setup.camera.K().inverse();
     T_body_camera_ = setup.camera.T_body_camera();
     tan_tilt_ = std::tan(setup.camera.tilt_deg * std::numbers::pi / 180.0);
@@ -395,11 +396,10 @@ class MarkerLandingSystem final : public LandingSystem {
   void detect(const CameraFrame& f, const DroneState& s, SystemOutput& out) {
     const cv::Mat bgr(f.height, f.width, CV_8UC3, const_cast<std::uint8_t*>(f.image.pixels.data()));
     cv::cvtColor(bgr, gray_, cv::COLOR_BGR2GRAY);
-    corners_.clear();
-    ids_.clear();
-    cv::aruco::detectMarkers(gray_, dictionary_, corners_, ids_, parameters_);
+    detector_->detect(gray_, setup_.marker_id, corners_, ids_);
     const Eigen::Isometry3d T_world_camera = s.T_world_body() * T_body_camera_;
     int best = -1;
+    std::size_t best_index = 0;
     for (std::size_t i = 0; i < ids_.size(); ++i) {
       Detection d;
       d.id = ids_[i];
@@ -415,11 +415,14 @@ class MarkerLandingSystem final : public LandingSystem {
       const bool on_ground = ground_point(T_world_camera, K_inv_, centre, &d.ground);
       d.accepted = d.id == setup_.marker_id && d.quality >= options_.min_quality_px && on_ground;
       // Several accepted: the baseline follows the largest.
-      if (d.accepted && (best < 0 || d.quality > out.detections[static_cast<std::size_t>(best)].quality))
+      if (d.accepted && (best < 0 || d.quality > out.detections[static_cast<std::size_t>(best)].quality)) {
         best = static_cast<int>(out.detections.size());
+        best_index = i;
+      }
       out.detections.push_back(d);
     }
     if (avoid_) map_obstacles(f, T_world_camera);
+    detector_->track(best < 0 ? nullptr : &corners_[best_index]);
     if (best < 0) return;
     const Detection& d = out.detections[static_cast<std::size_t>(best)];
     if (seen_since_ < 0 || s.t - last_seen_ > options_.lost_timeout) seen_since_ = s.t;
@@ -624,8 +627,7 @@ class MarkerLandingSystem final : public LandingSystem {
   MlsOptions options_;
   bool avoid_;
   SystemSetup setup_;
-  cv::Ptr<cv::aruco::Dictionary> dictionary_;
-  cv::Ptr<cv::aruco::DetectorParameters> parameters_;
+  std::optional<detail::MarkerDetector> detector_;
   Eigen::Matrix3d K_inv_ = Eigen::Matrix3d::Identity();
   Eigen::Isometry3d T_body_camera_ = Eigen::Isometry3d::Identity();
   double tan_tilt_ = 0;

@@ -3,6 +3,7 @@
 // one line naming the key with exit 2 and no output file.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -66,6 +67,36 @@ TEST(LandingScenarioApp, RandomScenariosAreValidAndRunIdentically) {
   }
   EXPECT_EQ(ja, jb);
   EXPECT_EQ(ja["frames"].size(), jb["frames"].size());
+}
+
+TEST(LandingScenarioApp, CampaignOverFilesWritesSummaryAndCsv) {
+  TempDir dir;
+  const auto csv = dir / "campaign.csv";
+  const AppRun r = scenario_app(
+      "campaign " + bundled_scenario() + " " + bundled_scenario() + " --threads 2 --json --csv " + csv.string(), dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["count"], 2);
+  EXPECT_EQ(j["violations"], 0);
+  EXPECT_EQ(j["type_i"].get<int>() + j["type_ii"].get<int>() + j["type_iii"].get<int>(), 0);
+  EXPECT_GT(j["flight_s"].get<double>(), 30.0);
+  const std::string text = td::test::read_text(csv);
+  EXPECT_EQ(text.rfind("scenario,map,violation,type,landed,dtl,ttl,", 0), 0u);
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 3);
+  EXPECT_NE(text.find(",ground,0,none,1,"), std::string::npos) << text;
+
+  // A bad file among them: exit 2 naming it, no CSV, nothing on stdout.
+  const auto bad = dir / "bad.yaml";
+  td::test::write_text(bad, td::test::replace(td::test::read_text(bundled_scenario()), "map: ground", "map: moon"));
+  const auto csv2 = dir / "c2.csv";
+  const AppRun b = scenario_app("campaign " + bundled_scenario() + " " + bad.string() + " --csv " + csv2.string(), dir);
+  EXPECT_EQ(b.code, 2);
+  EXPECT_NE(b.err.find("bad.yaml"), std::string::npos) << b.err;
+  EXPECT_TRUE(b.out.empty());
+  EXPECT_FALSE(std::filesystem::exists(csv2));
+  // Random-campaign options do not mix with files.
+  EXPECT_EQ(scenario_app("campaign " + bundled_scenario() + " --seed 3", dir).code, 2);
+  EXPECT_EQ(scenario_app("campaign --count 0", dir).code, 2);
 }
 
 TEST(LandingScenarioApp, BadInputIsOneLineNamingTheKey) {

@@ -98,6 +98,10 @@ struct MlsOptions {
   double land_altitude = 1.5;   ///< below this the land command is given [m]
   double centring_gain = 0.8;   ///< horizontal velocity per metre of offset [1/s]
   double search_radius = 6;     ///< spiral search around the GPS target [m]
+  /// While the target is tracked, detect in a region around its last
+  /// position first (the whole frame when that misses it, and every 10th
+  /// frame); false: the whole frame every time, as the published baseline.
+  bool detection_roi = true;
   // mm-mls only
   double obstacle_clearance = 1.5;  ///< outside a planned descent: climb when an obstacle comes this close [m]
   double obstacle_height = 0.3;     ///< depth points higher than this above the ground are obstacles [m]

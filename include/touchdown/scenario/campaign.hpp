@@ -1,0 +1,71 @@
+#pragma once
+/// \file
+/// A campaign: many scenarios, one landing system, run in parallel threads,
+/// with the violation rate and type mix (the RLaGA paper's Table 1 for
+/// random sampling). Scenario i of a seeded campaign is
+/// random_scenario(first_seed + i, map); results are in scenario order and
+/// identical for any thread count.
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "touchdown/scenario/run.hpp"
+#include "touchdown/scenario/scenario.hpp"
+
+namespace touchdown::scenario {
+
+/// One scenario's outcome, without the trajectory and frames.
+struct CampaignEntry {
+  MapKind map = MapKind::ground;
+  bool violation = false;
+  Violation type = Violation::none;
+  std::string message;
+  bool landed = false;
+  double dtl = 0;  ///< [m]
+  double ttl = 0;  ///< [s]
+  bool false_detection = false;
+  double flight_s = 0;  ///< simulated time [s]
+  int frames = 0;
+  Timing timing;
+};
+
+struct CampaignOptions {
+  std::string system = "opencv-mls";  ///< a make_landing_system() name
+  MlsOptions mls;
+  /// Camera, flight and violation radius; its callbacks must be empty (a
+  /// campaign runs scenarios concurrently).
+  RunOptions run;
+  int threads = 1;  ///< worker threads, ≥ 1
+  /// Called after each scenario finishes (from the worker thread that ran
+  /// it, one call at a time): index, outcome. May be empty.
+  std::function<void(std::size_t, const CampaignEntry&)> progress;
+
+  [[nodiscard]] bool validate(std::string* why) const;
+};
+
+struct CampaignSummary {
+  int scenarios = 0;
+  int violations = 0;
+  int type_i = 0, type_ii = 0, type_iii = 0;
+  double flight_s = 0;  ///< simulated, summed
+  Timing timing;        ///< summed over scenarios (CPU-side, per thread)
+  double wall_s = 0;    ///< of the whole campaign
+  [[nodiscard]] double violation_rate() const { return scenarios > 0 ? double(violations) / scenarios : 0.0; }
+};
+
+struct CampaignResult {
+  std::vector<CampaignEntry> entries;  ///< in scenario order
+  CampaignSummary summary;
+};
+
+/// Runs `scenarios` with a fresh system each. Throws InvalidArgument for
+/// invalid options or an invalid scenario (naming its index).
+CampaignResult run_campaign(const std::vector<Scenario>& scenarios, const CampaignOptions& options);
+
+/// Scenarios random_scenario(first_seed + i[, map]) for i < count; `map`
+/// empty draws the map too.
+std::vector<Scenario> random_scenarios(std::uint64_t first_seed, int count, std::optional<MapKind> map);
+
+}  // namespace touchdown::scenario

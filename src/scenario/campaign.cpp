@@ -1,0 +1,103 @@
+// Campaigns of scenario runs in parallel threads (campaign.hpp).
+#include "touchdown/scenario/campaign.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "touchdown/core/error.hpp"
+
+namespace touchdown::scenario {
+
+bool CampaignOptions::validate(std::string* why) const {
+  std::string w;
+  if (!run.validate(&w)) return invalid(why, "run." + w);
+  if (run.on_frame || run.external) return invalid(why, "run: frame and external callbacks are not allowed");
+  if (!mls.validate(&w)) return invalid(why, "mls." + w);
+  if (threads < 1 || threads > 256) return invalid(why, "threads: must be in [1, 256]");
+  return true;
+}
+
+std::vector<Scenario> random_scenarios(std::uint64_t first_seed, int count, std::optional<MapKind> map) {
+  if (count < 0) throw InvalidArgument("random scenarios: count must be ≥ 0");
+  std::vector<Scenario> out;
+  out.reserve(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i) {
+    const std::uint64_t seed = first_seed + static_cast<std::uint64_t>(i);
+    out.push_back(map ? random_scenario(seed, *map) : random_scenario(seed));
+  }
+  return out;
+}
+
+CampaignResult run_campaign(const std::vector<Scenario>& scenarios, const CampaignOptions& options) {
+  std::string why;
+  if (!options.validate(&why)) throw InvalidArgument("campaign options: " + why);
+  (void)make_landing_system(options.system, options.mls);  // a bad name fails before any work
+  for (std::size_t i = 0; i < scenarios.size(); ++i) {
+    if (!scenarios[i].validate(&why)) throw InvalidArgument("scenario " + std::to_string(i) + ": " + why);
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  CampaignResult result;
+  result.entries.resize(scenarios.size());
+  std::atomic<std::size_t> next{0};
+  std::mutex progress_mutex;
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  const auto worker = [&] {
+    try {
+      auto system = make_landing_system(options.system, options.mls);
+      for (std::size_t i = next++; i < scenarios.size(); i = next++) {
+        const ScenarioResult r = run_scenario(scenarios[i], *system, options.run);
+        CampaignEntry& e = result.entries[i];
+        e.map = scenarios[i].map;
+        e.violation = r.violation;
+        e.type = r.type;
+        e.message = r.message;
+        e.landed = r.landed;
+        e.dtl = r.dtl;
+        e.ttl = r.ttl;
+        e.false_detection = r.false_detection;
+        e.flight_s = r.trajectory.empty() ? 0.0 : r.trajectory.back().t;
+        e.frames = static_cast<int>(r.frames.size());
+        e.timing = r.timing;
+        if (options.progress) {
+          const std::lock_guard lock(progress_mutex);
+          options.progress(i, e);
+        }
+      }
+    } catch (...) {
+      const std::lock_guard lock(failure_mutex);
+      if (!failure) failure = std::current_exception();
+      next = scenarios.size();  // the others stop after their current run
+    }
+  };
+  const int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(options.threads), scenarios.size()));
+  if (n <= 1) {
+    worker();
+  } else {
+    std::vector<std::jthread> pool;
+    pool.reserve(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k) pool.emplace_back(worker);
+  }
+  if (failure) std::rethrow_exception(failure);
+
+  CampaignSummary& s = result.summary;
+  for (const auto& e : result.entries) {
+    ++s.scenarios;
+    s.violations += e.violation ? 1 : 0;
+    s.type_i += e.type == Violation::type_i ? 1 : 0;
+    s.type_ii += e.type == Violation::type_ii ? 1 : 0;
+    s.type_iii += e.type == Violation::type_iii ? 1 : 0;
+    s.flight_s += e.flight_s;
+    s.timing.render_s += e.timing.render_s;
+    s.timing.system_s += e.timing.system_s;
+    s.timing.physics_s += e.timing.physics_s;
+    s.timing.total_s += e.timing.total_s;
+  }
+  s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return result;
+}
+
+}  // namespace touchdown::scenario
