@@ -60,6 +60,7 @@ ScenarioResult run_scenario(const Scenario& scenario, LandingSystem& system, con
   setup.marker_id = scenario.marker.id;
   setup.marker_size = scenario.marker.size;
   setup.gps_target = scenario.gps_target();
+  setup.drone_radius = options.flight.airframe.footprint_radius();
   system.reset(setup);
 
   ScenarioResult r;

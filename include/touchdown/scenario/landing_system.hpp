@@ -8,7 +8,28 @@
 ///               the marker has been seen continuously for 5 s above a
 ///               detection-quality threshold, re-centring on the way down;
 ///   mm-mls      the same detector plus obstacle avoidance from the depth
-///               image and replanning (the paper's multi-module system).
+///               image and trajectory replanning (the paper's multi-module
+///               system): every depth frame goes into a persistent
+///               world-frame grid of obstacle heights; once the sighting
+///               gate has passed it picks the free landing point nearest the
+///               marker (no obstacle within the drone's radius plus a
+///               margin, at most max_landing_offset from the marker),
+///               plans the descent to above it with touchdown::plan
+///               (minimum-jerk Bézier in a safe flight corridor around the
+///               mapped obstacles as boxes), follows the plan with velocity
+///               setpoints, replans about once a second or when the map
+///               puts an obstacle on the plan, and commands the land mode
+///               only over a free footprint. No free landing point near the
+///               marker (an object on it) or no plan: it holds or climbs
+///               instead of descending (phases "no-landing-spot",
+///               "replan-hold", "replan-climb"), so a covered marker ends
+///               as a Type II, not on the object.
+///
+/// Both systems know the camera's mounting: with a forward-tilted camera
+/// they hold the drone tan(tilt)·(altitude − land_altitude) behind the
+/// marker estimate along the heading, so that the marker stays near the
+/// image centre while tracking and descending, and centre over the marker
+/// only for the land mode.
 #include <Eigen/Core>
 #include <array>
 #include <memory>
@@ -28,6 +49,9 @@ struct SystemSetup {
   int marker_id = 0;
   double marker_size = 1.0;          ///< [m]
   Eigen::Vector2d gps_target{0, 0};  ///< approximate marker position [m]
+  /// Radius of the drone seen from above (rotor tips; run_scenario gives
+  /// twin::Airframe::footprint_radius(); the default is the F450's) [m].
+  double drone_radius = 0.352;
 };
 
 struct Detection {
@@ -79,7 +103,12 @@ struct MlsOptions {
   /// frame); false: the whole frame every time, as the published baseline.
   bool detection_roi = true;
   // mm-mls only
-  double obstacle_clearance = 1.5;  ///< keep this far above/away from obstacles in the depth image [m]
+  double obstacle_clearance = 1.5;  ///< outside a planned descent: climb when an obstacle comes this close [m]
+  double obstacle_height = 0.3;     ///< depth points higher than this above the ground are obstacles [m]
+  double map_cell = 0.25;           ///< obstacle grid cell edge [m]
+  double obstacle_margin = 0.2;     ///< kept between the drone's radius and mapped obstacles [m]
+  double max_landing_offset = 1.0;  ///< farthest landing point from the marker estimate [m]
+  double replan_period = 1.0;       ///< replan the descent at least this often [s]
 
   [[nodiscard]] bool validate(std::string* why) const;
 };
