@@ -1031,6 +1031,11 @@ Scenario random_scenario(std::uint64_t seed, MapKind map) {
   // random scenario gets the same one (the default, 60 s: a clear landing
   // takes about 20 s, a full spiral search about 25 s more).
   s.time_limit = Scenario{}.time_limit;
+  // Dictionaries with and without error correction at OpenCV's default
+  // rate (4X4_50 corrects no cell, 5X5_50 and 6X6_50 do), so that
+  // look-alike distractors can be read as the target.
+  static constexpr const char* kDictionaries[] = {"4X4_50", "5X5_50", "6X6_50"};
+  s.marker.dictionary = kDictionaries[d.integer(0, 2)];
   const auto* dict = pose::detail::find_aruco_dictionary(s.marker.dictionary);
   s.marker.id = d.integer(0, dict->codes - 1);
   s.marker.size = d.uniform(0.5, 1.5, 100);
