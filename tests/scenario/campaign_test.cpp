@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "scenario/clear_scenario.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::scenario {
@@ -101,12 +102,8 @@ TEST(DetectionRoi, SameLandingFewerDetectionsOfTheDistractor) {
   // periodic whole-frame passes, and lands exactly the same way (the ROI
   // gives the same target corners: no corner refinement, and the
   // thresholding is local).
-  Scenario s;
+  Scenario s = test::clear_scenario(40);
   s.seed = 11;
-  s.time_limit = 40;
-  s.marker.id = 3;
-  s.drone.position = {-8, 0, 12};
-  s.drone.gps_error = {1.0, -0.5};
   s.distractors.push_back({DistractorKind::wrong_id, 7, 1, 0.8, Eigen::Vector2d(0, 2.2), 20});
   MlsOptions roi, whole;
   whole.detection_roi = false;

@@ -7,25 +7,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "scenario/clear_scenario.hpp"
 #include "touchdown/scenario/run.hpp"
 
 namespace touchdown::scenario {
 namespace {
 
-/// As RunScenario's clear scenario: the marker at the origin, the drone
-/// 8 m west at 12 m, the GPS target 1 m off.
-Scenario mm_clear_scenario(double time_limit) {
-  Scenario s;
-  s.map = MapKind::ground;
-  s.seed = 7;
-  s.time_limit = time_limit;
-  s.marker.dictionary = "4X4_50";
-  s.marker.id = 3;
-  s.marker.size = 1.0;
-  s.drone.position = {-8, 0, 12};
-  s.drone.gps_error = {1.0, -0.5};
-  return s;
-}
+Scenario mm_clear_scenario(double time_limit) { return test::clear_scenario(time_limit); }
 
 ScenarioResult mm_run(const Scenario& s, std::string_view system, const RunOptions& options = {}) {
   auto sut = make_landing_system(system);

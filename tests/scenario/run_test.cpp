@@ -6,25 +6,13 @@
 
 #include <cstring>
 
+#include "scenario/clear_scenario.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::scenario {
 namespace {
 
-/// Clear weather, marker at the origin, the drone 8 m west at 12 m with
-/// the GPS target 1 m off.
-Scenario run_clear_scenario() {
-  Scenario s;
-  s.map = MapKind::ground;
-  s.seed = 7;
-  s.time_limit = 60;
-  s.marker.dictionary = "4X4_50";
-  s.marker.id = 3;
-  s.marker.size = 1.0;
-  s.drone.position = {-8, 0, 12};
-  s.drone.gps_error = {1.0, -0.5};
-  return s;
-}
+Scenario run_clear_scenario() { return test::clear_scenario(60); }
 
 ScenarioResult run_with(const Scenario& s, std::string_view system = "opencv-mls") {
   auto sut = make_landing_system(system);
