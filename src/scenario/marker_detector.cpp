@@ -18,7 +18,6 @@ void MarkerDetector::full(const cv::Mat& gray, std::vector<std::vector<cv::Point
   ids.clear();
   cv::aruco::detectMarkers(gray, dictionary_, corners, ids, parameters_);
   since_full_ = 0;
-  ++full_frames_;
 }
 
 void MarkerDetector::detect(const cv::Mat& gray, int target_id, std::vector<std::vector<cv::Point2f>>& corners,
@@ -43,7 +42,6 @@ void MarkerDetector::detect(const cv::Mat& gray, int target_id, std::vector<std:
   for (auto& quad : corners) {
     for (auto& c : quad) c += cv::Point2f(static_cast<float>(roi.x), static_cast<float>(roi.y));
   }
-  ++roi_frames_;
 }
 
 void MarkerDetector::track(const std::vector<cv::Point2f>* target_corners) {

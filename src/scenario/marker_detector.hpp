@@ -25,9 +25,6 @@ class MarkerDetector {
   /// Tells the detector where the target was accepted in this frame (its
   /// four corners), or that it was not (`nullptr`).
   void track(const std::vector<cv::Point2f>* target_corners);
-  /// Frames searched whole / through the ROI only, since construction.
-  [[nodiscard]] long full_frames() const { return full_frames_; }
-  [[nodiscard]] long roi_frames() const { return roi_frames_; }
 
  private:
   void full(const cv::Mat& gray, std::vector<std::vector<cv::Point2f>>& corners, std::vector<int>& ids);
@@ -39,8 +36,6 @@ class MarkerDetector {
   bool tracking_ = false;
   cv::Rect2f last_box_;
   int since_full_ = 0;
-  long full_frames_ = 0;
-  long roi_frames_ = 0;
 };
 
 }  // namespace touchdown::scenario::detail

@@ -16,7 +16,7 @@ namespace ts = touchdown::scenario;
 
 namespace {
 
-ts::Scenario forty_second_flight() {
+ts::Scenario landing_run_scenario() {
   ts::Scenario s;
   s.seed = 5;
   s.marker.id = 3;
@@ -36,7 +36,7 @@ ts::Scenario forty_second_flight() {
 
 void run(benchmark::State& bs, bool roi) {
   cv::setNumThreads(1);
-  const ts::Scenario s = forty_second_flight();
+  const ts::Scenario s = landing_run_scenario();
   ts::MlsOptions mls;
   mls.detection_roi = roi;
   auto sut = ts::make_landing_system("opencv-mls", mls);
