@@ -5,7 +5,8 @@
 //  1. ground: every pixel's ray meets the plane z = 0; 1/depth and the ray
 //     are affine in pixel coordinates, so one division per pixel gives the
 //     depth and the world point, which samples a periodic, mip-mapped
-//     procedural texture of the map (bilinear, mip level from the footprint);
+//     procedural texture of the map (bilinear, mip level from twice the
+//     pixel footprint: the pixel area and the lens blur, kPrefilterFootprints);
 //  2. markers and distractors: the same ray/plane intersection over each
 //     quadrilateral's bounding box, sampled from the marker's own mip-mapped
 //     image (so the marker stays sharp from 1 m), label kMarker/kDistractor;
@@ -120,6 +121,15 @@ constexpr double kGroundTexel = 0.025;
 constexpr int kMarkerTexelsPerCell = 32;
 constexpr double kNear = 0.05;       // near plane [m]
 constexpr double kMaxGround = 1000;  // the ground ends (sky) 1 km away along the axis
+// Texture prefilter width in pixel footprints. The sensor integrates each
+// pixel over its whole area and the lens and demosaicing blur by about
+// another pixel (a system PSF of σ ≈ 0.5–0.7 px, MTF50 near 0.3 cycles/px
+// for small-drone cameras), so detail finer than about two footprints does
+// not reach the image. Sampling the box-filtered mip level of twice the
+// footprint renders that: without it, level 0 was chosen at 10 m (1.25
+// texels per pixel) and per-texel grain reached the image at full contrast,
+// unlike a real camera (and it tripled OpenCV's contour work on grass).
+constexpr double kPrefilterFootprints = 2;
 constexpr float kGlareCut = 0.85f;   // cos of the widest angle with visible glare (0.85^40 ≈ 0.002)
 const Bgr kSkyBgr{232, 205, 172};    // light blue, seen only at strong tilt
 
@@ -1348,7 +1358,7 @@ void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
     g.w_min = static_cast<float>(1 / kMaxGround);
     g.cxw = static_cast<float>(v.c.x());
     g.cyw = static_cast<float>(v.c.y());
-    g.lod = static_cast<float>(1 / (f * kGroundTexel));
+    g.lod = static_cast<float>(kPrefilterFootprints / (f * kGroundTexel));
     g.ax = static_cast<float>(v.A.x()), g.ay = static_cast<float>(v.A.y()), g.az = static_cast<float>(v.A.z());
     g.width = W;
     const bool avx2 = has_avx2();
@@ -1394,7 +1404,7 @@ void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
     const int levels = static_cast<int>(q.mips.size());
     const int m0 = q.mips.front().cols;
     const double texel0 = q.side / m0;
-    const float lod = static_cast<float>(1 / (f * texel0));
+    const float lod = static_cast<float>(kPrefilterFootprints / (f * texel0));
     // World (X, Y) → marker image coordinates at level 0: a = ex·d/texel, b = −ey·d/texel.
     const float inv_t = static_cast<float>(1 / texel0);
     const float ecx = static_cast<float>(q.cos_yaw), esy = static_cast<float>(q.sin_yaw);
