@@ -754,6 +754,14 @@ TD_AVX2 __m256i swz8(__m256i u, __m256i v, __m256i tiles) {
   r = _mm256_or_si256(r, _mm256_slli_epi32(_mm256_and_si256(v, c3), 2));
   return _mm256_or_si256(r, _mm256_and_si256(u, c3));
 }
+// Eight 32-bit loads at `idx`. Plain loads, not vpgatherdd: the hardware
+// gather is microcoded on AMD Zen and was the ground pass's bottleneck.
+TD_AVX2 __m256i gather8(const int* base, __m256i idx) {
+  alignas(32) std::int32_t i[8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(i), idx);
+  return _mm256_setr_epi32(base[i[0]], base[i[1]], base[i[2]], base[i[3]], base[i[4]], base[i[5]], base[i[6]],
+                           base[i[7]]);
+}
 // lerp_bgra on 8 texels: t16/s16 hold the weight in both 16-bit halves.
 TD_AVX2 __m256i lerp8(__m256i a, __m256i b, __m256i t16, __m256i s16) {
   const __m256i lo_mask = _mm256_set1_epi32(0x00FF00FF), hi_mask = _mm256_set1_epi32(static_cast<int>(0xFF00FF00u));
@@ -813,10 +821,10 @@ __attribute__((target("avx2"))) int ground_row_avx2(const GroundRow& g, std::uin
     const __m256i v0 = _mm256_and_si256(vi, msk), v1 = _mm256_and_si256(_mm256_add_epi32(vi, c1), msk);
     const __m256i base = _mm256_permutevar8x32_epi32(offsets, k);
     const int* tex = reinterpret_cast<const int*>(g.texels);
-    const __m256i t00 = _mm256_i32gather_epi32(tex, _mm256_add_epi32(base, swz8(u0, v0, tiles)), 4);
-    const __m256i t01 = _mm256_i32gather_epi32(tex, _mm256_add_epi32(base, swz8(u1, v0, tiles)), 4);
-    const __m256i t10 = _mm256_i32gather_epi32(tex, _mm256_add_epi32(base, swz8(u0, v1, tiles)), 4);
-    const __m256i t11 = _mm256_i32gather_epi32(tex, _mm256_add_epi32(base, swz8(u1, v1, tiles)), 4);
+    const __m256i t00 = gather8(tex, _mm256_add_epi32(base, swz8(u0, v0, tiles)));
+    const __m256i t01 = gather8(tex, _mm256_add_epi32(base, swz8(u1, v0, tiles)));
+    const __m256i t10 = gather8(tex, _mm256_add_epi32(base, swz8(u0, v1, tiles)));
+    const __m256i t11 = gather8(tex, _mm256_add_epi32(base, swz8(u1, v1, tiles)));
     const __m256i tu16 = dup16(tu), su16 = dup16(_mm256_sub_epi32(c256, tu));
     const __m256i tv16 = dup16(tv), sv16 = dup16(_mm256_sub_epi32(c256, tv));
     __m256i c = lerp8(lerp8(t00, t01, tu16, su16), lerp8(t10, t11, tu16, su16), tv16, sv16);
@@ -1493,13 +1501,35 @@ void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
     const float ax = static_cast<float>(v.A.x()), ay = static_cast<float>(v.A.y()), az = static_cast<float>(v.A.z());
     const float c2_min = glare_c2_min, c2_lo = kGlareCut * kGlareCut, scale = glare_scale;
     const float* table = glare_add.data();
+    // m = the sun mirrored about the ground normal: a pixel can glare only
+    // where (r·m)² ≥ c2_min·|r|² with r·m > 0, r = r0 + A·x along a row; a
+    // quadratic in x, so each row is scanned only between its roots (widened
+    // by two pixels: the per-pixel test below still decides every pixel).
+    const Eigen::Vector3d mdir(sun.x(), sun.y(), -sun.z());
+    const double am = v.A.dot(mdir), aa = v.A.squaredNorm();
     for (int y = 0; y < H; ++y) {
       const Eigen::Vector3d r0 = v.B * y + v.C;
+      int xa = 0, xb = W;
+      {
+        // c slightly relaxed: float rounding in the per-pixel test cannot
+        // pass a pixel outside the interval.
+        const double bm = r0.dot(mdir), c = c2_min * (1 - 1e-5);
+        const double qa = am * am - c * aa, qb = 2 * (am * bm - c * v.A.dot(r0)), qc = bm * bm - c * r0.squaredNorm();
+        if (qa < 0) {  // the cone meets the row in one interval (or not at all)
+          const double disc = qb * qb - 4 * qa * qc;
+          if (disc < 0) continue;
+          const double sq = std::sqrt(disc), x1 = (-qb + sq) / (2 * qa), x2 = (-qb - sq) / (2 * qa);
+          const double lo = std::min(x1, x2) - 2, hi = std::max(x1, x2) + 2;
+          if (hi < 0 || lo > W) continue;
+          xa = static_cast<int>(std::max(0.0, std::floor(lo)));
+          xb = static_cast<int>(std::min(static_cast<double>(W), std::ceil(hi) + 1));
+        }
+      }
       const float rx0 = static_cast<float>(r0.x()), ry0 = static_cast<float>(r0.y()), rz0 = static_cast<float>(r0.z());
       std::uint8_t* px = img.ptr<std::uint8_t>(y);
       const std::uint8_t* mk = mask + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
       const std::uint8_t* sm = shadows_on ? shadow_mask.ptr<std::uint8_t>(y) : nullptr;
-      for (int x = 0; x < W; ++x) {
+      for (int x = xa; x < xb; ++x) {
         const float fx_ = static_cast<float>(x);
         const float rx = rx0 + ax * fx_, ry = ry0 + ay * fx_, rz = rz0 + az * fx_;
         // Mirror of the (downward) ray about the ground normal, dotted with the sun.
