@@ -745,14 +745,20 @@ bool has_avx2() {
 }
 
 #define TD_AVX2 __attribute__((target("avx2"), always_inline)) inline
-TD_AVX2 __m256i swz8(__m256i u, __m256i v, __m256i tiles) {
+// swizzle() split into the bits from u and the bits from v (they do not
+// overlap, so OR or add them; the level's offset, a multiple of the level's
+// size, adds without carrying into either).
+TD_AVX2 __m256i swz8_u(__m256i u) {
   const __m256i c3 = _mm256_set1_epi32(3), c7 = _mm256_set1_epi32(7);
-  const __m256i tile = _mm256_or_si256(_mm256_sllv_epi32(_mm256_srli_epi32(v, 5), tiles), _mm256_srli_epi32(u, 5));
-  __m256i r = _mm256_slli_epi32(tile, 10);
-  r = _mm256_or_si256(r, _mm256_slli_epi32(_mm256_and_si256(_mm256_srli_epi32(v, 2), c7), 7));
+  __m256i r = _mm256_slli_epi32(_mm256_srli_epi32(u, 5), 10);
   r = _mm256_or_si256(r, _mm256_slli_epi32(_mm256_and_si256(_mm256_srli_epi32(u, 2), c7), 4));
-  r = _mm256_or_si256(r, _mm256_slli_epi32(_mm256_and_si256(v, c3), 2));
   return _mm256_or_si256(r, _mm256_and_si256(u, c3));
+}
+TD_AVX2 __m256i swz8_v(__m256i v, __m256i tiles) {
+  const __m256i c3 = _mm256_set1_epi32(3), c7 = _mm256_set1_epi32(7);
+  __m256i r = _mm256_slli_epi32(_mm256_sllv_epi32(_mm256_srli_epi32(v, 5), tiles), 10);
+  r = _mm256_or_si256(r, _mm256_slli_epi32(_mm256_and_si256(_mm256_srli_epi32(v, 2), c7), 7));
+  return _mm256_or_si256(r, _mm256_slli_epi32(_mm256_and_si256(v, c3), 2));
 }
 // Eight 32-bit loads at `idx`. Plain loads, not vpgatherdd: the hardware
 // gather is microcoded on AMD Zen and was the ground pass's bottleneck.
@@ -821,10 +827,13 @@ __attribute__((target("avx2"))) int ground_row_avx2(const GroundRow& g, std::uin
     const __m256i v0 = _mm256_and_si256(vi, msk), v1 = _mm256_and_si256(_mm256_add_epi32(vi, c1), msk);
     const __m256i base = _mm256_permutevar8x32_epi32(offsets, k);
     const int* tex = reinterpret_cast<const int*>(g.texels);
-    const __m256i t00 = gather8(tex, _mm256_add_epi32(base, swz8(u0, v0, tiles)));
-    const __m256i t01 = gather8(tex, _mm256_add_epi32(base, swz8(u1, v0, tiles)));
-    const __m256i t10 = gather8(tex, _mm256_add_epi32(base, swz8(u0, v1, tiles)));
-    const __m256i t11 = gather8(tex, _mm256_add_epi32(base, swz8(u1, v1, tiles)));
+    // swizzle(u, v) = its u bits | its v bits: two of each for the four texels.
+    const __m256i su0 = swz8_u(u0), su1 = swz8_u(u1);
+    const __m256i sv0 = _mm256_add_epi32(base, swz8_v(v0, tiles)), sv1 = _mm256_add_epi32(base, swz8_v(v1, tiles));
+    const __m256i t00 = gather8(tex, _mm256_or_si256(sv0, su0));
+    const __m256i t01 = gather8(tex, _mm256_or_si256(sv0, su1));
+    const __m256i t10 = gather8(tex, _mm256_or_si256(sv1, su0));
+    const __m256i t11 = gather8(tex, _mm256_or_si256(sv1, su1));
     const __m256i tu16 = dup16(tu), su16 = dup16(_mm256_sub_epi32(c256, tu));
     const __m256i tv16 = dup16(tv), sv16 = dup16(_mm256_sub_epi32(c256, tv));
     __m256i c = lerp8(lerp8(t00, t01, tu16, su16), lerp8(t10, t11, tu16, su16), tv16, sv16);
@@ -1409,10 +1418,15 @@ void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
     const int by0 = std::max(0, static_cast<int>(std::ceil(y0))),
               by1 = std::min(H - 1, static_cast<int>(std::floor(y1)));
     if (q.label == kMarker) marker_box = cv::Rect(bx0, by0, std::max(0, bx1 - bx0 + 1), std::max(0, by1 - by0 + 1));
-    const int levels = static_cast<int>(q.mips.size());
+    const int levels = std::min(static_cast<int>(q.mips.size()), 16);
     const int m0 = q.mips.front().cols;
     const double texel0 = q.side / m0;
     const float lod = static_cast<float>(kPrefilterFootprints / (f * texel0));
+    std::array<float, 16> level_scale{};  // level k's size over level 0's (levels ≤ 16: 2^16 texels)
+    for (int k = 0; k < levels; ++k) {
+      level_scale[static_cast<std::size_t>(k)] =
+          static_cast<float>(q.mips[static_cast<std::size_t>(k)].cols) / static_cast<float>(m0);
+    }
     // World (X, Y) → marker image coordinates at level 0: a = ex·d/texel, b = −ey·d/texel.
     const float inv_t = static_cast<float>(1 / texel0);
     const float ecx = static_cast<float>(q.cos_yaw), esy = static_cast<float>(q.sin_yaw);
@@ -1435,7 +1449,7 @@ void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
         if (!(a >= 0 && a < static_cast<float>(m0) && b >= 0 && b < static_cast<float>(m0))) continue;
         const int k = mip_level(s * lod, levels);
         const cv::Mat& mip = q.mips[static_cast<std::size_t>(k)];
-        const float scale = static_cast<float>(mip.cols) / static_cast<float>(m0);
+        const float scale = level_scale[static_cast<std::size_t>(k)];
         const float u = std::clamp(a * scale - 0.5f, 0.0f, static_cast<float>(mip.cols - 1));
         const float vv = std::clamp(b * scale - 0.5f, 0.0f, static_cast<float>(mip.rows - 1));
         const int ui = static_cast<int>(u), vi = static_cast<int>(vv);
