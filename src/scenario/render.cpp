@@ -35,6 +35,7 @@
 #include <memory>
 #include <mutex>
 #include <numbers>
+#include <optional>
 #include <opencv2/aruco.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
@@ -372,6 +373,82 @@ cv::Mat lawn_texture(cv::RNG& rng) {
   return out;
 }
 
+/// Leaf litter as leaves: one leaf per cell of kLeafCell texels (10 cm),
+/// centred at a jittered point, with its own orientation and elongation; a
+/// texel belongs to the leaf nearest under that leaf's elliptical metric
+/// (an anisotropic Voronoi diagram, so leaves are irregular, elongated and
+/// tile the litter), and texels almost equidistant from two leaves are the
+/// gaps between them. Colours follow patches (leaves under one tree share
+/// their colour) with a per-leaf variation, darker towards the leaf's edge.
+constexpr int kLeafCell = 4;
+constexpr int kLeafCells = kGroundTexels / kLeafCell;  // per period
+struct LeafCell {
+  float x = 0, y = 0;        // centre [texels], inside the cell
+  float c = 1, s = 0;        // orientation
+  float inv_a = 1, inv_b = 1;  // 1 / semi-axes [1/texels]
+  float jitter = 0;          // per-leaf colour offset
+  float bright = 1;
+};
+
+std::vector<LeafCell> leaf_cells(cv::RNG& rng) {
+  std::vector<LeafCell> cells(static_cast<std::size_t>(kLeafCells) * kLeafCells);
+  for (int j = 0; j < kLeafCells; ++j) {
+    for (int i = 0; i < kLeafCells; ++i) {
+      LeafCell& c = cells[static_cast<std::size_t>(j) * kLeafCells + static_cast<std::size_t>(i)];
+      c.x = static_cast<float>(kLeafCell * (i + rng.uniform(0.15, 0.85)));
+      c.y = static_cast<float>(kLeafCell * (j + rng.uniform(0.15, 0.85)));
+      const double angle = rng.uniform(0.0, kPi);
+      c.c = static_cast<float>(std::cos(angle)), c.s = static_cast<float>(std::sin(angle));
+      const double length = rng.uniform(1.6, 2.4) * kLeafCell;  // 6–10 cm long, 2–2.5:1
+      c.inv_a = static_cast<float>(2 / length);
+      c.inv_b = static_cast<float>(2 / (length / rng.uniform(2.0, 2.5)));
+      c.jitter = static_cast<float>(rng.uniform(-0.7, 0.7));
+      c.bright = static_cast<float>(rng.uniform(0.85, 1.1));
+    }
+  }
+  return cells;
+}
+
+/// The four leaves that may own a texel: those of the 2×2 cells nearest to
+/// it (its own cell and the neighbours on its side), centres unwrapped next
+/// to it. Leaves further away rarely reach past a neighbour's centre.
+struct LeafNeighbours {
+  std::array<LeafCell, 4> c;
+  LeafNeighbours(const std::vector<LeafCell>& cells, int cx0, int cy0) {  // cells cx0..cx0+1, cy0..cy0+1
+    std::size_t k = 0;
+    for (int j = cy0; j <= cy0 + 1; ++j) {
+      const int jw = (j + kLeafCells) % kLeafCells;
+      for (int i = cx0; i <= cx0 + 1; ++i) {
+        const int iw = (i + kLeafCells) % kLeafCells;
+        c[k] = cells[static_cast<std::size_t>(jw) * kLeafCells + static_cast<std::size_t>(iw)];
+        c[k].x += static_cast<float>((i - iw) * kLeafCell);
+        c[k].y += static_cast<float>((j - jw) * kLeafCell);
+        ++k;
+      }
+    }
+  }
+  /// The first cell of the 2×2 block nearest to texel (x, y).
+  static int block(int x) { return (x + kLeafCell / 2) / kLeafCell - 1; }
+  /// The owner of texel (x, y), how deep inside it the texel is (0 at the gap
+  /// to the next leaf) and how far from its centre (1 at the ellipse).
+  const LeafCell& at(int x, int y, float& inside, float& radial) const {
+    const float px = static_cast<float>(x) + 0.5f, py = static_cast<float>(y) + 0.5f;
+    std::array<float, 4> d{};
+    for (std::size_t k = 0; k < c.size(); ++k) {
+      const float dx = px - c[k].x, dy = py - c[k].y;
+      const float u = (c[k].c * dx + c[k].s * dy) * c[k].inv_a, v = (c[k].c * dy - c[k].s * dx) * c[k].inv_b;
+      d[k] = u * u + v * v;
+    }
+    std::size_t best = 0;
+    for (std::size_t k = 1; k < d.size(); ++k) best = d[k] < d[best] ? k : best;
+    float d2 = std::numeric_limits<float>::max();
+    for (std::size_t k = 0; k < d.size(); ++k) d2 = k != best ? std::min(d2, d[k]) : d2;
+    inside = std::sqrt(d2) - std::sqrt(d[best]);
+    radial = std::sqrt(d[best]);
+    return c[best];
+  }
+};
+
 /// Snow cover and leaf litter of the ground (BGRA, alpha = cover), periodic.
 cv::Mat cover_layer(const Weather& w, cv::RNG& rng) {
   const int n = kGroundTexels;
@@ -379,24 +456,41 @@ cv::Mat cover_layer(const Weather& w, cv::RNG& rng) {
   cv::Mat cover(n, n, CV_8UC4, cv::Scalar(0, 0, 0, 0));
   const cv::Mat snow_a = coverage(fbm(rng, {{8, 0.5f}, {32, 0.3f}, {128, 0.2f}}), w.ground_snow);
   const cv::Mat leaf_a = coverage(fbm(rng, {{16, 0.5f}, {64, 0.3f}, {256, 0.2f}}), w.ground_leaves);
-  // Single leaves of ~5 cm: the palette is chosen per 2×2 texels.
-  const cv::Mat leaf_pick = periodic_noise(1024, 1024, rng);
+  // Patches of leaf colour, metres across.
+  const cv::Mat leaf_tone = fbm(rng, {{8, 0.6f}, {32, 0.4f}});
+  const std::vector<LeafCell> leaves = w.ground_leaves > 0 ? leaf_cells(rng) : std::vector<LeafCell>{};
   const auto grain_seed = static_cast<std::uint32_t>(rng.next());
-  const std::array<cv::Vec3f, 4> palette{cv::Vec3f(30, 95, 200), cv::Vec3f(40, 175, 215), cv::Vec3f(35, 65, 115),
-                                         cv::Vec3f(35, 45, 165)};
+  // Dry-leaf colours by luminance (dark brown, red, orange-brown, yellow):
+  // neighbouring patches blend through similar ones.
+  const std::array<cv::Vec3f, 4> palette{cv::Vec3f(35, 65, 115), cv::Vec3f(35, 45, 165), cv::Vec3f(30, 95, 200),
+                                         cv::Vec3f(40, 175, 215)};
   const cv::Vec3f snow(238, 238, 234);
+  std::optional<LeafNeighbours> near;  // of the cell of the texel in hand
+  int near_cx = -2, near_cy = -2;
   for (int y = 0; y < n; ++y) {
-    const float* lp = leaf_pick.ptr<float>(y / 2);
     cv::Vec4b* o = cover.ptr<cv::Vec4b>(y);
     for (int x = 0; x < n; ++x) {
-      const float pick = lp[x / 2];
-      const float a_l = field_at(leaf_a, x, y) * (pick > -0.85f ? 1.0f : 0.3f);  // gaps between leaves
+      float a_l = field_at(leaf_a, x, y);
       const float a_s = field_at(snow_a, x, y);
+      if (a_l <= 0 && a_s <= 0) continue;
+      const float g = grain_at(grain_seed, x, y);
+      cv::Vec3f leaf(0, 0, 0);
+      if (a_l > 0) {
+        if (LeafNeighbours::block(x) != near_cx || LeafNeighbours::block(y) != near_cy) {
+          near_cx = LeafNeighbours::block(x), near_cy = LeafNeighbours::block(y);
+          near.emplace(leaves, near_cx, near_cy);
+        }
+        float inside = 0, radial = 0;
+        const LeafCell& c = near->at(x, y, inside, radial);
+        if (inside < 0.12f) a_l *= 0.3f;  // the gap between two leaves
+        const float tone = std::clamp(1.5f + 1.6f * field_at(leaf_tone, x, y) + c.jitter, 0.0f, 3.0f);
+        const auto i0 = static_cast<std::size_t>(std::min(2.0f, std::floor(tone)));
+        const float t = tone - static_cast<float>(i0);
+        const float shade = c.bright * (1.0f - 0.2f * std::min(1.0f, radial)) * (1.0f + 0.05f * g);
+        leaf = (palette[i0] * (1 - t) + palette[i0 + 1] * t) * shade;
+      }
       const float alpha = 1 - (1 - a_s) * (1 - a_l);
       if (alpha <= 0) continue;
-      const float g = grain_at(grain_seed, x, y);
-      const auto idx = static_cast<std::size_t>(std::clamp(static_cast<int>((pick + 1) * 2), 0, 3));
-      const cv::Vec3f leaf = palette[idx] * (1.0f + 0.12f * g);
       const cv::Vec3f c = (snow * (1.0f + 0.02f * g) * (a_s * (1 - a_l)) + leaf * a_l) / alpha;
       o[x] = cv::Vec4b(sat8(c[0]), sat8(c[1]), sat8(c[2]), sat8(255.0 * alpha));
     }
