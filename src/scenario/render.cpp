@@ -35,10 +35,10 @@
 #include <memory>
 #include <mutex>
 #include <numbers>
-#include <optional>
 #include <opencv2/aruco.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <string>
 
 #include "pose/aruco_dictionary.hpp"
@@ -131,8 +131,8 @@ constexpr double kMaxGround = 1000;  // the ground ends (sky) 1 km away along th
 // texels per pixel) and per-texel grain reached the image at full contrast,
 // unlike a real camera (and it tripled OpenCV's contour work on grass).
 constexpr double kPrefilterFootprints = 2;
-constexpr float kGlareCut = 0.85f;   // cos of the widest angle with visible glare (0.85^40 ≈ 0.002)
-const Bgr kSkyBgr{232, 205, 172};    // light blue, seen only at strong tilt
+constexpr float kGlareCut = 0.85f;  // cos of the widest angle with visible glare (0.85^40 ≈ 0.002)
+const Bgr kSkyBgr{232, 205, 172};   // light blue, seen only at strong tilt
 
 std::uint8_t sat8(double v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0, 255.0) + 0.5); }
 std::uint8_t sat8i(int v) { return static_cast<std::uint8_t>(std::clamp(v, 0, 255)); }
@@ -383,10 +383,10 @@ cv::Mat lawn_texture(cv::RNG& rng) {
 constexpr int kLeafCell = 4;
 constexpr int kLeafCells = kGroundTexels / kLeafCell;  // per period
 struct LeafCell {
-  float x = 0, y = 0;        // centre [texels], inside the cell
-  float c = 1, s = 0;        // orientation
+  float x = 0, y = 0;          // centre [texels], inside the cell
+  float c = 1, s = 0;          // orientation
   float inv_a = 1, inv_b = 1;  // 1 / semi-axes [1/texels]
-  float jitter = 0;          // per-leaf colour offset
+  float jitter = 0;            // per-leaf colour offset
   float bright = 1;
 };
 
