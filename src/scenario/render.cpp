@@ -399,7 +399,9 @@ std::vector<LeafCell> leaf_cells(cv::RNG& rng) {
       c.y = static_cast<float>(kLeafCell * (j + rng.uniform(0.15, 0.85)));
       const double angle = rng.uniform(0.0, kPi);
       c.c = static_cast<float>(std::cos(angle)), c.s = static_cast<float>(std::sin(angle));
-      const double length = rng.uniform(1.6, 2.4) * kLeafCell;  // 6–10 cm long, 2–2.5:1
+      // The ellipse gives the leaf its shape (2–2.5:1) and its pull against
+      // its neighbours; the 10 cm cell spacing gives its size.
+      const double length = rng.uniform(1.6, 2.4) * kLeafCell;
       c.inv_a = static_cast<float>(2 / length);
       c.inv_b = static_cast<float>(2 / (length / rng.uniform(2.0, 2.5)));
       c.jitter = static_cast<float>(rng.uniform(-0.7, 0.7));
@@ -465,7 +467,7 @@ cv::Mat cover_layer(const Weather& w, cv::RNG& rng) {
   const std::array<cv::Vec3f, 4> palette{cv::Vec3f(35, 65, 115), cv::Vec3f(35, 45, 165), cv::Vec3f(30, 95, 200),
                                          cv::Vec3f(40, 175, 215)};
   const cv::Vec3f snow(238, 238, 234);
-  std::optional<LeafNeighbours> near;  // of the cell of the texel in hand
+  std::optional<LeafNeighbours> near;  // the four leaves around the texel in hand
   int near_cx = -2, near_cy = -2;
   for (int y = 0; y < n; ++y) {
     cv::Vec4b* o = cover.ptr<cv::Vec4b>(y);
