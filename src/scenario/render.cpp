@@ -726,6 +726,7 @@ struct Quad {
   double side = 1;                         // with the margin [m]
   std::array<Eigen::Vector3d, 4> corners;  // world, with margin: TL, TR, BR, BL of the image
   std::vector<cv::Mat> mips;               // BGRA
+  std::vector<float> level_scale;          // mips[k].cols / mips[0].cols
 };
 
 /// The marker image as printed and lying on the ground: paper white, ink
@@ -780,6 +781,9 @@ Quad make_quad(const cv::Mat& cells, Label label, const Eigen::Vector2d& centre,
     }
   }
   q.mips = mip_chain(img, 8);
+  for (const cv::Mat& level : q.mips) {
+    q.level_scale.push_back(static_cast<float>(level.cols) / static_cast<float>(q.mips.front().cols));
+  }
   return q;
 }
 
@@ -1514,15 +1518,10 @@ void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
     const int by0 = std::max(0, static_cast<int>(std::ceil(y0))),
               by1 = std::min(H - 1, static_cast<int>(std::floor(y1)));
     if (q.label == kMarker) marker_box = cv::Rect(bx0, by0, std::max(0, bx1 - bx0 + 1), std::max(0, by1 - by0 + 1));
-    const int levels = std::min(static_cast<int>(q.mips.size()), 16);
+    const int levels = static_cast<int>(q.mips.size());
     const int m0 = q.mips.front().cols;
     const double texel0 = q.side / m0;
     const float lod = static_cast<float>(kPrefilterFootprints / (f * texel0));
-    std::array<float, 16> level_scale{};  // level k's size over level 0's (levels ≤ 16: 2^16 texels)
-    for (int k = 0; k < levels; ++k) {
-      level_scale[static_cast<std::size_t>(k)] =
-          static_cast<float>(q.mips[static_cast<std::size_t>(k)].cols) / static_cast<float>(m0);
-    }
     // World (X, Y) → marker image coordinates at level 0: a = ex·d/texel, b = −ey·d/texel.
     const float inv_t = static_cast<float>(1 / texel0);
     const float ecx = static_cast<float>(q.cos_yaw), esy = static_cast<float>(q.sin_yaw);
@@ -1545,7 +1544,7 @@ void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
         if (!(a >= 0 && a < static_cast<float>(m0) && b >= 0 && b < static_cast<float>(m0))) continue;
         const int k = mip_level(s * lod, levels);
         const cv::Mat& mip = q.mips[static_cast<std::size_t>(k)];
-        const float scale = level_scale[static_cast<std::size_t>(k)];
+        const float scale = q.level_scale[static_cast<std::size_t>(k)];
         const float u = std::clamp(a * scale - 0.5f, 0.0f, static_cast<float>(mip.cols - 1));
         const float vv = std::clamp(b * scale - 0.5f, 0.0f, static_cast<float>(mip.rows - 1));
         const int ui = static_cast<int>(u), vi = static_cast<int>(vv);

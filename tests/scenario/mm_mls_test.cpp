@@ -13,8 +13,6 @@
 namespace touchdown::scenario {
 namespace {
 
-Scenario mm_clear_scenario(double time_limit) { return test::clear_scenario(time_limit); }
-
 ScenarioResult mm_run(const Scenario& s, std::string_view system, const RunOptions& options = {}) {
   auto sut = make_landing_system(system);
   return run_scenario(s, *sut, options);
@@ -51,7 +49,7 @@ TEST(MmMls, LandsBesideThePoleThatOpencvMlsHits) {
   // 0.28 m from the marker centre, which opencv-mls hits on its way down.
   // There is room to land beside it: mm-mls maps the pole, lands at least
   // its radius plus the margin from the pole's cell, within 1.5 m.
-  Scenario s = mm_clear_scenario(45);
+  Scenario s = test::clear_scenario(45);
   StaticObject pole;
   pole.kind = StaticKind::pole;
   pole.position = {0.2, 0.2};
@@ -74,7 +72,7 @@ TEST(MmMls, KeepsItsMarginFromABoxBesideTheMarker) {
   // part of the marker's white margin, not its code): opencv-mls lands on
   // the marker with its rotor tips 0.2 m from the box; mm-mls keeps its
   // radius plus margin from every mapped cell.
-  Scenario s = mm_clear_scenario(35);
+  Scenario s = test::clear_scenario(35);
   s.static_objects = {mm_box({1.0, 0.0}, {1, 1, 1})};
   const ScenarioResult r = mm_run(s, "mm-mls");
   EXPECT_FALSE(r.collided) << r.message;
@@ -91,7 +89,7 @@ TEST(MmMls, DoesNotLandOnABoxStandingOnTheMarker) {
   // box; mm-mls lands beside it; told it may not move its landing point
   // more than 0.3 m from the marker, it refuses (Type II) instead of
   // landing on the box.
-  Scenario s = mm_clear_scenario(35);
+  Scenario s = test::clear_scenario(35);
   s.marker.size = 2.0;
   s.static_objects = {mm_box({0, 0}, {0.2, 0.2, 0.5})};
   const StaticObject& box = s.static_objects[0];
@@ -142,7 +140,7 @@ TEST(MmMls, TiltedCameraLandsWithBothSystems) {
   // The camera pitched 30° forward (70° field of view, 16:9): the systems
   // hold the drone behind the marker so that it stays in view through the
   // 5 s gate and the descent; centring over it would lose it (Type II).
-  Scenario s = mm_clear_scenario(25);
+  Scenario s = test::clear_scenario(25);
   RunOptions o;
   o.camera.tilt_deg = 30;
   o.camera.hfov_deg = 70;

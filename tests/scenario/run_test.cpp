@@ -12,15 +12,13 @@
 namespace touchdown::scenario {
 namespace {
 
-Scenario run_clear_scenario() { return test::clear_scenario(60); }
-
 ScenarioResult run_with(const Scenario& s, std::string_view system = "opencv-mls") {
   auto sut = make_landing_system(system);
   return run_scenario(s, *sut);
 }
 
 TEST(RunScenario, ClearWeatherLandsOnTheMarker) {
-  const ScenarioResult r = run_with(run_clear_scenario());
+  const ScenarioResult r = run_with(test::clear_scenario());
   EXPECT_FALSE(r.violation) << r.message;
   EXPECT_EQ(r.type, Violation::none);
   EXPECT_TRUE(r.landed);
@@ -46,7 +44,7 @@ TEST(RunScenario, LookalikeMarkerLeadsToATypeILanding) {
   // drone's approach, 12 m short of the marker: at 12 m altitude the
   // camera sees ±9 m along its flight, so the real marker stays out of view
   // while the system locks on to the look-alike.
-  Scenario s = run_clear_scenario();
+  Scenario s = test::clear_scenario();
   s.marker.dictionary = "5X5_50";
   Distractor fake;
   fake.kind = DistractorKind::lookalike;
@@ -64,7 +62,7 @@ TEST(RunScenario, LookalikeMarkerLeadsToATypeILanding) {
 }
 
 TEST(RunScenario, DenseFogIsATypeIIViolation) {
-  Scenario s = run_clear_scenario();
+  Scenario s = test::clear_scenario();
   s.weather.fog = 0.4;
   s.time_limit = 20;
   const ScenarioResult r = run_with(s);
@@ -77,7 +75,7 @@ TEST(RunScenario, DenseFogIsATypeIIViolation) {
 }
 
 TEST(RunScenario, PoleOnTheDescentPathIsATypeIIICollision) {
-  Scenario s = run_clear_scenario();
+  Scenario s = test::clear_scenario();
   StaticObject pole;
   pole.kind = StaticKind::pole;
   // A thin pole (5 cm) standing on the marker, on the diagonal 0.28 m from
@@ -98,7 +96,7 @@ TEST(RunScenario, PoleOnTheDescentPathIsATypeIIICollision) {
 }
 
 TEST(RunScenario, ReplayIsBitIdentical) {
-  Scenario s = run_clear_scenario();
+  Scenario s = test::clear_scenario();
   DynamicObject dog;
   dog.kind = DynamicKind::dog;
   dog.size = {0.8, 0.3, 0.6};
@@ -129,7 +127,7 @@ TEST(RunScenario, RejectsInvalidOptionsAndUnknownSystems) {
   RunOptions o;
   o.violation_radius = -1;
   auto sut = make_landing_system("opencv-mls");
-  EXPECT_THROW(run_scenario(run_clear_scenario(), *sut, o), InvalidArgument);
+  EXPECT_THROW(run_scenario(test::clear_scenario(), *sut, o), InvalidArgument);
   EXPECT_THROW(make_landing_system("px4-precland"), InvalidArgument);
   MlsOptions m;
   m.seen_time = -1;
