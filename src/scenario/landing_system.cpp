@@ -400,6 +400,11 @@ class MarkerLandingSystem final : public LandingSystem {
     const Eigen::Isometry3d T_world_camera = s.T_world_body() * T_body_camera_;
     int best = -1;
     std::size_t best_index = 0;
+    // mm-mls follows the marker it tracks: while the track is alive, a
+    // detection of the target id whose ground point is more than the gate
+    // from the estimate is another marker (a look-alike the decoder's error
+    // correction reads as the target) and is not a sighting.
+    const bool gated = avoid_ && have_estimate_ && s.t - last_seen_ <= options_.lost_timeout;
     for (std::size_t i = 0; i < ids_.size(); ++i) {
       Detection d;
       d.id = ids_[i];
@@ -414,8 +419,13 @@ class MarkerLandingSystem final : public LandingSystem {
       const Eigen::Vector2d centre = 0.25 * (d.corners[0] + d.corners[1] + d.corners[2] + d.corners[3]);
       const bool on_ground = ground_point(T_world_camera, K_inv_, centre, &d.ground);
       d.accepted = d.id == setup_.marker_id && d.quality >= options_.min_quality_px && on_ground;
-      // Several accepted: the baseline follows the largest.
-      if (d.accepted && (best < 0 || d.quality > out.detections[static_cast<std::size_t>(best)].quality)) {
+      if (gated && d.accepted) d.accepted = (d.ground - estimate_).norm() <= options_.track_gate;
+      // Several accepted: the baseline follows the largest; mm-mls the one
+      // nearest its estimate while tracking.
+      const auto better = [&](const Detection& o) {
+        return gated ? (d.ground - estimate_).norm() < (o.ground - estimate_).norm() : d.quality > o.quality;
+      };
+      if (d.accepted && (best < 0 || better(out.detections[static_cast<std::size_t>(best)]))) {
         best = static_cast<int>(out.detections.size());
         best_index = i;
       }
@@ -675,6 +685,7 @@ bool MlsOptions::validate(std::string* why) const {
   if (!in_range(obstacle_margin, 0, 5)) return invalid(why, "obstacle_margin: must be in [0, 5] m");
   if (!in_range(max_landing_offset, 0, 10)) return invalid(why, "max_landing_offset: must be in [0, 10] m");
   if (!in_range(replan_period, 0.1, 60)) return invalid(why, "replan_period: must be in [0.1, 60] s");
+  if (!in_range(track_gate, 0.1, 100)) return invalid(why, "track_gate: must be in [0.1, 100] m");
   return true;
 }
 

@@ -160,5 +160,41 @@ TEST(MmMls, TiltedCameraLandsWithBothSystems) {
   }
 }
 
+TEST(MmMls, FollowsTheMarkerItTracksNotADecodableLookAlike) {
+  // A 6X6_50 marker and, 2.8 m east, a larger look-alike with two code
+  // cells inverted, which OpenCV's error correction reads as the target id
+  // (after Ground seed 60 of the random campaigns). Coming from the west,
+  // both systems see the marker first. opencv-mls follows the largest
+  // detection of the moment and lands on the look-alike (Type I); mm-mls
+  // follows the detection nearest the marker it tracks and lands on it.
+  Scenario s = test::clear_scenario(30);
+  s.marker.dictionary = "6X6_50";
+  s.marker.id = 40;
+  s.marker.size = 0.95;
+  s.marker.yaw_deg = 40.8;
+  Distractor look;
+  look.kind = DistractorKind::lookalike;
+  look.flipped_bits = 2;
+  look.size = 1.2;
+  look.position = {2.84, 0.04};
+  look.yaw_deg = 64.6;
+  s.distractors = {look};
+
+  const ScenarioResult base = mm_run(s, "opencv-mls");
+  EXPECT_TRUE(base.false_detection) << "the look-alike must read as the target: " << base.message;
+  EXPECT_EQ(base.type, Violation::type_i) << base.message;
+
+  const ScenarioResult r = mm_run(s, "mm-mls");
+  EXPECT_EQ(r.type, Violation::none) << r.message;
+  EXPECT_TRUE(r.landed);
+  EXPECT_LE(r.dtl, 0.3) << r.message;
+  // Once tracking, the look-alike is never taken for the target.
+  int false_after_descent = 0;
+  for (const FrameRecord& f : r.frames)
+    if (f.t >= r.descent_time) false_after_descent += f.false_accepted;
+  EXPECT_EQ(false_after_descent, 0);
+  EXPECT_TRUE(mm_phase_never(r, "replan-hold")) << "its landing point swung between the markers";
+}
+
 }  // namespace
 }  // namespace touchdown::scenario

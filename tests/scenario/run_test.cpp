@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <limits>
+#include <string>
 
 #include "scenario/clear_scenario.hpp"
 #include "touchdown/core/error.hpp"
@@ -132,6 +134,14 @@ TEST(RunScenario, RejectsInvalidOptionsAndUnknownSystems) {
   MlsOptions m;
   m.seen_time = -1;
   EXPECT_THROW(make_landing_system("mm-mls", m), InvalidArgument);
+  MlsOptions g;
+  g.track_gate = std::numeric_limits<double>::quiet_NaN();
+  try {
+    (void)make_landing_system("mm-mls", g);
+    ADD_FAILURE() << "a NaN track_gate was accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("track_gate"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

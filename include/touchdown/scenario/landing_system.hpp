@@ -10,7 +10,9 @@
 ///   mm-mls      the same detector plus obstacle avoidance from the depth
 ///               image and trajectory replanning (the paper's multi-module
 ///               system): every depth frame goes into a persistent
-///               world-frame grid of obstacle heights; once the sighting
+///               world-frame grid of obstacle heights; it follows the
+///               marker it tracks (detections of the target id away from
+///               its estimate are look-alikes); once the sighting
 ///               gate has passed it picks the free landing point nearest the
 ///               marker (no obstacle within the drone's radius plus a
 ///               margin, at most max_landing_offset from the marker),
@@ -109,6 +111,10 @@ struct MlsOptions {
   double obstacle_margin = 0.2;     ///< kept between the drone's radius and mapped obstacles [m]
   double max_landing_offset = 1.0;  ///< farthest landing point from the marker estimate [m]
   double replan_period = 1.0;       ///< replan the descent at least this often [s]
+  /// While the marker is tracked (seen within lost_timeout), a detection of
+  /// the target id farther than this from the estimate is another marker and
+  /// not a sighting; of several within it the nearest is followed [m].
+  double track_gate = 1.0;
 
   [[nodiscard]] bool validate(std::string* why) const;
 };
