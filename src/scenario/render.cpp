@@ -451,54 +451,96 @@ struct LeafNeighbours {
   }
 };
 
-/// Snow cover and leaf litter of the ground (BGRA, alpha = cover), periodic.
-cv::Mat cover_layer(const Weather& w, cv::RNG& rng) {
-  const int n = kGroundTexels;
-  if (w.ground_snow <= 0 && w.ground_leaves <= 0) return {};  // no cover: nothing to allocate
-  cv::Mat cover(n, n, CV_8UC4, cv::Scalar(0, 0, 0, 0));
-  const cv::Mat snow_a = coverage(fbm(rng, {{8, 0.5f}, {32, 0.3f}, {128, 0.2f}}), w.ground_snow);
-  const cv::Mat leaf_a = coverage(fbm(rng, {{16, 0.5f}, {64, 0.3f}, {256, 0.2f}}), w.ground_leaves);
+/// The leaf litter's colour at texel (x, y) (alpha 0 in the gap between two
+/// leaves): the patch colour with the leaf's own variation, darker towards
+/// its edge, with grain.
+cv::Vec4b leaf_texel(const LeafNeighbours& near, const cv::Mat& leaf_tone, const std::array<cv::Vec3f, 4>& palette,
+                     std::uint32_t grain_seed, int x, int y) {
+  float inside = 0, radial = 0;
+  const LeafCell& c = near.at(x, y, inside, radial);
+  const float tone = std::clamp(1.5f + 1.6f * field_at(leaf_tone, x, y) + c.jitter, 0.0f, 3.0f);
+  const auto i0 = static_cast<std::size_t>(std::min(2.0f, std::floor(tone)));
+  const float t = tone - static_cast<float>(i0);
+  const float shade = c.bright * (1.0f - 0.2f * std::min(1.0f, radial)) * (1.0f + 0.05f * grain_at(grain_seed, x, y));
+  const cv::Vec3f leaf = (palette[i0] * (1 - t) + palette[i0 + 1] * t) * shade;
+  return {sat8(leaf[0]), sat8(leaf[1]), sat8(leaf[2]), static_cast<std::uint8_t>(inside < 0.12f ? 0 : 255)};
+}
+
+/// The ground cover's fixed layers, the same under every scenario: where
+/// snow and leaves lie first (their coverage fields: a scenario covers the
+/// texels whose field exceeds the quantile of its fraction), and the leaf
+/// litter itself (the colour of the leaf owning each texel; alpha 255
+/// inside a leaf, 0 in the gap between two).
+struct CoverBase {
+  cv::Mat snow_field, leaf_field;  // 512², periodic
+  cv::Mat leaves;                  // BGRA 2048², periodic
+  std::uint32_t grain_seed = 0;
+};
+
+std::shared_ptr<const CoverBase> build_cover_base() {
+  auto out = std::make_shared<CoverBase>();
+  cv::RNG rng(0x1EAF5A0Full);
+  out->snow_field = fbm(rng, {{8, 0.5f}, {32, 0.3f}, {128, 0.2f}});
+  out->leaf_field = fbm(rng, {{16, 0.5f}, {64, 0.3f}, {256, 0.2f}});
   // Patches of leaf colour, metres across.
   const cv::Mat leaf_tone = fbm(rng, {{8, 0.6f}, {32, 0.4f}});
-  const std::vector<LeafCell> leaves = w.ground_leaves > 0 ? leaf_cells(rng) : std::vector<LeafCell>{};
-  const auto grain_seed = static_cast<std::uint32_t>(rng.next());
+  const std::vector<LeafCell> cells = leaf_cells(rng);
+  out->grain_seed = static_cast<std::uint32_t>(rng.next());
   // Dry-leaf colours by luminance (dark brown, red, orange-brown, yellow):
   // neighbouring patches blend through similar ones.
   const std::array<cv::Vec3f, 4> palette{cv::Vec3f(35, 65, 115), cv::Vec3f(35, 45, 165), cv::Vec3f(30, 95, 200),
                                          cv::Vec3f(40, 175, 215)};
-  const cv::Vec3f snow(238, 238, 234);
-  std::optional<LeafNeighbours> near;  // the four leaves around the texel in hand
-  int near_cx = -2, near_cy = -2;
+  const int n = kGroundTexels;
+  out->leaves.create(n, n, CV_8UC4);
   for (int y = 0; y < n; ++y) {
-    cv::Vec4b* o = cover.ptr<cv::Vec4b>(y);
+    cv::Vec4b* o = out->leaves.ptr<cv::Vec4b>(y);
+    std::optional<LeafNeighbours> near;  // the four leaves around the texel in hand
+    int near_cx = -2;
     for (int x = 0; x < n; ++x) {
-      float a_l = field_at(leaf_a, x, y);
-      const float a_s = field_at(snow_a, x, y);
-      if (a_l <= 0 && a_s <= 0) continue;
-      const float g = grain_at(grain_seed, x, y);
-      cv::Vec3f leaf(0, 0, 0);
-      if (a_l > 0) {
-        if (LeafNeighbours::block(x) != near_cx || LeafNeighbours::block(y) != near_cy) {
-          near_cx = LeafNeighbours::block(x), near_cy = LeafNeighbours::block(y);
-          near.emplace(leaves, near_cx, near_cy);
-        }
-        float inside = 0, radial = 0;
-        const LeafCell& c = near->at(x, y, inside, radial);
-        if (inside < 0.12f) a_l *= 0.3f;  // the gap between two leaves
-        const float tone = std::clamp(1.5f + 1.6f * field_at(leaf_tone, x, y) + c.jitter, 0.0f, 3.0f);
-        const auto i0 = static_cast<std::size_t>(std::min(2.0f, std::floor(tone)));
-        const float t = tone - static_cast<float>(i0);
-        const float shade = c.bright * (1.0f - 0.2f * std::min(1.0f, radial)) * (1.0f + 0.05f * g);
-        leaf = (palette[i0] * (1 - t) + palette[i0 + 1] * t) * shade;
+      if (LeafNeighbours::block(x) != near_cx) {
+        near_cx = LeafNeighbours::block(x);
+        near.emplace(cells, near_cx, LeafNeighbours::block(y));
       }
-      const float alpha = 1 - (1 - a_s) * (1 - a_l);
-      if (alpha <= 0) continue;
-      const cv::Vec3f c = (snow * (1.0f + 0.02f * g) * (a_s * (1 - a_l)) + leaf * a_l) / alpha;
-      o[x] = cv::Vec4b(sat8(c[0]), sat8(c[1]), sat8(c[2]), sat8(255.0 * alpha));
+      o[x] = leaf_texel(*near, leaf_tone, palette, out->grain_seed, x, y);
     }
   }
-  return cover;
+  return out;
 }
+
+/// A scenario's snow cover and leaf litter: the fixed layers read `shift`
+/// texels on, covered to the scenario's fractions. Periodic.
+class CoverSampler {
+ public:
+  CoverSampler() = default;
+  CoverSampler(const Weather& w, std::shared_ptr<const CoverBase> base, cv::Point shift)
+      : base_(std::move(base)), shift_(shift) {
+    snow_a_ = coverage(base_->snow_field, w.ground_snow);
+    leaf_a_ = coverage(base_->leaf_field, w.ground_leaves);
+  }
+  [[nodiscard]] bool empty() const { return !base_; }
+  /// The cover at map texel (x, y): its colour (BGR) and how much it covers
+  /// (0 bare ground … 1). False where it does not cover.
+  bool at(int x, int y, cv::Vec3f* colour, float* alpha) const {
+    constexpr int mask = kGroundTexels - 1;
+    const int xx = (x + shift_.x) & mask, yy = (y + shift_.y) & mask;
+    float a_l = field_at(leaf_a_, xx, yy);
+    const float a_s = field_at(snow_a_, xx, yy);
+    if (a_l <= 0 && a_s <= 0) return false;
+    const cv::Vec4b lf = base_->leaves.at<cv::Vec4b>(yy, xx);
+    if (lf[3] == 0) a_l *= 0.3f;  // the gap between two leaves
+    *alpha = 1 - (1 - a_s) * (1 - a_l);
+    if (*alpha <= 0) return false;
+    const cv::Vec3f snow(238, 238, 234);
+    const float g = grain_at(base_->grain_seed, xx, yy);
+    *colour = (snow * (1.0f + 0.02f * g) * (a_s * (1 - a_l)) + cv::Vec3f(lf[0], lf[1], lf[2]) * a_l) / *alpha;
+    return true;
+  }
+
+ private:
+  std::shared_ptr<const CoverBase> base_;
+  cv::Point shift_;
+  cv::Mat snow_a_, leaf_a_;  // coverage, 512²
+};
 
 /// Wet surfaces look darker: light is trapped in the water film by total
 /// internal reflection (Lekner & Dorf 1988); up to ~35 % darker.
@@ -733,7 +775,7 @@ struct Quad {
 /// black, then the ground's snow/leaf cover at each texel's world point and
 /// the wet darkening.
 Quad make_quad(const cv::Mat& cells, Label label, const Eigen::Vector2d& centre, double yaw_deg, double border_size,
-               int bits, const cv::Mat& cover, const Weather& weather) {
+               int bits, const CoverSampler& cover, const Eigen::Vector2d& map_shift, const Weather& weather) {
   Quad q;
   q.label = label;
   q.centre = centre;
@@ -752,29 +794,31 @@ Quad make_quad(const cv::Mat& cells, Label label, const Eigen::Vector2d& centre,
   cv::Mat img(m, m, CV_8UC4);
   const float dark = wet_darkening(weather);
   const double texel = q.side / m;
-  const bool any_cover = weather.ground_snow > 0 || weather.ground_leaves > 0;
   for (int y = 0; y < m; ++y) {
     const std::uint8_t* b = big.ptr<std::uint8_t>(y);
     cv::Vec4b* o = img.ptr<cv::Vec4b>(y);
     for (int x = 0; x < m; ++x) {
       cv::Vec3f c = b[x] ? cv::Vec3f(228, 232, 232) : cv::Vec3f(28, 28, 30);
-      if (any_cover) {
-        // World point of this texel → cover texel (periodic), bilinear.
+      if (!cover.empty()) {
+        // World point of this texel → map → cover texel (periodic), bilinear.
         const double lx = (x + 0.5) * texel - h, ly = h - (y + 0.5) * texel;
-        const Eigen::Vector2d p = centre + lx * ex + ly * ey;
+        const Eigen::Vector2d p = centre + lx * ex + ly * ey + map_shift;
         const cv::Point2f t(static_cast<float>(p.x() / kGroundTexel - 0.5),
                             static_cast<float>(p.y() / kGroundTexel - 0.5));
         const int tx = floor_int(t.x), ty = floor_int(t.y);
         const float fx = t.x - static_cast<float>(tx), fy = t.y - static_cast<float>(ty);
-        cv::Vec4f acc(0, 0, 0, 0);
+        cv::Vec3f acc(0, 0, 0);
+        float acc_a = 0;
         for (int k = 0; k < 4; ++k) {
-          const int xx = (tx + (k & 1)) & (kGroundTexels - 1), yy = (ty + (k >> 1)) & (kGroundTexels - 1);
           const float wgt = ((k & 1) ? fx : 1 - fx) * ((k >> 1) ? fy : 1 - fy);
-          const cv::Vec4b v = cover.at<cv::Vec4b>(yy, xx);
-          acc += wgt * cv::Vec4f(v[0], v[1], v[2], v[3]);
+          cv::Vec3f colour;
+          float alpha = 0;
+          if (cover.at(tx + (k & 1), ty + (k >> 1), &colour, &alpha)) {
+            acc += (wgt * alpha) * colour;
+            acc_a += wgt * alpha;
+          }
         }
-        const float a = acc[3] / 255.0f;
-        c = c * (1 - a) + cv::Vec3f(acc[0], acc[1], acc[2]) * (a > 0 ? 1.0f : 0.0f) * 1.0f;
+        c = c * (1 - acc_a) + acc;
       }
       c *= dark;
       o[x] = cv::Vec4b(sat8(c[0]), sat8(c[1]), sat8(c[2]), 255);
@@ -1132,32 +1176,69 @@ struct MapTextureKey {
 };
 
 /// The ground texture (BGRA mips ≥ 32², one after the other, periodic,
-/// swizzled) and the cover layer the markers sample (empty without cover).
+/// swizzled) and the cover the markers sample (empty without cover).
 struct MapTexture {
   std::unique_ptr<std::uint32_t[]> texels;
   std::array<std::uint32_t, 8> offsets{};
   int levels = 0;
-  cv::Mat cover;
+  CoverSampler cover;
 };
+
+/// A map kind's ground, the same under every scenario on it (the source's
+/// two maps are fixed worlds): built once, from the map's own seed.
+std::shared_ptr<const cv::Mat> build_map_ground(MapKind map) {
+  cv::RNG rng(map == MapKind::ground ? 0x6A09E667ull : 0xBB67AE85ull);
+  return std::make_shared<const cv::Mat>(map == MapKind::ground ? concrete_texture(rng) : lawn_texture(rng));
+}
+
+SharedCache<MapKind, cv::Mat>& map_ground_cache() {
+  static SharedCache<MapKind, cv::Mat> cache(2);  // 16 MiB each
+  return cache;
+}
+SharedCache<int, CoverBase>& cover_base_cache() {
+  static SharedCache<int, CoverBase> cache(1);  // 16.5 MiB
+  return cache;
+}
+
+/// Where on its map a scenario lies and where on the fixed cover layers its
+/// cover is read [texels, in [0, 2048)], from its seed: one periodic map
+/// gives 2048² scenes, each with a cover pattern of its own.
+struct MapPlacement {
+  cv::Point ground, cover;
+};
+MapPlacement map_placement(std::uint64_t seed) {
+  static_assert(kGroundTexels == 1 << 11);
+  Rng rng(seed, 0x9A9A0ull);
+  const auto draw = [&] { return static_cast<int>(rng.next() >> 53); };
+  MapPlacement p;
+  p.ground.x = draw(), p.ground.y = draw();
+  p.cover.x = draw(), p.cover.y = draw();
+  return p;
+}
 
 std::shared_ptr<const MapTexture> build_map_texture(const MapTextureKey& key) {
   auto out = std::make_shared<MapTexture>();
   Weather w;
   w.ground_snow = key.ground_snow;
   w.ground_leaves = key.ground_leaves;
-  // Deterministic from the seed: the texture first, then the cover.
-  cv::RNG rng(key.seed * 0x9E3779B97F4A7C15ull + 0x6A09E667ull);
-  cv::Mat tex = key.map == MapKind::ground ? concrete_texture(rng) : lawn_texture(rng);
-  out->cover = cover_layer(w, rng);
-  const cv::Mat& cover = out->cover;
+  const std::shared_ptr<const cv::Mat> ground =
+      map_ground_cache().get(key.map, [&] { return build_map_ground(key.map); });
+  if (w.ground_snow > 0 || w.ground_leaves > 0)
+    out->cover =
+        CoverSampler(w, cover_base_cache().get(0, [] { return build_cover_base(); }), map_placement(key.seed).cover);
+  const CoverSampler& cover = out->cover;
   const float dark = key.dark;
+  cv::Mat tex = *ground;  // shared, read only
   if (!cover.empty() || dark < 1) {
+    tex = cv::Mat(kGroundTexels, kGroundTexels, CV_8UC4);  // a buffer of its own: the ground stays as it is
     for (int y = 0; y < kGroundTexels; ++y) {
-      const cv::Vec4b* c = cover.empty() ? nullptr : cover.ptr<cv::Vec4b>(y);
+      const cv::Vec4b* g = ground->ptr<cv::Vec4b>(y);
       cv::Vec4b* o = tex.ptr<cv::Vec4b>(y);
       for (int x = 0; x < kGroundTexels; ++x) {
-        const float a = c ? c[x][3] / 255.0f : 0.0f;
-        for (int ch = 0; ch < 3; ++ch) o[x][ch] = sat8((o[x][ch] * (1 - a) + (c ? c[x][ch] : 0) * a) * dark);
+        cv::Vec3f c(g[x][0], g[x][1], g[x][2]), colour;
+        float a = 0;
+        if (cover.at(x, y, &colour, &a)) c = c * (1 - a) + colour * a;
+        o[x] = cv::Vec4b(sat8(c[0] * dark), sat8(c[1] * dark), sat8(c[2] * dark), 255);
       }
     }
   }
@@ -1198,6 +1279,8 @@ SharedCache<std::uint64_t, std::vector<double>>& unit_noise_cache() {
 namespace detail {
 void clear_render_caches() {
   map_texture_cache().clear();
+  map_ground_cache().clear();
+  cover_base_cache().clear();
   unit_noise_cache().clear();
 }
 std::size_t cached_map_textures() { return map_texture_cache().size(); }
@@ -1209,8 +1292,9 @@ struct Renderer::Impl {
   double f = 0, cx = 0, cy = 0;
   Eigen::Isometry3d T_body_camera;
 
-  std::shared_ptr<const MapTexture> map;  // shared with other renderers of the same map (immutable)
-  std::vector<Quad> quads;                // distractors, then the target marker (last)
+  std::shared_ptr<const MapTexture> map;                // shared with other renderers of the same map (immutable)
+  Eigen::Vector2d map_shift = Eigen::Vector2d::Zero();  // world (x, y) + map_shift = where on the map [m]
+  std::vector<Quad> quads;                              // distractors, then the target marker (last)
 
   std::vector<Mesh> static_meshes;
   std::vector<std::vector<Bgr>> static_shade;  // shaded colour per triangle
@@ -1299,12 +1383,14 @@ Renderer::Renderer(const Scenario& scenario, const CameraOptions& camera) : impl
   // Ground texture and cover: shared by every renderer of the same map.
   MapTextureKey key;
   key.map = scenario.map;
-  key.seed = scenario.seed;
   key.ground_snow = w.ground_snow;
   key.ground_leaves = w.ground_leaves;
+  key.seed = key.ground_snow > 0 || key.ground_leaves > 0 ? scenario.seed : 0;  // the cover's placement
   key.dark = wet_darkening(w);
   m.map = map_texture_cache().get(key, [&] { return build_map_texture(key); });
-  const cv::Mat& cover = m.map->cover;
+  const cv::Point placement = map_placement(scenario.seed).ground;
+  m.map_shift = kGroundTexel * Eigen::Vector2d(placement.x, placement.y);
+  const CoverSampler& cover = m.map->cover;
 
   const auto dict = cv::aruco::getPredefinedDictionary(dict_info->id);
   const int bits = dict_info->bits;
@@ -1312,11 +1398,11 @@ Renderer::Renderer(const Scenario& scenario, const CameraOptions& camera) : impl
     const Distractor& d = scenario.distractors[i];
     const cv::Mat cells = marker_cells(dict, bits, d.kind, d.id, d.flipped_bits, scenario.marker.id,
                                        Rng(scenario.seed, 0xD157ull + i).next());
-    m.quads.push_back(make_quad(cells, kDistractor, d.position, d.yaw_deg, d.size, bits, cover, w));
+    m.quads.push_back(make_quad(cells, kDistractor, d.position, d.yaw_deg, d.size, bits, cover, m.map_shift, w));
   }
   const cv::Mat target = marker_cells(dict, bits, DistractorKind::wrong_id, scenario.marker.id, 0, 0, 0);
   m.quads.push_back(make_quad(target, kMarker, scenario.marker.position, scenario.marker.yaw_deg, scenario.marker.size,
-                              bits, cover, w));
+                              bits, cover, m.map_shift, w));
 
   // Sun: azimuth counter-clockwise from +x (east), like every yaw here.
   const double el = rad(w.sun_elevation_deg), az = rad(w.sun_azimuth_deg);
@@ -1473,8 +1559,8 @@ void Renderer::Impl::render(const SceneState& state, CameraFrame& out) {
     g.levels = map->levels;
     g.inv_h = static_cast<float>(1 / v.h);
     g.w_min = static_cast<float>(1 / kMaxGround);
-    g.cxw = static_cast<float>(v.c.x());
-    g.cyw = static_cast<float>(v.c.y());
+    g.cxw = static_cast<float>(v.c.x() + map_shift.x());
+    g.cyw = static_cast<float>(v.c.y() + map_shift.y());
     g.lod = static_cast<float>(kPrefilterFootprints / (f * kGroundTexel));
     g.ax = static_cast<float>(v.A.x()), g.ay = static_cast<float>(v.A.y()), g.az = static_cast<float>(v.A.z());
     g.width = W;

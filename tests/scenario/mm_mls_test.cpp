@@ -49,12 +49,8 @@ TEST(MmMls, LandsBesideThePoleThatOpencvMlsHits) {
   // 0.28 m from the marker centre, which opencv-mls hits on its way down.
   // There is room to land beside it: mm-mls maps the pole, lands at least
   // its radius plus the margin from the pole's cell, within 1.5 m.
-  Scenario s = test::clear_scenario(45);
-  StaticObject pole;
-  pole.kind = StaticKind::pole;
-  pole.position = {0.2, 0.2};
-  pole.size = {0.05, 0.05, 4.0};
-  s.static_objects = {pole};
+  const Scenario s = test::pole_on_marker_scenario(45);
+  const StaticObject& pole = s.static_objects[0];
   const ScenarioResult r = mm_run(s, "mm-mls");
   EXPECT_FALSE(r.collided) << r.message;
   EXPECT_EQ(r.type, Violation::none) << r.message;

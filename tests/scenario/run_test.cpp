@@ -77,16 +77,9 @@ TEST(RunScenario, DenseFogIsATypeIIViolation) {
 }
 
 TEST(RunScenario, PoleOnTheDescentPathIsATypeIIICollision) {
-  Scenario s = test::clear_scenario();
-  StaticObject pole;
-  pole.kind = StaticKind::pole;
-  // A thin pole (5 cm) standing on the marker, on the diagonal 0.28 m from
-  // its centre: from 10 m its top hides too little to stop the detection,
-  // and the rotor disk centred at (0.16, 0.16) meets it on the way down.
-  // (At (0.25, 0) it would pass between two rotors: no collision.)
-  pole.position = {0.2, 0.2};
-  pole.size = {0.05, 0.05, 4.0};
-  s.static_objects = {pole};
+  // A thin pole (5 cm) standing on the marker, 0.28 m from its centre: the
+  // marker is read from above and the descent meets the pole.
+  const Scenario s = test::pole_on_marker_scenario();
   const ScenarioResult r = run_with(s);
   EXPECT_TRUE(r.violation);
   EXPECT_EQ(r.type, Violation::type_iii) << r.message;
