@@ -1237,7 +1237,7 @@ std::shared_ptr<const MapTexture> build_map_texture(const MapTextureKey& key) {
       for (int x = 0; x < kGroundTexels; ++x) {
         cv::Vec3f c(g[x][0], g[x][1], g[x][2]), colour;
         float a = 0;
-        if (cover.at(x, y, &colour, &a)) c = c * (1 - a) + colour * a;
+        if (!cover.empty() && cover.at(x, y, &colour, &a)) c = c * (1 - a) + colour * a;
         o[x] = cv::Vec4b(sat8(c[0] * dark), sat8(c[1] * dark), sat8(c[2] * dark), 255);
       }
     }

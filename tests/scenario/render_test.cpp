@@ -464,6 +464,41 @@ TEST(RenderCache, HoldsAHandfulOfTexturesAndRenderersOutliveTheirEntries) {
   EXPECT_EQ(before.image.pixels, after.image.pixels);
 }
 
+TEST(RenderMap, DryScenesShareTheMapsGroundAndWetGroundIsDarkerByItsWaterFilm) {
+  namespace detail = touchdown::scenario::detail;
+  detail::clear_render_caches();
+  const Scenario a = render_scenario();
+  Scenario b = a;
+  b.seed = 8;
+  const SceneState st = render_state({3, 2, 8});
+  CameraFrame fa, fb, fw;
+  Renderer(a, CameraOptions{}).render(st, fa);
+  Renderer(b, CameraOptions{}).render(st, fb);
+  // One texture for every dry scene of a map; the seed puts the scene at
+  // another place on it.
+  EXPECT_EQ(detail::cached_map_textures(), 1u);
+  EXPECT_NE(fa.image.pixels, fb.image.pixels);
+  // Wet without cover: the ground is the same place, darkened by the film
+  // (1 − 0.35 at full wetness); the sun is low, so its glare is out of view.
+  Scenario wet = a;
+  wet.weather.ground_wetness = 1;
+  wet.weather.sun_elevation_deg = 15;
+  Renderer(wet, CameraOptions{}).render(st, fw);
+  double dry_sum = 0, wet_sum = 0;
+  std::size_t ground = 0;
+  for (std::size_t i = 0; i < fa.mask.size(); ++i) {
+    if (fa.mask[i] != touchdown::scenario::kGround) continue;
+    ++ground;
+    for (std::size_t c = 0; c < 3; ++c) {
+      dry_sum += fa.image.pixels[3 * i + c];
+      wet_sum += fw.image.pixels[3 * i + c];
+    }
+  }
+  ASSERT_GT(ground, fa.mask.size() / 2);
+  EXPECT_NEAR(wet_sum / dry_sum, 0.65, 0.02);
+  detail::clear_render_caches();
+}
+
 TEST(RenderThreads, TwoThreadsRenderTheSameBytesAsOneThread) {
   namespace detail = touchdown::scenario::detail;
   const Scenario s = render_busy_scenario(23);

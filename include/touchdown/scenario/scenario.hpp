@@ -103,7 +103,7 @@ struct DroneStart {
 
 struct Scenario {
   MapKind map = MapKind::ground;
-  std::uint64_t seed = 1;  ///< textures, particles and wandering objects
+  std::uint64_t seed = 1;  ///< place on the map, cover pattern, particles and wandering objects
   double time_limit = 60;  ///< [s]; no landing by then is a violation
   Marker marker;
   std::vector<Distractor> distractors;
