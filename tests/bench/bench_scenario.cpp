@@ -2,8 +2,10 @@
 // frame of the downward camera in clear weather over the concrete map with
 // a few objects (target ≤ 2 ms), the same in heavy weather (fog, dust, rain,
 // snow, falling leaves, wet glare, low light, motion blur), and building a
-// renderer: cold (the map texture built from scratch) and cached (a second
-// renderer on the same map shares the first one's texture).
+// renderer: cold (the map's ground, the cover layers and the scene's
+// texture built from scratch), cached (a second renderer of the same scene
+// shares the first one's texture) and a new scene on a built map (as in a
+// campaign).
 //
 //   build/tests/bench/bench_scenario --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
@@ -77,10 +79,23 @@ void BM_renderer_construct_cached(benchmark::State& bs) {
   }
 }
 
+/// As in a campaign: the map's ground and the cover layers are built, every
+/// scenario is new (its own seed, so its own place and cover pattern).
+void BM_renderer_construct_new_scene(benchmark::State& bs) {
+  ts::Scenario s = scene(true);
+  const ts::Renderer first(s, ts::CameraOptions{});
+  for (auto _ : bs) {
+    ++s.seed;
+    ts::Renderer r(s, ts::CameraOptions{});
+    benchmark::DoNotOptimize(&r);
+  }
+}
+
 }  // namespace
 
 BENCHMARK(BM_render_clear_ground)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_render_heavy_weather)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_renderer_construct_cold)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_renderer_construct_cached)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_renderer_construct_new_scene)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();
