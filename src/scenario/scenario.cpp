@@ -62,7 +62,10 @@ std::vector<PropertyBound> make_bounds() {
   // narrow the envelope row of the same property ("static_objects[].size");
   // a row ending in "[i]" bounds component i only.
   return {
-      {"seed", 0, kMaxSeed, "", "seed of textures, particles and wandering objects (written exactly in JSON)", true},
+      {"seed", 0, kMaxSeed, "",
+       "seed of the scene's place on the map, its cover pattern, particles and wandering objects (written exactly in "
+       "JSON)",
+       true},
       {"time_limit", 10, 300, "s", "no landing by then is a violation", false},
       {"marker.id", 0, kMaxMarkerId, "", "the target's id, below its dictionary's size", true},
       {"marker.size", 0.3, 2, "m", "black-border edge of the landing marker", false},
