@@ -507,6 +507,9 @@ std::shared_ptr<const CoverBase> build_cover_base() {
   return out;
 }
 
+/// Whether the ground has snow or leaf cover at all.
+bool has_cover(const Weather& w) { return w.ground_snow > 0 || w.ground_leaves > 0; }
+
 /// A scenario's snow cover and leaf litter: the fixed layers read `shift`
 /// texels on, covered to the scenario's fractions. Periodic.
 class CoverSampler {
@@ -519,8 +522,10 @@ class CoverSampler {
   }
   [[nodiscard]] bool empty() const { return !base_; }
   /// The cover at map texel (x, y): its colour (BGR) and how much it covers
-  /// (0 bare ground … 1). False where it does not cover.
+  /// (0 bare ground … 1). False where it does not cover (everywhere when
+  /// empty).
   bool at(int x, int y, cv::Vec3f* colour, float* alpha) const {
+    if (!base_) return false;
     constexpr int mask = kGroundTexels - 1;
     const int xx = (x + shift_.x) & mask, yy = (y + shift_.y) & mask;
     float a_l = field_at(leaf_a_, xx, yy);
@@ -1223,7 +1228,7 @@ std::shared_ptr<const MapTexture> build_map_texture(const MapTextureKey& key) {
   w.ground_leaves = key.ground_leaves;
   const std::shared_ptr<const cv::Mat> ground =
       map_ground_cache().get(key.map, [&] { return build_map_ground(key.map); });
-  if (w.ground_snow > 0 || w.ground_leaves > 0)
+  if (has_cover(w))
     out->cover =
         CoverSampler(w, cover_base_cache().get(0, [] { return build_cover_base(); }), map_placement(key.seed).cover);
   const CoverSampler& cover = out->cover;
@@ -1237,7 +1242,7 @@ std::shared_ptr<const MapTexture> build_map_texture(const MapTextureKey& key) {
       for (int x = 0; x < kGroundTexels; ++x) {
         cv::Vec3f c(g[x][0], g[x][1], g[x][2]), colour;
         float a = 0;
-        if (!cover.empty() && cover.at(x, y, &colour, &a)) c = c * (1 - a) + colour * a;
+        if (cover.at(x, y, &colour, &a)) c = c * (1 - a) + colour * a;
         o[x] = cv::Vec4b(sat8(c[0] * dark), sat8(c[1] * dark), sat8(c[2] * dark), 255);
       }
     }
@@ -1385,7 +1390,7 @@ Renderer::Renderer(const Scenario& scenario, const CameraOptions& camera) : impl
   key.map = scenario.map;
   key.ground_snow = w.ground_snow;
   key.ground_leaves = w.ground_leaves;
-  key.seed = key.ground_snow > 0 || key.ground_leaves > 0 ? scenario.seed : 0;  // the cover's placement
+  key.seed = has_cover(w) ? scenario.seed : 0;  // the cover's placement
   key.dark = wet_darkening(w);
   m.map = map_texture_cache().get(key, [&] { return build_map_texture(key); });
   const cv::Point placement = map_placement(scenario.seed).ground;
