@@ -248,6 +248,8 @@ class MarkerLandingSystem final : public LandingSystem {
     tan_tilt_ = std::tan(setup.camera.tilt_deg * std::numbers::pi / 180.0);
     phase_ = Phase::approach;
     have_estimate_ = false;
+    track_exact_ = false;
+    reacquired_ = false;
     seen_since_ = -1;
     last_seen_ = -1e9;
     search_angle_ = 0;
@@ -267,6 +269,17 @@ class MarkerLandingSystem final : public LandingSystem {
     const double t = s.t;
     const bool seen_recently = t - last_seen_ <= options_.lost_timeout;
     if (!seen_recently) seen_since_ = -1;
+    if (reacquired_) {
+      // A descent on the marker it followed before is dropped: back to
+      // tracking (at the cruise altitude) until the re-acquired marker has
+      // been seen for seen_time. The land mode is committed.
+      reacquired_ = false;
+      if (phase_ == Phase::descend) {
+        phase_ = Phase::track;
+        have_plan_ = false;
+        have_landing_ = false;
+      }
+    }
 
     const Eigen::Vector2d p = s.position.head<2>();
     Eigen::Vector2d v_xy = Eigen::Vector2d::Zero();
@@ -400,10 +413,14 @@ class MarkerLandingSystem final : public LandingSystem {
     const Eigen::Isometry3d T_world_camera = s.T_world_body() * T_body_camera_;
     int best = -1;
     std::size_t best_index = 0;
+    bool best_exact = false, best_reacquires = false;
     // mm-mls follows the marker it tracks: while the track is alive, a
     // detection of the target id whose ground point is more than the gate
     // from the estimate is another marker (a look-alike the decoder's error
-    // correction reads as the target) and is not a sighting.
+    // correction reads as the target) and is not a sighting. It also reads
+    // each sighting's code itself: a track that never read exactly (it may
+    // follow a look-alike seen first) gives way to an exact reading of the
+    // target outside the gate — the re-acquisition.
     const bool gated = avoid_ && have_estimate_ && s.t - last_seen_ <= options_.lost_timeout;
     for (std::size_t i = 0; i < ids_.size(); ++i) {
       Detection d;
@@ -419,15 +436,25 @@ class MarkerLandingSystem final : public LandingSystem {
       const Eigen::Vector2d centre = 0.25 * (d.corners[0] + d.corners[1] + d.corners[2] + d.corners[3]);
       const bool on_ground = ground_point(T_world_camera, K_inv_, centre, &d.ground);
       d.accepted = d.id == setup_.marker_id && d.quality >= options_.min_quality_px && on_ground;
-      if (gated && d.accepted) d.accepted = (d.ground - estimate_).norm() <= options_.track_gate;
-      // Several accepted: the baseline follows the largest; mm-mls the one
-      // nearest its estimate while tracking.
+      const bool exact = avoid_ && d.accepted && detector_->code_errors(gray_, corners_[i], setup_.marker_id) == 0;
+      bool reacquires = false;
+      if (gated && d.accepted && (d.ground - estimate_).norm() > options_.track_gate)
+        d.accepted = reacquires = exact && !track_exact_;
+      // Several accepted: the baseline follows the largest; mm-mls a
+      // re-acquisition first, else while tracking the one nearest its
+      // estimate, else an exact reading before a corrected one, then the
+      // largest.
       const auto better = [&](const Detection& o) {
-        return gated ? (d.ground - estimate_).norm() < (o.ground - estimate_).norm() : d.quality > o.quality;
+        if (reacquires != best_reacquires) return reacquires;
+        if (gated && !reacquires) return (d.ground - estimate_).norm() < (o.ground - estimate_).norm();
+        if (exact != best_exact) return exact;
+        return d.quality > o.quality;
       };
       if (d.accepted && (best < 0 || better(out.detections[static_cast<std::size_t>(best)]))) {
         best = static_cast<int>(out.detections.size());
         best_index = i;
+        best_exact = exact;
+        best_reacquires = reacquires;
       }
       out.detections.push_back(d);
     }
@@ -435,10 +462,13 @@ class MarkerLandingSystem final : public LandingSystem {
     detector_->track(best < 0 ? nullptr : &corners_[best_index]);
     if (best < 0) return;
     const Detection& d = out.detections[static_cast<std::size_t>(best)];
-    if (seen_since_ < 0 || s.t - last_seen_ > options_.lost_timeout) seen_since_ = s.t;
+    const bool new_track = seen_since_ < 0 || s.t - last_seen_ > options_.lost_timeout;
+    if (new_track || best_reacquires) seen_since_ = s.t;
     last_seen_ = s.t;
-    estimate_ = have_estimate_ ? Eigen::Vector2d(0.5 * estimate_ + 0.5 * d.ground) : d.ground;
+    estimate_ = have_estimate_ && !best_reacquires ? Eigen::Vector2d(0.5 * estimate_ + 0.5 * d.ground) : d.ground;
     have_estimate_ = true;
+    track_exact_ = (track_exact_ && !new_track) || best_exact;
+    reacquired_ = reacquired_ || best_reacquires;
   }
 
   // MM-MLS: every depth frame goes into the obstacle grid.
@@ -644,6 +674,8 @@ class MarkerLandingSystem final : public LandingSystem {
   Phase phase_ = Phase::approach;
   Eigen::Vector2d estimate_ = Eigen::Vector2d::Zero();
   bool have_estimate_ = false;
+  bool track_exact_ = false;  // mm-mls: the track has read the target's code exactly
+  bool reacquired_ = false;   // mm-mls: it moved to an exact reading outside the gate
   double seen_since_ = -1;
   double last_seen_ = -1e9;
   double search_start_ = 0;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <opencv2/imgproc.hpp>
 
 namespace touchdown::scenario::detail {
@@ -47,6 +48,33 @@ void MarkerDetector::detect(const cv::Mat& gray, int target_id, std::vector<std:
 void MarkerDetector::track(const std::vector<cv::Point2f>* target_corners) {
   tracking_ = target_corners != nullptr && target_corners->size() == 4;
   if (tracking_) last_box_ = cv::boundingRect(*target_corners);
+}
+
+// The marker's canonical image and its cells, as the ArUco detection
+// tutorial describes the identification step (OpenCV docs, "Detection of
+// ArUco Markers"): a perspective warp of the quadrilateral to a square of
+// (n + 2) cells (the code and its black border), Otsu's threshold, and each
+// cell's bit from the majority of its inner pixels (a margin of about 1/8
+// of a cell left out, where the neighbours blur in).
+int MarkerDetector::code_errors(const cv::Mat& gray, const std::vector<cv::Point2f>& corners, int id) {
+  constexpr int kCellPx = 8, kMarginPx = 1;
+  const int n = dictionary_->markerSize;
+  const int cells = n + 2;
+  const auto side = static_cast<float>(cells * kCellPx);
+  const cv::Point2f square[4] = {{0, 0}, {side, 0}, {side, side}, {0, side}};
+  const cv::Mat h = cv::getPerspectiveTransform(corners.data(), square);
+  cv::warpPerspective(gray, canonical_, h, cv::Size(cells * kCellPx, cells * kCellPx), cv::INTER_LINEAR);
+  cv::threshold(canonical_, canonical_, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
+  bits_.create(n, n, CV_8UC1);
+  const int inner = kCellPx - 2 * kMarginPx;
+  for (int r = 0; r < n; ++r) {
+    for (int c = 0; c < n; ++c) {
+      const cv::Rect cell((c + 1) * kCellPx + kMarginPx, (r + 1) * kCellPx + kMarginPx, inner, inner);
+      bits_.at<std::uint8_t>(r, c) = cv::countNonZero(canonical_(cell)) * 2 > inner * inner ? 1 : 0;
+    }
+  }
+  // The corners come in the order of the code's canonical rotation.
+  return dictionary_->getDistanceToId(bits_, id, false);
 }
 
 }  // namespace touchdown::scenario::detail

@@ -25,6 +25,11 @@ class MarkerDetector {
   /// Tells the detector where the target was accepted in this frame (its
   /// four corners), or that it was not (`nullptr`).
   void track(const std::vector<cv::Point2f>* target_corners);
+  /// Cells of the code read inside `corners` (a detection's, in ArUco
+  /// corner order) that differ from the code of `id`: 0 when the marker
+  /// reads exactly as `id`, more for a look-alike that the decoder's error
+  /// correction turned into it (or a marker read through noise).
+  [[nodiscard]] int code_errors(const cv::Mat& gray, const std::vector<cv::Point2f>& corners, int id);
 
  private:
   void full(const cv::Mat& gray, std::vector<std::vector<cv::Point2f>>& corners, std::vector<int>& ids);
@@ -36,6 +41,7 @@ class MarkerDetector {
   bool tracking_ = false;
   cv::Rect2f last_box_;
   int since_full_ = 0;
+  cv::Mat canonical_, bits_;
 };
 
 }  // namespace touchdown::scenario::detail

@@ -6,8 +6,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/aruco.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "scenario/clear_scenario.hpp"
+#include "scenario/marker_detector.hpp"
 #include "touchdown/scenario/run.hpp"
 
 namespace touchdown::scenario {
@@ -190,6 +193,92 @@ TEST(MmMls, FollowsTheMarkerItTracksNotADecodableLookAlike) {
     if (f.t >= r.descent_time) false_after_descent += f.false_accepted;
   EXPECT_EQ(false_after_descent, 0);
   EXPECT_TRUE(mm_phase_never(r, "replan-hold")) << "its landing point swung between the markers";
+}
+
+TEST(MmMls, ReacquiresTheMarkerWhenALookAlikeWasSeenFirst) {
+  // The scenario above mirrored: the look-alike lies 2.84 m west, so coming
+  // from the west both systems see it first. opencv-mls lands on it (Type
+  // I). mm-mls reads each sighting's code: its track, built on corrected
+  // readings only, gives way to the marker once the marker reads exactly,
+  // and it lands on the marker. Without the code check mm-mls keeps the
+  // look-alike (its gate) and lands on it too.
+  Scenario s = test::clear_scenario(30);
+  s.marker.dictionary = "6X6_50";
+  s.marker.id = 40;
+  s.marker.size = 0.95;
+  s.marker.yaw_deg = 40.8;
+  Distractor look;
+  look.kind = DistractorKind::lookalike;
+  look.flipped_bits = 2;
+  look.size = 1.2;
+  look.position = {-2.84, 0.04};
+  look.yaw_deg = 64.6;
+  s.distractors = {look};
+
+  const ScenarioResult base = mm_run(s, "opencv-mls");
+  EXPECT_EQ(base.type, Violation::type_i) << base.message;
+
+  const ScenarioResult r = mm_run(s, "mm-mls");
+  EXPECT_EQ(r.type, Violation::none) << r.message;
+  EXPECT_LE(r.dtl, 0.3) << r.message;
+  // A frame where the look-alike alone was the target (the track followed
+  // it: the marker was not in view or not read); then the marker, and the
+  // look-alike never accepted again.
+  const auto only_false = [](const FrameRecord& f) { return f.accepted > 0 && f.accepted == f.false_accepted; };
+  std::size_t followed = r.frames.size();
+  for (std::size_t i = 0; i < r.frames.size(); ++i)
+    if (only_false(r.frames[i])) followed = i;
+  ASSERT_LT(followed, r.frames.size()) << "the track must have followed the look-alike";
+  std::size_t moved = followed + 1;
+  while (moved < r.frames.size() && r.frames[moved].accepted <= r.frames[moved].false_accepted) ++moved;
+  ASSERT_LT(moved, r.frames.size()) << "the marker was never taken back";
+  for (std::size_t i = moved; i < r.frames.size(); ++i) EXPECT_EQ(r.frames[i].false_accepted, 0) << "frame " << i;
+  EXPECT_GT(r.descent_time, r.frames[moved].t);
+}
+
+/// A marker drawn by OpenCV on a white sheet, seen through a homography.
+cv::Mat code_view(const cv::aruco::Dictionary& dict, int id, const std::vector<cv::Point>& inverted_cells) {
+  const int n = dict.markerSize, cell = 24, side = (n + 2) * cell;
+  cv::Mat marker;
+  cv::aruco::drawMarker(cv::makePtr<cv::aruco::Dictionary>(dict), id, side, marker, 1);
+  for (const cv::Point& c : inverted_cells) {
+    cv::Mat block = marker(cv::Rect((c.x + 1) * cell, (c.y + 1) * cell, cell, cell));
+    cv::bitwise_not(block, block);
+  }
+  cv::Mat sheet(side + 2 * cell * 2, side + 2 * cell * 2, CV_8UC1, cv::Scalar(255));
+  marker.copyTo(sheet(cv::Rect(2 * cell, 2 * cell, side, side)));
+  const int w = sheet.cols;
+  const cv::Point2f from[4] = {
+      {0, 0}, {static_cast<float>(w), 0}, {static_cast<float>(w), static_cast<float>(w)}, {0, static_cast<float>(w)}};
+  const cv::Point2f to[4] = {{60, 40}, {330, 70}, {300, 310}, {40, 280}};  // oblique and rotated a little
+  cv::Mat view;
+  cv::warpPerspective(sheet, view, cv::getPerspectiveTransform(from, to), cv::Size(400, 360), cv::INTER_AREA,
+                      cv::BORDER_CONSTANT, cv::Scalar(160));
+  return view;
+}
+
+TEST(MarkerCode, CountsTheCellsThatDifferFromTheTargetsCode) {
+  // Oracle: markers drawn by OpenCV, some with cells inverted; OpenCV's own
+  // decoder (error correction) still reads them as the target id, and the
+  // code check counts exactly the inverted cells.
+  for (const auto& [name, id] : {std::pair{cv::aruco::DICT_6X6_50, 40}, std::pair{cv::aruco::DICT_5X5_50, 7}}) {
+    const cv::Ptr<cv::aruco::Dictionary> dict = cv::aruco::getPredefinedDictionary(name);
+    detail::MarkerDetector detector(dict, false);
+    std::vector<std::vector<cv::Point>> flips = {{}, {{2, 1}}};
+    if (dict->maxCorrectionBits >= 4) flips.push_back({{2, 1}, {4, 3}});  // 6X6_50 corrects two at OpenCV's rate
+    for (const auto& cells : flips) {
+      const cv::Mat view = code_view(*dict, id, cells);
+      std::vector<std::vector<cv::Point2f>> corners;
+      std::vector<int> ids;
+      detector.detect(view, id, corners, ids);
+      ASSERT_EQ(ids.size(), 1u) << "dictionary " << name << ", " << cells.size() << " cells inverted";
+      ASSERT_EQ(ids[0], id);
+      EXPECT_EQ(detector.code_errors(view, corners[0], id), static_cast<int>(cells.size()))
+          << "dictionary " << name << ", " << cells.size() << " cells inverted";
+      // Against another id's code: many cells differ.
+      EXPECT_GE(detector.code_errors(view, corners[0], id + 1), 3);
+    }
+  }
 }
 
 }  // namespace
