@@ -436,7 +436,10 @@ class MarkerLandingSystem final : public LandingSystem {
       const Eigen::Vector2d centre = 0.25 * (d.corners[0] + d.corners[1] + d.corners[2] + d.corners[3]);
       const bool on_ground = ground_point(T_world_camera, K_inv_, centre, &d.ground);
       d.accepted = d.id == setup_.marker_id && d.quality >= options_.min_quality_px && on_ground;
-      const bool exact = avoid_ && d.accepted && detector_->code_errors(gray_, corners_[i], setup_.marker_id) == 0;
+      // The code is read while it can still matter: not for a track that
+      // has read exactly (it keeps its gate and stays exact).
+      const bool exact = avoid_ && d.accepted && !(gated && track_exact_) &&
+                         detector_->code_errors(gray_, corners_[i], setup_.marker_id) == 0;
       bool reacquires = false;
       if (gated && d.accepted && (d.ground - estimate_).norm() > options_.track_gate)
         d.accepted = reacquires = exact && !track_exact_;

@@ -159,13 +159,10 @@ TEST(MmMls, TiltedCameraLandsWithBothSystems) {
   }
 }
 
-TEST(MmMls, FollowsTheMarkerItTracksNotADecodableLookAlike) {
-  // A 6X6_50 marker and, 2.8 m east, a larger look-alike with two code
-  // cells inverted, which OpenCV's error correction reads as the target id
-  // (after Ground seed 60 of the random campaigns). Coming from the west,
-  // both systems see the marker first. opencv-mls follows the largest
-  // detection of the moment and lands on the look-alike (Type I); mm-mls
-  // follows the detection nearest the marker it tracks and lands on it.
+/// A 6X6_50 marker at the origin and, at (x, 0.04), a larger look-alike
+/// with two code cells inverted, which OpenCV's error correction reads as
+/// the target id (after Ground seed 60 of the random campaigns).
+Scenario lookalike_beside_marker_scenario(double x) {
   Scenario s = test::clear_scenario(30);
   s.marker.dictionary = "6X6_50";
   s.marker.id = 40;
@@ -175,9 +172,20 @@ TEST(MmMls, FollowsTheMarkerItTracksNotADecodableLookAlike) {
   look.kind = DistractorKind::lookalike;
   look.flipped_bits = 2;
   look.size = 1.2;
-  look.position = {2.84, 0.04};
+  look.position = {x, 0.04};
   look.yaw_deg = 64.6;
   s.distractors = {look};
+  return s;
+}
+
+TEST(MmMls, FollowsTheMarkerItTracksNotADecodableLookAlike) {
+  // A 6X6_50 marker and, 2.8 m east, a larger look-alike with two code
+  // cells inverted, which OpenCV's error correction reads as the target id
+  // (after Ground seed 60 of the random campaigns). Coming from the west,
+  // both systems see the marker first. opencv-mls follows the largest
+  // detection of the moment and lands on the look-alike (Type I); mm-mls
+  // follows the detection nearest the marker it tracks and lands on it.
+  const Scenario s = lookalike_beside_marker_scenario(2.84);
 
   const ScenarioResult base = mm_run(s, "opencv-mls");
   EXPECT_TRUE(base.false_detection) << "the look-alike must read as the target: " << base.message;
@@ -202,18 +210,7 @@ TEST(MmMls, ReacquiresTheMarkerWhenALookAlikeWasSeenFirst) {
   // readings only, gives way to the marker once the marker reads exactly,
   // and it lands on the marker. Without the code check mm-mls keeps the
   // look-alike (its gate) and lands on it too.
-  Scenario s = test::clear_scenario(30);
-  s.marker.dictionary = "6X6_50";
-  s.marker.id = 40;
-  s.marker.size = 0.95;
-  s.marker.yaw_deg = 40.8;
-  Distractor look;
-  look.kind = DistractorKind::lookalike;
-  look.flipped_bits = 2;
-  look.size = 1.2;
-  look.position = {-2.84, 0.04};
-  look.yaw_deg = 64.6;
-  s.distractors = {look};
+  const Scenario s = lookalike_beside_marker_scenario(-2.84);
 
   const ScenarioResult base = mm_run(s, "opencv-mls");
   EXPECT_EQ(base.type, Violation::type_i) << base.message;
