@@ -1,19 +1,38 @@
 #!/usr/bin/env bash
-# The README's test command: installs dependencies if missing, builds, runs
-# the whole ctest suite, then the same suite under ASan+UBSan, then each
-# libFuzzer target for a short fixed time (when clang is present). Each step
-# prints its wall time; the last line sums them up (docs/benchmarks.md keeps
-# the breakdown).
+# The README's test commands. Both install dependencies if missing, check
+# the format, build Release and run the whole ctest suite; --full (what CI
+# runs, .ci/run) then runs the same suite under ASan+UBSan and each libFuzzer
+# target for a short fixed time (when clang is present). Each step prints its
+# wall time; the last line sums them up (docs/benchmarks.md keeps the
+# breakdown).
 #
-#   scripts/test.sh                  # everything
-#   FUZZ_SECONDS=0 scripts/test.sh   # skip the fuzzers
-#   SKIP_ASAN=1 scripts/test.sh      # skip the sanitizer pass
-#   JOBS=4 scripts/test.sh           # more parallel jobs (default 2)
+#   scripts/test.sh                         # Release build + every test (a user's check)
+#   scripts/test.sh --full                  # + ASan+UBSan pass + fuzzers (CI)
+#   FUZZ_SECONDS=0 scripts/test.sh --full   # --full without the fuzzers
+#   SKIP_ASAN=1 scripts/test.sh --full      # --full without the sanitizer pass
+#   JOBS=4 scripts/test.sh                  # more parallel jobs (default 2)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
 jobs=${JOBS:-2}
+full=0
+case "${1:-}" in
+  --full) full=1 ;;
+  "") ;;
+  -h | --help)
+    sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'
+    exit 0
+    ;;
+  *)
+    echo "scripts/test.sh: unknown argument '$1' (expected nothing or --full)" >&2
+    exit 2
+    ;;
+esac
 fuzz_seconds=${FUZZ_SECONDS:-20}
+if [ "$full" = 0 ]; then
+  SKIP_ASAN=1
+  fuzz_seconds=0
+fi
 fuzzers=(fuzz_pcd fuzz_ply fuzz_xyz fuzz_extrinsics fuzz_ground_truth fuzz_camera fuzz_constellation fuzz_airframe
   fuzz_plan_problem fuzz_scenario)
 
@@ -117,7 +136,7 @@ if [ "$fuzz_seconds" != "0" ] && command -v clang++ >/dev/null 2>&1; then
     running=$((running - 1))
   done
   [ "$failed" = 0 ] || exit 1
-else
+elif [ "$full" = 1 ]; then
   printf '\n=== fuzzers skipped (FUZZ_SECONDS=0 or no clang++) ===\n' >&2
 fi
 step ""
