@@ -1,14 +1,37 @@
 #pragma once
 /// \file
-/// touchdown's exception types. Misuse and bad input throw one of these;
-/// expected outcomes (no safe heading, pose not found, ...) are statuses in a
-/// Result instead. Every message names the file, key or option at fault and
+/// touchdown's errors, in three tiers: internal invariants (TD_ASSERT,
+/// TD_UNREACHABLE: a bug if broken); misuse and bad input (one of the
+/// exception types below); expected outcomes (no safe heading, pose not
+/// found, ...), which are statuses in a Result instead. Every message names the file, key or option at fault and
 /// says what is wrong, on one line, so an app can print it as is.
+#include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
 namespace touchdown {
+
+/// \name Internal invariants
+/// The first of the three tiers of errors (docs/architecture.md): a
+/// condition that only a bug in touchdown can break — never bad input, never
+/// an expected outcome. Checked in every build type (an invariant is cheap or
+/// it does not belong in a hot loop); a broken one prints the condition and
+/// where, then aborts, so a fuzzer or a test finds it at once.
+/// @{
+#define TD_ASSERT(condition) \
+  ((condition) ? static_cast<void>(0) : ::touchdown::detail::invariant_broken(#condition, __FILE__, __LINE__))
+/// Marks code that cannot be reached (a switch over every enumerator).
+#define TD_UNREACHABLE() ::touchdown::detail::invariant_broken("unreachable code reached", __FILE__, __LINE__)
+/// @}
+
+namespace detail {
+[[noreturn]] inline void invariant_broken(const char* what, const char* file, int line) {
+  std::fprintf(stderr, "touchdown: internal error at %s:%d: %s\n", file, line, what);
+  std::abort();
+}
+}  // namespace detail
 
 /// Base of every exception touchdown throws on purpose.
 class Error : public std::runtime_error {
