@@ -8,7 +8,11 @@
 #include <cstdlib>
 #include <iostream>
 #include <numbers>
-#include <touchdown/touchdown.hpp>
+#include <touchdown/terrain/synthetic.hpp>
+#include <touchdown/terrain/terrain_mesher.hpp>
+#include <touchdown/twin/airframe.hpp>
+#include <touchdown/twin/sweep.hpp>
+#include <touchdown/twin/terrain_model.hpp>
 
 int main(int argc, char** argv) {
   namespace td = touchdown;

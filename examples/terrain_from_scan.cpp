@@ -4,7 +4,11 @@
 //
 //   example_terrain_from_scan [OUT.stl]
 #include <iostream>
-#include <touchdown/touchdown.hpp>
+#include <touchdown/core/mesh.hpp>
+#include <touchdown/core/mesh_io.hpp>
+#include <touchdown/core/point_cloud.hpp>
+#include <touchdown/terrain/synthetic.hpp>
+#include <touchdown/terrain/terrain_mesher.hpp>
 
 int main(int argc, char** argv) {
   namespace td = touchdown;

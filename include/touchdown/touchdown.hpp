@@ -5,6 +5,7 @@
 /// instead to compile faster and to link one module alone.
 #include "touchdown/core/atomic_file.hpp"
 #include "touchdown/core/cloud_io.hpp"
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/mesh.hpp"
 #include "touchdown/core/mesh_io.hpp"
