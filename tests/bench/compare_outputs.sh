@@ -23,7 +23,7 @@ strip_timing() {
   python3 -c '
 import json, sys
 TIMING = {"seconds", "landings_per_second", "simulated_to_wall", "run_simulated_to_wall", "ms", "ms_median",
-          "ms_p90", "solvers_us_median", "elapsed_s", "wall_s"}
+          "ms_p90", "solvers_us_median", "elapsed_s", "wall_s", "timing"}
 def clean(x):
     if isinstance(x, dict):
         return {k: clean(v) for k, v in x.items() if k not in TIMING}
