@@ -99,7 +99,8 @@ struct PlannerOptions {
   /// Fill PlanResult::qp with the dense QP at the chosen durations (for
   /// --export-qp or another solver). Off by default: a replanning loop does
   /// not need it, and its ~150 KB of matrices per plan cost more than the
-  /// plan itself once glibc hands the freed heap back to the system.
+  /// plan itself once glibc hands the freed heap back to the system
+  /// (docs/benchmarks.md, "Landing trajectory", heap note).
   bool export_qp = false;
   /// False (with "field: what is wrong" in *why) for an invalid value.
   bool validate(std::string* why) const;

@@ -39,10 +39,11 @@ struct ArucoOptions {
   /// Print the marker with a white margin of at least a quarter of this
   /// edge: with a narrower one on a darker background, aruco takes the
   /// margin's outer edge for a duplicate candidate and drops the marker
-  /// (seen with 6×6 codes and a one-cell margin).
+  /// (docs/benchmarks.md, "LED relative pose").
   double marker_size = 0.10;
   /// Refine the corners to sub-pixel accuracy (aruco's CORNER_REFINE_SUBPIX);
-  /// off = the corners of the polygon fit, about 0.5 px worse.
+  /// off = the corners of the polygon fit, less accurate (docs/benchmarks.md,
+  /// "LED relative pose").
   bool corner_refinement = true;
   /// Assumed 1-σ corner noise [px]: the floor of the reported sigma (a
   /// four-corner fit leaves 2 degrees of freedom to estimate it from).
@@ -67,11 +68,10 @@ std::vector<std::string> aruco_dictionary_names();
 /// the id is seen more than once, the largest instance (perimeter in the
 /// image) is used.
 ///
-/// Accuracy (tests/pose/aruco_baseline_test.cpp, 10 cm marker, 615 px
-/// focal length, 0.5–1 m): body position within 4 mm; orientation within
-/// 5 mrad when the marker is tilted 30° to the camera, but only within a
-/// few tens of mrad when it faces the camera squarely, since sub-pixel
-/// corner bias (0.1–0.3 px) then swamps the perspective cue to its tilt.
+/// Accuracy: the orientation is well determined when the marker is tilted
+/// to the camera, but poorly when it faces the camera squarely, since
+/// sub-pixel corner bias then swamps the perspective cue to its tilt
+/// (figures: docs/benchmarks.md, "LED relative pose").
 ///
 /// `covariance` is σ² (JᵀJ)⁻¹ of the left-perturbation twist of
 /// T_camera_body, J the 8×6 Jacobian of the (undistorted) corner pixels and

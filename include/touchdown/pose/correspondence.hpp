@@ -30,15 +30,16 @@ struct CorrespondenceOptions {
   /// search goes on with the 4-tuples that use the next ones, up to this
   /// many blobs in all (within the same max_hypotheses). Airframe
   /// reflections and lamps can outshine the LEDs themselves: a clipped LED
-  /// core caps its summed brightness, a wider reflection's is not (seen in
-  /// the harsh profile at 1 m: the six LEDs ranked 7th–12th of 14 blobs).
+  /// core caps its summed brightness, a wider reflection's is not
+  /// (docs/benchmarks.md, "Data it was not tuned to").
   std::size_t max_blobs_retry = 16;
   std::size_t max_hypotheses = 50000;  ///< bound on the EPnP solves of one search
   /// Before EPnP, a hypothesis' fourth LED must lie within p3p_gate ×
   /// inlier_px of where a P3P pose of its first three puts it (0 = off).
-  /// P3P leaves all the noise to the fourth point; hypotheses EPnP fits to
-  /// ≤ 0.5 px were measured ≤ 6.7 px off on harsh frames. At 1.5 a search
-  /// solves ~4× fewer EPnPs than at 4, with the same poses.
+  /// P3P leaves all the noise to the fourth point, so the gate stays wider
+  /// than inlier_px; 1.5 keeps a margin over the fourth point's error on
+  /// harsh frames while skipping most EPnP solves (the gate scan:
+  /// docs/benchmarks.md, "LED pose: joined blobs out of the fit").
   double p3p_gate = 1.5;
   int min_leds = 4;  ///< fewest LEDs a pose may rest on
   /// Fewest LEDs a pose found by the full search (no prior) may rest on,
@@ -46,10 +47,8 @@ struct CorrespondenceOptions {
   /// toward it within emission_margin_deg): min(search_min_leds,
   /// expected − 1).
   /// Four points leave two redundant measurements, and of the thousands of
-  /// wrong 4-tuples a search tries some fit by chance: on 20 random
-  /// constellations with airframe reflections (tests/bench/pose_robustness,
-  /// harsh) 41 of 3600 frames were reported ok 0.8 m / 0.8 rad wrong on
-  /// four LEDs at 0.1 px; with 5, none. Tracking (with a prior) needs min_leds.
+  /// wrong 4-tuples a search tries some fit by chance (docs/benchmarks.md,
+  /// "Data it was not tuned to"). Tracking (with a prior) needs min_leds.
   int search_min_leds = 5;
   double missing_penalty_px = 3.0;  ///< score charged per unexplained LED, as a reprojection error [px]
   double min_distance = 0.1;        ///< plausible range of the constellation's distance [m]
@@ -91,10 +90,10 @@ struct CorrespondenceOptions {
   /// covariance's trace: the RMS of the 3-D error) exceeds these is
   /// Uncertain, not Ok. Set from measurement, not from Gaussian tails: the
   /// errors have a heavier tail than the covariance predicts (biased blob
-  /// centres the fit absorbs), and on 60 random constellations
-  /// (tests/bench/pose_robustness 60 90 1 2000) the share of ok poses more
-  /// than 0.1 m or 0.1 rad wrong was 0.67 % at 0.045, 0.30 % at 0.035,
-  /// 0.17 % at 0.03, 0.05 % at 0.025.
+  /// centres the fit absorbs). A looser limit reports more frames and more
+  /// poses over 0.1 m or 0.1 rad wrong; 0.03 comes from a scan of that
+  /// trade on random constellations (docs/benchmarks.md, "Data it was not
+  /// tuned to").
   double max_sigma_position_m = 0.03;
   double max_sigma_rotation_rad = 0.03;
   /// False (with the offending field and why in *why) for an invalid value.

@@ -1,13 +1,13 @@
 #pragma once
 /// \file
-/// LED blob detection in a low-exposure colour image (issue 4, item 1):
-/// threshold on the brightest channel, connected blobs (8-connectivity) by
-/// run-length labelling, sub-pixel centre by intensity weighting, the LED
-/// colour class from the blob's hue, and — with an aligned depth image — a
-/// distance gate and the back-projected 3-D centre.
+/// LED blob detection in a low-exposure colour image: threshold on the
+/// brightest channel, connected blobs (8-connectivity) by run-length
+/// labelling, sub-pixel centre by intensity weighting, the LED colour class
+/// from the blob's hue, and — with an aligned depth image — a distance gate
+/// and the back-projected 3-D centre.
 ///
-/// Colour (issue 9, item 2): a real camera at normal exposure clips an
-/// LED's core to white and records its colour in the halo around it. The
+/// Colour: a real camera at normal exposure clips an LED's core to white
+/// and records its colour in the halo around it. The
 /// class is therefore read from the unclipped pixels (every channel below
 /// `saturation_level`), each pixel's hue weighted by its chroma (the hue
 /// vector α = R − (G + B)/2, β = √3/2 (G − B) summed over pixels); from the

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// LED relative pose (issue 4, items 1–3): detections → correspondences →
-/// EPnP → Gauss–Newton on SE(3), tracked from frame to frame.
+/// LED relative pose: detections → correspondences → EPnP → Gauss–Newton
+/// on SE(3), tracked from frame to frame.
 ///
 /// - Initialisation (or after loss): the full correspondence search of
 ///   correspondence.hpp.
@@ -46,9 +46,9 @@ struct TrackerOptions {
   /// A tracked fit farther than this from the prediction is not the board
   /// (it moved in one frame beyond what a multirotor can: 0.25 m or
   /// 0.25 rad off a constant-velocity prediction in 1/30 s is ~450 m/s² or
-  /// ~450 rad/s²): the track is dropped and the full search decides. Seen
-  /// without depth in the harsh profile: a 4-LED tracked fit 0.56 m /
-  /// 0.41 rad wrong at 0.06 px, after drop-outs left 5 blobs.
+  /// ~450 rad/s²): the track is dropped and the full search decides. A
+  /// tracked fit on few LEDs can be far off yet reproject well (an example:
+  /// docs/benchmarks.md, "LED pose: joined blobs out of the fit").
   double max_jump_m = 0.25;
   double max_jump_rad = 0.25;  ///< see max_jump_m [rad]
   /// Fuse each frame's fit with the earlier frames of the track (an
@@ -63,9 +63,9 @@ struct TrackerOptions {
   /// A pose from the full search is reported only once a tracked frame
   /// confirms it when it rests on fewer than
   /// correspondence.search_min_leds LEDs or reprojects worse than this
-  /// [px]: such fits among many blobs are where chance poses hide (seen
-  /// without depth in the harsh profile: 12 of 1,600 frames up to 2.9 m
-  /// wrong), and a chance pose does not survive the next frame's prediction.
+  /// [px]: such fits among many blobs are where chance poses hide, and a
+  /// chance pose does not survive the next frame's prediction (figures:
+  /// docs/benchmarks.md, "Data it was not tuned to").
   double confirm_rms_px = 1.0;
   /// The fused 1-σ is never below the frame's own / √fusion_max_frames:
   /// blob biases persist from frame to frame, so frames are not independent.
@@ -80,13 +80,14 @@ struct TrackerOptions {
   /// [min_detection_sigma_px², detection_sigma_px²]. One frame's σ̂² rests
   /// on 6–14 degrees of freedom and can be small by chance; the pool's
   /// median cannot, and a sensor quieter than the default floor no longer
-  /// has its poses' sigma overstated (measured on the harsh renderer:
-  /// error/σ median 0.1 at the fixed floor, 0.3–1 with the pool). 0 = off.
+  /// has its poses' sigma overstated (docs/benchmarks.md, "Data it was not
+  /// tuned to", the sigma calibration). 0 = off.
   int noise_pool_frames = 30;
   /// Fits the pool needs before it replaces the default floor: the median
   /// of 5 σ̂² with 6–14 degrees of freedom each is within a factor 2 of the
-  /// noise (measured: 5 instead of 10 turns 36 of 1,600 harsh-suite frames
-  /// from too uncertain to ok, 0 wrong-ok; docs/benchmarks.md).
+  /// noise; waiting for more fits would leave more of a sequence's first
+  /// frames judged at the default floor (docs/benchmarks.md, "LED pose:
+  /// physical reflections").
   int noise_pool_min_fits = 5;
   /// A matched blob within 1.5 × its radius √(area/π) + this [px] of an
   /// unmatched, facing LED's reprojection is the two LEDs merged and leaves

@@ -5,8 +5,8 @@
 /// as if z were up turns the terrain upside down (a post becomes a pit), so
 /// the apps refuse a cloud that looks like a camera frame unless they are
 /// given its pose (`--extrinsics`) or told it is world-frame
-/// (`--assume-world-frame`): frames are never guessed (issue 11). The rule
-/// is documented in docs/formats.md ("Which frame a cloud is in").
+/// (`--assume-world-frame`): frames are never guessed. The rule is
+/// documented in docs/formats.md ("Which frame a cloud is in").
 #include <cstddef>
 #include <limits>
 #include <string>
@@ -61,8 +61,8 @@ struct FrameEvidence {
 /// squares on its inliers) to at most 20 000 of the finite points: a plane
 /// tilted more than `max_tilt_deg`, or every point at z > 0 with the plane
 /// more than `max_height_ratio` × the extent above the origin → camera
-/// frame. Deterministic; about 10 ms. Throws InvalidArgument for invalid
-/// options.
+/// frame. Deterministic (its time: docs/benchmarks.md, "Terrain stage").
+/// Throws InvalidArgument for invalid options.
 FrameEvidence camera_frame_evidence(const PointCloud& cloud, const FrameCheckOptions& options = {});
 
 }  // namespace touchdown::terrain
