@@ -79,13 +79,32 @@ struct SystemOutput {
   Eigen::Vector2d target = Eigen::Vector2d::Zero();
 };
 
+/// The interface a system under test implements. Its contract (checked
+/// for any system by the GoogleTest suite in
+/// touchdown/scenario/testing/landing_system_contract.hpp; docs/architecture.md
+/// shows how to run it on your own):
+///   - name() is non-empty and never changes;
+///   - reset() starts a fresh run: nothing of an earlier run carries over
+///     (a campaign reuses one object per worker thread for many scenarios);
+///   - update() is deterministic: the same setup and the same inputs give
+///     the same outputs, bit for bit (runs replay, campaigns are the same
+///     for any thread count);
+///   - most steps bring no frame (SystemInput::frame == nullptr; the first
+///     step after reset() may be one), and every step returns finite
+///     commands and targets, with detections only when there was a frame.
+///
+/// Thread-safety: one object is used by one thread at a time; objects
+/// share no state, so a campaign runs one per thread.
 class LandingSystem {
  public:
   virtual ~LandingSystem() = default;
+  /// Non-empty, the same for the object's whole life.
   [[nodiscard]] virtual std::string_view name() const = 0;
-  /// Starts a run; called once before the first update.
+  /// Starts a run; called once before the first update, and again before
+  /// each later run on the same object.
   virtual void reset(const SystemSetup& setup) = 0;
-  /// One physics step (frames arrive at the camera rate).
+  /// One physics step (frames arrive at the camera rate, so most steps
+  /// bring none).
   virtual SystemOutput update(const SystemInput& input) = 0;
 };
 
