@@ -79,17 +79,38 @@ struct SystemOutput {
   Eigen::Vector2d target = Eigen::Vector2d::Zero();
 };
 
+/// The interface a system under test implements. Its contract (checked
+/// for any system by the GoogleTest suite in
+/// touchdown/scenario/testing/landing_system_contract.hpp; docs/architecture.md
+/// shows how to run it on your own):
+///   - name() is non-empty and never changes;
+///   - reset() starts a fresh run: nothing of an earlier run carries over
+///     (a campaign reuses one object per worker thread for many scenarios);
+///   - update() is deterministic: the same setup and the same inputs give
+///     the same outputs, bit for bit (runs replay, campaigns are the same
+///     for any thread count);
+///   - most steps bring no frame (SystemInput::frame == nullptr; the first
+///     step after reset() may be one), and every step returns finite
+///     commands and targets, with detections only when there was a frame.
+///
+/// Thread-safety: one object is used by one thread at a time; objects
+/// share no state, so a campaign runs one per thread.
 class LandingSystem {
  public:
   virtual ~LandingSystem() = default;
+  /// Non-empty, the same for the object's whole life.
   [[nodiscard]] virtual std::string_view name() const = 0;
-  /// Starts a run; called once before the first update.
+  /// Starts a run; called once before the first update, and again before
+  /// each later run on the same object.
   virtual void reset(const SystemSetup& setup) = 0;
-  /// One physics step (frames arrive at the camera rate).
+  /// One physics step (frames arrive at the camera rate, so most steps
+  /// bring none).
   virtual SystemOutput update(const SystemInput& input) = 0;
 };
 
 /// Options of the reference systems (defaults after the paper's setup).
+/// Every figure that steers their behaviour is here, with its unit; the
+/// defaults are the values the systems were tuned and measured with.
 struct MlsOptions {
   double cruise_altitude = 10;  ///< approach and search altitude [m]
   double approach_speed = 3;    ///< [m/s]
@@ -101,9 +122,31 @@ struct MlsOptions {
   double centring_gain = 0.8;   ///< horizontal velocity per metre of offset [1/s]
   double search_radius = 6;     ///< spiral search around the GPS target [m]
   /// While the target is tracked, detect in a region around its last
-  /// position first (the whole frame when that misses it, and every 10th
-  /// frame); false: the whole frame every time, as the published baseline.
+  /// position first (the whole frame when that misses it, and every
+  /// full_frame_period-th frame); false: the whole frame every time, as the
+  /// published baseline.
   bool detection_roi = true;
+  int full_frame_period = 10;  ///< with detection_roi: the whole frame at least this often [frames]
+
+  // Guidance of both systems.
+  double altitude_gain = 1.0;          ///< vertical velocity per metre of altitude error [1/s]
+  double max_vertical_speed = 1.5;     ///< limit of the altitude hold and of a climb back to cruise [m/s]
+  double approach_gain = 1.0;          ///< velocity per metre towards the GPS target or the spiral's point [1/s]
+  double search_start_distance = 1.0;  ///< the approach turns into the search this close to the GPS target [m]
+  double search_growth = 0.25;         ///< the search spiral's radius grows this fast [m/s]
+  /// The spiral's point turns at search_speed / max(search_min_radius, r)
+  /// [rad/s], r its current radius: search_speed is its speed along the
+  /// spiral [m/s] once r ≥ search_min_radius [m].
+  double search_speed = 0.4;
+  double search_min_radius = 1.0;
+  /// Tracking with no sighting for longer than this drops the estimate and
+  /// starts the search again [s].
+  double track_lost_time = 5.0;
+  /// Weight of a new sighting in the marker estimate (the rest is the
+  /// previous estimate); a new track starts at its first sighting.
+  double estimate_weight = 0.5;
+  double land_speed = 0.5;  ///< horizontal speed limit in the land mode [m/s]
+
   // mm-mls only
   double obstacle_clearance = 1.5;  ///< outside a planned descent: climb when an obstacle comes this close [m]
   double obstacle_height = 0.3;     ///< depth points higher than this above the ground are obstacles [m]
@@ -116,6 +159,54 @@ struct MlsOptions {
   /// not a sighting; of several within it the nearest is followed [m].
   double track_gate = 1.0;
 
+  // mm-mls: the obstacle map.
+  double map_half_extent = 40;  ///< the grid covers this far about the GPS target (the map and the start) [m]
+  /// Depth pixels read per frame, whatever the resolution (every 2nd of
+  /// every 2nd row at 640×480).
+  int depth_samples = 76800;
+  int map_ground_hits = 2;          ///< ground samples in a cell for a frame to count it as seen free
+  int map_clear_frames = 10;        ///< frames seen free in a row before an obstacle cell is cleared (1 s at 10 Hz)
+  double map_change_height = 0.25;  ///< an obstacle cell growing by more than this is a change for the plan [m]
+  double box_merge_height = 0.5;    ///< cells merge into one planner box with heights within this of the first [m]
+  int max_obstacle_boxes = 24;      ///< more boxes than this around the descent: too cluttered to plan (hold)
+
+  // mm-mls: outside a planned descent.
+  double clearance_climb_speed = 1.0;  ///< climb at least this fast when an obstacle comes within the clearance [m/s]
+  double clearance_look_ahead = 1.0;   ///< the path checked: one second ahead, at most this far [m]
+
+  // mm-mls: the landing point.
+  double landing_ring_step = 0.125;  ///< radial step of the rings searched around the marker estimate [m]
+  int landing_bearings = 16;         ///< points per ring
+  double landing_hysteresis = 0.25;  ///< a free point must be this much nearer the estimate to replace the current [m]
+  double no_spot_speed = 1.0;        ///< horizontal speed limit with no free landing point [m/s]
+
+  // mm-mls: the planned descent (touchdown::plan).
+  int plan_order = 6;                  ///< Bézier order, in [5, 20]
+  int plan_segments = 2;               ///< Bézier segments, in [2, 16]
+  double plan_speed_factor = 1.75;     ///< per-axis speed limit / descent_speed (a min-jerk peak is ~1.875× its mean)
+  double plan_max_acceleration = 1.5;  ///< per-axis acceleration limit [m/s²]
+  double plan_min_segment_time = 0.3;  ///< time allocation's bounds per segment [s]
+  double plan_max_segment_time = 30;   ///< [s]
+  int plan_max_evaluations = 40;       ///< time allocation's QP solves per plan
+  double plan_start_speed_fraction = 0.95;  ///< a plan from the vehicle's state starts at most this × the speed limit
+  double corridor_margin = 2.0;     ///< the corridor's free box around start and goal (CorridorOptions::margin) [m]
+  double corridor_deflate = 0.3;    ///< CorridorOptions::deflate [m]
+  double corridor_dilate = 0.5;     ///< CorridorOptions::dilate (one dilation step) [m]
+  double plan_feedback_gain = 1.0;  ///< velocity per metre from the plan's reference position [1/s]
+  double receding_tolerance = 0.5;  ///< a replan starts from the plan's reference state within this of it [m]
+  double replan_retry = 0.5;        ///< a failed plan is tried again after this [s]
+  double landing_move = 0.2;        ///< the landing point moving by more than this drops the plan [m]
+  double plan_check_step = 0.2;     ///< the rest of a plan is checked against the map at this time step [s]
+  /// The plan counts as flown within this of the landing point and of the
+  /// land altitude [m].
+  double land_tolerance = 0.3;
+  /// With no plan: climb (at least replan_climb_speed [m/s]) while a mapped
+  /// obstacle near the drone reaches above its altitude less its radius
+  /// less replan_climb_clearance [m], else hold.
+  double replan_climb_clearance = 1.0;
+  double replan_climb_speed = 0.5;
+
+  /// False (with "key: what is wrong" in *why) for a NaN or out-of-range value.
   [[nodiscard]] bool validate(std::string* why) const;
 };
 
