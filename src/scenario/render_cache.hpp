@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The renderer's process-wide caches (render.cpp), for tests and benchmarks.
+/// The renderer's process-wide caches (render_cache.cpp), for tests and benchmarks.
 ///
 /// Each map's ground and the cover layers are built once (a few hundred
 /// ms); a scenario's texture (2048² texels, mip-mapped, with its snow/leaf
