@@ -47,13 +47,7 @@ bool RunOptions::validate(std::string* why) const {
   return true;
 }
 
-ScenarioResult run_scenario(const Scenario& scenario, LandingSystem& system, const RunOptions& options) {
-  std::string why;
-  if (!options.validate(&why)) throw InvalidArgument("run options: " + why);
-  const auto t_start = Clock::now();
-  World world(scenario, options.flight);
-  Renderer renderer(scenario, options.camera);
-
+SystemSetup system_setup(const Scenario& scenario, const RunOptions& options) {
   SystemSetup setup;
   setup.camera = options.camera;
   setup.dictionary = scenario.marker.dictionary;
@@ -61,7 +55,17 @@ ScenarioResult run_scenario(const Scenario& scenario, LandingSystem& system, con
   setup.marker_size = scenario.marker.size;
   setup.gps_target = scenario.gps_target();
   setup.drone_radius = options.flight.airframe.footprint_radius();
-  system.reset(setup);
+  return setup;
+}
+
+ScenarioResult run_scenario(const Scenario& scenario, LandingSystem& system, const RunOptions& options) {
+  std::string why;
+  if (!options.validate(&why)) throw InvalidArgument("run options: " + why);
+  const auto t_start = Clock::now();
+  World world(scenario, options.flight);
+  Renderer renderer(scenario, options.camera);
+
+  system.reset(system_setup(scenario, options));
 
   ScenarioResult r;
   const double dt = world.dt();

@@ -87,6 +87,10 @@ struct ScenarioResult {
   Timing timing;
 };
 
+/// What run_scenario() gives a system's reset() for `scenario`: the camera,
+/// the marker to look for, the approximate (GPS) target and the drone's radius.
+SystemSetup system_setup(const Scenario& scenario, const RunOptions& options);
+
 /// Runs `system` in `scenario` until it lands, collides or the time limit.
 /// Throws InvalidArgument for invalid options or scenario.
 ScenarioResult run_scenario(const Scenario& scenario, LandingSystem& system, const RunOptions& options = {});

@@ -146,25 +146,13 @@ struct StepRecord {
 };
 using Record = std::vector<StepRecord>;
 
-/// What run_scenario() tells a system before a run.
-inline SystemSetup setup_for(const Scenario& scenario, const RunOptions& options) {
-  SystemSetup setup;
-  setup.camera = options.camera;
-  setup.dictionary = scenario.marker.dictionary;
-  setup.marker_id = scenario.marker.id;
-  setup.marker_size = scenario.marker.size;
-  setup.gps_target = scenario.gps_target();
-  setup.drone_radius = options.flight.airframe.footprint_radius();
-  return setup;
-}
-
 /// One closed-loop run stepped from outside, as run_scenario() steps it
 /// (so that two runs can advance in turn).
 class Lane {
  public:
   Lane(LandingSystem& system, const Scenario& scenario, const RunOptions& options, double max_time = 0)
       : system_(system), world_(scenario, options.flight), renderer_(scenario, options.camera) {
-    system_.reset(setup_for(scenario, options));
+    system_.reset(system_setup(scenario, options));
     const double duration = max_time > 0 ? std::min(max_time, scenario.time_limit) : scenario.time_limit;
     steps_ = static_cast<long>(std::ceil(duration / world_.dt() - 1e-9));
     frame_period_ = 1.0 / options.camera.rate_hz;
@@ -313,7 +301,7 @@ inline ::testing::AssertionResult check_name(const Factory& f) {
       return ::testing::AssertionFailure()
              << "name() was \"" << first << "\", " << when << " \"" << system->name() << "\"";
     };
-    system->reset(setup_for(f.script.scenario, f.script.run));
+    system->reset(system_setup(f.script.scenario, f.script.run));
     if (auto r = same("after reset()"); !r) return r;
     (void)run(*system, f.script.other, f.script.run, f.script.max_time);
     if (auto r = same("after a run"); !r) return r;
@@ -328,7 +316,7 @@ inline ::testing::AssertionResult check_name(const Factory& f) {
 inline ::testing::AssertionResult check_frameless(const Factory& f) {
   return detail::guarded("a step without a frame", [&]() -> ::testing::AssertionResult {
     const auto system = f.make();
-    system->reset(setup_for(f.script.scenario, f.script.run));
+    system->reset(system_setup(f.script.scenario, f.script.run));
     SystemInput in;  // frame == nullptr
     in.state.position = f.script.scenario.drone.position;
     in.state.yaw_deg = f.script.scenario.drone.yaw_deg;
