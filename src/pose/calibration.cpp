@@ -109,11 +109,11 @@ enum class Gauge {
   Similarity,        // no known pose: rotation, translation and scale are free
 };
 
-}  // namespace
-
-CalibrationResult calibrate_constellation(const PinholeCamera& camera, const Constellation& initial,
-                                          std::span<const CalibrationView> views, const CalibrationOptions& options) {
-  // --- misuse: throw ---
+// Misuse (invalid options, camera or initial constellation, a bad
+// observation, a known pose that is not rigid or puts an LED behind the
+// camera): throws InvalidArgument naming the view and observation.
+void check_calibration_input(const PinholeCamera& camera, const Constellation& initial,
+                             std::span<const CalibrationView> views, const CalibrationOptions& options) {
   std::string why;
   if (!options.validate(&why)) throw InvalidArgument("calibration options: " + why);
   if (!initial.validate(&why)) throw InvalidArgument("calibration: initial constellation: " + why);
@@ -155,39 +155,40 @@ CalibrationResult calibrate_constellation(const PinholeCamera& camera, const Con
       }
     }
   }
+}
 
-  CalibrationResult out;
-  out.constellation = initial;
-  auto insufficient = [&](const std::string& m) {
-    out.status = CalibrationStatus::InsufficientData;
-    out.message = m;
-    return out;
-  };
-
-  // --- expected outcomes: status InsufficientData ---
+// Why the views cannot determine every LED (an expected outcome, status
+// InsufficientData); empty if they can.
+std::string insufficient_views(const Constellation& initial, std::span<const CalibrationView> views) {
+  const std::size_t num_leds = initial.leds.size();
   std::vector<int> views_per_led(num_leds, 0);
   int rich_views = 0;
   for (std::size_t i = 0; i < views.size(); ++i) {
     for (const auto& o : views[i].observations) ++views_per_led[static_cast<std::size_t>(o.led)];
     if (views[i].observations.size() >= 4) ++rich_views;
     if (!views[i].T_camera_body && views[i].observations.size() < 4) {
-      return insufficient(view_key(i) + ": a view without a known pose needs at least 4 LEDs, has " +
-                          std::to_string(views[i].observations.size()) + " (give its pose or drop it)");
+      return view_key(i) + ": a view without a known pose needs at least 4 LEDs, has " +
+             std::to_string(views[i].observations.size()) + " (give its pose or drop it)";
     }
   }
   for (std::size_t k = 0; k < num_leds; ++k) {
     if (views_per_led[k] < 2) {
-      return insufficient("LED " + std::to_string(k) + " is seen in " + std::to_string(views_per_led[k]) +
-                          " view(s); every LED needs at least 2");
+      return "LED " + std::to_string(k) + " is seen in " + std::to_string(views_per_led[k]) +
+             " view(s); every LED needs at least 2";
     }
   }
   if (rich_views < 2) {
-    return insufficient("need at least 2 views with 4 or more LEDs, have " + std::to_string(rich_views));
+    return "need at least 2 views with 4 or more LEDs, have " + std::to_string(rich_views);
   }
+  return {};
+}
 
-  // Initial poses: known ones as given, the others by EPnP + Gauss–Newton on
-  // the initial constellation.
-  std::vector<PoseBlock> poses(views.size());
+// Initial poses: known ones as given, the others by EPnP + Gauss–Newton on
+// the initial constellation. Returns why a view has no PnP solution (status
+// InsufficientData); empty if every view has a pose.
+std::string initial_poses(const PinholeCamera& camera, const Constellation& initial,
+                          std::span<const CalibrationView> views, const CalibrationOptions& options,
+                          std::vector<PoseBlock>& poses) {
   GaussNewtonOptions gn;
   gn.huber_px = options.huber_px;
   for (std::size_t i = 0; i < views.size(); ++i) {
@@ -202,33 +203,37 @@ CalibrationResult calibrate_constellation(const PinholeCamera& camera, const Con
       uv.push_back(o.uv_px);
     }
     const PoseRefinement pnp = solve_pnp(camera, p, uv, gn);
-    if (!pnp.ok()) return insufficient(view_key(i) + ": no PnP solution from the initial constellation");
+    if (!pnp.ok()) return view_key(i) + ": no PnP solution from the initial constellation";
     poses[i] = to_block(pnp.T_camera_body);
   }
-  std::vector<PointBlock> leds(num_leds);
-  for (std::size_t k = 0; k < num_leds; ++k) {
-    const auto& p = initial.leds[k].p_body;
-    leds[k] = {p.x(), p.y(), p.z()};
-  }
+  return {};
+}
 
-  std::size_t num_obs = 0;
-  auto rms = [&]() {
-    double sq = 0;
-    std::size_t n = 0;
-    for (std::size_t i = 0; i < views.size(); ++i) {
-      const Eigen::Isometry3d T = from_block(poses[i]);
-      for (const auto& o : views[i].observations) {
-        const auto& q = leds[static_cast<std::size_t>(o.led)];
-        sq += (camera.project(T * Eigen::Vector3d(q[0], q[1], q[2])) - o.uv_px).squaredNorm();
-        ++n;
-      }
+// Reprojection RMS [px] over every observation; `num_obs` gets their number.
+double reprojection_rms(const PinholeCamera& camera, std::span<const CalibrationView> views,
+                        const std::vector<PoseBlock>& poses, const std::vector<PointBlock>& leds,
+                        std::size_t& num_obs) {
+  double sq = 0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < views.size(); ++i) {
+    const Eigen::Isometry3d T = from_block(poses[i]);
+    for (const auto& o : views[i].observations) {
+      const auto& q = leds[static_cast<std::size_t>(o.led)];
+      sq += (camera.project(T * Eigen::Vector3d(q[0], q[1], q[2])) - o.uv_px).squaredNorm();
+      ++n;
     }
-    num_obs = n;
-    return n ? std::sqrt(sq / static_cast<double>(n)) : 0.0;
-  };
-  out.initial_rms_px = rms();
+  }
+  num_obs = n;
+  return n ? std::sqrt(sq / static_cast<double>(n)) : 0.0;
+}
 
-  // Gauge (see the header). Camera centres in the body frame: c = −Rᵀ t.
+struct GaugeChoice {
+  Gauge gauge = Gauge::Similarity;
+  Eigen::Vector3d scale_centre = Eigen::Vector3d::Zero();  // centre of the free scale (ScaleAboutCentre)
+};
+
+// Gauge (see the header). Camera centres in the body frame: c = −Rᵀ t.
+GaugeChoice choose_gauge(const Constellation& initial, std::span<const CalibrationView> views) {
   std::vector<Eigen::Vector3d> known_centres;
   for (const auto& v : views) {
     if (v.T_camera_body)
@@ -249,10 +254,14 @@ CalibrationResult calibrate_constellation(const PinholeCamera& camera, const Con
     // weakly to rely on: treat the centres as one.
     gauge = spread > 1e-3 * distance ? Gauge::None : Gauge::ScaleAboutCentre;
   }
+  return {gauge, scale_centre};
+}
 
-  // --- the bundle adjustment problem ---
-  ceres::Problem::Options po;  // the problem owns cost, loss and manifold objects
-  ceres::Problem problem(po);
+// The bundle adjustment's parameter blocks (known poses held constant) and
+// one reprojection residual per observation.
+void add_reprojection_residuals(ceres::Problem& problem, const PinholeCamera& camera,
+                                std::span<const CalibrationView> views, const CalibrationOptions& options,
+                                std::vector<PoseBlock>& poses, std::vector<PointBlock>& leds) {
   // Every observation has a residual block (the checks above guarantee at
   // least one), so the problem takes ownership of the loss; the manifold is
   // made only if some pose is free.
@@ -275,12 +284,18 @@ CalibrationResult calibrate_constellation(const PinholeCamera& camera, const Con
       problem.AddResidualBlock(cost, loss, poses[i].data(), leds[static_cast<std::size_t>(o.led)].data());
     }
   }
-  // Gauge fixing for conditioning (Triggs et al. 2000, sec. 9): without it
-  // the normal equations are singular along the gauge orbit and LM only
-  // converges thanks to its damping, slowly and with a meaningless
-  // covariance. Rotation and translation: hold the pose of the unknown view
-  // with the most LEDs at its PnP value — any pose is reachable along the
-  // orbit, so this costs nothing. Scale: the prior above.
+}
+
+// Gauge fixing for conditioning (Triggs et al. 2000, sec. 9): without it
+// the normal equations are singular along the gauge orbit and LM only
+// converges thanks to its damping, slowly and with a meaningless
+// covariance. Rotation and translation: hold the pose of the unknown view
+// with the most LEDs at its PnP value — any pose is reachable along the
+// orbit, so this costs nothing. Scale: the prior above. Returns the number
+// of poses left free.
+int fix_gauge(ceres::Problem& problem, const PinholeCamera& camera, std::span<const CalibrationView> views, Gauge gauge,
+              std::vector<PoseBlock>& poses, std::vector<PointBlock>& leds) {
+  const std::size_t num_leds = leds.size();
   int free_poses = 0;
   for (const auto& v : views) free_poses += v.T_camera_body ? 0 : 1;
   if (gauge == Gauge::Similarity) {
@@ -305,7 +320,11 @@ CalibrationResult calibrate_constellation(const PinholeCamera& camera, const Con
     prior->SetNumResiduals(1);
     problem.AddResidualBlock(prior, nullptr, blocks);
   }
+  return free_poses;
+}
 
+ceres::Solver::Options solver_options(const CalibrationOptions& options, int free_poses, std::vector<PoseBlock>& poses,
+                                      std::vector<PointBlock>& leds) {
   ceres::Solver::Options so;
   so.max_num_iterations = options.max_iterations;
   so.function_tolerance = options.function_tolerance;
@@ -325,12 +344,46 @@ CalibrationResult calibrate_constellation(const PinholeCamera& camera, const Con
   } else {
     so.linear_solver_type = ceres::DENSE_QR;
   }
-  ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
-  out.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
+  return so;
+}
 
-  // Per-LED standard deviation from the covariance of the gauge-fixed
-  // problem, scaled by the a-posteriori variance factor 2·cost / dof.
+using LedCovariance = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// Where the gauge is free, the covariance of the solve depends on the
+// gauge held during it (the reference pose's own error shows up in every
+// LED). The result is returned aligned (least squares) to the initial LEDs,
+// which to first order removes its components along the gauge directions
+// G: its covariance is P C P with P the orthogonal projector off span(G)
+// (Triggs et al. 2000, sec. 9).
+void project_off_gauge(LedCovariance& C, const std::vector<PointBlock>& leds, Gauge gauge,
+                       const Eigen::Vector3d& scale_centre) {
+  const std::size_t num_leds = leds.size();
+  const auto n3 = static_cast<Eigen::Index>(3 * num_leds);
+  const Eigen::Index cols = gauge == Gauge::Similarity ? 7 : 1;
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n3, cols);
+  for (std::size_t k = 0; k < num_leds; ++k) {
+    const auto row = static_cast<Eigen::Index>(3 * k);
+    const Eigen::Vector3d p(leds[k][0], leds[k][1], leds[k][2]);
+    if (gauge == Gauge::Similarity) {
+      G.block<3, 3>(row, 0).setIdentity();  // translation
+      G.block<3, 3>(row, 3) = -hat(p);      // rotation: ω × p
+      G.block<3, 1>(row, 6) = p;            // scale about the origin
+    } else {
+      G.block<3, 1>(row, 0) = p - scale_centre;  // scale about the camera centre
+    }
+  }
+  const Eigen::MatrixXd P = Eigen::MatrixXd::Identity(n3, n3) - G * (G.transpose() * G).ldlt().solve(G.transpose());
+  C = P * C * P.transpose();
+}
+
+// Per-LED standard deviation from the covariance of the gauge-fixed
+// problem, scaled by the a-posteriori variance factor 2·cost / dof; empty
+// if the solution is unusable, there is no redundancy or Ceres cannot
+// compute the covariance.
+std::vector<double> led_sigmas(ceres::Problem& problem, const ceres::Solver::Summary& summary,
+                               const std::vector<PointBlock>& leds, std::size_t num_obs, int free_poses,
+                               bool scale_prior, Gauge gauge, const Eigen::Vector3d& scale_centre) {
+  const std::size_t num_leds = leds.size();
   const int num_params = 3 * static_cast<int>(num_leds) + 6 * free_poses;
   const int dof = 2 * static_cast<int>(num_obs) - num_params + (scale_prior ? 1 : 0);
   std::vector<double> sigma;
@@ -345,44 +398,27 @@ CalibrationResult calibrate_constellation(const PinholeCamera& camera, const Con
       for (std::size_t j = i; j < num_leds; ++j) pairs.emplace_back(blocks[i], blocks[j]);
     }
     const auto n3 = static_cast<Eigen::Index>(3 * num_leds);
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> C(n3, n3);
+    LedCovariance C(n3, n3);
     if (covariance.Compute(pairs, &problem) && covariance.GetCovarianceMatrix(blocks, C.data())) {
       C *= 2.0 * summary.final_cost / dof;
-      if (gauge != Gauge::None) {
-        // Where the gauge is free, the covariance above depends on the
-        // gauge held during the solve (the reference pose's own error shows
-        // up in every LED). The result is returned aligned (least squares)
-        // to the initial LEDs, which to first order removes its components
-        // along the gauge directions G: its covariance is P C P with P the
-        // orthogonal projector off span(G) (Triggs et al. 2000, sec. 9).
-        const Eigen::Index cols = gauge == Gauge::Similarity ? 7 : 1;
-        Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n3, cols);
-        for (std::size_t k = 0; k < num_leds; ++k) {
-          const auto row = static_cast<Eigen::Index>(3 * k);
-          const Eigen::Vector3d p(leds[k][0], leds[k][1], leds[k][2]);
-          if (gauge == Gauge::Similarity) {
-            G.block<3, 3>(row, 0).setIdentity();  // translation
-            G.block<3, 3>(row, 3) = -hat(p);      // rotation: ω × p
-            G.block<3, 1>(row, 6) = p;            // scale about the origin
-          } else {
-            G.block<3, 1>(row, 0) = p - scale_centre;  // scale about the camera centre
-          }
-        }
-        const Eigen::MatrixXd P =
-            Eigen::MatrixXd::Identity(n3, n3) - G * (G.transpose() * G).ldlt().solve(G.transpose());
-        C = P * C * P.transpose();
-      }
+      if (gauge != Gauge::None) project_off_gauge(C, leds, gauge, scale_centre);
       for (std::size_t k = 0; k < num_leds; ++k) {
         const auto row = static_cast<Eigen::Index>(3 * k);
         sigma.push_back(std::sqrt(std::max(0.0, C.block<3, 3>(row, row).trace())));
       }
     }
   }
+  return sigma;
+}
 
-  // Back to the gauge of the initial constellation: the member of the
-  // solution family closest to the initial LEDs. A body-frame similarity
-  // p' = s R p + t keeps every image if each pose becomes
-  // R_c' = R_c Rᵀ, t_c' = s t_c − R_c Rᵀ t (the camera frame scales by s).
+// Back to the gauge of the initial constellation: the member of the
+// solution family closest to the initial LEDs. A body-frame similarity
+// p' = s R p + t keeps every image if each pose becomes
+// R_c' = R_c Rᵀ, t_c' = s t_c − R_c Rᵀ t (the camera frame scales by s).
+void align_to_initial_gauge(const Constellation& initial, std::span<const CalibrationView> views, Gauge gauge,
+                            const Eigen::Vector3d& scale_centre, std::vector<PointBlock>& leds,
+                            std::vector<PoseBlock>& poses, std::vector<double>& sigma) {
+  const std::size_t num_leds = leds.size();
   double s = 1;
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d t = Eigen::Vector3d::Zero();
@@ -422,15 +458,13 @@ CalibrationResult calibrate_constellation(const PinholeCamera& camera, const Con
     poses[i] = to_block(T);
   }
   for (auto& x : sigma) x *= s;
+}
 
-  out.final_rms_px = rms();
-  for (std::size_t k = 0; k < num_leds; ++k) out.constellation.leds[k].p_body = {leds[k][0], leds[k][1], leds[k][2]};
-  out.T_camera_body.reserve(views.size());
-  for (std::size_t i = 0; i < views.size(); ++i) {
-    out.T_camera_body.push_back(views[i].T_camera_body ? *views[i].T_camera_body : from_block(poses[i]));
-  }
-  out.led_sigma_m = std::move(sigma);
-
+// Status and message from the solver's termination, the usability of its
+// solution and the validity of the calibrated constellation.
+void set_status(CalibrationResult& out, const ceres::Solver::Summary& summary, const CalibrationOptions& options,
+                Gauge gauge, const Constellation& initial) {
+  std::string why;
   switch (summary.termination_type) {
     case ceres::CONVERGENCE:
       out.status = CalibrationStatus::Converged;
@@ -458,6 +492,60 @@ CalibrationResult calibrate_constellation(const PinholeCamera& camera, const Con
                        ? " (no known pose: scale, orientation and origin taken from the initial constellation)"
                        : " (known poses share one camera centre: scale taken from the initial constellation)";
   }
+}
+
+}  // namespace
+
+CalibrationResult calibrate_constellation(const PinholeCamera& camera, const Constellation& initial,
+                                          std::span<const CalibrationView> views, const CalibrationOptions& options) {
+  // --- misuse: throw ---
+  check_calibration_input(camera, initial, views, options);
+  const std::size_t num_leds = initial.leds.size();
+
+  CalibrationResult out;
+  out.constellation = initial;
+  auto insufficient = [&](const std::string& m) {
+    out.status = CalibrationStatus::InsufficientData;
+    out.message = m;
+    return out;
+  };
+
+  // --- expected outcomes: status InsufficientData ---
+  if (const std::string m = insufficient_views(initial, views); !m.empty()) return insufficient(m);
+  std::vector<PoseBlock> poses(views.size());
+  if (const std::string m = initial_poses(camera, initial, views, options, poses); !m.empty()) return insufficient(m);
+  std::vector<PointBlock> leds(num_leds);
+  for (std::size_t k = 0; k < num_leds; ++k) {
+    const auto& p = initial.leds[k].p_body;
+    leds[k] = {p.x(), p.y(), p.z()};
+  }
+
+  std::size_t num_obs = 0;
+  out.initial_rms_px = reprojection_rms(camera, views, poses, leds, num_obs);
+  const auto [gauge, scale_centre] = choose_gauge(initial, views);
+
+  // --- the bundle adjustment problem ---
+  ceres::Problem::Options po;  // the problem owns cost, loss and manifold objects
+  ceres::Problem problem(po);
+  add_reprojection_residuals(problem, camera, views, options, poses, leds);
+  const int free_poses = fix_gauge(problem, camera, views, gauge, poses, leds);
+  const bool scale_prior = gauge != Gauge::None;
+
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options(options, free_poses, poses, leds), &problem, &summary);
+  out.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
+
+  std::vector<double> sigma = led_sigmas(problem, summary, leds, num_obs, free_poses, scale_prior, gauge, scale_centre);
+  align_to_initial_gauge(initial, views, gauge, scale_centre, leds, poses, sigma);
+
+  out.final_rms_px = reprojection_rms(camera, views, poses, leds, num_obs);
+  for (std::size_t k = 0; k < num_leds; ++k) out.constellation.leds[k].p_body = {leds[k][0], leds[k][1], leds[k][2]};
+  out.T_camera_body.reserve(views.size());
+  for (std::size_t i = 0; i < views.size(); ++i) {
+    out.T_camera_body.push_back(views[i].T_camera_body ? *views[i].T_camera_body : from_block(poses[i]));
+  }
+  out.led_sigma_m = std::move(sigma);
+  set_status(out, summary, options, gauge, initial);
   return out;
 }
 
