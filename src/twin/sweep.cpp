@@ -118,32 +118,10 @@ LandingConditions sweep_conditions(const SweepOptions& o, double ground_z, doubl
   return c;
 }
 
-SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainModel> terrain, const SweepOptions& o) {
-  const auto t0 = std::chrono::steady_clock::now();
-  std::string why;
-  if (!o.validate(&why)) throw InvalidArgument("sweep options: " + why);
-  if (!airframe.validate(&why)) throw InvalidArgument("airframe: " + why);
-  if (!terrain) throw InvalidArgument("sweep: no terrain");
+namespace {
 
-  SweepResult out;
-  out.landing_point = o.landing_point;
-  out.threshold = compute_safety_threshold(airframe);
-  const double footprint = airframe.footprint_radius();
-  const auto zlp = terrain->max_top_z(o.landing_point, footprint);
-  if (!zlp) {
-    out.status = SweepStatus::FootprintNotCovered;
-    out.message = off_scan_message(*terrain, o.landing_point, footprint);
-    return out;
-  }
-  out.ground_z = *zlp;
-
-  SimulationOptions sim_opt = o.simulation;
-  sim_opt.tip_nutation = out.threshold.tip_rad;
-  sim_opt.controller.land_speed = o.land_speed;
-  const LandingSimulator sim(airframe, terrain, sim_opt);
-
-  const double yaw_max = deg_to_rad(o.yaw_max_deg > 0 ? o.yaw_max_deg : 360.0 / airframe.symmetry_order());
-  out.yaw_max = yaw_max;
+// One record per (heading j, run i), with the run's perturbed conditions.
+void plan_runs(SweepResult& out, const SweepOptions& o, double yaw_max) {
   const int n = o.headings, m = o.runs;
   out.runs.resize(static_cast<std::size_t>(n) * m);
   for (int j = 0; j < n; ++j) {
@@ -154,7 +132,14 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
       r.conditions = sweep_conditions(o, out.ground_z, j * yaw_max / n, j, i);  // ψ_j = j ψ_max / n
     }
   }
+}
 
+// Lands every run in the twin on `o.threads` threads. With a time budget,
+// round by round (run i of every heading) until the budget since `t0` is
+// spent; the runs of unflown rounds are dropped.
+void fly_runs(SweepResult& out, const LandingSimulator& sim, const SweepOptions& o,
+              std::chrono::steady_clock::time_point t0) {
+  const int n = o.headings, m = o.runs;
   std::mutex progress_mutex;
   std::size_t done = 0;
   const std::size_t total = out.runs.size();
@@ -192,20 +177,27 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
   }
   out.rounds_completed = rounds;
   out.completeness = static_cast<double>(rounds) / m;
+}
 
-  // Scores (eq. 3 per run, eq. 6 per heading, eq. 7 overall). Only settled
-  // runs have a final nutation to score; any other run makes its heading
-  // unsafe (and says why) without inventing a nutation for it.
-  const double threshold = out.threshold.value();
-  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+// Per heading: its yaw and whether the twin would stand over unobserved
+// terrain there.
+void place_headings(SweepResult& out, const TerrainModel& terrain, const Airframe& airframe, const SweepOptions& o,
+                    double footprint) {
+  const int n = o.headings;
+  const double yaw_max = out.yaw_max;
   out.headings.resize(static_cast<std::size_t>(n));
   // The perturbations move the twin by ~3 σ_xy and turn it by ~3 σ_yaw.
   const double pad = 3 * o.perturbation.sigma_xy + footprint * 3 * deg_to_rad(o.perturbation.sigma_yaw_deg);
   for (int j = 0; j < n; ++j) {
     auto& h = out.headings[static_cast<std::size_t>(j)];
     h.yaw = j * yaw_max / n;
-    h.unobserved = over_unknown(*terrain, airframe, o.landing_point, h.yaw, pad);
+    h.unobserved = over_unknown(terrain, airframe, o.landing_point, h.yaw, pad);
   }
+}
+
+// Each flown run into its heading's counts, S (eq. 6: the maximum of the
+// settled runs' nutation) and mean.
+void add_runs_to_headings(SweepResult& out) {
   for (const auto& r : out.runs) {
     auto& h = out.headings[static_cast<std::size_t>(r.heading)];
     const RunResult& res = r.result;
@@ -227,6 +219,13 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
     h.feet_not_all_down_runs += !res.all_feet_in_contact;
     h.max_offset = std::max(h.max_offset, res.offset);
   }
+}
+
+// Per heading: the mean over its settled runs (NaN scores if none settled)
+// and the first reason, in order of precedence, that makes it unsafe.
+void classify_headings(SweepResult& out, const SweepOptions& o) {
+  const double threshold = out.threshold.value();
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   for (auto& h : out.headings) {
     if (h.scored()) {
       h.mean /= h.runs - h.invalid_runs;
@@ -251,8 +250,11 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
     }
     h.safe = h.reason == UnsafeReason::None;
   }
-  // ψ* = argmin S over safe headings (ties: the lowest heading); if none is
-  // safe, the lowest score among scored headings, reported as unsafe.
+}
+
+// ψ* = argmin S over safe headings (ties: the lowest heading); if none is
+// safe, the lowest score among scored headings, reported as unsafe.
+void choose_best_heading(SweepResult& out, int n) {
   for (int pass = 0; pass < 2 && out.best < 0; ++pass) {
     for (int j = 0; j < n; ++j) {
       const auto& h = out.headings[static_cast<std::size_t>(j)];
@@ -261,6 +263,10 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
     }
   }
   out.safe = out.best >= 0 && out.headings[static_cast<std::size_t>(out.best)].safe;
+}
+
+// The median over runs of simulated time / wall time.
+void median_run_sim_to_wall(SweepResult& out) {
   std::vector<double> ratios;
   for (const auto& r : out.runs) {
     if (r.wall_seconds > 0) ratios.push_back(r.result.sim_time / r.wall_seconds);
@@ -269,6 +275,47 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
     std::nth_element(ratios.begin(), ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2), ratios.end());
     out.run_sim_to_wall = ratios[ratios.size() / 2];
   }
+}
+
+}  // namespace
+
+SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainModel> terrain, const SweepOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::string why;
+  if (!o.validate(&why)) throw InvalidArgument("sweep options: " + why);
+  if (!airframe.validate(&why)) throw InvalidArgument("airframe: " + why);
+  if (!terrain) throw InvalidArgument("sweep: no terrain");
+
+  SweepResult out;
+  out.landing_point = o.landing_point;
+  out.threshold = compute_safety_threshold(airframe);
+  const double footprint = airframe.footprint_radius();
+  const auto zlp = terrain->max_top_z(o.landing_point, footprint);
+  if (!zlp) {
+    out.status = SweepStatus::FootprintNotCovered;
+    out.message = off_scan_message(*terrain, o.landing_point, footprint);
+    return out;
+  }
+  out.ground_z = *zlp;
+
+  SimulationOptions sim_opt = o.simulation;
+  sim_opt.tip_nutation = out.threshold.tip_rad;
+  sim_opt.controller.land_speed = o.land_speed;
+  const LandingSimulator sim(airframe, terrain, sim_opt);
+
+  const double yaw_max = deg_to_rad(o.yaw_max_deg > 0 ? o.yaw_max_deg : 360.0 / airframe.symmetry_order());
+  out.yaw_max = yaw_max;
+  plan_runs(out, o, yaw_max);
+  fly_runs(out, sim, o, t0);
+
+  // Scores (eq. 3 per run, eq. 6 per heading, eq. 7 overall). Only settled
+  // runs have a final nutation to score; any other run makes its heading
+  // unsafe (and says why) without inventing a nutation for it.
+  place_headings(out, *terrain, airframe, o, footprint);
+  add_runs_to_headings(out);
+  classify_headings(out, o);
+  choose_best_heading(out, o.headings);
+  median_run_sim_to_wall(out);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }
