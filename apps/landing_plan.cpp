@@ -30,7 +30,7 @@ namespace tp = touchdown::plan;
 namespace fs = std::filesystem;
 // Keys in the order documented (docs/cli.md), not sorted.
 using Json = nlohmann::ordered_json;
-using td::app::fixed;
+using td::app::format_fixed;
 using td::app::round3;
 
 constexpr int kExitNotOk = 1;  // infeasible or no corridor: a result, but no trajectory to fly
@@ -181,7 +181,7 @@ double tick_step(double span, int count) {
 
 std::string tick_label(double v, double step) {
   const int digits = step >= 1 ? 0 : static_cast<int>(std::ceil(-std::log10(step) - 1e-9));
-  return fixed(std::abs(v) < step * 1e-6 ? 0.0 : v, digits);
+  return format_fixed(std::abs(v) < step * 1e-6 ? 0.0 : v, digits);
 }
 
 struct Range {
@@ -379,8 +379,8 @@ std::string plot_svg(const PlotInput& in) {
   svg.text(W / 2, 24, in.title, "middle", " font-size='16' font-weight='bold'");
   std::string sub = "pad frame (x forward, y left, z up; origin at the pad centre)";
   if (pb.pad.velocity.norm() > 0 || pb.pad.yaw_rate != 0) {
-    sub += "; pad moving at " + fixed(pb.pad.velocity.norm(), 2) + " m/s, yaw rate " + fixed(pb.pad.yaw_rate, 3) +
-           " rad/s";
+    sub += "; pad moving at " + format_fixed(pb.pad.velocity.norm(), 2) + " m/s, yaw rate " +
+           format_fixed(pb.pad.yaw_rate, 3) + " rad/s";
   }
   svg.text(W / 2, 44, sub, "middle", " fill='#444'");
 
@@ -479,7 +479,8 @@ std::string plot_svg(const PlotInput& in) {
                "middle", " fill='#a00' font-size='14'");
     }
     os << "</g>\n";
-    svg.text(p.x0 + p.w - 4, p.py(limit) - 4, (j == 1 ? "\u00b1v_max = " : "\u00b1a_max = ") + fixed(limit, 2), "end");
+    svg.text(p.x0 + p.w - 4, p.py(limit) - 4, (j == 1 ? "\u00b1v_max = " : "\u00b1a_max = ") + format_fixed(limit, 2),
+             "end");
   }
 
   // Legend.
@@ -533,11 +534,11 @@ std::string summary(const std::string& path, const tp::PlanProblem& pb, const tp
     std::string parts;
     for (int k = 0; k < r.trajectory.segments(); ++k) {
       sum += r.trajectory.duration(k);
-      parts += (k ? " + " : "") + fixed(r.trajectory.duration(k), 3);
+      parts += (k ? " + " : "") + format_fixed(r.trajectory.duration(k), 3);
     }
-    os << "  cost          " << fixed(r.cost, 4) << " m^2/s^5 (integral of squared jerk); objective "
-       << fixed(r.objective, 4) << " = cost + rho * sum T\n"
-       << "  durations     " << parts << " = " << fixed(sum, 3) << " s (" << r.trajectory.segments()
+    os << "  cost          " << format_fixed(r.cost, 4) << " m^2/s^5 (integral of squared jerk); objective "
+       << format_fixed(r.objective, 4) << " = cost + rho * sum T\n"
+       << "  durations     " << parts << " = " << format_fixed(sum, 3) << " s (" << r.trajectory.segments()
        << " segments of order " << r.trajectory.order() << ")\n";
   } else if (!r.message.empty()) {
     os << "  message       " << r.message << "\n";
@@ -558,13 +559,14 @@ std::string summary(const std::string& path, const tp::PlanProblem& pb, const tp
   }
   if (r.status != tp::PlanStatus::NoCorridor) {  // else nothing was solved
     if (pb.options.durations.empty()) {
-      os << "  time alloc    " << r.evaluations << " QPs in " << fixed(r.allocation_ms, 2) << " ms\n";
+      os << "  time alloc    " << r.evaluations << " QPs in " << format_fixed(r.allocation_ms, 2) << " ms\n";
     } else {
       os << "  time alloc    off (fixed durations)\n";
     }
-    os << "  final QP      " << r.qp_iterations << " iterations in " << fixed(r.qp_us, 1) << " us (cold start)\n";
+    os << "  final QP      " << r.qp_iterations << " iterations in " << format_fixed(r.qp_us, 1)
+       << " us (cold start)\n";
   }
-  os << "  total         " << fixed(seconds * 1000, 2) << " ms\n";
+  os << "  total         " << format_fixed(seconds * 1000, 2) << " ms\n";
   return os.str();
 }
 
@@ -621,8 +623,8 @@ int main(int argc, char** argv) {
         title += ")";
       }
       if (r.ok()) {
-        title +=
-            ", cost " + fixed(r.cost, 3) + " m\u00b2/s\u2075, T = " + fixed(r.trajectory.total_duration(), 2) + " s";
+        title += ", cost " + format_fixed(r.cost, 3) +
+                 " m\u00b2/s\u2075, T = " + format_fixed(r.trajectory.total_duration(), 2) + " s";
       }
       const PlotInput in{td::xml_escape(title), &problem, &r,
                          problem.goal ? *problem.goal : tp::default_goal(problem.options)};
@@ -632,10 +634,10 @@ int main(int argc, char** argv) {
       // Refused before the rows are built, with what they would take.
       if (const double T = r.trajectory.total_duration(); T > kMaxSampledSeconds) {
         const double rows = std::floor(T * 1000) + 1;
-        throw td::InvalidArgument("--samples: the trajectory lasts " + fixed(T, 1) +
+        throw td::InvalidArgument("--samples: the trajectory lasts " + format_fixed(T, 1) +
                                   " s: " + std::to_string(static_cast<long long>(rows)) + " rows of 1 ms, ~" +
                                   td::app::gigabytes(rows * kCsvBytesPerRow) + " of CSV; the limit is " +
-                                  fixed(kMaxSampledSeconds, 0) + " s (~" +
+                                  format_fixed(kMaxSampledSeconds, 0) + " s (~" +
                                   td::app::gigabytes(kMaxSampledSeconds * 1000 * kCsvBytesPerRow) + ")");
       }
       outputs.emplace_back(samples_path, samples_csv(r.trajectory, problem.pad));

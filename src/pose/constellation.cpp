@@ -8,6 +8,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "core/format.hpp"
 #include "core/io_util.hpp"
 #include "core/yaml_util.hpp"
 #include "touchdown/core/error.hpp"
