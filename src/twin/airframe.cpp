@@ -9,6 +9,7 @@
 #include <numbers>
 #include <tuple>
 
+#include "core/convex_hull.hpp"
 #include "core/format.hpp"
 #include "core/io_util.hpp"
 #include "core/yaml_util.hpp"
@@ -16,37 +17,8 @@
 #include "touchdown/core/units.hpp"
 
 namespace touchdown::twin {
-namespace {
 
 using detail::format_general;
-
-double cross2(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-}
-
-// Indices of the convex hull (counter-clockwise, no collinear points);
-// Andrew's monotone chain.
-std::vector<std::size_t> hull_indices(const std::vector<Eigen::Vector2d>& p) {
-  std::vector<std::size_t> idx(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) idx[i] = i;
-  std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
-    return p[a].x() < p[b].x() || (p[a].x() == p[b].x() && p[a].y() < p[b].y());
-  });
-  std::vector<std::size_t> h(2 * p.size());
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < idx.size(); ++i) {
-    while (k >= 2 && cross2(p[h[k - 2]], p[h[k - 1]], p[idx[i]]) <= 1e-12) --k;
-    h[k++] = idx[i];
-  }
-  for (std::size_t i = idx.size() - 1, t = k + 1; i-- > 0;) {
-    while (k >= t && cross2(p[h[k - 2]], p[h[k - 1]], p[idx[i]]) <= 1e-12) --k;
-    h[k++] = idx[i];
-  }
-  h.resize(k > 1 ? k - 1 : k);
-  return h;
-}
-
-}  // namespace
 
 Airframe Airframe::f450() { return Airframe{}; }
 
@@ -326,7 +298,7 @@ bool Airframe::validate(std::string* why) const {
         "got " +
         std::to_string(legs.size()));
   }
-  const auto hull = hull_indices(legs);
+  const auto hull = detail::convex_hull_indices(legs);
   if (hull.size() < 3) return fail("landing_gear.legs: the legs are collinear: no support polygon");
   if (hull.size() != legs.size()) {
     for (std::size_t i = 0; i < legs.size(); ++i) {
@@ -338,7 +310,7 @@ bool Airframe::validate(std::string* why) const {
   }
   const Eigen::Vector2d c = centre_of_mass().head<2>();
   for (std::size_t k = 0; k < hull.size(); ++k) {
-    if (cross2(legs[hull[k]], legs[hull[(k + 1) % hull.size()]], c) <= 1e-9) {
+    if (detail::cross(legs[hull[k]], legs[hull[(k + 1) % hull.size()]], c) <= 1e-9) {
       return fail("landing_gear.legs: the centre of mass (" + format_general(c.x()) + ", " + format_general(c.y()) +
                   ") is not inside the support polygon");
     }
