@@ -7,7 +7,6 @@
 //   example_landing_sweep_onboard [budget_seconds]
 #include <cstdlib>
 #include <iostream>
-#include <numbers>
 #include <touchdown/touchdown.hpp>
 
 int main(int argc, char** argv) {
@@ -45,7 +44,7 @@ int main(int argc, char** argv) {
             << " % of the full sweep\n";
   if (result.safe) {
     const auto& best = result.headings[static_cast<std::size_t>(result.best)];
-    std::cout << "land at heading " << best.yaw * 180 / std::numbers::pi << " deg (worst nutation " << best.score
+    std::cout << "land at heading " << td::rad_to_deg(best.yaw) << " deg (worst nutation " << best.score
               << " rad, threshold " << result.threshold.value() << " rad)\n";
   } else {
     // Why: e.g. "20 headings: unobserved terrain" or "4 headings: tips over".

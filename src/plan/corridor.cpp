@@ -24,6 +24,7 @@
 
 #include "core/format.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::plan {
 namespace {
@@ -82,14 +83,13 @@ void check_polytope(const Polytope& p, const char* what) {
 // camera), or "" when it is valid.
 std::string camera_problem(const CameraFov& c) {
   const double pi = std::numbers::pi;
-  const double to_deg = 180 / pi;
   if (!(c.horizontal_fov_rad > 0 && c.horizontal_fov_rad < pi)) {
     return "fov_deg: horizontal field of view must be in (0, 180) deg, got " +
-           format_general(c.horizontal_fov_rad * to_deg) + " deg";
+           format_general(rad_to_deg(c.horizontal_fov_rad)) + " deg";
   }
   if (!(c.vertical_fov_rad > 0 && c.vertical_fov_rad < pi)) {
     return "fov_deg: vertical field of view must be in (0, 180) deg, got " +
-           format_general(c.vertical_fov_rad * to_deg) + " deg";
+           format_general(rad_to_deg(c.vertical_fov_rad)) + " deg";
   }
   if (!(c.near_m >= 0 && std::isfinite(c.near_m) && c.far_m > c.near_m && std::isfinite(c.far_m))) {
     return "range: need 0 <= near < far (finite), got near " + format_general(c.near_m) + " m, far " +

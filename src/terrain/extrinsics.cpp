@@ -83,9 +83,9 @@ Eigen::Isometry3d parse_pose(const detail::YamlReader& r, const YAML::Node& map,
       warnings.push_back(where + ": " + rpy_key + ": " + list3(deg) +
                          " look like radians (all within +-2 pi, not whole degrees) but are read as degrees; if "
                          "radians were meant, write " +
-                         list3((deg / kRadPerDeg * 100).array().round().matrix() / 100));
+                         list3((deg.unaryExpr(&rad_to_deg) * 100).array().round().matrix() / 100));
     }
-    return pose_from_xyz_rpy(t, deg * kRadPerDeg);
+    return pose_from_xyz_rpy(t, deg.unaryExpr(&deg_to_rad));
   }
   const std::string key = prefix + "matrix";
   const auto v = flat_numbers(r, matrix, key);
