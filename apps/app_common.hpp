@@ -8,11 +8,10 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
-#include <sstream>
 #include <string>
 
+#include "core/format.hpp"
 #include "touchdown/core/atomic_file.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/version.hpp"
@@ -50,9 +49,8 @@ inline CLI::Validator output_extension(const std::string& ext) {
 /// refused naming the option ("--slope: 95 is outside [0, 80)"). Vector
 /// options check each element.
 inline CLI::Validator number_in(double lo, double hi, bool lo_open = false, bool hi_open = false) {
-  std::ostringstream os;
-  os << (lo_open ? "(" : "[") << lo << ", " << hi << (hi_open ? ")" : "]");
-  const std::string range = os.str();
+  const std::string range = std::string(lo_open ? "(" : "[") + detail::format_general(lo) + ", " +
+                            detail::format_general(hi) + (hi_open ? ")" : "]");
   return CLI::Validator(
       [=](std::string& text) -> std::string {
         char* end = nullptr;
@@ -64,45 +62,29 @@ inline CLI::Validator number_in(double lo, double hi, bool lo_open = false, bool
       "in " + range);
 }
 
-/// `v` with `digits` decimals, for human-readable summaries.
-inline std::string fixed(double v, int digits) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << v;
-  return os.str();
-}
+// Numbers in summaries, tables and CSV columns: detail::format_fixed
+// (core/format.hpp), as every app prints them.
+using detail::format_fixed;
 
 /// `v` rounded to 3 decimals for JSON output (no negative zero).
 inline double round3(double v) { return std::round(v * 1e3) / 1e3 + 0.0; }
 
 /// A memory or disk estimate for an error line: "0.22 GB", "3.5 GB", "106 GB".
 inline std::string gigabytes(double bytes) {
-  std::ostringstream os;
   const double gb = bytes / 1e9;
-  if (gb < 10) {
-    os << std::setprecision(2) << gb;
-  } else {
-    os << std::fixed << std::setprecision(0) << gb;
-  }
-  os << " GB";
-  return os.str();
+  return (gb < 10 ? detail::format_general(gb, 2) : format_fixed(gb, 0)) + " GB";
 }
 
 /// A large count for an error line, three significant digits: "4.07e10", "1e10".
 inline std::string large_count(double v) {
-  if (!(v >= 1e6)) {
-    std::ostringstream os;
-    os << std::fixed << std::setprecision(0) << v;
-    return os.str();
-  }
+  if (!(v >= 1e6)) return format_fixed(v, 0);
   int exponent = static_cast<int>(std::floor(std::log10(v)));
   double mantissa = std::round(v / std::pow(10.0, exponent) * 100) / 100;
   if (mantissa >= 10) {  // 9.999e9 rounds to 10e9
     mantissa /= 10;
     ++exponent;
   }
-  std::ostringstream os;
-  os << mantissa << "e" << exponent;
-  return os.str();
+  return detail::format_general(mantissa) + "e" + std::to_string(exponent);
 }
 
 /// Parses the command line and runs `body`, mapping exceptions to one line

@@ -19,7 +19,8 @@
 #include <vector>
 
 #include "app_common.hpp"
-#include "touchdown/core/xml.hpp"
+#include "core/convex_hull.hpp"
+#include "core/svg_plot.hpp"
 #include "touchdown/plan/planner.hpp"
 #include "touchdown/plan/problem_io.hpp"
 
@@ -30,7 +31,7 @@ namespace tp = touchdown::plan;
 namespace fs = std::filesystem;
 // Keys in the order documented (docs/cli.md), not sorted.
 using Json = nlohmann::ordered_json;
-using td::app::fixed;
+using td::app::format_fixed;
 using td::app::round3;
 
 constexpr int kExitNotOk = 1;  // infeasible or no corridor: a result, but no trajectory to fly
@@ -146,44 +147,6 @@ std::vector<Eigen::Vector3d> polytope_vertices(const tp::Polytope& p) {
   return out;
 }
 
-// Andrew's monotone chain: the convex hull, counter-clockwise.
-std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> pts) {
-  std::sort(pts.begin(), pts.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  if (pts.size() < 3) return pts;
-  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-  };
-  std::vector<Eigen::Vector2d> hull(2 * pts.size());
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 1e-12) --k;
-    hull[k++] = pts[i];
-  }
-  for (std::size_t i = pts.size() - 1, t = k + 1; i > 0; --i) {
-    while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i - 1]) <= 1e-12) --k;
-    hull[k++] = pts[i - 1];
-  }
-  hull.resize(k - 1);
-  return hull;
-}
-
-// A "nice" tick step (1, 2 or 5 × 10^k) giving about `count` ticks over `span`.
-double tick_step(double span, int count) {
-  const double raw = span / count;
-  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double f : {1.0, 2.0, 5.0, 10.0}) {
-    if (f * mag >= raw) return f * mag;
-  }
-  return 10 * mag;
-}
-
-std::string tick_label(double v, double step) {
-  const int digits = step >= 1 ? 0 : static_cast<int>(std::ceil(-std::log10(step) - 1e-9));
-  return fixed(std::abs(v) < step * 1e-6 ? 0.0 : v, digits);
-}
-
 struct Range {
   double lo = std::numeric_limits<double>::infinity();
   double hi = -std::numeric_limits<double>::infinity();
@@ -202,17 +165,27 @@ struct Range {
   }
 };
 
-// One 2-D panel: maps data (u, v) to pixels; `flip_u` draws u decreasing to the right.
-struct Panel {
-  double x0, y0, w, h;  // pixels
-  Range u, v;
-  bool flip_u = false;
-  [[nodiscard]] double px(double a) const {
-    const double f = (a - u.lo) / u.span();
-    return x0 + w * (flip_u ? 1 - f : f);
-  }
-  [[nodiscard]] double py(double b) const { return y0 + h - h * (b - v.lo) / v.span(); }
-};
+// A panel of the figure: the pixel rectangle (x0, y0, w, h) showing data
+// ranges u (across) and v (up), with nice ticks about every 70 px across and
+// 45 px up; `flip_u` draws u decreasing to the right.
+td::detail::PlotFrame panel(double x0, double y0, double w, double h, const Range& u, const Range& v,
+                            std::string u_title, std::string v_title, bool flip_u = false) {
+  td::detail::PlotFrame f;
+  f.left = x0;
+  f.top = y0;
+  f.right = x0 + w;
+  f.bottom = y0 + h;
+  f.x.lo = u.lo;
+  f.x.hi = u.hi;
+  f.x.step = td::detail::nice_step(u.span(), std::max(2, static_cast<int>(w / 70)));
+  f.x.title = std::move(u_title);
+  f.x.reversed = flip_u;
+  f.y.lo = v.lo;
+  f.y.hi = v.hi;
+  f.y.step = td::detail::nice_step(v.span(), std::max(2, static_cast<int>(h / 45)));
+  f.y.title = std::move(v_title);
+  return f;
+}
 
 const char* kAxisColour[3] = {"#d62728", "#2ca02c", "#1f77b4"};  // x, y, z
 constexpr const char* kTrajectory = "#1f3f9f";
@@ -220,59 +193,11 @@ constexpr const char* kRear = "#ff7f0e";
 constexpr const char* kTouchdown = "#2ca02c";
 constexpr const char* kFov = "#9467bd";
 constexpr const char* kObstacle = "#6b6b6b";
+constexpr const char* kLimitStyle = " stroke='black' stroke-dasharray='7,4' stroke-width='1.3'";
+constexpr const char* kBoundaryStyle = " stroke='#777' stroke-dasharray='2,3'";
 
-class Svg {
- public:
-  Svg() { os_ << std::fixed << std::setprecision(1); }
-  std::ostringstream& os() { return os_; }
-  void text(double x, double y, const std::string& s, const char* anchor = "middle", const char* extra = "") {
-    os_ << "<text x='" << x << "' y='" << y << "' text-anchor='" << anchor << "'" << extra << ">" << s << "</text>\n";
-  }
-  void line(double x1, double y1, double x2, double y2, const char* style) {
-    os_ << "<line x1='" << x1 << "' y1='" << y1 << "' x2='" << x2 << "' y2='" << y2 << "' " << style << "/>\n";
-  }
-  void polygon(const std::vector<Eigen::Vector2d>& pts, const char* style) {
-    if (pts.size() < 3) return;
-    os_ << "<polygon points='";
-    for (const auto& p : pts) os_ << p.x() << "," << p.y() << " ";
-    os_ << "' " << style << "/>\n";
-  }
-  void polyline(const std::vector<Eigen::Vector2d>& pts, const char* style) {
-    os_ << "<polyline fill='none' points='";
-    for (const auto& p : pts) os_ << p.x() << "," << p.y() << " ";
-    os_ << "' " << style << "/>\n";
-  }
-
- private:
-  std::ostringstream os_;
-};
-
-// Frame, ticks, tick labels and axis names of a panel.
-void draw_axes(Svg& svg, const Panel& p, const std::string& u_name, const std::string& v_name, int clip_id) {
-  auto& os = svg.os();
-  os << "<rect x='" << p.x0 << "' y='" << p.y0 << "' width='" << p.w << "' height='" << p.h
-     << "' fill='none' stroke='black'/>\n";
-  const double su = tick_step(p.u.span(), std::max(2, static_cast<int>(p.w / 70)));
-  for (double t = std::ceil(p.u.lo / su) * su; t <= p.u.hi + 1e-9 * su; t += su) {
-    const double x = p.px(t);
-    svg.line(x, p.y0 + p.h, x, p.y0 + p.h + 4, "stroke='black'");
-    svg.line(x, p.y0, x, p.y0 + p.h, "stroke='#e4e4e4'");
-    svg.text(x, p.y0 + p.h + 16, tick_label(t, su));
-  }
-  const double sv = tick_step(p.v.span(), std::max(2, static_cast<int>(p.h / 45)));
-  for (double t = std::ceil(p.v.lo / sv) * sv; t <= p.v.hi + 1e-9 * sv; t += sv) {
-    const double y = p.py(t);
-    svg.line(p.x0 - 4, y, p.x0, y, "stroke='black'");
-    svg.line(p.x0, y, p.x0 + p.w, y, "stroke='#e4e4e4'");
-    svg.text(p.x0 - 6, y + 4, tick_label(t, sv), "end");
-  }
-  svg.text(p.x0 + p.w / 2, p.y0 + p.h + 32, u_name);
-  std::ostringstream rot;
-  rot << std::fixed << std::setprecision(1) << " transform='rotate(-90 " << p.x0 - 38 << "," << p.y0 + p.h / 2 << ")'";
-  svg.text(p.x0 - 38, p.y0 + p.h / 2, v_name, "middle", rot.str().c_str());
-  os << "<clipPath id='clip" << clip_id << "'><rect x='" << p.x0 << "' y='" << p.y0 << "' width='" << p.w
-     << "' height='" << p.h << "'/></clipPath>\n";
-}
+// Attribute text " fill='c' stroke='c'" (an outlined area in one colour).
+std::string area(const char* colour) { return std::string(" fill='") + colour + "' stroke='" + colour + "'"; }
 
 struct PlotInput {
   std::string title;
@@ -304,15 +229,16 @@ std::string plot_svg(const PlotInput& in) {
   std::optional<Eigen::Vector3d> camera_at;
   if (o.corridor && o.corridor->camera) {
     shapes.push_back({polytope_vertices(o.corridor->camera->pyramid()), kFov,
-                      "fill-opacity='0.07' stroke-dasharray='5,3' stroke-width='1'", true});
+                      " fill-opacity='0.07' stroke-dasharray='5,3' stroke-width='1'", true});
     camera_at = o.corridor->camera->T_pad_camera.translation();
   }
   for (const auto& b : o.obstacles) {
-    shapes.push_back({polytope_vertices(tp::Polytope::from_box(b)), kObstacle, "fill-opacity='0.55' stroke-width='1'"});
+    shapes.push_back(
+        {polytope_vertices(tp::Polytope::from_box(b)), kObstacle, " fill-opacity='0.55' stroke-width='1'"});
   }
   if (r.corridor.ok()) {
-    shapes.push_back({polytope_vertices(r.corridor.rear), kRear, "fill-opacity='0.18' stroke-width='1.5'"});
-    shapes.push_back({polytope_vertices(r.corridor.touchdown), kTouchdown, "fill-opacity='0.18' stroke-width='1.5'"});
+    shapes.push_back({polytope_vertices(r.corridor.rear), kRear, " fill-opacity='0.18' stroke-width='1.5'"});
+    shapes.push_back({polytope_vertices(r.corridor.touchdown), kTouchdown, " fill-opacity='0.18' stroke-width='1.5'"});
   }
   constexpr double kPadHalf = 0.3;  // drawn pad: a 0.6 m square
 
@@ -352,93 +278,87 @@ std::string plot_svg(const PlotInput& in) {
   }
   scale = std::min(avail / (2 * sx + ext[1].span()), max_view_h / std::max(ext[1].span(), sz));
   const double view_h = std::max(ext[1].span(), sz) * scale;
-  Panel top{margin_l, view_top, sx * scale, view_h, ext[0], ext[1]};
-  top.v.widen_to(view_h / scale);
-  Panel side{top.x0 + top.w + gap, view_top, sx * scale, view_h, ext[0], ext[2]};
-  side.v.widen_to(view_h / scale);
-  Panel back{side.x0 + side.w + gap, view_top, ext[1].span() * scale, view_h, ext[1], ext[2], true};
-  back.v.widen_to(view_h / scale);
+  // Each view's vertical range grown to the common height: one scale in all three.
+  Range vy = ext[1], vz = ext[2];
+  vy.widen_to(view_h / scale);
+  vz.widen_to(view_h / scale);
+  const double top_x0 = margin_l, side_x0 = top_x0 + sx * scale + gap, back_x0 = side_x0 + sx * scale + gap;
   struct View {
-    const Panel* panel;
-    int a, b;  // data axes on u, v
+    td::detail::PlotFrame frame;
+    int a, b;  // data axes across and up
     const char* name;
-    const char* u_name;
-    const char* v_name;
   };
-  const std::array<View, 3> views = {View{&top, 0, 1, "top view (x-y)", "x [m] (forward)", "y [m] (left)"},
-                                     View{&side, 0, 2, "side view (x-z)", "x [m] (forward)", "z [m] (up)"},
-                                     View{&back, 1, 2, "rear view (y-z)", "\u2190 y [m] (left)", "z [m] (up)"}};
+  const std::array<View, 3> views = {
+      View{panel(top_x0, view_top, sx * scale, view_h, ext[0], vy, "x [m] (forward)", "y [m] (left)"), 0, 1,
+           "top view (x-y)"},
+      View{panel(side_x0, view_top, sx * scale, view_h, ext[0], vz, "x [m] (forward)", "z [m] (up)"), 0, 2,
+           "side view (x-z)"},
+      View{panel(back_x0, view_top, ext[1].span() * scale, view_h, ext[1], vz, "\u2190 y [m] (left)", "z [m] (up)",
+                 true),
+           1, 2, "rear view (y-z)"}};
 
   const double time_top = view_top + view_h + 110, time_h = 230;
   const double legend_y = time_top + time_h + 70;
-  const double H = legend_y + 60;
-  Svg svg;
-  auto& os = svg.os();
-  os << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H
-     << "' font-family='sans-serif' font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n";
-  svg.text(W / 2, 24, in.title, "middle", " font-size='16' font-weight='bold'");
+  const double H = legend_y + 50;
+  td::detail::SvgWriter svg(W, H);
+  svg.title(in.title);
   std::string sub = "pad frame (x forward, y left, z up; origin at the pad centre)";
   if (pb.pad.velocity.norm() > 0 || pb.pad.yaw_rate != 0) {
-    sub += "; pad moving at " + fixed(pb.pad.velocity.norm(), 2) + " m/s, yaw rate " + fixed(pb.pad.yaw_rate, 3) +
-           " rad/s";
+    sub += "; pad moving at " + format_fixed(pb.pad.velocity.norm(), 2) + " m/s, yaw rate " +
+           format_fixed(pb.pad.yaw_rate, 3) + " rad/s";
   }
-  svg.text(W / 2, 44, sub, "middle", " fill='#444'");
+  svg.text(W / 2, 38, sub, " text-anchor='middle' fill='#444'");
 
-  int clip_id = 0;
   for (const View& view : views) {
-    const Panel& p = *view.panel;
-    svg.text(p.x0 + p.w / 2, p.y0 - 8, view.name, "middle", " font-weight='bold'");
-    draw_axes(svg, p, view.u_name, view.v_name, clip_id);
-    os << "<g clip-path='url(#clip" << clip_id << ")'>\n";
-    ++clip_id;
+    const td::detail::PlotFrame& p = view.frame;
+    svg.text((p.left + p.right) / 2, p.top - 8, view.name, " text-anchor='middle' font-weight='bold'");
+    svg.axes(p);
+    svg.begin_clip(p.left, p.top, p.width(), p.height());
     auto to_px = [&](const Eigen::Vector3d& q) { return Eigen::Vector2d(p.px(q(view.a)), p.py(q(view.b))); };
     for (const Shape& s : shapes) {
       std::vector<Eigen::Vector2d> pts;
       for (const auto& v : s.vertices) pts.push_back(to_px(v));
-      const std::string style = std::string("fill='") + s.colour + "' stroke='" + s.colour + "' " + s.style;
-      svg.polygon(convex_hull(pts), style.c_str());
+      svg.polygon(td::detail::convex_hull(pts), area(s.colour) + s.style);
     }
     // The pad: a square seen from above, a thick line from the side and the rear.
     if (view.b == 1) {
       svg.polygon({to_px({-kPadHalf, -kPadHalf, 0}), to_px({kPadHalf, -kPadHalf, 0}), to_px({kPadHalf, kPadHalf, 0}),
                    to_px({-kPadHalf, kPadHalf, 0})},
-                  "fill='none' stroke='#222' stroke-width='2.5'");
+                  " fill='none' stroke='#222' stroke-width='2.5'");
     } else {
       const Eigen::Vector3d a = view.a == 0 ? Eigen::Vector3d(-kPadHalf, 0, 0) : Eigen::Vector3d(0, -kPadHalf, 0);
       const Eigen::Vector2d p0 = to_px(a), p1 = to_px(-a);
-      svg.line(p0.x(), p0.y(), p1.x(), p1.y(), "stroke='#222' stroke-width='5'");
+      svg.line(p0.x(), p0.y(), p1.x(), p1.y(), " stroke='#222' stroke-width='5'");
     }
     if (camera_at) {
       const Eigen::Vector2d c = to_px(*camera_at);
-      os << "<rect x='" << c.x() - 4 << "' y='" << c.y() - 4 << "' width='8' height='8' fill='" << kFov << "'/>\n";
+      svg.square(c.x(), c.y(), 4, std::string(" fill='") + kFov + "'");
     }
     if (have_curve) {
       std::vector<Eigen::Vector2d> pts;
       for (const auto& q : curve) pts.push_back(to_px(q));
-      svg.polyline(pts, (std::string("stroke='") + kTrajectory + "' stroke-width='2.2'").c_str());
+      svg.polyline(pts, std::string(" fill='none' stroke='") + kTrajectory + "' stroke-width='2.2'");
       for (const auto& c : r.trajectory.all_control_points()) {
         const Eigen::Vector2d q = to_px(c);
-        os << "<circle cx='" << q.x() << "' cy='" << q.y() << "' r='2.8' fill='white' stroke='" << kTrajectory
-           << "' stroke-width='1.2'/>\n";
+        svg.circle(q.x(), q.y(), 2.8, std::string(" fill='white' stroke='") + kTrajectory + "' stroke-width='1.2'");
       }
     }
     const Eigen::Vector2d s = to_px(pb.start.p), g = to_px(in.goal.p);
-    os << "<circle cx='" << s.x() << "' cy='" << s.y() << "' r='6' fill='#17a317' stroke='black'/>\n";
-    os << "<path d='M" << g.x() - 6 << "," << g.y() << " L" << g.x() << "," << g.y() - 6 << " L" << g.x() + 6 << ","
-       << g.y() << " L" << g.x() << "," << g.y() + 6 << " Z' fill='#d62728' stroke='black'/>\n";
-    os << "</g>\n";
+    svg.circle(s.x(), s.y(), 6, " fill='#17a317' stroke='black'");
+    svg.diamond(g.x(), g.y(), 6, " fill='#d62728' stroke='black'");
+    svg.end_clip();
   }
 
   // Time plots: world-frame velocity and acceleration against the limits.
   const double tw = (W - margin_l - gap - 20) / 2;
   for (int j = 1; j <= 2; ++j) {
-    Panel p{margin_l + (j - 1) * (tw + gap), time_top, tw, time_h, {}, {}};
     const double limit = j == 1 ? o.v_max : o.a_max;
     double T = have_curve ? r.trajectory.total_duration() : 0.0;
     for (const double d : o.durations) T += have_curve ? 0.0 : d;
     if (!(T > 0)) T = 1.0;
-    p.u.add(0);
-    p.u.add(T);
+    Range t_range, v_range;
+    t_range.add(0);
+    t_range.add(T);
     std::vector<std::array<double, 4>> samples;  // t, x, y, z
     double peak = limit;
     if (have_curve) {
@@ -452,77 +372,75 @@ std::string plot_svg(const PlotInput& in) {
         peak = std::max(peak, q.cwiseAbs().maxCoeff());
       }
     }
-    p.v.add(-1.15 * peak);
-    p.v.add(1.15 * peak);
+    // Room above the limit line for its label.
+    v_range.add(-1.25 * peak);
+    v_range.add(1.25 * peak);
+    const td::detail::PlotFrame p = panel(margin_l + (j - 1) * (tw + gap), time_top, tw, time_h, t_range, v_range,
+                                          "t [s]", j == 1 ? "v [m/s]" : "a [m/s\u00b2]");
     const char* title = j == 1 ? "world-frame velocity" : "world-frame acceleration";
-    svg.text(p.x0 + p.w / 2, p.y0 - 8, title, "middle", " font-weight='bold'");
-    draw_axes(svg, p, "t [s]", j == 1 ? "v [m/s]" : "a [m/s\u00b2]", clip_id);
-    os << "<g clip-path='url(#clip" << clip_id << ")'>\n";
-    ++clip_id;
-    svg.line(p.x0, p.py(0), p.x0 + p.w, p.py(0), "stroke='#999'");
-    for (double sgn : {1.0, -1.0}) {
-      svg.line(p.x0, p.py(sgn * limit), p.x0 + p.w, p.py(sgn * limit),
-               "stroke='black' stroke-dasharray='7,4' stroke-width='1.3'");
-    }
+    svg.text((p.left + p.right) / 2, p.top - 8, title, " text-anchor='middle' font-weight='bold'");
+    svg.axes(p);
+    svg.begin_clip(p.left, p.top, p.width(), p.height());
+    svg.line(p.left, p.py(0), p.right, p.py(0), " stroke='#999'");
+    for (double sgn : {1.0, -1.0}) svg.line(p.left, p.py(sgn * limit), p.right, p.py(sgn * limit), kLimitStyle);
     if (have_curve) {
       for (int k = 1; k < r.trajectory.segments(); ++k) {
         const double x = p.px(r.trajectory.start_time(k));
-        svg.line(x, p.y0, x, p.y0 + p.h, "stroke='#777' stroke-dasharray='2,3'");
+        svg.line(x, p.top, x, p.bottom, kBoundaryStyle);
       }
       for (int a = 0; a < 3; ++a) {
         std::vector<Eigen::Vector2d> pts;
-        for (const auto& s : samples) pts.push_back({p.px(s[0]), p.py(s[static_cast<std::size_t>(a + 1)])});
-        svg.polyline(pts, (std::string("stroke='") + kAxisColour[a] + "' stroke-width='1.8'").c_str());
+        for (const auto& s : samples) pts.emplace_back(p.px(s[0]), p.py(s[static_cast<std::size_t>(a + 1)]));
+        svg.polyline(pts, std::string(" fill='none' stroke='") + kAxisColour[a] + "' stroke-width='1.8'");
       }
     } else {
-      svg.text(p.x0 + p.w / 2, p.y0 + p.h / 2 - 10, std::string("no trajectory (") + tp::to_string(r.status) + ")",
-               "middle", " fill='#a00' font-size='14'");
+      svg.text((p.left + p.right) / 2, (p.top + p.bottom) / 2 - 10,
+               std::string("no trajectory (") + tp::to_string(r.status) + ")",
+               " text-anchor='middle' fill='#a00' font-size='14'");
     }
-    os << "</g>\n";
-    svg.text(p.x0 + p.w - 4, p.py(limit) - 4, (j == 1 ? "\u00b1v_max = " : "\u00b1a_max = ") + fixed(limit, 2), "end");
+    svg.end_clip();
+    svg.text(p.right - 4, p.py(limit) - 4, (j == 1 ? "\u00b1v_max = " : "\u00b1a_max = ") + format_fixed(limit, 2),
+             " text-anchor='end'");
   }
 
-  // Legend.
-  double lx = margin_l;
-  auto swatch = [&](const std::string& shape, const std::string& label) {
-    os << "<g transform='translate(" << lx << "," << legend_y << ")'>" << shape << "</g>\n";
-    svg.text(lx + 26, legend_y + 4, label, "start");
-    lx += 34 + 7.0 * static_cast<double>(label.size());
+  // Legend: what the views show, then what the time plots show.
+  td::detail::SvgLegend shown(svg, margin_l, legend_y, 18, td::detail::SvgLegend::Flow::row);
+  auto box = [&](const char* colour, const std::string& more) {
+    return [&svg, colour, more](double x, double y) { svg.rect(x - 10, y - 7, 20, 14, area(colour) + more); };
   };
   if (have_curve) {
-    swatch(std::string("<line x1='0' y1='0' x2='20' y2='0' stroke='") + kTrajectory + "' stroke-width='2.2'/>",
-           "trajectory");
-    swatch(std::string("<circle cx='10' cy='0' r='2.8' fill='white' stroke='") + kTrajectory + "'/>", "control points");
+    shown.entry("trajectory", [&](double x, double y) {
+      svg.line(x - 10, y, x + 10, y, std::string(" stroke='") + kTrajectory + "' stroke-width='2.2'");
+    });
+    shown.entry("control points", [&](double x, double y) {
+      svg.circle(x, y, 2.8, std::string(" fill='white' stroke='") + kTrajectory + "'");
+    });
   }
-  swatch("<circle cx='10' cy='0' r='6' fill='#17a317' stroke='black'/>", "start");
-  swatch("<path d='M4,0 L10,-6 L16,0 L10,6 Z' fill='#d62728' stroke='black'/>", "goal");
-  const std::string box = "<rect x='0' y='-7' width='20' height='14' fill='";
+  shown.entry("start", [&](double x, double y) { svg.circle(x, y, 6, " fill='#17a317' stroke='black'"); });
+  shown.entry("goal", [&](double x, double y) { svg.diamond(x, y, 6, " fill='#d62728' stroke='black'"); });
   if (r.corridor.ok()) {
-    swatch(box + kRear + "' fill-opacity='0.3' stroke='" + kRear + "'/>", "rear corridor");
-    swatch(box + kTouchdown + "' fill-opacity='0.3' stroke='" + kTouchdown + "'/>", "touchdown corridor");
+    shown.entry("rear corridor", box(kRear, " fill-opacity='0.3'"));
+    shown.entry("touchdown corridor", box(kTouchdown, " fill-opacity='0.3'"));
   }
-  if (!o.obstacles.empty()) swatch(box + kObstacle + "' fill-opacity='0.55'/>", "obstacle");
+  if (!o.obstacles.empty()) shown.entry("obstacle", box(kObstacle, " fill-opacity='0.55'"));
   if (camera_at) {
-    swatch(box + kFov + "' fill-opacity='0.12' stroke='" + kFov + "' stroke-dasharray='5,3'/><rect x='6' y='-4' " +
-               "width='8' height='8' fill='" + kFov + "'/>",
-           "camera + field of view");
+    shown.entry("camera + field of view", [&](double x, double y) {
+      svg.rect(x - 10, y - 7, 20, 14, area(kFov) + " fill-opacity='0.12' stroke-dasharray='5,3'");
+      svg.square(x, y, 4, std::string(" fill='") + kFov + "'");
+    });
   }
-  swatch("<rect x='0' y='-5' width='20' height='10' fill='none' stroke='#222' stroke-width='2.5'/>", "pad");
-  lx = margin_l;
-  const double y2 = legend_y + 24;
+  shown.entry("pad", [&](double x, double y) {
+    svg.rect(x - 10, y - 5, 20, 10, " fill='none' stroke='#222' stroke-width='2.5'");
+  });
+  td::detail::SvgLegend plotted(svg, margin_l, legend_y + 24, 18, td::detail::SvgLegend::Flow::row);
   for (int a = 0; a < 3; ++a) {
-    os << "<line x1='" << lx << "' y1='" << y2 << "' x2='" << lx + 20 << "' y2='" << y2 << "' stroke='"
-       << kAxisColour[a] << "' stroke-width='1.8'/>\n";
-    svg.text(lx + 26, y2 + 4, std::string("world ") + "xyz"[a], "start");
-    lx += 90;
+    plotted.entry(std::string("world ") + "xyz"[a], [&](double x, double y) {
+      svg.line(x - 10, y, x + 10, y, std::string(" stroke='") + kAxisColour[a] + "' stroke-width='1.8'");
+    });
   }
-  svg.line(lx, y2, lx + 20, y2, "stroke='black' stroke-dasharray='7,4' stroke-width='1.3'");
-  svg.text(lx + 26, y2 + 4, "per-axis limit", "start");
-  lx += 130;
-  svg.line(lx, y2, lx + 20, y2, "stroke='#777' stroke-dasharray='2,3'");
-  svg.text(lx + 26, y2 + 4, "segment boundary", "start");
-  os << "</svg>\n";
-  return os.str();
+  plotted.entry("per-axis limit", [&](double x, double y) { svg.line(x - 10, y, x + 10, y, kLimitStyle); });
+  plotted.entry("segment boundary", [&](double x, double y) { svg.line(x - 10, y, x + 10, y, kBoundaryStyle); });
+  return svg.finish();
 }
 
 std::string summary(const std::string& path, const tp::PlanProblem& pb, const tp::PlanResult& r, double seconds) {
@@ -533,11 +451,11 @@ std::string summary(const std::string& path, const tp::PlanProblem& pb, const tp
     std::string parts;
     for (int k = 0; k < r.trajectory.segments(); ++k) {
       sum += r.trajectory.duration(k);
-      parts += (k ? " + " : "") + fixed(r.trajectory.duration(k), 3);
+      parts += (k ? " + " : "") + format_fixed(r.trajectory.duration(k), 3);
     }
-    os << "  cost          " << fixed(r.cost, 4) << " m^2/s^5 (integral of squared jerk); objective "
-       << fixed(r.objective, 4) << " = cost + rho * sum T\n"
-       << "  durations     " << parts << " = " << fixed(sum, 3) << " s (" << r.trajectory.segments()
+    os << "  cost          " << format_fixed(r.cost, 4) << " m^2/s^5 (integral of squared jerk); objective "
+       << format_fixed(r.objective, 4) << " = cost + rho * sum T\n"
+       << "  durations     " << parts << " = " << format_fixed(sum, 3) << " s (" << r.trajectory.segments()
        << " segments of order " << r.trajectory.order() << ")\n";
   } else if (!r.message.empty()) {
     os << "  message       " << r.message << "\n";
@@ -558,13 +476,14 @@ std::string summary(const std::string& path, const tp::PlanProblem& pb, const tp
   }
   if (r.status != tp::PlanStatus::NoCorridor) {  // else nothing was solved
     if (pb.options.durations.empty()) {
-      os << "  time alloc    " << r.evaluations << " QPs in " << fixed(r.allocation_ms, 2) << " ms\n";
+      os << "  time alloc    " << r.evaluations << " QPs in " << format_fixed(r.allocation_ms, 2) << " ms\n";
     } else {
       os << "  time alloc    off (fixed durations)\n";
     }
-    os << "  final QP      " << r.qp_iterations << " iterations in " << fixed(r.qp_us, 1) << " us (cold start)\n";
+    os << "  final QP      " << r.qp_iterations << " iterations in " << format_fixed(r.qp_us, 1)
+       << " us (cold start)\n";
   }
-  os << "  total         " << fixed(seconds * 1000, 2) << " ms\n";
+  os << "  total         " << format_fixed(seconds * 1000, 2) << " ms\n";
   return os.str();
 }
 
@@ -621,21 +540,20 @@ int main(int argc, char** argv) {
         title += ")";
       }
       if (r.ok()) {
-        title +=
-            ", cost " + fixed(r.cost, 3) + " m\u00b2/s\u2075, T = " + fixed(r.trajectory.total_duration(), 2) + " s";
+        title += ", cost " + format_fixed(r.cost, 3) +
+                 " m\u00b2/s\u2075, T = " + format_fixed(r.trajectory.total_duration(), 2) + " s";
       }
-      const PlotInput in{td::xml_escape(title), &problem, &r,
-                         problem.goal ? *problem.goal : tp::default_goal(problem.options)};
+      const PlotInput in{title, &problem, &r, problem.goal ? *problem.goal : tp::default_goal(problem.options)};
       outputs.emplace_back(plot_path, plot_svg(in));
     }
     if (!samples_path.empty() && r.ok()) {
       // Refused before the rows are built, with what they would take.
       if (const double T = r.trajectory.total_duration(); T > kMaxSampledSeconds) {
         const double rows = std::floor(T * 1000) + 1;
-        throw td::InvalidArgument("--samples: the trajectory lasts " + fixed(T, 1) +
+        throw td::InvalidArgument("--samples: the trajectory lasts " + format_fixed(T, 1) +
                                   " s: " + std::to_string(static_cast<long long>(rows)) + " rows of 1 ms, ~" +
                                   td::app::gigabytes(rows * kCsvBytesPerRow) + " of CSV; the limit is " +
-                                  fixed(kMaxSampledSeconds, 0) + " s (~" +
+                                  format_fixed(kMaxSampledSeconds, 0) + " s (~" +
                                   td::app::gigabytes(kMaxSampledSeconds * 1000 * kCsvBytesPerRow) + ")");
       }
       outputs.emplace_back(samples_path, samples_csv(r.trajectory, problem.pad));

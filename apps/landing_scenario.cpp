@@ -80,14 +80,15 @@ std::string log_csv(const ts::ScenarioResult& r, double dt) {
         "accepted\n";
   std::size_t f = 0;
   for (const auto& s : r.trajectory) {
-    os << fixed(s.t, 3) << ',' << fixed(s.position.x(), 4) << ',' << fixed(s.position.y(), 4) << ','
-       << fixed(s.position.z(), 4) << ',' << fixed(s.velocity.x(), 4) << ',' << fixed(s.velocity.y(), 4) << ','
-       << fixed(s.velocity.z(), 4) << ',' << fixed(s.yaw_deg, 3) << ',' << s.phase;
+    os << format_fixed(s.t, 3) << ',' << format_fixed(s.position.x(), 4) << ',' << format_fixed(s.position.y(), 4)
+       << ',' << format_fixed(s.position.z(), 4) << ',' << format_fixed(s.velocity.x(), 4) << ','
+       << format_fixed(s.velocity.y(), 4) << ',' << format_fixed(s.velocity.z(), 4) << ',' << format_fixed(s.yaw_deg, 3)
+       << ',' << s.phase;
     // A frame is taken at the start of the step that ends at s.t.
     if (f < r.frames.size() && std::abs(r.frames[f].t + dt - s.t) < 0.5 * dt) {
       const auto& fr = r.frames[f++];
-      os << ',' << fr.marker_area_visible_px << ',' << fixed(fr.marker_area_truth_px, 1) << ',' << fr.detections << ','
-         << fr.accepted << ',' << fr.false_accepted;
+      os << ',' << fr.marker_area_visible_px << ',' << format_fixed(fr.marker_area_truth_px, 1) << ',' << fr.detections
+         << ',' << fr.accepted << ',' << fr.false_accepted;
     } else {
       os << ",,,,,";
     }
@@ -110,7 +111,7 @@ cv::Mat overlay(const ts::CameraFrame& frame, const ts::SystemOutput& out, const
                 1);
   }
   const std::string line =
-      "t " + fixed(s.t, 1) + " s  alt " + fixed(s.position.z(), 1) + " m  " + std::string(out.phase);
+      "t " + format_fixed(s.t, 1) + " s  alt " + format_fixed(s.position.z(), 1) + " m  " + std::string(out.phase);
   cv::rectangle(img, cv::Rect(0, 0, frame.width, 24), cv::Scalar(0, 0, 0), cv::FILLED);
   cv::putText(img, line, cv::Point(6, 17), cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(255, 255, 255), 1);
   return img;
@@ -121,8 +122,8 @@ void banner(cv::Mat& img, const ts::ScenarioResult& r) {
       r.violation ? "VIOLATION Type " + std::string(ts::to_string(r.type)) : "LANDED (no violation)";
   const cv::Scalar colour = r.violation ? cv::Scalar(0, 0, 200) : cv::Scalar(0, 140, 0);
   cv::rectangle(img, cv::Rect(0, img.rows - 40, img.cols, 40), colour, cv::FILLED);
-  cv::putText(img, text + "  DTL " + fixed(r.dtl, 2) + " m", cv::Point(8, img.rows - 13), cv::FONT_HERSHEY_SIMPLEX, 0.7,
-              cv::Scalar(255, 255, 255), 2);
+  cv::putText(img, text + "  DTL " + format_fixed(r.dtl, 2) + " m", cv::Point(8, img.rows - 13),
+              cv::FONT_HERSHEY_SIMPLEX, 0.7, cv::Scalar(255, 255, 255), 2);
 }
 
 /// Writes frames to `path` (.mp4 or .avi) through a temporary file in the
@@ -159,7 +160,7 @@ class Video {
   bool done_ = false;
 };
 
-std::string percent(int n, int of) { return fixed(of > 0 ? 100.0 * n / of : 0.0, 1) + " %"; }
+std::string percent(int n, int of) { return format_fixed(of > 0 ? 100.0 * n / of : 0.0, 1) + " %"; }
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0;
@@ -178,9 +179,10 @@ std::string campaign_csv(const ts::CampaignResult& c, const std::vector<std::str
     for (char& ch : msg)
       if (ch == '"') ch = '\'';
     os << names[i] << ',' << ts::to_string(e.map) << ',' << (e.violation ? 1 : 0) << ',' << ts::to_string(e.type) << ','
-       << (e.landed ? 1 : 0) << ',' << fixed(e.dtl, 3) << ',' << fixed(e.ttl, 2) << ',' << (e.false_detection ? 1 : 0)
-       << ',' << fixed(e.flight_s, 2) << ',' << e.frames << ',' << fixed(e.timing.total_s, 3) << ','
-       << fixed(e.timing.render_s, 3) << ',' << fixed(e.timing.system_s, 3) << ",\"" << msg << "\"\n";
+       << (e.landed ? 1 : 0) << ',' << format_fixed(e.dtl, 3) << ',' << format_fixed(e.ttl, 2) << ','
+       << (e.false_detection ? 1 : 0) << ',' << format_fixed(e.flight_s, 2) << ',' << e.frames << ','
+       << format_fixed(e.timing.total_s, 3) << ',' << format_fixed(e.timing.render_s, 3) << ','
+       << format_fixed(e.timing.system_s, 3) << ",\"" << msg << "\"\n";
   }
   return os.str();
 }
@@ -216,19 +218,22 @@ void print_campaign(const ts::CampaignResult& c, const std::string& source, cons
     ttl.push_back(e.ttl);
   }
   const double other = s.timing.total_s - s.timing.render_s - s.timing.system_s - s.timing.physics_s;
-  const auto share = [&](double v) { return fixed(s.timing.total_s > 0 ? 100 * v / s.timing.total_s : 0.0, 0) + " %"; };
+  const auto share = [&](double v) {
+    return format_fixed(s.timing.total_s > 0 ? 100 * v / s.timing.total_s : 0.0, 0) + " %";
+  };
   std::cout << "campaign   " << s.scenarios << " scenarios: " << source << "\n"
             << "system     " << o.system << (o.mls.detection_roi ? "" : " (whole-frame detection)") << "\n"
             << "violations " << s.violations << "/" << s.scenarios << " (" << percent(s.violations, s.scenarios)
             << "): type I " << s.type_i << " (" << percent(s.type_i, s.scenarios) << "), type II " << s.type_ii << " ("
             << percent(s.type_ii, s.scenarios) << "), type III " << s.type_iii << " ("
             << percent(s.type_iii, s.scenarios) << ")\n"
-            << "landed     " << dtl.size() << ": median DTL " << fixed(median(dtl), 2) << " m, median TTL "
-            << fixed(median(ttl), 1) << " s\n"
-            << "time       " << fixed(s.wall_s, 1) << " s wall on " << o.threads << " threads for "
-            << fixed(s.flight_s, 0) << " s of flight (" << fixed(s.wall_s > 0 ? s.flight_s / s.wall_s : 0.0, 0)
-            << "x real time); per scenario " << fixed(s.scenarios > 0 ? s.timing.total_s / s.scenarios : 0.0, 2)
-            << " s: render " << share(s.timing.render_s) << ", system " << share(s.timing.system_s) << ", physics "
+            << "landed     " << dtl.size() << ": median DTL " << format_fixed(median(dtl), 2) << " m, median TTL "
+            << format_fixed(median(ttl), 1) << " s\n"
+            << "time       " << format_fixed(s.wall_s, 1) << " s wall on " << o.threads << " threads for "
+            << format_fixed(s.flight_s, 0) << " s of flight ("
+            << format_fixed(s.wall_s > 0 ? s.flight_s / s.wall_s : 0.0, 0) << "x real time); per scenario "
+            << format_fixed(s.scenarios > 0 ? s.timing.total_s / s.scenarios : 0.0, 2) << " s: render "
+            << share(s.timing.render_s) << ", system " << share(s.timing.system_s) << ", physics "
             << share(s.timing.physics_s) << ", other " << share(other) << "\n";
 }
 
@@ -413,10 +418,11 @@ int main(int argc, char** argv) {
       std::cout << "scenario   " << scenario_path << " (" << ts::to_string(scenario.map) << ")\n"
                 << "system     " << sut->name() << "\n"
                 << "outcome    " << (r.violation ? "VIOLATION" : "ok") << ": " << r.message << "\n"
-                << "DTL        " << fixed(r.dtl, 2) << " m   TTL " << fixed(r.ttl, 1) << " s\n"
+                << "DTL        " << format_fixed(r.dtl, 2) << " m   TTL " << format_fixed(r.ttl, 1) << " s\n"
                 << "frames     " << r.frames.size() << "   steps " << r.trajectory.size() << "\n"
-                << "time       " << fixed(r.timing.total_s, 3) << " s (render " << fixed(r.timing.render_s, 3)
-                << ", system " << fixed(r.timing.system_s, 3) << ", physics " << fixed(r.timing.physics_s, 3) << ")\n";
+                << "time       " << format_fixed(r.timing.total_s, 3) << " s (render "
+                << format_fixed(r.timing.render_s, 3) << ", system " << format_fixed(r.timing.system_s, 3)
+                << ", physics " << format_fixed(r.timing.physics_s, 3) << ")\n";
     }
     return kExitOk;
   });

@@ -294,28 +294,21 @@ int main(int argc, char** argv) {
                 << r.threshold.tip_rad << ", propeller or arm strike " << r.threshold.prop_strike_rad << ")\n"
                 << "  heading  S(psi)    mean  touchdown   prop   arm  body  tipped  invalid  verdict\n"
                 << "    [deg]   [rad]   [rad]      [rad]   (runs with a strike, of " << r.rounds_completed << ")\n";
-      auto rad = [](double v) {
-        std::ostringstream s;
-        if (std::isnan(v)) {
-          s << "-";
-        } else {
-          s << std::fixed << std::setprecision(3) << v;
-        }
-        return s.str();
-      };
+      // Radians in the table, "-" for a heading that has no score.
+      auto rad_text = [](double v) { return std::isnan(v) ? std::string("-") : td::app::format_fixed(v, 3); };
       for (const auto& h : r.headings) {
         std::string verdict = h.safe ? "safe" : "unsafe: " + std::string(tw::to_string(h.reason));
         if (h.reason == tw::UnsafeReason::InvalidRuns) verdict = "invalid (" + h.invalid_reason + ")";
         std::cout << "  " << std::setw(7) << std::setprecision(1) << td::rad_to_deg(h.yaw) << std::setprecision(3)
-                  << " " << std::setw(7) << rad(h.score) << " " << std::setw(7) << rad(h.mean) << " " << std::setw(10)
-                  << rad(h.max_touchdown) << " " << std::setw(6) << h.prop_strike_runs << std::setw(6)
-                  << h.arm_strike_runs << std::setw(6) << h.body_strike_runs << std::setw(8) << h.tipped_runs
-                  << std::setw(9) << h.invalid_runs << "  " << verdict << "\n";
+                  << " " << std::setw(7) << rad_text(h.score) << " " << std::setw(7) << rad_text(h.mean) << " "
+                  << std::setw(10) << rad_text(h.max_touchdown) << " " << std::setw(6) << h.prop_strike_runs
+                  << std::setw(6) << h.arm_strike_runs << std::setw(6) << h.body_strike_runs << std::setw(8)
+                  << h.tipped_runs << std::setw(9) << h.invalid_runs << "  " << verdict << "\n";
       }
       for (const auto& c : search.candidates) {
         if (!c.covered) continue;
         std::cout << "  search: (" << c.xy.x() << ", " << c.xy.y() << ") best heading " << std::setprecision(1)
-                  << td::rad_to_deg(c.yaw) << std::setprecision(3) << " deg, S = " << rad(c.score) << " rad"
+                  << td::rad_to_deg(c.yaw) << std::setprecision(3) << " deg, S = " << rad_text(c.score) << " rad"
                   << (c.safe         ? ""
                       : c.unobserved ? " (unsafe: unobserved terrain)"
                                      : " (unsafe)")

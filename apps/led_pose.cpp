@@ -26,7 +26,7 @@ namespace {
 namespace td = touchdown;
 namespace tp = touchdown::pose;
 namespace fs = std::filesystem;
-using td::app::fixed;
+using td::app::format_fixed;
 using td::app::number_in;
 
 // Largest id of any dictionary (ARUCO_ORIGINAL has 1024 markers); the
@@ -81,16 +81,10 @@ constexpr double kMaxRenderPixels = 1e10;
 constexpr double kMaxBenchmarkPixels = 1e11;
 
 std::string duration_text(double seconds) {
-  std::ostringstream os;
-  os << std::setprecision(2);
-  if (seconds < 120) {
-    os << seconds << " s";
-  } else if (seconds < 7200) {
-    os << seconds / 60 << " min";
-  } else {
-    os << seconds / 3600 << " h";
-  }
-  return os.str();
+  using td::detail::format_general;
+  if (seconds < 120) return format_general(seconds, 2) + " s";
+  if (seconds < 7200) return format_general(seconds / 60, 2) + " min";
+  return format_general(seconds / 3600, 2) + " h";
 }
 
 std::string size_text(const tp::CameraModel& c) { return std::to_string(c.width) + "x" + std::to_string(c.height); }
@@ -401,16 +395,17 @@ int main(int argc, char** argv) {
       for (const auto& row : r.rows) {
         std::cout << std::left << std::setw(static_cast<int>(scenario_width)) << row.scenario << std::setw(9)
                   << row.profile << std::setw(10) << row.sequence << std::setw(8) << row.method << std::right
-                  << std::setw(6) << row.frames << std::setw(9) << fixed(row.success_rate, 3) << std::setw(10)
-                  << row.wrong_ok << std::setw(14) << fixed(row.position_mean_m, 4) << std::setw(13)
-                  << fixed(row.position_std_m, 4) << std::setw(16) << fixed(row.orientation_mean_rad, 4)
-                  << std::setw(15) << fixed(row.orientation_std_rad, 4) << std::setw(19) << fixed(row.ms_median, 3)
-                  << "\n";
+                  << std::setw(6) << row.frames << std::setw(9) << format_fixed(row.success_rate, 3) << std::setw(10)
+                  << row.wrong_ok << std::setw(14) << format_fixed(row.position_mean_m, 4) << std::setw(13)
+                  << format_fixed(row.position_std_m, 4) << std::setw(16) << format_fixed(row.orientation_mean_rad, 4)
+                  << std::setw(15) << format_fixed(row.orientation_std_rad, 4) << std::setw(19)
+                  << format_fixed(row.ms_median, 3) << "\n";
       }
       std::cout << "solvers on the tracked LEDs (median, " << r.solver_samples << " frames): EPnP+GN "
-                << fixed(r.epnp_gn_us_median, 1) << " us, OpenCV ITERATIVE " << fixed(r.opencv_iterative_us_median, 1)
-                << " us, SQPNP " << fixed(r.opencv_sqpnp_us_median, 1) << " us, EPNP "
-                << fixed(r.opencv_epnp_us_median, 1) << " us\n";
+                << format_fixed(r.epnp_gn_us_median, 1) << " us, OpenCV ITERATIVE "
+                << format_fixed(r.opencv_iterative_us_median, 1) << " us, SQPNP "
+                << format_fixed(r.opencv_sqpnp_us_median, 1) << " us, EPNP " << format_fixed(r.opencv_epnp_us_median, 1)
+                << " us\n";
       return td::app::kExitOk;
     }
     // Sequence mode.
@@ -498,13 +493,14 @@ int main(int argc, char** argv) {
     };
     std::cout << "led_pose: " << method << " on " << frames_list.size() << " frames of " << sequence_dir << "\n"
               << "  pose found      " << ok << " / " << frames_list.size() << " ("
-              << fixed(100.0 * ok / static_cast<double>(std::max<std::size_t>(1, frames_list.size())), 1) << "%)\n"
-              << "  reprojection    median " << (rms.empty() ? std::string("n/a") : fixed(median(rms), 3) + " px")
-              << "\n"
-              << "  time per frame  median " << fixed(median(ms), 3) << " ms\n";
+              << format_fixed(100.0 * ok / static_cast<double>(std::max<std::size_t>(1, frames_list.size())), 1)
+              << "%)\n"
+              << "  reprojection    median "
+              << (rms.empty() ? std::string("n/a") : format_fixed(median(rms), 3) + " px") << "\n"
+              << "  time per frame  median " << format_fixed(median(ms), 3) << " ms\n";
     if (!pos_err.empty()) {
-      std::cout << "  vs ground truth mean position error " << fixed(mean(pos_err), 4) << " m, orientation "
-                << fixed(mean(rot_err), 4) << " rad (" << pos_err.size() << " frames)\n";
+      std::cout << "  vs ground truth mean position error " << format_fixed(mean(pos_err), 4) << " m, orientation "
+                << format_fixed(mean(rot_err), 4) << " rad (" << pos_err.size() << " frames)\n";
     }
     return td::app::kExitOk;
   });

@@ -17,9 +17,8 @@
 namespace {
 
 std::string fmt_vec(const Eigen::Vector3d& v) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(3) << "[" << v.x() << ", " << v.y() << ", " << v.z() << "]";
-  return os.str();
+  using touchdown::app::format_fixed;
+  return "[" + format_fixed(v.x(), 3) + ", " + format_fixed(v.y(), 3) + ", " + format_fixed(v.z(), 3) + "]";
 }
 
 }  // namespace

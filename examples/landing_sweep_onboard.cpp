@@ -7,7 +7,7 @@
 //   example_landing_sweep_onboard [budget_seconds]
 #include <cstdlib>
 #include <iostream>
-#include <numbers>
+#include <touchdown/core/units.hpp>
 #include <touchdown/terrain/synthetic.hpp>
 #include <touchdown/terrain/terrain_mesher.hpp>
 #include <touchdown/twin/airframe.hpp>
@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
             << " % of the full sweep\n";
   if (result.safe) {
     const auto& best = result.headings[static_cast<std::size_t>(result.best)];
-    std::cout << "land at heading " << best.yaw * 180 / std::numbers::pi << " deg (worst nutation " << best.score
+    std::cout << "land at heading " << td::rad_to_deg(best.yaw) << " deg (worst nutation " << best.score
               << " rad, threshold " << result.threshold.value() << " rad)\n";
   } else {
     // Why: e.g. "20 headings: unobserved terrain" or "4 headings: tips over".

@@ -11,6 +11,7 @@
 #include <system_error>
 #include <vector>
 
+#include "format.hpp"  // format_exact: the number text of every writer
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::detail {
@@ -85,19 +86,6 @@ inline bool read_line(std::istream& in, std::string& line) {
   if (!std::getline(in, line)) return false;
   if (!line.empty() && line.back() == '\r') line.pop_back();
   return true;
-}
-
-/// Shortest decimal text that reads back to exactly `v`.
-inline std::string_view format_exact(float v, char (&buf)[32]) {
-  const auto r = std::to_chars(buf, buf + sizeof(buf), v);
-  return {buf, static_cast<std::size_t>(r.ptr - buf)};
-}
-
-/// Shortest decimal text that reads back to exactly `v`.
-inline std::string format_exact(double v) {
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof(buf), v);
-  return {buf, static_cast<std::size_t>(r.ptr - buf)};
 }
 
 }  // namespace touchdown::detail

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "format.hpp"
 #include "io_util.hpp"
 #include "lzf.hpp"
 #include "touchdown/core/cloud_io.hpp"

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "format.hpp"
 #include "io_util.hpp"
 #include "touchdown/core/cloud_io.hpp"
 

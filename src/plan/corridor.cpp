@@ -21,12 +21,15 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <sstream>
 
+#include "core/format.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::plan {
 namespace {
+
+using detail::format_general;
 
 // Half-width of the cube (centred at the origin) that bounds every LP, so
 // that unbounded polytopes still have an optimal vertex.
@@ -39,12 +42,6 @@ constexpr double kSingular = 1e-10;
 constexpr double kOverlap = 1e-6;
 // Tolerance of the start/goal containment tests.
 constexpr double kContain = 1e-9;
-
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 double feasible_tol(double b) { return kFeasible * std::max(1.0, std::abs(b)); }
 
@@ -86,16 +83,17 @@ void check_polytope(const Polytope& p, const char* what) {
 // camera), or "" when it is valid.
 std::string camera_problem(const CameraFov& c) {
   const double pi = std::numbers::pi;
-  const double to_deg = 180 / pi;
   if (!(c.horizontal_fov_rad > 0 && c.horizontal_fov_rad < pi)) {
-    return "fov_deg: horizontal field of view must be in (0, 180) deg, got " + num(c.horizontal_fov_rad * to_deg) +
-           " deg";
+    return "fov_deg: horizontal field of view must be in (0, 180) deg, got " +
+           format_general(rad_to_deg(c.horizontal_fov_rad)) + " deg";
   }
   if (!(c.vertical_fov_rad > 0 && c.vertical_fov_rad < pi)) {
-    return "fov_deg: vertical field of view must be in (0, 180) deg, got " + num(c.vertical_fov_rad * to_deg) + " deg";
+    return "fov_deg: vertical field of view must be in (0, 180) deg, got " +
+           format_general(rad_to_deg(c.vertical_fov_rad)) + " deg";
   }
   if (!(c.near_m >= 0 && std::isfinite(c.near_m) && c.far_m > c.near_m && std::isfinite(c.far_m))) {
-    return "range: need 0 <= near < far (finite), got near " + num(c.near_m) + " m, far " + num(c.far_m) + " m";
+    return "range: need 0 <= near < far (finite), got near " + format_general(c.near_m) + " m, far " +
+           format_general(c.far_m) + " m";
   }
   if (!c.T_pad_camera.matrix().allFinite()) return "T_pad_camera: must be finite";
   const Eigen::Matrix3d R = c.T_pad_camera.linear();
@@ -170,7 +168,7 @@ bool Polytope::contains(const Eigen::Vector3d& p, double tolerance) const {
 void Polytope::add(const Eigen::Vector3d& n, double d) {
   const double len = n.norm();
   if (!std::isfinite(len) || !(len > 0)) throw InvalidArgument("polytope.add: normal must be non-zero and finite");
-  if (!std::isfinite(d)) throw InvalidArgument("polytope.add: offset must be finite, got " + num(d));
+  if (!std::isfinite(d)) throw InvalidArgument("polytope.add: offset must be finite, got " + format_general(d));
   const Eigen::Index m = b.size();
   A.conservativeResize(m + 1, Eigen::NoChange);
   b.conservativeResize(m + 1);
@@ -267,7 +265,7 @@ ChebyshevBall chebyshev_ball(const Polytope& polytope) {
 Polytope remove_redundant_faces(const Polytope& polytope, double tolerance) {
   check_polytope(polytope, "remove_redundant_faces: polytope");
   if (!(tolerance >= 0) || !std::isfinite(tolerance)) {
-    throw InvalidArgument("remove_redundant_faces.tolerance: must be >= 0, got " + num(tolerance));
+    throw InvalidArgument("remove_redundant_faces.tolerance: must be >= 0, got " + format_general(tolerance));
   }
   // An empty polytope (every face "redundant" over an empty set): as is.
   if (chebyshev_ball(polytope).radius < -tolerance) return polytope;
@@ -353,27 +351,27 @@ Polytope CameraFov::pyramid() const {
 
 bool CorridorOptions::validate(std::string* why) const {
   if (!(h_touchdown > 0 && std::isfinite(h_touchdown))) {
-    return invalid(why, "corridor.h_touchdown: must be > 0 and finite, got " + num(h_touchdown));
+    return invalid(why, "corridor.h_touchdown: must be > 0 and finite, got " + format_general(h_touchdown));
   }
   if (!(deflate >= 0 && std::isfinite(deflate))) {
-    return invalid(why, "corridor.deflate: must be >= 0 and finite, got " + num(deflate));
+    return invalid(why, "corridor.deflate: must be >= 0 and finite, got " + format_general(deflate));
   }
   if (!(dilate > 0 && std::isfinite(dilate))) {
-    return invalid(why, "corridor.dilate: must be > 0 and finite, got " + num(dilate));
+    return invalid(why, "corridor.dilate: must be > 0 and finite, got " + format_general(dilate));
   }
   if (max_dilations < 1)
     return invalid(why, "corridor.max_dilations: must be >= 1, got " + std::to_string(max_dilations));
   if (!(radius >= 0 && std::isfinite(radius))) {
-    return invalid(why, "corridor.radius: must be >= 0 and finite, got " + num(radius));
+    return invalid(why, "corridor.radius: must be >= 0 and finite, got " + format_general(radius));
   }
   if (!(margin >= 0 && std::isfinite(margin))) {
-    return invalid(why, "corridor.margin: must be >= 0 and finite, got " + num(margin));
+    return invalid(why, "corridor.margin: must be >= 0 and finite, got " + format_general(margin));
   }
   if (margin < radius) {  // the free box shrunk by the radius would exclude the start and the goal
     return invalid(why,
                    "corridor.margin: must be >= corridor.radius (the free box around start and goal is shrunk by "
                    "the drone radius), got " +
-                       num(margin) + " < " + num(radius));
+                       format_general(margin) + " < " + format_general(radius));
   }
   if (camera) {
     if (const std::string w = camera_problem(*camera); !w.empty()) return invalid(why, "corridor.camera." + w);
@@ -575,7 +573,7 @@ Corridor build_corridor(const Eigen::Vector3d& start, const Eigen::Vector3d& goa
   }
   return fail(CorridorStatus::NoOverlap, "the rear and touchdown parts do not overlap after " +
                                              std::to_string(options.max_dilations) + " dilations of " +
-                                             num(options.dilate) + " m");
+                                             format_general(options.dilate) + " m");
 }
 
 }  // namespace touchdown::plan

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "core/format.hpp"
 #include "core/io_util.hpp"
 #include "core/yaml_util.hpp"
 #include "touchdown/core/error.hpp"
@@ -29,11 +30,8 @@ constexpr int kMaxDilations = 100;
 // |angle| of rpy_deg and pad.yaw_deg, checked in radians (see degrees()).
 const double kMaxAngleRad = deg_to_rad(360.0);
 
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
+using detail::format_exact;
+using detail::format_general;
 
 Eigen::Vector3d vec3(const YamlReader& r, const YAML::Node& n, const std::string& key) {
   const auto v = r.vec3(n, key);
@@ -57,20 +55,22 @@ void only(const YamlReader& r, const YAML::Node& map, const std::string& prefix,
 
 double positive(const YamlReader& r, const YAML::Node& n, const std::string& key) {
   const double v = r.number(n, key);
-  if (!(v > 0)) r.fail(n, key, "must be > 0, got " + num(v));
+  if (!(v > 0)) r.fail(n, key, "must be > 0, got " + format_general(v));
   return v;
 }
 
 double non_negative(const YamlReader& r, const YAML::Node& n, const std::string& key) {
   const double v = r.number(n, key);
-  if (!(v >= 0)) r.fail(n, key, "must be >= 0, got " + num(v));
+  if (!(v >= 0)) r.fail(n, key, "must be >= 0, got " + format_general(v));
   return v;
 }
 
 // A segment duration [s]: kMinSegmentDuration..kMaxSegmentDuration.
 double duration(const YamlReader& r, const YAML::Node& n, const std::string& key, double v) {
   if (!(v >= kMinSegmentDuration && v <= kMaxSegmentDuration)) {
-    r.fail(n, key, "must be in [" + num(kMinSegmentDuration) + ", " + num(kMaxSegmentDuration) + "] s, got " + num(v));
+    r.fail(n, key,
+           "must be in [" + format_general(kMinSegmentDuration) + ", " + format_general(kMaxSegmentDuration) +
+               "] s, got " + format_general(v));
   }
   return v;
 }
@@ -87,7 +87,8 @@ int integer_in(const YamlReader& r, const YAML::Node& n, const std::string& key,
 // so that a value written back by plan_problem_to_yaml() passes it again.
 double angle_deg(const YamlReader& r, const YAML::Node& n, const std::string& key, double value_deg) {
   const double rad = deg_to_rad(value_deg);
-  if (!(std::abs(rad) <= kMaxAngleRad)) r.fail(n, key, "must be within [-360, 360] deg, got " + num(value_deg));
+  if (!(std::abs(rad) <= kMaxAngleRad))
+    r.fail(n, key, "must be within [-360, 360] deg, got " + format_general(value_deg));
   return rad;
 }
 
@@ -117,7 +118,7 @@ void read_time(const YamlReader& r, const YAML::Node& map, TimeAllocationOptions
   if (!(t.min < t.max)) {
     const YAML::Node at = map["max"] ? map["max"] : map["min"];
     r.fail(at, map["max"] ? "time.max" : "time.min",
-           "need time.min < time.max, got min " + num(t.min) + " s, max " + num(t.max) + " s");
+           "need time.min < time.max, got min " + format_general(t.min) + " s, max " + format_general(t.max) + " s");
   }
   if (const YAML::Node n = map["rho"]) t.rho = non_negative(r, n, "time.rho");
   if (const YAML::Node n = map["max_evaluations"]) {
@@ -144,7 +145,8 @@ CameraFov read_camera(const YamlReader& r, const YAML::Node& map) {
     const double pi = std::numbers::pi;
     const double h = deg_to_rad(v[0]), w = deg_to_rad(v[1]);
     if (!(h > 0 && h < pi) || !(w > 0 && w < pi)) {
-      r.fail(n, prefix + "fov_deg", "each angle must be in (0, 180) deg, got [" + num(v[0]) + ", " + num(v[1]) + "]");
+      r.fail(n, prefix + "fov_deg",
+             "each angle must be in (0, 180) deg, got [" + format_general(v[0]) + ", " + format_general(v[1]) + "]");
     }
     c.horizontal_fov_rad = h;
     c.vertical_fov_rad = w;
@@ -155,7 +157,8 @@ CameraFov read_camera(const YamlReader& r, const YAML::Node& map) {
       r.fail(n, prefix + "range", "expected [near, far], got " + std::to_string(v.size()) + " numbers");
     }
     if (!(v[0] >= 0 && v[1] > v[0])) {
-      r.fail(n, prefix + "range", "need 0 <= near < far, got [" + num(v[0]) + ", " + num(v[1]) + "]");
+      r.fail(n, prefix + "range",
+             "need 0 <= near < far, got [" + format_general(v[0]) + ", " + format_general(v[1]) + "]");
     }
     c.near_m = v[0];
     c.far_m = v[1];
@@ -192,8 +195,8 @@ std::vector<Box> read_obstacles(const YamlReader& r, const YAML::Node& list) {
     for (int k = 0; k < 3; ++k) {
       if (b.max(k) < b.min(k)) {
         r.fail(max, prefix + "max",
-               std::string("must be >= min on every axis, got ") + "xyz"[k] + " max " + num(b.max(k)) + " < min " +
-                   num(b.min(k)));
+               std::string("must be >= min on every axis, got ") + "xyz"[k] + " max " + format_general(b.max(k)) +
+                   " < min " + format_general(b.min(k)));
       }
     }
     out.push_back(b);
@@ -255,9 +258,9 @@ double degrees(double rad) {
   return d;
 }
 
-std::string x(double v) { return detail::format_exact(v); }
-
-std::string vec(const Eigen::Vector3d& v) { return "[" + x(v.x()) + ", " + x(v.y()) + ", " + x(v.z()) + "]"; }
+std::string vec(const Eigen::Vector3d& v) {
+  return "[" + format_exact(v.x()) + ", " + format_exact(v.y()) + ", " + format_exact(v.z()) + "]";
+}
 
 std::string state(const KinematicState& s) { return "{p: " + vec(s.p) + ", v: " + vec(s.v) + ", a: " + vec(s.a) + "}"; }
 
@@ -286,31 +289,32 @@ std::string plan_problem_to_yaml(const PlanProblem& p) {
   std::ostringstream os;
   os << "start: " << state(p.start) << "\n";
   if (p.goal) os << "goal: " << state(*p.goal) << "\n";
-  os << "pad: {v: " << vec(p.pad.velocity) << ", yaw_rate: " << x(p.pad.yaw_rate)
-     << ", yaw_deg: " << x(degrees(p.pad.yaw)) << "}\n";
-  os << "limits: {v_max: " << x(o.v_max) << ", a_max: " << x(o.a_max) << "}\n";
+  os << "pad: {v: " << vec(p.pad.velocity) << ", yaw_rate: " << format_exact(p.pad.yaw_rate)
+     << ", yaw_deg: " << format_exact(degrees(p.pad.yaw)) << "}\n";
+  os << "limits: {v_max: " << format_exact(o.v_max) << ", a_max: " << format_exact(o.a_max) << "}\n";
   os << "order: " << o.order << "\nsegments: " << o.segments << "\n";
   if (!o.durations.empty()) {
     os << "durations: [";
-    for (std::size_t i = 0; i < o.durations.size(); ++i) os << (i ? ", " : "") << x(o.durations[i]);
+    for (std::size_t i = 0; i < o.durations.size(); ++i) os << (i ? ", " : "") << format_exact(o.durations[i]);
     os << "]\n";
   }
-  os << "time: {min: " << x(o.time.min) << ", max: " << x(o.time.max) << ", rho: " << x(o.time.rho)
-     << ", max_evaluations: " << o.time.max_evaluations << "}\n";
+  os << "time: {min: " << format_exact(o.time.min) << ", max: " << format_exact(o.time.max)
+     << ", rho: " << format_exact(o.time.rho) << ", max_evaluations: " << o.time.max_evaluations << "}\n";
   if (o.corridor) {
     const CorridorOptions& c = *o.corridor;
-    os << "corridor:\n  h_touchdown: " << x(c.h_touchdown) << "\n  deflate: " << x(c.deflate)
-       << "\n  dilate: " << x(c.dilate) << "\n  max_dilations: " << c.max_dilations << "\n  radius: " << x(c.radius)
-       << "\n  margin: " << x(c.margin) << "\n";
+    os << "corridor:\n  h_touchdown: " << format_exact(c.h_touchdown) << "\n  deflate: " << format_exact(c.deflate)
+       << "\n  dilate: " << format_exact(c.dilate) << "\n  max_dilations: " << c.max_dilations
+       << "\n  radius: " << format_exact(c.radius) << "\n  margin: " << format_exact(c.margin) << "\n";
     if (c.camera) {
       const CameraFov& cam = *c.camera;
       // Rounded to 1e-12 deg (2e-14 rad): the rotation reads back to rounding,
       // and a camera pitched by 90 deg reads 90, not 89.99999999999999.
       Eigen::Vector3d rpy = rpy_from_rotation(cam.T_pad_camera.linear());
       for (int i = 0; i < 3; ++i) rpy(i) = std::round(rad_to_deg(rpy(i)) * 1e12) / 1e12 + 0.0;
-      os << "  camera:\n    p: " << vec(cam.T_pad_camera.translation()) << "\n    rpy_deg: [" << x(rpy.x()) << ", "
-         << x(rpy.y()) << ", " << x(rpy.z()) << "]\n    fov_deg: [" << x(degrees(cam.horizontal_fov_rad)) << ", "
-         << x(degrees(cam.vertical_fov_rad)) << "]\n    range: [" << x(cam.near_m) << ", " << x(cam.far_m) << "]\n";
+      os << "  camera:\n    p: " << vec(cam.T_pad_camera.translation()) << "\n    rpy_deg: [" << format_exact(rpy.x())
+         << ", " << format_exact(rpy.y()) << ", " << format_exact(rpy.z()) << "]\n    fov_deg: ["
+         << format_exact(degrees(cam.horizontal_fov_rad)) << ", " << format_exact(degrees(cam.vertical_fov_rad))
+         << "]\n    range: [" << format_exact(cam.near_m) << ", " << format_exact(cam.far_m) << "]\n";
     }
   }
   if (!o.obstacles.empty()) {

@@ -10,25 +10,15 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
-#include <sstream>
 #include <string_view>
 #include <tuple>
 
 #include "aruco_dictionary.hpp"
+#include "core/format.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/pose/gauss_newton.hpp"
 
 namespace touchdown::pose {
-
-namespace {
-
-std::string format_number(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
-}
-
-}  // namespace
 
 std::vector<std::string> aruco_dictionary_names() { return detail::aruco_dictionary_name_list(); }
 
@@ -45,7 +35,8 @@ bool ArucoOptions::validate(std::string* why) const {
                 " (ids 0.." + std::to_string(n - 1) + ")");
   }
   if (!(marker_size > 0 && marker_size <= 10)) {
-    return fail("marker_size: must be an edge length in (0, 10] m, got " + format_number(marker_size));
+    return fail("marker_size: must be an edge length in (0, 10] m, got " +
+                touchdown::detail::format_general(marker_size));
   }
   if (!(detection_sigma_px > 0) || !std::isfinite(detection_sigma_px))
     return fail("detection_sigma_px: must be positive");

@@ -7,15 +7,17 @@
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
-#include <iomanip>
 #include <sstream>
 #include <vector>
 
+#include "core/format.hpp"
 #include "core/io_util.hpp"
 #include "core/yaml_util.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::pose {
+
+using detail::format_general;
 
 bool CameraModel::has_distortion() const {
   for (double d : distortion) {
@@ -169,12 +171,6 @@ Matrix read_matrix(const detail::YamlReader& r, const YAML::Node& n, const std::
   return m;
 }
 
-std::string number_text(double v) {
-  std::ostringstream os;
-  os << std::setprecision(6) << v;
-  return os.str();
-}
-
 // The node of `name` or of its alias (both given: an error); null when neither.
 YAML::Node aliased(const detail::YamlReader& r, const YAML::Node& root, const char* name, const char* alias,
                    std::string& used) {
@@ -201,15 +197,15 @@ void read_camera_matrix(const detail::YamlReader& r, const YAML::Node& root, Cam
   constexpr double kTol = 1e-9;
   if (std::abs(k[3]) > kTol || std::abs(k[6]) > kTol || std::abs(k[7]) > kTol || std::abs(k[8] - 1) > kTol) {
     r.fail(node, key,
-           "expected [fx, 0, cx; 0, fy, cy; 0, 0, 1], got rows 2-3 [" + number_text(k[3]) + ", " + number_text(k[4]) +
-               ", " + number_text(k[5]) + "; " + number_text(k[6]) + ", " + number_text(k[7]) + ", " +
-               number_text(k[8]) + "]");
+           "expected [fx, 0, cx; 0, fy, cy; 0, 0, 1], got rows 2-3 [" + format_general(k[3]) + ", " +
+               format_general(k[4]) + ", " + format_general(k[5]) + "; " + format_general(k[6]) + ", " +
+               format_general(k[7]) + ", " + format_general(k[8]) + "]");
   }
-  if (!(k[0] > 0)) r.fail(node, key, "fx = K[0][0] must be positive, got " + number_text(k[0]));
-  if (!(k[4] > 0)) r.fail(node, key, "fy = K[1][1] must be positive, got " + number_text(k[4]));
+  if (!(k[0] > 0)) r.fail(node, key, "fx = K[0][0] must be positive, got " + format_general(k[0]));
+  if (!(k[4] > 0)) r.fail(node, key, "fy = K[1][1] must be positive, got " + format_general(k[4]));
   if (std::abs(k[1]) > kTol * k[0]) {
     r.fail(node, key,
-           "skew K[0][1] = " + number_text(k[1]) +
+           "skew K[0][1] = " + format_general(k[1]) +
                " is not supported (the pinhole model has none; OpenCV and ROS calibrate without skew)");
   }
   c.fx = k[0];
@@ -271,7 +267,7 @@ void read_distortion(const detail::YamlReader& r, const YAML::Node& root, Camera
                        : i < 12 ? "the thin-prism model (s1..s4; CALIB_THIN_PRISM_MODEL)"
                                 : "the tilted-sensor model (tx, ty; CALIB_TILTED_MODEL)";
     r.fail(node, key,
-           std::string(kNames[i]) + " = " + number_text(m.data[i]) + ": " + what +
+           std::string(kNames[i]) + " = " + format_general(m.data[i]) + ": " + what +
                " is not supported; touchdown models k1, k2, p1, p2, k3 (recalibrate without it)");
   }
   for (std::size_t i = 0; i < std::min<std::size_t>(n, 5); ++i) c.distortion[i] = m.data[i];
@@ -398,10 +394,10 @@ DepthScaleCheck check_depth_scale(const DepthImageView& depth, double depth_scal
   if (!c.conclusive) return c;
   c.plausible = c.median_m >= min_m && c.median_m <= max_m;
   if (!c.plausible) {
-    c.message = "depth_scale: " + number_text(depth_scale) + " m per unit puts the median depth at " +
-                number_text(c.median_m) + " m (" + number_text(c.median_raw) + " units, " + std::to_string(c.samples) +
-                " pixels sampled), outside the plausible " + number_text(min_m) + ".." + number_text(max_m) + " m; " +
-                depth_scale_hint(c.median_raw, depth_scale, min_m, max_m);
+    c.message = "depth_scale: " + format_general(depth_scale) + " m per unit puts the median depth at " +
+                format_general(c.median_m) + " m (" + format_general(c.median_raw) + " units, " +
+                std::to_string(c.samples) + " pixels sampled), outside the plausible " + format_general(min_m) + ".." +
+                format_general(max_m) + " m; " + depth_scale_hint(c.median_raw, depth_scale, min_m, max_m);
   }
   return c;
 }

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "core/format.hpp"
 #include "core/io_util.hpp"
 #include "core/yaml_util.hpp"
 #include "touchdown/core/error.hpp"
@@ -92,8 +93,8 @@ std::string half_angle_problem(double deg) {
   if (!(deg > 0 && deg < 180)) return "must be in (0, 180) degrees, got " + detail::format_exact(deg);
   if (deg < 3.2) {
     return "is " + detail::format_exact(deg) + " degrees, a cone no LED board uses: radians? (" +
-           detail::format_exact(deg) +
-           " rad = " + detail::format_exact(std::round(deg * 180 / std::numbers::pi * 10) / 10) + " degrees)";
+           detail::format_exact(deg) + " rad = " + detail::format_exact(std::round(rad_to_deg(deg) * 10) / 10) +
+           " degrees)";
   }
   return "";
 }

@@ -8,6 +8,7 @@
 #include <iterator>
 #include <system_error>
 
+#include "core/format.hpp"
 #include "core/io_util.hpp"
 #include "touchdown/core/error.hpp"
 

@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
+#include "touchdown/core/units.hpp"
 #include "touchdown/twin/airframe.hpp"
 
 namespace touchdown::scenario {
@@ -14,8 +14,6 @@ namespace touchdown::scenario {
 namespace {
 
 using Bgr = std::array<std::uint8_t, 3>;
-
-double deg(double d) { return d * std::numbers::pi / 180.0; }
 
 Solid box(const Eigen::Vector3d& centre, const Eigen::Vector3d& extents, Bgr bgr) {
   Solid s;
@@ -105,7 +103,7 @@ std::vector<Solid> object_solids(const StaticObject& o) {
     }
   }
   const Eigen::Isometry3d T_world_object = Eigen::Translation3d(o.position.x(), o.position.y(), 0) *
-                                           Eigen::AngleAxisd(deg(o.yaw_deg), Eigen::Vector3d::UnitZ());
+                                           Eigen::AngleAxisd(deg_to_rad(o.yaw_deg), Eigen::Vector3d::UnitZ());
   for (auto& solid : local) solid.pose = T_world_object * solid.pose;
   return local;
 }

@@ -4,8 +4,8 @@
 
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 
+#include "core/format.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::scenario {
@@ -15,11 +15,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-std::string fixed(double v, int digits = 2) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
+using detail::format_fixed;
 
 }  // namespace
 
@@ -149,27 +145,27 @@ ScenarioResult run_scenario(const Scenario& scenario, LandingSystem& system, con
     r.collision = *c;
     r.violation = true;
     r.type = Violation::type_iii;
-    r.message = "Type III: collided with " + c->what + " at t = " + fixed(c->t) + " s";
+    r.message = "Type III: collided with " + c->what + " at t = " + format_fixed(c->t, 2) + " s";
   } else if (!r.landed) {
     r.violation = true;
     r.type = Violation::type_ii;
-    r.message =
-        std::string("Type II: no landing within ") + fixed(scenario.time_limit, 0) + " s (" +
-        (r.descent_started ? "a descent started at t = " + fixed(r.descent_time, 1) + " s did not reach the ground"
-                           : std::string("the marker was never seen long enough")) +
-        ")";
+    r.message = std::string("Type II: no landing within ") + format_fixed(scenario.time_limit, 0) + " s (" +
+                (r.descent_started
+                     ? "a descent started at t = " + format_fixed(r.descent_time, 1) + " s did not reach the ground"
+                     : std::string("the marker was never seen long enough")) +
+                ")";
   } else if (r.dtl > radius) {
     // Landed off target: something the system took for the marker led it
     // there (a false positive, the paper's Type I).
     r.violation = true;
     r.type = Violation::type_i;
-    r.message = "Type I: landed " + fixed(r.dtl) + " m from the marker";
+    r.message = "Type I: landed " + format_fixed(r.dtl, 2) + " m from the marker";
     if (r.descent_started)
-      r.message +=
-          "; the descent was triggered by a detection " + fixed((r.descent_target - marker).norm()) + " m from it";
+      r.message += "; the descent was triggered by a detection " + format_fixed((r.descent_target - marker).norm(), 2) +
+                   " m from it";
     if (r.false_detection) r.message += " (false detections seen)";
   } else {
-    r.message = "landed " + fixed(r.dtl) + " m from the marker after " + fixed(r.ttl, 1) + " s";
+    r.message = "landed " + format_fixed(r.dtl, 2) + " m from the marker after " + format_fixed(r.ttl, 1) + " s";
   }
   r.timing.total_s = seconds_since(t_start);
   return r;

@@ -4,11 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
 #include <numbers>
 #include <sstream>
 #include <vector>
 
+#include "core/format.hpp"
 #include "core/io_util.hpp"
 #include "core/yaml_util.hpp"
 #include "touchdown/core/error.hpp"
@@ -47,9 +47,8 @@ bool looks_like_radians(const Eigen::Vector3d& v) {
 }
 
 std::string list3(const Eigen::Vector3d& v) {
-  std::ostringstream os;
-  os << std::setprecision(6) << "[" << v.x() + 0.0 << ", " << v.y() + 0.0 << ", " << v.z() + 0.0 << "]";
-  return os.str();
+  using detail::format_general;
+  return "[" + format_general(v.x()) + ", " + format_general(v.y()) + ", " + format_general(v.z()) + "]";
 }
 
 // Reads one pose map: {xyz, rpy_deg} or {matrix}. `prefix` is "" or
@@ -84,9 +83,9 @@ Eigen::Isometry3d parse_pose(const detail::YamlReader& r, const YAML::Node& map,
       warnings.push_back(where + ": " + rpy_key + ": " + list3(deg) +
                          " look like radians (all within +-2 pi, not whole degrees) but are read as degrees; if "
                          "radians were meant, write " +
-                         list3((deg / kRadPerDeg * 100).array().round().matrix() / 100));
+                         list3((deg.unaryExpr(&rad_to_deg) * 100).array().round().matrix() / 100));
     }
-    return pose_from_xyz_rpy(t, deg * kRadPerDeg);
+    return pose_from_xyz_rpy(t, deg.unaryExpr(&deg_to_rad));
   }
   const std::string key = prefix + "matrix";
   const auto v = flat_numbers(r, matrix, key);
@@ -134,8 +133,7 @@ std::string format_extrinsics(const Extrinsics& e, bool with_body) {
   auto pose = [](std::ostringstream& os, const Eigen::Isometry3d& T, const char* indent) {
     const Eigen::Vector3d rpy = rpy_from_rotation(T.linear());
     const double roll = rpy.x(), pitch = rpy.y(), yaw = rpy.z();
-    os << std::setprecision(17);
-    auto v = [](double x) { return x + 0.0; };  // no "-0"
+    auto v = [](double x) { return detail::format_general(x, 17); };  // 17 digits read back exactly; no "-0"
     os << indent << "xyz: [" << v(T.translation().x()) << ", " << v(T.translation().y()) << ", "
        << v(T.translation().z()) << "]\n";
     os << indent << "rpy_deg: [" << v(rad_to_deg(roll)) << ", " << v(rad_to_deg(pitch)) << ", " << v(rad_to_deg(yaw))

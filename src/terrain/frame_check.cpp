@@ -4,10 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <iomanip>
-#include <sstream>
 #include <vector>
 
+#include "core/format.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/core/units.hpp"
@@ -79,12 +78,6 @@ double span(std::vector<double> values) {
   return values[hi] - a;
 }
 
-std::string fixed(double v, int digits) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << v + 0.0;
-  return os.str();
-}
-
 }  // namespace
 
 bool FrameCheckOptions::validate(std::string* why) const {
@@ -108,11 +101,12 @@ FrameEvidence camera_frame_evidence(const PointCloud& cloud, const FrameCheckOpt
     return e;
   }
   if (cloud.has_viewpoint()) {
-    std::ostringstream os;
-    os << std::setprecision(6);
-    for (std::size_t i = 0; i < cloud.viewpoint.size(); ++i) os << (i ? " " : "") << cloud.viewpoint[i] + 0.0;
+    std::string viewpoint;
+    for (std::size_t i = 0; i < cloud.viewpoint.size(); ++i) {
+      viewpoint += (i ? " " : "") + detail::format_general(cloud.viewpoint[i]);
+    }
     e.rule = FrameRule::Viewpoint;
-    e.reason = "its PCD VIEWPOINT (" + os.str() + ") is not the identity: a sensor pose recorded with the points";
+    e.reason = "its PCD VIEWPOINT (" + viewpoint + ") is not the identity: a sensor pose recorded with the points";
     return e;
   }
 
@@ -168,18 +162,19 @@ FrameEvidence camera_frame_evidence(const PointCloud& cloud, const FrameCheckOpt
   e.extent = std::max(span(std::move(xs)), span(std::move(ys)));
   e.positive_fraction = static_cast<double>(positive) / static_cast<double>(n);
 
-  const std::string share = fixed(100 * e.plane_fraction, 0) + "% of the points";
+  const std::string share = detail::format_fixed(100 * e.plane_fraction, 0) + "% of the points";
   if (e.plane_tilt_deg > o.max_tilt_deg) {
     e.rule = FrameRule::TiltedPlane;
-    e.reason = "its dominant plane (" + share + ") is tilted " + fixed(e.plane_tilt_deg, 0) +
+    e.reason = "its dominant plane (" + share + ") is tilted " + detail::format_fixed(e.plane_tilt_deg, 0) +
                " deg from horizontal, as the ground is in a forward-looking camera's optical frame (y down, z "
                "forward)";
   } else if (e.positive_fraction >= o.min_positive_fraction && e.plane_height > o.max_height_ratio * e.extent) {
     e.rule = FrameRule::DepthLike;
-    e.reason = "z looks like depth: " + fixed(100 * e.positive_fraction, 0) +
-               "% of the points have z > 0 and the dominant plane (" + share + ") lies " + fixed(e.plane_height, 2) +
-               " m above the origin, " + fixed(e.plane_height / std::max(e.extent, 1e-12), 2) + " x the cloud's " +
-               fixed(e.extent, 2) + " m width, as in a depth camera's optical frame (z forward)";
+    e.reason = "z looks like depth: " + detail::format_fixed(100 * e.positive_fraction, 0) +
+               "% of the points have z > 0 and the dominant plane (" + share + ") lies " +
+               detail::format_fixed(e.plane_height, 2) + " m above the origin, " +
+               detail::format_fixed(e.plane_height / std::max(e.extent, 1e-12), 2) + " x the cloud's " +
+               detail::format_fixed(e.extent, 2) + " m width, as in a depth camera's optical frame (z forward)";
   }
   return e;
 }

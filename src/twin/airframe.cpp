@@ -7,50 +7,18 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <sstream>
 #include <tuple>
 
+#include "core/convex_hull.hpp"
+#include "core/format.hpp"
 #include "core/io_util.hpp"
 #include "core/yaml_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/units.hpp"
 
 namespace touchdown::twin {
-namespace {
 
-std::string fmt(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
-}
-
-double cross2(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-}
-
-// Indices of the convex hull (counter-clockwise, no collinear points);
-// Andrew's monotone chain.
-std::vector<std::size_t> hull_indices(const std::vector<Eigen::Vector2d>& p) {
-  std::vector<std::size_t> idx(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) idx[i] = i;
-  std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
-    return p[a].x() < p[b].x() || (p[a].x() == p[b].x() && p[a].y() < p[b].y());
-  });
-  std::vector<std::size_t> h(2 * p.size());
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < idx.size(); ++i) {
-    while (k >= 2 && cross2(p[h[k - 2]], p[h[k - 1]], p[idx[i]]) <= 1e-12) --k;
-    h[k++] = idx[i];
-  }
-  for (std::size_t i = idx.size() - 1, t = k + 1; i-- > 0;) {
-    while (k >= t && cross2(p[h[k - 2]], p[h[k - 1]], p[idx[i]]) <= 1e-12) --k;
-    h[k++] = idx[i];
-  }
-  h.resize(k > 1 ? k - 1 : k);
-  return h;
-}
-
-}  // namespace
+using detail::format_general;
 
 Airframe Airframe::f450() { return Airframe{}; }
 
@@ -208,15 +176,15 @@ bool Airframe::validate(std::string* why) const {
     return false;
   };
   auto positive = [](double v) { return v > 0 && std::isfinite(v); };
-  if (!positive(body_mass)) return fail("body.mass: must be positive, got " + fmt(body_mass));
+  if (!positive(body_mass)) return fail("body.mass: must be positive, got " + format_general(body_mass));
   // Masses are kilograms: a multirotor body over 100 kg, a motor over 10 kg
   // or landing gear over 50 kg was almost certainly written in grams.
   for (const auto& [key, mass, limit] :
        {std::tuple{"body.mass", body_mass, 100.0}, std::tuple{"motors.mass", motor_mass, 10.0},
         std::tuple{"landing_gear.mass", gear_mass, 50.0}}) {
     if (mass > limit) {
-      return fail(std::string(key) + ": " + fmt(mass) + " kg is implausible for a multirotor (more than " + fmt(limit) +
-                  " kg): masses are in kilograms, written in grams?");
+      return fail(std::string(key) + ": " + format_general(mass) + " kg is implausible for a multirotor (more than " +
+                  format_general(limit) + " kg): masses are in kilograms, written in grams?");
     }
   }
   if (!motor_zs.empty() && motor_zs.size() != arm_angles_deg.size()) {
@@ -231,7 +199,7 @@ bool Airframe::validate(std::string* why) const {
   if (motor_count() < 3) return fail("arms.angles_deg: need at least 3 arms");
   if (!positive(motor_radius)) return fail("arms.motor_radius: must be positive");
   if (!(arm_radius >= 0)) return fail("arms.capsule_radius: must be >= 0");
-  if (!positive(motor_mass)) return fail("motors.mass: must be positive, got " + fmt(motor_mass));
+  if (!positive(motor_mass)) return fail("motors.mass: must be positive, got " + format_general(motor_mass));
   if (spin.size() != motor_count()) {
     return fail("motors.spin: expected " + std::to_string(motor_count()) + " entries (one per arm), got " +
                 std::to_string(spin.size()));
@@ -242,15 +210,16 @@ bool Airframe::validate(std::string* why) const {
   if (!positive(max_thrust)) return fail("motors.max_thrust: must be positive");
   const double thrust_to_weight = max_thrust * static_cast<double>(motor_count()) / (total_mass() * 9.80665);
   if (thrust_to_weight < kMinThrustToWeight) {
-    return fail("motors.max_thrust: the motors lift " + fmt(thrust_to_weight) + " times the weight (" +
-                fmt(total_mass()) + " kg), need at least " + fmt(kMinThrustToWeight) + " to hover with control margin");
+    return fail("motors.max_thrust: the motors lift " + format_general(thrust_to_weight) + " times the weight (" +
+                format_general(total_mass()) + " kg), need at least " + format_general(kMinThrustToWeight) +
+                " to hover with control margin");
   }
   if (!positive(motor_time_constant)) return fail("motors.time_constant: must be positive");
   if (!(torque_coefficient > 0) || !std::isfinite(torque_coefficient)) {
     return fail(
         "motors.torque_coefficient: must be > 0 (without the rotors' reaction torque nothing yaws the airframe), "
         "got " +
-        fmt(torque_coefficient));
+        format_general(torque_coefficient));
   }
   if (const std::string w = control_problem(); !w.empty()) return fail(w);
   if (!positive(prop_radius)) return fail("propellers.radius: must be positive");
@@ -267,8 +236,8 @@ bool Airframe::validate(std::string* why) const {
         for (const double a : arm_angles_deg) radians = radians && std::abs(a) <= 2 * std::numbers::pi + 1e-9;
         if (radians) hint = " (arms.angles_deg are all within ±2π: written in radians?)";
         return fail("propellers.radius: the propellers of arms " + std::to_string(i + 1) + " and " +
-                    std::to_string(j + 1) + " overlap: motors " + fmt(d) + " m apart, need at least 2 × " +
-                    fmt(prop_radius) + hint);
+                    std::to_string(j + 1) + " overlap: motors " + format_general(d) + " m apart, need at least 2 × " +
+                    format_general(prop_radius) + hint);
       }
     }
   }
@@ -281,7 +250,7 @@ bool Airframe::validate(std::string* why) const {
     const bool in_height = std::abs(d.centre.z()) < 0.5 * body_size.z() + d.half_thickness;
     if (in_height && out.norm() < d.radius) {
       return fail("propellers.radius: the propeller of arm " + std::to_string(i + 1) +
-                  " cuts into the body (its disk reaches " + fmt(d.radius - out.norm()) +
+                  " cuts into the body (its disk reaches " + format_general(d.radius - out.norm()) +
                   " m into body.size at the same height): lengthen arms.motor_radius or raise propellers.height");
     }
   }
@@ -294,20 +263,21 @@ bool Airframe::validate(std::string* why) const {
       const double prop_low = d.centre.z() - d.half_thickness, arm_low = motor_position(i).z() - arm_radius;
       if (!(ground_z() < std::min(prop_low, arm_low) - 1e-3)) {
         return fail("landing_gear: none, but the " + std::string(prop_low < arm_low ? "propeller" : "arm") +
-                    " of arm " + std::to_string(i + 1) + " reaches down to z = " + fmt(std::min(prop_low, arm_low)) +
-                    ", not above the body's bottom (z = " + fmt(ground_z()) +
+                    " of arm " + std::to_string(i + 1) +
+                    " reaches down to z = " + format_general(std::min(prop_low, arm_low)) +
+                    ", not above the body's bottom (z = " + format_general(ground_z()) +
                     "): the airframe would rest on it; describe the legs or skids it stands on");
       }
     }
     // The body's bottom face is the support polygon.
     const Eigen::Vector2d c = centre_of_mass().head<2>(), h = 0.5 * body_size.head<2>();
     if (!(c.cwiseAbs().array() < h.array() - 1e-9).all()) {
-      return fail("body.size: the centre of mass (" + fmt(c.x()) + ", " + fmt(c.y()) +
+      return fail("body.size: the centre of mass (" + format_general(c.x()) + ", " + format_general(c.y()) +
                   ") is not above the body's bottom face, which the airframe stands on (landing_gear: none)");
     }
     return true;
   }
-  if (!positive(gear_mass)) return fail("landing_gear.mass: must be positive, got " + fmt(gear_mass));
+  if (!positive(gear_mass)) return fail("landing_gear.mass: must be positive, got " + format_general(gear_mass));
   if (!positive(foot_radius)) return fail("landing_gear.foot_radius: must be positive");
   if (!(leg_radius >= 0)) return fail("landing_gear.leg_radius: must be >= 0");
   if (!(foot_z < gear_top_z)) return fail("landing_gear.foot_z: the feet must be below the legs' top_z");
@@ -328,20 +298,20 @@ bool Airframe::validate(std::string* why) const {
         "got " +
         std::to_string(legs.size()));
   }
-  const auto hull = hull_indices(legs);
+  const auto hull = detail::convex_hull_indices(legs);
   if (hull.size() < 3) return fail("landing_gear.legs: the legs are collinear: no support polygon");
   if (hull.size() != legs.size()) {
     for (std::size_t i = 0; i < legs.size(); ++i) {
       if (std::find(hull.begin(), hull.end(), i) == hull.end()) {
         return fail("landing_gear.legs: the support set is not convex (leg " + std::to_string(i + 1) + " at (" +
-                    fmt(legs[i].x()) + ", " + fmt(legs[i].y()) + ") lies inside the others)");
+                    format_general(legs[i].x()) + ", " + format_general(legs[i].y()) + ") lies inside the others)");
       }
     }
   }
   const Eigen::Vector2d c = centre_of_mass().head<2>();
   for (std::size_t k = 0; k < hull.size(); ++k) {
-    if (cross2(legs[hull[k]], legs[hull[(k + 1) % hull.size()]], c) <= 1e-9) {
-      return fail("landing_gear.legs: the centre of mass (" + fmt(c.x()) + ", " + fmt(c.y()) +
+    if (detail::cross(legs[hull[k]], legs[hull[(k + 1) % hull.size()]], c) <= 1e-9) {
+      return fail("landing_gear.legs: the centre of mass (" + format_general(c.x()) + ", " + format_general(c.y()) +
                   ") is not inside the support polygon");
     }
   }

@@ -6,10 +6,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <mutex>
 
+#include "core/format.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/core/units.hpp"
@@ -17,11 +17,7 @@
 namespace touchdown::twin {
 namespace {
 
-std::string fixed3(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3f", v);
-  return buf;
-}
+using detail::format_fixed;
 
 // Why the terrain does not cover the footprint disk: how far the disk sticks
 // out of the scanned area (its radius minus the distance from the centre to
@@ -37,10 +33,11 @@ std::string off_scan_message(const TerrainModel& terrain, const Eigen::Vector2d&
     }
   }
   const auto& b = terrain.bounds();
-  return "terrain does not cover the footprint (radius " + fixed3(radius) + " m) around the landing point (" +
-         fixed3(centre.x()) + ", " + fixed3(centre.y()) + "): it sticks out of the scanned area by " +
-         fixed3(radius - nearest) + " m; the scan covers x in [" + fixed3(b.min.x()) + ", " + fixed3(b.max.x()) +
-         "], y in [" + fixed3(b.min.y()) + ", " + fixed3(b.max.y()) + "] m";
+  return "terrain does not cover the footprint (radius " + format_fixed(radius, 3) + " m) around the landing point (" +
+         format_fixed(centre.x(), 3) + ", " + format_fixed(centre.y(), 3) + "): it sticks out of the scanned area by " +
+         format_fixed(radius - nearest, 3) + " m; the scan covers x in [" + format_fixed(b.min.x(), 3) + ", " +
+         format_fixed(b.max.x(), 3) + "], y in [" + format_fixed(b.min.y(), 3) + ", " + format_fixed(b.max.y(), 3) +
+         "] m";
 }
 
 // Whether any part of the twin that can touch the ground (feet, arms,

@@ -9,13 +9,10 @@
 #include <vector>
 
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::plan {
 namespace {
-
-constexpr double kCorridorPi = std::numbers::pi;
-
-double corridor_deg(double d) { return d * kCorridorPi / 180; }
 
 Box corridor_box(double x0, double y0, double z0, double x1, double y1, double z1) {
   Box b;
@@ -59,10 +56,10 @@ const Eigen::Vector3d kCorridorGoal(0, 0, 0.5);
 CameraFov corridor_camera() {
   CameraFov c;
   c.T_pad_camera = Eigen::Isometry3d::Identity();
-  c.T_pad_camera.linear() = Eigen::AngleAxisd(corridor_deg(-35), Eigen::Vector3d::UnitY()).toRotationMatrix();
+  c.T_pad_camera.linear() = Eigen::AngleAxisd(deg_to_rad(-35), Eigen::Vector3d::UnitY()).toRotationMatrix();
   c.T_pad_camera.translation() = Eigen::Vector3d(0.3, 0, 0.1);
-  c.horizontal_fov_rad = corridor_deg(100);
-  c.vertical_fov_rad = corridor_deg(80);
+  c.horizontal_fov_rad = deg_to_rad(100);
+  c.vertical_fov_rad = deg_to_rad(80);
   c.near_m = 0.1;
   c.far_m = 10;
   return c;
@@ -259,10 +256,10 @@ TEST(CorridorPyramid, IdentityCameraLooksUp) {
 TEST(CorridorPyramid, PitchedCameraIsTransformed) {
   CameraFov c;
   c.T_pad_camera = Eigen::Isometry3d::Identity();
-  c.T_pad_camera.linear() = Eigen::AngleAxisd(corridor_deg(30), Eigen::Vector3d::UnitX()).toRotationMatrix();
+  c.T_pad_camera.linear() = Eigen::AngleAxisd(deg_to_rad(30), Eigen::Vector3d::UnitX()).toRotationMatrix();
   c.T_pad_camera.translation() = Eigen::Vector3d(0.2, -0.1, 0.05);
-  c.horizontal_fov_rad = corridor_deg(70);
-  c.vertical_fov_rad = corridor_deg(50);
+  c.horizontal_fov_rad = deg_to_rad(70);
+  c.vertical_fov_rad = deg_to_rad(50);
   c.near_m = 0.2;
   c.far_m = 6;
   corridor_check_pyramid(c);
@@ -270,7 +267,7 @@ TEST(CorridorPyramid, PitchedCameraIsTransformed) {
   // the camera's y axis, beyond the 25 deg vertical half angle.
   const Polytope p = c.pyramid();
   const Eigen::Vector3d cam = c.T_pad_camera.translation();
-  EXPECT_TRUE(p.contains(cam + 3 * Eigen::Vector3d(0, -std::sin(corridor_deg(30)), std::cos(corridor_deg(30)))));
+  EXPECT_TRUE(p.contains(cam + 3 * Eigen::Vector3d(0, -std::sin(deg_to_rad(30)), std::cos(deg_to_rad(30)))));
   EXPECT_FALSE(p.contains(cam + Eigen::Vector3d(0, 0, 3)));
 }
 
@@ -284,7 +281,7 @@ TEST(CorridorPyramid, InvalidCameraThrows) {
     EXPECT_NE(std::string(e.what()).find("camera.fov_deg"), std::string::npos) << e.what();
   }
   c = CameraFov{};
-  c.vertical_fov_rad = kCorridorPi;
+  c.vertical_fov_rad = std::numbers::pi;
   EXPECT_THROW((void)c.pyramid(), InvalidArgument);
   c = CameraFov{};
   c.far_m = c.near_m;

@@ -3,11 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-#include <numbers>
 #include <sstream>
 
 #include "test_util.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/units.hpp"
 #include "touchdown/twin/sweep.hpp"
 #include "twin_test_util.hpp"
 
@@ -77,7 +77,7 @@ TEST(Airframe, SymmetryOrderCountsContactGeometryNotSpins) {
   hexa.motor_radius = 0.3;
   hexa.legs.clear();
   for (int k = 0; k < 6; ++k) {
-    const double t = (30 + 60 * k) * std::numbers::pi / 180;
+    const double t = touchdown::deg_to_rad(30 + 60 * k);
     hexa.legs.emplace_back(0.14 * std::cos(t), 0.14 * std::sin(t));
   }
   std::string why;

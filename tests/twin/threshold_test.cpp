@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "touchdown/core/units.hpp"
 #include "touchdown/twin/landing.hpp"
 #include "twin_test_util.hpp"
 
@@ -57,7 +58,7 @@ TEST(SafetyThreshold, PhysicsRocksBackBelowAndFallsAbove) {
   tw::SimulationOptions opt;
   opt.tip_nutation = t.tip_rad;
   const tw::LandingSimulator sim(a, touchdown::test::flat_terrain(0.0), opt);
-  const double deg = M_PI / 180;
+  const double deg = touchdown::kRadPerDeg;
   const auto below = sim.release(tw::pose_tilted_about_edge(a, t.tip_foot_a, t.tip_foot_b, t.value() - 2 * deg), 1.0);
   ASSERT_EQ(below.status, tw::RunStatus::Settled);
   EXPECT_LT(below.nutation, 0.02);
