@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/format.hpp"
 #include "scenario/render_internal.hpp"
 #include "touchdown/core/error.hpp"
 
@@ -14,12 +15,8 @@ namespace {
 
 using render_detail::rad;
 
-std::string num(double v) {
-  std::string s = std::to_string(v);
-  while (s.size() > 1 && s.back() == '0') s.pop_back();
-  if (!s.empty() && s.back() == '.') s.pop_back();
-  return s;
-}
+// Option values in messages: six decimals, trailing zeros trimmed.
+std::string num(double v) { return touchdown::detail::format_trimmed(v, 6); }
 
 }  // namespace
 
