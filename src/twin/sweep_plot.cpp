@@ -150,7 +150,7 @@ void heading_panel(std::ostream& os, const SweepResult& r, double ox, double oy,
   for (const auto& run : r.runs) {
     const double x = X(rad_to_deg(run.conditions.heading)) + (run.run - (m - 1) / 2.0) * std::min(2.0, 12.0 / m);
     const RunResult& res = run.result;
-    if (!res.valid()) {
+    if (!res.ok()) {
       square(os, x, band, 3, kInvalid);
     } else if (res.nutation > ymax) {
       up_arrow(os, x, T + 5, 4, res.tipped ? kTipped : "#666");
