@@ -13,6 +13,7 @@
 
 #include "core/format.hpp"
 #include "touchdown/core/atomic_file.hpp"
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/version.hpp"
 
@@ -42,6 +43,34 @@ inline CLI::Validator output_extension(const std::string& ext) {
         return "the file is written as " + ext.substr(1) + ": its name must end in " + ext + ", got " + path;
       },
       "*" + ext);
+}
+
+/// Validator of an option that names an enumerator of `E` (from_string):
+/// --help lists the names; a bad name is refused naming the option and the
+/// accepted names ("--agg: expected one of max, median; got 'mean'").
+template <touchdown::NamedEnum E>
+CLI::Validator one_of() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        try {
+          (void)touchdown::from_string<E>(text);
+          return "";
+        } catch (const touchdown::InvalidArgument& e) {
+          return e.what();
+        }
+      },
+      "{" + touchdown::enum_names_list<E>() + "}");
+}
+
+/// Adds an option (or a positional, by its name) that sets `value` to the
+/// enumerator it names; the default shown is `value`'s name.
+template <touchdown::NamedEnum E>
+CLI::Option* add_enum_option(CLI::App& app, const std::string& name, E& value, const std::string& description) {
+  return app
+      .add_option_function<std::string>(
+          name, [&value](const std::string& text) { value = touchdown::from_string<E>(text); }, description)
+      ->check(one_of<E>())
+      ->default_str(std::string(touchdown::enum_name(value)));
 }
 
 /// Validator of a number option: finite and within [lo, hi] (`(` or `)`

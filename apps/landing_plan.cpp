@@ -395,7 +395,7 @@ std::string plot_svg(const PlotInput& in) {
       }
     } else {
       svg.text((p.left + p.right) / 2, (p.top + p.bottom) / 2 - 10,
-               std::string("no trajectory (") + tp::to_string(r.status) + ")",
+               "no trajectory (" + std::string(tp::to_string(r.status)) + ")",
                " text-anchor='middle' fill='#a00' font-size='14'");
     }
     svg.end_clip();
@@ -533,10 +533,10 @@ int main(int argc, char** argv) {
     if (!qp_path.empty() && r.status != tp::PlanStatus::NoCorridor) outputs.emplace_back(qp_path, qp_json(r.qp));
     if (!plot_path.empty()) {
       std::string title =
-          "landing_plan: " + fs::path(problem_path).filename().string() + ": " + tp::to_string(r.status);
+          "landing_plan: " + fs::path(problem_path).filename().string() + ": " + std::string(tp::to_string(r.status));
       if (r.status == tp::PlanStatus::Infeasible && !r.conflicts.empty()) {
         title += " (feasible without:";
-        for (const auto g : r.conflicts) title += std::string(" ") + tp::to_string(g);
+        for (const auto g : r.conflicts) title += " " + std::string(tp::to_string(g));
         title += ")";
       }
       if (r.ok()) {

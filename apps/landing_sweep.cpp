@@ -35,7 +35,7 @@ std::string runs_csv(const tw::SweepResult& r) {
   for (const auto& run : r.runs) {
     const auto& c = run.conditions;
     const auto& x = run.result;
-    os << td::rad_to_deg(c.heading) << "," << run.run << "," << tw::to_string(x.status) << "," << x.reason << ","
+    os << td::rad_to_deg(c.heading) << "," << run.run << "," << tw::to_string(x.status) << "," << x.message << ","
        << x.nutation << "," << x.roll << "," << x.pitch << "," << x.max_touchdown_nutation << "," << x.offset << ","
        << x.prop_strike << "," << x.arm_strike << "," << x.body_strike << "," << x.tipped << ","
        << x.all_feet_in_contact << "," << c.start_offset.x() << "," << c.start_offset.y() << ","
@@ -50,7 +50,7 @@ std::string runs_csv(const tw::SweepResult& r) {
 int main(int argc, char** argv) {
   CLI::App app{"Land the drone's digital twin on a terrain at n headings x m noisy runs and pick the safest heading.",
                "landing_sweep"};
-  std::string terrain_path, airframe_path, extrinsics_path, metric = "full", runs_csv_path, plot_path;
+  std::string terrain_path, airframe_path, extrinsics_path, runs_csv_path, plot_path;
   tw::SweepOptions o;
   std::vector<double> landing_point, friction;
   double sigma_speed = o.perturbation.sigma_land_speed;
@@ -94,9 +94,8 @@ int main(int argc, char** argv) {
       ->delimiter(',')
       ->expected(2)
       ->default_str("0.6,1");
-  app.add_option("--metric", metric, "full: strikes and tip-overs are unsafe; seed: the paper's final-nutation rule")
-      ->check(CLI::IsMember({"full", "seed"}))
-      ->capture_default_str();
+  td::app::add_enum_option(app, "--metric", o.metric,
+                           "full: strikes and tip-overs are unsafe; seed: the paper's final-nutation rule");
   app.add_option("--seed", o.seed, "random seed (same seed -> same result for any thread count)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
@@ -108,21 +107,17 @@ int main(int argc, char** argv) {
                  "also try landing points on a grid within this radius [m] and report the best (x, y, psi)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  std::string search_prefer = "lowest";
-  app.add_option("--search-prefer", search_prefer,
-                 "which safe point the search returns: lowest (lowest S) or nearest (nearest the landing point; "
-                 "farther points are not flown)")
-      ->check(CLI::IsMember({"lowest", "nearest"}))
-      ->capture_default_str();
+  tw::SearchPreference search_prefer = tw::SearchPreference::LowestScore;
+  td::app::add_enum_option(app, "--search-prefer", search_prefer,
+                           "which safe point the search returns: lowest (lowest S) or nearest (nearest the landing "
+                           "point; farther points are not flown)");
   app.add_option("--search-spacing", search_spacing, "grid spacing of the search [m], 0 = radius/2")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  std::string unknown_fill = "block";
-  app.add_option("--unknown-fill", unknown_fill,
-                 "point clouds: fill regions the camera never observed as a block up to their highest rim or as a "
-                 "pit (either way a heading over them is unsafe: unobserved terrain)")
-      ->check(CLI::IsMember({"block", "pit"}))
-      ->capture_default_str();
+  td::terrain::TerrainOptions cloud_options;
+  td::app::add_enum_option(app, "--unknown-fill", cloud_options.height_map.unknown_fill,
+                           "point clouds: fill regions the camera never observed as a block up to their highest rim "
+                           "or as a pit (either way a heading over them is unsafe: unobserved terrain)");
   app.add_option("--step", o.simulation.step, "physics step [s]")->capture_default_str();
   app.add_option("--timeout", o.simulation.timeout,
                  "simulated seconds a landing may take; a run still moving then is invalid (timeout), not scored")
@@ -140,13 +135,9 @@ int main(int argc, char** argv) {
       o.perturbation.friction_max = friction[1];
     }
     o.perturbation.sigma_land_speed = sigma_speed;
-    o.metric = metric == "seed" ? tw::SafetyMetric::Seed : tw::SafetyMetric::Full;
     std::string why;
     if (!o.validate(&why)) throw td::InvalidArgument(why);
     const tw::Airframe airframe = airframe_path.empty() ? tw::Airframe::f450() : tw::load_airframe(airframe_path);
-    td::terrain::TerrainOptions cloud_options;
-    cloud_options.height_map.unknown_fill =
-        unknown_fill == "pit" ? td::terrain::UnknownFill::Pit : td::terrain::UnknownFill::Block;
     if (!extrinsics_path.empty()) {
       const auto e = td::app::load_extrinsics_with_warnings(app.get_name(), extrinsics_path);
       cloud_options.T_world_camera = e.T_world_camera;
@@ -193,9 +184,7 @@ int main(int argc, char** argv) {
     tw::SearchResult search;
     const Eigen::Vector2d requested = o.landing_point;
     if (search_radius > 0) {
-      search = tw::search_landing_point(
-          airframe, terrain, o, search_radius, search_spacing,
-          search_prefer == "nearest" ? tw::SearchPreference::Nearest : tw::SearchPreference::LowestScore);
+      search = tw::search_landing_point(airframe, terrain, o, search_radius, search_spacing, search_prefer);
       if (!search.ok()) throw td::InvalidArgument(search.message);
       o.landing_point = search.candidates[static_cast<std::size_t>(search.best)].xy;
     } else {

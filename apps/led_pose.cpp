@@ -170,7 +170,9 @@ int main(int argc, char** argv) {
 
   // --- render ---
   auto* render = app.add_subcommand("render", "write a synthetic sequence (colour + depth PNGs, ground_truth.jsonl)");
-  std::string out_dir, r_camera, r_constellation, trajectory = "static", geometry = "facing";
+  std::string out_dir, r_camera, r_constellation;
+  tp::TrajectoryKind trajectory = tp::TrajectoryKind::Static;
+  tp::CameraGeometry geometry = tp::CameraGeometry::Facing;
   double camera_tilt_deg = 20;
   int frames = 300;
   std::uint64_t seed = 1;
@@ -181,15 +183,12 @@ int main(int argc, char** argv) {
       "--camera", r_camera,
       "camera file, as for SEQUENCE_DIR, up to 4096x4096 pixels (default: a D435 colour stream at 848x480)");
   render->add_option("--constellation", r_constellation, "constellation YAML (default: the built-in F450 six-LED set)");
-  render->add_option("--trajectory", trajectory, "static or moving")
-      ->check(CLI::IsMember({"static", "moving"}))
-      ->capture_default_str();
-  render
-      ->add_option("--geometry", geometry,
-                   "facing: the camera faces the constellation's facing side (from below for downward LEDs); "
-                   "chase: the paper's ground-vehicle camera, tilted up, with the drone behind and above it")
-      ->check(CLI::IsMember({"facing", "chase"}))
-      ->capture_default_str();
+  td::app::add_enum_option(*render, "--trajectory", trajectory,
+                           "camera path: " + td::enum_names_list<tp::TrajectoryKind>());
+  td::app::add_enum_option(*render, "--geometry", geometry,
+                           "facing: the camera faces the constellation's facing side (from below for downward "
+                           "LEDs); chase: the paper's ground-vehicle camera, tilted up, with the drone behind and "
+                           "above it");
   auto* render_tilt =
       render->add_option("--camera-tilt", camera_tilt_deg, "chase: camera tilt above the horizontal [deg]")
           ->check(number_in(0, 80))
@@ -206,14 +205,10 @@ int main(int argc, char** argv) {
   render->add_option("--max-distance", max_distance, "farthest camera-constellation distance [m]")
       ->check(number_in(0, tp::kMaxTrajectoryDistance, true))
       ->capture_default_str();
-  std::string profile = "clean";
-  const auto profile_names = CLI::IsMember({"clean", "harsh"});
-  render
-      ->add_option("--profile", profile,
-                   "clean, or harsh: white-clipping LED cores with hue halos, exposure steps, LED-coloured lamps, "
-                   "airframe reflections, motion-blur streaks, rolling drop-outs")
-      ->check(profile_names)
-      ->capture_default_str();
+  tp::RenderProfile profile = tp::RenderProfile::Clean;
+  td::app::add_enum_option(*render, "--profile", profile,
+                           "clean, or harsh: white-clipping LED cores with hue halos, exposure steps, LED-coloured "
+                           "lamps, airframe reflections, motion-blur streaks, rolling drop-outs");
   // Set explicitly, these override the profile's values.
   auto* noise_opt = render->add_option("--noise", ropt.noise_sigma, "sensor noise [DN] (default: the profile's)")
                         ->check(number_in(0, 100));
@@ -250,18 +245,16 @@ int main(int argc, char** argv) {
   bench->add_option("--constellation", r_constellation,
                     "constellation YAML: one scenario in --geometry (default: two built-in scenarios, the F450's "
                     "downward LEDs from below and the paper's front board in the chase geometry)");
-  auto* bench_geometry = bench->add_option("--geometry", geometry, "with --constellation: facing or chase")
-                             ->check(CLI::IsMember({"facing", "chase"}))
-                             ->capture_default_str();
+  auto* bench_geometry = td::app::add_enum_option(*bench, "--geometry", geometry,
+                                                  "with --constellation: " + td::enum_names_list<tp::CameraGeometry>());
   auto* bench_tilt =
       bench
           ->add_option("--camera-tilt", camera_tilt_deg,
                        "with --constellation and --geometry chase: camera tilt above the horizontal [deg]")
           ->check(number_in(0, 80))
           ->capture_default_str();
-  auto* bench_profile = bench->add_option("--profile", profile, "with --constellation: clean or harsh rendering")
-                            ->check(profile_names)
-                            ->capture_default_str();
+  auto* bench_profile = td::app::add_enum_option(
+      *bench, "--profile", profile, "with --constellation: rendering, " + td::enum_names_list<tp::RenderProfile>());
   bench->add_flag("--no-depth", no_depth, "LED method without depth");
   bench->add_flag("--fuse", fuse, "LED method: poses fused over the track's frames");
   bench->add_flag("--json", json, "print one JSON object on stdout");
@@ -277,7 +270,7 @@ int main(int argc, char** argv) {
       if (opt->count()) throw td::InvalidArgument(opt->get_name() + ": " + why);
     };
     if (*render) {
-      if (geometry != "chase") refuse_unused(render_tilt, "applies only with --geometry chase");
+      if (geometry != tp::CameraGeometry::Chase) refuse_unused(render_tilt, "applies only with --geometry chase");
       const auto camera = camera_or_default(r_camera);
       // Refused before anything is allocated, with what it would cost.
       check_render_size(camera, "--camera " + r_camera);
@@ -292,7 +285,7 @@ int main(int argc, char** argv) {
                                   " frames at " + size_text(camera) + ")");
       }
       const auto k = constellation_or_default(r_constellation);
-      tp::RenderOptions r = tp::apply_profile({}, *tp::parse_render_profile(profile));
+      tp::RenderOptions r = tp::apply_profile({}, profile);
       if (noise_opt->count()) r.noise_sigma = ropt.noise_sigma;
       if (distractors_opt->count()) r.distractor_count = ropt.distractor_count;
       if (dropout_opt->count()) r.led_dropout_probability = ropt.led_dropout_probability;
@@ -304,12 +297,11 @@ int main(int argc, char** argv) {
       tp::TrajectoryOptions to;
       to.min_distance = min_distance;
       to.max_distance = max_distance;
-      to.geometry = geometry == "chase" ? tp::CameraGeometry::Chase : tp::CameraGeometry::Facing;
+      to.geometry = geometry;
       to.camera_tilt_deg = camera_tilt_deg;
       std::vector<tp::TrajectorySample> samples;
       try {
-        samples = tp::make_trajectory(trajectory == "static" ? tp::TrajectoryKind::Static : tp::TrajectoryKind::Moving,
-                                      frames, seed, camera, k, to);
+        samples = tp::make_trajectory(trajectory, frames, seed, camera, k, to);
       } catch (const td::InvalidArgument& e) {
         throw td::InvalidArgument(in_flag_terms(e.what()));
       }
@@ -325,7 +317,7 @@ int main(int argc, char** argv) {
         refuse_unused(bench_geometry, why);
         refuse_unused(bench_tilt, why);
         refuse_unused(bench_profile, why);
-      } else if (geometry != "chase") {
+      } else if (geometry != tp::CameraGeometry::Chase) {
         refuse_unused(bench_tilt, "applies only with --geometry chase");
       }
       tp::PoseBenchmarkOptions o;
@@ -334,10 +326,8 @@ int main(int argc, char** argv) {
       if (r_constellation.empty()) {
         o.scenarios = tp::default_benchmark_scenarios();
       } else {
-        o.scenarios.push_back({fs::path(r_constellation).stem().string() + " " + geometry,
-                               tp::load_constellation(r_constellation),
-                               geometry == "chase" ? tp::CameraGeometry::Chase : tp::CameraGeometry::Facing,
-                               camera_tilt_deg, *tp::parse_render_profile(profile)});
+        o.scenarios.push_back({fs::path(r_constellation).stem().string() + " " + std::string(tp::to_string(geometry)),
+                               tp::load_constellation(r_constellation), geometry, camera_tilt_deg, profile});
       }
       o.frames = bench_frames;
       const auto sequences = static_cast<double>(2 * o.scenarios.size());  // static and moving

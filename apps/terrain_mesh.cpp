@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
   namespace td = touchdown;
   CLI::App app{"Mesh a depth-camera point cloud (PCD, PLY, XYZ/CSV) into a closed terrain solid (STL, PLY, OBJ).",
                "terrain_mesh"};
-  std::string input, output, extrinsics_path, agg = "median", save_cloud;
+  std::string input, output, extrinsics_path, save_cloud;
   td::terrain::TerrainOptions opt;
   std::vector<double> crop_box;
   bool json = false, assume_world = false;
@@ -56,18 +56,14 @@ int main(int argc, char** argv) {
       ->expected(6)
       ->check(number_in(-100, 100))
       ->default_str("off");
-  app.add_option("--agg", agg, "per-cell height: max or median")
-      ->check(CLI::IsMember({"max", "median"}))
-      ->capture_default_str();
+  td::app::add_enum_option(app, "--agg", opt.height_map.aggregate,
+                           "per-cell height: " + td::enum_names_list<td::terrain::CellAggregate>());
   app.add_option("--max-hole", opt.height_map.max_hole, "widest gap filled by interpolation [m]")
       ->check(number_in(0, 100))
       ->capture_default_str();
-  std::string unknown_fill = "block";
-  app.add_option("--unknown-fill", unknown_fill,
-                 "wider enclosed gaps (never observed) are marked unknown and filled as a block up to their highest "
-                 "rim or as a pit")
-      ->check(CLI::IsMember({"block", "pit"}))
-      ->capture_default_str();
+  td::app::add_enum_option(app, "--unknown-fill", opt.height_map.unknown_fill,
+                           "wider enclosed gaps (never observed) are marked unknown and filled as a block up to "
+                           "their highest rim or as a pit");
   app.add_option("--voxel", opt.voxel, "voxel downsampling edge [m]; -1 (< 0) = half the cell, 0 = off")
       ->check(number_in(-1, 10))
       ->capture_default_str();
@@ -90,9 +86,6 @@ int main(int argc, char** argv) {
 
   return td::app::run(app, argc, argv, [&]() -> int {
     const auto t0 = std::chrono::steady_clock::now();
-    opt.height_map.aggregate = agg == "max" ? td::terrain::CellAggregate::Max : td::terrain::CellAggregate::Median;
-    opt.height_map.unknown_fill =
-        unknown_fill == "pit" ? td::terrain::UnknownFill::Pit : td::terrain::UnknownFill::Block;
     if (crop_box.size() == 6) {
       opt.crop_box_body = Eigen::AlignedBox3d(Eigen::Vector3d(crop_box[0], crop_box[1], crop_box[2]),
                                               Eigen::Vector3d(crop_box[3], crop_box[4], crop_box[5]));

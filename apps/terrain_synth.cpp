@@ -32,7 +32,8 @@ int main(int argc, char** argv) {
   namespace syn = td::terrain::synthetic;
   CLI::App app{"Scan a synthetic terrain (flat, incline, step, plateau, rubble, post) with a simulated depth camera.",
                "terrain_synth"};
-  std::string kind, output, extrinsics_out, frame = "camera", encoding = "binary";
+  std::string output, extrinsics_out, frame = "camera";
+  td::PcdEncoding encoding = td::PcdEncoding::Binary;
   syn::Shape shape;
   syn::DepthCamera cam;
   double cam_height = 1.2, cam_x = 0, cam_y = 0, cam_yaw_deg = 0, noise_scale = 1.0;
@@ -41,16 +42,16 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   bool json = false;
   using td::app::number_in;
-  app.add_option("KIND", kind, "flat, incline, step, plateau, rubble or post")->required();
+  td::app::add_enum_option(app, "KIND", shape.kind, "terrain: " + td::enum_names_list<syn::ShapeKind>())
+      ->required()
+      ->default_str("");
   app.add_option("-o,--output", output, "cloud to write: .pcd, .ply, .xyz")->required();
   app.add_option("--extrinsics-out", extrinsics_out, "write the camera pose YAML here (for terrain_mesh --extrinsics)")
       ->default_str("none");
   app.add_option("--frame", frame, "camera (organized, optical frame) or world (unorganized, finite points, z up)")
       ->check(CLI::IsMember({"camera", "world"}))
       ->capture_default_str();
-  app.add_option("--encoding", encoding, "PCD encoding: ascii, binary or binary_compressed")
-      ->check(CLI::IsMember({"ascii", "binary", "binary_compressed"}))
-      ->capture_default_str();
+  td::app::add_enum_option(app, "--encoding", encoding, "PCD encoding: " + td::enum_names_list<td::PcdEncoding>());
   app.add_option("--camera-height", cam_height, "camera height above the origin [m] (depth range 0.2-10 m)")
       ->check(number_in(0, 10, true))
       ->capture_default_str();
@@ -104,7 +105,6 @@ int main(int argc, char** argv) {
   app.add_flag("--json", json, "print one JSON object on stdout");
 
   return td::app::run(app, argc, argv, [&]() -> int {
-    shape.kind = syn::shape_kind_from_string(kind);
     shape.plateau_size = {plateau_size[0], plateau_size[1]};
     if (!(post[2] > 0 && post[2] <= 100)) throw td::InvalidArgument("--post: radius must be in (0, 100] m");
     if (!(std::abs(post[3]) <= 5)) throw td::InvalidArgument("--post: height must be in [-5, 5] m");
@@ -151,10 +151,7 @@ int main(int argc, char** argv) {
       cloud.mark_unorganized();
     }
     if (td::cloud_format_from_path(output) == td::CloudFormat::Pcd) {
-      const auto enc = encoding == "ascii"    ? td::PcdEncoding::Ascii
-                       : encoding == "binary" ? td::PcdEncoding::Binary
-                                              : td::PcdEncoding::BinaryCompressed;
-      td::write_pcd(cloud, output, enc);
+      td::write_pcd(cloud, output, encoding);
     } else {
       td::write_cloud(cloud, output);
     }
@@ -164,6 +161,7 @@ int main(int argc, char** argv) {
       const std::string text = td::terrain::format_extrinsics(e, false);
       td::app::write_text_atomically(extrinsics_out, text);
     }
+    const std::string kind(syn::to_string(shape.kind));
     if (json) {
       nlohmann::json j{{"kind", kind},         {"output", output},       {"points", cloud.size()},
                        {"width", cloud.width}, {"height", cloud.height}, {"frame", frame},

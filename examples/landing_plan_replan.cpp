@@ -60,7 +60,8 @@ int main(int argc, char** argv) {
     } else if (plan.ok()) {  // keep flying the last good plan
       ++kept;
     } else {
-      std::printf("t %.1f s: no plan (%s: %s)\n", t, tp::to_string(next.status), next.message.c_str());
+      std::printf("t %.1f s: no plan (%s: %s)\n", t, std::string(tp::to_string(next.status)).c_str(),
+                  next.message.c_str());
       return 1;
     }
     std::printf("t %4.1f s  drone (%6.2f %5.2f %5.2f) m from the pad  plan %.2f s  cost %7.3f  %5.1f ms%s\n", t,

@@ -16,8 +16,10 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/mesh.hpp"
 #include "touchdown/core/point_cloud.hpp"
@@ -106,6 +108,31 @@ void expect_validate_names_fields(std::initializer_list<SpoiledField<Options>> c
     why.clear();
     EXPECT_FALSE(o.validate(&why)) << c.field << " was accepted";
     EXPECT_EQ(why.rfind(c.field, 0), 0u) << "expected a reason starting with '" << c.field << "', got '" << why << "'";
+  }
+}
+
+/// Every enumerator of `E` round-trips through its module's to_string
+/// (from_string<E>(to_string(e)) == e), and to_string is its names-table
+/// entry; the names are distinct.
+template <NamedEnum E>
+void expect_names_round_trip() {
+  const auto& names = EnumNames<E>::names;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const auto e = static_cast<E>(i);
+    EXPECT_EQ(to_string(e), names[i]);
+    EXPECT_EQ(from_string<E>(to_string(e)), e) << "'" << names[i] << "'";
+    for (std::size_t j = 0; j < i; ++j) EXPECT_NE(names[j], names[i]) << "two enumerators named '" << names[i] << "'";
+  }
+}
+
+/// from_string<E>(bad) throws InvalidArgument with exactly `message`.
+template <NamedEnum E>
+void expect_bad_name(std::string_view bad, const std::string& message) {
+  try {
+    (void)from_string<E>(bad);
+    ADD_FAILURE() << "'" << bad << "' was accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_EQ(std::string(e.what()), message);
   }
 }
 

@@ -32,8 +32,6 @@ struct PcdField {
   std::size_t offset = 0;  // byte offset inside one binary point record
 };
 
-enum class PcdData { Ascii, Binary, BinaryCompressed };
-
 struct PcdHeader {
   std::vector<PcdField> fields;
   std::uint64_t width = 0;
@@ -41,7 +39,7 @@ struct PcdHeader {
   std::uint64_t points = 0;
   bool have_points = false;
   bool have_width = false;
-  PcdData data = PcdData::Ascii;
+  PcdEncoding data = PcdEncoding::Ascii;
   std::size_t point_size = 0;  // bytes per point record
   std::array<int, 3> xyz{-1, -1, -1};
   std::array<double, 7> viewpoint{0, 0, 0, 1, 0, 0, 0};
@@ -185,16 +183,12 @@ PcdHeader read_header(std::istream& in, std::string_view source) {
       }
     } else if (key == "DATA") {
       if (tok.size() != 2) detail::parse_fail_line(source, line_no, "header DATA: expected one word");
-      if (tok[1] == "ascii") {
-        h.data = PcdData::Ascii;
-      } else if (tok[1] == "binary") {
-        h.data = PcdData::Binary;
-      } else if (tok[1] == "binary_compressed") {
-        h.data = PcdData::BinaryCompressed;
-      } else {
+      try {
+        h.data = from_string<PcdEncoding>(tok[1]);
+      } catch (const InvalidArgument&) {
         detail::parse_fail_line(
             source, line_no,
-            "unknown DATA type '" + std::string(tok[1]) + "' (expected ascii, binary or binary_compressed)");
+            "unknown DATA type '" + std::string(tok[1]) + "' (expected one of " + enum_names_list<PcdEncoding>() + ")");
       }
       have_data = true;
     } else {
@@ -379,7 +373,7 @@ void read_compressed(std::istream& in, std::string_view source, const PcdHeader&
   }
 }
 
-void write_header(std::ostream& out, const PointCloud& cloud, const char* data) {
+void write_header(std::ostream& out, const PointCloud& cloud, PcdEncoding data) {
   const bool organized = cloud.is_organized();
   out << "# .PCD v0.7 - Point Cloud Data file format\n"
       << "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
@@ -387,7 +381,7 @@ void write_header(std::ostream& out, const PointCloud& cloud, const char* data) 
       << "HEIGHT " << (organized ? cloud.height : 1) << "\n"
       << "VIEWPOINT 0 0 0 1 0 0 0\n"
       << "POINTS " << cloud.size() << "\n"
-      << "DATA " << data << "\n";
+      << "DATA " << to_string(data) << "\n";
 }
 
 }  // namespace
@@ -396,13 +390,13 @@ PointCloud read_pcd(std::istream& in, std::string_view source) {
   const PcdHeader h = read_header(in, source);
   PointCloud cloud = make_cloud(h);
   switch (h.data) {
-    case PcdData::Ascii:
+    case PcdEncoding::Ascii:
       read_ascii(in, source, h, cloud);
       break;
-    case PcdData::Binary:
+    case PcdEncoding::Binary:
       read_binary(in, source, h, cloud);
       break;
-    case PcdData::BinaryCompressed:
+    case PcdEncoding::BinaryCompressed:
       read_compressed(in, source, h, cloud);
       break;
   }
@@ -413,7 +407,7 @@ PointCloud read_pcd(std::istream& in, std::string_view source) {
 void write_pcd(const PointCloud& cloud, std::ostream& out, PcdEncoding encoding) {
   switch (encoding) {
     case PcdEncoding::Ascii: {
-      write_header(out, cloud, "ascii");
+      write_header(out, cloud, encoding);
       char buf[32];
       std::string line;
       for (const auto& p : cloud.points) {
@@ -432,12 +426,12 @@ void write_pcd(const PointCloud& cloud, std::ostream& out, PcdEncoding encoding)
       break;
     }
     case PcdEncoding::Binary:
-      write_header(out, cloud, "binary");
+      write_header(out, cloud, encoding);
       out.write(reinterpret_cast<const char*>(cloud.points.data()),
                 static_cast<std::streamsize>(cloud.points.size() * sizeof(Eigen::Vector3f)));
       break;
     case PcdEncoding::BinaryCompressed: {
-      write_header(out, cloud, "binary_compressed");
+      write_header(out, cloud, encoding);
       const std::size_t n = cloud.size();
       std::vector<std::uint8_t> soa(n * 12);
       for (std::size_t i = 0; i < n; ++i) {

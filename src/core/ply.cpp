@@ -70,8 +70,6 @@ struct PlyElement {
   std::size_t record_size = 0;  // valid when !has_list
 };
 
-enum class PlyFormat { Ascii, Little, Big };
-
 double decode(const std::uint8_t* p, PlyType t, bool swap) {
   std::uint8_t b[8];
   const std::size_t n = type_size(t);
@@ -117,7 +115,7 @@ double decode(const std::uint8_t* p, PlyType t, bool swap) {
 }
 
 struct PlyHeader {
-  PlyFormat format = PlyFormat::Ascii;
+  PlyEncoding format = PlyEncoding::Ascii;
   std::vector<PlyElement> elements;
   std::size_t vertex = 0;  // index of the vertex element
   std::array<std::size_t, 3> xyz{};
@@ -141,14 +139,13 @@ PlyHeader read_header(std::istream& in, std::string_view source) {
     if (key == "comment" || key == "obj_info") continue;
     if (key == "format") {
       if (tok.size() != 3) detail::parse_fail_line(source, line_no, "PLY format line must be 'format <type> 1.0'");
-      if (tok[1] == "ascii")
-        h.format = PlyFormat::Ascii;
-      else if (tok[1] == "binary_little_endian")
-        h.format = PlyFormat::Little;
-      else if (tok[1] == "binary_big_endian")
-        h.format = PlyFormat::Big;
-      else
-        detail::parse_fail_line(source, line_no, "unknown PLY format '" + std::string(tok[1]) + "'");
+      try {
+        h.format = from_string<PlyEncoding>(tok[1]);
+      } catch (const InvalidArgument&) {
+        detail::parse_fail_line(source, line_no,
+                                "unknown PLY format '" + std::string(tok[1]) + "' (expected one of " +
+                                    enum_names_list<PlyEncoding>() + ")");
+      }
       have_format = true;
     } else if (key == "element") {
       PlyElement e;
@@ -264,7 +261,7 @@ void read_ascii(std::istream& in, std::string_view source, const PlyHeader& h, P
 }
 
 void read_binary(std::istream& in, std::string_view source, const PlyHeader& h, PointCloud& cloud) {
-  const bool swap = (h.format == PlyFormat::Big) != (std::endian::native == std::endian::big);
+  const bool swap = (h.format == PlyEncoding::BinaryBigEndian) != (std::endian::native == std::endian::big);
   std::vector<std::uint8_t> buf;
   auto read_exact = [&](std::uint8_t* dst, std::size_t n, const std::string& where) {
     in.read(reinterpret_cast<char*>(dst), static_cast<std::streamsize>(n));
@@ -339,7 +336,7 @@ void read_binary(std::istream& in, std::string_view source, const PlyHeader& h, 
 PointCloud read_ply_cloud(std::istream& in, std::string_view source) {
   const PlyHeader h = read_header(in, source);
   PointCloud cloud;
-  if (h.format == PlyFormat::Ascii) {
+  if (h.format == PlyEncoding::Ascii) {
     read_ascii(in, source, h, cloud);
   } else {
     read_binary(in, source, h, cloud);
@@ -349,10 +346,7 @@ PointCloud read_ply_cloud(std::istream& in, std::string_view source) {
 }
 
 void write_ply_cloud(const PointCloud& cloud, std::ostream& out, PlyEncoding encoding) {
-  const char* fmt = encoding == PlyEncoding::Ascii                ? "ascii"
-                    : encoding == PlyEncoding::BinaryLittleEndian ? "binary_little_endian"
-                                                                  : "binary_big_endian";
-  out << "ply\nformat " << fmt << " 1.0\ncomment written by touchdown\n"
+  out << "ply\nformat " << to_string(encoding) << " 1.0\ncomment written by touchdown\n"
       << "element vertex " << cloud.size() << "\n"
       << "property float x\nproperty float y\nproperty float z\nend_header\n";
   if (encoding == PlyEncoding::Ascii) {

@@ -379,22 +379,6 @@ bool CorridorOptions::validate(std::string* why) const {
   return true;
 }
 
-const char* to_string(CorridorStatus status) {
-  switch (status) {
-    case CorridorStatus::Ok:
-      return "ok";
-    case CorridorStatus::StartBlocked:
-      return "start_blocked";
-    case CorridorStatus::GoalBlocked:
-      return "goal_blocked";
-    case CorridorStatus::NoConnection:
-      return "no_connection";
-    case CorridorStatus::NoOverlap:
-      return "no_overlap";
-  }
-  return "unknown";
-}
-
 std::vector<Polytope> Corridor::per_segment(int segments) const {
   if (segments < 2) throw InvalidArgument("segments: must be >= 2, got " + std::to_string(segments));
   std::vector<Polytope> out(static_cast<std::size_t>(segments - 1), rear);

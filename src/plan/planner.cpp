@@ -551,32 +551,6 @@ KinematicState PadMotion::to_world(double t, const KinematicState& rel) const {
   return out;
 }
 
-const char* to_string(ConstraintGroup group) {
-  switch (group) {
-    case ConstraintGroup::Boundary:
-      return "boundary";
-    case ConstraintGroup::Corridor:
-      return "corridor";
-    case ConstraintGroup::Velocity:
-      return "velocity";
-    case ConstraintGroup::Acceleration:
-      return "acceleration";
-  }
-  return "unknown";
-}
-
-const char* to_string(PlanStatus status) {
-  switch (status) {
-    case PlanStatus::Ok:
-      return "ok";
-    case PlanStatus::Infeasible:
-      return "infeasible";
-    case PlanStatus::NoCorridor:
-      return "no_corridor";
-  }
-  return "unknown";
-}
-
 bool PlannerOptions::validate(std::string* why) const {
   if (order < 5 || order > 20) return invalid(why, "order: must be in [5, 20], got " + std::to_string(order));
   if (segments < 1 || segments > 16)
@@ -692,11 +666,11 @@ PlanResult plan_in_corridor(const KinematicState& start, const KinematicState& g
   if (status != QpStatus::Optimal) {
     result.status = PlanStatus::Infeasible;
     result.conflicts = diagnose(builder, T, options.corridor.has_value());
-    result.message = std::string("QP ") + to_string(status) + " at durations";
+    result.message = "QP " + std::string(to_string(status)) + " at durations";
     for (const double t : T) result.message += " " + std::to_string(t);
     if (!result.conflicts.empty()) {
       result.message += "; feasible without:";
-      for (const ConstraintGroup g : result.conflicts) result.message += std::string(" ") + to_string(g);
+      for (const ConstraintGroup g : result.conflicts) result.message += " " + std::string(to_string(g));
     } else {
       result.message += "; no single constraint group restores feasibility";
     }

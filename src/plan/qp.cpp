@@ -71,20 +71,6 @@ bool QpOptions::validate(std::string* why) const {
   return true;
 }
 
-const char* to_string(QpStatus status) {
-  switch (status) {
-    case QpStatus::Optimal:
-      return "optimal";
-    case QpStatus::Infeasible:
-      return "infeasible";
-    case QpStatus::IterationLimit:
-      return "iteration_limit";
-    case QpStatus::NotConvex:
-      return "not_convex";
-  }
-  return "unknown";
-}
-
 QpSolver::QpSolver(const QpOptions& options) : options_(options) {
   std::string why;
   if (!options_.validate(&why)) throw InvalidArgument("qp options: " + why);

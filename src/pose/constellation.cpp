@@ -17,30 +17,6 @@
 
 namespace touchdown::pose {
 
-std::string_view to_string(LedColor c) {
-  switch (c) {
-    case LedColor::Red:
-      return "red";
-    case LedColor::Green:
-      return "green";
-    case LedColor::Blue:
-      return "blue";
-    case LedColor::White:
-      return "white";
-    case LedColor::Unknown:
-      break;
-  }
-  return "unknown";
-}
-
-std::optional<LedColor> led_color_from_string(std::string_view s) {
-  if (s == "red") return LedColor::Red;
-  if (s == "green") return LedColor::Green;
-  if (s == "blue") return LedColor::Blue;
-  if (s == "white") return LedColor::White;
-  return std::nullopt;
-}
-
 bool Led::emits_toward(const Eigen::Vector3d& camera_body, double margin_rad) const {
   if (!has_normal()) return true;
   const Eigen::Vector3d to_camera = camera_body - p_body;
@@ -175,9 +151,15 @@ Constellation parse_constellation(std::string_view yaml_text, std::string_view s
           }
           if (leds[i]["color"]) {
             const auto name = r.text(leds[i]["color"], key + ".color");
-            const auto c = led_color_from_string(name);
-            if (!c) r.fail(leds[i]["color"], key + ".color", "'" + name + "' is not red, green, blue or white");
-            led.color = *c;
+            // Unknown is a detection outcome, never an LED's colour.
+            LedColor c = LedColor::Unknown;
+            try {
+              c = from_string<LedColor>(name);
+            } catch (const InvalidArgument&) {
+            }
+            if (c == LedColor::Unknown)
+              r.fail(leds[i]["color"], key + ".color", "'" + name + "' is not red, green, blue or white");
+            led.color = c;
           }
           k.leds.push_back(led);
         }

@@ -118,7 +118,7 @@ class Search {
       uv4[i] = blobs_[B[i]].uv_undistorted;
     }
     const EpnpResult e = solve_epnp(cam_, p4, uv4);
-    if (!e.ok || e.rms_px > o_.inlier_px) return true;
+    if (!e.ok() || e.rms_px > o_.inlier_px) return true;
     std::array<int, kMaxLeds> assign{};
     double sq = 0;
     const int matched = detail::greedy_match(cam_, k_, blobs_, e.T_camera_body, o_.inlier_px, margin_, assign, sq);

@@ -181,7 +181,7 @@ class Epnp {
       MtM.noalias() += rv * rv.transpose();
     }
     const SymmetricEigen es{SymmetricMatrix(MtM)};
-    if (!es.ok) return {};
+    if (!es.ok) return {};                                       // NoSolution
     for (int k = 0; k < 4; ++k) v_[k] = es.eigenvectors.col(k);  // smallest eigenvalues first
     // Squared control-point distances in the body frame (ρ of sec. 3.3).
     int q = 0;
@@ -218,7 +218,7 @@ class Epnp {
         consider(beta, best);
       }
     }
-    best.ok = std::isfinite(best.rms_px);
+    best.status = std::isfinite(best.rms_px) ? EpnpStatus::Ok : EpnpStatus::NoSolution;
     best.planar = K == 3;
     return best;
   }
@@ -418,12 +418,16 @@ class Epnp {
 
 EpnpResult solve_epnp(const PinholeCamera& cam, std::span<const Eigen::Vector3d> p_body,
                       std::span<const Eigen::Vector2d> uv_px) {
+  EpnpResult best;
   const std::size_t n = p_body.size();
-  if (n != uv_px.size() || n < 4) return {};
+  if (n != uv_px.size() || n < 4) {
+    best.status = EpnpStatus::TooFewPoints;
+    return best;
+  }
   const PointStats s = point_stats(p_body);
   const double spread = s.eigenvalues(2);
-  if (!(spread > 0) || s.eigenvalues(1) < 1e-10 * spread) return {};  // collinear
-  EpnpResult best;
+  best.status = EpnpStatus::Degenerate;  // until a solver runs on a set of control points
+  if (!(spread > 0) || s.eigenvalues(1) < 1e-10 * spread) return best;  // collinear
   // Quasi-planar sets (relief small against the extent) make the fourth
   // control point ill-conditioned: solve them both ways and keep the better.
   const double flatness = s.eigenvalues(0) / spread;
@@ -435,7 +439,7 @@ EpnpResult solve_epnp(const PinholeCamera& cam, std::span<const Eigen::Vector3d>
     ControlPoints<3> cp;
     if (make_control_points(s, cp)) {
       const EpnpResult planar = Epnp<3>(cam, p_body, uv_px, cp).solve();
-      if (planar.ok && (!best.ok || planar.rms_px < best.rms_px)) best = planar;
+      if (planar.ok() ? !best.ok() || planar.rms_px < best.rms_px : !best.ok()) best = planar;
     }
   }
   return best;
@@ -444,7 +448,7 @@ EpnpResult solve_epnp(const PinholeCamera& cam, std::span<const Eigen::Vector3d>
 PoseRefinement solve_pnp(const PinholeCamera& cam, std::span<const Eigen::Vector3d> p_body,
                          std::span<const Eigen::Vector2d> uv_px, const GaussNewtonOptions& options) {
   const EpnpResult e = solve_epnp(cam, p_body, uv_px);
-  if (!e.ok) {
+  if (!e.ok()) {
     PoseRefinement r;
     r.status = RefineStatus::Degenerate;
     return r;

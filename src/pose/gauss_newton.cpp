@@ -56,7 +56,7 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
                                         const GaussNewtonOptions& o, const DepthConstraints& depth) {
   if (!o.validate(nullptr)) {  // cheap on the hot path; the message only on failure
     std::string why;
-    o.validate(&why);
+    (void)o.validate(&why);  // false again: called only for the message
     throw InvalidArgument("gauss-newton options: " + why);
   }
   PoseRefinement out;

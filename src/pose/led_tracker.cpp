@@ -15,28 +15,6 @@
 
 namespace touchdown::pose {
 
-std::string_view to_string(PoseStatus s) {
-  switch (s) {
-    case PoseStatus::Ok:
-      return "ok";
-    case PoseStatus::TooFewBlobs:
-      return "too few blobs";
-    case PoseStatus::NoConsistentCorrespondence:
-      return "no consistent correspondence";
-    case PoseStatus::ReprojectionTooLarge:
-      return "reprojection error too large";
-    case PoseStatus::MarkerNotFound:
-      return "marker not found";
-    case PoseStatus::Degenerate:
-      return "degenerate geometry";
-    case PoseStatus::Ambiguous:
-      return "ambiguous";
-    case PoseStatus::Uncertain:
-      return "too uncertain";
-  }
-  return "unknown";
-}
-
 bool TrackerOptions::validate(std::string* why) const {
   auto fail = [&](const char* m) {
     if (why) *why = m;

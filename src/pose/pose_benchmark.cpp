@@ -60,16 +60,6 @@ std::vector<BenchmarkScenario> default_benchmark_scenarios() {
           {"paper chase", front_board_constellation(), CameraGeometry::Chase, 20, RenderProfile::Harsh}};
 }
 
-std::string_view to_string(PoseBenchmarkStatus s) {
-  switch (s) {
-    case PoseBenchmarkStatus::Ok:
-      return "ok";
-    case PoseBenchmarkStatus::NoSuccessfulFrames:
-      return "no successful frames";
-  }
-  return "unknown";
-}
-
 std::pair<double, double> pose_error(const Eigen::Isometry3d& e, const Eigen::Isometry3d& t) {
   return {(e.translation() - t.translation()).norm(), Eigen::AngleAxisd(e.linear().transpose() * t.linear()).angle()};
 }
@@ -150,7 +140,7 @@ PoseBenchmarkResult run_pose_benchmark(const PoseBenchmarkOptions& o) {
     to.geometry = scenario.geometry;
     to.camera_tilt_deg = scenario.camera_tilt_deg;
     for (const TrajectoryKind kind : {TrajectoryKind::Static, TrajectoryKind::Moving}) {
-      const std::string name = kind == TrajectoryKind::Static ? "static" : "moving";
+      const std::string name(to_string(kind));
       const std::uint64_t seed = o.seed * 1000003ull + static_cast<std::uint64_t>(sequence_index++);
       const auto trajectory = make_trajectory(kind, o.frames, seed, o.camera, k, to);
       LedTracker tracker(o.camera, k, o.tracker);

@@ -188,14 +188,6 @@ bool RenderOptions::validate(std::string* why) const {
   return true;
 }
 
-std::optional<RenderProfile> parse_render_profile(std::string_view name) {
-  if (name == "clean") return RenderProfile::Clean;
-  if (name == "harsh") return RenderProfile::Harsh;
-  return std::nullopt;
-}
-
-std::string_view to_string(RenderProfile profile) { return profile == RenderProfile::Harsh ? "harsh" : "clean"; }
-
 RenderOptions apply_profile(RenderOptions o, RenderProfile profile) {
   if (profile != RenderProfile::Harsh) return o;
   // A camera at normal exposure: white cores whose hue halo varies with

@@ -22,35 +22,6 @@ Eigen::Vector2d local(const Shape& s, double x, double y) {
 
 }  // namespace
 
-ShapeKind shape_kind_from_string(std::string_view name) {
-  if (name == "flat") return ShapeKind::Flat;
-  if (name == "incline") return ShapeKind::Incline;
-  if (name == "step") return ShapeKind::Step;
-  if (name == "plateau") return ShapeKind::Plateau;
-  if (name == "rubble") return ShapeKind::Rubble;
-  if (name == "post") return ShapeKind::Post;
-  throw InvalidArgument("unknown terrain shape '" + std::string(name) +
-                        "' (expected flat, incline, step, plateau, rubble or post)");
-}
-
-std::string to_string(ShapeKind kind) {
-  switch (kind) {
-    case ShapeKind::Flat:
-      return "flat";
-    case ShapeKind::Incline:
-      return "incline";
-    case ShapeKind::Step:
-      return "step";
-    case ShapeKind::Plateau:
-      return "plateau";
-    case ShapeKind::Rubble:
-      return "rubble";
-    case ShapeKind::Post:
-      return "post";
-  }
-  return "?";
-}
-
 void Shape::prepare() {
   rocks.clear();
   if (kind != ShapeKind::Rubble) return;

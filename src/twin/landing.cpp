@@ -154,7 +154,7 @@ class Run {
 
     auto unstable = [&](long step, const char* why) {
       res.status = RunStatus::Unstable;
-      res.reason = why;
+      res.message = why;
       res.steps = step;
       res.sim_time = static_cast<double>(step) * dt;
       return res;
@@ -317,7 +317,7 @@ class Run {
       }
       if (step + 1 == max_steps) {
         res.status = RunStatus::Timeout;
-        res.reason = "did not come to rest before the timeout";
+        res.message = "did not come to rest before the timeout";
       }
     }
     const Eigen::Matrix3d R = rotation_of(body_);
@@ -335,7 +335,7 @@ class Run {
     res.all_feet_in_contact = std::all_of(foot_touch.begin(), foot_touch.end(), [](bool b) { return b; });
     if (!p.allFinite() || !R.allFinite()) {
       res.status = RunStatus::Unstable;
-      res.reason = "non-finite state";
+      res.message = "non-finite state";
     }
     return res;
   }
@@ -374,18 +374,6 @@ class Run {
 };
 
 }  // namespace
-
-std::string to_string(RunStatus status) {
-  switch (status) {
-    case RunStatus::Settled:
-      return "settled";
-    case RunStatus::Timeout:
-      return "timeout";
-    case RunStatus::Unstable:
-      return "unstable";
-  }
-  return "?";
-}
 
 LandingSimulator::LandingSimulator(Airframe airframe, std::shared_ptr<const TerrainModel> terrain,
                                    SimulationOptions options)

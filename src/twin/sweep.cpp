@@ -200,10 +200,10 @@ void add_runs_to_headings(SweepResult& out) {
     const RunResult& res = r.result;
     ++h.runs;
     out.simulated_seconds += res.sim_time;
-    if (!res.valid()) {
+    if (!res.ok()) {
       ++h.invalid_runs;
       ++(res.status == RunStatus::Timeout ? h.timeout_runs : h.unstable_runs);
-      if (h.invalid_reason.empty()) h.invalid_reason = to_string(res.status) + ": " + res.reason;
+      if (h.invalid_reason.empty()) h.invalid_reason = std::string(to_string(res.status)) + ": " + res.message;
       continue;
     }
     h.score = std::max(h.score, res.nutation);
@@ -317,28 +317,6 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
   return out;
 }
 
-std::string_view to_string(UnsafeReason reason) {
-  switch (reason) {
-    case UnsafeReason::None:
-      return "";
-    case UnsafeReason::UnobservedTerrain:
-      return "unobserved terrain";
-    case UnsafeReason::InvalidRuns:
-      return "invalid runs";
-    case UnsafeReason::TipsOver:
-      return "tips over";
-    case UnsafeReason::BodyStrike:
-      return "body strike";
-    case UnsafeReason::ArmStrike:
-      return "arm strike";
-    case UnsafeReason::PropellerStrike:
-      return "propeller strike";
-    case UnsafeReason::AboveThreshold:
-      return "S above the threshold";
-  }
-  return "?";
-}
-
 std::string unsafe_summary(const SweepResult& r) {
   if (r.safe) return {};
   std::string out;
@@ -360,16 +338,6 @@ std::string unsafe_summary(const SweepResult& r) {
     }
   }
   return out;
-}
-
-std::string_view to_string(SweepStatus status) {
-  switch (status) {
-    case SweepStatus::Ok:
-      return "ok";
-    case SweepStatus::FootprintNotCovered:
-      return "footprint_not_covered";
-  }
-  return "unknown";
 }
 
 SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<const TerrainModel> terrain,

@@ -95,7 +95,7 @@ void heading_panel(SvgWriter& svg, const SweepResult& r, double ox, double oy, d
   for (const auto& run : r.runs) {
     const double x = X(rad_to_deg(run.conditions.heading)) + (run.run - (m - 1) / 2.0) * std::min(2.0, 12.0 / m);
     const RunResult& res = run.result;
-    if (!res.valid()) {
+    if (!res.ok()) {
       svg.square(x, band, 3, " fill='white'" + stroke(kInvalid, 1.5));
     } else if (res.nutation > ymax) {
       svg.triangle(x, T + 5, 4, fill(res.tipped ? kTipped : "#666"));

@@ -131,7 +131,10 @@ TEST(LandingSweepAppBadInput, BadOptionsAndFiles) {
   TempDir dir;
   const auto terrain = flat_stl(dir);
   EXPECT_EQ(run(terrain + " --headings 0", dir).code, 2);
-  EXPECT_EQ(run(terrain + " --metric best", dir).code, 2);
+  const AppRun metric = run(terrain + " --metric best", dir);
+  EXPECT_EQ(metric.code, 2);
+  EXPECT_NE(metric.err.find("--metric: expected one of full, seed; got 'best'"), std::string::npos) << metric.err;
+  EXPECT_EQ(run(terrain + " --search-radius 0.2 --search-prefer near", dir).code, 2);
   EXPECT_EQ(run(terrain + " --friction 1.0,0.5", dir).code, 2);
   // Issue 11: accepted before (negative radius, a seed that wrapped, SVG written into a .png).
   EXPECT_EQ(run(terrain + " --search-radius -0.2", dir).code, 2);

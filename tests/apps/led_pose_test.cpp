@@ -440,6 +440,19 @@ TEST(LedPoseAppBadInput, OptionsThatDoNotApplyAreRefused) {
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
+TEST(LedPoseAppBadInput, ANameNotInTheListIsRefusedListingTheNames) {
+  TempDir dir;
+  const std::string out = (dir / "out").string();
+  expect_each_refused(
+      {
+          {"render " + out + " --trajectory still", "--trajectory: expected one of static, moving; got 'still'"},
+          {"render " + out + " --geometry behind", "--geometry: expected one of facing, chase; got 'behind'"},
+          {"render " + out + " --profile dirty", "--profile: expected one of clean, harsh; got 'dirty'"},
+      },
+      dir);
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
 // Issue 11: the apps estimate what a request costs before starting. Before:
 // --frames 100000 started an hour of rendering into ~106 GB of PNGs; a
 // 32768 x 32768 camera file ended in std::bad_alloc (exit 3) after trying to

@@ -169,6 +169,7 @@ TEST(TerrainMeshAppBadInput, BadOptionsAndExtrinsics) {
   EXPECT_NE(r.err.find("cell"), std::string::npos) << r.err;
   r = run((dir / "step.pcd").string() + " -o " + (dir / "o.stl").string() + " --agg mean", dir);
   EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--agg: expected one of max, median; got 'mean'"), std::string::npos) << r.err;
   r = run((dir / "step.pcd").string() + " -o " + (dir / "o.gltf").string(), dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("unknown mesh format"), std::string::npos) << r.err;

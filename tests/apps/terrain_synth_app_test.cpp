@@ -45,6 +45,16 @@ TEST(TerrainSynthAppBadInput, CameraHeightZeroAndSlopeBeyondTheRenderer) {
   expect_refused("--slope 95", "--slope", "outside [0, 80)");
 }
 
+TEST(TerrainSynthAppBadInput, ANameNotInTheListIsRefusedListingTheNames) {
+  TempDir dir;
+  const AppRun r = synth("crater -o " + (dir / "x.pcd").string(), dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("KIND: expected one of flat, incline, step, plateau, rubble, post; got 'crater'"),
+            std::string::npos)
+      << r.err;
+  expect_refused("--encoding lzf", "--encoding", "expected one of ascii, binary, binary_compressed; got 'lzf'");
+}
+
 TEST(TerrainSynthAppBadInput, EveryOptionHasARange) {
   expect_refused("--fx 0", "--fx", "outside (0, 100000]");
   expect_refused("--fx nan", "--fx", "outside");

@@ -95,9 +95,11 @@ Args parse(int argc, char** argv) {
     } else if (k == "--seed") {
       a.seed = std::strtoull(v, nullptr, 10);
     } else if (k == "--profile") {
-      const auto p = tp::parse_render_profile(v);
-      if (!p) usage("--profile: must be clean or harsh");
-      a.profile = *p;
+      try {
+        a.profile = touchdown::from_string<tp::RenderProfile>(v);
+      } catch (const touchdown::InvalidArgument& e) {
+        usage(("--profile: " + std::string(e.what())).c_str());
+      }
     } else if (k == "--max-sigma") {
       a.max_sigma = std::atof(v);
     } else if (k == "--floor-px") {
@@ -160,8 +162,9 @@ void print_centroids(const std::array<std::vector<std::pair<double, double>>, 2>
       }
       if (v.empty()) continue;
       std::sort(v.begin(), v.end());
-      std::printf("  %s [%g, %g) | %zu | %.3f %.3f\n", s == 0 ? "static" : "moving", edges[b], edges[b + 1], v.size(),
-                  v[v.size() / 2], v[(v.size() - 1) * 9 / 10]);
+      std::printf("  %s [%g, %g) | %zu | %.3f %.3f\n",
+                  std::string(tp::to_string(static_cast<tp::TrajectoryKind>(s))).c_str(), edges[b], edges[b + 1],
+                  v.size(), v[v.size() / 2], v[(v.size() - 1) * 9 / 10]);
     }
   }
 }
@@ -270,7 +273,7 @@ int main(int argc, char** argv) {
             std::printf(
                 "  WRONG config %d %s frame %zu: %.3f m %.3f rad, sigma %.3f m %.3f rad, rms %.2f px, %d LEDs, %d "
                 "blobs, %d visible, %d un-merged%s\n",
-                c, kind == tp::TrajectoryKind::Static ? "static" : "moving", i, position, rotation, e.sigma_position_m,
+                c, std::string(tp::to_string(kind)).c_str(), i, position, rotation, e.sigma_position_m,
                 e.sigma_rotation_rad, e.rms_px, e.points, e.blobs, visible, clear,
                 e.reinitialised ? ", new search" : "");
           }

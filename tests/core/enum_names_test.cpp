@@ -6,7 +6,10 @@
 #include <string>
 #include <string_view>
 
+#include "test_util.hpp"
+#include "touchdown/core/cloud_io.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/mesh_io.hpp"
 
 namespace touchdown_enum_names_test {
 enum class Fruit { Apple, Pear, Quince };
@@ -45,6 +48,17 @@ TEST(EnumNames, AnUnknownNameThrowsInvalidArgumentListingTheAcceptedNames) {
   }
   EXPECT_THROW((void)from_string<Fruit>(""), InvalidArgument);
   EXPECT_THROW((void)from_string<Fruit>("apple "), InvalidArgument);
+}
+
+TEST(EnumNames, EveryCoreEnumRoundTripsThroughItsName) {
+  test::expect_names_round_trip<MeshFormat>();
+  test::expect_names_round_trip<CloudFormat>();
+  test::expect_names_round_trip<PcdEncoding>();
+  test::expect_names_round_trip<PlyEncoding>();
+  // The names are the files' own spellings (PCD DATA, PLY format lines).
+  EXPECT_EQ(to_string(PcdEncoding::BinaryCompressed), "binary_compressed");
+  EXPECT_EQ(to_string(PlyEncoding::BinaryBigEndian), "binary_big_endian");
+  test::expect_bad_name<PcdEncoding>("lz4", "expected one of ascii, binary, binary_compressed; got 'lz4'");
 }
 
 TEST(InternalInvariants, ABrokenAssertionAbortsNamingTheConditionAndWhere) {

@@ -376,7 +376,7 @@ TEST(CorridorBuild, NoObstaclesConnects) {
   const CorridorOptions o;
   const Corridor c = build_corridor(kCorridorStart, kCorridorGoal, {}, o);
   ASSERT_TRUE(c.ok()) << c.message;
-  EXPECT_STREQ(to_string(c.status), "ok");
+  EXPECT_EQ(to_string(c.status), "ok");
   EXPECT_TRUE(c.rear.contains(kCorridorStart));
   EXPECT_TRUE(c.touchdown.contains(kCorridorGoal));
   EXPECT_GT(chebyshev_ball(corridor_both(c.rear, c.touchdown)).radius, 1e-3);
@@ -450,7 +450,7 @@ TEST(CorridorBuild, BlockedStartAndGoal) {
   const std::vector<Box> around_start = {corridor_box(-3.5, 0, 2, -2.5, 1, 3)};
   Corridor c = build_corridor(kCorridorStart, kCorridorGoal, around_start, o);
   EXPECT_EQ(c.status, CorridorStatus::StartBlocked);
-  EXPECT_STREQ(to_string(c.status), "start_blocked");
+  EXPECT_EQ(to_string(c.status), "start_blocked");
   // Close to an obstacle (within the radius) is blocked too.
   const std::vector<Box> near_start = {corridor_box(-2.9, 0, 2, -2.5, 1, 3)};
   EXPECT_EQ(build_corridor(kCorridorStart, kCorridorGoal, near_start, o).status, CorridorStatus::StartBlocked);
@@ -461,7 +461,7 @@ TEST(CorridorBuild, BlockedStartAndGoal) {
   const std::vector<Box> on_goal = {corridor_box(-0.2, -0.2, 0, 0.2, 0.2, 0.4)};
   c = build_corridor(kCorridorStart, kCorridorGoal, on_goal, o);
   EXPECT_EQ(c.status, CorridorStatus::GoalBlocked);
-  EXPECT_STREQ(to_string(c.status), "goal_blocked");
+  EXPECT_EQ(to_string(c.status), "goal_blocked");
   EXPECT_FALSE(c.message.empty());
 }
 
@@ -528,7 +528,7 @@ TEST(CorridorBuild, DeflationMovesTheTouchdownSides) {
   o.deflate = 10;
   const Corridor c2 = build_corridor(kCorridorStart, kCorridorGoal, {}, o);
   EXPECT_EQ(c2.status, CorridorStatus::NoOverlap);
-  EXPECT_STREQ(to_string(c2.status), "no_overlap");
+  EXPECT_EQ(to_string(c2.status), "no_overlap");
   EXPECT_NE(c2.message.find("dilations"), std::string::npos) << c2.message;
 }
 
@@ -563,11 +563,11 @@ TEST(CorridorBuild, PerSegment) {
 }
 
 TEST(CorridorBuild, StatusNames) {
-  EXPECT_STREQ(to_string(CorridorStatus::Ok), "ok");
-  EXPECT_STREQ(to_string(CorridorStatus::StartBlocked), "start_blocked");
-  EXPECT_STREQ(to_string(CorridorStatus::GoalBlocked), "goal_blocked");
-  EXPECT_STREQ(to_string(CorridorStatus::NoConnection), "no_connection");
-  EXPECT_STREQ(to_string(CorridorStatus::NoOverlap), "no_overlap");
+  EXPECT_EQ(to_string(CorridorStatus::Ok), "ok");
+  EXPECT_EQ(to_string(CorridorStatus::StartBlocked), "start_blocked");
+  EXPECT_EQ(to_string(CorridorStatus::GoalBlocked), "goal_blocked");
+  EXPECT_EQ(to_string(CorridorStatus::NoConnection), "no_connection");
+  EXPECT_EQ(to_string(CorridorStatus::NoOverlap), "no_overlap");
 }
 
 TEST(CorridorBuild, InvalidInputThrowsNamingTheField) {

@@ -314,6 +314,8 @@ TEST(QpSolver, ContradictoryConstraintsAreInfeasible) {
   A << 0, 1, 1, 0, 0, -1, -1, 0;
   const Eigen::Vector4d b(5, 0, 5, -1);
   EXPECT_EQ(solver.solve(P, q, Eigen::MatrixXd(0, 2), Eigen::VectorXd(0), A, b), tp::QpStatus::Infeasible);
+  EXPECT_FALSE(solver.ok());
+  EXPECT_EQ(solver.message(), "infeasible");
   EXPECT_TRUE(solver.blocking_constraint() == 1 || solver.blocking_constraint() == 3);
   // Equalities that contradict each other.
   Eigen::MatrixXd E(2, 2);

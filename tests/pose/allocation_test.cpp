@@ -45,13 +45,17 @@ TEST(Allocation, SteadyStateTrackingDoesNotAllocate) {
         tracker.track(f.frames[i].colour.view(), &dv);
       }
       int ok = 0;
+      std::size_t message_chars = 0;
       g_allocations = 0;
       g_armed = true;
       for (std::size_t i = 40; i < f.frames.size(); ++i) {
         const auto dv = f.frames[i].depth.view();
-        ok += tracker.track(f.frames[i].colour.view(), &dv).ok();
+        const tp::PoseEstimate& e = tracker.track(f.frames[i].colour.view(), &dv);
+        ok += e.ok();
+        message_chars += e.message().size();  // the status's fixed text: no allocation either
       }
       g_armed = false;
+      EXPECT_GT(message_chars, 0u);
       EXPECT_EQ(g_allocations.load(), 0) << "kind " << int(kind) << " depth " << depth;
       EXPECT_GE(ok, 115);  // it really tracked
     }
@@ -73,10 +77,13 @@ TEST(Allocation, EpnpAndGaussNewtonDoNotAllocate) {
   g_armed = true;
   const auto r = tp::solve_pnp(cam, p, uv);
   const auto four = tp::solve_epnp(cam, std::span(p).first(4), std::span(uv).first(4));
+  const auto too_few = tp::solve_epnp(cam, std::span(p).first(3), std::span(uv).first(3));
   g_armed = false;
+  EXPECT_EQ(too_few.status, tp::EpnpStatus::TooFewPoints);
+  EXPECT_EQ(too_few.message(), "too_few_points");
   EXPECT_EQ(g_allocations.load(), 0);
   EXPECT_TRUE(r.ok());
-  EXPECT_TRUE(four.ok);
+  EXPECT_TRUE(four.ok());
 }
 
 TEST(Allocation, TheCounterWorks) {

@@ -118,6 +118,7 @@ TEST(Calibration, KnownPosesNoiseFreeRecoversTheLedsExactly) {
   ASSERT_GT(max_led_error(s.initial, s.truth), 0.009);
   const auto r = tp::calibrate_constellation(kCamera, s.initial, s.views);
   ASSERT_EQ(r.status, tp::CalibrationStatus::Converged) << r.message;
+  EXPECT_TRUE(r.ok());
   EXPECT_LT(max_led_error(r.constellation, s.truth), 1e-6);
   EXPECT_LT(r.final_rms_px, 1e-6);
   EXPECT_GT(r.initial_rms_px, 1.0);
@@ -246,6 +247,7 @@ TEST(Calibration, LedSeenInOneViewIsInsufficientData) {
   for (std::size_t i = 1; i < s.views.size(); ++i) s.views[i].observations.pop_back();  // LED 5 only in view 0
   const auto r = tp::calibrate_constellation(kCamera, s.initial, s.views);
   EXPECT_EQ(r.status, tp::CalibrationStatus::InsufficientData);
+  EXPECT_FALSE(r.ok());
   EXPECT_NE(r.message.find("LED 5"), std::string::npos) << r.message;
   EXPECT_TRUE(r.T_camera_body.empty());
   EXPECT_EQ(max_led_error(r.constellation, s.initial), 0.0);

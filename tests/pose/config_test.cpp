@@ -300,7 +300,11 @@ std::vector<touchdown::test::BadInput> constellation_cases() {
       {"UnknownMarkerKey",
        leds_yaml(kFourLeds) + "marker: {xyz: [0, 0, 0], rpy: [0, 0, 0]}\n",
        {"marker.rpy: unknown key"}},
-      {"PurpleLed", purple, {"cfg.yaml:2: leds[0].color:", "purple"}},
+      {"PurpleLed", purple, {"cfg.yaml:2: leds[0].color: 'purple' is not red, green, blue or white"}},
+      // Unknown is what the detector calls a blob of no class, never an LED's colour.
+      {"UnknownColourLed",
+       touchdown::test::replace(leds_yaml(kFourLeds), "red", "unknown"),
+       {"cfg.yaml:2: leds[0].color: 'unknown' is not red, green, blue or white"}},
       {"XyzWithTwoNumbers",
        leds_yaml({"0.1, 0.1, 0", "0.1, -0.1", "-0.1, -0.1, 0", "0, 0, -0.1"}),
        {"cfg.yaml:3: leds[1].xyz: expected 3 numbers"}},

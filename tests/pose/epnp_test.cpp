@@ -49,7 +49,7 @@ TEST(Epnp, NoiselessPointsGiveTheExactPoseForEveryShape) {
         const auto T = random_pose(rng);
         const auto uv = observe(T, p, rng, 0.0);
         const auto e = tp::solve_epnp(kCamera, p, uv);
-        ASSERT_TRUE(e.ok) << "shape " << int(shape) << " n " << n;
+        ASSERT_TRUE(e.ok()) << "shape " << int(shape) << " n " << n;
         // EPnP alone: exact up to conditioning (quasi-planar is its weak case).
         const double tol = shape == Shape::QuasiPlanar ? 2e-3 : 1e-6;
         EXPECT_LT((e.T_camera_body.translation() - T.translation()).norm(), tol) << int(shape) << " n " << n;
@@ -74,7 +74,7 @@ TEST(Epnp, AgreesWithOpenCvSolversOnNoisyWellConditionedCases) {
       const auto T = random_pose(rng);
       const auto uv = observe(T, p, rng, 0.5);
       const auto ours = tp::solve_epnp(kCamera, p, uv);
-      ASSERT_TRUE(ours.ok);
+      ASSERT_TRUE(ours.ok());
       // OpenCV's EPnP solves the same linear problem: close, not identical
       // (it uses different beta approximations).
       const auto cv_epnp = opencv_pnp(p, uv, cv::SOLVEPNP_EPNP);
@@ -135,14 +135,20 @@ TEST(Epnp, QuasiPlanarNoisyReprojectsNoWorseThanOpenCv) {
 TEST(Epnp, DegenerateInputIsAStatusNotAPose) {
   std::vector<Eigen::Vector3d> p{{0, 0, 0}, {0.1, 0, 0}, {0.2, 0, 0}, {0.3, 0, 0}};  // collinear
   std::vector<Eigen::Vector2d> uv{{400, 200}, {410, 200}, {420, 200}, {430, 200}};
-  EXPECT_FALSE(tp::solve_epnp(kCamera, p, uv).ok);
+  tp::EpnpResult e = tp::solve_epnp(kCamera, p, uv);
+  EXPECT_FALSE(e.ok());
+  EXPECT_EQ(e.status, tp::EpnpStatus::Degenerate);
+  EXPECT_EQ(e.message(), "degenerate");
   EXPECT_EQ(tp::solve_pnp(kCamera, p, uv).status, tp::RefineStatus::Degenerate);
   p = {{0, 0, 0}, {0.1, 0, 0}, {0, 0.1, 0}};  // too few
   uv.resize(3);
-  EXPECT_FALSE(tp::solve_epnp(kCamera, p, uv).ok);
+  e = tp::solve_epnp(kCamera, p, uv);
+  EXPECT_FALSE(e.ok());
+  EXPECT_EQ(e.status, tp::EpnpStatus::TooFewPoints);
+  EXPECT_EQ(e.message(), "too_few_points");
   p.push_back({0.1, 0.1, 0.05});
   uv.resize(2);  // sizes differ
-  EXPECT_FALSE(tp::solve_epnp(kCamera, p, uv).ok);
+  EXPECT_EQ(tp::solve_epnp(kCamera, p, uv).status, tp::EpnpStatus::TooFewPoints);
 }
 
 TEST(Epnp, FourPointsOfEachShape) {

@@ -647,9 +647,9 @@ tp::RenderOptions harsh_quiet() {
 
 TEST(RenderProfile, NamesRoundTripAndHarshIsValid) {
   for (const auto p : {tp::RenderProfile::Clean, tp::RenderProfile::Harsh}) {
-    EXPECT_EQ(tp::parse_render_profile(tp::to_string(p)), p);
+    EXPECT_EQ(touchdown::from_string<tp::RenderProfile>(tp::to_string(p)), p);
   }
-  EXPECT_FALSE(tp::parse_render_profile("Harsh").has_value());
+  EXPECT_THROW((void)touchdown::from_string<tp::RenderProfile>("Harsh"), touchdown::InvalidArgument);
   std::string why;
   EXPECT_TRUE(tp::apply_profile({}, tp::RenderProfile::Harsh).validate(&why)) << why;
   EXPECT_EQ(tp::apply_profile({}, tp::RenderProfile::Clean).led_gain, tp::RenderOptions{}.led_gain);

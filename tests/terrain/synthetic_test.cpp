@@ -94,6 +94,6 @@ TEST(Synthetic, DropoutsAndOutliers) {
 }
 
 TEST(Synthetic, UnknownShapeIsAnError) {
-  EXPECT_THROW(syn::shape_kind_from_string("crater"), td::InvalidArgument);
-  EXPECT_EQ(syn::shape_kind_from_string("plateau"), syn::ShapeKind::Plateau);
+  EXPECT_THROW((void)td::from_string<syn::ShapeKind>("crater"), td::InvalidArgument);
+  EXPECT_EQ(td::from_string<syn::ShapeKind>("plateau"), syn::ShapeKind::Plateau);
 }

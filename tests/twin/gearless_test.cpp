@@ -120,7 +120,7 @@ TEST(Gearless, LandsOnLevelGroundOnItsBodyWithoutStrikes) {
     tw::LandingConditions c;
     c.heading = h * kRadPerDeg;
     const auto r = sim.land(c);
-    ASSERT_EQ(r.status, tw::RunStatus::Settled) << h << " " << r.reason;
+    ASSERT_EQ(r.status, tw::RunStatus::Settled) << h << " " << r.message;
     EXPECT_LT(r.nutation, 0.02) << h;
     EXPECT_TRUE(r.all_feet_in_contact) << h;
     EXPECT_FALSE(r.strike()) << h;
@@ -141,7 +141,7 @@ TEST(Gearless, InclineGivesItsAngle) {
       c.heading = h * kRadPerDeg;
       c.ground_z = std::tan(alpha * kRadPerDeg) * 0.1;
       const auto r = sim.land(c);
-      ASSERT_EQ(r.status, tw::RunStatus::Settled) << alpha << " " << h << " " << r.reason;
+      ASSERT_EQ(r.status, tw::RunStatus::Settled) << alpha << " " << h << " " << r.message;
       EXPECT_NEAR(r.nutation, alpha * kRadPerDeg, 0.02) << "incline " << alpha << " deg, heading " << h;
       EXPECT_TRUE(r.all_feet_in_contact) << alpha << " " << h;
       EXPECT_FALSE(r.strike()) << alpha << " " << h;

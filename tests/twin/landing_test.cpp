@@ -3,7 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
+#include <limits>
 #include <numbers>
+#include <vector>
 
 #include "touchdown/core/units.hpp"
 #include "touchdown/twin/threshold.hpp"
@@ -74,8 +77,8 @@ TEST(Landing, HalvingTheTimeStepChangesTheNutationLittle) {
   tw::SimulationOptions coarse, fine;
   fine.step = coarse.step / 2;
   const auto a = land(slope, 0.5, 0.06, coarse), b = land(slope, 0.5, 0.06, fine);
-  ASSERT_TRUE(a.valid());
-  ASSERT_TRUE(b.valid());
+  ASSERT_TRUE(a.ok());
+  ASSERT_TRUE(b.ok());
   EXPECT_LT(std::abs(a.nutation - b.nutation), 0.01);
 }
 
@@ -85,7 +88,7 @@ TEST(Landing, SteepSlopeTipsTheTwinOver) {
   const auto steep = analytic_terrain([](double x, double) { return std::tan(35 * kRadPerDeg) * x; }, 2.0, 0.05);
   const auto r = land(steep, 90 * kRadPerDeg, std::tan(35 * kRadPerDeg) * 0.35, {}, 1.0);
   EXPECT_TRUE(r.status == tw::RunStatus::Unstable || r.tipped || r.strike()) << r.nutation;
-  EXPECT_FALSE(r.valid() && !r.tipped && !r.strike() && r.nutation < 0.5);
+  EXPECT_FALSE(r.ok() && !r.tipped && !r.strike() && r.nutation < 0.5);
 }
 
 TEST(Landing, PostUnderAPropellerIsAStrike) {
@@ -121,7 +124,52 @@ TEST(Landing, LeavingTheMappedTerrainIsInvalid) {
   c.landing_point = {0.6, 0.0};
   const auto r = sim.land(c);
   EXPECT_EQ(r.status, tw::RunStatus::Unstable);
-  EXPECT_FALSE(r.valid());
+  EXPECT_FALSE(r.ok());
+  EXPECT_EQ(r.message, "left the mapped terrain");
+}
+
+// RunResult::message: why a run is not settled, one fixed phrase per cause
+// (the sweep's invalid_reason and the runs CSV print it). Not provoked here:
+// "spin above 200 rad/s" (no input makes the twin spin that fast).
+TEST(Landing, EveryCauseOfAnUnsettledRunIsItsMessage) {
+  const auto flat = touchdown::test::flat_terrain(0.0);
+  const auto af = tw::Airframe::f450();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto land_with = [&](tw::LandingConditions c, tw::SimulationOptions o = {}) {
+    return tw::LandingSimulator(af, flat, o).land(c);
+  };
+  const tw::LandingConditions base;
+  const auto settled = land_with(base);
+  EXPECT_TRUE(settled.ok());
+  EXPECT_EQ(settled.message, "");
+  tw::SimulationOptions short_timeout;
+  short_timeout.timeout = 0.5;
+  const auto timeout = land_with(base, short_timeout);
+  EXPECT_EQ(timeout.status, tw::RunStatus::Timeout);
+  EXPECT_FALSE(timeout.ok());
+  EXPECT_EQ(timeout.message, "did not come to rest before the timeout");
+  struct Case {
+    const char* message;
+    std::function<void(tw::LandingConditions&)> spoil;
+  };
+  const std::vector<Case> cases{
+      {"fell through the terrain", [](tw::LandingConditions& c) { c.ground_z = -5; }},
+      {"non-finite state", [&](tw::LandingConditions& c) { c.ground_z = nan; }},
+      {"non-finite motor command", [&](tw::LandingConditions& c) { c.land_speed = nan; }},
+      {"speed above 30 m/s",
+       [](tw::LandingConditions& c) {
+         c.land_speed = 200;
+         c.hover_offset = 500;
+       }},
+  };
+  for (const auto& k : cases) {
+    tw::LandingConditions c = base;
+    k.spoil(c);
+    const auto r = land_with(c);
+    EXPECT_EQ(r.status, tw::RunStatus::Unstable) << k.message;
+    EXPECT_FALSE(r.ok());
+    EXPECT_EQ(r.message, k.message);
+  }
 }
 
 TEST(SimulationOptions, ValidateNamesTheField) {

@@ -9,17 +9,37 @@
 /// starts with the source name: `"scan.pcd: truncated binary data: ..."`.
 /// Writers write to a temporary file and rename it, so a failure never leaves
 /// a partial file behind.
+#include <array>
 #include <filesystem>
 #include <iosfwd>
 #include <string_view>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/core/point_cloud.hpp"
 
 namespace touchdown {
 
 enum class CloudFormat { Auto, Pcd, Ply, Xyz };
+/// Named as a PCD header's DATA line spells them.
 enum class PcdEncoding { Ascii, Binary, BinaryCompressed };
+/// Named as a PLY header's format line spells them.
 enum class PlyEncoding { Ascii, BinaryLittleEndian, BinaryBigEndian };
+
+template <>
+struct EnumNames<CloudFormat> {
+  static constexpr std::array<std::string_view, 4> names{"auto", "pcd", "ply", "xyz"};
+};
+template <>
+struct EnumNames<PcdEncoding> {
+  static constexpr std::array<std::string_view, 3> names{"ascii", "binary", "binary_compressed"};
+};
+template <>
+struct EnumNames<PlyEncoding> {
+  static constexpr std::array<std::string_view, 3> names{"ascii", "binary_little_endian", "binary_big_endian"};
+};
+inline std::string_view to_string(CloudFormat format) { return enum_name(format); }
+inline std::string_view to_string(PcdEncoding encoding) { return enum_name(encoding); }
+inline std::string_view to_string(PlyEncoding encoding) { return enum_name(encoding); }
 
 /// Format from a file extension (.pcd, .ply, .xyz/.csv/.txt/.pts); throws
 /// InvalidArgument naming the path for anything else.

@@ -2,13 +2,23 @@
 /// \file
 /// Mesh files through assimp: read STL (ascii/binary), OBJ and PLY; write
 /// binary STL (default), ascii STL, PLY (binary or ascii) and OBJ.
+#include <array>
 #include <filesystem>
+#include <string_view>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/core/mesh.hpp"
 
 namespace touchdown {
 
 enum class MeshFormat { Auto, StlBinary, StlAscii, PlyBinary, PlyAscii, Obj };
+
+template <>
+struct EnumNames<MeshFormat> {
+  static constexpr std::array<std::string_view, 6> names{"auto",       "stl_binary", "stl_ascii",
+                                                         "ply_binary", "ply_ascii",  "obj"};
+};
+inline std::string_view to_string(MeshFormat format) { return enum_name(format); }
 
 /// Output format from the extension: .stl → binary STL, .ply → binary PLY,
 /// .obj → OBJ (no material file). Throws InvalidArgument otherwise.

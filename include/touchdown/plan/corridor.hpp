@@ -21,10 +21,14 @@
 /// Polytope::contains does not. Thread-safe: pure functions.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
+
+#include "touchdown/core/enum_names.hpp"
 
 namespace touchdown::plan {
 
@@ -91,7 +95,7 @@ struct CorridorOptions {
   double margin = 1.0;  ///< free box: bounding box of start and goal grown by this (not below the pad) [m], ≥ radius
   std::optional<CameraFov> camera;  ///< no camera: no FoV constraint
   /// False (with "field: what is wrong" in *why) for an invalid value.
-  bool validate(std::string* why) const;
+  [[nodiscard]] bool validate(std::string* why) const;
 };
 
 enum class CorridorStatus {
@@ -101,7 +105,18 @@ enum class CorridorStatus {
   NoConnection,  ///< no pair of free pieces joins start and goal (canLand false)
   NoOverlap,     ///< the parts still do not overlap after max_dilations
 };
-const char* to_string(CorridorStatus status);
+
+}  // namespace touchdown::plan
+
+template <>
+struct touchdown::EnumNames<touchdown::plan::CorridorStatus> {
+  static constexpr std::array<std::string_view, 5> names{"ok", "start_blocked", "goal_blocked", "no_connection",
+                                                         "no_overlap"};
+};
+
+namespace touchdown::plan {
+
+inline std::string_view to_string(CorridorStatus status) { return enum_name(status); }
 
 struct Corridor {
   CorridorStatus status = CorridorStatus::NoConnection;

@@ -35,10 +35,13 @@
 /// solves inside the time allocation reuse one work space. Thread-safe:
 /// plan() is a pure function.
 #include <Eigen/Core>
+#include <array>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/plan/bezier.hpp"
 #include "touchdown/plan/corridor.hpp"
 
@@ -82,7 +85,17 @@ struct TimeAllocationOptions {
 };
 
 enum class ConstraintGroup { Boundary, Corridor, Velocity, Acceleration };
-const char* to_string(ConstraintGroup group);
+
+}  // namespace touchdown::plan
+
+template <>
+struct touchdown::EnumNames<touchdown::plan::ConstraintGroup> {
+  static constexpr std::array<std::string_view, 4> names{"boundary", "corridor", "velocity", "acceleration"};
+};
+
+namespace touchdown::plan {
+
+inline std::string_view to_string(ConstraintGroup group) { return enum_name(group); }
 
 struct PlannerOptions {
   int order = 7;     ///< Bézier order, ≥ 5
@@ -103,7 +116,7 @@ struct PlannerOptions {
   /// (docs/benchmarks.md, "Landing trajectory", heap note).
   bool export_qp = false;
   /// False (with "field: what is wrong" in *why) for an invalid value.
-  bool validate(std::string* why) const;
+  [[nodiscard]] bool validate(std::string* why) const;
 };
 
 enum class PlanStatus {
@@ -111,7 +124,17 @@ enum class PlanStatus {
   Infeasible,  ///< no trajectory meets the constraints; `conflicts` names the groups
   NoCorridor,  ///< the corridor could not be built (see corridor.status)
 };
-const char* to_string(PlanStatus status);
+
+}  // namespace touchdown::plan
+
+template <>
+struct touchdown::EnumNames<touchdown::plan::PlanStatus> {
+  static constexpr std::array<std::string_view, 3> names{"ok", "infeasible", "no_corridor"};
+};
+
+namespace touchdown::plan {
+
+inline std::string_view to_string(PlanStatus status) { return enum_name(status); }
 
 /// The QP at the chosen durations, as exported: min ½xᵀPx + qᵀx + constant
 /// s.t. A_eq x = b_eq, A_in x ≤ b_in; x holds (segment, control point, axis)

@@ -34,8 +34,12 @@
 /// Allocation: resize() allocates; solve() does not when the problem has
 /// the sizes given to resize(). Not thread-safe (one solver per thread).
 #include <Eigen/Core>
+#include <array>
 #include <string>
+#include <string_view>
 #include <vector>
+
+#include "touchdown/core/enum_names.hpp"
 
 namespace touchdown::plan {
 
@@ -46,7 +50,7 @@ struct QpOptions {
   /// distance (rows are normalised, so it is in the units of x).
   double tolerance = 1e-9;
   /// False (with "field: what is wrong" in *why) for an invalid value.
-  bool validate(std::string* why) const;
+  [[nodiscard]] bool validate(std::string* why) const;
 };
 
 enum class QpStatus {
@@ -55,7 +59,17 @@ enum class QpStatus {
   IterationLimit,  ///< stopped at max_iterations; x is dual feasible, not primal feasible
   NotConvex,       ///< P is not positive definite on the null space of A_eq
 };
-const char* to_string(QpStatus status);
+
+}  // namespace touchdown::plan
+
+template <>
+struct touchdown::EnumNames<touchdown::plan::QpStatus> {
+  static constexpr std::array<std::string_view, 4> names{"optimal", "infeasible", "iteration_limit", "not_convex"};
+};
+
+namespace touchdown::plan {
+
+inline std::string_view to_string(QpStatus status) { return enum_name(status); }
 
 /// How far a solution is from the KKT conditions (∞-norms): stationarity
 /// ‖P x + q + A_eqᵀ λ + A_inᵀ μ‖, primal max(‖A_eq x − b_eq‖, max(A_in x −
@@ -83,6 +97,8 @@ class QpSolver {
 
   [[nodiscard]] QpStatus status() const { return status_; }
   [[nodiscard]] bool ok() const { return status_ == QpStatus::Optimal; }
+  /// The status's fixed text (a solve in a replanning loop never allocates).
+  [[nodiscard]] std::string_view message() const { return to_string(status_); }
   [[nodiscard]] const Eigen::VectorXd& x() const { return x_; }
   [[nodiscard]] double objective() const { return objective_; }
   /// Inequality add/drop steps of the dual method (equalities are eliminated, not iterated).

@@ -51,7 +51,7 @@ struct ArucoOptions {
 
   /// False with a reason naming the option ("dictionary: ...", "marker_id:
   /// ...", "marker_size: ...") if a value is invalid.
-  bool validate(std::string* why) const;
+  [[nodiscard]] bool validate(std::string* why) const;
 };
 
 /// The dictionary names ArucoOptions::dictionary accepts, in OpenCV's

@@ -31,11 +31,14 @@
 /// deterministic). Allocates.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/constellation.hpp"
 
@@ -59,7 +62,7 @@ struct CalibrationOptions {
   double huber_px = 2.0;              ///< Huber threshold on the reprojection error [px]; 0 = squared loss
   double function_tolerance = 1e-12;  ///< Ceres' relative cost-change stopping threshold
   /// False with a reason naming the option if a value is out of range.
-  bool validate(std::string* why) const;
+  [[nodiscard]] bool validate(std::string* why) const;
 };
 
 enum class CalibrationStatus {
@@ -68,9 +71,21 @@ enum class CalibrationStatus {
   InsufficientData,  ///< see calibrate_constellation: too few views per LED, unknown pose with < 4 LEDs, no PnP
 };
 
+}  // namespace touchdown::pose
+
+template <>
+struct touchdown::EnumNames<touchdown::pose::CalibrationStatus> {
+  static constexpr std::array<std::string_view, 3> names{"converged", "no_convergence", "insufficient_data"};
+};
+
+namespace touchdown::pose {
+
+inline std::string_view to_string(CalibrationStatus status) { return enum_name(status); }
+
 struct CalibrationResult {
   CalibrationStatus status = CalibrationStatus::InsufficientData;
   std::string message;
+  [[nodiscard]] bool ok() const { return status == CalibrationStatus::Converged; }
   /// The calibrated LEDs; colours and T_body_marker are copied from the
   /// initial constellation. Equals `initial` when status is InsufficientData.
   Constellation constellation;

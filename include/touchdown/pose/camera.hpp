@@ -44,7 +44,7 @@ struct CameraModel {
   /// distortion by fixed-point iteration (as OpenCV's undistortPoints).
   [[nodiscard]] Eigen::Vector2d undistort(const Eigen::Vector2d& uv_distorted) const;
   /// False with a reason naming the key if a value is out of range.
-  bool validate(std::string* why) const;
+  [[nodiscard]] bool validate(std::string* why) const;
 };
 
 /// Parses a camera file, its format told by its content (docs/formats.md):

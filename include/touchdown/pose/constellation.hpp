@@ -5,6 +5,7 @@
 /// sits (docs/formats.md). Thread-safe: plain values.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -12,14 +13,24 @@
 #include <string_view>
 #include <vector>
 
+#include "touchdown/core/enum_names.hpp"
+
 namespace touchdown::pose {
 
 /// LED colour classes used to prune correspondences. `Unknown` is only a
 /// detection outcome (a blob whose hue fits no class); it matches any LED.
 enum class LedColor : std::uint8_t { Red, Green, Blue, White, Unknown };
 
-std::string_view to_string(LedColor color);
-std::optional<LedColor> led_color_from_string(std::string_view name);
+}  // namespace touchdown::pose
+
+template <>
+struct touchdown::EnumNames<touchdown::pose::LedColor> {
+  static constexpr std::array<std::string_view, 5> names{"red", "green", "blue", "white", "unknown"};
+};
+
+namespace touchdown::pose {
+
+inline std::string_view to_string(LedColor color) { return enum_name(color); }
 /// True if a blob classified as `detected` may be the LED of colour `led`.
 inline bool colors_compatible(LedColor led, LedColor detected) {
   return detected == LedColor::Unknown || led == detected;
@@ -69,7 +80,7 @@ struct Constellation {
   /// Rejects fewer than 4 or more than kMaxLeds LEDs, duplicates (closer
   /// than 1 mm), collinear sets, normals that are not unit length (within
   /// 1e-6) or not finite, and half-angles outside (0, 180), naming the LED.
-  bool validate(std::string* why) const;
+  [[nodiscard]] bool validate(std::string* why) const;
 };
 
 /// The six-LED F450 constellation of data/constellations/f450_leds.yaml

@@ -97,7 +97,7 @@ struct CorrespondenceOptions {
   double max_sigma_position_m = 0.03;
   double max_sigma_rotation_rad = 0.03;
   /// False (with the offending field and why in *why) for an invalid value.
-  bool validate(std::string* why) const;
+  [[nodiscard]] bool validate(std::string* why) const;
 };
 
 /// LED ↔ blob assignment and the pose it gives.

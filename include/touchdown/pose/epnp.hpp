@@ -10,18 +10,42 @@
 /// Allocation: none. Thread-safe: pure functions.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <span>
+#include <string_view>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/gauss_newton.hpp"
 
 namespace touchdown::pose {
 
+enum class EpnpStatus {
+  Ok,
+  TooFewPoints,  ///< fewer than 4 points, or not one pixel per point
+  Degenerate,    ///< the points are (nearly) collinear, or their control points are singular
+  NoSolution,    ///< no solution with the points in front of the camera (or the eigen-decomposition failed)
+};
+
+}  // namespace touchdown::pose
+
+template <>
+struct touchdown::EnumNames<touchdown::pose::EpnpStatus> {
+  static constexpr std::array<std::string_view, 4> names{"ok", "too_few_points", "degenerate", "no_solution"};
+};
+
+namespace touchdown::pose {
+
+inline std::string_view to_string(EpnpStatus status) { return enum_name(status); }
+
 struct EpnpResult {
-  bool ok = false;  ///< false for fewer than 4 points, collinear points or no solution in front
+  EpnpStatus status = EpnpStatus::NoSolution;
   Eigen::Isometry3d T_camera_body = Eigen::Isometry3d::Identity();
   double rms_px = 0;    ///< reprojection RMS [px]
   bool planar = false;  ///< the three-control-point case was used
+  [[nodiscard]] bool ok() const { return status == EpnpStatus::Ok; }
+  /// The status's fixed text: solving never allocates.
+  [[nodiscard]] std::string_view message() const { return to_string(status); }
 };
 
 /// Camera pose from ≥ 4 body-frame points and their undistorted pixels.

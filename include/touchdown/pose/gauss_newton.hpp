@@ -10,9 +10,12 @@
 /// point by point into fixed-size 6×6 matrices). Thread-safe: pure functions.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <span>
 #include <string>
+#include <string_view>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/se3.hpp"
 
@@ -30,7 +33,7 @@ struct GaussNewtonOptions {
   /// depths outvote one bad one. 0 = every depth counts.
   double depth_outlier_sigma = 4;
   /// False (with the offending field and why in *why) for an invalid value.
-  bool validate(std::string* why) const;
+  [[nodiscard]] bool validate(std::string* why) const;
 };
 
 enum class RefineStatus {
@@ -38,6 +41,17 @@ enum class RefineStatus {
   MaxIterations,
   Degenerate,  ///< fewer than 3 points, a point behind the camera, or singular normal equations
 };
+
+}  // namespace touchdown::pose
+
+template <>
+struct touchdown::EnumNames<touchdown::pose::RefineStatus> {
+  static constexpr std::array<std::string_view, 3> names{"converged", "max_iterations", "degenerate"};
+};
+
+namespace touchdown::pose {
+
+inline std::string_view to_string(RefineStatus status) { return enum_name(status); }
 
 struct PoseRefinement {
   RefineStatus status = RefineStatus::Degenerate;
@@ -50,6 +64,8 @@ struct PoseRefinement {
   /// As every touchdown Result: true when it holds a usable answer (here a
   /// pose, also when the iteration limit stopped it before step_tolerance).
   [[nodiscard]] bool ok() const { return status != RefineStatus::Degenerate; }
+  /// The status's fixed text: refining a pose never allocates.
+  [[nodiscard]] std::string_view message() const { return to_string(status); }
 };
 
 /// Residual r = π(T p) − uv [px] and its Jacobian with respect to a left

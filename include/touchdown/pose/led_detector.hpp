@@ -70,7 +70,7 @@ struct DetectorOptions {
   double max_depth = 4.0;
   int depth_window = 2;        ///< median of the valid depths in a (2w+1)² window
   std::size_t max_blobs = 64;  ///< keep at most this many (the brightest)
-  bool validate(std::string* why) const;
+  [[nodiscard]] bool validate(std::string* why) const;
 };
 
 /// Colour class of a mean colour (H in degrees, S, V in [0, 1]): White when

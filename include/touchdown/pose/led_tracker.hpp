@@ -95,7 +95,7 @@ struct TrackerOptions {
   /// points. < 0 = off.
   double shared_blob_margin_px = 0.5;
   double min_detection_sigma_px = 0.05;  ///< [px] the pooled floor's lower bound
-  bool validate(std::string* why) const;
+  [[nodiscard]] bool validate(std::string* why) const;
 };
 
 class LedTracker {

@@ -9,11 +9,13 @@
 /// reprojection error is below `success_px`) and the per-frame time.
 /// It also times EPnP + Gauss–Newton against OpenCV's solvePnP on the
 /// tracker's matched LEDs.
+#include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/pose/aruco_baseline.hpp"
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/constellation.hpp"
@@ -57,7 +59,7 @@ struct PoseBenchmarkOptions {
   /// `render` with the marker of `aruco` (dictionary, id, size): what the
   /// benchmark renders, so what validate() checks.
   [[nodiscard]] RenderOptions rendered_options() const;
-  bool validate(std::string* why) const;
+  [[nodiscard]] bool validate(std::string* why) const;
 };
 
 struct MethodStats {
@@ -82,7 +84,17 @@ enum class PoseBenchmarkStatus {
   Ok,                  ///< every method had successful frames on every sequence
   NoSuccessfulFrames,  ///< some row has no successful frame: its error statistics are undefined (reported as 0)
 };
-std::string_view to_string(PoseBenchmarkStatus status);
+
+}  // namespace touchdown::pose
+
+template <>
+struct touchdown::EnumNames<touchdown::pose::PoseBenchmarkStatus> {
+  static constexpr std::array<std::string_view, 2> names{"ok", "no successful frames"};
+};
+
+namespace touchdown::pose {
+
+inline std::string_view to_string(PoseBenchmarkStatus status) { return enum_name(status); }
 
 struct PoseBenchmarkResult {
   PoseBenchmarkStatus status = PoseBenchmarkStatus::Ok;

@@ -2,9 +2,11 @@
 /// \file
 /// The per-frame output shared by the LED tracker and the ArUco baseline.
 #include <Eigen/Geometry>
+#include <array>
 #include <string_view>
 #include <utility>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/pose/se3.hpp"
 
 namespace touchdown::pose {
@@ -27,8 +29,24 @@ enum class PoseStatus {
   Uncertain,
 };
 
-/// A short human reason ("too few blobs", ...).
-std::string_view to_string(PoseStatus status);
+}  // namespace touchdown::pose
+
+/// Short human reasons ("too few blobs", ...), also the JSON status names.
+template <>
+struct touchdown::EnumNames<touchdown::pose::PoseStatus> {
+  static constexpr std::array<std::string_view, 8> names{"ok",
+                                                         "too few blobs",
+                                                         "no consistent correspondence",
+                                                         "reprojection error too large",
+                                                         "marker not found",
+                                                         "degenerate geometry",
+                                                         "ambiguous",
+                                                         "too uncertain"};
+};
+
+namespace touchdown::pose {
+
+inline std::string_view to_string(PoseStatus status) { return enum_name(status); }
 
 /// The 1-σ figures of a left-perturbation twist covariance (ρ, φ) at
 /// T_camera_body: the root of the trace of the covariance of the
@@ -51,6 +69,8 @@ struct PoseEstimate {
   double sigma_position_m = 0;
   double sigma_rotation_rad = 0;
   [[nodiscard]] bool ok() const { return status == PoseStatus::Ok; }
+  /// The status's fixed text: producing a pose never allocates.
+  [[nodiscard]] std::string_view message() const { return to_string(status); }
 };
 
 }  // namespace touchdown::pose

@@ -22,6 +22,7 @@
 /// No occlusion model for LEDs (the body never hides an LED); lamps are hidden
 /// behind the drone's body.
 #include <Eigen/Geometry>
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -31,6 +32,7 @@
 #include <string_view>
 #include <vector>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/constellation.hpp"
 #include "touchdown/pose/image.hpp"
@@ -135,7 +137,7 @@ struct RenderOptions {
   double merge_threshold_dn = 200;
 
   /// False with a reason naming the option if a value is out of range.
-  bool validate(std::string* why) const;
+  [[nodiscard]] bool validate(std::string* why) const;
 };
 
 /// Named sets of RenderOptions.
@@ -146,9 +148,17 @@ enum class RenderProfile {
   /// airframe, long motion-blur streaks, rolling drop-outs.
   Harsh,
 };
-/// "clean" or "harsh"; nullopt otherwise.
-std::optional<RenderProfile> parse_render_profile(std::string_view name);
-std::string_view to_string(RenderProfile profile);
+
+}  // namespace touchdown::pose
+
+template <>
+struct touchdown::EnumNames<touchdown::pose::RenderProfile> {
+  static constexpr std::array<std::string_view, 2> names{"clean", "harsh"};
+};
+
+namespace touchdown::pose {
+
+inline std::string_view to_string(RenderProfile profile) { return enum_name(profile); }
 /// `base` with the profile's settings applied (Clean: unchanged).
 RenderOptions apply_profile(RenderOptions base, RenderProfile profile);
 

@@ -4,12 +4,15 @@
 /// camera (synthetic.hpp) for tests and benchmarks. Part of
 /// touchdown::pose_sim. Thread-safety: free functions without shared state.
 #include <Eigen/Geometry>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/constellation.hpp"
 
@@ -40,6 +43,23 @@ enum class CameraGeometry {
   Chase,
 };
 
+}  // namespace touchdown::pose
+
+template <>
+struct touchdown::EnumNames<touchdown::pose::TrajectoryKind> {
+  static constexpr std::array<std::string_view, 2> names{"static", "moving"};
+};
+
+template <>
+struct touchdown::EnumNames<touchdown::pose::CameraGeometry> {
+  static constexpr std::array<std::string_view, 2> names{"facing", "chase"};
+};
+
+namespace touchdown::pose {
+
+inline std::string_view to_string(TrajectoryKind kind) { return enum_name(kind); }
+inline std::string_view to_string(CameraGeometry geometry) { return enum_name(geometry); }
+
 /// Most frames make_trajectory makes (and led_pose renders): 100000 frames
 /// are 55 minutes at 30 Hz.
 inline constexpr int kMaxTrajectoryFrames = 100000;
@@ -55,7 +75,7 @@ struct TrajectoryOptions {
   CameraGeometry geometry = CameraGeometry::Facing;
   double camera_tilt_deg = 20;  ///< Chase: camera tilt above the horizontal [deg], in [0, 80]
   /// False (with the offending field and why in *why) for an invalid value.
-  bool validate(std::string* why) const;
+  [[nodiscard]] bool validate(std::string* why) const;
 };
 
 struct TrajectorySample {

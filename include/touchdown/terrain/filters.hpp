@@ -36,7 +36,7 @@ struct CropOptions {
   /// Camera → body transform used to test the box.
   Eigen::Isometry3d T_body_camera = Eigen::Isometry3d::Identity();
   /// False (with the offending field and why in *why) for an invalid value.
-  bool validate(std::string* why) const;
+  [[nodiscard]] bool validate(std::string* why) const;
 };
 
 /// Removes points of a camera-frame cloud near the camera or on the drone;
@@ -54,7 +54,7 @@ struct OutlierOptions {
   /// Neighbour search cell (metres); 0 = derived from the point density.
   double search_cell = 0.0;
   /// False (with the offending field and why in *why) for an invalid value.
-  bool validate(std::string* why) const;
+  [[nodiscard]] bool validate(std::string* why) const;
 };
 
 /// Statistical outlier removal (as in PCL's StatisticalOutlierRemoval, Rusu

@@ -7,10 +7,13 @@
 /// given its pose (`--extrinsics`) or told it is world-frame
 /// (`--assume-world-frame`): frames are never guessed. The rule is
 /// documented in docs/formats.md ("Which frame a cloud is in").
+#include <array>
 #include <cstddef>
 #include <limits>
 #include <string>
+#include <string_view>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/core/point_cloud.hpp"
 
 namespace touchdown::terrain {
@@ -38,6 +41,18 @@ enum class FrameRule {
   TiltedPlane,  ///< the dominant plane is steeper than max_tilt_deg
   DepthLike,    ///< every point at z > 0, dominant plane far above the origin
 };
+
+}  // namespace touchdown::terrain
+
+template <>
+struct touchdown::EnumNames<touchdown::terrain::FrameRule> {
+  static constexpr std::array<std::string_view, 5> names{"none", "organized", "viewpoint", "tilted_plane",
+                                                         "depth_like"};
+};
+
+namespace touchdown::terrain {
+
+inline std::string_view to_string(FrameRule rule) { return enum_name(rule); }
 
 struct FrameEvidence {
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();

@@ -2,12 +2,15 @@
 /// \file
 /// 2.5-D height map of world-frame points, hole filling, and its
 /// triangulation into a closed solid.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/core/mesh.hpp"
 #include "touchdown/core/point_cloud.hpp"
 
@@ -24,6 +27,22 @@ enum class UnknownFill {
   Pit,    ///< a pit `pit_depth` below the lowest cell on the rim
 };
 
+}  // namespace touchdown::terrain
+
+template <>
+struct touchdown::EnumNames<touchdown::terrain::CellAggregate> {
+  static constexpr std::array<std::string_view, 2> names{"max", "median"};
+};
+template <>
+struct touchdown::EnumNames<touchdown::terrain::UnknownFill> {
+  static constexpr std::array<std::string_view, 2> names{"block", "pit"};
+};
+
+namespace touchdown::terrain {
+
+inline std::string_view to_string(CellAggregate aggregate) { return enum_name(aggregate); }
+inline std::string_view to_string(UnknownFill fill) { return enum_name(fill); }
+
 struct HeightMapOptions {
   double cell = 0.02;  ///< cell edge, metres
   CellAggregate aggregate = CellAggregate::Median;
@@ -33,13 +52,24 @@ struct HeightMapOptions {
   UnknownFill unknown_fill = UnknownFill::Block;
   double pit_depth = 1.0;  ///< metres below the lowest rim cell, for UnknownFill::Pit
   /// False (with the offending field and why in *why) for an invalid value.
-  bool validate(std::string* why) const;
+  [[nodiscard]] bool validate(std::string* why) const;
 };
 
 /// Empty: no data (outside the scan, or not yet filled). Measured: from
 /// points. Filled: interpolated across a small gap. Unknown: in a region the
 /// camera never observed, given a pessimistic height (UnknownFill).
 enum class CellState : std::uint8_t { Empty, Measured, Filled, Unknown };
+
+}  // namespace touchdown::terrain
+
+template <>
+struct touchdown::EnumNames<touchdown::terrain::CellState> {
+  static constexpr std::array<std::string_view, 4> names{"empty", "measured", "filled", "unknown"};
+};
+
+namespace touchdown::terrain {
+
+inline std::string_view to_string(CellState state) { return enum_name(state); }
 
 /// Regular grid of heights. Cell (i, j) covers x ∈ [x0 + i·cell, x0 + (i+1)·cell)
 /// and the same in y; its height is attached to the cell centre.

@@ -4,20 +4,30 @@
 /// scans them into realistic noisy point clouds: the bundled sample data
 /// (data/terrains/, made by `terrain_synth`) and the terrain oracle tests.
 #include <Eigen/Geometry>
+#include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/core/point_cloud.hpp"
 
 namespace touchdown::terrain::synthetic {
 
 enum class ShapeKind { Flat, Incline, Step, Plateau, Rubble, Post };
 
-/// "flat", "incline", "step", "plateau", "rubble", "post"; throws InvalidArgument otherwise.
-ShapeKind shape_kind_from_string(std::string_view name);
-std::string to_string(ShapeKind kind);
+}  // namespace touchdown::terrain::synthetic
+
+/// "flat", "incline", "step", "plateau", "rubble", "post" (from_string<ShapeKind>).
+template <>
+struct touchdown::EnumNames<touchdown::terrain::synthetic::ShapeKind> {
+  static constexpr std::array<std::string_view, 6> names{"flat", "incline", "step", "plateau", "rubble", "post"};
+};
+
+namespace touchdown::terrain::synthetic {
+
+inline std::string_view to_string(ShapeKind kind) { return enum_name(kind); }
 
 /// An analytic terrain z = height(x, y) in the world frame (z up).
 struct Shape {

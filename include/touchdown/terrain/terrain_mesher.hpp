@@ -3,9 +3,12 @@
 /// The terrain stage end to end: a camera-frame depth cloud → filters →
 /// height map → closed terrain mesh, with a report.
 #include <Eigen/Geometry>
+#include <array>
 #include <optional>
 #include <string>
+#include <string_view>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/core/mesh.hpp"
 #include "touchdown/core/point_cloud.hpp"
 #include "touchdown/terrain/filters.hpp"
@@ -40,6 +43,17 @@ enum class TerrainStatus {
   EmptyCloud,  ///< no finite point survived the filters
   TooSmall,    ///< fewer than 2×2 valid cells: no surface to triangulate
 };
+
+}  // namespace touchdown::terrain
+
+template <>
+struct touchdown::EnumNames<touchdown::terrain::TerrainStatus> {
+  static constexpr std::array<std::string_view, 3> names{"success", "empty_cloud", "too_small"};
+};
+
+namespace touchdown::terrain {
+
+inline std::string_view to_string(TerrainStatus status) { return enum_name(status); }
 
 struct TerrainReport {
   std::size_t points_read = 0;

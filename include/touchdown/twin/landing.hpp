@@ -6,10 +6,13 @@
 /// first-order lag, the three-stage land detector, thrust ramp-down and
 /// disarm). Thread-safe: every run builds its own ODE world.
 #include <Eigen/Core>
+#include <array>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/twin/airframe.hpp"
 #include "touchdown/twin/terrain_model.hpp"
 
@@ -59,7 +62,7 @@ struct SimulationOptions {
   ControllerParams controller{};
   bool record_trace = false;  ///< keep a 50 Hz trace of the run
   /// False (with the offending field and why in *why) for an invalid value.
-  bool validate(std::string* why) const;
+  [[nodiscard]] bool validate(std::string* why) const;
 };
 
 /// One run's (perturbed) conditions.
@@ -80,7 +83,17 @@ enum class RunStatus {
   Timeout,   ///< did not settle in time (reported, never scored as safe)
   Unstable,  ///< NaN, fell through or off the mapped terrain, or blew up (invalid, never safe)
 };
-std::string to_string(RunStatus status);
+
+}  // namespace touchdown::twin
+
+template <>
+struct touchdown::EnumNames<touchdown::twin::RunStatus> {
+  static constexpr std::array<std::string_view, 3> names{"settled", "timeout", "unstable"};
+};
+
+namespace touchdown::twin {
+
+inline std::string_view to_string(RunStatus status) { return enum_name(status); }
 
 struct TracePoint {
   double t;
@@ -91,9 +104,9 @@ struct TracePoint {
 
 struct RunResult {
   RunStatus status = RunStatus::Unstable;
-  /// Why a run is not `Settled` (a fixed phrase, e.g. "left the mapped
-  /// terrain"); empty for a settled run.
-  const char* reason = "";
+  /// Why a run is not `Settled` (e.g. "left the mapped terrain"); empty for
+  /// a settled run.
+  std::string message;
   double roll = 0, pitch = 0, yaw = 0;  ///< final attitude [rad]
   double nutation = 0;                  ///< eq. (3): N = acos(cos φ · cos θ), final
   double max_touchdown_nutation = 0;    ///< largest N from first contact to the end
@@ -110,7 +123,7 @@ struct RunResult {
   Eigen::Vector3d final_position = Eigen::Vector3d::Zero();  ///< centre of mass
   std::vector<TracePoint> trace;
   [[nodiscard]] bool strike() const { return prop_strike || arm_strike || body_strike; }
-  [[nodiscard]] bool valid() const { return status == RunStatus::Settled; }
+  [[nodiscard]] bool ok() const { return status == RunStatus::Settled; }
 };
 
 class LandingSimulator {

@@ -4,6 +4,7 @@
 /// headings × m noisy runs, score each heading by its worst final nutation
 /// (eq. 6), pick the lowest (eq. 7) if it is below the safety threshold.
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -11,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/twin/airframe.hpp"
 #include "touchdown/twin/landing.hpp"
 #include "touchdown/twin/terrain_model.hpp"
@@ -32,6 +34,17 @@ enum class SafetyMetric {
   Full,  ///< unsafe if any run strikes a propeller/arm/body, tips over or is invalid
   Seed,  ///< the paper's rule: final nutation only (invalid runs still unsafe)
 };
+
+}  // namespace touchdown::twin
+
+template <>
+struct touchdown::EnumNames<touchdown::twin::SafetyMetric> {
+  static constexpr std::array<std::string_view, 2> names{"full", "seed"};
+};
+
+namespace touchdown::twin {
+
+inline std::string_view to_string(SafetyMetric metric) { return enum_name(metric); }
 
 struct SweepOptions {
   static constexpr int kMaxHeadings = 3600;           ///< one every 0.1°
@@ -95,9 +108,21 @@ struct HeadingScore {
   [[nodiscard]] bool scored() const { return runs > invalid_runs; }
 };
 using UnsafeReason = HeadingScore::UnsafeReason;
+
+}  // namespace touchdown::twin
+
 /// "unobserved terrain", "invalid runs", "tips over", "body strike", "arm
 /// strike", "propeller strike", "S above the threshold" ("" for None).
-std::string_view to_string(UnsafeReason reason);
+template <>
+struct touchdown::EnumNames<touchdown::twin::UnsafeReason> {
+  static constexpr std::array<std::string_view, 8> names{
+      "",           "unobserved terrain", "invalid runs",         "tips over", "body strike",
+      "arm strike", "propeller strike",   "S above the threshold"};
+};
+
+namespace touchdown::twin {
+
+inline std::string_view to_string(UnsafeReason reason) { return enum_name(reason); }
 
 struct RunRecord {
   int heading = 0, run = 0;
@@ -111,7 +136,17 @@ enum class SweepStatus {
   Ok,                   ///< headings scored; `safe` says whether to land
   FootprintNotCovered,  ///< the terrain does not cover the twin's footprint at the landing point
 };
-std::string_view to_string(SweepStatus status);
+
+}  // namespace touchdown::twin
+
+template <>
+struct touchdown::EnumNames<touchdown::twin::SweepStatus> {
+  static constexpr std::array<std::string_view, 2> names{"ok", "footprint_not_covered"};
+};
+
+namespace touchdown::twin {
+
+inline std::string_view to_string(SweepStatus status) { return enum_name(status); }
 
 struct SweepResult {
   SweepStatus status = SweepStatus::Ok;
@@ -169,6 +204,18 @@ enum class SearchPreference {
   LowestScore,  ///< the lowest S among safe points (ties: the nearer one)
   Nearest,      ///< the safe point nearest the requested one (ties: the lower S); farther rings are not flown
 };
+
+}  // namespace touchdown::twin
+
+/// As landing_sweep's --search-prefer spells them.
+template <>
+struct touchdown::EnumNames<touchdown::twin::SearchPreference> {
+  static constexpr std::array<std::string_view, 2> names{"lowest", "nearest"};
+};
+
+namespace touchdown::twin {
+
+inline std::string_view to_string(SearchPreference preference) { return enum_name(preference); }
 
 /// Beyond the paper: also explores landing points on a square grid of
 /// `spacing` (0: radius / 2) within `radius` of options.landing_point, runs

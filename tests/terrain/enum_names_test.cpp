@@ -1,0 +1,28 @@
+// The terrain module's enum names (core/enum_names.hpp): one table per enum,
+// spelled as the CLI (--agg, --unknown-fill, terrain_synth KIND) reads them.
+#include <gtest/gtest.h>
+
+#include "test_util.hpp"
+#include "touchdown/terrain/frame_check.hpp"
+#include "touchdown/terrain/height_map.hpp"
+#include "touchdown/terrain/synthetic.hpp"
+#include "touchdown/terrain/terrain_mesher.hpp"
+
+namespace td = touchdown;
+namespace tt = touchdown::terrain;
+
+TEST(TerrainEnumNames, EveryEnumeratorRoundTripsThroughItsName) {
+  td::test::expect_names_round_trip<tt::CellAggregate>();
+  td::test::expect_names_round_trip<tt::UnknownFill>();
+  td::test::expect_names_round_trip<tt::CellState>();
+  td::test::expect_names_round_trip<tt::TerrainStatus>();
+  td::test::expect_names_round_trip<tt::FrameRule>();
+  td::test::expect_names_round_trip<tt::synthetic::ShapeKind>();
+}
+
+TEST(TerrainEnumNames, ABadNameListsTheAcceptedNames) {
+  td::test::expect_bad_name<tt::CellAggregate>("mean", "expected one of max, median; got 'mean'");
+  td::test::expect_bad_name<tt::UnknownFill>("hole", "expected one of block, pit; got 'hole'");
+  td::test::expect_bad_name<tt::synthetic::ShapeKind>(
+      "crater", "expected one of flat, incline, step, plateau, rubble, post; got 'crater'");
+}
