@@ -423,8 +423,8 @@ int main(int argc, char** argv) {
     // Ground truth, when the sequence carries it (a rendered one does).
     std::vector<tp::GroundTruthSample> truth;
     if (fs::exists(dir / "ground_truth.jsonl")) truth = tp::read_ground_truth(dir / "ground_truth.jsonl");
-    tp::BgrImage colour;
-    tp::DepthImage depth;
+    touchdown::BgrImage colour;
+    touchdown::DepthImage depth;
     std::string out;  // printed at the end: a bad frame leaves no partial output
     int ok = 0;
     std::vector<double> ms, rms, pos_err, rot_err;
@@ -449,7 +449,7 @@ int main(int argc, char** argv) {
                                f.depth->filename().string() + ")");
         }
       }
-      const tp::DepthImageView dv = depth.view();
+      const touchdown::DepthImageView dv = depth.view();
       const auto t0 = std::chrono::steady_clock::now();
       const tp::PoseEstimate e =
           tracker ? tracker->track(colour.view(), want_depth ? &dv : nullptr) : marker->estimate(colour.view());

@@ -32,13 +32,13 @@ int main(int argc, char** argv) {
 
   // 2. One tracker per camera stream; images are reused between frames.
   tp::LedTracker tracker(camera, leds);
-  tp::BgrImage colour;
-  tp::DepthImage depth;
+  touchdown::BgrImage colour;
+  touchdown::DepthImage depth;
   int ok = 0, n = 0;
   double worst = 0;
   for (const auto& frame : tp::list_sequence(dir)) {
     tp::read_frame(frame, colour, &depth);
-    const tp::DepthImageView d = depth.view();
+    const touchdown::DepthImageView d = depth.view();
     const tp::PoseEstimate& pose = tracker.track(colour.view(), depth.empty() ? nullptr : &d);
     const auto& gt = truth[static_cast<std::size_t>(n++)];
     if (!pose.ok()) {

@@ -231,7 +231,7 @@ int main(int argc, char** argv) {
       tp::RenderedFrame frame;
       for (std::size_t i = 0; i < trajectory.size(); ++i) {
         synth.render(trajectory[i].T_camera_body, tp::motion_blur_start(trajectory, i), render_seed, i, frame);
-        const tp::DepthImageView depth = frame.depth.view();
+        const touchdown::DepthImageView depth = frame.depth.view();
         const tp::PoseEstimate& e = tracker.track(frame.colour.view(), args.use_depth ? &depth : nullptr);
         int visible = 0, clear = 0;
         for (std::size_t l = 0; l < frame.led_visible.size(); ++l) {

@@ -35,7 +35,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::vector<std::uint16_t> pixels(size / 2);
   if (!pixels.empty()) std::memcpy(pixels.data(), data, pixels.size() * 2);
   const int width = 16, height = static_cast<int>(pixels.size() / 16);
-  const tp::DepthImageView view{pixels.data(), width, height, width};
+  const touchdown::DepthImageView view{pixels.data(), width, height, width};
   const auto check = tp::check_depth_scale(view, 0.001, 0.05, 50.0, 1);
   if (check.samples > 0 && !(check.median_raw >= 1 && check.median_raw <= 65535)) __builtin_trap();
   if (!check.plausible && check.message.empty()) __builtin_trap();

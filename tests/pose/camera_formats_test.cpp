@@ -355,8 +355,8 @@ TEST(CameraFileFormat, OwnFormatErrorsAreUnchangedAndMixedFilesRefused) {
 // ---- depth_scale plausibility -----------------------------------------------------------------
 
 namespace {
-tp::DepthImage depth_image(int w, int h, std::uint16_t value) {
-  tp::DepthImage d;
+touchdown::DepthImage depth_image(int w, int h, std::uint16_t value) {
+  touchdown::DepthImage d;
   d.resize(w, h);
   std::fill(d.pixels.begin(), d.pixels.end(), value);
   return d;
@@ -402,7 +402,7 @@ TEST(DepthScaleCheck, EveryDepthBelowFiveCentimetresIsReported) {
 // The median of the nonzero pixels, not the mean: 40 % of the image at
 // 1 m, 60 % at 3 m, invalid pixels (0) ignored.
 TEST(DepthScaleCheck, MedianOfTheValidPixels) {
-  tp::DepthImage d = depth_image(640, 480, 0);
+  touchdown::DepthImage d = depth_image(640, 480, 0);
   for (int y = 0; y < 480; ++y) {
     for (int x = 0; x < 640; ++x) {
       if (x % 3 == 0) continue;  // invalid
@@ -415,11 +415,11 @@ TEST(DepthScaleCheck, MedianOfTheValidPixels) {
 }
 
 TEST(DepthScaleCheck, TooFewMeasurementsAreNotConclusive) {
-  tp::DepthImage d = depth_image(640, 480, 0);
+  touchdown::DepthImage d = depth_image(640, 480, 0);
   EXPECT_FALSE(tp::check_depth_scale(d.view(), 1.0).conclusive);
   d.row(244)[325] = 60000;  // one pixel on the sampling grid (steps 10 x 8 from 5, 4)
   const auto c = tp::check_depth_scale(d.view(), 1.0);
   EXPECT_FALSE(c.conclusive);
   EXPECT_TRUE(c.plausible);
-  EXPECT_FALSE(tp::check_depth_scale(tp::DepthImageView{}, 1.0).conclusive);
+  EXPECT_FALSE(tp::check_depth_scale(touchdown::DepthImageView{}, 1.0).conclusive);
 }

@@ -18,7 +18,7 @@ using touchdown::pose_test::d435;
 using touchdown::pose_test::f450;
 
 // Adds a Gaussian spot of colour `bgr` (peak, saturating at 255).
-void spot(tp::BgrImage& img, Eigen::Vector2d c, double sigma, Eigen::Vector3d bgr) {
+void spot(touchdown::BgrImage& img, Eigen::Vector2d c, double sigma, Eigen::Vector3d bgr) {
   const int r = static_cast<int>(std::ceil(4 * sigma));
   for (int y = static_cast<int>(c.y()) - r; y <= static_cast<int>(c.y()) + r; ++y) {
     for (int x = static_cast<int>(c.x()) - r; x <= static_cast<int>(c.x()) + r; ++x) {
@@ -32,8 +32,8 @@ void spot(tp::BgrImage& img, Eigen::Vector2d c, double sigma, Eigen::Vector3d bg
   }
 }
 
-tp::BgrImage dark(touchdown::Rng& rng) {
-  tp::BgrImage img;
+touchdown::BgrImage dark(touchdown::Rng& rng) {
+  touchdown::BgrImage img;
   img.resize(848, 480);
   for (auto& v : img.pixels) v = static_cast<std::uint8_t>(std::clamp(6 + 2 * rng.normal(), 0.0, 255.0));
   return img;
@@ -49,7 +49,7 @@ tp::BgrImage dark(touchdown::Rng& rng) {
 // has `diameter` px and the all-white core 30 % of it; the blur spreads the
 // same energy wider. Plus sensor noise. Independent of the synthetic
 // camera's spot model.
-void clipped_led(tp::BgrImage& img, const Eigen::Vector2d& c, double diameter, const Eigen::Vector3d& spectrum,
+void clipped_led(touchdown::BgrImage& img, const Eigen::Vector2d& c, double diameter, const Eigen::Vector3d& spectrum,
                  double blur_sigma, touchdown::Rng& rng) {
   const double weak = spectrum.minCoeff();
   const double R = diameter / 2;
@@ -170,7 +170,7 @@ TEST(LedDetector, SubPixelCentresAndColourClasses) {
 }
 
 TEST(LedDetector, ConnectivityAndAreaLimits) {
-  tp::BgrImage img;
+  touchdown::BgrImage img;
   img.resize(64, 32);
   std::fill(img.pixels.begin(), img.pixels.end(), 0);
   auto set = [&](int x, int y) { img.row(y)[3 * x + 2] = 255; };
@@ -203,7 +203,7 @@ TEST(LedDetector, DepthGateAndBackProjection) {
   const auto cam = d435();
   spot(img, {200, 200}, 1.5, {300, 300, 300});  // the drone's LED at 1.2 m
   spot(img, {600, 100}, 3.0, {300, 300, 300});  // a ceiling lamp at 5.5 m
-  tp::DepthImage depth;
+  touchdown::DepthImage depth;
   depth.resize(848, 480);
   std::fill(depth.pixels.begin(), depth.pixels.end(), 5500);
   for (int y = 195; y <= 205; ++y) {
@@ -221,7 +221,7 @@ TEST(LedDetector, DepthGateAndBackProjection) {
   EXPECT_NEAR(blobs[0].p_camera.z(), 1.2, 1e-9);
   EXPECT_NEAR(blobs[0].p_camera.x(), (200 - cam.cx) / cam.fx * 1.2, 1e-3);
   // Depth of another size is misuse.
-  tp::DepthImage small;
+  touchdown::DepthImage small;
   small.resize(424, 240);
   const auto sv = small.view();
   EXPECT_THROW(det.detect(img.view(), &sv, blobs), touchdown::InvalidArgument);
@@ -245,7 +245,7 @@ TEST(LedDetector, BlobCountMatchesOpenCvOnRandomSparseImages) {
   o.max_blobs = 100000;
   tp::LedDetector det(cam, o);
   for (int trial = 0; trial < 20; ++trial) {
-    tp::BgrImage img;
+    touchdown::BgrImage img;
     img.resize(848, 480);
     std::fill(img.pixels.begin(), img.pixels.end(), 0);
     for (int k = 0; k < 3000; ++k) {

@@ -56,8 +56,8 @@ TEST(Sequence, WriteListReadRoundTrip) {
   ASSERT_EQ(frames.size(), 5u);
   const tp::SyntheticCamera renderer(cam, k, ropt);
   tp::RenderedFrame expected;
-  tp::BgrImage colour;
-  tp::DepthImage depth;
+  touchdown::BgrImage colour;
+  touchdown::DepthImage depth;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     EXPECT_EQ(frames[i].name, std::string("00000") + std::to_string(i));
     ASSERT_TRUE(frames[i].depth.has_value());
@@ -117,8 +117,8 @@ TEST(Sequence, ListsOnlyFrameFilesSorted) {
   EXPECT_TRUE(frames[0].depth.has_value());
   EXPECT_EQ(frames[1].name, "000002");
   EXPECT_FALSE(frames[1].depth.has_value());
-  tp::BgrImage colour;
-  tp::DepthImage depth;
+  touchdown::BgrImage colour;
+  touchdown::DepthImage depth;
   tp::read_frame(frames[0], colour, &depth);
   EXPECT_EQ(depth.width, 6);
   EXPECT_EQ(depth.pixels[0], 1000);
@@ -133,7 +133,7 @@ TEST(Sequence, AcceptsGreyAndBgra) {
   write_image(dir / "000000.png", cv::Mat(3, 5, CV_8UC1, cv::Scalar(77)));
   write_image(dir / "000001.png", cv::Mat(3, 5, CV_8UC4, cv::Scalar(10, 20, 30, 255)));
   const auto frames = tp::list_sequence(dir.path());
-  tp::BgrImage colour;
+  touchdown::BgrImage colour;
   tp::read_frame(frames[0], colour, nullptr);
   EXPECT_EQ(colour.width, 5);
   EXPECT_EQ(colour.height, 3);
@@ -160,9 +160,9 @@ TEST(SequenceBadInput, EachCaseNamesTheFile) {
   EXPECT_NE(m.find((dir / "empty").string()), std::string::npos) << m;
   EXPECT_THROW(tp::list_sequence(dir / "empty"), touchdown::ParseError);
 
-  tp::BgrImage colour;
-  tp::DepthImage depth;
-  auto frame_error = [&](const tp::SequenceFrame& f, tp::DepthImage* d) {
+  touchdown::BgrImage colour;
+  touchdown::DepthImage depth;
+  auto frame_error = [&](const tp::SequenceFrame& f, touchdown::DepthImage* d) {
     return error_of([&] { tp::read_frame(f, colour, d); });
   };
 

@@ -64,7 +64,7 @@ int channel_of(tp::LedColor c) {
 
 // Intensity-weighted centroid of channel `ch` (minus the background) over
 // the pixels above `threshold` within `radius` of `near`.
-Eigen::Vector2d blob_centroid(const tp::BgrImage& img, const Eigen::Vector2d& near, int ch, double bg,
+Eigen::Vector2d blob_centroid(const touchdown::BgrImage& img, const Eigen::Vector2d& near, int ch, double bg,
                               double threshold = 8, int radius = 14) {
   double sw = 0, su = 0, sv = 0;
   const int u0 = static_cast<int>(std::lround(near.x())), v0 = static_cast<int>(std::lround(near.y()));
@@ -78,7 +78,7 @@ Eigen::Vector2d blob_centroid(const tp::BgrImage& img, const Eigen::Vector2d& ne
   return sw > 0 ? Eigen::Vector2d(su / sw, sv / sw) : Eigen::Vector2d(-1e9, -1e9);
 }
 
-const std::uint8_t* pixel(const tp::BgrImage& img, const Eigen::Vector2d& uv) {
+const std::uint8_t* pixel(const touchdown::BgrImage& img, const Eigen::Vector2d& uv) {
   const auto u = static_cast<std::size_t>(std::lround(uv.x())), v = static_cast<std::size_t>(std::lround(uv.y()));
   return img.pixels.data() + 3 * (v * img.width + u);
 }
@@ -344,7 +344,7 @@ TEST(SyntheticCamera, MotionBlurSmearsAlongTheMotion) {
   renderer.render(T, T_prev, 1, 0, moving);
   const Eigen::Vector2d uv = cam.project(T * k.leds[0].p_body);
   // Horizontal extent of the red spot (pixels above 128) along its row.
-  auto extent = [&](const tp::BgrImage& img, int dir) {
+  auto extent = [&](const touchdown::BgrImage& img, int dir) {
     int u = static_cast<int>(std::lround(uv.x()));
     const auto v = static_cast<std::size_t>(std::lround(uv.y()));
     int n = 0;
@@ -799,7 +799,7 @@ TEST(RenderProfile, ReflectionReturnsItsShareOfTheLedsLight) {
       const tp::Constellation k = single_led(tp::LedColor::Red);
       tp::RenderedFrame frame;
       tp::SyntheticCamera(d435(), k, o).render(ahead(distance), ahead(distance), 5, 0, frame);
-      const tp::BgrImage& img = frame.colour;
+      const touchdown::BgrImage& img = frame.colour;
       const Eigen::Vector2d uv = d435().project(Eigen::Vector3d(0, 0, distance));
       const double bg = img.pixels[2];  // a corner: background only
       double near = 0, far = 0;

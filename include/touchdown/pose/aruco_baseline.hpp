@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "touchdown/core/image.hpp"
 #include "touchdown/pose/camera.hpp"
-#include "touchdown/pose/image.hpp"
 #include "touchdown/pose/pose_estimate.hpp"
 
 namespace touchdown::pose {

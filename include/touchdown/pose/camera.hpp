@@ -12,7 +12,7 @@
 #include <string>
 #include <string_view>
 
-#include "touchdown/pose/image.hpp"
+#include "touchdown/core/image.hpp"
 
 namespace touchdown::pose {
 

@@ -24,9 +24,9 @@
 #include <string>
 #include <vector>
 
+#include "touchdown/core/image.hpp"
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/constellation.hpp"
-#include "touchdown/pose/image.hpp"
 
 namespace touchdown::pose {
 

@@ -24,10 +24,10 @@
 #include <string>
 #include <vector>
 
+#include "touchdown/core/image.hpp"
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/constellation.hpp"
 #include "touchdown/pose/correspondence.hpp"
-#include "touchdown/pose/image.hpp"
 #include "touchdown/pose/led_detector.hpp"
 #include "touchdown/pose/pose_estimate.hpp"
 

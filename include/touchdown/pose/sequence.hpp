@@ -20,8 +20,8 @@
 #include <string_view>
 #include <vector>
 
+#include "touchdown/core/image.hpp"
 #include "touchdown/pose/ground_truth.hpp"
-#include "touchdown/pose/image.hpp"
 #include "touchdown/pose/synthetic.hpp"
 #include "touchdown/pose/trajectory.hpp"
 

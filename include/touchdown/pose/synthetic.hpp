@@ -33,9 +33,9 @@
 #include <vector>
 
 #include "touchdown/core/enum_names.hpp"
+#include "touchdown/core/image.hpp"
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/constellation.hpp"
-#include "touchdown/pose/image.hpp"
 #include "touchdown/pose/trajectory.hpp"
 
 namespace touchdown::pose {

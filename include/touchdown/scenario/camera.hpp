@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "touchdown/pose/image.hpp"
+#include "touchdown/core/image.hpp"
 #include "touchdown/scenario/scenario.hpp"
 
 namespace touchdown::scenario {
@@ -65,7 +65,7 @@ struct SceneState {
 struct CameraFrame {
   int width = 0;
   int height = 0;
-  pose::BgrImage image;
+  touchdown::BgrImage image;
   std::vector<std::uint8_t> mask;  ///< Label per pixel, row-major
   std::vector<float> depth;        ///< along the optical axis [m]; +inf for sky
   /// Target-marker pixels visible in the mask (occlusion by objects counts,

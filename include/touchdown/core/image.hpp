@@ -1,13 +1,13 @@
 #pragma once
 /// \file
-/// Minimal image types for the pose pipeline, so that public headers stay
+/// Minimal image types (the LED pose pipeline, the test world's camera), so that public headers stay
 /// free of OpenCV: non-owning views (wrap any buffer, e.g. a cv::Mat's data
 /// or a camera driver's frame) and owning images that reuse their storage.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
-namespace touchdown::pose {
+namespace touchdown {
 
 /// 8-bit BGR pixels, row-major; `stride` is the distance between rows in bytes.
 struct BgrImageView {
@@ -60,4 +60,4 @@ struct DepthImage {
   }
 };
 
-}  // namespace touchdown::pose
+}  // namespace touchdown
