@@ -20,6 +20,8 @@ packages=(
   libcli11-dev
   libgtest-dev libgmock-dev
   libbenchmark-dev
+  # xmllint: the SVG plot test's independent XML parser
+  libxml2-utils
   # libFuzzer and the sanitizer runtimes for clang
   clang libclang-rt-14-dev clang-format
 )
