@@ -1,23 +1,13 @@
 #pragma once
-// The hand-built clear scenario that the closed-loop tests start from:
-// clear weather, a 1 m 4X4_50 marker (id 3) at the origin, the drone 8 m
-// west at 12 m, the GPS target 1 m off.
+// The hand-built scenarios of the closed-loop tests. The clear one they
+// start from is the LandingSystem contract suite's
+// (touchdown/scenario/testing/scenarios.hpp).
 #include "touchdown/scenario/scenario.hpp"
+#include "touchdown/scenario/testing/scenarios.hpp"
 
 namespace touchdown::scenario::test {
 
-inline Scenario clear_scenario(double time_limit = 60) {
-  Scenario s;
-  s.map = MapKind::ground;
-  s.seed = 7;
-  s.time_limit = time_limit;
-  s.marker.dictionary = "4X4_50";
-  s.marker.id = 3;
-  s.marker.size = 1.0;
-  s.drone.position = {-8, 0, 12};
-  s.drone.gps_error = {1.0, -0.5};
-  return s;
-}
+using contract::clear_scenario;
 
 /// The Type III case: the clear scenario with a 2 m marker and a 5 cm pole
 /// 4 m high standing on it, on the diagonal 0.28 m from its centre. On the

@@ -61,6 +61,7 @@
 #include "touchdown/scenario/landing_system.hpp"
 #include "touchdown/scenario/run.hpp"
 #include "touchdown/scenario/scenario.hpp"
+#include "touchdown/scenario/testing/scenarios.hpp"
 #include "touchdown/scenario/world.hpp"
 
 namespace touchdown::scenario::contract {
@@ -76,22 +77,13 @@ struct Script {
   double max_time = 0;
 };
 
-/// The clear scenario of the closed-loop tests (a 1 m 4X4_50 marker, id 3,
-/// at the origin; the drone 8 m west at 12 m; the GPS target 1 m off) with
-/// a 1 m cube beside the marker, 35 s; the other run: marker id 5 at
-/// (2, -3) and a 2 m box where the first run's marker lies (seen on the way,
-/// so a map kept across reset() shows), 12 s.
+/// The clear scenario with a 1 m cube beside the marker, 35 s; the other
+/// run: marker id 5 at (2, -3) and a 2 m box where the first run's marker
+/// lies (seen on the way, so a map kept across reset() shows), 12 s.
 inline Script default_script() {
   Script s;
   Scenario& a = s.scenario;
-  a.map = MapKind::ground;
-  a.seed = 7;
-  a.time_limit = 35;
-  a.marker.dictionary = "4X4_50";
-  a.marker.id = 3;
-  a.marker.size = 1.0;
-  a.drone.position = {-8, 0, 12};
-  a.drone.gps_error = {1.0, -0.5};
+  a = clear_scenario(35);
   StaticObject cube;
   cube.kind = StaticKind::box;
   cube.position = {1.0, 0.0};
