@@ -12,14 +12,14 @@
 #include <sstream>
 
 #include "app_common.hpp"
-#include "touchdown/pose/aruco_baseline.hpp"
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/constellation.hpp"
 #include "touchdown/pose/led_tracker.hpp"
-#include "touchdown/pose/pose_benchmark.hpp"
-#include "touchdown/pose/sequence.hpp"
-#include "touchdown/pose/synthetic.hpp"
-#include "touchdown/pose/trajectory.hpp"
+#include "touchdown/pose/sim/aruco_baseline.hpp"
+#include "touchdown/pose/sim/pose_benchmark.hpp"
+#include "touchdown/pose/sim/sequence.hpp"
+#include "touchdown/pose/sim/synthetic.hpp"
+#include "touchdown/pose/sim/trajectory.hpp"
 
 namespace {
 

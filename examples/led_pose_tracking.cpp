@@ -10,9 +10,9 @@
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/constellation.hpp"
 #include "touchdown/pose/led_tracker.hpp"
-#include "touchdown/pose/pose_benchmark.hpp"
-#include "touchdown/pose/sequence.hpp"
-#include "touchdown/pose/synthetic.hpp"
+#include "touchdown/pose/sim/pose_benchmark.hpp"
+#include "touchdown/pose/sim/sequence.hpp"
+#include "touchdown/pose/sim/synthetic.hpp"
 
 int main(int argc, char** argv) {
   namespace tp = touchdown::pose;

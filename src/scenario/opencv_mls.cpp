@@ -8,7 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
-#include "pose/aruco_dictionary.hpp"
+#include "pose/sim/aruco_dictionary.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::scenario::detail {

@@ -38,7 +38,7 @@
 #include <optional>
 #include <string>
 
-#include "pose/aruco_dictionary.hpp"
+#include "pose/sim/aruco_dictionary.hpp"
 #include "scenario/render_impl.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"

@@ -13,7 +13,7 @@
 #include <optional>
 #include <vector>
 
-#include "pose/aruco_dictionary.hpp"
+#include "pose/sim/aruco_dictionary.hpp"
 #include "scenario/render_internal.hpp"
 #include "scenario/render_map.hpp"
 #include "scenario/render_marker.hpp"

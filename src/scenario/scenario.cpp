@@ -9,7 +9,7 @@
 #include <string>
 #include <utility>
 
-#include "pose/aruco_dictionary.hpp"
+#include "pose/sim/aruco_dictionary.hpp"
 #include "scenario/scenario_internal.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/units.hpp"

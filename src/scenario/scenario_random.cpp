@@ -7,7 +7,7 @@
 #include <numbers>
 #include <string>
 
-#include "pose/aruco_dictionary.hpp"
+#include "pose/sim/aruco_dictionary.hpp"
 #include "scenario/scenario_internal.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/scenario/scenario.hpp"

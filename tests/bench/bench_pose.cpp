@@ -9,12 +9,12 @@
 #include <vector>
 
 #include "touchdown/core/random.hpp"
-#include "touchdown/pose/aruco_baseline.hpp"
 #include "touchdown/pose/epnp.hpp"
 #include "touchdown/pose/led_detector.hpp"
 #include "touchdown/pose/led_tracker.hpp"
-#include "touchdown/pose/synthetic.hpp"
-#include "touchdown/pose/trajectory.hpp"
+#include "touchdown/pose/sim/aruco_baseline.hpp"
+#include "touchdown/pose/sim/synthetic.hpp"
+#include "touchdown/pose/sim/trajectory.hpp"
 
 namespace tp = touchdown::pose;
 

@@ -38,9 +38,9 @@
 
 #include "touchdown/pose/gauss_newton.hpp"
 #include "touchdown/pose/led_tracker.hpp"
-#include "touchdown/pose/pose_benchmark.hpp"
-#include "touchdown/pose/synthetic.hpp"
-#include "touchdown/pose/trajectory.hpp"
+#include "touchdown/pose/sim/pose_benchmark.hpp"
+#include "touchdown/pose/sim/synthetic.hpp"
+#include "touchdown/pose/sim/trajectory.hpp"
 
 namespace tp = touchdown::pose;
 

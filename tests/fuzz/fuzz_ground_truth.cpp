@@ -1,4 +1,4 @@
-// libFuzzer target for the ground-truth JSON Lines parser (sequence.hpp).
+// libFuzzer target for the ground-truth JSON Lines parser (touchdown/pose/ground_truth.hpp).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>

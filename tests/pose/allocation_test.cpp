@@ -7,7 +7,7 @@
 #include "counting_new.hpp"
 #include "touchdown/pose/epnp.hpp"
 #include "touchdown/pose/led_tracker.hpp"
-#include "touchdown/pose/synthetic.hpp"
+#include "touchdown/pose/sim/synthetic.hpp"
 
 namespace tp = touchdown::pose;
 

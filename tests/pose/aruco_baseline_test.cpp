@@ -3,7 +3,7 @@
 // warped into the camera image through the plane homography; 4× supersampled
 // and area-averaged so that edges are anti-aliased like a real sensor's), and
 // the estimate must recover that pose.
-#include "touchdown/pose/aruco_baseline.hpp"
+#include "touchdown/pose/sim/aruco_baseline.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "touchdown/pose/calibration.hpp"
+#include "touchdown/pose/calib/calibration.hpp"
 
 #include <gtest/gtest.h>
 

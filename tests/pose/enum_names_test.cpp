@@ -4,14 +4,14 @@
 #include <gtest/gtest.h>
 
 #include "test_util.hpp"
-#include "touchdown/pose/calibration.hpp"
+#include "touchdown/pose/calib/calibration.hpp"
 #include "touchdown/pose/constellation.hpp"
 #include "touchdown/pose/epnp.hpp"
 #include "touchdown/pose/gauss_newton.hpp"
-#include "touchdown/pose/pose_benchmark.hpp"
 #include "touchdown/pose/pose_estimate.hpp"
-#include "touchdown/pose/synthetic.hpp"
-#include "touchdown/pose/trajectory.hpp"
+#include "touchdown/pose/sim/pose_benchmark.hpp"
+#include "touchdown/pose/sim/synthetic.hpp"
+#include "touchdown/pose/sim/trajectory.hpp"
 
 namespace td = touchdown;
 namespace tp = touchdown::pose;

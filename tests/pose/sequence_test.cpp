@@ -1,4 +1,4 @@
-#include "touchdown/pose/sequence.hpp"
+#include "touchdown/pose/sim/sequence.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include "test_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/pose/se3.hpp"
-#include "touchdown/pose/synthetic.hpp"
+#include "touchdown/pose/sim/synthetic.hpp"
 
 namespace tp = touchdown::pose;
 using touchdown::test::TempDir;

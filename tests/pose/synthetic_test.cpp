@@ -1,4 +1,4 @@
-#include "touchdown/pose/synthetic.hpp"
+#include "touchdown/pose/sim/synthetic.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,8 +13,8 @@
 #include "pose/pose_test_util.hpp"
 #include "test_util.hpp"
 #include "touchdown/core/error.hpp"
-#include "touchdown/pose/aruco_baseline.hpp"
-#include "touchdown/pose/pose_benchmark.hpp"
+#include "touchdown/pose/sim/aruco_baseline.hpp"
+#include "touchdown/pose/sim/pose_benchmark.hpp"
 
 namespace tp = touchdown::pose;
 

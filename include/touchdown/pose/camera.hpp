@@ -1,5 +1,6 @@
 #pragma once
 /// \file
+/// Part of touchdown::pose.
 /// Camera intrinsics for the LED pose pipeline: a pinhole model with
 /// optional Brown–Conrady distortion (OpenCV's k1, k2, p1, p2, k3 order) and
 /// the scale of an aligned 16-bit depth image, loaded from the camera YAML

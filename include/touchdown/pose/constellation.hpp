@@ -1,5 +1,6 @@
 #pragma once
 /// \file
+/// Part of touchdown::pose.
 /// The LED constellation carried by the drone: LED positions in the body
 /// frame with their colour class, and where the ArUco marker of the baseline
 /// sits (docs/formats.md). Thread-safe: plain values.

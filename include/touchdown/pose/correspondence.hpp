@@ -1,5 +1,6 @@
 #pragma once
 /// \file
+/// Part of touchdown::pose.
 /// The full correspondence search (no prior pose): which blob is which LED.
 /// Hypothesise 4 LED ↔ 4 blob correspondences allowed by the colour classes,
 /// solve EPnP for each, reproject the whole constellation, match, refine,

@@ -1,5 +1,6 @@
 #pragma once
 /// \file
+/// Part of touchdown::pose.
 /// EPnP (Lepetit, Moreno-Noguer & Fua, "EPnP: An Accurate O(n) Solution to
 /// the PnP Problem", IJCV 2009), written here on Eigen with fixed-size
 /// matrices: four control points for general constellations, three for

@@ -1,5 +1,6 @@
 #pragma once
 /// \file
+/// Part of touchdown::pose.
 /// Gauss–Newton refinement of a camera pose from 2-D/3-D correspondences on
 /// SE(3) with the exponential-map parametrisation and analytic Jacobians
 /// (the non-robocentric landing paper's eq. 8), optionally with a Huber

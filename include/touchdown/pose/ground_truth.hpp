@@ -1,6 +1,7 @@
 #pragma once
 /// \file
-/// Ground-truth and pose files in JSON Lines (touchdown::pose; no OpenCV).
+/// Part of touchdown::pose.
+/// Ground-truth and pose files in JSON Lines (no OpenCV).
 ///
 /// A ground-truth line: {"frame":"000000","t_s":0.0,"t":[x,y,z],
 /// "q":[w,x,y,z],"leds_visible":[true,...],"marker_visible":true} with

@@ -1,5 +1,6 @@
 #pragma once
 /// \file
+/// Part of touchdown::pose.
 /// LED blob detection in a low-exposure colour image: threshold on the
 /// brightest channel, connected blobs (8-connectivity) by run-length
 /// labelling, sub-pixel centre by intensity weighting, the LED colour class

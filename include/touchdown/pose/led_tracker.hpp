@@ -1,5 +1,6 @@
 #pragma once
 /// \file
+/// Part of touchdown::pose.
 /// LED relative pose: detections → correspondences → EPnP → Gauss–Newton
 /// on SE(3), tracked from frame to frame.
 ///

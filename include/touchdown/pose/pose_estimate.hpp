@@ -1,5 +1,6 @@
 #pragma once
 /// \file
+/// Part of touchdown::pose.
 /// The per-frame output shared by the LED tracker and the ArUco baseline.
 #include <Eigen/Geometry>
 #include <array>

@@ -1,5 +1,6 @@
 #pragma once
 /// \file
+/// Part of touchdown::pose.
 /// SE(3) tools for the LED pose pipeline: hat, exponential and logarithm
 /// maps (twist ξ = (ρ, φ): translation part first), written from Barfoot,
 /// "State Estimation for Robotics" (2017), sec. 7.1.

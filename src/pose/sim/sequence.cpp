@@ -1,4 +1,4 @@
-#include "touchdown/pose/sequence.hpp"
+#include "touchdown/pose/sim/sequence.hpp"
 
 #include <unistd.h>
 

@@ -1,5 +1,6 @@
 #pragma once
 /// \file
+/// Part of touchdown::pose_sim.
 /// A synthetic camera for the LED pose pipeline: renders what the ground
 /// vehicle's low-exposure colour camera (with an aligned 16-bit depth image,
 /// RealSense-like) sees of a drone carrying an LED constellation, for tests,
@@ -36,7 +37,7 @@
 #include "touchdown/core/image.hpp"
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/constellation.hpp"
-#include "touchdown/pose/trajectory.hpp"
+#include "touchdown/pose/sim/trajectory.hpp"
 
 namespace touchdown::pose {
 

@@ -1,8 +1,9 @@
 #pragma once
 /// \file
+/// Part of touchdown::pose_sim.
 /// Trajectories of a drone seen by a camera, to render with the synthetic
-/// camera (synthetic.hpp) for tests and benchmarks. Part of
-/// touchdown::pose_sim. Thread-safety: free functions without shared state.
+/// camera (synthetic.hpp) for tests and benchmarks. Thread-safety: free
+/// functions without shared state.
 #include <Eigen/Geometry>
 #include <array>
 #include <cstddef>

@@ -1,5 +1,6 @@
 #pragma once
 /// \file
+/// Part of touchdown::pose_sim.
 /// Image sequences on disk (written by write_sequence below, or recorded
 /// from a camera):
 ///
@@ -8,8 +9,8 @@
 ///     ground_truth.jsonl  optional: one JSON object per frame
 ///     camera.yaml, constellation.yaml
 ///
-/// ground_truth.jsonl is read by ground_truth.hpp (in touchdown::pose:
-/// plain text, no OpenCV); this header (touchdown::pose_sim) reads images.
+/// ground_truth.jsonl is read by touchdown/pose/ground_truth.hpp (in
+/// touchdown::pose: plain text, no OpenCV); this header reads images.
 /// Thread-safety: free functions without shared state.
 #include <Eigen/Geometry>
 #include <cstdint>
@@ -22,8 +23,8 @@
 
 #include "touchdown/core/image.hpp"
 #include "touchdown/pose/ground_truth.hpp"
-#include "touchdown/pose/synthetic.hpp"
-#include "touchdown/pose/trajectory.hpp"
+#include "touchdown/pose/sim/synthetic.hpp"
+#include "touchdown/pose/sim/trajectory.hpp"
 
 namespace touchdown::pose {
 

@@ -1,4 +1,4 @@
-#include "touchdown/pose/aruco_baseline.hpp"
+#include "touchdown/pose/sim/aruco_baseline.hpp"
 
 #include <Eigen/Cholesky>
 #include <array>

@@ -1,5 +1,6 @@
 #pragma once
 /// \file
+/// Part of touchdown::pose_sim.
 /// The LED-vs-ArUco benchmark of `led_pose benchmark` (the paper's table):
 /// renders static and moving-camera sequences with the synthetic camera,
 /// runs the LED tracker and the ArUco baseline on the same frames and
@@ -16,11 +17,11 @@
 #include <vector>
 
 #include "touchdown/core/enum_names.hpp"
-#include "touchdown/pose/aruco_baseline.hpp"
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/constellation.hpp"
 #include "touchdown/pose/led_tracker.hpp"
-#include "touchdown/pose/synthetic.hpp"
+#include "touchdown/pose/sim/aruco_baseline.hpp"
+#include "touchdown/pose/sim/synthetic.hpp"
 
 namespace touchdown::pose {
 

@@ -1,4 +1,4 @@
-#include "touchdown/pose/trajectory.hpp"
+#include "touchdown/pose/sim/trajectory.hpp"
 
 #include <algorithm>
 #include <array>

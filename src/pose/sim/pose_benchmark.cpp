@@ -1,4 +1,4 @@
-#include "touchdown/pose/pose_benchmark.hpp"
+#include "touchdown/pose/sim/pose_benchmark.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -1,4 +1,4 @@
-#include "touchdown/pose/synthetic.hpp"
+#include "touchdown/pose/sim/synthetic.hpp"
 
 #include <algorithm>
 #include <array>

@@ -1,5 +1,6 @@
 #pragma once
 /// \file
+/// Part of touchdown::pose_sim.
 /// The ArUco baseline the LED tracker is compared against: one square
 /// fiducial fixed on the airframe at `Constellation::T_body_marker`, detected
 /// with OpenCV's aruco module (Garrido-Jurado et al., "Automatic generation

@@ -1,5 +1,6 @@
 #pragma once
 /// \file
+/// Part of touchdown::pose_calib.
 /// LED constellation calibration by bundle adjustment: refines the LED
 /// positions (body frame) from views of the drone in which each LED's pixel
 /// is known, with known camera poses (motion capture, a calibration rig),
