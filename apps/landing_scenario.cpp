@@ -40,8 +40,8 @@ Json result_json(const std::string& scenario_path, std::string_view system, cons
   Json j;
   j["scenario"] = scenario_path;
   j["system"] = system;
-  j["violation"] = r.violation;
-  j["type"] = ts::to_string(r.type);
+  j["violation"] = r.violation();
+  j["type"] = ts::to_string(r.status);
   j["message"] = r.message;
   j["landed"] = r.landed;
   j["dtl"] = round3(r.dtl);
@@ -119,8 +119,8 @@ cv::Mat overlay(const ts::CameraFrame& frame, const ts::SystemOutput& out, const
 
 void banner(cv::Mat& img, const ts::ScenarioResult& r) {
   const std::string text =
-      r.violation ? "VIOLATION Type " + std::string(ts::to_string(r.type)) : "LANDED (no violation)";
-  const cv::Scalar colour = r.violation ? cv::Scalar(0, 0, 200) : cv::Scalar(0, 140, 0);
+      r.violation() ? "VIOLATION Type " + std::string(ts::to_string(r.status)) : "LANDED (no violation)";
+  const cv::Scalar colour = r.violation() ? cv::Scalar(0, 0, 200) : cv::Scalar(0, 140, 0);
   cv::rectangle(img, cv::Rect(0, img.rows - 40, img.cols, 40), colour, cv::FILLED);
   cv::putText(img, text + "  DTL " + format_fixed(r.dtl, 2) + " m", cv::Point(8, img.rows - 13),
               cv::FONT_HERSHEY_SIMPLEX, 0.7, cv::Scalar(255, 255, 255), 2);
@@ -174,14 +174,14 @@ std::string campaign_csv(const ts::CampaignResult& c, const std::vector<std::str
   os << "scenario,map,violation,type,landed,dtl,ttl,false_detection,flight_s,frames,wall_s,render_s,system_s,"
         "message\n";
   for (std::size_t i = 0; i < c.entries.size(); ++i) {
-    const auto& e = c.entries[i];
+    const ts::ScenarioOutcome& e = c.entries[i].outcome;
     std::string msg = e.message;
     for (char& ch : msg)
       if (ch == '"') ch = '\'';
-    os << names[i] << ',' << ts::to_string(e.map) << ',' << (e.violation ? 1 : 0) << ',' << ts::to_string(e.type) << ','
-       << (e.landed ? 1 : 0) << ',' << format_fixed(e.dtl, 3) << ',' << format_fixed(e.ttl, 2) << ','
-       << (e.false_detection ? 1 : 0) << ',' << format_fixed(e.flight_s, 2) << ',' << e.frames << ','
-       << format_fixed(e.timing.total_s, 3) << ',' << format_fixed(e.timing.render_s, 3) << ','
+    os << names[i] << ',' << ts::to_string(c.entries[i].map) << ',' << (e.violation() ? 1 : 0) << ','
+       << ts::to_string(e.status) << ',' << (e.landed ? 1 : 0) << ',' << format_fixed(e.dtl, 3) << ','
+       << format_fixed(e.ttl, 2) << ',' << (e.false_detection ? 1 : 0) << ',' << format_fixed(e.flight_s, 2) << ','
+       << e.frame_count << ',' << format_fixed(e.timing.total_s, 3) << ',' << format_fixed(e.timing.render_s, 3) << ','
        << format_fixed(e.timing.system_s, 3) << ",\"" << msg << "\"\n";
   }
   return os.str();
@@ -213,9 +213,9 @@ void print_campaign(const ts::CampaignResult& c, const std::string& source, cons
   const auto& s = c.summary;
   std::vector<double> dtl, ttl;
   for (const auto& e : c.entries) {
-    if (!e.landed) continue;
-    dtl.push_back(e.dtl);
-    ttl.push_back(e.ttl);
+    if (!e.outcome.landed) continue;
+    dtl.push_back(e.outcome.dtl);
+    ttl.push_back(e.outcome.ttl);
   }
   const double other = s.timing.total_s - s.timing.render_s - s.timing.system_s - s.timing.physics_s;
   const auto share = [&](double v) {
@@ -417,7 +417,7 @@ int main(int argc, char** argv) {
     } else {
       std::cout << "scenario   " << scenario_path << " (" << ts::to_string(scenario.map) << ")\n"
                 << "system     " << sut->name() << "\n"
-                << "outcome    " << (r.violation ? "VIOLATION" : "ok") << ": " << r.message << "\n"
+                << "outcome    " << (r.violation() ? "VIOLATION" : "ok") << ": " << r.message << "\n"
                 << "DTL        " << format_fixed(r.dtl, 2) << " m   TTL " << format_fixed(r.ttl, 1) << " s\n"
                 << "frames     " << r.frames.size() << "   steps " << r.trajectory.size() << "\n"
                 << "time       " << format_fixed(r.timing.total_s, 3) << " s (render "

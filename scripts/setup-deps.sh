@@ -24,6 +24,8 @@ packages=(
   libxml2-utils
   # libFuzzer and the sanitizer runtimes for clang
   clang libclang-rt-14-dev clang-format
+  # the naming checks (scripts/tidy.sh, .clang-tidy)
+  clang-tidy
 )
 
 missing=()

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The README's test commands. Both install dependencies if missing, check
 # the format, build Release and run the whole ctest suite; --full (what CI
-# runs, .ci/run) then runs the same suite under ASan+UBSan and each libFuzzer
-# target for a short fixed time (when clang is present). Each step prints its
+# runs, .ci/run) then runs the naming checks (scripts/tidy.sh), the same
+# suite under ASan+UBSan and each libFuzzer target for a short fixed time
+# (when clang is present). Each step prints its
 # wall time; the last line sums them up (docs/benchmarks.md keeps the
 # breakdown).
 #
@@ -10,6 +11,7 @@
 #   scripts/test.sh --full                  # + ASan+UBSan pass + fuzzers (CI)
 #   FUZZ_SECONDS=0 scripts/test.sh --full   # --full without the fuzzers
 #   SKIP_ASAN=1 scripts/test.sh --full      # --full without the sanitizer pass
+#   SKIP_TIDY=1 scripts/test.sh --full      # --full without the naming checks
 #   JOBS=4 scripts/test.sh                  # more parallel jobs (default 2)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -20,7 +22,7 @@ case "${1:-}" in
   --full) full=1 ;;
   "") ;;
   -h | --help)
-    sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'
+    sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'
     exit 0
     ;;
   *)
@@ -31,6 +33,7 @@ esac
 fuzz_seconds=${FUZZ_SECONDS:-20}
 if [ "$full" = 0 ]; then
   SKIP_ASAN=1
+  SKIP_TIDY=1
   fuzz_seconds=0
 fi
 fuzzers=(fuzz_pcd fuzz_ply fuzz_xyz fuzz_extrinsics fuzz_ground_truth fuzz_camera fuzz_constellation fuzz_airframe
@@ -83,6 +86,11 @@ configure build -DCMAKE_BUILD_TYPE=Release -DTOUCHDOWN_WERROR=ON
 cmake --build build -j"$jobs"
 step "Tests (Release)"
 ctest --test-dir build -j"$jobs" --output-on-failure
+
+if [ "${SKIP_TIDY:-0}" != "1" ]; then
+  step "Naming checks (clang-tidy)"
+  JOBS=$jobs scripts/tidy.sh build
+fi
 
 if [ "${SKIP_ASAN:-0}" != "1" ]; then
   step "Configure + ASan+UBSan build"

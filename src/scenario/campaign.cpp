@@ -6,6 +6,7 @@
 #include <exception>
 #include <mutex>
 #include <thread>
+#include <utility>
 
 #include "touchdown/core/error.hpp"
 
@@ -49,19 +50,10 @@ CampaignResult run_campaign(const std::vector<Scenario>& scenarios, const Campai
     try {
       auto system = make_landing_system(options.system, options.mls);
       for (std::size_t i = next++; i < scenarios.size(); i = next++) {
-        const ScenarioResult r = run_scenario(scenarios[i], *system, options.run);
+        ScenarioResult r = run_scenario(scenarios[i], *system, options.run);
         CampaignEntry& e = result.entries[i];
         e.map = scenarios[i].map;
-        e.violation = r.violation;
-        e.type = r.type;
-        e.message = r.message;
-        e.landed = r.landed;
-        e.dtl = r.dtl;
-        e.ttl = r.ttl;
-        e.false_detection = r.false_detection;
-        e.flight_s = r.trajectory.empty() ? 0.0 : r.trajectory.back().t;
-        e.frames = static_cast<int>(r.frames.size());
-        e.timing = r.timing;
+        e.outcome = std::move(static_cast<ScenarioOutcome&>(r));
         if (options.progress) {
           const std::lock_guard lock(progress_mutex);
           options.progress(i, e);
@@ -84,12 +76,13 @@ CampaignResult run_campaign(const std::vector<Scenario>& scenarios, const Campai
   if (failure) std::rethrow_exception(failure);
 
   CampaignSummary& s = result.summary;
-  for (const auto& e : result.entries) {
+  for (const auto& entry : result.entries) {
+    const ScenarioOutcome& e = entry.outcome;
     ++s.scenarios;
-    s.violations += e.violation ? 1 : 0;
-    s.type_i += e.type == Violation::type_i ? 1 : 0;
-    s.type_ii += e.type == Violation::type_ii ? 1 : 0;
-    s.type_iii += e.type == Violation::type_iii ? 1 : 0;
+    s.violations += e.violation() ? 1 : 0;
+    s.type_i += e.status == Violation::type_i ? 1 : 0;
+    s.type_ii += e.status == Violation::type_ii ? 1 : 0;
+    s.type_iii += e.status == Violation::type_iii ? 1 : 0;
     s.flight_s += e.flight_s;
     s.timing.render_s += e.timing.render_s;
     s.timing.system_s += e.timing.system_s;

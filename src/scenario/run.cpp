@@ -2,6 +2,7 @@
 // paper's violation semantics and an automatic Type I/II/III classification.
 #include "touchdown/scenario/run.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -54,102 +55,35 @@ SystemSetup system_setup(const Scenario& scenario, const RunOptions& options) {
   return setup;
 }
 
-ScenarioResult run_scenario(const Scenario& scenario, LandingSystem& system, const RunOptions& options) {
+namespace {
+
+const RunOptions& validated(const RunOptions& options) {
   std::string why;
   if (!options.validate(&why)) throw InvalidArgument("run options: " + why);
-  const auto t_start = Clock::now();
-  World world(scenario, options.flight);
-  Renderer renderer(scenario, options.camera);
+  return options;
+}
 
-  system.reset(system_setup(scenario, options));
+/// Ground truth from the semantic mask: is the detection's centre on the
+/// target marker?
+bool on_marker(const Detection& d, const CameraFrame& frame) {
+  const Eigen::Vector2d c = 0.25 * (d.corners[0] + d.corners[1] + d.corners[2] + d.corners[3]);
+  const int u = static_cast<int>(std::lround(c.x())), v = static_cast<int>(std::lround(c.y()));
+  const bool inside = u >= 0 && v >= 0 && u < frame.width && v < frame.height;
+  return inside && frame.mask[static_cast<std::size_t>(v) * static_cast<std::size_t>(frame.width) +
+                              static_cast<std::size_t>(u)] == kMarker;
+}
 
-  ScenarioResult r;
-  const double dt = world.dt();
-  const auto steps = static_cast<long>(std::ceil(scenario.time_limit / dt - 1e-9));
-  const double frame_period = 1.0 / options.camera.rate_hz;
-  double next_frame = 0;
-  int frame_index = 0;
-  CameraFrame frame;
-  SceneState scene;
-  std::vector<ObjectAction> actions(static_cast<std::size_t>(world.external_count()), ObjectAction::stay);
-  r.trajectory.reserve(static_cast<std::size_t>(steps) + 1);
-  const Eigen::Vector2d marker = scenario.marker.position;
-
-  for (long k = 0; k < steps; ++k) {
-    const DroneState& state = world.drone();
-    SystemInput in;
-    in.state = state;
-    const bool frame_due = state.t >= next_frame - 1e-9;
-    if (frame_due) {
-      auto t0 = Clock::now();
-      scene.t = state.t;
-      scene.frame_index = frame_index++;
-      scene.T_world_body = state.T_world_body();
-      scene.v_world = state.velocity;
-      scene.T_world_dynamic = world.dynamic_poses();
-      renderer.render(scene, frame);
-      r.timing.render_s += seconds_since(t0);
-      in.frame = &frame;
-      next_frame += frame_period;
-    }
-    auto t1 = Clock::now();
-    SystemOutput out = system.update(in);
-    r.timing.system_s += seconds_since(t1);
-
-    if (frame_due) {
-      FrameRecord rec;
-      rec.t = state.t;
-      rec.marker_area_visible_px = frame.marker_area_visible_px;
-      rec.marker_area_truth_px = frame.marker_area_truth_px;
-      rec.detections = static_cast<int>(out.detections.size());
-      for (const Detection& d : out.detections) {
-        if (!d.accepted) continue;
-        ++rec.accepted;
-        // Ground truth from the semantic mask: is the detection's centre on
-        // the target marker?
-        const Eigen::Vector2d c = 0.25 * (d.corners[0] + d.corners[1] + d.corners[2] + d.corners[3]);
-        const int u = static_cast<int>(std::lround(c.x())), v = static_cast<int>(std::lround(c.y()));
-        const bool inside = u >= 0 && v >= 0 && u < frame.width && v < frame.height;
-        if (!inside || frame.mask[static_cast<std::size_t>(v) * static_cast<std::size_t>(frame.width) +
-                                  static_cast<std::size_t>(u)] != kMarker) {
-          ++rec.false_accepted;
-          r.false_detection = true;
-        }
-      }
-      r.frames.push_back(rec);
-      if (options.on_frame) options.on_frame(frame, out, state);
-    }
-    if (out.descent_started) {
-      r.descent_started = true;
-      r.descent_time = state.t;
-      r.descent_target = out.target;
-    }
-
-    auto t2 = Clock::now();
-    if (options.external && !actions.empty()) options.external(world, actions);
-    world.step(out.command, actions);
-    r.timing.physics_s += seconds_since(t2);
-    const DroneState& now = world.drone();
-    r.trajectory.push_back({now.t, now.position, now.velocity, now.yaw_deg, std::string(out.phase)});
-    if (world.collision() || now.landed) break;
-  }
-
-  const DroneState& last = world.drone();
-  r.final_position = last.position;
-  r.dtl = (last.position.head<2>() - marker).norm();
-  r.landed = last.landed;
-  r.ttl = last.landed ? last.t : scenario.time_limit;
-  const double radius = options.violation_radius;
-  if (const CollisionEvent* c = world.collision()) {
+/// The violation classification and its one-line message.
+void classify(ScenarioOutcome& r, const Eigen::Vector2d& marker, double time_limit, double radius,
+              const CollisionEvent* collision) {
+  if (collision) {
     r.collided = true;
-    r.collision = *c;
-    r.violation = true;
-    r.type = Violation::type_iii;
-    r.message = "Type III: collided with " + c->what + " at t = " + format_fixed(c->t, 2) + " s";
+    r.collision = *collision;
+    r.status = Violation::type_iii;
+    r.message = "Type III: collided with " + collision->what + " at t = " + format_fixed(collision->t, 2) + " s";
   } else if (!r.landed) {
-    r.violation = true;
-    r.type = Violation::type_ii;
-    r.message = std::string("Type II: no landing within ") + format_fixed(scenario.time_limit, 0) + " s (" +
+    r.status = Violation::type_ii;
+    r.message = std::string("Type II: no landing within ") + format_fixed(time_limit, 0) + " s (" +
                 (r.descent_started
                      ? "a descent started at t = " + format_fixed(r.descent_time, 1) + " s did not reach the ground"
                      : std::string("the marker was never seen long enough")) +
@@ -157,18 +91,116 @@ ScenarioResult run_scenario(const Scenario& scenario, LandingSystem& system, con
   } else if (r.dtl > radius) {
     // Landed off target: something the system took for the marker led it
     // there (a false positive, the paper's Type I).
-    r.violation = true;
-    r.type = Violation::type_i;
+    r.status = Violation::type_i;
     r.message = "Type I: landed " + format_fixed(r.dtl, 2) + " m from the marker";
     if (r.descent_started)
       r.message += "; the descent was triggered by a detection " + format_fixed((r.descent_target - marker).norm(), 2) +
                    " m from it";
     if (r.false_detection) r.message += " (false detections seen)";
   } else {
+    r.status = Violation::none;
     r.message = "landed " + format_fixed(r.dtl, 2) + " m from the marker after " + format_fixed(r.ttl, 1) + " s";
   }
-  r.timing.total_s = seconds_since(t_start);
+}
+
+}  // namespace
+
+ScenarioRun::ScenarioRun(const Scenario& scenario, LandingSystem& system, const RunOptions& options, double max_time)
+    : scenario_(scenario),
+      system_(system),
+      options_(validated(options)),
+      start_(Clock::now()),
+      world_(scenario, options.flight),
+      renderer_(scenario, options.camera),
+      time_limit_(max_time > 0 ? std::min(max_time, scenario.time_limit) : scenario.time_limit) {
+  system_.reset(system_setup(scenario, options));
+  steps_ = static_cast<long>(std::ceil(time_limit_ / world_.dt() - 1e-9));
+  frame_period_ = 1.0 / options.camera.rate_hz;
+  actions_.assign(static_cast<std::size_t>(world_.external_count()), ObjectAction::stay);
+  result_.trajectory.reserve(static_cast<std::size_t>(steps_) + 1);
+}
+
+bool ScenarioRun::over() const { return k_ >= steps_ || world_.collision() || world_.drone().landed; }
+
+bool ScenarioRun::step() {
+  if (over()) return false;
+  ++k_;
+  ScenarioResult& r = result_;
+  const DroneState& state = world_.drone();
+  SystemInput& in = last_input_;
+  in.state = state;
+  in.frame = nullptr;
+  const bool frame_due = state.t >= next_frame_ - 1e-9;
+  if (frame_due) {
+    auto t0 = Clock::now();
+    scene_.t = state.t;
+    scene_.frame_index = frame_index_++;
+    scene_.T_world_body = state.T_world_body();
+    scene_.v_world = state.velocity;
+    scene_.T_world_dynamic = world_.dynamic_poses();
+    renderer_.render(scene_, frame_);
+    r.timing.render_s += seconds_since(t0);
+    in.frame = &frame_;
+    next_frame_ += frame_period_;
+  }
+  auto t1 = Clock::now();
+  last_output_ = system_.update(in);
+  r.timing.system_s += seconds_since(t1);
+  const SystemOutput& out = last_output_;
+
+  if (frame_due) {
+    FrameRecord rec;
+    rec.t = state.t;
+    rec.marker_area_visible_px = frame_.marker_area_visible_px;
+    rec.marker_area_truth_px = frame_.marker_area_truth_px;
+    rec.detections = static_cast<int>(out.detections.size());
+    for (const Detection& d : out.detections) {
+      if (!d.accepted) continue;
+      ++rec.accepted;
+      if (!on_marker(d, frame_)) {
+        ++rec.false_accepted;
+        r.false_detection = true;
+      }
+    }
+    r.frames.push_back(rec);
+    if (options_.on_frame) options_.on_frame(frame_, out, state);
+  }
+  if (out.descent_started) {
+    r.descent_started = true;
+    r.descent_time = state.t;
+    r.descent_target = out.target;
+  }
+
+  auto t2 = Clock::now();
+  if (options_.external && !actions_.empty()) options_.external(world_, actions_);
+  world_.step(out.command, actions_);
+  r.timing.physics_s += seconds_since(t2);
+  const DroneState& now = world_.drone();
+  r.trajectory.push_back({now.t, now.position, now.velocity, now.yaw_deg, std::string(out.phase)});
+  return true;
+}
+
+ScenarioResult ScenarioRun::finish() {
+  ScenarioResult r = std::move(result_);
+  result_ = {};
+  const DroneState& last = world_.drone();
+  r.final_position = last.position;
+  const Eigen::Vector2d marker = scenario_.marker.position;
+  r.dtl = (last.position.head<2>() - marker).norm();
+  r.landed = last.landed;
+  r.ttl = last.landed ? last.t : time_limit_;
+  r.flight_s = r.trajectory.empty() ? 0.0 : r.trajectory.back().t;
+  r.frame_count = static_cast<int>(r.frames.size());
+  classify(r, marker, time_limit_, options_.violation_radius, world_.collision());
+  r.timing.total_s = seconds_since(start_);
   return r;
+}
+
+ScenarioResult run_scenario(const Scenario& scenario, LandingSystem& system, const RunOptions& options) {
+  ScenarioRun run(scenario, system, options);
+  while (run.step()) {
+  }
+  return run.finish();
 }
 
 }  // namespace touchdown::scenario

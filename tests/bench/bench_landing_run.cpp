@@ -45,7 +45,7 @@ void run(benchmark::State& bs, bool roi) {
   int runs = 0;
   for (auto _ : bs) {
     const ts::ScenarioResult r = ts::run_scenario(s, *sut);
-    if (r.violation) bs.SkipWithError(r.message.c_str());
+    if (r.violation()) bs.SkipWithError(r.message.c_str());
     sum.render_s += r.timing.render_s, sum.system_s += r.timing.system_s, sum.physics_s += r.timing.physics_s;
     flight += r.ttl;
     ++runs;

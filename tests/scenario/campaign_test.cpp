@@ -35,25 +35,27 @@ TEST(Campaign, SameResultsForAnyThreadCount) {
   ASSERT_EQ(two.entries.size(), scenarios.size());
   EXPECT_EQ(reported.size(), scenarios.size());
   for (std::size_t i = 0; i < scenarios.size(); ++i) {
-    const CampaignEntry& a = one.entries[i];
-    const CampaignEntry& b = two.entries[i];
-    EXPECT_EQ(a.type, b.type) << i;
+    const ScenarioOutcome& a = one.entries[i].outcome;
+    const ScenarioOutcome& b = two.entries[i].outcome;
+    EXPECT_EQ(a.status, b.status) << i;
     EXPECT_EQ(a.message, b.message) << i;
     EXPECT_EQ(a.dtl, b.dtl) << i;
     EXPECT_EQ(a.ttl, b.ttl) << i;
-    EXPECT_EQ(a.frames, b.frames) << i;
-    EXPECT_EQ(a.map, scenarios[i].map);
-    EXPECT_GT(a.frames, 0);
+    EXPECT_EQ(a.frame_count, b.frame_count) << i;
+    EXPECT_EQ(one.entries[i].map, scenarios[i].map);
+    EXPECT_GT(a.frame_count, 0);
     EXPECT_LE(a.flight_s, 10.0 + 1e-9);
   }
   // The summary counts what the entries say.
   const CampaignSummary& s = one.summary;
   EXPECT_EQ(s.scenarios, 2);
   int violations = 0, ii = 0;
-  for (const auto& e : one.entries) {
-    violations += e.violation;
-    ii += e.type == Violation::type_ii;
-    EXPECT_EQ(e.violation, e.type != Violation::none);
+  for (const auto& entry : one.entries) {
+    const ScenarioOutcome& e = entry.outcome;
+    violations += e.violation();
+    ii += e.status == Violation::type_ii;
+    EXPECT_EQ(e.violation(), e.status != Violation::none);
+    EXPECT_EQ(e.ok(), !e.violation());
   }
   EXPECT_EQ(s.violations, violations);
   EXPECT_EQ(s.type_ii, ii);
@@ -111,8 +113,8 @@ TEST(DetectionRoi, SameLandingFewerDetectionsOfTheDistractor) {
   auto b = make_landing_system("opencv-mls", whole);
   const ScenarioResult ra = run_scenario(s, *a);
   const ScenarioResult rb = run_scenario(s, *b);
-  EXPECT_FALSE(ra.violation) << ra.message;
-  EXPECT_FALSE(rb.violation) << rb.message;
+  EXPECT_FALSE(ra.violation()) << ra.message;
+  EXPECT_FALSE(rb.violation()) << rb.message;
   ASSERT_EQ(ra.trajectory.size(), rb.trajectory.size());
   for (std::size_t k = 0; k < ra.trajectory.size(); ++k) {
     ASSERT_EQ(ra.trajectory[k].position, rb.trajectory[k].position) << "step " << k;

@@ -21,8 +21,8 @@ ScenarioResult run_with(const Scenario& s, std::string_view system = "opencv-mls
 
 TEST(RunScenario, ClearWeatherLandsOnTheMarker) {
   const ScenarioResult r = run_with(test::clear_scenario());
-  EXPECT_FALSE(r.violation) << r.message;
-  EXPECT_EQ(r.type, Violation::none);
+  EXPECT_FALSE(r.violation()) << r.message;
+  EXPECT_EQ(r.status, Violation::none);
   EXPECT_TRUE(r.landed);
   EXPECT_LT(r.dtl, 0.5) << r.message;
   EXPECT_TRUE(r.descent_started);
@@ -55,8 +55,8 @@ TEST(RunScenario, LookalikeMarkerLeadsToATypeILanding) {
   s.distractors = {fake};
   s.drone.position = {-16, 0, 12};
   const ScenarioResult r = run_with(s);
-  EXPECT_TRUE(r.violation);
-  EXPECT_EQ(r.type, Violation::type_i) << r.message;
+  EXPECT_TRUE(r.violation());
+  EXPECT_EQ(r.status, Violation::type_i) << r.message;
   EXPECT_TRUE(r.landed);
   EXPECT_NEAR(r.dtl, 12.0, 1.0);
   EXPECT_TRUE(r.false_detection);
@@ -68,8 +68,8 @@ TEST(RunScenario, DenseFogIsATypeIIViolation) {
   s.weather.fog = 0.4;
   s.time_limit = 20;
   const ScenarioResult r = run_with(s);
-  EXPECT_TRUE(r.violation);
-  EXPECT_EQ(r.type, Violation::type_ii) << r.message;
+  EXPECT_TRUE(r.violation());
+  EXPECT_EQ(r.status, Violation::type_ii) << r.message;
   EXPECT_FALSE(r.landed);
   EXPECT_FALSE(r.descent_started);
   EXPECT_DOUBLE_EQ(r.ttl, 20);
@@ -81,8 +81,8 @@ TEST(RunScenario, PoleOnTheDescentPathIsATypeIIICollision) {
   // marker is read from above and the descent meets the pole.
   const Scenario s = test::pole_on_marker_scenario();
   const ScenarioResult r = run_with(s);
-  EXPECT_TRUE(r.violation);
-  EXPECT_EQ(r.type, Violation::type_iii) << r.message;
+  EXPECT_TRUE(r.violation());
+  EXPECT_EQ(r.status, Violation::type_iii) << r.message;
   EXPECT_TRUE(r.collided);
   EXPECT_EQ(r.collision.what, "static_objects[0] (pole)");
   // It hit the pole on the way down, below the pole's top.
@@ -103,7 +103,7 @@ TEST(RunScenario, ReplayIsBitIdentical) {
   s.weather.ambient = 0.4;
   const Scenario replay = parse_scenario(to_json(s), "replay.json");
   const ScenarioResult a = run_with(s), b = run_with(replay);
-  EXPECT_EQ(a.type, b.type);
+  EXPECT_EQ(a.status, b.status);
   EXPECT_EQ(a.message, b.message);
   ASSERT_EQ(a.trajectory.size(), b.trajectory.size());
   for (std::size_t i = 0; i < a.trajectory.size(); ++i) {
@@ -118,11 +118,60 @@ TEST(RunScenario, ReplayIsBitIdentical) {
   }
 }
 
+TEST(ScenarioRun, SteppedByHandIsRunScenario) {
+  const Scenario s = test::clear_scenario();
+  const ScenarioResult whole = run_with(s);
+  auto sut = make_landing_system("opencv-mls");
+  ScenarioRun run(s, *sut);
+  std::size_t steps = 0, frames = 0;
+  while (run.step()) {
+    ++steps;
+    frames += run.last_input().frame != nullptr ? 1 : 0;
+    // Each step's input is the state the step before left.
+    const double t_before = steps == 1 ? 0.0 : whole.trajectory[steps - 2].t;
+    ASSERT_EQ(run.last_input().state.t, t_before) << "step " << steps;
+  }
+  EXPECT_TRUE(run.over());
+  EXPECT_FALSE(run.step()) << "a run that is over takes no more steps";
+  const ScenarioResult r = run.finish();
+  EXPECT_EQ(steps, whole.trajectory.size());
+  EXPECT_EQ(frames, whole.frames.size());
+  EXPECT_EQ(r.status, whole.status);
+  EXPECT_EQ(r.message, whole.message);
+  ASSERT_EQ(r.trajectory.size(), whole.trajectory.size());
+  for (std::size_t i = 0; i < r.trajectory.size(); ++i)
+    ASSERT_EQ(std::memcmp(r.trajectory[i].position.data(), whole.trajectory[i].position.data(), 3 * sizeof(double)), 0)
+        << "step " << i;
+  // The outcome's summaries are derived from the records.
+  EXPECT_EQ(r.flight_s, r.trajectory.back().t);
+  EXPECT_EQ(r.frame_count, static_cast<int>(r.frames.size()));
+  EXPECT_EQ(r.ok(), !r.violation());
+}
+
+TEST(ScenarioRun, MaxTimeEndsTheRunAsATypeII) {
+  const Scenario s = test::clear_scenario();
+  ASSERT_GT(s.time_limit, 3.0);
+  auto sut = make_landing_system("opencv-mls");
+  ScenarioRun run(s, *sut, {}, 3.0);
+  EXPECT_EQ(run.time_limit(), 3.0);
+  while (run.step()) {
+  }
+  const ScenarioResult r = run.finish();
+  EXPECT_FALSE(r.landed);
+  EXPECT_EQ(r.status, Violation::type_ii);
+  EXPECT_TRUE(r.violation());
+  EXPECT_FALSE(r.ok());
+  EXPECT_EQ(r.ttl, 3.0);
+  EXPECT_NEAR(r.flight_s, 3.0, 1e-9);
+  EXPECT_NE(r.message.find("no landing within 3 s"), std::string::npos) << r.message;
+}
+
 TEST(RunScenario, RejectsInvalidOptionsAndUnknownSystems) {
   RunOptions o;
   o.violation_radius = -1;
   auto sut = make_landing_system("opencv-mls");
   EXPECT_THROW(run_scenario(test::clear_scenario(), *sut, o), InvalidArgument);
+  EXPECT_THROW(ScenarioRun(test::clear_scenario(), *sut, o), InvalidArgument);
   EXPECT_THROW(make_landing_system("px4-precland"), InvalidArgument);
   MlsOptions m;
   m.seen_time = -1;

@@ -16,19 +16,11 @@
 
 namespace touchdown::scenario {
 
-/// One scenario's outcome, without the trajectory and frames.
+/// One scenario of a campaign: its map and its run's outcome (without the
+/// trajectory and frames).
 struct CampaignEntry {
   MapKind map = MapKind::ground;
-  bool violation = false;
-  Violation type = Violation::none;
-  std::string message;
-  bool landed = false;
-  double dtl = 0;  ///< [m]
-  double ttl = 0;  ///< [s]
-  bool false_detection = false;
-  double flight_s = 0;  ///< simulated time [s]
-  int frames = 0;
-  Timing timing;
+  ScenarioOutcome outcome;
 };
 
 struct CampaignOptions {

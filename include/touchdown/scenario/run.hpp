@@ -10,6 +10,7 @@
 ///   Type II   no landing: the marker was never (or not long enough) detected;
 ///   Type III  collision.
 #include <Eigen/Core>
+#include <chrono>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -68,28 +69,88 @@ struct Timing {
   double total_s = 0;
 };
 
-struct ScenarioResult {
-  bool violation = false;
-  Violation type = Violation::none;
+/// A run's outcome without its per-step records: what a campaign keeps of
+/// each scenario. `status` is the violation type (None: no violation); the
+/// violation flag is derived from it.
+struct ScenarioOutcome {
+  Violation status = Violation::none;
   std::string message;  ///< one line: what happened
   bool landed = false;
   bool collided = false;
   CollisionEvent collision;
   double dtl = 0;  ///< distance from the final (landing) position to the marker centre, horizontal [m]
-  double ttl = 0;  ///< time to landing [s]; the time limit when it did not land
+  double ttl = 0;  ///< time to landing [s]; the run's time limit when it did not land
   Eigen::Vector3d final_position = Eigen::Vector3d::Zero();
   bool descent_started = false;
   double descent_time = 0;
   Eigen::Vector2d descent_target = Eigen::Vector2d::Zero();
-  bool false_detection = false;              ///< some accepted detection was not on the true marker
-  std::vector<TrajectorySample> trajectory;  ///< every physics step
-  std::vector<FrameRecord> frames;
+  bool false_detection = false;  ///< some accepted detection was not on the true marker
+  double flight_s = 0;           ///< simulated time flown [s]
+  int frame_count = 0;           ///< camera frames the system was given
   Timing timing;
+
+  [[nodiscard]] bool violation() const { return status != Violation::none; }
+  [[nodiscard]] bool ok() const { return status == Violation::none; }
+};
+
+/// A run's outcome and its per-step records.
+struct ScenarioResult : ScenarioOutcome {
+  std::vector<TrajectorySample> trajectory;  ///< every physics step
+  std::vector<FrameRecord> frames;           ///< every camera frame
 };
 
 /// What run_scenario() gives a system's reset() for `scenario`: the camera,
 /// the marker to look for, the approximate (GPS) target and the drone's radius.
 SystemSetup system_setup(const Scenario& scenario, const RunOptions& options);
+
+/// One closed-loop run stepped by its caller: run_scenario() is this class
+/// stepped to the end. Lets a caller advance several runs in turn, look at
+/// every step, or stop early. Holds references to `scenario`, `system` and
+/// `options`: they must outlive it.
+class ScenarioRun {
+ public:
+  /// Resets `system` for `scenario`. `max_time` > 0 ends the run after that
+  /// many simulated seconds if the scenario's time limit is longer. Throws
+  /// InvalidArgument for invalid options or scenario.
+  ScenarioRun(const Scenario& scenario, LandingSystem& system, const RunOptions& options = {}, double max_time = 0);
+
+  /// One physics step (a camera frame first when one is due); false, and
+  /// nothing done, once the run is over.
+  bool step();
+  /// Time limit reached, collided or landed.
+  [[nodiscard]] bool over() const;
+
+  /// The last step's input to the system and its answer, valid until the
+  /// next step (the input's frame, when it had one, and the output's phase
+  /// are views).
+  [[nodiscard]] const SystemInput& last_input() const { return last_input_; }
+  [[nodiscard]] const SystemOutput& last_output() const { return last_output_; }
+  [[nodiscard]] const World& world() const { return world_; }
+  /// The run's duration limit [s]: the scenario's, or `max_time` if shorter.
+  [[nodiscard]] double time_limit() const { return time_limit_; }
+
+  /// The outcome at this point (the run's outcome once over()); moves the
+  /// records out, so call it once.
+  [[nodiscard]] ScenarioResult finish();
+
+ private:
+  const Scenario& scenario_;
+  LandingSystem& system_;
+  const RunOptions& options_;
+  std::chrono::steady_clock::time_point start_;
+  World world_;
+  Renderer renderer_;
+  double time_limit_ = 0;
+  long steps_ = 0, k_ = 0;
+  double frame_period_ = 0, next_frame_ = 0;
+  int frame_index_ = 0;
+  CameraFrame frame_;
+  SceneState scene_;
+  std::vector<ObjectAction> actions_;
+  SystemInput last_input_;
+  SystemOutput last_output_;
+  ScenarioResult result_;
+};
 
 /// Runs `system` in `scenario` until it lands, collides or the time limit.
 /// Throws InvalidArgument for invalid options or scenario.

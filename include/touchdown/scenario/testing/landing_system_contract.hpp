@@ -138,44 +138,22 @@ struct StepRecord {
 };
 using Record = std::vector<StepRecord>;
 
-/// One closed-loop run stepped from outside, as run_scenario() steps it
-/// (so that two runs can advance in turn).
+/// One closed-loop run stepped from outside (ScenarioRun, as run_scenario()
+/// steps it, so that two runs can advance in turn), recording every step.
 class Lane {
  public:
   Lane(LandingSystem& system, const Scenario& scenario, const RunOptions& options, double max_time = 0)
-      : system_(system), world_(scenario, options.flight), renderer_(scenario, options.camera) {
-    system_.reset(system_setup(scenario, options));
-    const double duration = max_time > 0 ? std::min(max_time, scenario.time_limit) : scenario.time_limit;
-    steps_ = static_cast<long>(std::ceil(duration / world_.dt() - 1e-9));
-    frame_period_ = 1.0 / options.camera.rate_hz;
-    actions_.assign(static_cast<std::size_t>(world_.external_count()), ObjectAction::stay);
-  }
+      : run_(scenario, system, options, max_time) {}
 
   /// One step; false once the run is over (time limit, collision, landing).
   bool step() {
-    if (k_ >= steps_ || world_.collision() || world_.drone().landed) return false;
-    ++k_;
-    const DroneState& state = world_.drone();
-    SystemInput in;
-    in.state = state;
-    const bool frame_due = state.t >= next_frame_ - 1e-9;
-    if (frame_due) {
-      scene_.t = state.t;
-      scene_.frame_index = frame_index_++;
-      scene_.T_world_body = state.T_world_body();
-      scene_.v_world = state.velocity;
-      scene_.T_world_dynamic = world_.dynamic_poses();
-      renderer_.render(scene_, frame_);
-      in.frame = &frame_;
-      next_frame_ += frame_period_;
-    }
+    if (!run_.step()) return false;
     StepRecord r;
-    r.t = state.t;
-    r.frame = frame_due;
-    r.output = system_.update(in);
+    r.t = run_.last_input().state.t;
+    r.frame = run_.last_input().frame != nullptr;
+    r.output = run_.last_output();
     r.phase = std::string(r.output.phase);
     r.output.phase = {};
-    world_.step(r.output.command, actions_);
     record_.push_back(std::move(r));
     return true;
   }
@@ -183,15 +161,7 @@ class Lane {
   [[nodiscard]] const Record& record() const { return record_; }
 
  private:
-  LandingSystem& system_;
-  World world_;
-  Renderer renderer_;
-  long steps_ = 0, k_ = 0;
-  double frame_period_ = 0.1, next_frame_ = 0;
-  int frame_index_ = 0;
-  CameraFrame frame_;
-  SceneState scene_;
-  std::vector<ObjectAction> actions_;
+  ScenarioRun run_;
   Record record_;
 };
 
