@@ -483,6 +483,22 @@ std::string plot_svg(const PlotInput& in) {
   return svg.finish();
 }
 
+// The plot's title: the problem file, the status and, when planned, cost and duration.
+std::string plot_title(const std::string& problem_path, const tp::PlanResult& r) {
+  std::string title =
+      "landing_plan: " + fs::path(problem_path).filename().string() + ": " + std::string(tp::to_string(r.status));
+  if (r.status == tp::PlanStatus::Infeasible && !r.conflicts.empty()) {
+    title += " (feasible without:";
+    for (const auto g : r.conflicts) title += " " + std::string(tp::to_string(g));
+    title += ")";
+  }
+  if (r.ok()) {
+    title += ", cost " + format_fixed(r.cost, 3) +
+             " m\u00b2/s\u2075, T = " + format_fixed(r.trajectory.total_duration(), 2) + " s";
+  }
+  return title;
+}
+
 std::string summary(const std::string& path, const tp::PlanProblem& pb, const tp::PlanResult& r, double seconds) {
   std::ostringstream os;
   os << "landing_plan: " << path << ": " << tp::to_string(r.status) << "\n";
@@ -572,18 +588,8 @@ int main(int argc, char** argv) {
     std::vector<std::pair<std::string, std::string>> outputs;
     if (!qp_path.empty() && r.status != tp::PlanStatus::NoCorridor) outputs.emplace_back(qp_path, qp_json(r.qp));
     if (!plot_path.empty()) {
-      std::string title =
-          "landing_plan: " + fs::path(problem_path).filename().string() + ": " + std::string(tp::to_string(r.status));
-      if (r.status == tp::PlanStatus::Infeasible && !r.conflicts.empty()) {
-        title += " (feasible without:";
-        for (const auto g : r.conflicts) title += " " + std::string(tp::to_string(g));
-        title += ")";
-      }
-      if (r.ok()) {
-        title += ", cost " + format_fixed(r.cost, 3) +
-                 " m\u00b2/s\u2075, T = " + format_fixed(r.trajectory.total_duration(), 2) + " s";
-      }
-      const PlotInput in{title, &problem, &r, problem.goal ? *problem.goal : tp::default_goal(problem.options)};
+      const PlotInput in{plot_title(problem_path, r), &problem, &r,
+                         problem.goal ? *problem.goal : tp::default_goal(problem.options)};
       outputs.emplace_back(plot_path, plot_svg(in));
     }
     if (!samples_path.empty() && r.ok()) {
