@@ -144,7 +144,8 @@ struct Args {
   std::string sequence_dir, camera_file, constellation_file, method = "led";
   tp::ArucoOptions aruco;
   bool no_depth = false, jsonl = false, fuse = false;
-  // render, and benchmark with --constellation.
+  // render; benchmark shares the camera, constellation, geometry, tilt,
+  // seed and profile.
   CLI::App* render = nullptr;
   std::string out_dir, r_camera, r_constellation;
   tp::TrajectoryKind trajectory = tp::TrajectoryKind::Static;
