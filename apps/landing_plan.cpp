@@ -206,209 +206,226 @@ struct PlotInput {
   tp::KinematicState goal;
 };
 
-std::string plot_svg(const PlotInput& in) {
-  const tp::PlanProblem& pb = *in.problem;
-  const tp::PlanResult& r = *in.result;
-  const auto& o = pb.options;
-  const bool have_curve = r.ok();
+// Page layout of the plot [px]: three views side by side, two time plots
+// below them, the legend at the bottom.
+constexpr double kPlotWidth = 1240, kMarginLeft = 64, kGap = 70, kViewTop = 70, kMaxViewHeight = 330;
+constexpr double kTimePlotHeight = 230;
+constexpr double kPadHalf = 0.3;  // drawn pad: a 0.6 m square
 
-  // Geometry in the pad frame.
+// A polytope to draw: its vertices (drawn as their hull in each view).
+struct Shape {
+  std::vector<Eigen::Vector3d> vertices;
+  const char* colour;
+  const char* style;
+  bool field_of_view = false;
+};
+
+// What the views show, in the pad frame.
+struct Scene {
+  bool have_curve = false;
   std::vector<Eigen::Vector3d> curve;
-  if (have_curve) {
-    for (int k = 0; k < r.trajectory.segments(); ++k) {
-      for (int i = 0; i <= 200; ++i) curve.push_back(r.trajectory.evaluate_segment(k, i / 200.0));
-    }
-  }
-  struct Shape {
-    std::vector<Eigen::Vector3d> vertices;
-    const char* colour;
-    const char* style;
-    bool field_of_view = false;
-  };
   std::vector<Shape> shapes;  // drawn in this order
   std::optional<Eigen::Vector3d> camera_at;
+};
+
+Scene plot_scene(const PlotInput& in) {
+  const tp::PlanResult& r = *in.result;
+  const auto& o = in.problem->options;
+  Scene scene;
+  scene.have_curve = r.ok();
+  if (scene.have_curve) {
+    for (int k = 0; k < r.trajectory.segments(); ++k) {
+      for (int i = 0; i <= 200; ++i) scene.curve.push_back(r.trajectory.evaluate_segment(k, i / 200.0));
+    }
+  }
   if (o.corridor && o.corridor->camera) {
-    shapes.push_back({polytope_vertices(o.corridor->camera->pyramid()), kFov,
-                      " fill-opacity='0.07' stroke-dasharray='5,3' stroke-width='1'", true});
-    camera_at = o.corridor->camera->T_pad_camera.translation();
+    scene.shapes.push_back({polytope_vertices(o.corridor->camera->pyramid()), kFov,
+                            " fill-opacity='0.07' stroke-dasharray='5,3' stroke-width='1'", true});
+    scene.camera_at = o.corridor->camera->T_pad_camera.translation();
   }
   for (const auto& b : o.obstacles) {
-    shapes.push_back(
+    scene.shapes.push_back(
         {polytope_vertices(tp::Polytope::from_box(b)), kObstacle, " fill-opacity='0.55' stroke-width='1'"});
   }
   if (r.corridor.ok()) {
-    shapes.push_back({polytope_vertices(r.corridor.rear), kRear, " fill-opacity='0.18' stroke-width='1.5'"});
-    shapes.push_back({polytope_vertices(r.corridor.touchdown), kTouchdown, " fill-opacity='0.18' stroke-width='1.5'"});
+    scene.shapes.push_back({polytope_vertices(r.corridor.rear), kRear, " fill-opacity='0.18' stroke-width='1.5'"});
+    scene.shapes.push_back(
+        {polytope_vertices(r.corridor.touchdown), kTouchdown, " fill-opacity='0.18' stroke-width='1.5'"});
   }
-  constexpr double kPadHalf = 0.3;  // drawn pad: a 0.6 m square
+  return scene;
+}
 
-  // Extent: everything but the field of view (which reaches far_m away; it is clipped).
+// Extent: everything but the field of view (which reaches far_m away; it is clipped).
+std::array<Range, 3> scene_extent(const Scene& scene, const PlotInput& in) {
   std::array<Range, 3> ext;
   auto add = [&](const Eigen::Vector3d& p) {
     for (int a = 0; a < 3; ++a) ext[static_cast<std::size_t>(a)].add(p(a));
   };
-  add(pb.start.p);
+  add(in.problem->start.p);
   add(in.goal.p);
   add(Eigen::Vector3d(kPadHalf, kPadHalf, 0));
   add(Eigen::Vector3d(-kPadHalf, -kPadHalf, 0));
-  for (const auto& p : curve) add(p);
-  if (have_curve) {
-    for (const auto& c : r.trajectory.all_control_points()) add(c);
+  for (const auto& p : scene.curve) add(p);
+  if (scene.have_curve) {
+    for (const auto& c : in.result->trajectory.all_control_points()) add(c);
   }
-  for (const Shape& s : shapes) {
+  for (const Shape& s : scene.shapes) {
     if (s.field_of_view) continue;
     for (const auto& v : s.vertices) add(v);
   }
-  if (camera_at) add(*camera_at);
+  if (scene.camera_at) add(*scene.camera_at);
   for (auto& e : ext) {
     const double pad = std::max(0.1 * e.span(), 0.2);
     e.lo -= pad;
     e.hi += pad;
     e.widen_to(1.0);
   }
+  return ext;
+}
 
-  // Layout: three views side by side on one scale (pixels per metre).
-  const double W = 1240, margin_l = 64, gap = 70, view_top = 70, max_view_h = 330;
-  const double avail = W - margin_l - 2 * gap - 20;
+struct View {
+  td::detail::PlotFrame frame;
+  int a, b;  // data axes across and up
+  const char* name;
+};
+
+struct ViewLayout {
+  std::array<View, 3> views;
+  double height;  // of each view [px]
+};
+
+// Layout: three views side by side on one scale (pixels per metre).
+ViewLayout lay_out_views(std::array<Range, 3> ext) {
+  const double avail = kPlotWidth - kMarginLeft - 2 * kGap - 20;
   const double sx = ext[0].span(), sy = ext[1].span(), sz = ext[2].span();
-  double scale = std::min(avail / (2 * sx + sy), max_view_h / std::max(sy, sz));
+  double scale = std::min(avail / (2 * sx + sy), kMaxViewHeight / std::max(sy, sz));
   // The rear view (y) is at least 160 px wide.
   if (sy * scale < 160) {
     ext[1].widen_to(160 / scale);
   }
-  scale = std::min(avail / (2 * sx + ext[1].span()), max_view_h / std::max(ext[1].span(), sz));
+  scale = std::min(avail / (2 * sx + ext[1].span()), kMaxViewHeight / std::max(ext[1].span(), sz));
   const double view_h = std::max(ext[1].span(), sz) * scale;
   // Each view's vertical range grown to the common height: one scale in all three.
   Range vy = ext[1], vz = ext[2];
   vy.widen_to(view_h / scale);
   vz.widen_to(view_h / scale);
-  const double top_x0 = margin_l, side_x0 = top_x0 + sx * scale + gap, back_x0 = side_x0 + sx * scale + gap;
-  struct View {
-    td::detail::PlotFrame frame;
-    int a, b;  // data axes across and up
-    const char* name;
-  };
-  const std::array<View, 3> views = {
-      View{panel(top_x0, view_top, sx * scale, view_h, ext[0], vy, "x [m] (forward)", "y [m] (left)"), 0, 1,
-           "top view (x-y)"},
-      View{panel(side_x0, view_top, sx * scale, view_h, ext[0], vz, "x [m] (forward)", "z [m] (up)"), 0, 2,
-           "side view (x-z)"},
-      View{panel(back_x0, view_top, ext[1].span() * scale, view_h, ext[1], vz, "\u2190 y [m] (left)", "z [m] (up)",
-                 true),
-           1, 2, "rear view (y-z)"}};
+  const double top_x0 = kMarginLeft, side_x0 = top_x0 + sx * scale + kGap, back_x0 = side_x0 + sx * scale + kGap;
+  return {{View{panel(top_x0, kViewTop, sx * scale, view_h, ext[0], vy, "x [m] (forward)", "y [m] (left)"), 0, 1,
+                "top view (x-y)"},
+           View{panel(side_x0, kViewTop, sx * scale, view_h, ext[0], vz, "x [m] (forward)", "z [m] (up)"), 0, 2,
+                "side view (x-z)"},
+           View{panel(back_x0, kViewTop, ext[1].span() * scale, view_h, ext[1], vz, "\u2190 y [m] (left)", "z [m] (up)",
+                      true),
+                1, 2, "rear view (y-z)"}},
+          view_h};
+}
 
-  const double time_top = view_top + view_h + 110, time_h = 230;
-  const double legend_y = time_top + time_h + 70;
-  const double H = legend_y + 50;
-  td::detail::SvgWriter svg(W, H);
-  svg.title(in.title);
-  std::string sub = "pad frame (x forward, y left, z up; origin at the pad centre)";
-  if (pb.pad.velocity.norm() > 0 || pb.pad.yaw_rate != 0) {
-    sub += "; pad moving at " + format_fixed(pb.pad.velocity.norm(), 2) + " m/s, yaw rate " +
-           format_fixed(pb.pad.yaw_rate, 3) + " rad/s";
+// One view: the shapes, the pad, the camera, the trajectory, start and goal.
+void draw_view(td::detail::SvgWriter& svg, const View& view, const Scene& scene, const PlotInput& in) {
+  const td::detail::PlotFrame& p = view.frame;
+  svg.text((p.left + p.right) / 2, p.top - 8, view.name, " text-anchor='middle' font-weight='bold'");
+  svg.axes(p);
+  svg.begin_clip(p.left, p.top, p.width(), p.height());
+  auto to_px = [&](const Eigen::Vector3d& q) { return Eigen::Vector2d(p.px(q(view.a)), p.py(q(view.b))); };
+  for (const Shape& s : scene.shapes) {
+    std::vector<Eigen::Vector2d> pts;
+    for (const auto& v : s.vertices) pts.push_back(to_px(v));
+    svg.polygon(td::detail::convex_hull(pts), area(s.colour) + s.style);
   }
-  svg.text(W / 2, 38, sub, " text-anchor='middle' fill='#444'");
+  // The pad: a square seen from above, a thick line from the side and the rear.
+  if (view.b == 1) {
+    svg.polygon({to_px({-kPadHalf, -kPadHalf, 0}), to_px({kPadHalf, -kPadHalf, 0}), to_px({kPadHalf, kPadHalf, 0}),
+                 to_px({-kPadHalf, kPadHalf, 0})},
+                " fill='none' stroke='#222' stroke-width='2.5'");
+  } else {
+    const Eigen::Vector3d a = view.a == 0 ? Eigen::Vector3d(-kPadHalf, 0, 0) : Eigen::Vector3d(0, -kPadHalf, 0);
+    const Eigen::Vector2d p0 = to_px(a), p1 = to_px(-a);
+    svg.line(p0.x(), p0.y(), p1.x(), p1.y(), " stroke='#222' stroke-width='5'");
+  }
+  if (scene.camera_at) {
+    const Eigen::Vector2d c = to_px(*scene.camera_at);
+    svg.square(c.x(), c.y(), 4, std::string(" fill='") + kFov + "'");
+  }
+  if (scene.have_curve) {
+    std::vector<Eigen::Vector2d> pts;
+    for (const auto& q : scene.curve) pts.push_back(to_px(q));
+    svg.polyline(pts, std::string(" fill='none' stroke='") + kTrajectory + "' stroke-width='2.2'");
+    for (const auto& c : in.result->trajectory.all_control_points()) {
+      const Eigen::Vector2d q = to_px(c);
+      svg.circle(q.x(), q.y(), 2.8, std::string(" fill='white' stroke='") + kTrajectory + "' stroke-width='1.2'");
+    }
+  }
+  const Eigen::Vector2d s = to_px(in.problem->start.p), g = to_px(in.goal.p);
+  svg.circle(s.x(), s.y(), 6, " fill='#17a317' stroke='black'");
+  svg.diamond(g.x(), g.y(), 6, " fill='#d62728' stroke='black'");
+  svg.end_clip();
+}
 
-  for (const View& view : views) {
-    const td::detail::PlotFrame& p = view.frame;
-    svg.text((p.left + p.right) / 2, p.top - 8, view.name, " text-anchor='middle' font-weight='bold'");
-    svg.axes(p);
-    svg.begin_clip(p.left, p.top, p.width(), p.height());
-    auto to_px = [&](const Eigen::Vector3d& q) { return Eigen::Vector2d(p.px(q(view.a)), p.py(q(view.b))); };
-    for (const Shape& s : shapes) {
+// Time plot j (1: velocity, 2: acceleration) in the world frame against
+// its limit, with its top edge at `top`.
+void draw_time_plot(td::detail::SvgWriter& svg, int j, double top, bool have_curve, const PlotInput& in) {
+  const tp::PlanProblem& pb = *in.problem;
+  const tp::PlanResult& r = *in.result;
+  const auto& o = pb.options;
+  const double tw = (kPlotWidth - kMarginLeft - kGap - 20) / 2;
+  const double limit = j == 1 ? o.v_max : o.a_max;
+  double T = have_curve ? r.trajectory.total_duration() : 0.0;
+  for (const double d : o.durations) T += have_curve ? 0.0 : d;
+  if (!(T > 0)) T = 1.0;
+  Range t_range, v_range;
+  t_range.add(0);
+  t_range.add(T);
+  std::vector<std::array<double, 4>> samples;  // t, x, y, z
+  double peak = limit;
+  if (have_curve) {
+    const int n = 600;
+    for (int i = 0; i <= n; ++i) {
+      const double t = T * i / n;
+      tp::KinematicState rel{r.trajectory.evaluate(t, 0), r.trajectory.evaluate(t, 1), r.trajectory.evaluate(t, 2)};
+      const tp::KinematicState w = pb.pad.to_world(t, rel);
+      const Eigen::Vector3d q = j == 1 ? w.v : w.a;
+      samples.push_back({t, q.x(), q.y(), q.z()});
+      peak = std::max(peak, q.cwiseAbs().maxCoeff());
+    }
+  }
+  // Room above the limit line for its label.
+  v_range.add(-1.25 * peak);
+  v_range.add(1.25 * peak);
+  const td::detail::PlotFrame p = panel(kMarginLeft + (j - 1) * (tw + kGap), top, tw, kTimePlotHeight, t_range, v_range,
+                                        "t [s]", j == 1 ? "v [m/s]" : "a [m/s\u00b2]");
+  const char* title = j == 1 ? "world-frame velocity" : "world-frame acceleration";
+  svg.text((p.left + p.right) / 2, p.top - 8, title, " text-anchor='middle' font-weight='bold'");
+  svg.axes(p);
+  svg.begin_clip(p.left, p.top, p.width(), p.height());
+  svg.line(p.left, p.py(0), p.right, p.py(0), " stroke='#999'");
+  for (double sgn : {1.0, -1.0}) svg.line(p.left, p.py(sgn * limit), p.right, p.py(sgn * limit), kLimitStyle);
+  if (have_curve) {
+    for (int k = 1; k < r.trajectory.segments(); ++k) {
+      const double x = p.px(r.trajectory.start_time(k));
+      svg.line(x, p.top, x, p.bottom, kBoundaryStyle);
+    }
+    for (int a = 0; a < 3; ++a) {
       std::vector<Eigen::Vector2d> pts;
-      for (const auto& v : s.vertices) pts.push_back(to_px(v));
-      svg.polygon(td::detail::convex_hull(pts), area(s.colour) + s.style);
+      for (const auto& s : samples) pts.emplace_back(p.px(s[0]), p.py(s[static_cast<std::size_t>(a + 1)]));
+      svg.polyline(pts, std::string(" fill='none' stroke='") + kAxisColour[a] + "' stroke-width='1.8'");
     }
-    // The pad: a square seen from above, a thick line from the side and the rear.
-    if (view.b == 1) {
-      svg.polygon({to_px({-kPadHalf, -kPadHalf, 0}), to_px({kPadHalf, -kPadHalf, 0}), to_px({kPadHalf, kPadHalf, 0}),
-                   to_px({-kPadHalf, kPadHalf, 0})},
-                  " fill='none' stroke='#222' stroke-width='2.5'");
-    } else {
-      const Eigen::Vector3d a = view.a == 0 ? Eigen::Vector3d(-kPadHalf, 0, 0) : Eigen::Vector3d(0, -kPadHalf, 0);
-      const Eigen::Vector2d p0 = to_px(a), p1 = to_px(-a);
-      svg.line(p0.x(), p0.y(), p1.x(), p1.y(), " stroke='#222' stroke-width='5'");
-    }
-    if (camera_at) {
-      const Eigen::Vector2d c = to_px(*camera_at);
-      svg.square(c.x(), c.y(), 4, std::string(" fill='") + kFov + "'");
-    }
-    if (have_curve) {
-      std::vector<Eigen::Vector2d> pts;
-      for (const auto& q : curve) pts.push_back(to_px(q));
-      svg.polyline(pts, std::string(" fill='none' stroke='") + kTrajectory + "' stroke-width='2.2'");
-      for (const auto& c : r.trajectory.all_control_points()) {
-        const Eigen::Vector2d q = to_px(c);
-        svg.circle(q.x(), q.y(), 2.8, std::string(" fill='white' stroke='") + kTrajectory + "' stroke-width='1.2'");
-      }
-    }
-    const Eigen::Vector2d s = to_px(pb.start.p), g = to_px(in.goal.p);
-    svg.circle(s.x(), s.y(), 6, " fill='#17a317' stroke='black'");
-    svg.diamond(g.x(), g.y(), 6, " fill='#d62728' stroke='black'");
-    svg.end_clip();
+  } else {
+    svg.text((p.left + p.right) / 2, (p.top + p.bottom) / 2 - 10,
+             "no trajectory (" + std::string(tp::to_string(r.status)) + ")",
+             " text-anchor='middle' fill='#a00' font-size='14'");
   }
+  svg.end_clip();
+  svg.text(p.right - 4, p.py(limit) - 4, (j == 1 ? "\u00b1v_max = " : "\u00b1a_max = ") + format_fixed(limit, 2),
+           " text-anchor='end'");
+}
 
-  // Time plots: world-frame velocity and acceleration against the limits.
-  const double tw = (W - margin_l - gap - 20) / 2;
-  for (int j = 1; j <= 2; ++j) {
-    const double limit = j == 1 ? o.v_max : o.a_max;
-    double T = have_curve ? r.trajectory.total_duration() : 0.0;
-    for (const double d : o.durations) T += have_curve ? 0.0 : d;
-    if (!(T > 0)) T = 1.0;
-    Range t_range, v_range;
-    t_range.add(0);
-    t_range.add(T);
-    std::vector<std::array<double, 4>> samples;  // t, x, y, z
-    double peak = limit;
-    if (have_curve) {
-      const int n = 600;
-      for (int i = 0; i <= n; ++i) {
-        const double t = T * i / n;
-        tp::KinematicState rel{r.trajectory.evaluate(t, 0), r.trajectory.evaluate(t, 1), r.trajectory.evaluate(t, 2)};
-        const tp::KinematicState w = pb.pad.to_world(t, rel);
-        const Eigen::Vector3d q = j == 1 ? w.v : w.a;
-        samples.push_back({t, q.x(), q.y(), q.z()});
-        peak = std::max(peak, q.cwiseAbs().maxCoeff());
-      }
-    }
-    // Room above the limit line for its label.
-    v_range.add(-1.25 * peak);
-    v_range.add(1.25 * peak);
-    const td::detail::PlotFrame p = panel(margin_l + (j - 1) * (tw + gap), time_top, tw, time_h, t_range, v_range,
-                                          "t [s]", j == 1 ? "v [m/s]" : "a [m/s\u00b2]");
-    const char* title = j == 1 ? "world-frame velocity" : "world-frame acceleration";
-    svg.text((p.left + p.right) / 2, p.top - 8, title, " text-anchor='middle' font-weight='bold'");
-    svg.axes(p);
-    svg.begin_clip(p.left, p.top, p.width(), p.height());
-    svg.line(p.left, p.py(0), p.right, p.py(0), " stroke='#999'");
-    for (double sgn : {1.0, -1.0}) svg.line(p.left, p.py(sgn * limit), p.right, p.py(sgn * limit), kLimitStyle);
-    if (have_curve) {
-      for (int k = 1; k < r.trajectory.segments(); ++k) {
-        const double x = p.px(r.trajectory.start_time(k));
-        svg.line(x, p.top, x, p.bottom, kBoundaryStyle);
-      }
-      for (int a = 0; a < 3; ++a) {
-        std::vector<Eigen::Vector2d> pts;
-        for (const auto& s : samples) pts.emplace_back(p.px(s[0]), p.py(s[static_cast<std::size_t>(a + 1)]));
-        svg.polyline(pts, std::string(" fill='none' stroke='") + kAxisColour[a] + "' stroke-width='1.8'");
-      }
-    } else {
-      svg.text((p.left + p.right) / 2, (p.top + p.bottom) / 2 - 10,
-               "no trajectory (" + std::string(tp::to_string(r.status)) + ")",
-               " text-anchor='middle' fill='#a00' font-size='14'");
-    }
-    svg.end_clip();
-    svg.text(p.right - 4, p.py(limit) - 4, (j == 1 ? "\u00b1v_max = " : "\u00b1a_max = ") + format_fixed(limit, 2),
-             " text-anchor='end'");
-  }
-
-  // Legend: what the views show, then what the time plots show.
-  td::detail::SvgLegend shown(svg, margin_l, legend_y, 18, td::detail::SvgLegend::Flow::row);
+// Legend: what the views show, then what the time plots show.
+void draw_legend(td::detail::SvgWriter& svg, double legend_y, const Scene& scene, const PlotInput& in) {
+  td::detail::SvgLegend shown(svg, kMarginLeft, legend_y, 18, td::detail::SvgLegend::Flow::row);
   auto box = [&](const char* colour, const std::string& more) {
     return [&svg, colour, more](double x, double y) { svg.rect(x - 10, y - 7, 20, 14, area(colour) + more); };
   };
-  if (have_curve) {
+  if (scene.have_curve) {
     shown.entry("trajectory", [&](double x, double y) {
       svg.line(x - 10, y, x + 10, y, std::string(" stroke='") + kTrajectory + "' stroke-width='2.2'");
     });
@@ -418,12 +435,12 @@ std::string plot_svg(const PlotInput& in) {
   }
   shown.entry("start", [&](double x, double y) { svg.circle(x, y, 6, " fill='#17a317' stroke='black'"); });
   shown.entry("goal", [&](double x, double y) { svg.diamond(x, y, 6, " fill='#d62728' stroke='black'"); });
-  if (r.corridor.ok()) {
+  if (in.result->corridor.ok()) {
     shown.entry("rear corridor", box(kRear, " fill-opacity='0.3'"));
     shown.entry("touchdown corridor", box(kTouchdown, " fill-opacity='0.3'"));
   }
-  if (!o.obstacles.empty()) shown.entry("obstacle", box(kObstacle, " fill-opacity='0.55'"));
-  if (camera_at) {
+  if (!in.problem->options.obstacles.empty()) shown.entry("obstacle", box(kObstacle, " fill-opacity='0.55'"));
+  if (scene.camera_at) {
     shown.entry("camera + field of view", [&](double x, double y) {
       svg.rect(x - 10, y - 7, 20, 14, area(kFov) + " fill-opacity='0.12' stroke-dasharray='5,3'");
       svg.square(x, y, 4, std::string(" fill='") + kFov + "'");
@@ -432,7 +449,7 @@ std::string plot_svg(const PlotInput& in) {
   shown.entry("pad", [&](double x, double y) {
     svg.rect(x - 10, y - 5, 20, 10, " fill='none' stroke='#222' stroke-width='2.5'");
   });
-  td::detail::SvgLegend plotted(svg, margin_l, legend_y + 24, 18, td::detail::SvgLegend::Flow::row);
+  td::detail::SvgLegend plotted(svg, kMarginLeft, legend_y + 24, 18, td::detail::SvgLegend::Flow::row);
   for (int a = 0; a < 3; ++a) {
     plotted.entry(std::string("world ") + "xyz"[a], [&](double x, double y) {
       svg.line(x - 10, y, x + 10, y, std::string(" stroke='") + kAxisColour[a] + "' stroke-width='1.8'");
@@ -440,7 +457,46 @@ std::string plot_svg(const PlotInput& in) {
   }
   plotted.entry("per-axis limit", [&](double x, double y) { svg.line(x - 10, y, x + 10, y, kLimitStyle); });
   plotted.entry("segment boundary", [&](double x, double y) { svg.line(x - 10, y, x + 10, y, kBoundaryStyle); });
+}
+
+std::string plot_svg(const PlotInput& in) {
+  const tp::PlanProblem& pb = *in.problem;
+  const Scene scene = plot_scene(in);
+  const ViewLayout layout = lay_out_views(scene_extent(scene, in));
+
+  const double time_top = kViewTop + layout.height + 110;
+  const double legend_y = time_top + kTimePlotHeight + 70;
+  const double H = legend_y + 50;
+  td::detail::SvgWriter svg(kPlotWidth, H);
+  svg.title(in.title);
+  std::string sub = "pad frame (x forward, y left, z up; origin at the pad centre)";
+  if (pb.pad.velocity.norm() > 0 || pb.pad.yaw_rate != 0) {
+    sub += "; pad moving at " + format_fixed(pb.pad.velocity.norm(), 2) + " m/s, yaw rate " +
+           format_fixed(pb.pad.yaw_rate, 3) + " rad/s";
+  }
+  svg.text(kPlotWidth / 2, 38, sub, " text-anchor='middle' fill='#444'");
+
+  for (const View& view : layout.views) draw_view(svg, view, scene, in);
+  // Time plots: world-frame velocity and acceleration against the limits.
+  for (int j = 1; j <= 2; ++j) draw_time_plot(svg, j, time_top, scene.have_curve, in);
+  draw_legend(svg, legend_y, scene, in);
   return svg.finish();
+}
+
+// The plot's title: the problem file, the status and, when planned, cost and duration.
+std::string plot_title(const std::string& problem_path, const tp::PlanResult& r) {
+  std::string title =
+      "landing_plan: " + fs::path(problem_path).filename().string() + ": " + std::string(tp::to_string(r.status));
+  if (r.status == tp::PlanStatus::Infeasible && !r.conflicts.empty()) {
+    title += " (feasible without:";
+    for (const auto g : r.conflicts) title += " " + std::string(tp::to_string(g));
+    title += ")";
+  }
+  if (r.ok()) {
+    title += ", cost " + format_fixed(r.cost, 3) +
+             " m\u00b2/s\u2075, T = " + format_fixed(r.trajectory.total_duration(), 2) + " s";
+  }
+  return title;
 }
 
 std::string summary(const std::string& path, const tp::PlanProblem& pb, const tp::PlanResult& r, double seconds) {
@@ -532,18 +588,8 @@ int main(int argc, char** argv) {
     std::vector<std::pair<std::string, std::string>> outputs;
     if (!qp_path.empty() && r.status != tp::PlanStatus::NoCorridor) outputs.emplace_back(qp_path, qp_json(r.qp));
     if (!plot_path.empty()) {
-      std::string title =
-          "landing_plan: " + fs::path(problem_path).filename().string() + ": " + std::string(tp::to_string(r.status));
-      if (r.status == tp::PlanStatus::Infeasible && !r.conflicts.empty()) {
-        title += " (feasible without:";
-        for (const auto g : r.conflicts) title += " " + std::string(tp::to_string(g));
-        title += ")";
-      }
-      if (r.ok()) {
-        title += ", cost " + format_fixed(r.cost, 3) +
-                 " m\u00b2/s\u2075, T = " + format_fixed(r.trajectory.total_duration(), 2) + " s";
-      }
-      const PlotInput in{title, &problem, &r, problem.goal ? *problem.goal : tp::default_goal(problem.options)};
+      const PlotInput in{plot_title(problem_path, r), &problem, &r,
+                         problem.goal ? *problem.goal : tp::default_goal(problem.options)};
       outputs.emplace_back(plot_path, plot_svg(in));
     }
     if (!samples_path.empty() && r.ok()) {

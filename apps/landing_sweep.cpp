@@ -45,26 +45,30 @@ std::string runs_csv(const tw::SweepResult& r) {
   return os.str();
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"Land the drone's digital twin on a terrain at n headings x m noisy runs and pick the safest heading.",
-               "landing_sweep"};
+// The command line: what the user asked for.
+struct Args {
   std::string terrain_path, airframe_path, extrinsics_path, runs_csv_path, plot_path;
   tw::SweepOptions o;
   std::vector<double> landing_point, friction;
   double sigma_speed = o.perturbation.sigma_land_speed;
   bool json = false;
-  app.add_option("TERRAIN", terrain_path,
+  bool assume_world = false;
+  double search_radius = 0, search_spacing = 0;
+  tw::SearchPreference search_prefer = tw::SearchPreference::LowestScore;
+  td::terrain::TerrainOptions cloud_options;
+};
+
+void add_options(CLI::App& app, Args& a) {
+  tw::SweepOptions& o = a.o;
+  app.add_option("TERRAIN", a.terrain_path,
                  "terrain mesh (.stl .obj .ply) or point cloud (.pcd .ply .xyz .csv), world frame z up")
       ->required();
-  app.add_option("--airframe", airframe_path,
+  app.add_option("--airframe", a.airframe_path,
                  "airframe YAML (default: the built-in DJI F450, data/airframes/f450.yaml)");
-  bool assume_world = false;
-  auto* extrinsics = app.add_option("--extrinsics", extrinsics_path,
+  auto* extrinsics = app.add_option("--extrinsics", a.extrinsics_path,
                                     "camera pose YAML when TERRAIN is a camera-frame point cloud (not for a mesh)")
                          ->default_str("none");
-  app.add_flag("--assume-world-frame", assume_world,
+  app.add_flag("--assume-world-frame", a.assume_world,
                "TERRAIN is a world-frame cloud (z up) although it looks like a camera frame (docs/formats.md)")
       ->excludes(extrinsics);
   app.add_option("--headings", o.headings, "number of headings n (headings x runs <= 1,000,000)")
@@ -78,7 +82,7 @@ int main(int argc, char** argv) {
          "psi_max [deg]; 0 = 360 / the airframe's symmetry order (the turn after which its feet, motors and body "
          "repeat: 180 for the F450)")
       ->capture_default_str();
-  app.add_option("--landing-point", landing_point, "x,y of the landing point [m]")
+  app.add_option("--landing-point", a.landing_point, "x,y of the landing point [m]")
       ->delimiter(',')
       ->expected(2)
       ->default_str("0,0");
@@ -89,8 +93,8 @@ int main(int argc, char** argv) {
   app.add_option("--sigma-yaw-deg", o.perturbation.sigma_yaw_deg, "heading sigma [deg]")->capture_default_str();
   app.add_option("--sigma-tilt-deg", o.perturbation.sigma_tilt_deg, "initial roll/pitch sigma [deg]")
       ->capture_default_str();
-  app.add_option("--sigma-speed", sigma_speed, "land speed sigma [m/s]")->capture_default_str();
-  app.add_option("--friction", friction, "ground friction range min,max (drawn uniformly per run)")
+  app.add_option("--sigma-speed", a.sigma_speed, "land speed sigma [m/s]")->capture_default_str();
+  app.add_option("--friction", a.friction, "ground friction range min,max (drawn uniformly per run)")
       ->delimiter(',')
       ->expected(2)
       ->default_str("0.6,1");
@@ -102,20 +106,17 @@ int main(int argc, char** argv) {
   app.add_option("--threads", o.threads, "worker threads, 0 = all cores")->capture_default_str();
   app.add_option("--time-budget", o.time_budget, "anytime: stop after the round that passes this many seconds, 0 = off")
       ->capture_default_str();
-  double search_radius = 0, search_spacing = 0;
-  app.add_option("--search-radius", search_radius,
+  app.add_option("--search-radius", a.search_radius,
                  "also try landing points on a grid within this radius [m] and report the best (x, y, psi)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  tw::SearchPreference search_prefer = tw::SearchPreference::LowestScore;
-  td::app::add_enum_option(app, "--search-prefer", search_prefer,
+  td::app::add_enum_option(app, "--search-prefer", a.search_prefer,
                            "which safe point the search returns: lowest (lowest S) or nearest (nearest the landing "
                            "point; farther points are not flown)");
-  app.add_option("--search-spacing", search_spacing, "grid spacing of the search [m], 0 = radius/2")
+  app.add_option("--search-spacing", a.search_spacing, "grid spacing of the search [m], 0 = radius/2")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  td::terrain::TerrainOptions cloud_options;
-  td::app::add_enum_option(app, "--unknown-fill", cloud_options.height_map.unknown_fill,
+  td::app::add_enum_option(app, "--unknown-fill", a.cloud_options.height_map.unknown_fill,
                            "point clouds: fill regions the camera never observed as a block up to their highest rim "
                            "or as a pit (either way a heading over them is unsafe: unobserved terrain)");
   app.add_option("--step", o.simulation.step, "physics step [s]")->capture_default_str();
@@ -123,199 +124,262 @@ int main(int argc, char** argv) {
                  "simulated seconds a landing may take; a run still moving then is invalid (timeout), not scored")
       ->check(CLI::Range(0.1, 600.0))
       ->capture_default_str();
-  app.add_option("--runs-csv", runs_csv_path, "write one CSV row per run")->check(td::app::output_extension(".csv"));
-  app.add_option("--plot", plot_path, "write an SVG of S(psi) per heading with the threshold")
+  app.add_option("--runs-csv", a.runs_csv_path, "write one CSV row per run")->check(td::app::output_extension(".csv"));
+  app.add_option("--plot", a.plot_path, "write an SVG of S(psi) per heading with the threshold")
       ->check(td::app::output_extension(".svg"));
-  app.add_flag("--json", json, "print one JSON object on stdout");
+  app.add_flag("--json", a.json, "print one JSON object on stdout");
+}
+
+// The options the vector flags set, validated.
+void finish_sweep_options(Args& a) {
+  tw::SweepOptions& o = a.o;
+  if (a.landing_point.size() == 2) o.landing_point = {a.landing_point[0], a.landing_point[1]};
+  if (a.friction.size() == 2) {
+    o.perturbation.friction_min = a.friction[0];
+    o.perturbation.friction_max = a.friction[1];
+  }
+  o.perturbation.sigma_land_speed = a.sigma_speed;
+  std::string why;
+  if (!o.validate(&why)) throw td::InvalidArgument(why);
+}
+
+// TERRAIN as a terrain model: a mesh as it is, a cloud in the world frame
+// (through --extrinsics, or as it is when it looks like one).
+std::shared_ptr<const tw::TerrainModel> load_terrain(const std::string& app_name, Args& a) {
+  if (!a.extrinsics_path.empty()) {
+    const auto e = td::app::load_extrinsics_with_warnings(app_name, a.extrinsics_path);
+    a.cloud_options.T_world_camera = e.T_world_camera;
+    a.cloud_options.T_body_camera = e.T_body_camera;
+  }
+  tw::TerrainFile terrain_file = tw::read_terrain_file(a.terrain_path);
+  if (terrain_file.is_mesh() && (!a.extrinsics_path.empty() || a.assume_world)) {
+    throw td::InvalidArgument(a.terrain_path + ": is a mesh, always in the world frame: " +
+                              (a.assume_world ? "--assume-world-frame" : "--extrinsics") +
+                              " applies to point clouds only");
+  }
+  if (!terrain_file.is_mesh() && a.extrinsics_path.empty() && !a.assume_world) {
+    td::app::require_world_frame(a.terrain_path, terrain_file.cloud);
+  }
+  return tw::make_terrain_model(std::move(terrain_file), a.cloud_options);
+}
+
+// One progress bar with an ETA on stderr (a terminal only); the line is
+// closed before anything else is printed.
+class ProgressBar {
+ public:
+  void draw(std::size_t done, std::size_t total) {
+    if (done != total && done < last_drawn_ + std::max<std::size_t>(1, total / 200)) return;
+    last_drawn_ = done;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const int width = 40, filled = static_cast<int>(width * done / std::max<std::size_t>(1, total));
+    std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
+              << std::string(static_cast<std::size_t>(width - filled), '.') << "] " << done << "/" << total;
+    if (done > 0 && done < total) {
+      const double left = elapsed * static_cast<double>(total - done) / static_cast<double>(done);
+      std::cerr << "  " << static_cast<long>(std::ceil(left)) << " s left ";
+    } else {
+      std::cerr << "  " << std::fixed << std::setprecision(1) << elapsed << " s      ";
+    }
+    std::cerr << std::flush;
+    open_ = done != total;
+    if (done == total) std::cerr << "\n";
+  }
+
+  void close() {
+    if (open_) std::cerr << "\n";
+    open_ = false;
+  }
+
+ private:
+  bool open_ = false;
+  const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::size_t last_drawn_ = 0;
+};
+
+// The sweep at the landing point, or with --search-radius the search (the
+// landing point then becomes the best one found).
+tw::SearchResult sweep_or_search(const tw::Airframe& airframe, const std::shared_ptr<const tw::TerrainModel>& terrain,
+                                 Args& a) {
+  tw::SearchResult search;
+  if (a.search_radius > 0) {
+    search = tw::search_landing_point(airframe, terrain, a.o, a.search_radius, a.search_spacing, a.search_prefer);
+    if (!search.ok()) throw td::InvalidArgument(search.message);
+    a.o.landing_point = search.candidates[static_cast<std::size_t>(search.best)].xy;
+  } else {
+    search.sweep = tw::run_sweep(airframe, terrain, a.o);
+    // The user's landing point is off the terrain: bad input for the app.
+    if (!search.sweep.ok()) throw td::InvalidArgument(search.sweep.message);
+  }
+  return search;
+}
+
+// --runs-csv and --plot.
+void write_files(const Args& a, const tw::SearchResult& search, const Eigen::Vector2d& requested,
+                 const tw::Airframe& airframe, const tw::TerrainModel& terrain) {
+  const tw::SweepResult& r = search.sweep;
+  if (!a.runs_csv_path.empty()) td::app::write_text_atomically(a.runs_csv_path, runs_csv(r));
+  if (!a.plot_path.empty()) {
+    const tw::SweepPlotLabels labels{std::filesystem::path(a.terrain_path).filename().string(),
+                                     a.airframe_path.empty() ? "F450 (built in)" : airframe.name};
+    td::app::write_text_atomically(
+        a.plot_path, search.candidates.empty()
+                         ? tw::sweep_plot_svg(r, labels)
+                         : tw::search_plot_svg(search, requested, a.search_radius, airframe, terrain, labels));
+  }
+}
+
+// NaN (no settled run) is JSON null, never a number standing in for it.
+nlohmann::json num(double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(round6(v)); }
+
+nlohmann::json headings_json(const tw::SweepResult& r) {
+  nlohmann::json hs = nlohmann::json::array();
+  for (const auto& h : r.headings) {
+    hs.push_back({{"yaw_deg", round6(td::rad_to_deg(h.yaw))},
+                  {"score_rad", num(h.score)},
+                  {"mean_rad", num(h.mean)},
+                  {"max_touchdown_rad", num(h.max_touchdown)},
+                  {"runs", h.runs},
+                  {"prop_strike_runs", h.prop_strike_runs},
+                  {"arm_strike_runs", h.arm_strike_runs},
+                  {"body_strike_runs", h.body_strike_runs},
+                  {"tipped_runs", h.tipped_runs},
+                  {"invalid_runs", h.invalid_runs},
+                  {"timeout_runs", h.timeout_runs},
+                  {"unstable_runs", h.unstable_runs},
+                  {"invalid_reason", h.invalid_reason},
+                  {"unobserved_terrain", h.unobserved},
+                  {"feet_not_all_down_runs", h.feet_not_all_down_runs},
+                  {"max_offset_m", round6(h.max_offset)},
+                  {"safe", h.safe},
+                  {"reason", std::string(tw::to_string(h.reason))}});
+  }
+  return hs;
+}
+
+// The --json object.
+nlohmann::json sweep_json(const Args& a, const tw::SearchResult& search) {
+  const tw::SweepResult& r = search.sweep;
+  const tw::SweepOptions& o = a.o;
+  const tw::HeadingScore* best = r.best >= 0 ? &r.headings[static_cast<std::size_t>(r.best)] : nullptr;
+  nlohmann::json j;
+  j["terrain"] = a.terrain_path;
+  j["airframe"] = a.airframe_path.empty() ? "built-in f450" : a.airframe_path;
+  j["threshold_rad"] = round6(r.threshold.value());
+  j["threshold_parts"] = {{"tip_rad", round6(r.threshold.tip_rad)},
+                          {"prop_strike_rad", round6(r.threshold.prop_strike_rad)}};
+  j["ground_z"] = round6(r.ground_z);
+  j["landing_point"] = {{"x", round6(o.landing_point.x())}, {"y", round6(o.landing_point.y())}};
+  j["land"] = r.safe;
+  j["unsafe_reasons"] = tw::unsafe_summary(r);
+  if (best) {
+    j["best"] = {{"yaw_deg", round6(td::rad_to_deg(best->yaw))},
+                 {"score_rad", num(best->score)},
+                 {"safe", r.safe},
+                 {"x", round6(o.landing_point.x())},
+                 {"y", round6(o.landing_point.y())}};
+  } else {
+    j["best"] = nullptr;
+  }
+  nlohmann::json safe = nlohmann::json::array();
+  for (const auto& h : r.headings) {
+    if (h.safe) safe.push_back(round6(td::rad_to_deg(h.yaw)));
+  }
+  j["safe_headings_deg"] = safe;
+  j["headings"] = headings_json(r);
+  if (!search.candidates.empty()) {
+    nlohmann::json cs = nlohmann::json::array();
+    for (const auto& c : search.candidates) {
+      if (!c.covered) continue;
+      cs.push_back({{"x", round6(c.xy.x())},
+                    {"y", round6(c.xy.y())},
+                    {"yaw_deg", round6(td::rad_to_deg(c.yaw))},
+                    {"score_rad", num(c.score)},
+                    {"unobserved_terrain", c.unobserved},
+                    {"safe", c.safe}});
+    }
+    j["search"] = cs;
+  }
+  j["runs"] = r.landings();
+  j["completeness"] = round6(r.completeness);
+  j["seconds"] = round6(r.seconds);
+  j["landings_per_second"] = round6(static_cast<double>(r.landings()) / r.seconds);
+  j["simulated_to_wall"] = round6(r.simulated_seconds / r.seconds);
+  j["run_simulated_to_wall"] = round6(r.run_sim_to_wall);
+  return j;
+}
+
+// Radians in the table, "-" for a heading that has no score.
+std::string rad_text(double v) { return std::isnan(v) ? std::string("-") : td::app::format_fixed(v, 3); }
+
+// The human summary: the table of headings, the search's points and the decision.
+void print_summary(const Args& a, const tw::SearchResult& search) {
+  const tw::SweepResult& r = search.sweep;
+  const tw::SweepOptions& o = a.o;
+  const tw::HeadingScore* best = r.best >= 0 ? &r.headings[static_cast<std::size_t>(r.best)] : nullptr;
+  const double lps = static_cast<double>(r.landings()) / r.seconds;
+  std::cout << std::fixed << std::setprecision(3);
+  std::cout << "landing_sweep: " << a.terrain_path << ", " << r.landings() << " landings (" << r.headings.size()
+            << " headings x " << r.rounds_completed << " runs) in " << r.seconds << " s (" << std::setprecision(0)
+            << lps << " landings/s; one landing simulates " << r.run_sim_to_wall << "x faster than real time)\n"
+            << std::setprecision(3) << "  safety threshold " << r.threshold.value() << " rad (tip-over "
+            << r.threshold.tip_rad << ", propeller or arm strike " << r.threshold.prop_strike_rad << ")\n"
+            << "  heading  S(psi)    mean  touchdown   prop   arm  body  tipped  invalid  verdict\n"
+            << "    [deg]   [rad]   [rad]      [rad]   (runs with a strike, of " << r.rounds_completed << ")\n";
+  for (const auto& h : r.headings) {
+    std::string verdict = h.safe ? "safe" : "unsafe: " + std::string(tw::to_string(h.reason));
+    if (h.reason == tw::UnsafeReason::InvalidRuns) verdict = "invalid (" + h.invalid_reason + ")";
+    std::cout << "  " << std::setw(7) << std::setprecision(1) << td::rad_to_deg(h.yaw) << std::setprecision(3) << " "
+              << std::setw(7) << rad_text(h.score) << " " << std::setw(7) << rad_text(h.mean) << " " << std::setw(10)
+              << rad_text(h.max_touchdown) << " " << std::setw(6) << h.prop_strike_runs << std::setw(6)
+              << h.arm_strike_runs << std::setw(6) << h.body_strike_runs << std::setw(8) << h.tipped_runs
+              << std::setw(9) << h.invalid_runs << "  " << verdict << "\n";
+  }
+  for (const auto& c : search.candidates) {
+    if (!c.covered) continue;
+    std::cout << "  search: (" << c.xy.x() << ", " << c.xy.y() << ") best heading " << std::setprecision(1)
+              << td::rad_to_deg(c.yaw) << std::setprecision(3) << " deg, S = " << rad_text(c.score) << " rad"
+              << (c.safe         ? ""
+                  : c.unobserved ? " (unsafe: unobserved terrain)"
+                                 : " (unsafe)")
+              << "\n";
+  }
+  if (r.safe) {
+    std::cout << "  decision: land at (" << o.landing_point.x() << ", " << o.landing_point.y() << "), heading "
+              << std::setprecision(1) << td::rad_to_deg(best->yaw) << " deg (S = " << std::setprecision(3)
+              << best->score << " rad, threshold " << r.threshold.value() << " rad)\n";
+  } else {
+    std::cout << "  decision: do not land at (" << o.landing_point.x() << ", " << o.landing_point.y()
+              << "): no safe heading (" << tw::unsafe_summary(r) << ")";
+    if (best) {
+      std::cout << "; lowest S " << std::setprecision(3) << best->score << " rad at heading " << std::setprecision(1)
+                << td::rad_to_deg(best->yaw) << " deg";
+    }
+    std::cout << "\n";
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Land the drone's digital twin on a terrain at n headings x m noisy runs and pick the safest heading.",
+               "landing_sweep"};
+  Args a;
+  add_options(app, a);
 
   return td::app::run(app, argc, argv, [&]() -> int {
-    if (landing_point.size() == 2) o.landing_point = {landing_point[0], landing_point[1]};
-    if (friction.size() == 2) {
-      o.perturbation.friction_min = friction[0];
-      o.perturbation.friction_max = friction[1];
-    }
-    o.perturbation.sigma_land_speed = sigma_speed;
-    std::string why;
-    if (!o.validate(&why)) throw td::InvalidArgument(why);
-    const tw::Airframe airframe = airframe_path.empty() ? tw::Airframe::f450() : tw::load_airframe(airframe_path);
-    if (!extrinsics_path.empty()) {
-      const auto e = td::app::load_extrinsics_with_warnings(app.get_name(), extrinsics_path);
-      cloud_options.T_world_camera = e.T_world_camera;
-      cloud_options.T_body_camera = e.T_body_camera;
-    }
-    tw::TerrainFile terrain_file = tw::read_terrain_file(terrain_path);
-    if (terrain_file.is_mesh() && (!extrinsics_path.empty() || assume_world)) {
-      throw td::InvalidArgument(terrain_path + ": is a mesh, always in the world frame: " +
-                                (assume_world ? "--assume-world-frame" : "--extrinsics") +
-                                " applies to point clouds only");
-    }
-    if (!terrain_file.is_mesh() && extrinsics_path.empty() && !assume_world) {
-      td::app::require_world_frame(terrain_path, terrain_file.cloud);
-    }
-    const auto terrain = tw::make_terrain_model(std::move(terrain_file), cloud_options);
-    // One progress bar with an ETA on stderr (a terminal only); the line is
-    // closed before anything else is printed.
-    bool bar_open = false;
-    const auto bar_start = std::chrono::steady_clock::now();
-    std::size_t last_drawn = 0;
-    if (isatty(STDERR_FILENO)) {
-      o.progress = [&](std::size_t done, std::size_t total) {
-        if (done != total && done < last_drawn + std::max<std::size_t>(1, total / 200)) return;
-        last_drawn = done;
-        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - bar_start).count();
-        const int width = 40, filled = static_cast<int>(width * done / std::max<std::size_t>(1, total));
-        std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
-                  << std::string(static_cast<std::size_t>(width - filled), '.') << "] " << done << "/" << total;
-        if (done > 0 && done < total) {
-          const double left = elapsed * static_cast<double>(total - done) / static_cast<double>(done);
-          std::cerr << "  " << static_cast<long>(std::ceil(left)) << " s left ";
-        } else {
-          std::cerr << "  " << std::fixed << std::setprecision(1) << elapsed << " s      ";
-        }
-        std::cerr << std::flush;
-        bar_open = done != total;
-        if (done == total) std::cerr << "\n";
-      };
-    }
-    auto close_bar = [&] {
-      if (bar_open) std::cerr << "\n";
-      bar_open = false;
-    };
-    tw::SearchResult search;
-    const Eigen::Vector2d requested = o.landing_point;
-    if (search_radius > 0) {
-      search = tw::search_landing_point(airframe, terrain, o, search_radius, search_spacing, search_prefer);
-      if (!search.ok()) throw td::InvalidArgument(search.message);
-      o.landing_point = search.candidates[static_cast<std::size_t>(search.best)].xy;
+    finish_sweep_options(a);
+    const tw::Airframe airframe = a.airframe_path.empty() ? tw::Airframe::f450() : tw::load_airframe(a.airframe_path);
+    const auto terrain = load_terrain(app.get_name(), a);
+    ProgressBar bar;
+    if (isatty(STDERR_FILENO)) a.o.progress = [&bar](std::size_t done, std::size_t total) { bar.draw(done, total); };
+    const Eigen::Vector2d requested = a.o.landing_point;
+    const tw::SearchResult search = sweep_or_search(airframe, terrain, a);
+    bar.close();  // e.g. a --time-budget stop: the summary gets its own line
+    write_files(a, search, requested, airframe, *terrain);
+    if (a.json) {
+      std::cout << sweep_json(a, search).dump() << "\n";
     } else {
-      search.sweep = tw::run_sweep(airframe, terrain, o);
-      // The user's landing point is off the terrain: bad input for the app.
-      if (!search.sweep.ok()) throw td::InvalidArgument(search.sweep.message);
-    }
-    close_bar();  // e.g. a --time-budget stop: the summary gets its own line
-    const tw::SweepResult& r = search.sweep;
-    if (!runs_csv_path.empty()) td::app::write_text_atomically(runs_csv_path, runs_csv(r));
-    if (!plot_path.empty()) {
-      const tw::SweepPlotLabels labels{std::filesystem::path(terrain_path).filename().string(),
-                                       airframe_path.empty() ? "F450 (built in)" : airframe.name};
-      td::app::write_text_atomically(
-          plot_path, search.candidates.empty()
-                         ? tw::sweep_plot_svg(r, labels)
-                         : tw::search_plot_svg(search, requested, search_radius, airframe, *terrain, labels));
-    }
-
-    const tw::HeadingScore* best = r.best >= 0 ? &r.headings[static_cast<std::size_t>(r.best)] : nullptr;
-    const double lps = static_cast<double>(r.landings()) / r.seconds;
-    const std::string why_not = tw::unsafe_summary(r);
-    if (json) {
-      // NaN (no settled run) is JSON null, never a number standing in for it.
-      auto num = [](double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(round6(v)); };
-      nlohmann::json j;
-      j["terrain"] = terrain_path;
-      j["airframe"] = airframe_path.empty() ? "built-in f450" : airframe_path;
-      j["threshold_rad"] = round6(r.threshold.value());
-      j["threshold_parts"] = {{"tip_rad", round6(r.threshold.tip_rad)},
-                              {"prop_strike_rad", round6(r.threshold.prop_strike_rad)}};
-      j["ground_z"] = round6(r.ground_z);
-      j["landing_point"] = {{"x", round6(o.landing_point.x())}, {"y", round6(o.landing_point.y())}};
-      j["land"] = r.safe;
-      j["unsafe_reasons"] = why_not;
-      if (best) {
-        j["best"] = {{"yaw_deg", round6(td::rad_to_deg(best->yaw))},
-                     {"score_rad", num(best->score)},
-                     {"safe", r.safe},
-                     {"x", round6(o.landing_point.x())},
-                     {"y", round6(o.landing_point.y())}};
-      } else {
-        j["best"] = nullptr;
-      }
-      nlohmann::json safe = nlohmann::json::array();
-      nlohmann::json hs = nlohmann::json::array();
-      for (const auto& h : r.headings) {
-        if (h.safe) safe.push_back(round6(td::rad_to_deg(h.yaw)));
-        hs.push_back({{"yaw_deg", round6(td::rad_to_deg(h.yaw))},
-                      {"score_rad", num(h.score)},
-                      {"mean_rad", num(h.mean)},
-                      {"max_touchdown_rad", num(h.max_touchdown)},
-                      {"runs", h.runs},
-                      {"prop_strike_runs", h.prop_strike_runs},
-                      {"arm_strike_runs", h.arm_strike_runs},
-                      {"body_strike_runs", h.body_strike_runs},
-                      {"tipped_runs", h.tipped_runs},
-                      {"invalid_runs", h.invalid_runs},
-                      {"timeout_runs", h.timeout_runs},
-                      {"unstable_runs", h.unstable_runs},
-                      {"invalid_reason", h.invalid_reason},
-                      {"unobserved_terrain", h.unobserved},
-                      {"feet_not_all_down_runs", h.feet_not_all_down_runs},
-                      {"max_offset_m", round6(h.max_offset)},
-                      {"safe", h.safe},
-                      {"reason", std::string(tw::to_string(h.reason))}});
-      }
-      j["safe_headings_deg"] = safe;
-      j["headings"] = hs;
-      if (!search.candidates.empty()) {
-        nlohmann::json cs = nlohmann::json::array();
-        for (const auto& c : search.candidates) {
-          if (!c.covered) continue;
-          cs.push_back({{"x", round6(c.xy.x())},
-                        {"y", round6(c.xy.y())},
-                        {"yaw_deg", round6(td::rad_to_deg(c.yaw))},
-                        {"score_rad", num(c.score)},
-                        {"unobserved_terrain", c.unobserved},
-                        {"safe", c.safe}});
-        }
-        j["search"] = cs;
-      }
-      j["runs"] = r.landings();
-      j["completeness"] = round6(r.completeness);
-      j["seconds"] = round6(r.seconds);
-      j["landings_per_second"] = round6(lps);
-      j["simulated_to_wall"] = round6(r.simulated_seconds / r.seconds);
-      j["run_simulated_to_wall"] = round6(r.run_sim_to_wall);
-      std::cout << j.dump() << "\n";
-    } else {
-      std::cout << std::fixed << std::setprecision(3);
-      std::cout << "landing_sweep: " << terrain_path << ", " << r.landings() << " landings (" << r.headings.size()
-                << " headings x " << r.rounds_completed << " runs) in " << r.seconds << " s (" << std::setprecision(0)
-                << lps << " landings/s; one landing simulates " << r.run_sim_to_wall << "x faster than real time)\n"
-                << std::setprecision(3) << "  safety threshold " << r.threshold.value() << " rad (tip-over "
-                << r.threshold.tip_rad << ", propeller or arm strike " << r.threshold.prop_strike_rad << ")\n"
-                << "  heading  S(psi)    mean  touchdown   prop   arm  body  tipped  invalid  verdict\n"
-                << "    [deg]   [rad]   [rad]      [rad]   (runs with a strike, of " << r.rounds_completed << ")\n";
-      // Radians in the table, "-" for a heading that has no score.
-      auto rad_text = [](double v) { return std::isnan(v) ? std::string("-") : td::app::format_fixed(v, 3); };
-      for (const auto& h : r.headings) {
-        std::string verdict = h.safe ? "safe" : "unsafe: " + std::string(tw::to_string(h.reason));
-        if (h.reason == tw::UnsafeReason::InvalidRuns) verdict = "invalid (" + h.invalid_reason + ")";
-        std::cout << "  " << std::setw(7) << std::setprecision(1) << td::rad_to_deg(h.yaw) << std::setprecision(3)
-                  << " " << std::setw(7) << rad_text(h.score) << " " << std::setw(7) << rad_text(h.mean) << " "
-                  << std::setw(10) << rad_text(h.max_touchdown) << " " << std::setw(6) << h.prop_strike_runs
-                  << std::setw(6) << h.arm_strike_runs << std::setw(6) << h.body_strike_runs << std::setw(8)
-                  << h.tipped_runs << std::setw(9) << h.invalid_runs << "  " << verdict << "\n";
-      }
-      for (const auto& c : search.candidates) {
-        if (!c.covered) continue;
-        std::cout << "  search: (" << c.xy.x() << ", " << c.xy.y() << ") best heading " << std::setprecision(1)
-                  << td::rad_to_deg(c.yaw) << std::setprecision(3) << " deg, S = " << rad_text(c.score) << " rad"
-                  << (c.safe         ? ""
-                      : c.unobserved ? " (unsafe: unobserved terrain)"
-                                     : " (unsafe)")
-                  << "\n";
-      }
-      if (r.safe) {
-        std::cout << "  decision: land at (" << o.landing_point.x() << ", " << o.landing_point.y() << "), heading "
-                  << std::setprecision(1) << td::rad_to_deg(best->yaw) << " deg (S = " << std::setprecision(3)
-                  << best->score << " rad, threshold " << r.threshold.value() << " rad)\n";
-      } else {
-        std::cout << "  decision: do not land at (" << o.landing_point.x() << ", " << o.landing_point.y()
-                  << "): no safe heading (" << why_not << ")";
-        if (best) {
-          std::cout << "; lowest S " << std::setprecision(3) << best->score << " rad at heading "
-                    << std::setprecision(1) << td::rad_to_deg(best->yaw) << " deg";
-        }
-        std::cout << "\n";
-      }
+      print_summary(a, search);
     }
     return td::app::kExitOk;
   });

@@ -135,41 +135,18 @@ std::string in_flag_terms(std::string message) {
   return message;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{
-      "Estimate the drone's pose from its LEDs (or an ArUco marker) in a sequence of camera frames.\n"
-      "Subcommands: render (synthetic sequence), benchmark (LED vs ArUco table).",
-      "led_pose"};
-  app.require_subcommand(0, 1);
-  // --- sequence mode ---
+// The command line of the three modes: sequence (the default), render and
+// benchmark. Some options are shared: the ArUco marker (sequence, render),
+// the rendering choices (render, benchmark), depth and fusion (sequence,
+// benchmark).
+struct Args {
+  // Sequence mode.
   std::string sequence_dir, camera_file, constellation_file, method = "led";
   tp::ArucoOptions aruco;
   bool no_depth = false, jsonl = false, fuse = false;
-  app.add_option("SEQUENCE_DIR", sequence_dir, "directory of NNNNNN.png frames (+ NNNNNN.depth.png)");
-  app.add_option("--camera", camera_file,
-                 "camera file: touchdown camera YAML, OpenCV calibration YAML or ROS camera_info YAML "
-                 "(default: SEQUENCE_DIR/camera.yaml)");
-  app.add_option("--constellation", constellation_file,
-                 "LED constellation YAML (default: SEQUENCE_DIR/constellation.yaml)");
-  app.add_option("--method", method, "led or aruco")->check(CLI::IsMember({"led", "aruco"}))->capture_default_str();
-  app.add_option("--aruco-dict", aruco.dictionary, "ArUco dictionary (4X4_50, 6X6_250, APRILTAG_36h11, ...)")
-      ->capture_default_str();
-  app.add_option("--aruco-id", aruco.marker_id, "ArUco marker id on the airframe (below the dictionary's size)")
-      ->check(number_in(0, kMaxArucoId))
-      ->capture_default_str();
-  app.add_option("--aruco-size", aruco.marker_size, "ArUco marker edge [m]")
-      ->check(number_in(0, 10, true))
-      ->capture_default_str();
-  app.add_flag("--no-depth", no_depth, "ignore depth images (2-D gating only)");
-  app.add_flag("--fuse", fuse,
-               "report poses fused over the track's frames (a Kalman filter) instead of each frame's own; "
-               "not for a flight stack that filters the poses itself");
-  app.add_flag("--jsonl", jsonl, "one JSON object per frame on stdout");
-
-  // --- render ---
-  auto* render = app.add_subcommand("render", "write a synthetic sequence (colour + depth PNGs, ground_truth.jsonl)");
+  // render; benchmark shares the camera, constellation, geometry, tilt,
+  // seed and profile.
+  CLI::App* render = nullptr;
   std::string out_dir, r_camera, r_constellation;
   tp::TrajectoryKind trajectory = tp::TrajectoryKind::Static;
   tp::CameraGeometry geometry = tp::CameraGeometry::Facing;
@@ -178,320 +155,439 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   double min_distance = 0.4, max_distance = 3.0;
   tp::RenderOptions ropt;
-  render->add_option("OUT_DIR", out_dir, "directory to create")->required();
+  tp::RenderProfile profile = tp::RenderProfile::Clean;
+  CLI::Option* render_tilt = nullptr;
+  // Set explicitly, these override the profile's values.
+  CLI::Option *noise_opt = nullptr, *distractors_opt = nullptr, *dropout_opt = nullptr;
+  // benchmark.
+  CLI::App* bench = nullptr;
+  bool json = false;
+  int bench_frames = 300;
+  CLI::Option *bench_geometry = nullptr, *bench_tilt = nullptr, *bench_profile = nullptr;
+};
+
+void add_sequence_options(CLI::App& app, Args& a) {
+  app.add_option("SEQUENCE_DIR", a.sequence_dir, "directory of NNNNNN.png frames (+ NNNNNN.depth.png)");
+  app.add_option("--camera", a.camera_file,
+                 "camera file: touchdown camera YAML, OpenCV calibration YAML or ROS camera_info YAML "
+                 "(default: SEQUENCE_DIR/camera.yaml)");
+  app.add_option("--constellation", a.constellation_file,
+                 "LED constellation YAML (default: SEQUENCE_DIR/constellation.yaml)");
+  app.add_option("--method", a.method, "led or aruco")->check(CLI::IsMember({"led", "aruco"}))->capture_default_str();
+  app.add_option("--aruco-dict", a.aruco.dictionary, "ArUco dictionary (4X4_50, 6X6_250, APRILTAG_36h11, ...)")
+      ->capture_default_str();
+  app.add_option("--aruco-id", a.aruco.marker_id, "ArUco marker id on the airframe (below the dictionary's size)")
+      ->check(number_in(0, kMaxArucoId))
+      ->capture_default_str();
+  app.add_option("--aruco-size", a.aruco.marker_size, "ArUco marker edge [m]")
+      ->check(number_in(0, 10, true))
+      ->capture_default_str();
+  app.add_flag("--no-depth", a.no_depth, "ignore depth images (2-D gating only)");
+  app.add_flag("--fuse", a.fuse,
+               "report poses fused over the track's frames (a Kalman filter) instead of each frame's own; "
+               "not for a flight stack that filters the poses itself");
+  app.add_flag("--jsonl", a.jsonl, "one JSON object per frame on stdout");
+}
+
+void add_render_command(CLI::App& app, Args& a) {
+  auto* render = app.add_subcommand("render", "write a synthetic sequence (colour + depth PNGs, ground_truth.jsonl)");
+  a.render = render;
+  render->add_option("OUT_DIR", a.out_dir, "directory to create")->required();
   render->add_option(
-      "--camera", r_camera,
+      "--camera", a.r_camera,
       "camera file, as for SEQUENCE_DIR, up to 4096x4096 pixels (default: a D435 colour stream at 848x480)");
-  render->add_option("--constellation", r_constellation, "constellation YAML (default: the built-in F450 six-LED set)");
-  td::app::add_enum_option(*render, "--trajectory", trajectory,
+  render->add_option("--constellation", a.r_constellation,
+                     "constellation YAML (default: the built-in F450 six-LED set)");
+  td::app::add_enum_option(*render, "--trajectory", a.trajectory,
                            "camera path: " + td::enum_names_list<tp::TrajectoryKind>());
-  td::app::add_enum_option(*render, "--geometry", geometry,
+  td::app::add_enum_option(*render, "--geometry", a.geometry,
                            "facing: the camera faces the constellation's facing side (from below for downward "
                            "LEDs); chase: the paper's ground-vehicle camera, tilted up, with the drone behind and "
                            "above it");
-  auto* render_tilt =
-      render->add_option("--camera-tilt", camera_tilt_deg, "chase: camera tilt above the horizontal [deg]")
+  a.render_tilt =
+      render->add_option("--camera-tilt", a.camera_tilt_deg, "chase: camera tilt above the horizontal [deg]")
           ->check(number_in(0, 80))
           ->capture_default_str();
   render
-      ->add_option("--frames", frames,
+      ->add_option("--frames", a.frames,
                    "number of frames (frames x camera pixels <= 1e10: 24,567 frames at 848x480, ~26 GB of PNGs)")
       ->check(number_in(1, tp::kMaxTrajectoryFrames))
       ->capture_default_str();
-  render->add_option("--seed", seed, "random seed")->check(number_in(0, 1e18))->capture_default_str();
-  render->add_option("--min-distance", min_distance, "closest camera-constellation (LED centroid) distance [m]")
+  render->add_option("--seed", a.seed, "random seed")->check(number_in(0, 1e18))->capture_default_str();
+  render->add_option("--min-distance", a.min_distance, "closest camera-constellation (LED centroid) distance [m]")
       ->check(number_in(0, tp::kMaxTrajectoryDistance, true))
       ->capture_default_str();
-  render->add_option("--max-distance", max_distance, "farthest camera-constellation distance [m]")
+  render->add_option("--max-distance", a.max_distance, "farthest camera-constellation distance [m]")
       ->check(number_in(0, tp::kMaxTrajectoryDistance, true))
       ->capture_default_str();
-  tp::RenderProfile profile = tp::RenderProfile::Clean;
-  td::app::add_enum_option(*render, "--profile", profile,
+  td::app::add_enum_option(*render, "--profile", a.profile,
                            "clean, or harsh: white-clipping LED cores with hue halos, exposure steps, LED-coloured "
                            "lamps, airframe reflections, motion-blur streaks, rolling drop-outs");
   // Set explicitly, these override the profile's values.
-  auto* noise_opt = render->add_option("--noise", ropt.noise_sigma, "sensor noise [DN] (default: the profile's)")
-                        ->check(number_in(0, 100));
-  auto* distractors_opt =
-      render->add_option("--distractors", ropt.distractor_count, "bright lamps in view (default: the profile's)")
+  a.noise_opt = render->add_option("--noise", a.ropt.noise_sigma, "sensor noise [DN] (default: the profile's)")
+                    ->check(number_in(0, 100));
+  a.distractors_opt =
+      render->add_option("--distractors", a.ropt.distractor_count, "bright lamps in view (default: the profile's)")
           ->check(number_in(0, 100));
-  auto* dropout_opt = render
-                          ->add_option("--dropout", ropt.led_dropout_probability,
-                                       "per-LED per-frame dropout probability (default: the profile's)")
-                          ->check(number_in(0, 1));
-  render->add_option("--aruco-dict", aruco.dictionary, "ArUco dictionary of the rendered marker")
+  a.dropout_opt = render
+                      ->add_option("--dropout", a.ropt.led_dropout_probability,
+                                   "per-LED per-frame dropout probability (default: the profile's)")
+                      ->check(number_in(0, 1));
+  render->add_option("--aruco-dict", a.aruco.dictionary, "ArUco dictionary of the rendered marker")
       ->capture_default_str();
-  render->add_option("--aruco-id", aruco.marker_id, "ArUco id (below the dictionary's size)")
+  render->add_option("--aruco-id", a.aruco.marker_id, "ArUco id (below the dictionary's size)")
       ->check(number_in(0, kMaxArucoId))
       ->capture_default_str();
-  render->add_option("--aruco-size", aruco.marker_size, "ArUco marker edge [m]")
+  render->add_option("--aruco-size", a.aruco.marker_size, "ArUco marker edge [m]")
       ->check(number_in(0, 10, true))
       ->capture_default_str();
+}
 
-  // --- benchmark ---
+void add_benchmark_command(CLI::App& app, Args& a) {
   auto* bench = app.add_subcommand("benchmark", "render static and moving sequences and compare LED and ArUco");
-  bool json = false;
-  int bench_frames = 300;
+  a.bench = bench;
   bench
-      ->add_option("--frames", bench_frames,
+      ->add_option("--frames", a.bench_frames,
                    "frames per sequence (frames x sequences x camera pixels <= 1e11: 40,946 frames with the "
                    "default scenarios at 848x480, ~75 min)")
       ->check(number_in(1, tp::kMaxTrajectoryFrames))
       ->capture_default_str();
-  bench->add_option("--seed", seed, "random seed")->check(number_in(0, 1e18))->capture_default_str();
+  bench->add_option("--seed", a.seed, "random seed")->check(number_in(0, 1e18))->capture_default_str();
   bench->add_option(
-      "--camera", r_camera,
+      "--camera", a.r_camera,
       "camera file, as for SEQUENCE_DIR, up to 4096x4096 pixels (default: a D435 colour stream at 848x480)");
-  bench->add_option("--constellation", r_constellation,
+  bench->add_option("--constellation", a.r_constellation,
                     "constellation YAML: one scenario in --geometry (default: two built-in scenarios, the F450's "
                     "downward LEDs from below and the paper's front board in the chase geometry)");
-  auto* bench_geometry = td::app::add_enum_option(*bench, "--geometry", geometry,
-                                                  "with --constellation: " + td::enum_names_list<tp::CameraGeometry>());
-  auto* bench_tilt =
-      bench
-          ->add_option("--camera-tilt", camera_tilt_deg,
-                       "with --constellation and --geometry chase: camera tilt above the horizontal [deg]")
-          ->check(number_in(0, 80))
-          ->capture_default_str();
-  auto* bench_profile = td::app::add_enum_option(
-      *bench, "--profile", profile, "with --constellation: rendering, " + td::enum_names_list<tp::RenderProfile>());
-  bench->add_flag("--no-depth", no_depth, "LED method without depth");
-  bench->add_flag("--fuse", fuse, "LED method: poses fused over the track's frames");
-  bench->add_flag("--json", json, "print one JSON object on stdout");
+  a.bench_geometry = td::app::add_enum_option(*bench, "--geometry", a.geometry,
+                                              "with --constellation: " + td::enum_names_list<tp::CameraGeometry>());
+  a.bench_tilt = bench
+                     ->add_option("--camera-tilt", a.camera_tilt_deg,
+                                  "with --constellation and --geometry chase: camera tilt above the horizontal [deg]")
+                     ->check(number_in(0, 80))
+                     ->capture_default_str();
+  a.bench_profile = td::app::add_enum_option(
+      *bench, "--profile", a.profile, "with --constellation: rendering, " + td::enum_names_list<tp::RenderProfile>());
+  bench->add_flag("--no-depth", a.no_depth, "LED method without depth");
+  bench->add_flag("--fuse", a.fuse, "LED method: poses fused over the track's frames");
+  bench->add_flag("--json", a.json, "print one JSON object on stdout");
+}
+
+tp::CameraModel camera_or_default(const std::string& f) { return f.empty() ? tp::CameraModel{} : tp::load_camera(f); }
+
+tp::Constellation constellation_or_default(const std::string& f) {
+  return f.empty() ? tp::default_constellation() : tp::load_constellation(f);
+}
+
+// Options that would be silently ignored are errors (issue 11).
+void refuse_unused(const CLI::Option* opt, const std::string& why) {
+  if (opt->count()) throw td::InvalidArgument(opt->get_name() + ": " + why);
+}
+
+// ------------------------------------------------------------------ render
+
+// Refused before anything is allocated, with what it would cost.
+void check_render_request(const Args& a, const tp::CameraModel& camera) {
+  check_render_size(camera, "--camera " + a.r_camera);
+  if (const double pixels = static_cast<double>(a.frames) * camera.width * camera.height; pixels > kMaxRenderPixels) {
+    throw td::InvalidArgument(
+        "--frames " + std::to_string(a.frames) + " at " + size_text(camera) + ": " + td::app::large_count(pixels) +
+        " pixels to render, ~" + td::app::gigabytes(pixels * kPngBytesPerPixel) + " of PNGs and ~" +
+        duration_text(pixels * kRenderSecondsPerPixel) + "; the limit is " + td::app::large_count(kMaxRenderPixels) +
+        " pixels (" +
+        std::to_string(static_cast<long long>(kMaxRenderPixels / (static_cast<double>(camera.width) * camera.height))) +
+        " frames at " + size_text(camera) + ")");
+  }
+}
+
+// The profile's rendering options with the ones set on the command line.
+tp::RenderOptions render_options(const Args& a) {
+  tp::RenderOptions r = tp::apply_profile({}, a.profile);
+  if (a.noise_opt->count()) r.noise_sigma = a.ropt.noise_sigma;
+  if (a.distractors_opt->count()) r.distractor_count = a.ropt.distractor_count;
+  if (a.dropout_opt->count()) r.led_dropout_probability = a.ropt.led_dropout_probability;
+  r.aruco_dictionary = a.aruco.dictionary;
+  r.aruco_id = a.aruco.marker_id;
+  r.aruco_size = a.aruco.marker_size;
+  std::string why;
+  if (!r.validate(&why)) throw td::InvalidArgument(in_flag_terms(why));
+  return r;
+}
+
+int run_render(const Args& a) {
+  if (a.geometry != tp::CameraGeometry::Chase) refuse_unused(a.render_tilt, "applies only with --geometry chase");
+  const auto camera = camera_or_default(a.r_camera);
+  check_render_request(a, camera);
+  const auto k = constellation_or_default(a.r_constellation);
+  const tp::RenderOptions r = render_options(a);
+  tp::TrajectoryOptions to;
+  to.min_distance = a.min_distance;
+  to.max_distance = a.max_distance;
+  to.geometry = a.geometry;
+  to.camera_tilt_deg = a.camera_tilt_deg;
+  std::vector<tp::TrajectorySample> samples;
+  try {
+    samples = tp::make_trajectory(a.trajectory, a.frames, a.seed, camera, k, to);
+  } catch (const td::InvalidArgument& e) {
+    throw td::InvalidArgument(in_flag_terms(e.what()));
+  }
+  tp::write_sequence(a.out_dir, camera, k, samples, r, a.seed);
+  std::cerr << "led_pose: wrote " << samples.size() << " frames to " << a.out_dir << "\n";
+  return td::app::kExitOk;
+}
+
+// --------------------------------------------------------------- benchmark
+
+// The benchmark's options, refusing what it would ignore and a request over
+// the size limit.
+tp::PoseBenchmarkOptions benchmark_options(const Args& a) {
+  if (a.r_constellation.empty()) {
+    const std::string why =
+        "applies only with --constellation (the default scenarios fix their own geometry, "
+        "tilt and rendering)";
+    refuse_unused(a.bench_geometry, why);
+    refuse_unused(a.bench_tilt, why);
+    refuse_unused(a.bench_profile, why);
+  } else if (a.geometry != tp::CameraGeometry::Chase) {
+    refuse_unused(a.bench_tilt, "applies only with --geometry chase");
+  }
+  tp::PoseBenchmarkOptions o;
+  o.camera = camera_or_default(a.r_camera);
+  check_render_size(o.camera, "--camera " + a.r_camera);
+  if (a.r_constellation.empty()) {
+    o.scenarios = tp::default_benchmark_scenarios();
+  } else {
+    o.scenarios.push_back({fs::path(a.r_constellation).stem().string() + " " + std::string(tp::to_string(a.geometry)),
+                           tp::load_constellation(a.r_constellation), a.geometry, a.camera_tilt_deg, a.profile});
+  }
+  o.frames = a.bench_frames;
+  const auto sequences = static_cast<double>(2 * o.scenarios.size());  // static and moving
+  const double frame_pixels = static_cast<double>(o.camera.width) * o.camera.height;
+  if (const double pixels = a.bench_frames * sequences * frame_pixels; pixels > kMaxBenchmarkPixels) {
+    throw td::InvalidArgument("--frames " + std::to_string(a.bench_frames) + ": " +
+                              std::to_string(2 * o.scenarios.size()) + " sequences of " + size_text(o.camera) +
+                              " frames, " + td::app::large_count(pixels) + " pixels to render and track, ~" +
+                              duration_text(pixels * kBenchmarkSecondsPerPixel) + "; the limit is " +
+                              td::app::large_count(kMaxBenchmarkPixels) + " pixels (" +
+                              std::to_string(static_cast<long long>(kMaxBenchmarkPixels / (sequences * frame_pixels))) +
+                              " frames per sequence here)");
+  }
+  o.seed = a.seed;
+  o.use_depth = !a.no_depth;
+  o.tracker.fuse_frames = a.fuse;
+  o.aruco = a.aruco;
+  return o;
+}
+
+nlohmann::json benchmark_json(const Args& a, const tp::PoseBenchmarkResult& r) {
+  nlohmann::json j;
+  j["status"] = std::string(tp::to_string(r.status));
+  j["frames_per_sequence"] = a.bench_frames;
+  j["seed"] = a.seed;
+  for (const auto& row : r.rows) {
+    j["rows"].push_back({{"scenario", row.scenario},
+                         {"profile", row.profile},
+                         {"method", row.method},
+                         {"sequence", row.sequence},
+                         {"frames", row.frames},
+                         {"success_rate", row.success_rate},
+                         {"wrong_ok", row.wrong_ok},
+                         {"wrong_ok_rate", row.wrong_ok_rate},
+                         {"position_mean_m", row.position_mean_m},
+                         {"position_std_m", row.position_std_m},
+                         {"position_max_m", row.position_max_m},
+                         {"orientation_mean_rad", row.orientation_mean_rad},
+                         {"orientation_std_rad", row.orientation_std_rad},
+                         {"ms_median", row.ms_median},
+                         {"ms_p90", row.ms_p90}});
+  }
+  j["solvers_us_median"] = {{"epnp_gauss_newton", r.epnp_gn_us_median},
+                            {"opencv_iterative", r.opencv_iterative_us_median},
+                            {"opencv_sqpnp", r.opencv_sqpnp_us_median},
+                            {"opencv_epnp", r.opencv_epnp_us_median},
+                            {"samples", r.solver_samples}};
+  return j;
+}
+
+void print_benchmark_table(const tp::PoseBenchmarkResult& r) {
+  std::size_t scenario_width = 16;  // a custom scenario's name may be longer
+  for (const auto& row : r.rows) scenario_width = std::max(scenario_width, row.scenario.size() + 2);
+  std::cout << std::left << std::setw(static_cast<int>(scenario_width)) << "scenario"
+            << "profile  sequence  method  frames  success  wrong-ok  pos mean [m]  pos std [m]  "
+               "rot mean [rad]  rot std [rad]  ms/frame (median)\n";
+  for (const auto& row : r.rows) {
+    std::cout << std::left << std::setw(static_cast<int>(scenario_width)) << row.scenario << std::setw(9) << row.profile
+              << std::setw(10) << row.sequence << std::setw(8) << row.method << std::right << std::setw(6) << row.frames
+              << std::setw(9) << format_fixed(row.success_rate, 3) << std::setw(10) << row.wrong_ok << std::setw(14)
+              << format_fixed(row.position_mean_m, 4) << std::setw(13) << format_fixed(row.position_std_m, 4)
+              << std::setw(16) << format_fixed(row.orientation_mean_rad, 4) << std::setw(15)
+              << format_fixed(row.orientation_std_rad, 4) << std::setw(19) << format_fixed(row.ms_median, 3) << "\n";
+  }
+  std::cout << "solvers on the tracked LEDs (median, " << r.solver_samples << " frames): EPnP+GN "
+            << format_fixed(r.epnp_gn_us_median, 1) << " us, OpenCV ITERATIVE "
+            << format_fixed(r.opencv_iterative_us_median, 1) << " us, SQPNP "
+            << format_fixed(r.opencv_sqpnp_us_median, 1) << " us, EPNP " << format_fixed(r.opencv_epnp_us_median, 1)
+            << " us\n";
+}
+
+int run_benchmark(const Args& a) {
+  const auto r = tp::run_pose_benchmark(benchmark_options(a));
+  if (!r.ok()) std::cerr << "led_pose: benchmark: " << r.message << "\n";
+  if (a.json) {
+    std::cout << benchmark_json(a, r).dump(2) << "\n";
+  } else {
+    print_benchmark_table(r);
+  }
+  return td::app::kExitOk;
+}
+
+// ---------------------------------------------------------------- sequence
+
+// What tracks the sequence: the LED tracker or the ArUco baseline.
+struct Estimator {
+  std::optional<tp::LedTracker> tracker;
+  std::optional<tp::ArucoPoseEstimator> marker;
+};
+
+void set_up_estimator(Estimator& est, const Args& a, const tp::CameraModel& camera, const tp::Constellation& k) {
+  if (a.method == "led") {
+    tp::TrackerOptions to;
+    to.use_depth = !a.no_depth;
+    to.fuse_frames = a.fuse;
+    est.tracker.emplace(camera, k, to);
+  } else {
+    try {
+      est.marker.emplace(camera, k.T_body_marker, a.aruco);
+    } catch (const td::InvalidArgument& e) {
+      throw td::InvalidArgument(in_flag_terms(e.what()));
+    }
+  }
+}
+
+// The sequence's frames as they are tracked, and what is said about them.
+struct SequenceRun {
+  touchdown::BgrImage colour;
+  touchdown::DepthImage depth;
+  bool depth_scale_checked = false;
+  std::size_t ti = 0;  // next ground-truth sample
+  std::string out;     // printed at the end: a bad frame leaves no partial output
+  int ok = 0;
+  std::vector<double> ms, rms, pos_err, rot_err;
+};
+
+// Reads frame `f` into run.colour (and run.depth), refusing an image of
+// another size than the camera's or depth in another unit.
+void read_checked_frame(const tp::SequenceFrame& f, bool want_depth, const tp::CameraModel& camera,
+                        const fs::path& camera_path, SequenceRun& run) {
+  tp::read_frame(f, run.colour, want_depth ? &run.depth : nullptr);
+  if (run.colour.width != camera.width || run.colour.height != camera.height) {
+    throw td::ParseError(f.colour.string() + ": image is " + std::to_string(run.colour.width) + "x" +
+                         std::to_string(run.colour.height) + " but the camera is " + std::to_string(camera.width) +
+                         "x" + std::to_string(camera.height));
+  }
+  // The first depth frame with enough measurements tells whether the
+  // camera's depth_scale fits its unit: a wrong one would make the
+  // depth gate drop every LED without a word.
+  if (want_depth && !run.depth_scale_checked) {
+    const auto check = tp::check_depth_scale(run.depth.view(), camera.depth_scale);
+    run.depth_scale_checked = check.conclusive;
+    if (!check.plausible) {
+      throw td::ParseError(camera_path.string() + ": " + check.message + " (seen in " + f.depth->filename().string() +
+                           ")");
+    }
+  }
+}
+
+// Counts a frame's estimate, and its error when the ground truth has the frame.
+void record_estimate(const tp::SequenceFrame& f, const tp::PoseEstimate& e, double elapsed,
+                     const std::vector<tp::GroundTruthSample>& truth, bool jsonl, SequenceRun& run) {
+  run.ms.push_back(elapsed);
+  if (e.ok()) {
+    ++run.ok;
+    run.rms.push_back(e.rms_px);
+    while (run.ti < truth.size() && truth[run.ti].frame < f.name) ++run.ti;
+    if (run.ti < truth.size() && truth[run.ti].frame == f.name) {
+      const auto [p, r] = tp::pose_error(e.T_camera_body, truth[run.ti].T_camera_body);
+      run.pos_err.push_back(p);
+      run.rot_err.push_back(r);
+    }
+  }
+  if (jsonl) run.out += pose_json(f.name, e, elapsed) + "\n";
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+double mean(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x;
+  return v.empty() ? 0.0 : s / static_cast<double>(v.size());
+}
+
+void print_sequence_summary(const Args& a, std::size_t frames, const SequenceRun& run) {
+  std::cout << "led_pose: " << a.method << " on " << frames << " frames of " << a.sequence_dir << "\n"
+            << "  pose found      " << run.ok << " / " << frames << " ("
+            << format_fixed(100.0 * run.ok / static_cast<double>(std::max<std::size_t>(1, frames)), 1) << "%)\n"
+            << "  reprojection    median "
+            << (run.rms.empty() ? std::string("n/a") : format_fixed(median(run.rms), 3) + " px") << "\n"
+            << "  time per frame  median " << format_fixed(median(run.ms), 3) << " ms\n";
+  if (!run.pos_err.empty()) {
+    std::cout << "  vs ground truth mean position error " << format_fixed(mean(run.pos_err), 4) << " m, orientation "
+              << format_fixed(mean(run.rot_err), 4) << " rad (" << run.pos_err.size() << " frames)\n";
+  }
+}
+
+int run_sequence(const Args& a) {
+  if (a.sequence_dir.empty()) throw td::InvalidArgument("SEQUENCE_DIR is required (or a subcommand; see --help)");
+  const fs::path dir(a.sequence_dir);
+  const auto frames_list = tp::list_sequence(dir);
+  const fs::path camera_path = config_path(a.camera_file, dir, "camera.yaml", "--camera");
+  const auto camera = tp::load_camera(camera_path);
+  const auto k =
+      tp::load_constellation(config_path(a.constellation_file, dir, "constellation.yaml", "--constellation"));
+  Estimator est;
+  set_up_estimator(est, a, camera, k);
+  // Ground truth, when the sequence carries it (a rendered one does).
+  std::vector<tp::GroundTruthSample> truth;
+  if (fs::exists(dir / "ground_truth.jsonl")) truth = tp::read_ground_truth(dir / "ground_truth.jsonl");
+  SequenceRun run;
+  for (const auto& f : frames_list) {
+    const bool want_depth = a.method == "led" && !a.no_depth && f.depth;
+    read_checked_frame(f, want_depth, camera, camera_path, run);
+    const touchdown::DepthImageView dv = run.depth.view();
+    const auto t0 = std::chrono::steady_clock::now();
+    const tp::PoseEstimate e = est.tracker ? est.tracker->track(run.colour.view(), want_depth ? &dv : nullptr)
+                                           : est.marker->estimate(run.colour.view());
+    const double elapsed = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    record_estimate(f, e, elapsed, truth, a.jsonl, run);
+  }
+  if (a.jsonl) {
+    std::cout << run.out;
+    return td::app::kExitOk;
+  }
+  print_sequence_summary(a, frames_list.size(), run);
+  return td::app::kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "Estimate the drone's pose from its LEDs (or an ArUco marker) in a sequence of camera frames.\n"
+      "Subcommands: render (synthetic sequence), benchmark (LED vs ArUco table).",
+      "led_pose"};
+  app.require_subcommand(0, 1);
+  Args a;
+  add_sequence_options(app, a);
+  add_render_command(app, a);
+  add_benchmark_command(app, a);
 
   return td::app::run(app, argc, argv, [&]() -> int {
-    const tp::CameraModel default_camera;
-    auto camera_or_default = [&](const std::string& f) { return f.empty() ? default_camera : tp::load_camera(f); };
-    auto constellation_or_default = [&](const std::string& f) {
-      return f.empty() ? tp::default_constellation() : tp::load_constellation(f);
-    };
-    // Options that would be silently ignored are errors (issue 11).
-    auto refuse_unused = [](const CLI::Option* opt, const std::string& why) {
-      if (opt->count()) throw td::InvalidArgument(opt->get_name() + ": " + why);
-    };
-    if (*render) {
-      if (geometry != tp::CameraGeometry::Chase) refuse_unused(render_tilt, "applies only with --geometry chase");
-      const auto camera = camera_or_default(r_camera);
-      // Refused before anything is allocated, with what it would cost.
-      check_render_size(camera, "--camera " + r_camera);
-      if (const double pixels = static_cast<double>(frames) * camera.width * camera.height; pixels > kMaxRenderPixels) {
-        throw td::InvalidArgument("--frames " + std::to_string(frames) + " at " + size_text(camera) + ": " +
-                                  td::app::large_count(pixels) + " pixels to render, ~" +
-                                  td::app::gigabytes(pixels * kPngBytesPerPixel) + " of PNGs and ~" +
-                                  duration_text(pixels * kRenderSecondsPerPixel) + "; the limit is " +
-                                  td::app::large_count(kMaxRenderPixels) + " pixels (" +
-                                  std::to_string(static_cast<long long>(
-                                      kMaxRenderPixels / (static_cast<double>(camera.width) * camera.height))) +
-                                  " frames at " + size_text(camera) + ")");
-      }
-      const auto k = constellation_or_default(r_constellation);
-      tp::RenderOptions r = tp::apply_profile({}, profile);
-      if (noise_opt->count()) r.noise_sigma = ropt.noise_sigma;
-      if (distractors_opt->count()) r.distractor_count = ropt.distractor_count;
-      if (dropout_opt->count()) r.led_dropout_probability = ropt.led_dropout_probability;
-      r.aruco_dictionary = aruco.dictionary;
-      r.aruco_id = aruco.marker_id;
-      r.aruco_size = aruco.marker_size;
-      std::string why;
-      if (!r.validate(&why)) throw td::InvalidArgument(in_flag_terms(why));
-      tp::TrajectoryOptions to;
-      to.min_distance = min_distance;
-      to.max_distance = max_distance;
-      to.geometry = geometry;
-      to.camera_tilt_deg = camera_tilt_deg;
-      std::vector<tp::TrajectorySample> samples;
-      try {
-        samples = tp::make_trajectory(trajectory, frames, seed, camera, k, to);
-      } catch (const td::InvalidArgument& e) {
-        throw td::InvalidArgument(in_flag_terms(e.what()));
-      }
-      tp::write_sequence(out_dir, camera, k, samples, r, seed);
-      std::cerr << "led_pose: wrote " << samples.size() << " frames to " << out_dir << "\n";
-      return td::app::kExitOk;
-    }
-    if (*bench) {
-      if (r_constellation.empty()) {
-        const std::string why =
-            "applies only with --constellation (the default scenarios fix their own geometry, "
-            "tilt and rendering)";
-        refuse_unused(bench_geometry, why);
-        refuse_unused(bench_tilt, why);
-        refuse_unused(bench_profile, why);
-      } else if (geometry != tp::CameraGeometry::Chase) {
-        refuse_unused(bench_tilt, "applies only with --geometry chase");
-      }
-      tp::PoseBenchmarkOptions o;
-      o.camera = camera_or_default(r_camera);
-      check_render_size(o.camera, "--camera " + r_camera);
-      if (r_constellation.empty()) {
-        o.scenarios = tp::default_benchmark_scenarios();
-      } else {
-        o.scenarios.push_back({fs::path(r_constellation).stem().string() + " " + std::string(tp::to_string(geometry)),
-                               tp::load_constellation(r_constellation), geometry, camera_tilt_deg, profile});
-      }
-      o.frames = bench_frames;
-      const auto sequences = static_cast<double>(2 * o.scenarios.size());  // static and moving
-      const double frame_pixels = static_cast<double>(o.camera.width) * o.camera.height;
-      if (const double pixels = bench_frames * sequences * frame_pixels; pixels > kMaxBenchmarkPixels) {
-        throw td::InvalidArgument(
-            "--frames " + std::to_string(bench_frames) + ": " + std::to_string(2 * o.scenarios.size()) +
-            " sequences of " + size_text(o.camera) + " frames, " + td::app::large_count(pixels) +
-            " pixels to render and track, ~" + duration_text(pixels * kBenchmarkSecondsPerPixel) + "; the limit is " +
-            td::app::large_count(kMaxBenchmarkPixels) + " pixels (" +
-            std::to_string(static_cast<long long>(kMaxBenchmarkPixels / (sequences * frame_pixels))) +
-            " frames per sequence here)");
-      }
-      o.seed = seed;
-      o.use_depth = !no_depth;
-      o.tracker.fuse_frames = fuse;
-      o.aruco = aruco;
-      const auto r = tp::run_pose_benchmark(o);
-      if (!r.ok()) std::cerr << "led_pose: benchmark: " << r.message << "\n";
-      if (json) {
-        nlohmann::json j;
-        j["status"] = std::string(tp::to_string(r.status));
-        j["frames_per_sequence"] = bench_frames;
-        j["seed"] = seed;
-        for (const auto& row : r.rows) {
-          j["rows"].push_back({{"scenario", row.scenario},
-                               {"profile", row.profile},
-                               {"method", row.method},
-                               {"sequence", row.sequence},
-                               {"frames", row.frames},
-                               {"success_rate", row.success_rate},
-                               {"wrong_ok", row.wrong_ok},
-                               {"wrong_ok_rate", row.wrong_ok_rate},
-                               {"position_mean_m", row.position_mean_m},
-                               {"position_std_m", row.position_std_m},
-                               {"position_max_m", row.position_max_m},
-                               {"orientation_mean_rad", row.orientation_mean_rad},
-                               {"orientation_std_rad", row.orientation_std_rad},
-                               {"ms_median", row.ms_median},
-                               {"ms_p90", row.ms_p90}});
-        }
-        j["solvers_us_median"] = {{"epnp_gauss_newton", r.epnp_gn_us_median},
-                                  {"opencv_iterative", r.opencv_iterative_us_median},
-                                  {"opencv_sqpnp", r.opencv_sqpnp_us_median},
-                                  {"opencv_epnp", r.opencv_epnp_us_median},
-                                  {"samples", r.solver_samples}};
-        std::cout << j.dump(2) << "\n";
-        return td::app::kExitOk;
-      }
-      std::size_t scenario_width = 16;  // a custom scenario's name may be longer
-      for (const auto& row : r.rows) scenario_width = std::max(scenario_width, row.scenario.size() + 2);
-      std::cout << std::left << std::setw(static_cast<int>(scenario_width)) << "scenario"
-                << "profile  sequence  method  frames  success  wrong-ok  pos mean [m]  pos std [m]  "
-                   "rot mean [rad]  rot std [rad]  ms/frame (median)\n";
-      for (const auto& row : r.rows) {
-        std::cout << std::left << std::setw(static_cast<int>(scenario_width)) << row.scenario << std::setw(9)
-                  << row.profile << std::setw(10) << row.sequence << std::setw(8) << row.method << std::right
-                  << std::setw(6) << row.frames << std::setw(9) << format_fixed(row.success_rate, 3) << std::setw(10)
-                  << row.wrong_ok << std::setw(14) << format_fixed(row.position_mean_m, 4) << std::setw(13)
-                  << format_fixed(row.position_std_m, 4) << std::setw(16) << format_fixed(row.orientation_mean_rad, 4)
-                  << std::setw(15) << format_fixed(row.orientation_std_rad, 4) << std::setw(19)
-                  << format_fixed(row.ms_median, 3) << "\n";
-      }
-      std::cout << "solvers on the tracked LEDs (median, " << r.solver_samples << " frames): EPnP+GN "
-                << format_fixed(r.epnp_gn_us_median, 1) << " us, OpenCV ITERATIVE "
-                << format_fixed(r.opencv_iterative_us_median, 1) << " us, SQPNP "
-                << format_fixed(r.opencv_sqpnp_us_median, 1) << " us, EPNP " << format_fixed(r.opencv_epnp_us_median, 1)
-                << " us\n";
-      return td::app::kExitOk;
-    }
-    // Sequence mode.
-    if (sequence_dir.empty()) throw td::InvalidArgument("SEQUENCE_DIR is required (or a subcommand; see --help)");
-    const fs::path dir(sequence_dir);
-    const auto frames_list = tp::list_sequence(dir);
-    const fs::path camera_path = config_path(camera_file, dir, "camera.yaml", "--camera");
-    const auto camera = tp::load_camera(camera_path);
-    const auto k =
-        tp::load_constellation(config_path(constellation_file, dir, "constellation.yaml", "--constellation"));
-    std::optional<tp::LedTracker> tracker;
-    std::optional<tp::ArucoPoseEstimator> marker;
-    if (method == "led") {
-      tp::TrackerOptions to;
-      to.use_depth = !no_depth;
-      to.fuse_frames = fuse;
-      tracker.emplace(camera, k, to);
-    } else {
-      try {
-        marker.emplace(camera, k.T_body_marker, aruco);
-      } catch (const td::InvalidArgument& e) {
-        throw td::InvalidArgument(in_flag_terms(e.what()));
-      }
-    }
-    // Ground truth, when the sequence carries it (a rendered one does).
-    std::vector<tp::GroundTruthSample> truth;
-    if (fs::exists(dir / "ground_truth.jsonl")) truth = tp::read_ground_truth(dir / "ground_truth.jsonl");
-    touchdown::BgrImage colour;
-    touchdown::DepthImage depth;
-    std::string out;  // printed at the end: a bad frame leaves no partial output
-    int ok = 0;
-    std::vector<double> ms, rms, pos_err, rot_err;
-    std::size_t ti = 0;
-    bool depth_scale_checked = false;
-    for (const auto& f : frames_list) {
-      const bool want_depth = method == "led" && !no_depth && f.depth;
-      tp::read_frame(f, colour, want_depth ? &depth : nullptr);
-      if (colour.width != camera.width || colour.height != camera.height) {
-        throw td::ParseError(f.colour.string() + ": image is " + std::to_string(colour.width) + "x" +
-                             std::to_string(colour.height) + " but the camera is " + std::to_string(camera.width) +
-                             "x" + std::to_string(camera.height));
-      }
-      // The first depth frame with enough measurements tells whether the
-      // camera's depth_scale fits its unit: a wrong one would make the
-      // depth gate drop every LED without a word.
-      if (want_depth && !depth_scale_checked) {
-        const auto check = tp::check_depth_scale(depth.view(), camera.depth_scale);
-        depth_scale_checked = check.conclusive;
-        if (!check.plausible) {
-          throw td::ParseError(camera_path.string() + ": " + check.message + " (seen in " +
-                               f.depth->filename().string() + ")");
-        }
-      }
-      const touchdown::DepthImageView dv = depth.view();
-      const auto t0 = std::chrono::steady_clock::now();
-      const tp::PoseEstimate e =
-          tracker ? tracker->track(colour.view(), want_depth ? &dv : nullptr) : marker->estimate(colour.view());
-      const double elapsed = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      ms.push_back(elapsed);
-      if (e.ok()) {
-        ++ok;
-        rms.push_back(e.rms_px);
-        while (ti < truth.size() && truth[ti].frame < f.name) ++ti;
-        if (ti < truth.size() && truth[ti].frame == f.name) {
-          const auto [p, r] = tp::pose_error(e.T_camera_body, truth[ti].T_camera_body);
-          pos_err.push_back(p);
-          rot_err.push_back(r);
-        }
-      }
-      if (jsonl) out += pose_json(f.name, e, elapsed) + "\n";
-    }
-    if (jsonl) {
-      std::cout << out;
-      return td::app::kExitOk;
-    }
-    auto median = [](std::vector<double> v) {
-      if (v.empty()) return 0.0;
-      std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-      return v[v.size() / 2];
-    };
-    auto mean = [](const std::vector<double>& v) {
-      double s = 0;
-      for (double x : v) s += x;
-      return v.empty() ? 0.0 : s / static_cast<double>(v.size());
-    };
-    std::cout << "led_pose: " << method << " on " << frames_list.size() << " frames of " << sequence_dir << "\n"
-              << "  pose found      " << ok << " / " << frames_list.size() << " ("
-              << format_fixed(100.0 * ok / static_cast<double>(std::max<std::size_t>(1, frames_list.size())), 1)
-              << "%)\n"
-              << "  reprojection    median "
-              << (rms.empty() ? std::string("n/a") : format_fixed(median(rms), 3) + " px") << "\n"
-              << "  time per frame  median " << format_fixed(median(ms), 3) << " ms\n";
-    if (!pos_err.empty()) {
-      std::cout << "  vs ground truth mean position error " << format_fixed(mean(pos_err), 4) << " m, orientation "
-                << format_fixed(mean(rot_err), 4) << " rad (" << pos_err.size() << " frames)\n";
-    }
-    return td::app::kExitOk;
+    if (*a.render) return run_render(a);
+    if (*a.bench) return run_benchmark(a);
+    return run_sequence(a);
   });
 }

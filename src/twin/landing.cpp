@@ -134,195 +134,272 @@ class Run {
     std::fill(motor_.begin(), motor_.end(), hover_thrust_ / static_cast<double>(motor_.size()));
   }
 
+  // One run from the placed state: each step checks the state, commands
+  // the motors, finds the contacts and steps ODE, until the twin has been
+  // still long enough after disarm, the timeout or an unstable state.
   RunResult fly(const LandingConditions& lc, bool armed) {
+    Flight f(opt_, af_, hover_thrust_, sim_.terrain().bounds().min.z() - 1.0, armed);
+    for (long step = 0; step < f.max_steps; ++step) {
+      const BodyState s = body_state();
+      if (const char* why = instability_of(s, f.terrain_floor)) return f.unstable(step, why);
+      const Eigen::Vector3d w = s.R.transpose() * s.w_world;
+      const double nut = nutation_of(s.R);
+      if (f.touched) f.res.max_touchdown_nutation = std::max(f.res.max_touchdown_nutation, nut);
+
+      command_motors(f, lc, s, w);
+      // A non-finite command must never reach ODE (its normalisation asserts
+      // abort the process): the run ends as unstable instead.
+      if (!std::all_of(motor_.begin(), motor_.end(), [](double m) { return std::isfinite(m); })) {
+        return f.unstable(step, "non-finite motor command");
+      }
+      apply_motor_forces();
+
+      find_contacts(f, s);
+      add_contact_joints(f, s);
+      if (!f.contacts.empty()) f.touched = true;
+
+      dWorldStep(world_, f.dt);
+      dJointGroupEmpty(contacts_group_);
+      ++f.res.steps;
+
+      if (opt_.record_trace && step % 20 == 0) {
+        f.res.trace.push_back({static_cast<double>(step) * f.dt, s.p, nut, f.detector.stage()});
+      }
+      if (run_ended(f, step)) break;
+    }
+    return final_result(f, lc);
+  }
+
+ private:
+  // The state of one flight that passes between the steps of fly().
+  struct Flight {
+    Flight(const SimulationOptions& opt, const Airframe& af, double hover_thrust, double floor, bool armed)
+        : dt(opt.step),
+          max_steps(static_cast<long>(std::ceil(opt.timeout / dt))),
+          motor_alpha(1.0 - std::exp(-dt / af.motor_time_constant)),
+          controller(opt.controller, af.total_mass(), af.inertia_about_com(), dt),
+          detector(opt.controller, hover_thrust, dt, armed),
+          terrain_floor(floor),
+          foot_touch(af.support_points().size()) {}
+
+    // Ends the run as unstable at `step`, saying why.
+    RunResult unstable(long step, const char* why) {
+      res.status = RunStatus::Unstable;
+      res.message = why;
+      res.steps = step;
+      res.sim_time = static_cast<double>(step) * dt;
+      return res;
+    }
+
     RunResult res;
-    const double dt = opt_.step;
-    const long max_steps = static_cast<long>(std::ceil(opt_.timeout / dt));
-    const double motor_alpha = 1.0 - std::exp(-dt / af_.motor_time_constant);
-    LandController controller(opt_.controller, af_.total_mass(), af_.inertia_about_com(), dt);
-    LandDetector detector(opt_.controller, hover_thrust_, dt, armed);
+    const double dt;
+    const long max_steps;
+    const double motor_alpha;
+    LandController controller;
+    LandDetector detector;
     double still_timer = 0;
     bool touched = false;
-    const double terrain_floor = sim_.terrain().bounds().min.z() - 1.0;
+    const double terrain_floor;
+    // This step's contacts, each with the part it is on and, for a foot or
+    // leg, the foot's index.
     std::vector<detail::Contact> contacts;
     std::vector<PartKind> contact_kind;
     std::vector<int> contact_foot;
     detail::Scratch scratch;
     // One flag per support point: a foot, or without landing gear a bottom
     // corner of the body.
-    std::vector<bool> foot_touch(af_.support_points().size());
+    std::vector<bool> foot_touch;
+  };
 
-    auto unstable = [&](long step, const char* why) {
-      res.status = RunStatus::Unstable;
-      res.message = why;
-      res.steps = step;
-      res.sim_time = static_cast<double>(step) * dt;
-      return res;
-    };
-    for (long step = 0; step < max_steps; ++step) {
-      const Eigen::Vector3d p = vec_of(dBodyGetPosition(body_));
-      const Eigen::Vector3d v = vec_of(dBodyGetLinearVel(body_));
-      const Eigen::Vector3d w_world = vec_of(dBodyGetAngularVel(body_));
-      const Eigen::Matrix3d R = rotation_of(body_);
-      const auto& tb = sim_.terrain().bounds();
-      const bool off_map = p.x() < tb.min.x() || p.x() > tb.max.x() || p.y() < tb.min.y() || p.y() > tb.max.y();
-      if (!p.allFinite() || !v.allFinite() || !R.allFinite()) return unstable(step, "non-finite state");
-      if (p.z() < terrain_floor) return unstable(step, "fell through the terrain");
-      if (off_map) return unstable(step, "left the mapped terrain");
-      if (v.norm() > 30.0) return unstable(step, "speed above 30 m/s");
-      if (w_world.norm() > 200.0) return unstable(step, "spin above 200 rad/s");
-      const Eigen::Vector3d w = R.transpose() * w_world;
-      const double nut = nutation_of(R);
-      if (touched) res.max_touchdown_nutation = std::max(res.max_touchdown_nutation, nut);
+  // The ODE body's state at the start of a step (world frame, at the CoM).
+  struct BodyState {
+    Eigen::Vector3d p, v, w_world;
+    Eigen::Matrix3d R;
+  };
 
-      // ---- flight controller, land detector, mixer (flight_control.hpp) --------
-      if (!detector.landed()) {
-        const LandController::Output u = controller.update({p, v, R, w}, lc.landing_point, lc.heading, lc.land_speed,
-                                                           detector.stage() >= LandDetector::GroundContact);
-        if (detector.update(u.thrust, v.z(), u.vz_setpoint, w.norm())) controller.reset_velocity_integrator();
-        const Eigen::VectorXd f = mixer_.mix(detector.limit_thrust(u.thrust), u.torque);
-        for (std::size_t i = 0; i < motor_.size(); ++i) {
-          const double cmd = detector.landed() ? 0.0 : f[static_cast<Eigen::Index>(i)];
-          motor_[i] += (cmd - motor_[i]) * motor_alpha;
-        }
-      } else {
-        controller.idle(v);
-        for (double& m : motor_) m += (0.0 - m) * motor_alpha;  // disarmed: spin down
-      }
-      // A non-finite command must never reach ODE (its normalisation asserts
-      // abort the process): the run ends as unstable instead.
-      if (!std::all_of(motor_.begin(), motor_.end(), [](double m) { return std::isfinite(m); })) {
-        return unstable(step, "non-finite motor command");
-      }
+  [[nodiscard]] BodyState body_state() const {
+    return {vec_of(dBodyGetPosition(body_)), vec_of(dBodyGetLinearVel(body_)), vec_of(dBodyGetAngularVel(body_)),
+            rotation_of(body_)};
+  }
+
+  // Why the state ends the run as unstable, or nullptr.
+  [[nodiscard]] const char* instability_of(const BodyState& s, double terrain_floor) const {
+    const auto& tb = sim_.terrain().bounds();
+    const Eigen::Vector3d& p = s.p;
+    const bool off_map = p.x() < tb.min.x() || p.x() > tb.max.x() || p.y() < tb.min.y() || p.y() > tb.max.y();
+    if (!p.allFinite() || !s.v.allFinite() || !s.R.allFinite()) return "non-finite state";
+    if (p.z() < terrain_floor) return "fell through the terrain";
+    if (off_map) return "left the mapped terrain";
+    if (s.v.norm() > 30.0) return "speed above 30 m/s";
+    if (s.w_world.norm() > 200.0) return "spin above 200 rad/s";
+    return nullptr;
+  }
+
+  // Flight controller, land detector, mixer (flight_control.hpp) and the
+  // motors' first-order lag; `w` is the angular velocity in body axes.
+  void command_motors(Flight& f, const LandingConditions& lc, const BodyState& s, const Eigen::Vector3d& w) {
+    if (!f.detector.landed()) {
+      const LandController::Output u =
+          f.controller.update({s.p, s.v, s.R, w}, lc.landing_point, lc.heading, lc.land_speed,
+                              f.detector.stage() >= LandDetector::GroundContact);
+      if (f.detector.update(u.thrust, s.v.z(), u.vz_setpoint, w.norm())) f.controller.reset_velocity_integrator();
+      const Eigen::VectorXd thrust = mixer_.mix(f.detector.limit_thrust(u.thrust), u.torque);
       for (std::size_t i = 0; i < motor_.size(); ++i) {
-        const Eigen::Vector3d& r = motor_r_[i];
-        dBodyAddRelForceAtRelPos(body_, 0, 0, motor_[i], r.x(), r.y(), r.z());
-        dBodyAddRelTorque(body_, 0, 0, -af_.spin[i] * af_.torque_coefficient * motor_[i]);
+        const double cmd = f.detector.landed() ? 0.0 : thrust[static_cast<Eigen::Index>(i)];
+        motor_[i] += (cmd - motor_[i]) * f.motor_alpha;
       }
-
-      // ---- contacts ------------------------------------------------------------
-      contacts.clear();
-      contact_kind.clear();
-      contact_foot.clear();
-      auto world = [&](const Eigen::Vector3d& q) { return Eigen::Vector3d(p + R * (q - com_)); };
-      auto tag = [&](std::size_t before, PartKind kind, int foot) {
-        // At most 4 contacts per part (the body box: what collide_box
-        // chose), the deepest: enough for a stable support, and ODE's LCP
-        // cost grows with the cube of the contact count.
-        const std::size_t max_contacts = kind == PartKind::Body ? detail::kMaxBoxContacts : 4;
-        if (contacts.size() - before > max_contacts) {
-          std::stable_sort(contacts.begin() + static_cast<std::ptrdiff_t>(before), contacts.end(),
-                           [](const detail::Contact& a, const detail::Contact& b) { return a.depth > b.depth; });
-          contacts.resize(before + max_contacts);
-        }
-        for (std::size_t k = before; k < contacts.size(); ++k) {
-          contact_kind.push_back(kind);
-          contact_foot.push_back(foot);
-        }
-      };
-      const auto& terrain = sim_.terrain();
-      // Whole-twin broad phase: a sphere around the centre of mass holding
-      // every part; nothing to do while it is above all terrain below it.
-      const Eigen::Vector3d reach = Eigen::Vector3d::Constant(reach_);
-      const bool near = terrain.max_z_near(Eigen::AlignedBox3d(p - reach, p + reach)) >= p.z() - reach_;
-      for (std::size_t i = 0; near && i < af_.legs.size(); ++i) {
-        std::size_t before = contacts.size();
-        const Sphere& s = feet_[i];
-        detail::collide_sphere(terrain, world(s.centre), s.radius, scratch, contacts);
-        tag(before, PartKind::Foot, static_cast<int>(i));
-        before = contacts.size();
-        const Capsule& c = legs_[i];
-        detail::collide_capsule(terrain, world(c.a), world(c.b), c.radius, scratch, contacts);
-        tag(before, PartKind::Leg, static_cast<int>(i));
-      }
-      for (std::size_t i = 0; near && i < af_.motor_count(); ++i) {
-        std::size_t before = contacts.size();
-        const Capsule& a = arms_[i];
-        detail::collide_capsule(terrain, world(a.a), world(a.b), a.radius, scratch, contacts);
-        tag(before, PartKind::Arm, -1);
-        before = contacts.size();
-        const Disk& d = props_[i];
-        detail::collide_disk(terrain, world(d.centre), R * d.axis, d.radius, d.half_thickness, scratch, contacts);
-        tag(before, PartKind::Propeller, -1);
-      }
-      if (near) {
-        const std::size_t before = contacts.size();
-        const Box b = af_.body_box();
-        detail::collide_box(terrain, world(b.centre), R, b.half_extents, scratch, contacts);
-        tag(before, PartKind::Body, -1);
-      }
-      std::fill(foot_touch.begin(), foot_touch.end(), false);
-      for (std::size_t k = 0; k < contacts.size(); ++k) {
-        // A non-finite contact or one without a normal must never reach ODE
-        // (as for motor commands: its normalisation asserts abort).
-        if (!contacts[k].position.allFinite() || !std::isfinite(contacts[k].depth) ||
-            !(std::abs(contacts[k].normal.squaredNorm() - 1.0) < 1e-6)) {
-          continue;
-        }
-        switch (contact_kind[k]) {
-          case PartKind::Foot:
-          case PartKind::Leg:
-            foot_touch[static_cast<std::size_t>(contact_foot[k])] = true;
-            break;
-          case PartKind::Arm:
-            res.arm_strike = true;
-            break;
-          case PartKind::Propeller:
-            res.prop_strike = true;
-            break;
-          case PartKind::Body:
-            // Without landing gear the body is what the airframe lands on:
-            // touching is no strike, and its bottom corners stand in for the
-            // feet.
-            if (af_.has_landing_gear()) {
-              res.body_strike = true;
-            } else if (const int c = bottom_corner_of(R.transpose() * (contacts[k].position - p) + com_); c >= 0) {
-              foot_touch[static_cast<std::size_t>(c)] = true;
-            }
-            break;
-        }
-        dContact c{};
-        c.surface.mode = dContactApprox1 | dContactSoftERP | dContactSoftCFM;
-        c.surface.mu = friction_;
-        c.surface.soft_erp = erp_;
-        c.surface.soft_cfm = cfm_;
-        for (int a = 0; a < 3; ++a) {
-          c.geom.pos[a] = contacts[k].position[a];
-          c.geom.normal[a] = contacts[k].normal[a];
-        }
-        c.geom.depth = contacts[k].depth;
-        dJointID j = dJointCreateContact(world_, contacts_group_, &c);
-        dJointAttach(j, body_, nullptr);
-      }
-      if (!contacts.empty()) touched = true;
-
-      dWorldStep(world_, dt);
-      dJointGroupEmpty(contacts_group_);
-      ++res.steps;
-
-      if (opt_.record_trace && step % 20 == 0) {
-        res.trace.push_back({static_cast<double>(step) * dt, p, nut, detector.stage()});
-      }
-
-      // ---- end of run: still for still_time after disarm ----------------------
-      const Eigen::Vector3d v1 = vec_of(dBodyGetLinearVel(body_)), w1 = vec_of(dBodyGetAngularVel(body_));
-      if (detector.landed() && v1.norm() < opt_.still_linear && w1.norm() < opt_.still_angular) {
-        still_timer += dt;
-        if (still_timer >= opt_.still_time) {
-          res.status = RunStatus::Settled;
-          break;
-        }
-      } else {
-        still_timer = 0;
-      }
-      if (step + 1 == max_steps) {
-        res.status = RunStatus::Timeout;
-        res.message = "did not come to rest before the timeout";
-      }
+    } else {
+      f.controller.idle(s.v);
+      for (double& m : motor_) m += (0.0 - m) * f.motor_alpha;  // disarmed: spin down
     }
+  }
+
+  // Motor thrusts and their reaction torques on the body.
+  void apply_motor_forces() {
+    for (std::size_t i = 0; i < motor_.size(); ++i) {
+      const Eigen::Vector3d& r = motor_r_[i];
+      dBodyAddRelForceAtRelPos(body_, 0, 0, motor_[i], r.x(), r.y(), r.z());
+      dBodyAddRelTorque(body_, 0, 0, -af_.spin[i] * af_.torque_coefficient * motor_[i]);
+    }
+  }
+
+  // A body-frame point of the airframe in the world.
+  [[nodiscard]] Eigen::Vector3d to_world(const BodyState& s, const Eigen::Vector3d& q) const {
+    return Eigen::Vector3d(s.p + s.R * (q - com_));
+  }
+
+  // Keeps the deepest contacts of one part (those from `before` on) and
+  // tags them with the part.
+  static void tag_contacts(Flight& f, std::size_t before, PartKind kind, int foot) {
+    // At most 4 contacts per part (the body box: what collide_box
+    // chose), the deepest: enough for a stable support, and ODE's LCP
+    // cost grows with the cube of the contact count.
+    const std::size_t max_contacts = kind == PartKind::Body ? detail::kMaxBoxContacts : 4;
+    if (f.contacts.size() - before > max_contacts) {
+      std::stable_sort(f.contacts.begin() + static_cast<std::ptrdiff_t>(before), f.contacts.end(),
+                       [](const detail::Contact& a, const detail::Contact& b) { return a.depth > b.depth; });
+      f.contacts.resize(before + max_contacts);
+    }
+    for (std::size_t k = before; k < f.contacts.size(); ++k) {
+      f.contact_kind.push_back(kind);
+      f.contact_foot.push_back(foot);
+    }
+  }
+
+  // This step's contacts of every part with the terrain, in f.contacts.
+  void find_contacts(Flight& f, const BodyState& s) {
+    f.contacts.clear();
+    f.contact_kind.clear();
+    f.contact_foot.clear();
+    const auto& terrain = sim_.terrain();
+    // Whole-twin broad phase: a sphere around the centre of mass holding
+    // every part; nothing to do while it is above all terrain below it.
+    const Eigen::Vector3d reach = Eigen::Vector3d::Constant(reach_);
+    const bool near = terrain.max_z_near(Eigen::AlignedBox3d(s.p - reach, s.p + reach)) >= s.p.z() - reach_;
+    for (std::size_t i = 0; near && i < af_.legs.size(); ++i) {
+      std::size_t before = f.contacts.size();
+      const Sphere& sphere = feet_[i];
+      detail::collide_sphere(terrain, to_world(s, sphere.centre), sphere.radius, f.scratch, f.contacts);
+      tag_contacts(f, before, PartKind::Foot, static_cast<int>(i));
+      before = f.contacts.size();
+      const Capsule& c = legs_[i];
+      detail::collide_capsule(terrain, to_world(s, c.a), to_world(s, c.b), c.radius, f.scratch, f.contacts);
+      tag_contacts(f, before, PartKind::Leg, static_cast<int>(i));
+    }
+    for (std::size_t i = 0; near && i < af_.motor_count(); ++i) {
+      std::size_t before = f.contacts.size();
+      const Capsule& a = arms_[i];
+      detail::collide_capsule(terrain, to_world(s, a.a), to_world(s, a.b), a.radius, f.scratch, f.contacts);
+      tag_contacts(f, before, PartKind::Arm, -1);
+      before = f.contacts.size();
+      const Disk& d = props_[i];
+      detail::collide_disk(terrain, to_world(s, d.centre), s.R * d.axis, d.radius, d.half_thickness, f.scratch,
+                           f.contacts);
+      tag_contacts(f, before, PartKind::Propeller, -1);
+    }
+    if (near) {
+      const std::size_t before = f.contacts.size();
+      const Box b = af_.body_box();
+      detail::collide_box(terrain, to_world(s, b.centre), s.R, b.half_extents, f.scratch, f.contacts);
+      tag_contacts(f, before, PartKind::Body, -1);
+    }
+  }
+
+  // Records which parts touch (feet, strikes) and hands each valid contact
+  // to ODE as a soft contact joint for this step.
+  void add_contact_joints(Flight& f, const BodyState& s) {
+    std::fill(f.foot_touch.begin(), f.foot_touch.end(), false);
+    for (std::size_t k = 0; k < f.contacts.size(); ++k) {
+      const detail::Contact& contact = f.contacts[k];
+      // A non-finite contact or one without a normal must never reach ODE
+      // (as for motor commands: its normalisation asserts abort).
+      if (!contact.position.allFinite() || !std::isfinite(contact.depth) ||
+          !(std::abs(contact.normal.squaredNorm() - 1.0) < 1e-6)) {
+        continue;
+      }
+      switch (f.contact_kind[k]) {
+        case PartKind::Foot:
+        case PartKind::Leg:
+          f.foot_touch[static_cast<std::size_t>(f.contact_foot[k])] = true;
+          break;
+        case PartKind::Arm:
+          f.res.arm_strike = true;
+          break;
+        case PartKind::Propeller:
+          f.res.prop_strike = true;
+          break;
+        case PartKind::Body:
+          // Without landing gear the body is what the airframe lands on:
+          // touching is no strike, and its bottom corners stand in for the
+          // feet.
+          if (af_.has_landing_gear()) {
+            f.res.body_strike = true;
+          } else if (const int c = bottom_corner_of(s.R.transpose() * (contact.position - s.p) + com_); c >= 0) {
+            f.foot_touch[static_cast<std::size_t>(c)] = true;
+          }
+          break;
+      }
+      dContact c{};
+      c.surface.mode = dContactApprox1 | dContactSoftERP | dContactSoftCFM;
+      c.surface.mu = friction_;
+      c.surface.soft_erp = erp_;
+      c.surface.soft_cfm = cfm_;
+      for (int a = 0; a < 3; ++a) {
+        c.geom.pos[a] = contact.position[a];
+        c.geom.normal[a] = contact.normal[a];
+      }
+      c.geom.depth = contact.depth;
+      dJointID j = dJointCreateContact(world_, contacts_group_, &c);
+      dJointAttach(j, body_, nullptr);
+    }
+  }
+
+  // End of run: still for still_time after disarm (true: settled), or the
+  // timeout marked on the last step.
+  bool run_ended(Flight& f, long step) {
+    const Eigen::Vector3d v1 = vec_of(dBodyGetLinearVel(body_)), w1 = vec_of(dBodyGetAngularVel(body_));
+    if (f.detector.landed() && v1.norm() < opt_.still_linear && w1.norm() < opt_.still_angular) {
+      f.still_timer += f.dt;
+      if (f.still_timer >= opt_.still_time) {
+        f.res.status = RunStatus::Settled;
+        return true;
+      }
+    } else {
+      f.still_timer = 0;
+    }
+    if (step + 1 == f.max_steps) {
+      f.res.status = RunStatus::Timeout;
+      f.res.message = "did not come to rest before the timeout";
+    }
+    return false;
+  }
+
+  // The figures of the final state: attitude, nutation, offset, feet.
+  RunResult final_result(Flight& f, const LandingConditions& lc) const {
+    RunResult& res = f.res;
     const Eigen::Matrix3d R = rotation_of(body_);
     const Eigen::Vector3d p = vec_of(dBodyGetPosition(body_));
-    res.sim_time = static_cast<double>(res.steps) * dt;
+    res.sim_time = static_cast<double>(res.steps) * f.dt;
     res.final_position = p;
     res.nutation = nutation_of(R);
     res.pitch = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
@@ -332,15 +409,14 @@ class Run {
     const Eigen::Vector3d origin = p - R * com_;
     res.offset = (origin.head<2>() - lc.landing_point).norm();
     res.tipped = res.nutation > opt_.tip_nutation;
-    res.all_feet_in_contact = std::all_of(foot_touch.begin(), foot_touch.end(), [](bool b) { return b; });
+    res.all_feet_in_contact = std::all_of(f.foot_touch.begin(), f.foot_touch.end(), [](bool b) { return b; });
     if (!p.allFinite() || !R.allFinite()) {
       res.status = RunStatus::Unstable;
       res.message = "non-finite state";
     }
-    return res;
+    return std::move(res);
   }
 
- private:
   // Which bottom corner of the body box (0..3) a body-frame contact point
   // is at (within 1 mm), or -1.
   [[nodiscard]] int bottom_corner_of(const Eigen::Vector3d& q) const {
