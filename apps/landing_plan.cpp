@@ -404,7 +404,7 @@ std::string plot_svg(const PlotInput& in) {
   }
 
   // Legend: what the views show, then what the time plots show.
-  td::detail::SvgLegend shown(svg, margin_l, legend_y, 18, td::detail::SvgLegend::Flow::row);
+  td::detail::SvgLegend shown(svg, margin_l, legend_y, 18, td::detail::SvgLegend::Flow::Row);
   auto box = [&](const char* colour, const std::string& more) {
     return [&svg, colour, more](double x, double y) { svg.rect(x - 10, y - 7, 20, 14, area(colour) + more); };
   };
@@ -432,7 +432,7 @@ std::string plot_svg(const PlotInput& in) {
   shown.entry("pad", [&](double x, double y) {
     svg.rect(x - 10, y - 5, 20, 10, " fill='none' stroke='#222' stroke-width='2.5'");
   });
-  td::detail::SvgLegend plotted(svg, margin_l, legend_y + 24, 18, td::detail::SvgLegend::Flow::row);
+  td::detail::SvgLegend plotted(svg, margin_l, legend_y + 24, 18, td::detail::SvgLegend::Flow::Row);
   for (int a = 0; a < 3; ++a) {
     plotted.entry(std::string("world ") + "xyz"[a], [&](double x, double y) {
       svg.line(x - 10, y, x + 10, y, std::string(" stroke='") + kAxisColour[a] + "' stroke-width='1.8'");

@@ -346,7 +346,7 @@ int main(int argc, char** argv) {
         source = std::to_string(campaign_files.size()) + " files";
       } else {
         std::optional<ts::MapKind> m;
-        if (campaign_map != "any") m = campaign_map == "lawn" ? ts::MapKind::lawn : ts::MapKind::ground;
+        if (campaign_map != "any") m = campaign_map == "lawn" ? ts::MapKind::Lawn : ts::MapKind::Ground;
         scenarios = ts::random_scenarios(first_seed, count, m);
         for (int i = 0; i < count; ++i)
           names.push_back("seed " + std::to_string(first_seed + static_cast<std::uint64_t>(i)));
@@ -368,8 +368,8 @@ int main(int argc, char** argv) {
     }
     if (*random_cmd) {
       const ts::Scenario s = map == "any"    ? ts::random_scenario(seed)
-                             : map == "lawn" ? ts::random_scenario(seed, ts::MapKind::lawn)
-                                             : ts::random_scenario(seed, ts::MapKind::ground);
+                             : map == "lawn" ? ts::random_scenario(seed, ts::MapKind::Lawn)
+                                             : ts::random_scenario(seed, ts::MapKind::Ground);
       const bool as_json = fs::path(out_path).extension() == ".json";
       write_text_atomically(out_path, as_json ? ts::to_json(s) : ts::to_yaml(s));
       std::cerr << "landing_scenario: wrote " << out_path << " (" << ts::to_string(s.map) << ", "

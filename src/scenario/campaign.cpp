@@ -87,9 +87,9 @@ CampaignResult run_campaign(const std::vector<Scenario>& scenarios, const Campai
   for (const auto& e : result.entries) {
     ++s.scenarios;
     s.violations += e.violation ? 1 : 0;
-    s.type_i += e.type == Violation::type_i ? 1 : 0;
-    s.type_ii += e.type == Violation::type_ii ? 1 : 0;
-    s.type_iii += e.type == Violation::type_iii ? 1 : 0;
+    s.type_i += e.type == Violation::TypeI ? 1 : 0;
+    s.type_ii += e.type == Violation::TypeII ? 1 : 0;
+    s.type_iii += e.type == Violation::TypeIII ? 1 : 0;
     s.flight_s += e.flight_s;
     s.timing.render_s += e.timing.render_s;
     s.timing.system_s += e.timing.system_s;

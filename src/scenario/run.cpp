@@ -19,20 +19,6 @@ using detail::format_fixed;
 
 }  // namespace
 
-std::string_view to_string(Violation v) {
-  switch (v) {
-    case Violation::none:
-      return "none";
-    case Violation::type_i:
-      return "I";
-    case Violation::type_ii:
-      return "II";
-    case Violation::type_iii:
-      return "III";
-  }
-  return "?";
-}
-
 bool RunOptions::validate(std::string* why) const {
   std::string w;
   if (!camera.validate(&w)) return invalid(why, "camera." + w);
@@ -71,7 +57,7 @@ ScenarioResult run_scenario(const Scenario& scenario, LandingSystem& system, con
   int frame_index = 0;
   CameraFrame frame;
   SceneState scene;
-  std::vector<ObjectAction> actions(static_cast<std::size_t>(world.external_count()), ObjectAction::stay);
+  std::vector<ObjectAction> actions(static_cast<std::size_t>(world.external_count()), ObjectAction::Stay);
   r.trajectory.reserve(static_cast<std::size_t>(steps) + 1);
   const Eigen::Vector2d marker = scenario.marker.position;
 
@@ -111,7 +97,7 @@ ScenarioResult run_scenario(const Scenario& scenario, LandingSystem& system, con
         const int u = static_cast<int>(std::lround(c.x())), v = static_cast<int>(std::lround(c.y()));
         const bool inside = u >= 0 && v >= 0 && u < frame.width && v < frame.height;
         if (!inside || frame.mask[static_cast<std::size_t>(v) * static_cast<std::size_t>(frame.width) +
-                                  static_cast<std::size_t>(u)] != kMarker) {
+                                  static_cast<std::size_t>(u)] != mask_value(Label::Marker)) {
           ++rec.false_accepted;
           r.false_detection = true;
         }
@@ -144,11 +130,11 @@ ScenarioResult run_scenario(const Scenario& scenario, LandingSystem& system, con
     r.collided = true;
     r.collision = *c;
     r.violation = true;
-    r.type = Violation::type_iii;
+    r.type = Violation::TypeIII;
     r.message = "Type III: collided with " + c->what + " at t = " + format_fixed(c->t, 2) + " s";
   } else if (!r.landed) {
     r.violation = true;
-    r.type = Violation::type_ii;
+    r.type = Violation::TypeII;
     r.message = std::string("Type II: no landing within ") + format_fixed(scenario.time_limit, 0) + " s (" +
                 (r.descent_started
                      ? "a descent started at t = " + format_fixed(r.descent_time, 1) + " s did not reach the ground"
@@ -158,7 +144,7 @@ ScenarioResult run_scenario(const Scenario& scenario, LandingSystem& system, con
     // Landed off target: something the system took for the marker led it
     // there (a false positive, the paper's Type I).
     r.violation = true;
-    r.type = Violation::type_i;
+    r.type = Violation::TypeI;
     r.message = "Type I: landed " + format_fixed(r.dtl, 2) + " m from the marker";
     if (r.descent_started)
       r.message += "; the descent was triggered by a detection " + format_fixed((r.descent_target - marker).norm(), 2) +

@@ -18,9 +18,9 @@ namespace touchdown::scenario {
 
 /// One scenario's outcome, without the trajectory and frames.
 struct CampaignEntry {
-  MapKind map = MapKind::ground;
+  MapKind map = MapKind::Ground;
   bool violation = false;
-  Violation type = Violation::none;
+  Violation type = Violation::None;
   std::string message;
   bool landed = false;
   double dtl = 0;  ///< [m]

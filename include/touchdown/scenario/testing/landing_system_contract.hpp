@@ -85,7 +85,7 @@ inline Script default_script() {
   Scenario& a = s.scenario;
   a = clear_scenario(35);
   StaticObject cube;
-  cube.kind = StaticKind::box;
+  cube.kind = StaticKind::Box;
   cube.position = {1.0, 0.0};
   cube.size = {1, 1, 1};
   a.static_objects = {cube};
@@ -96,7 +96,7 @@ inline Script default_script() {
   b.marker.id = 5;
   b.marker.position = {2, -3};
   StaticObject box;
-  box.kind = StaticKind::box;
+  box.kind = StaticKind::Box;
   box.position = {0, 0};
   box.size = {1, 1, 2};
   b.static_objects = {box};
@@ -148,7 +148,7 @@ class Lane {
     const double duration = max_time > 0 ? std::min(max_time, scenario.time_limit) : scenario.time_limit;
     steps_ = static_cast<long>(std::ceil(duration / world_.dt() - 1e-9));
     frame_period_ = 1.0 / options.camera.rate_hz;
-    actions_.assign(static_cast<std::size_t>(world_.external_count()), ObjectAction::stay);
+    actions_.assign(static_cast<std::size_t>(world_.external_count()), ObjectAction::Stay);
   }
 
   /// One step; false once the run is over (time limit, collision, landing).
