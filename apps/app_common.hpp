@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <string>
 
 #include "core/format.hpp"
@@ -71,6 +72,34 @@ CLI::Option* add_enum_option(CLI::App& app, const std::string& name, E& value, c
           name, [&value](const std::string& text) { value = touchdown::from_string<E>(text); }, description)
       ->check(one_of<E>())
       ->default_str(std::string(touchdown::enum_name(value)));
+}
+
+/// As above, for a choice that may be left open: `open_name` ("any") leaves
+/// `value` empty. --help lists the names and `open_name`; a bad name is
+/// refused listing them ("--map: expected one of ground, lawn, any; got
+/// 'moon'").
+template <touchdown::NamedEnum E>
+CLI::Option* add_enum_option(CLI::App& app, const std::string& name, std::optional<E>& value,
+                             const std::string& open_name, const std::string& description) {
+  const std::string names = touchdown::enum_names_list<E>() + ", " + open_name;
+  return app
+      .add_option_function<std::string>(
+          name,
+          [&value, open_name](const std::string& text) {
+            value = text == open_name ? std::nullopt : std::optional<E>(touchdown::from_string<E>(text));
+          },
+          description)
+      ->check(CLI::Validator(
+          [names, open_name](std::string& text) -> std::string {
+            try {
+              if (text != open_name) (void)touchdown::from_string<E>(text);
+              return "";
+            } catch (const touchdown::InvalidArgument&) {
+              return "expected one of " + names + "; got '" + text + "'";
+            }
+          },
+          "{" + names + "}"))
+      ->default_str(value ? std::string(touchdown::enum_name(*value)) : open_name);
 }
 
 /// Validator of a number option: finite and within [lo, hi] (`(` or `)`

@@ -421,7 +421,7 @@ void draw_time_plot(td::detail::SvgWriter& svg, int j, double top, bool have_cur
 
 // Legend: what the views show, then what the time plots show.
 void draw_legend(td::detail::SvgWriter& svg, double legend_y, const Scene& scene, const PlotInput& in) {
-  td::detail::SvgLegend shown(svg, kMarginLeft, legend_y, 18, td::detail::SvgLegend::Flow::row);
+  td::detail::SvgLegend shown(svg, kMarginLeft, legend_y, 18, td::detail::SvgLegend::Flow::Row);
   auto box = [&](const char* colour, const std::string& more) {
     return [&svg, colour, more](double x, double y) { svg.rect(x - 10, y - 7, 20, 14, area(colour) + more); };
   };
@@ -449,7 +449,7 @@ void draw_legend(td::detail::SvgWriter& svg, double legend_y, const Scene& scene
   shown.entry("pad", [&](double x, double y) {
     svg.rect(x - 10, y - 5, 20, 10, " fill='none' stroke='#222' stroke-width='2.5'");
   });
-  td::detail::SvgLegend plotted(svg, kMarginLeft, legend_y + 24, 18, td::detail::SvgLegend::Flow::row);
+  td::detail::SvgLegend plotted(svg, kMarginLeft, legend_y + 24, 18, td::detail::SvgLegend::Flow::Row);
   for (int a = 0; a < 3; ++a) {
     plotted.entry(std::string("world ") + "xyz"[a], [&](double x, double y) {
       svg.line(x - 10, y, x + 10, y, std::string(" stroke='") + kAxisColour[a] + "' stroke-width='1.8'");

@@ -12,9 +12,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <thread>
+#include <vector>
 
 #include "app_common.hpp"
 #include "touchdown/core/atomic_file.hpp"
@@ -237,6 +240,225 @@ void print_campaign(const ts::CampaignResult& c, const std::string& source, cons
             << share(s.timing.physics_s) << ", other " << share(other) << "\n";
 }
 
+// ---- run: one scenario ----------------------------------------------------------------
+
+struct RunArgs {
+  std::string scenario_path, system = "opencv-mls", video_path, log_path, snapshot_path;
+  bool json = false;
+  double snapshot_t = -1;
+  ts::RunOptions options;
+};
+
+CLI::App* add_run_command(CLI::App& app, RunArgs& a) {
+  auto* cmd = app.add_subcommand("run", "run a landing system in a scenario");
+  cmd->add_option("SCENARIO", a.scenario_path, "scenario YAML or JSON (docs/formats.md)")->required();
+  cmd->add_option("--system", a.system, "landing system under test")
+      ->check(CLI::IsMember(ts::landing_system_names()))
+      ->capture_default_str();
+  cmd->add_option("--video", a.video_path, "write the camera view with detections and the outcome (.mp4 or .avi)")
+      ->check([](const std::string& p) {
+        const auto ext = fs::path(p).extension();
+        return ext == ".mp4" || ext == ".avi" ? std::string() : "--video: must end in .mp4 or .avi, got '" + p + "'";
+      });
+  cmd->add_option("--log", a.log_path, "per-step CSV: trajectory, phase, eq. 5 marker areas, detections")
+      ->check(output_extension(".csv"));
+  auto* snapshot_opt =
+      cmd->add_option("--snapshot", a.snapshot_path, "write the overlaid camera frame at --snapshot-t as PNG")
+          ->check(output_extension(".png"));
+  cmd->add_option("--snapshot-t", a.snapshot_t, "time of the snapshot [s] (default: the last frame)")
+      ->check(number_in(0, 3600))
+      ->needs(snapshot_opt);
+  cmd->add_flag("--json", a.json, "one JSON object on stdout");
+  ts::CameraOptions& camera = a.options.camera;
+  cmd->add_option("--width", camera.width, "camera image width [px]")
+      ->check(number_in(16, 4096))
+      ->capture_default_str();
+  cmd->add_option("--height", camera.height, "camera image height [px]")
+      ->check(number_in(16, 4096))
+      ->capture_default_str();
+  cmd->add_option("--hfov", camera.hfov_deg, "horizontal field of view [deg]")
+      ->check(number_in(10, 170, true, true))
+      ->capture_default_str();
+  cmd->add_option("--tilt", camera.tilt_deg, "camera tilt forward from nadir [deg]")
+      ->check(number_in(0, 80))
+      ->capture_default_str();
+  cmd->add_option("--camera-rate", camera.rate_hz, "frames per second")
+      ->check(number_in(0, 50, true))
+      ->capture_default_str();
+  return cmd;
+}
+
+/// The overlaid frames of a run: every one to the video, the one nearest
+/// --snapshot-t kept for the snapshot, the last one for the outcome banner.
+struct RunImages {
+  std::optional<Video> video;
+  cv::Mat last, snapshot;
+  double best_dt = 1e9;
+};
+
+void write_images(const RunArgs& a, const ts::ScenarioResult& r, RunImages& images) {
+  if (!images.last.empty()) banner(images.last, r);
+  if (images.video) {
+    // Hold the outcome on screen for a second.
+    for (int i = 0; i < static_cast<int>(std::ceil(a.options.camera.rate_hz)); ++i) images.video->write(images.last);
+    images.video->finish();
+  }
+  if (!a.snapshot_path.empty()) {
+    // `last` already carries the outcome banner.
+    cv::Mat img = images.last;
+    if (!images.snapshot.empty()) {
+      img = images.snapshot;
+      banner(img, r);
+    }
+    std::vector<unsigned char> png;
+    cv::imencode(".png", img, png);
+    write_text_atomically(a.snapshot_path, std::string(png.begin(), png.end()));
+  }
+}
+
+void print_run(const RunArgs& a, const ts::Scenario& scenario, std::string_view system, const ts::ScenarioResult& r) {
+  std::cout << "scenario   " << a.scenario_path << " (" << ts::to_string(scenario.map) << ")\n"
+            << "system     " << system << "\n"
+            << "outcome    " << (r.violation() ? "VIOLATION" : "ok") << ": " << r.message << "\n"
+            << "DTL        " << format_fixed(r.dtl, 2) << " m   TTL " << format_fixed(r.ttl, 1) << " s\n"
+            << "frames     " << r.frames.size() << "   steps " << r.trajectory.size() << "\n"
+            << "time       " << format_fixed(r.timing.total_s, 3) << " s (render " << format_fixed(r.timing.render_s, 3)
+            << ", system " << format_fixed(r.timing.system_s, 3) << ", physics " << format_fixed(r.timing.physics_s, 3)
+            << ")\n";
+}
+
+int run_command(RunArgs& a) {
+  const ts::Scenario scenario = ts::load_scenario(a.scenario_path);
+  auto sut = ts::make_landing_system(a.system);
+  RunImages images;
+  if (!a.video_path.empty())
+    images.video.emplace(a.video_path, a.options.camera.rate_hz, a.options.camera.width, a.options.camera.height);
+  a.options.on_frame = [&](const ts::CameraFrame& f, const ts::SystemOutput& out, const ts::DroneState& s) {
+    if (!images.video && a.snapshot_path.empty()) return;
+    images.last = overlay(f, out, s);
+    if (images.video) images.video->write(images.last);
+    if (!a.snapshot_path.empty() && a.snapshot_t >= 0 && std::abs(s.t - a.snapshot_t) < images.best_dt) {
+      images.best_dt = std::abs(s.t - a.snapshot_t);
+      images.snapshot = images.last.clone();
+    }
+  };
+  const ts::ScenarioResult r = ts::run_scenario(scenario, *sut, a.options);
+  write_images(a, r, images);
+  if (!a.log_path.empty()) write_text_atomically(a.log_path, log_csv(r, 1.0 / a.options.flight.rate_hz));
+  if (a.json) {
+    std::cout << result_json(a.scenario_path, sut->name(), r).dump(2) << "\n";
+  } else {
+    print_run(a, scenario, sut->name(), r);
+  }
+  return kExitOk;
+}
+
+// ---- random: write a random scenario ----------------------------------------------------
+
+// The --map name that leaves the map to the random draw.
+const std::string kAnyMap = "any";
+
+struct RandomArgs {
+  std::uint64_t seed = 1;
+  std::string out_path;
+  std::optional<ts::MapKind> map;  // empty: any
+};
+
+CLI::App* add_random_command(CLI::App& app, RandomArgs& a) {
+  auto* cmd = app.add_subcommand("random", "write a random valid scenario drawn from the bounds table");
+  cmd->add_option("--seed", a.seed, "random seed")->capture_default_str();
+  add_enum_option(*cmd, "--map", a.map, kAnyMap, td::enum_names_list<ts::MapKind>() + " or " + kAnyMap);
+  cmd->add_option("-o,--output", a.out_path, "scenario file to write (.yaml or .json)")
+      ->required()
+      ->check([](const std::string& p) {
+        const auto ext = fs::path(p).extension();
+        return ext == ".yaml" || ext == ".yml" || ext == ".json" ? std::string()
+                                                                 : "--output: must end in .yaml, .yml or .json";
+      });
+  return cmd;
+}
+
+int random_command(const RandomArgs& a) {
+  const ts::Scenario s = a.map ? ts::random_scenario(a.seed, *a.map) : ts::random_scenario(a.seed);
+  const bool as_json = fs::path(a.out_path).extension() == ".json";
+  write_text_atomically(a.out_path, as_json ? ts::to_json(s) : ts::to_yaml(s));
+  std::cerr << "landing_scenario: wrote " << a.out_path << " (" << ts::to_string(s.map) << ", "
+            << s.static_objects.size() << " static, " << s.dynamic_objects.size() << " moving objects, "
+            << s.distractors.size() << " distractors)\n";
+  return kExitOk;
+}
+
+// ---- campaign: many scenarios ----------------------------------------------------------
+
+struct CampaignArgs {
+  std::vector<std::string> files;
+  std::uint64_t first_seed = 1;
+  int count = 100;
+  std::optional<ts::MapKind> map;  // empty: any
+  std::string csv_path;
+  bool json = false, whole_frame = false;
+  ts::CampaignOptions campaign;
+};
+
+CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
+  auto* cmd = app.add_subcommand(
+      "campaign",
+      "run many scenarios (random ones by seed, or the given files) in parallel; violation rate and type mix");
+  a.campaign.threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  auto* files_opt = cmd->add_option("SCENARIO", a.files, "scenario files (default: random ones)");
+  cmd->add_option("--seed", a.first_seed, "seed of the first random scenario")
+      ->capture_default_str()
+      ->excludes(files_opt);
+  cmd->add_option("--count", a.count, "random scenarios")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str()
+      ->excludes(files_opt);
+  add_enum_option(*cmd, "--map", a.map, kAnyMap,
+                  "map of the random scenarios: " + td::enum_names_list<ts::MapKind>() + " or " + kAnyMap)
+      ->excludes(files_opt);
+  cmd->add_option("--system", a.campaign.system, "landing system under test")
+      ->check(CLI::IsMember(ts::landing_system_names()))
+      ->capture_default_str();
+  cmd->add_option("--threads", a.campaign.threads, "worker threads")->check(CLI::Range(1, 256))->capture_default_str();
+  cmd->add_flag("--whole-frame-detection", a.whole_frame,
+                "detect in the whole frame every time (no tracking ROI), as the published baseline");
+  cmd->add_option("--csv", a.csv_path, "one row per scenario")->check(output_extension(".csv"));
+  cmd->add_flag("--json", a.json, "the summary as one JSON object on stdout");
+  return cmd;
+}
+
+int campaign_command(CampaignArgs& a) {
+  std::vector<ts::Scenario> scenarios;
+  std::vector<std::string> names;
+  std::string source;
+  if (!a.files.empty()) {
+    for (const auto& f : a.files) {
+      scenarios.push_back(ts::load_scenario(f));
+      names.push_back(f);
+    }
+    source = std::to_string(a.files.size()) + " files";
+  } else {
+    scenarios = ts::random_scenarios(a.first_seed, a.count, a.map);
+    for (int i = 0; i < a.count; ++i)
+      names.push_back("seed " + std::to_string(a.first_seed + static_cast<std::uint64_t>(i)));
+    source = "random, seeds " + std::to_string(a.first_seed) + ".." +
+             std::to_string(a.first_seed + static_cast<std::uint64_t>(a.count) - 1) + ", map " +
+             (a.map ? std::string(ts::to_string(*a.map)) : kAnyMap);
+  }
+  a.campaign.mls.detection_roi = !a.whole_frame;
+  // The campaign's threads are the parallelism: OpenCV's own would
+  // oversubscribe the cores.
+  cv::setNumThreads(1);
+  const ts::CampaignResult c = ts::run_campaign(scenarios, a.campaign);
+  if (!a.csv_path.empty()) write_text_atomically(a.csv_path, campaign_csv(c, names));
+  if (a.json) {
+    std::cout << campaign_json(c, source, a.campaign).dump(2) << "\n";
+  } else {
+    print_campaign(c, source, a.campaign);
+  }
+  return kExitOk;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -245,185 +467,15 @@ int main(int argc, char** argv) {
       "outcome; or write a random scenario.",
       "landing_scenario"};
   app.require_subcommand(1);
-
-  auto* run_cmd = app.add_subcommand("run", "run a landing system in a scenario");
-  std::string scenario_path, system = "opencv-mls", video_path, log_path, snapshot_path;
-  bool json = false;
-  double snapshot_t = -1;
-  ts::RunOptions options;
-  run_cmd->add_option("SCENARIO", scenario_path, "scenario YAML or JSON (docs/formats.md)")->required();
-  run_cmd->add_option("--system", system, "landing system under test")
-      ->check(CLI::IsMember({"opencv-mls", "mm-mls"}))
-      ->capture_default_str();
-  run_cmd->add_option("--video", video_path, "write the camera view with detections and the outcome (.mp4 or .avi)")
-      ->check([](const std::string& p) {
-        const auto ext = fs::path(p).extension();
-        return ext == ".mp4" || ext == ".avi" ? std::string() : "--video: must end in .mp4 or .avi, got '" + p + "'";
-      });
-  run_cmd->add_option("--log", log_path, "per-step CSV: trajectory, phase, eq. 5 marker areas, detections")
-      ->check(output_extension(".csv"));
-  auto* snapshot_opt =
-      run_cmd->add_option("--snapshot", snapshot_path, "write the overlaid camera frame at --snapshot-t as PNG")
-          ->check(output_extension(".png"));
-  run_cmd->add_option("--snapshot-t", snapshot_t, "time of the snapshot [s] (default: the last frame)")
-      ->check(number_in(0, 3600))
-      ->needs(snapshot_opt);
-  run_cmd->add_flag("--json", json, "one JSON object on stdout");
-  run_cmd->add_option("--width", options.camera.width, "camera image width [px]")
-      ->check(number_in(16, 4096))
-      ->capture_default_str();
-  run_cmd->add_option("--height", options.camera.height, "camera image height [px]")
-      ->check(number_in(16, 4096))
-      ->capture_default_str();
-  run_cmd->add_option("--hfov", options.camera.hfov_deg, "horizontal field of view [deg]")
-      ->check(number_in(10, 170, true, true))
-      ->capture_default_str();
-  run_cmd->add_option("--tilt", options.camera.tilt_deg, "camera tilt forward from nadir [deg]")
-      ->check(number_in(0, 80))
-      ->capture_default_str();
-  run_cmd->add_option("--camera-rate", options.camera.rate_hz, "frames per second")
-      ->check(number_in(0, 50, true))
-      ->capture_default_str();
-
-  auto* random_cmd = app.add_subcommand("random", "write a random valid scenario drawn from the bounds table");
-  std::uint64_t seed = 1;
-  std::string out_path, map = "any";
-  random_cmd->add_option("--seed", seed, "random seed")->capture_default_str();
-  random_cmd->add_option("--map", map, "ground, lawn or any")
-      ->check(CLI::IsMember({"ground", "lawn", "any"}))
-      ->capture_default_str();
-  random_cmd->add_option("-o,--output", out_path, "scenario file to write (.yaml or .json)")
-      ->required()
-      ->check([](const std::string& p) {
-        const auto ext = fs::path(p).extension();
-        return ext == ".yaml" || ext == ".yml" || ext == ".json" ? std::string()
-                                                                 : "--output: must end in .yaml, .yml or .json";
-      });
-
-  auto* campaign_cmd = app.add_subcommand(
-      "campaign",
-      "run many scenarios (random ones by seed, or the given files) in parallel; violation rate and type mix");
-  std::vector<std::string> campaign_files;
-  std::uint64_t first_seed = 1;
-  int count = 100;
-  std::string campaign_map = "any", csv_path;
-  bool campaign_json_out = false, whole_frame = false;
-  ts::CampaignOptions campaign;
-  campaign.threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  auto* files_opt = campaign_cmd->add_option("SCENARIO", campaign_files, "scenario files (default: random ones)");
-  campaign_cmd->add_option("--seed", first_seed, "seed of the first random scenario")
-      ->capture_default_str()
-      ->excludes(files_opt);
-  campaign_cmd->add_option("--count", count, "random scenarios")
-      ->check(CLI::Range(1, 100000))
-      ->capture_default_str()
-      ->excludes(files_opt);
-  campaign_cmd->add_option("--map", campaign_map, "map of the random scenarios: ground, lawn or any")
-      ->check(CLI::IsMember({"ground", "lawn", "any"}))
-      ->capture_default_str()
-      ->excludes(files_opt);
-  campaign_cmd->add_option("--system", campaign.system, "landing system under test")
-      ->check(CLI::IsMember({"opencv-mls", "mm-mls"}))
-      ->capture_default_str();
-  campaign_cmd->add_option("--threads", campaign.threads, "worker threads")
-      ->check(CLI::Range(1, 256))
-      ->capture_default_str();
-  campaign_cmd->add_flag("--whole-frame-detection", whole_frame,
-                         "detect in the whole frame every time (no tracking ROI), as the published baseline");
-  campaign_cmd->add_option("--csv", csv_path, "one row per scenario")->check(output_extension(".csv"));
-  campaign_cmd->add_flag("--json", campaign_json_out, "the summary as one JSON object on stdout");
-
+  RunArgs run_args;
+  RandomArgs random_args;
+  CampaignArgs campaign_args;
+  add_run_command(app, run_args);
+  auto* random_cmd = add_random_command(app, random_args);
+  auto* campaign_cmd = add_campaign_command(app, campaign_args);
   return run(app, argc, argv, [&]() -> int {
-    if (*campaign_cmd) {
-      std::vector<ts::Scenario> scenarios;
-      std::vector<std::string> names;
-      std::string source;
-      if (!campaign_files.empty()) {
-        for (const auto& f : campaign_files) {
-          scenarios.push_back(ts::load_scenario(f));
-          names.push_back(f);
-        }
-        source = std::to_string(campaign_files.size()) + " files";
-      } else {
-        std::optional<ts::MapKind> m;
-        if (campaign_map != "any") m = campaign_map == "lawn" ? ts::MapKind::lawn : ts::MapKind::ground;
-        scenarios = ts::random_scenarios(first_seed, count, m);
-        for (int i = 0; i < count; ++i)
-          names.push_back("seed " + std::to_string(first_seed + static_cast<std::uint64_t>(i)));
-        source = "random, seeds " + std::to_string(first_seed) + ".." +
-                 std::to_string(first_seed + static_cast<std::uint64_t>(count) - 1) + ", map " + campaign_map;
-      }
-      campaign.mls.detection_roi = !whole_frame;
-      // The campaign's threads are the parallelism: OpenCV's own would
-      // oversubscribe the cores.
-      cv::setNumThreads(1);
-      const ts::CampaignResult c = ts::run_campaign(scenarios, campaign);
-      if (!csv_path.empty()) write_text_atomically(csv_path, campaign_csv(c, names));
-      if (campaign_json_out) {
-        std::cout << campaign_json(c, source, campaign).dump(2) << "\n";
-      } else {
-        print_campaign(c, source, campaign);
-      }
-      return kExitOk;
-    }
-    if (*random_cmd) {
-      const ts::Scenario s = map == "any"    ? ts::random_scenario(seed)
-                             : map == "lawn" ? ts::random_scenario(seed, ts::MapKind::lawn)
-                                             : ts::random_scenario(seed, ts::MapKind::ground);
-      const bool as_json = fs::path(out_path).extension() == ".json";
-      write_text_atomically(out_path, as_json ? ts::to_json(s) : ts::to_yaml(s));
-      std::cerr << "landing_scenario: wrote " << out_path << " (" << ts::to_string(s.map) << ", "
-                << s.static_objects.size() << " static, " << s.dynamic_objects.size() << " moving objects, "
-                << s.distractors.size() << " distractors)\n";
-      return kExitOk;
-    }
-    const ts::Scenario scenario = ts::load_scenario(scenario_path);
-    auto sut = ts::make_landing_system(system);
-    std::optional<Video> video;
-    if (!video_path.empty())
-      video.emplace(video_path, options.camera.rate_hz, options.camera.width, options.camera.height);
-    cv::Mat last, snapshot;
-    double best_dt = 1e9;
-    options.on_frame = [&](const ts::CameraFrame& f, const ts::SystemOutput& out, const ts::DroneState& s) {
-      if (!video && snapshot_path.empty()) return;
-      last = overlay(f, out, s);
-      if (video) video->write(last);
-      if (!snapshot_path.empty() && snapshot_t >= 0 && std::abs(s.t - snapshot_t) < best_dt) {
-        best_dt = std::abs(s.t - snapshot_t);
-        snapshot = last.clone();
-      }
-    };
-    const ts::ScenarioResult r = ts::run_scenario(scenario, *sut, options);
-    if (!last.empty()) banner(last, r);
-    if (video) {
-      // Hold the outcome on screen for a second.
-      for (int i = 0; i < static_cast<int>(std::ceil(options.camera.rate_hz)); ++i) video->write(last);
-      video->finish();
-    }
-    if (!snapshot_path.empty()) {
-      // `last` already carries the outcome banner.
-      cv::Mat img = last;
-      if (!snapshot.empty()) {
-        img = snapshot;
-        banner(img, r);
-      }
-      std::vector<unsigned char> png;
-      cv::imencode(".png", img, png);
-      write_text_atomically(snapshot_path, std::string(png.begin(), png.end()));
-    }
-    if (!log_path.empty()) write_text_atomically(log_path, log_csv(r, 1.0 / options.flight.rate_hz));
-    if (json) {
-      std::cout << result_json(scenario_path, sut->name(), r).dump(2) << "\n";
-    } else {
-      std::cout << "scenario   " << scenario_path << " (" << ts::to_string(scenario.map) << ")\n"
-                << "system     " << sut->name() << "\n"
-                << "outcome    " << (r.violation() ? "VIOLATION" : "ok") << ": " << r.message << "\n"
-                << "DTL        " << format_fixed(r.dtl, 2) << " m   TTL " << format_fixed(r.ttl, 1) << " s\n"
-                << "frames     " << r.frames.size() << "   steps " << r.trajectory.size() << "\n"
-                << "time       " << format_fixed(r.timing.total_s, 3) << " s (render "
-                << format_fixed(r.timing.render_s, 3) << ", system " << format_fixed(r.timing.system_s, 3)
-                << ", physics " << format_fixed(r.timing.physics_s, 3) << ")\n";
-    }
-    return kExitOk;
+    if (*campaign_cmd) return campaign_command(campaign_args);
+    if (*random_cmd) return random_command(random_args);
+    return run_command(run_args);
   });
 }

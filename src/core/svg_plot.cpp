@@ -224,7 +224,7 @@ SvgLegend::SvgLegend(SvgWriter& svg, double x, double y, double spacing, Flow fl
     : svg_(svg), x_(x), y_(y), spacing_(spacing), flow_(flow) {}
 
 void SvgLegend::advance(std::string_view label) {
-  if (flow_ == Flow::column) {
+  if (flow_ == Flow::Column) {
     y_ += spacing_;
   } else {
     x_ += 22 + kCharWidth * label_chars(label) + spacing_;

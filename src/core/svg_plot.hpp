@@ -24,9 +24,12 @@
 // (" stroke='black'") is written as given, so it must be well-formed.
 // Not thread-safe: one writer per figure.
 #include <Eigen/Core>
+#include <array>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "touchdown/core/enum_names.hpp"
 
 namespace touchdown::detail {
 
@@ -156,9 +159,9 @@ class SvgWriter {
 /// the entry's start, and its label 22 px right of the start.
 class SvgLegend {
  public:
-  enum class Flow { column, row };
+  enum class Flow { Column, Row };
 
-  SvgLegend(SvgWriter& svg, double x, double y, double spacing = 19, Flow flow = Flow::column);
+  SvgLegend(SvgWriter& svg, double x, double y, double spacing = 19, Flow flow = Flow::Column);
 
   /// Draws one entry: draw_swatch(x, y) draws at the swatch's centre.
   template <typename DrawSwatch>
@@ -179,5 +182,16 @@ class SvgLegend {
   double x_, y_, spacing_;
   Flow flow_;
 };
+
+}  // namespace touchdown::detail
+
+template <>
+struct touchdown::EnumNames<touchdown::detail::SvgLegend::Flow> {
+  static constexpr std::array<std::string_view, 2> names{"column", "row"};
+};
+
+namespace touchdown::detail {
+
+inline std::string_view to_string(SvgLegend::Flow flow) { return enum_name(flow); }
 
 }  // namespace touchdown::detail

@@ -80,9 +80,9 @@ CampaignResult run_campaign(const std::vector<Scenario>& scenarios, const Campai
     const ScenarioOutcome& e = entry.outcome;
     ++s.scenarios;
     s.violations += e.violation() ? 1 : 0;
-    s.type_i += e.status == Violation::type_i ? 1 : 0;
-    s.type_ii += e.status == Violation::type_ii ? 1 : 0;
-    s.type_iii += e.status == Violation::type_iii ? 1 : 0;
+    s.type_i += e.status == Violation::TypeI ? 1 : 0;
+    s.type_ii += e.status == Violation::TypeII ? 1 : 0;
+    s.type_iii += e.status == Violation::TypeIII ? 1 : 0;
     s.flight_s += e.flight_s;
     s.timing.render_s += e.timing.render_s;
     s.timing.system_s += e.timing.system_s;

@@ -23,15 +23,15 @@ std::shared_ptr<fcl::CollisionGeometryd> make_geometry(const Solid& s) {
   if (!s.size.allFinite() || (s.size.array() < 0).any())
     throw InvalidArgument("collision: a solid's size must be finite and not negative");
   switch (s.shape) {
-    case Solid::Shape::box:
+    case Solid::Shape::Box:
       return std::make_shared<fcl::Boxd>(s.size.x(), s.size.y(), s.size.z());
-    case Solid::Shape::cylinder:
+    case Solid::Shape::Cylinder:
       return std::make_shared<fcl::Cylinderd>(s.size.x(), s.size.z());
-    case Solid::Shape::cone:
+    case Solid::Shape::Cone:
       return std::make_shared<fcl::Coned>(s.size.x(), s.size.z());
-    case Solid::Shape::sphere:
+    case Solid::Shape::Sphere:
       return std::make_shared<fcl::Sphered>(s.size.x());
-    case Solid::Shape::capsule:
+    case Solid::Shape::Capsule:
       return std::make_shared<fcl::Capsuled>(s.size.x(), s.size.z());
   }
   throw InvalidArgument("collision: unknown solid shape");
@@ -40,14 +40,14 @@ std::shared_ptr<fcl::CollisionGeometryd> make_geometry(const Solid& s) {
 /// Radius of a sphere about the solid's centre that holds it.
 double bounding_radius(const Solid& s) {
   switch (s.shape) {
-    case Solid::Shape::box:
+    case Solid::Shape::Box:
       return 0.5 * s.size.norm();
-    case Solid::Shape::cylinder:
-    case Solid::Shape::cone:
+    case Solid::Shape::Cylinder:
+    case Solid::Shape::Cone:
       return std::hypot(s.size.x(), 0.5 * s.size.z());
-    case Solid::Shape::sphere:
+    case Solid::Shape::Sphere:
       return s.size.x();
-    case Solid::Shape::capsule:
+    case Solid::Shape::Capsule:
       return s.size.x() + 0.5 * s.size.z();
   }
   return 0;

@@ -58,7 +58,7 @@ void MmMls::land(const Eigen::Vector2d& p, bool /*seen_recently*/, Eigen::Vector
 }
 
 void MmMls::finish(const Eigen::Vector2d& p, double altitude, bool descended, Eigen::Vector2d* v_xy, double* v_z) {
-  if (!descended && phase_ != Phase::land) keep_clear(p, altitude, v_xy, v_z);
+  if (!descended && phase_ != Phase::Land) keep_clear(p, altitude, v_xy, v_z);
 }
 
 // Outside a planned descent (approach, search, track at cruise altitude):
@@ -157,7 +157,7 @@ Eigen::Vector3d MmMls::planned_descent(const DroneState& s) {
   const bool done = t - plan_t0_ >= plan_duration_ && (p - landing_).norm() < options_.land_tolerance &&
                     altitude < options_.land_altitude + options_.land_tolerance;
   // The land mode only with nothing mapped under the footprint.
-  if (done && map_.max_height_near(p, setup_.drone_radius) <= 0) phase_ = Phase::land;
+  if (done && map_.max_height_near(p, setup_.drone_radius) <= 0) phase_ = Phase::Land;
   return v;
 }
 

@@ -40,7 +40,7 @@ void OpencvMls::reset(const SystemSetup& setup) {
   K_inv_ = setup.camera.K().inverse();
   T_body_camera_ = setup.camera.T_body_camera();
   tan_tilt_ = std::tan(setup.camera.tilt_deg * std::numbers::pi / 180.0);
-  phase_ = Phase::approach;
+  phase_ = Phase::Approach;
   have_estimate_ = false;
   track_exact_ = false;
   reacquired_ = false;
@@ -63,8 +63,8 @@ SystemOutput OpencvMls::update(const SystemInput& in) {
     // tracking (at the cruise altitude) until the re-acquired marker has
     // been seen for seen_time. The land mode is committed.
     reacquired_ = false;
-    if (phase_ == Phase::descend) {
-      phase_ = Phase::track;
+    if (phase_ == Phase::Descend) {
+      phase_ = Phase::Track;
       drop_descent();
     }
   }
@@ -80,23 +80,23 @@ SystemOutput OpencvMls::update(const SystemInput& in) {
   bool descended = false;  // the descend step gave this step's setpoint
 
   switch (phase_) {
-    case Phase::approach: {
+    case Phase::Approach: {
       // To the GPS target at cruise altitude; a sighting on the way takes over.
       const Eigen::Vector2d to = setup_.gps_target - p;
       v_xy = limit(to * options_.approach_gain, options_.approach_speed);
       v_z = hold_altitude(options_.cruise_altitude);
       if (have_estimate_) {
-        phase_ = Phase::track;
+        phase_ = Phase::Track;
       } else if (to.norm() < options_.search_start_distance) {
-        phase_ = Phase::search;
+        phase_ = Phase::Search;
         search_start_ = t;
       }
       break;
     }
-    case Phase::search: {
+    case Phase::Search: {
       // An expanding spiral about the GPS target until the marker is seen.
       if (have_estimate_) {
-        phase_ = Phase::track;
+        phase_ = Phase::Track;
         break;
       }
       const double r = std::min(options_.search_radius, options_.search_growth * (t - search_start_));
@@ -107,28 +107,28 @@ SystemOutput OpencvMls::update(const SystemInput& in) {
       v_z = hold_altitude(options_.cruise_altitude);
       break;
     }
-    case Phase::track: {
+    case Phase::Track: {
       // Hover where the camera sees the estimate near the image centre
       // until it has been seen for seen_time.
       v_xy = limit((hover_point(estimate_, s) - p) * options_.centring_gain, options_.approach_speed);
       v_z = hold_altitude(options_.cruise_altitude);
       if (seen_since_ >= 0 && t - seen_since_ >= options_.seen_time) {
-        phase_ = Phase::descend;
+        phase_ = Phase::Descend;
         out.descent_started = true;
         out.target = estimate_;
         begin_descent(t);
       } else if (!seen_recently && t - last_seen_ > options_.track_lost_time) {
-        phase_ = Phase::search;  // lost it for good
+        phase_ = Phase::Search;  // lost it for good
         search_start_ = t;
         have_estimate_ = false;
       }
       break;
     }
-    case Phase::descend:
+    case Phase::Descend:
       descend(s, &v_xy, &v_z);
       descended = true;
       break;
-    case Phase::land:
+    case Phase::Land:
       // Over the marker (mm-mls: over its free landing point).
       land(p, seen_recently, &v_xy);
       out.command.land = true;
@@ -161,7 +161,7 @@ void OpencvMls::descend(const DroneState& s, Eigen::Vector2d* v_xy, double* v_z)
   // opportunistic fallback: the marker often leaves the view or is
   // occluded near the ground).
   *v_z = -options_.descent_speed;
-  if (s.position.z() < options_.land_altitude) phase_ = Phase::land;
+  if (s.position.z() < options_.land_altitude) phase_ = Phase::Land;
 }
 
 void OpencvMls::land(const Eigen::Vector2d& p, bool seen_recently, Eigen::Vector2d* v_xy) {
@@ -172,19 +172,7 @@ void OpencvMls::finish(const Eigen::Vector2d& /*p*/, double /*altitude*/, bool /
                        double* /*v_z*/) {}
 
 std::string_view OpencvMls::phase_name() const {
-  switch (phase_) {
-    case Phase::approach:
-      return "approach";
-    case Phase::search:
-      return "search";
-    case Phase::track:
-      return "track";
-    case Phase::descend:
-      return descend_phase_name();
-    case Phase::land:
-      return "land";
-  }
-  return "";
+  return phase_ == Phase::Descend ? descend_phase_name() : to_string(phase_);
 }
 
 double OpencvMls::in_dt(const DroneState& s) {

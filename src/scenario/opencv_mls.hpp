@@ -10,6 +10,7 @@
 // Thread-safety: one instance per thread; instances share nothing.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <opencv2/core.hpp>
@@ -18,6 +19,7 @@
 #include <vector>
 
 #include "scenario/marker_detector.hpp"
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/scenario/landing_system.hpp"
 
 namespace touchdown::scenario::detail {
@@ -30,6 +32,21 @@ inline Eigen::Vector2d limit(const Eigen::Vector2d& v, double max_norm) {
   return n > max_norm ? Eigen::Vector2d(v * (max_norm / n)) : v;
 }
 
+/// The phases of both reference systems, as SystemOutput::phase and the run
+/// logs name them (mm-mls names its descent's steps itself).
+enum class MlsPhase { Approach, Search, Track, Descend, Land };
+
+}  // namespace touchdown::scenario::detail
+
+template <>
+struct touchdown::EnumNames<touchdown::scenario::detail::MlsPhase> {
+  static constexpr std::array<std::string_view, 5> names{"approach", "search", "track", "descend", "land"};
+};
+
+namespace touchdown::scenario::detail {
+
+inline std::string_view to_string(MlsPhase phase) { return enum_name(phase); }
+
 class OpencvMls : public LandingSystem {
  public:
   explicit OpencvMls(const MlsOptions& options) : options_(options) {}
@@ -39,7 +56,7 @@ class OpencvMls : public LandingSystem {
   SystemOutput update(const SystemInput& input) override;
 
  protected:
-  enum class Phase { approach, search, track, descend, land };
+  using Phase = MlsPhase;
 
   // ---- the steps mm-mls overrides (defaults: opencv-mls) ----
 
@@ -64,7 +81,7 @@ class OpencvMls : public LandingSystem {
   virtual void land(const Eigen::Vector2d& p, bool seen_recently, Eigen::Vector2d* v_xy);
   /// A last say on the step's setpoint; `descended` when descend() gave it.
   virtual void finish(const Eigen::Vector2d& p, double altitude, bool descended, Eigen::Vector2d* v_xy, double* v_z);
-  [[nodiscard]] virtual std::string_view descend_phase_name() const { return "descend"; }
+  [[nodiscard]] virtual std::string_view descend_phase_name() const { return to_string(Phase::Descend); }
 
   // ---- shared by both ----
 
@@ -76,7 +93,7 @@ class OpencvMls : public LandingSystem {
   SystemSetup setup_;
   std::optional<MarkerDetector> detector_;
   Eigen::Matrix3d K_inv_ = Eigen::Matrix3d::Identity();
-  Phase phase_ = Phase::approach;
+  Phase phase_ = Phase::Approach;
   Eigen::Vector2d estimate_ = Eigen::Vector2d::Zero();
   bool have_estimate_ = false;
   bool track_exact_ = false;  // the track has read the target's code exactly (mm-mls)

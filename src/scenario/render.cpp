@@ -9,7 +9,7 @@
 //     pixel footprint: the pixel area and the lens blur, kPrefilterFootprints);
 //  2. markers and distractors: the same ray/plane intersection over each
 //     quadrilateral's bounding box, sampled from the marker's own mip-mapped
-//     image (so the marker stays sharp from 1 m), label kMarker/kDistractor;
+//     image (so the marker stays sharp from 1 m), label Label::Marker/Distractor;
 //  3. sun shadows: every solid's vertices projected along the sun onto the
 //     ground, convex hull, drawn into the image through the camera;
 //  4. objects: solids tessellated once, clipped at the near plane and
@@ -90,7 +90,7 @@ const pose::detail::ArucoDictionaryInfo* checked_dictionary(const Scenario& scen
   for (std::size_t i = 0; i < scenario.distractors.size(); ++i) {
     const Distractor& d = scenario.distractors[i];
     const std::string key = "distractors[" + std::to_string(i) + "]";
-    if (d.kind == DistractorKind::wrong_id) check_id(key + ".id", d.id);
+    if (d.kind == DistractorKind::WrongId) check_id(key + ".id", d.id);
     if (!(d.size > 0 && std::isfinite(d.size))) throw InvalidArgument(key + ".size: must be positive");
   }
   return dict_info;
@@ -137,11 +137,11 @@ void Renderer::Impl::build_ground_and_markers(Impl& m, const Scenario& scenario,
     const Distractor& d = scenario.distractors[i];
     const cv::Mat cells = marker_cells(dict, bits, d.kind, d.id, d.flipped_bits, scenario.marker.id,
                                        Rng(scenario.seed, 0xD157ull + i).next());
-    m.quads.push_back(make_quad(cells, kDistractor, d.position, d.yaw_deg, d.size, bits, cover, m.map_shift, w));
+    m.quads.push_back(make_quad(cells, Label::Distractor, d.position, d.yaw_deg, d.size, bits, cover, m.map_shift, w));
   }
-  const cv::Mat target = marker_cells(dict, bits, DistractorKind::wrong_id, scenario.marker.id, 0, 0, 0);
-  m.quads.push_back(make_quad(target, kMarker, scenario.marker.position, scenario.marker.yaw_deg, scenario.marker.size,
-                              bits, cover, m.map_shift, w));
+  const cv::Mat target = marker_cells(dict, bits, DistractorKind::WrongId, scenario.marker.id, 0, 0, 0);
+  m.quads.push_back(make_quad(target, Label::Marker, scenario.marker.position, scenario.marker.yaw_deg,
+                              scenario.marker.size, bits, cover, m.map_shift, w));
 }
 
 void Renderer::Impl::build_sun(Impl& m, const Scenario& scenario) {

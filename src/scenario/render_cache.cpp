@@ -87,8 +87,8 @@ class SharedCache {
 /// A map kind's ground, the same under every scenario on it (the source's
 /// two maps are fixed worlds): built once, from the map's own seed.
 std::shared_ptr<const cv::Mat> build_map_ground(MapKind map) {
-  cv::RNG rng(map == MapKind::ground ? 0x6A09E667ull : 0xBB67AE85ull);
-  return std::make_shared<const cv::Mat>(map == MapKind::ground ? concrete_texture(rng) : lawn_texture(rng));
+  cv::RNG rng(map == MapKind::Ground ? 0x6A09E667ull : 0xBB67AE85ull);
+  return std::make_shared<const cv::Mat>(map == MapKind::Ground ? concrete_texture(rng) : lawn_texture(rng));
 }
 
 SharedCache<MapKind, cv::Mat>& map_ground_cache() {

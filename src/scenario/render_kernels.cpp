@@ -22,7 +22,7 @@ inline void ground_pixel(const GroundRow& g, int x, std::uint8_t* px, std::uint8
   const float wdepth = (g.rz0 + g.az * fx_) * -g.inv_h;  // 1/depth
   if (!(wdepth > g.w_min)) {
     px[3 * x] = kSkyBgr[0], px[3 * x + 1] = kSkyBgr[1], px[3 * x + 2] = kSkyBgr[2];
-    mk[x] = kSky;
+    mk[x] = mask_value(Label::Sky);
     dp[x] = std::numeric_limits<float>::infinity();
     return;
   }
@@ -45,7 +45,7 @@ inline void ground_pixel(const GroundRow& g, int x, std::uint8_t* px, std::uint8
   px[3 * x] = static_cast<std::uint8_t>(c);
   px[3 * x + 1] = static_cast<std::uint8_t>(c >> 8);
   px[3 * x + 2] = static_cast<std::uint8_t>(c >> 16);
-  mk[x] = kGround;
+  mk[x] = mask_value(Label::Ground);
   dp[x] = s;
 }
 
@@ -123,8 +123,9 @@ __attribute__((target("avx2"))) int ground_row_avx2(const GroundRow& g, std::uin
   // BGRA → BGR within each 128-bit lane (4 pixels → 12 bytes, 4 bytes of junk).
   const __m256i pack = _mm256_setr_epi8(0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1, 0, 1, 2, 4, 5, 6, 8, 9,
                                         10, 12, 13, 14, -1, -1, -1, -1);
-  static_assert(kGround == 0, "the label store below writes 0 for the ground");
-  const __m256i sky_label = _mm256_set1_epi32(kSky), label_order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+  static_assert(mask_value(Label::Ground) == 0, "the label store below writes 0 for the ground");
+  const __m256i sky_label = _mm256_set1_epi32(mask_value(Label::Sky)),
+                label_order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
   int x = 0;
   for (; x + 8 <= end; x += 8) {
     const __m256 xs = _mm256_add_ps(_mm256_set1_ps(static_cast<float>(x)), iota);
@@ -164,7 +165,7 @@ __attribute__((target("avx2"))) int ground_row_avx2(const GroundRow& g, std::uin
     _mm_storeu_si128(reinterpret_cast<__m128i*>(px + 3 * x), _mm256_castsi256_si128(packed));
     _mm_storeu_si128(reinterpret_cast<__m128i*>(px + 3 * x + 12), _mm256_extracti128_si256(packed, 1));
     _mm256_storeu_ps(dp + x, _mm256_blendv_ps(inf, s, valid));
-    // Labels: kGround (0) where valid, kSky elsewhere; 32 → 8 bits per pixel.
+    // Labels: Label::Ground (0) where valid, Label::Sky elsewhere; 32 → 8 bits per pixel.
     const __m256i labels = _mm256_andnot_si256(vmask, sky_label);
     const __m256i bytes = _mm256_packus_epi16(_mm256_packs_epi32(labels, labels), zero);
     _mm_storel_epi64(reinterpret_cast<__m128i*>(mk + x),

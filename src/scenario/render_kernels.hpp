@@ -24,7 +24,7 @@ struct GroundRow {
 /// Whether this CPU runs AVX2 (asked once).
 bool has_avx2();
 
-/// Pixels [x0, x1) of a ground row: colour, label (kGround or kSky) and depth.
+/// Pixels [x0, x1) of a ground row: colour, label (Label::Ground or Label::Sky) and depth.
 void ground_row_scalar(const GroundRow& g, int x0, int x1, std::uint8_t* px, std::uint8_t* mk, float* dp);
 
 /// The same as ground_row_scalar for the pixels [0, n) of a row, eight at a

@@ -20,7 +20,7 @@ inline bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(
 
 /// Everything a map texture depends on.
 struct MapTextureKey {
-  MapKind map = MapKind::ground;
+  MapKind map = MapKind::Ground;
   std::uint64_t seed = 0;
   double ground_snow = 0, ground_leaves = 0;
   float dark = 1;  // wet darkening

@@ -14,14 +14,14 @@ cv::Mat marker_cells(const cv::Ptr<cv::aruco::Dictionary>& dict, int bits, Distr
   const int side = bits + 4;
   cv::Mat cells(side, side, CV_8U, cv::Scalar(255));
   cv::Mat inner = cells(cv::Rect(1, 1, bits + 2, bits + 2));
-  if (kind == DistractorKind::wrong_id) {
+  if (kind == DistractorKind::WrongId) {
     cv::Mat drawn;
     cv::aruco::drawMarker(dict, id, bits + 2, drawn, 1);
     drawn.copyTo(inner);
     return cells;
   }
   cv::Mat code(bits, bits, CV_8U);
-  if (kind == DistractorKind::lookalike) {
+  if (kind == DistractorKind::Lookalike) {
     code = cv::aruco::Dictionary::getBitsFromByteList(dict->bytesList.rowRange(target_id, target_id + 1), bits);
     // Invert `flipped_bits` distinct cells, drawn by a partial Fisher–Yates.
     std::vector<int> order(static_cast<std::size_t>(bits * bits));

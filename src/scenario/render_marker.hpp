@@ -19,7 +19,7 @@ cv::Mat marker_cells(const cv::Ptr<cv::aruco::Dictionary>& dict, int bits, Distr
                      int flipped_bits, int target_id, std::uint64_t flip_seed);
 
 struct Quad {
-  Label label = kMarker;
+  Label label = Label::Marker;
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
   double cos_yaw = 1, sin_yaw = 0;
   double side = 1;                         // with the margin [m]

@@ -20,7 +20,7 @@ Mesh tessellate(const Solid& s, std::uint64_t seed) {
   };
   constexpr int kSides = 16;
   switch (s.shape) {
-    case Solid::Shape::box: {
+    case Solid::Shape::Box: {
       const Eigen::Vector3d h = 0.5 * s.size;
       for (int i = 0; i < 8; ++i)
         v.emplace_back(i & 1 ? h.x() : -h.x(), i & 2 ? h.y() : -h.y(), i & 4 ? h.z() : -h.z());
@@ -28,10 +28,10 @@ Mesh tessellate(const Solid& s, std::uint64_t seed) {
       add_quad(2, 3, 7, 6), add_quad(0, 2, 6, 4), add_quad(1, 3, 7, 5);
       break;
     }
-    case Solid::Shape::cylinder:
-    case Solid::Shape::cone: {
+    case Solid::Shape::Cylinder:
+    case Solid::Shape::Cone: {
       const double r = s.size.x(), hz = 0.5 * s.size.z();
-      const bool cone = s.shape == Solid::Shape::cone;
+      const bool cone = s.shape == Solid::Shape::Cone;
       for (int i = 0; i < kSides; ++i) {
         const double a = 2 * kPi * i / kSides;
         v.emplace_back(r * std::cos(a), r * std::sin(a), -hz);
@@ -53,10 +53,10 @@ Mesh tessellate(const Solid& s, std::uint64_t seed) {
       }
       break;
     }
-    case Solid::Shape::sphere:
-    case Solid::Shape::capsule: {
+    case Solid::Shape::Sphere:
+    case Solid::Shape::Capsule: {
       // UV sphere (8 stacks, 12 slices); a capsule splits it at the equator.
-      const double r = s.size.x(), hl = s.shape == Solid::Shape::capsule ? 0.5 * s.size.z() : 0.0;
+      const double r = s.size.x(), hl = s.shape == Solid::Shape::Capsule ? 0.5 * s.size.z() : 0.0;
       constexpr int kStacks = 8, kSlices = 12;
       std::vector<double> ring_z, ring_r;
       for (int i = 1; i < kStacks; ++i) {

@@ -87,7 +87,7 @@ cv::Rect Renderer::Impl::markers_pass(Frame& fr, CameraFrame& out) {
   for (const Quad& q : quads) {
     const auto corner = [&](std::size_t i) { return q.corners[i]; };
     if (!ground_polygon_in_image(fr, corner, 4)) continue;
-    if (q.label == kMarker) out.marker_area_truth_px = shoelace(poly2);
+    if (q.label == Label::Marker) out.marker_area_truth_px = shoelace(poly2);
     double x0 = W, x1 = -1, y0 = H, y1 = -1;
     for (const auto& p : poly2)
       x0 = std::min(x0, p.x()), x1 = std::max(x1, p.x()), y0 = std::min(y0, p.y()), y1 = std::max(y1, p.y());
@@ -95,7 +95,8 @@ cv::Rect Renderer::Impl::markers_pass(Frame& fr, CameraFrame& out) {
               bx1 = std::min(W - 1, static_cast<int>(std::floor(x1)));
     const int by0 = std::max(0, static_cast<int>(std::ceil(y0))),
               by1 = std::min(H - 1, static_cast<int>(std::floor(y1)));
-    if (q.label == kMarker) marker_box = cv::Rect(bx0, by0, std::max(0, bx1 - bx0 + 1), std::max(0, by1 - by0 + 1));
+    if (q.label == Label::Marker)
+      marker_box = cv::Rect(bx0, by0, std::max(0, bx1 - bx0 + 1), std::max(0, by1 - by0 + 1));
     const int levels = static_cast<int>(q.mips.size());
     const int m0 = q.mips.front().cols;
     const double texel0 = q.side / m0;
@@ -113,7 +114,7 @@ cv::Rect Renderer::Impl::markers_pass(Frame& fr, CameraFrame& out) {
       std::uint8_t* mk = mask + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
       const float* dp = depth + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
       for (int x = bx0; x <= bx1; ++x) {
-        if (mk[x] == kSky) continue;
+        if (mk[x] == mask_value(Label::Sky)) continue;
         const float fx_ = static_cast<float>(x);
         const float s = dp[x];  // the ground pass's depth: the same ray meets the same plane
         const float dX = dx0 + s * (rx0 + ax * fx_), dY = dy0 + s * (ry0 + ay * fx_);
@@ -135,7 +136,7 @@ cv::Rect Renderer::Impl::markers_pass(Frame& fr, CameraFrame& out) {
         px[3 * x] = static_cast<std::uint8_t>(c);
         px[3 * x + 1] = static_cast<std::uint8_t>(c >> 8);
         px[3 * x + 2] = static_cast<std::uint8_t>(c >> 16);
-        mk[x] = q.label;
+        mk[x] = mask_value(q.label);
       }
     }
   }
@@ -200,7 +201,7 @@ void Renderer::Impl::apply_shadows(Frame& fr, const cv::Rect& shadow_box) {
     for (int x = sx0; x <= sx1; ++x) {
       if (!sm[x]) continue;
       sm[x] = 0;
-      if (mk[x] > kDistractor) continue;  // ground, marker and distractors only
+      if (mk[x] > mask_value(Label::Distractor)) continue;  // ground, marker and distractors only
       for (int c = 0; c < 3; ++c) px[3 * x + c] = static_cast<std::uint8_t>((px[3 * x + c] * keep) >> 8);
     }
   }
@@ -307,13 +308,13 @@ void Renderer::Impl::objects_pass(Frame& fr, const SceneState& state) {
   };
   for (std::size_t i = 0; i < static_meshes.size(); ++i) {
     if (in_view(static_meshes[i].centre, static_meshes[i].radius)) {
-      draw_mesh(static_meshes[i], nullptr, &static_shade[i], kStaticObject);
+      draw_mesh(static_meshes[i], nullptr, &static_shade[i], mask_value(Label::StaticObject));
     }
   }
   for (std::size_t i = 0; i < dynamic_meshes.size(); ++i) {
     const Eigen::Isometry3d& T = state.T_world_dynamic[i];
     for (const Mesh& mesh : dynamic_meshes[i]) {
-      if (in_view(T * mesh.centre, mesh.radius)) draw_mesh(mesh, &T, nullptr, kDynamicObject);
+      if (in_view(T * mesh.centre, mesh.radius)) draw_mesh(mesh, &T, nullptr, mask_value(Label::DynamicObject));
     }
   }
 }
@@ -325,7 +326,7 @@ void Renderer::Impl::count_visible_marker(Frame& fr, const cv::Rect& marker_box,
   for (int y = marker_box.y; y < marker_box.y + marker_box.height; ++y) {
     const std::uint8_t* mk = mask + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
     int count = 0;
-    for (int x = marker_box.x; x < marker_box.x + marker_box.width; ++x) count += mk[x] == kMarker;
+    for (int x = marker_box.x; x < marker_box.x + marker_box.width; ++x) count += mk[x] == mask_value(Label::Marker);
     out.marker_area_visible_px += count;
   }
 }

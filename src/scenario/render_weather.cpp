@@ -71,7 +71,7 @@ void Renderer::Impl::glare_pass(Frame& fr, bool shadows_on) {
         const float num = rx * lx + ry * ly - rz * lz;
         if (num <= 0) continue;
         const float len2 = rx * rx + ry * ry + rz * rz;
-        if (num * num < c2_min * len2 || mk[x] > kDistractor) continue;
+        if (num * num < c2_min * len2 || mk[x] > mask_value(Label::Distractor)) continue;
         if (sm && sm[x]) continue;  // the sun is blocked
         const float bin = (num * num / len2 - c2_lo) * scale;
         const auto i = static_cast<std::size_t>(bin);

@@ -20,20 +20,6 @@ using detail::format_fixed;
 
 }  // namespace
 
-std::string_view to_string(Violation v) {
-  switch (v) {
-    case Violation::none:
-      return "none";
-    case Violation::type_i:
-      return "I";
-    case Violation::type_ii:
-      return "II";
-    case Violation::type_iii:
-      return "III";
-  }
-  return "?";
-}
-
 bool RunOptions::validate(std::string* why) const {
   std::string w;
   if (!camera.validate(&w)) return invalid(why, "camera." + w);
@@ -70,7 +56,7 @@ bool on_marker(const Detection& d, const CameraFrame& frame) {
   const int u = static_cast<int>(std::lround(c.x())), v = static_cast<int>(std::lround(c.y()));
   const bool inside = u >= 0 && v >= 0 && u < frame.width && v < frame.height;
   return inside && frame.mask[static_cast<std::size_t>(v) * static_cast<std::size_t>(frame.width) +
-                              static_cast<std::size_t>(u)] == kMarker;
+                              static_cast<std::size_t>(u)] == mask_value(Label::Marker);
 }
 
 /// The violation classification and its one-line message.
@@ -79,10 +65,10 @@ void classify(ScenarioOutcome& r, const Eigen::Vector2d& marker, double time_lim
   if (collision) {
     r.collided = true;
     r.collision = *collision;
-    r.status = Violation::type_iii;
+    r.status = Violation::TypeIII;
     r.message = "Type III: collided with " + collision->what + " at t = " + format_fixed(collision->t, 2) + " s";
   } else if (!r.landed) {
-    r.status = Violation::type_ii;
+    r.status = Violation::TypeII;
     r.message = std::string("Type II: no landing within ") + format_fixed(time_limit, 0) + " s (" +
                 (r.descent_started
                      ? "a descent started at t = " + format_fixed(r.descent_time, 1) + " s did not reach the ground"
@@ -91,14 +77,14 @@ void classify(ScenarioOutcome& r, const Eigen::Vector2d& marker, double time_lim
   } else if (r.dtl > radius) {
     // Landed off target: something the system took for the marker led it
     // there (a false positive, the paper's Type I).
-    r.status = Violation::type_i;
+    r.status = Violation::TypeI;
     r.message = "Type I: landed " + format_fixed(r.dtl, 2) + " m from the marker";
     if (r.descent_started)
       r.message += "; the descent was triggered by a detection " + format_fixed((r.descent_target - marker).norm(), 2) +
                    " m from it";
     if (r.false_detection) r.message += " (false detections seen)";
   } else {
-    r.status = Violation::none;
+    r.status = Violation::None;
     r.message = "landed " + format_fixed(r.dtl, 2) + " m from the marker after " + format_fixed(r.ttl, 1) + " s";
   }
 }
@@ -116,7 +102,7 @@ ScenarioRun::ScenarioRun(const Scenario& scenario, LandingSystem& system, const 
   system_.reset(system_setup(scenario, options));
   steps_ = static_cast<long>(std::ceil(time_limit_ / world_.dt() - 1e-9));
   frame_period_ = 1.0 / options.camera.rate_hz;
-  actions_.assign(static_cast<std::size_t>(world_.external_count()), ObjectAction::stay);
+  actions_.assign(static_cast<std::size_t>(world_.external_count()), ObjectAction::Stay);
   result_.trajectory.reserve(static_cast<std::size_t>(steps_) + 1);
 }
 

@@ -1,4 +1,4 @@
-// Landing scenarios: names, the bounds table, validation and equality
+// Landing scenarios: the bounds table, validation and equality
 // (docs/formats.md, "Landing scenarios"). The file format is in
 // scenario_io.cpp, random scenarios in scenario_random.cpp.
 #include "touchdown/scenario/scenario.hpp"
@@ -140,7 +140,7 @@ Footprint marker_square(const Eigen::Vector2d& centre, double yaw_deg, double si
 }
 
 Footprint static_footprint(const StaticObject& o) {
-  const bool round = o.kind == StaticKind::pole || o.kind == StaticKind::tree;
+  const bool round = o.kind == StaticKind::Pole || o.kind == StaticKind::Tree;
   return {o.position, deg_to_rad(o.yaw_deg), Eigen::Vector2d(o.size.x() / 2, o.size.y() / 2), round};
 }
 
@@ -226,7 +226,7 @@ void check_marker_like(Checker& c, const Scenario& s, const pose::detail::ArucoD
   const Footprint target = marker_square(s.marker.position, s.marker.yaw_deg, s.marker.size, dict.bits);
   for (std::size_t i = 0; i < s.distractors.size(); ++i) {
     const Distractor& d = s.distractors[i];
-    if (d.kind == DistractorKind::wrong_id) {
+    if (d.kind == DistractorKind::WrongId) {
       if (d.id == s.marker.id) {
         c.fail(indexed("distractors", i, "id") + ": a wrong_id distractor must differ from marker.id (" +
                std::to_string(s.marker.id) + ")");
@@ -238,7 +238,7 @@ void check_marker_like(Checker& c, const Scenario& s, const pose::detail::ArucoD
         return;
       }
     }
-    if (d.kind == DistractorKind::lookalike && d.flipped_bits > dict.bits * dict.bits) {
+    if (d.kind == DistractorKind::Lookalike && d.flipped_bits > dict.bits * dict.bits) {
       c.fail(indexed("distractors", i, "flipped_bits") + ": " + std::string(dict.name) + " codes have only " +
              std::to_string(dict.bits * dict.bits) + " cells, got " + std::to_string(d.flipped_bits));
       return;
@@ -262,7 +262,7 @@ void check_marker_like(Checker& c, const Scenario& s, const pose::detail::ArucoD
 
 }  // namespace
 
-// ---- public: table, names -------------------------------------------------------------
+// ---- public: table --------------------------------------------------------------------
 
 const std::vector<PropertyBound>& property_bounds() {
   static const std::vector<PropertyBound> rows = make_bounds();
@@ -274,17 +274,11 @@ const PropertyBound& property_bound(std::string_view key) {
   throw InvalidArgument("property_bound: unknown key '" + std::string(key) + "'");
 }
 
-std::string_view to_string(MapKind k) { return name_of(k, kMapNames); }
-std::string_view to_string(DistractorKind k) { return name_of(k, kDistractorNames); }
-std::string_view to_string(StaticKind k) { return name_of(k, kStaticNames); }
-std::string_view to_string(DynamicKind k) { return name_of(k, kDynamicNames); }
-std::string_view to_string(MotionKind k) { return name_of(k, kMotionNames); }
-
 // ---- public: validate -----------------------------------------------------------------
 
 bool Scenario::validate(std::string* why) const {
   Checker c;
-  if (static_cast<std::size_t>(map) >= kMapNames.size()) c.fail("map: unknown map kind");
+  if (static_cast<std::size_t>(map) >= EnumNames<MapKind>::names.size()) c.fail("map: unknown map kind");
   // Compared as integers: 2^53 + 1 would round to 2^53 as a double.
   if (seed > kMaxSeedInteger) {
     c.fail("seed: must be an integer in [0, " + num(kMaxSeed) + "], got " + std::to_string(seed));
@@ -302,7 +296,7 @@ bool Scenario::validate(std::string* why) const {
   c.count("distractors", distractors.size());
   for (std::size_t i = 0; i < distractors.size(); ++i) {
     const Distractor& d = distractors[i];
-    if (!c.failed() && static_cast<std::size_t>(d.kind) >= kDistractorNames.size()) {
+    if (!c.failed() && static_cast<std::size_t>(d.kind) >= EnumNames<DistractorKind>::names.size()) {
       c.fail(indexed("distractors", i, "kind") + ": unknown distractor kind");
     }
     const double id = d.id, bits = d.flipped_bits;
@@ -316,18 +310,18 @@ bool Scenario::validate(std::string* why) const {
   c.count("static_objects", static_objects.size());
   for (std::size_t i = 0; i < static_objects.size(); ++i) {
     const StaticObject& o = static_objects[i];
-    if (!c.failed() && static_cast<std::size_t>(o.kind) >= kStaticNames.size()) {
+    if (!c.failed() && static_cast<std::size_t>(o.kind) >= EnumNames<StaticKind>::names.size()) {
       c.fail(indexed("static_objects", i, "kind") + ": unknown static object kind");
     }
     const std::string_view kind = to_string(o.kind);
     c.element("static_objects", i, kind, "position", o.position.data(), 2);
     c.element("static_objects", i, kind, "yaw_deg", &o.yaw_deg, 1);
     c.element("static_objects", i, kind, "size", o.size.data(), 3);
-    if (!c.failed() && o.kind == StaticKind::pole && o.size.y() != o.size.x()) {
+    if (!c.failed() && o.kind == StaticKind::Pole && o.size.y() != o.size.x()) {
       c.fail(indexed("static_objects", i, "size") + ": a pole is round: size[1] must equal size[0], got " +
              numbers_text(o.size.data(), 3));
     }
-    if (!c.failed() && o.kind == StaticKind::tree && !(o.size.y() < o.size.x())) {
+    if (!c.failed() && o.kind == StaticKind::Tree && !(o.size.y() < o.size.x())) {
       c.fail(indexed("static_objects", i, "size") + ": a tree's trunk (size[1]) must be thinner than its crown " +
              "(size[0]), got " + numbers_text(o.size.data(), 3));
     }
@@ -336,10 +330,10 @@ bool Scenario::validate(std::string* why) const {
   c.count("dynamic_objects", dynamic_objects.size());
   for (std::size_t i = 0; i < dynamic_objects.size(); ++i) {
     const DynamicObject& o = dynamic_objects[i];
-    if (!c.failed() && static_cast<std::size_t>(o.kind) >= kDynamicNames.size()) {
+    if (!c.failed() && static_cast<std::size_t>(o.kind) >= EnumNames<DynamicKind>::names.size()) {
       c.fail(indexed("dynamic_objects", i, "kind") + ": unknown dynamic object kind");
     }
-    if (!c.failed() && static_cast<std::size_t>(o.motion) >= kMotionNames.size()) {
+    if (!c.failed() && static_cast<std::size_t>(o.motion) >= EnumNames<MotionKind>::names.size()) {
       c.fail(indexed("dynamic_objects", i, "motion") + ": unknown motion kind");
     }
     const std::string_view kind = to_string(o.kind);

@@ -1,11 +1,10 @@
 #pragma once
 // What the three parts of the scenario module's file format share:
-// scenario.cpp (names, the bounds table, validation), scenario_io.cpp (the
+// scenario.cpp (the bounds table, validation), scenario_io.cpp (the
 // YAML/JSON reader and writer) and scenario_random.cpp (random scenarios).
 // Private to the module.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -16,20 +15,6 @@
 #include "touchdown/scenario/scenario.hpp"
 
 namespace touchdown::scenario::detail {
-
-// ---- names ----------------------------------------------------------------------------
-
-inline constexpr std::array<std::string_view, 2> kMapNames{"ground", "lawn"};
-inline constexpr std::array<std::string_view, 3> kDistractorNames{"wrong_id", "lookalike", "pattern"};
-inline constexpr std::array<std::string_view, 4> kStaticNames{"box", "chair", "pole", "tree"};
-inline constexpr std::array<std::string_view, 3> kDynamicNames{"person", "dog", "bird"};
-inline constexpr std::array<std::string_view, 5> kMotionNames{"still", "line", "circle", "wander", "external"};
-
-template <typename E, std::size_t N>
-std::string_view name_of(E e, const std::array<std::string_view, N>& names) {
-  const auto i = static_cast<std::size_t>(e);
-  return i < N ? names[i] : std::string_view("unknown");
-}
 
 // ---- constants of the bounds table ----------------------------------------------------
 

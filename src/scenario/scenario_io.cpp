@@ -38,13 +38,13 @@ class ScenarioReader {
     only(root, "",
          {"map", "seed", "time_limit", "marker", "distractors", "static_objects", "dynamic_objects", "weather",
           "drone"});
-    s.map = read_enum<MapKind>(r_.child(root, "", "map"), "map", kMapNames);
+    s.map = read_enum<MapKind>(r_.child(root, "", "map"), "map");
     if (const YAML::Node n = root["seed"]) s.seed = read_seed(n);
     if (const YAML::Node n = root["time_limit"]) s.time_limit = number(n, "time_limit");
     read_marker(r_.child(root, "", "marker"), s.marker);
     read_list(root, "distractors", s.distractors, [&](const YAML::Node& n, const std::string& p, Distractor& d) {
       only(n, p, {"kind", "id", "flipped_bits", "size", "position", "yaw_deg"});
-      d.kind = read_enum<DistractorKind>(r_.child(n, p, "kind"), p + "kind", kDistractorNames);
+      d.kind = read_enum<DistractorKind>(r_.child(n, p, "kind"), p + "kind");
       d.position = vec2(r_.child(n, p, "position"), p + "position");
       if (const YAML::Node v = n["id"]) d.id = integer(v, p + "id");
       if (const YAML::Node v = n["flipped_bits"]) d.flipped_bits = integer(v, p + "flipped_bits");
@@ -54,7 +54,7 @@ class ScenarioReader {
     read_list(root, "static_objects", s.static_objects,
               [&](const YAML::Node& n, const std::string& p, StaticObject& o) {
                 only(n, p, {"kind", "position", "yaw_deg", "size"});
-                o.kind = read_enum<StaticKind>(r_.child(n, p, "kind"), p + "kind", kStaticNames);
+                o.kind = read_enum<StaticKind>(r_.child(n, p, "kind"), p + "kind");
                 o.position = vec2(r_.child(n, p, "position"), p + "position");
                 if (const YAML::Node v = n["yaw_deg"]) o.yaw_deg = number(v, p + "yaw_deg");
                 if (const YAML::Node v = n["size"]) o.size = vec3(v, p + "size");
@@ -62,13 +62,13 @@ class ScenarioReader {
     read_list(root, "dynamic_objects", s.dynamic_objects,
               [&](const YAML::Node& n, const std::string& p, DynamicObject& o) {
                 only(n, p, {"kind", "size", "position", "altitude", "heading_deg", "speed", "motion", "extent"});
-                o.kind = read_enum<DynamicKind>(r_.child(n, p, "kind"), p + "kind", kDynamicNames);
+                o.kind = read_enum<DynamicKind>(r_.child(n, p, "kind"), p + "kind");
                 o.position = vec2(r_.child(n, p, "position"), p + "position");
                 if (const YAML::Node v = n["size"]) o.size = vec3(v, p + "size");
                 if (const YAML::Node v = n["altitude"]) o.altitude = number(v, p + "altitude");
                 if (const YAML::Node v = n["heading_deg"]) o.heading_deg = number(v, p + "heading_deg");
                 if (const YAML::Node v = n["speed"]) o.speed = number(v, p + "speed");
-                if (const YAML::Node v = n["motion"]) o.motion = read_enum<MotionKind>(v, p + "motion", kMotionNames);
+                if (const YAML::Node v = n["motion"]) o.motion = read_enum<MotionKind>(v, p + "motion");
                 if (const YAML::Node v = n["extent"]) o.extent = number(v, p + "extent");
               });
     if (const YAML::Node n = root["weather"]) read_weather(n, s.weather);
@@ -192,15 +192,15 @@ class ScenarioReader {
     }
     return v;
   }
-  template <typename E, std::size_t N>
-  E read_enum(const YAML::Node& n, const std::string& key, const std::array<std::string_view, N>& names) {
+  // "map: expected one of ground, lawn; got 'moon'", at the key's line.
+  template <NamedEnum E>
+  E read_enum(const YAML::Node& n, const std::string& key) {
     const std::string t = text(n, key);
-    for (std::size_t i = 0; i < N; ++i) {
-      if (names[i] == t) return static_cast<E>(i);
+    try {
+      return from_string<E>(t);
+    } catch (const InvalidArgument& e) {
+      r_.fail(n, key, e.what());
     }
-    std::string allowed;
-    for (const auto name : names) allowed += (allowed.empty() ? "" : ", ") + std::string(name);
-    r_.fail(n, key, "expected one of " + allowed + ", got '" + t + "'");
   }
 
   // `why` is "key: what" from validate(): thrown at the line of the key, or

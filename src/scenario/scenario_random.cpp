@@ -76,14 +76,14 @@ void draw_distractors(Drawer& d, Scenario& s, const pose::detail::ArucoDictionar
   for (int k = 0; k < n; ++k) {
     Distractor x;
     const double kind = d.fraction();
-    x.kind = kind < 0.4 ? DistractorKind::wrong_id : kind < 0.7 ? DistractorKind::lookalike : DistractorKind::pattern;
-    if (x.kind == DistractorKind::wrong_id) {
+    x.kind = kind < 0.4 ? DistractorKind::WrongId : kind < 0.7 ? DistractorKind::Lookalike : DistractorKind::Pattern;
+    if (x.kind == DistractorKind::WrongId) {
       x.id = d.integer(0, dict.codes - 2);
       if (x.id >= s.marker.id) ++x.id;  // every id but the marker's
     } else {
       x.id = d.integer(0, static_cast<int>(kMaxMarkerId));
     }
-    x.flipped_bits = x.kind == DistractorKind::lookalike ? d.integer(1, 4) : 1;
+    x.flipped_bits = x.kind == DistractorKind::Lookalike ? d.integer(1, 4) : 1;
     x.size = d.uniform(0.5, 1.5, 100);
     x.yaw_deg = d.angle();
     // A few tries to find free ground near the marker, else no distractor.
@@ -106,14 +106,14 @@ void draw_static_objects(Drawer& d, Scenario& s) {
   const int n = d.integer(0, 6);
   for (int k = 0; k < n; ++k) {
     StaticObject o;
-    o.kind = static_cast<StaticKind>(d.integer(0, static_cast<int>(kStaticNames.size()) - 1));
+    o.kind = static_cast<StaticKind>(d.integer(0, static_cast<int>(EnumNames<StaticKind>::names.size()) - 1));
     o.position = {d.uniform(-12, 12, 100), d.uniform(-12, 12, 100)};
     o.yaw_deg = d.angle();
     o.size = draw_size(d, "static_objects", to_string(o.kind));
-    if (o.kind == StaticKind::pole) o.size.y() = o.size.x();
+    if (o.kind == StaticKind::Pole) o.size.y() = o.size.x();
     // A tree's trunk is at most half its crown (both rounded to 1 cm, the
     // crown at least 1 m: the trunk stays thinner).
-    if (o.kind == StaticKind::tree) o.size.y() = std::min(o.size.y(), std::round(o.size.x() * 50) / 100);
+    if (o.kind == StaticKind::Tree) o.size.y() = std::min(o.size.y(), std::round(o.size.x() * 50) / 100);
     s.static_objects.push_back(o);
   }
 }
@@ -123,7 +123,7 @@ void draw_dynamic_objects(Drawer& d, Scenario& s) {
   for (int k = 0; k < n; ++k) {
     DynamicObject o;
     const double kind = d.fraction();
-    o.kind = kind < 0.5 ? DynamicKind::person : kind < 0.75 ? DynamicKind::dog : DynamicKind::bird;
+    o.kind = kind < 0.5 ? DynamicKind::Person : kind < 0.75 ? DynamicKind::Dog : DynamicKind::Bird;
     const std::string_view name = to_string(o.kind);
     o.size = draw_size(d, "dynamic_objects", name);
     o.position = {d.uniform(-12, 12, 100), d.uniform(-12, 12, 100)};
@@ -133,7 +133,7 @@ void draw_dynamic_objects(Drawer& d, Scenario& s) {
     o.speed = d.uniform(0.2 * property_bound(kind_key("dynamic_objects", name, "speed")).max,
                         property_bound(kind_key("dynamic_objects", name, "speed")).max, 100);
     // Scripted motions only: `external` needs a controller.
-    o.motion = o.kind == DynamicKind::bird ? (d.chance(0.5) ? MotionKind::line : MotionKind::circle)
+    o.motion = o.kind == DynamicKind::Bird ? (d.chance(0.5) ? MotionKind::Line : MotionKind::Circle)
                                            : static_cast<MotionKind>(d.integer(0, 3));
     o.extent = d.uniform(2, 10, 100);
     s.dynamic_objects.push_back(o);
@@ -142,7 +142,7 @@ void draw_dynamic_objects(Drawer& d, Scenario& s) {
 
 void draw_weather(Drawer& d, Scenario& s) {
   Weather& w = s.weather;
-  const bool lawn = s.map == MapKind::lawn;
+  const bool lawn = s.map == MapKind::Lawn;
   // Each effect is off half of the time (leaves mostly on the lawn).
   const auto effect = [&](double p_on, double lo, double hi) { return d.chance(p_on) ? d.uniform(lo, hi, 100) : 0.0; };
   // Fog mostly light (visibility over 26 m); dense fog now and then.
@@ -211,7 +211,7 @@ Scenario random_scenario(std::uint64_t seed, MapKind map) {
 // random_scenario(seed, its map).
 Scenario random_scenario(std::uint64_t seed) {
   Rng rng(seed, 1);
-  return random_scenario(seed, (rng.next() >> 63) ? MapKind::lawn : MapKind::ground);
+  return random_scenario(seed, (rng.next() >> 63) ? MapKind::Lawn : MapKind::Ground);
 }
 
 }  // namespace touchdown::scenario

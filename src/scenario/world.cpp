@@ -119,7 +119,7 @@ struct World::Impl {
       progress.push_back(0);
       position.push_back(o.position);
       rng.emplace_back(s.seed, 1000 + i);
-      external_index.push_back(o.motion == MotionKind::external ? externals++ : -1);
+      external_index.push_back(o.motion == MotionKind::External ? externals++ : -1);
       dynamic_velocities.push_back(Eigen::Vector3d::Zero());
     }
     dynamic_poses.resize(s.dynamic_objects.size());
@@ -133,7 +133,7 @@ struct World::Impl {
     const std::size_t n_static = scenario.static_objects.size();
     for (std::size_t i = 0; i < dynamic_poses.size(); ++i) {
       const DynamicObject& o = scenario.dynamic_objects[i];
-      const double z = o.kind == DynamicKind::bird ? o.altitude : 0.0;
+      const double z = o.kind == DynamicKind::Bird ? o.altitude : 0.0;
       dynamic_poses[i] = Eigen::Translation3d(position[i].x(), position[i].y(), z) *
                          Eigen::AngleAxisd(heading[i], Eigen::Vector3d::UnitZ());
       object_poses[n_static + i] = dynamic_poses[i];
@@ -146,9 +146,9 @@ struct World::Impl {
       const Eigen::Vector2d before = position[i];
       const double step = o.speed * dt;
       switch (o.motion) {
-        case MotionKind::still:
+        case MotionKind::Still:
           break;
-        case MotionKind::line: {
+        case MotionKind::Line: {
           // Out along the start heading for `extent` metres, then back.
           const double h0 = deg_to_rad(o.heading_deg);
           const Eigen::Vector2d dir(std::cos(h0), std::sin(h0));
@@ -159,7 +159,7 @@ struct World::Impl {
           heading[i] = out ? h0 : h0 + std::numbers::pi;
           break;
         }
-        case MotionKind::circle: {
+        case MotionKind::Circle: {
           // Counter-clockwise about a centre `extent` to the start's left.
           const double h0 = deg_to_rad(o.heading_deg);
           const Eigen::Vector2d left(-std::sin(h0), std::cos(h0));
@@ -170,7 +170,7 @@ struct World::Impl {
           heading[i] = h0 + progress[i];
           break;
         }
-        case MotionKind::wander: {
+        case MotionKind::Wander: {
           // A new heading about every 2 s; heads back when beyond `extent`.
           if (rng[i].uniform() < dt / 2.0) heading[i] += rng[i].uniform(-2.0, 2.0);
           if ((position[i] - o.position).norm() > o.extent) {
@@ -180,16 +180,16 @@ struct World::Impl {
           position[i] += step * Eigen::Vector2d(std::cos(heading[i]), std::sin(heading[i]));
           break;
         }
-        case MotionKind::external: {
+        case MotionKind::External: {
           const int k = external_index[i];
           const ObjectAction a =
-              k < static_cast<int>(actions.size()) ? actions[static_cast<std::size_t>(k)] : ObjectAction::stay;
+              k < static_cast<int>(actions.size()) ? actions[static_cast<std::size_t>(k)] : ObjectAction::Stay;
           Eigen::Vector2d d = Eigen::Vector2d::Zero();
-          if (a == ObjectAction::up) d = {0, 1};
-          if (a == ObjectAction::down) d = {0, -1};
-          if (a == ObjectAction::left) d = {-1, 0};
-          if (a == ObjectAction::right) d = {1, 0};
-          if (a != ObjectAction::stay) {
+          if (a == ObjectAction::Up) d = {0, 1};
+          if (a == ObjectAction::Down) d = {0, -1};
+          if (a == ObjectAction::Left) d = {-1, 0};
+          if (a == ObjectAction::Right) d = {1, 0};
+          if (a != ObjectAction::Stay) {
             position[i] += step * d;
             heading[i] = std::atan2(d.y(), d.x());
           }

@@ -132,6 +132,10 @@ TEST(LandingScenarioApp, BadInputIsOneLineNamingTheKey) {
   EXPECT_EQ(lone_t.code, 2);
   EXPECT_NE(lone_t.err.find("--snapshot"), std::string::npos) << lone_t.err;
   EXPECT_EQ(scenario_app("random --seed 1 -o x.txt", dir).code, 2);
+  // A map name is refused listing the accepted ones (from the names table).
+  const AppRun bad_map = scenario_app("random --map moon -o x.yaml", dir);
+  EXPECT_EQ(bad_map.code, 2);
+  EXPECT_NE(bad_map.err.find("--map: expected one of ground, lawn, any; got 'moon'"), std::string::npos) << bad_map.err;
   EXPECT_EQ(scenario_app("run /nonexistent.yaml", dir).code, 2);
 }
 

@@ -23,11 +23,11 @@ ts::Scenario landing_run_scenario() {
   s.marker.size = 1.0;
   s.drone.position = {-19, 15, 14};
   s.drone.gps_error = {1.5, -1.0};
-  s.distractors.push_back({ts::DistractorKind::wrong_id, 7, 1, 0.8, Eigen::Vector2d(-3, 3), 30});
+  s.distractors.push_back({ts::DistractorKind::WrongId, 7, 1, 0.8, Eigen::Vector2d(-3, 3), 30});
   auto& box = s.static_objects.emplace_back();
   box.position = Eigen::Vector2d(-12, -3), box.size = Eigen::Vector3d(1.2, 0.8, 1.0);
   auto& tree = s.static_objects.emplace_back();
-  tree.kind = ts::StaticKind::tree, tree.position = Eigen::Vector2d(4, -6), tree.size = Eigen::Vector3d(3, 0.3, 6);
+  tree.kind = ts::StaticKind::Tree, tree.position = Eigen::Vector2d(4, -6), tree.size = Eigen::Vector3d(3, 0.3, 6);
   s.dynamic_objects.emplace_back();
   s.weather.rain = 0.3;
   s.weather.ground_wetness = 0.3;

@@ -21,13 +21,13 @@ ts::Scenario scene(bool heavy) {
   ts::Scenario s;
   s.seed = 3;
   s.marker.size = 1.0;
-  s.distractors.push_back({ts::DistractorKind::wrong_id, 5, 1, 0.8, Eigen::Vector2d(-2.5, 3), 30});
+  s.distractors.push_back({ts::DistractorKind::WrongId, 5, 1, 0.8, Eigen::Vector2d(-2.5, 3), 30});
   auto& box = s.static_objects.emplace_back();
   box.position = Eigen::Vector2d(3, 2.5), box.size = Eigen::Vector3d(1.2, 0.8, 1.0);
   auto& tree = s.static_objects.emplace_back();
-  tree.kind = ts::StaticKind::tree, tree.position = Eigen::Vector2d(-4, -3), tree.size = Eigen::Vector3d(3, 0.3, 5);
+  tree.kind = ts::StaticKind::Tree, tree.position = Eigen::Vector2d(-4, -3), tree.size = Eigen::Vector3d(3, 0.3, 5);
   auto& pole = s.static_objects.emplace_back();
-  pole.kind = ts::StaticKind::pole, pole.position = Eigen::Vector2d(2, -4), pole.size = Eigen::Vector3d(0.2, 0.2, 4);
+  pole.kind = ts::StaticKind::Pole, pole.position = Eigen::Vector2d(2, -4), pole.size = Eigen::Vector3d(0.2, 0.2, 4);
   s.dynamic_objects.emplace_back();
   if (heavy) {
     ts::Weather& w = s.weather;

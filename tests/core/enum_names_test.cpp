@@ -6,6 +6,7 @@
 #include <string>
 #include <string_view>
 
+#include "core/svg_plot.hpp"
 #include "test_util.hpp"
 #include "touchdown/core/cloud_io.hpp"
 #include "touchdown/core/error.hpp"
@@ -55,6 +56,7 @@ TEST(EnumNames, EveryCoreEnumRoundTripsThroughItsName) {
   test::expect_names_round_trip<CloudFormat>();
   test::expect_names_round_trip<PcdEncoding>();
   test::expect_names_round_trip<PlyEncoding>();
+  test::expect_names_round_trip<detail::SvgLegend::Flow>();
   // The names are the files' own spellings (PCD DATA, PLY format lines).
   EXPECT_EQ(to_string(PcdEncoding::BinaryCompressed), "binary_compressed");
   EXPECT_EQ(to_string(PlyEncoding::BinaryBigEndian), "binary_big_endian");

@@ -210,7 +210,7 @@ TEST(SvgPlot, AWholeFigureIsWellFormed) {
   legend.entry("v_x [m/s]", [&](double x, double y) { svg.line(x - 8, y, x + 8, y, " stroke='#1f77b4'"); });
   legend.entry("limit & margin", [&](double x, double y) { svg.line(x - 8, y, x + 8, y, " stroke='black'"); });
   EXPECT_DOUBLE_EQ(legend.y(), 50 + 2 * 19);
-  tdd::SvgLegend row(svg, 70, 380, 18, tdd::SvgLegend::Flow::row);
+  tdd::SvgLegend row(svg, 70, 380, 18, tdd::SvgLegend::Flow::Row);
   row.entry("ab", [&](double x, double y) { svg.circle(x, y, 3, " fill='red'"); });
   EXPECT_DOUBLE_EQ(row.x(), 70 + 22 + 2 * 7 + 18);
   const std::string s = svg.finish();

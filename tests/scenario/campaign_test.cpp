@@ -15,7 +15,7 @@ namespace {
 /// Short random scenarios (10 s: the shortest time limit allowed, seen at
 /// 320×240) so that a campaign stays cheap under the sanitizers.
 std::vector<Scenario> campaign_short_scenarios() {
-  std::vector<Scenario> s = random_scenarios(40, 2, MapKind::ground);
+  std::vector<Scenario> s = random_scenarios(40, 2, MapKind::Ground);
   for (auto& x : s) x.time_limit = 10;
   return s;
 }
@@ -53,8 +53,8 @@ TEST(Campaign, SameResultsForAnyThreadCount) {
   for (const auto& entry : one.entries) {
     const ScenarioOutcome& e = entry.outcome;
     violations += e.violation();
-    ii += e.status == Violation::type_ii;
-    EXPECT_EQ(e.violation(), e.status != Violation::none);
+    ii += e.status == Violation::TypeII;
+    EXPECT_EQ(e.violation(), e.status != Violation::None);
     EXPECT_EQ(e.ok(), !e.violation());
   }
   EXPECT_EQ(s.violations, violations);
@@ -65,11 +65,11 @@ TEST(Campaign, SameResultsForAnyThreadCount) {
 }
 
 TEST(Campaign, RandomScenariosAreTheSeededOnes) {
-  const std::vector<Scenario> lawn = random_scenarios(7, 3, MapKind::lawn);
+  const std::vector<Scenario> lawn = random_scenarios(7, 3, MapKind::Lawn);
   ASSERT_EQ(lawn.size(), 3u);
   for (std::size_t i = 0; i < 3; ++i) {
-    EXPECT_TRUE(lawn[i] == random_scenario(7 + i, MapKind::lawn));
-    EXPECT_EQ(lawn[i].map, MapKind::lawn);
+    EXPECT_TRUE(lawn[i] == random_scenario(7 + i, MapKind::Lawn));
+    EXPECT_EQ(lawn[i].map, MapKind::Lawn);
   }
   const std::vector<Scenario> any = random_scenarios(7, 2, std::nullopt);
   EXPECT_TRUE(any[1] == random_scenario(8));
@@ -106,7 +106,7 @@ TEST(DetectionRoi, SameLandingFewerDetectionsOfTheDistractor) {
   // thresholding is local).
   Scenario s = test::clear_scenario(40);
   s.seed = 11;
-  s.distractors.push_back({DistractorKind::wrong_id, 7, 1, 0.8, Eigen::Vector2d(0, 2.2), 20});
+  s.distractors.push_back({DistractorKind::WrongId, 7, 1, 0.8, Eigen::Vector2d(0, 2.2), 20});
   MlsOptions roi, whole;
   whole.detection_roi = false;
   auto a = make_landing_system("opencv-mls", roi);

@@ -21,7 +21,7 @@ inline Scenario pole_on_marker_scenario(double time_limit = 60) {
   Scenario s = clear_scenario(time_limit);
   s.marker.size = 2.0;
   StaticObject pole;
-  pole.kind = StaticKind::pole;
+  pole.kind = StaticKind::Pole;
   pole.position = {0.2, 0.2};
   pole.size = {0.05, 0.05, 4.0};
   s.static_objects = {pole};

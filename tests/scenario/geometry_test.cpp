@@ -28,8 +28,8 @@ Eigen::Isometry3d geo_at(double x, double y, double z, double yaw_deg = 0) {
 const Eigen::Isometry3d kIdentity = Eigen::Isometry3d::Identity();
 
 TEST(CollisionChecker, SphereAgainstBoxDistanceAndPenetration) {
-  CollisionChecker c({geo_solid(Solid::Shape::sphere, Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(0.5))});
-  const int box = c.add_object({geo_solid(Solid::Shape::box, Eigen::Vector3d(0, 0, 0.5), Eigen::Vector3d(1, 1, 1))});
+  CollisionChecker c({geo_solid(Solid::Shape::Sphere, Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(0.5))});
+  const int box = c.add_object({geo_solid(Solid::Shape::Box, Eigen::Vector3d(0, 0, 0.5), Eigen::Vector3d(1, 1, 1))});
   // Sphere centre 2 m from the box centre along x: 2 - 0.5 - 0.5 = 1 m apart.
   const Proximity far = c.distance(box, geo_at(2, 0, 0.5), kIdentity);
   EXPECT_NEAR(far.distance, 1.0, 1e-6);
@@ -49,7 +49,7 @@ TEST(CollisionChecker, F450AgainstAPoleIsTheRotorDiskNotTheCentre) {
   const twin::Airframe f450;
   CollisionChecker c(drone_solids(f450));
   StaticObject pole;
-  pole.kind = StaticKind::pole;
+  pole.kind = StaticKind::Pole;
   pole.position = {1.0, 0.0};
   pole.size = {0.2, 0.2, 5.0};
   const int i = c.add_object(object_solids(pole));
@@ -75,7 +75,7 @@ TEST(CollisionChecker, LandingOnABoxTouchesWithTheFeet) {
   const twin::Airframe f450;
   CollisionChecker c(drone_solids(f450));
   StaticObject crate;
-  crate.kind = StaticKind::box;
+  crate.kind = StaticKind::Box;
   crate.size = {1.0, 1.0, 0.6};
   const int i = c.add_object(object_solids(crate));
   // Feet bottoms at body z + foot_z - foot_radius: 5 mm above the top, then 5 mm into it.
@@ -90,10 +90,10 @@ TEST(CollisionChecker, MovingObjectPoseAndFirstCollisionOrder) {
   const twin::Airframe f450;
   CollisionChecker c(drone_solids(f450));
   DynamicObject bird;
-  bird.kind = DynamicKind::bird;
+  bird.kind = DynamicKind::Bird;
   bird.size = {0.3, 0.6, 0.12};
   DynamicObject person;
-  person.kind = DynamicKind::person;
+  person.kind = DynamicKind::Person;
   person.size = {0.3, 0.5, 1.8};
   const int b = c.add_object(object_solids(bird));
   const int p = c.add_object(object_solids(person));
@@ -117,18 +117,18 @@ TEST(CollisionChecker, MovingObjectPoseAndFirstCollisionOrder) {
 }
 
 TEST(ObjectSolids, HeightsAndFootprintsFollowTheSize) {
-  for (StaticKind kind : {StaticKind::box, StaticKind::chair, StaticKind::pole, StaticKind::tree}) {
+  for (StaticKind kind : {StaticKind::Box, StaticKind::Chair, StaticKind::Pole, StaticKind::Tree}) {
     StaticObject o;
     o.kind = kind;
     o.position = {3, -2};
     o.yaw_deg = 30;
-    o.size = kind == StaticKind::tree ? Eigen::Vector3d(3, 0.3, 6) : Eigen::Vector3d(0.5, 0.5, 1.2);
-    CollisionChecker c({geo_solid(Solid::Shape::sphere, Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(0.01))});
+    o.size = kind == StaticKind::Tree ? Eigen::Vector3d(3, 0.3, 6) : Eigen::Vector3d(0.5, 0.5, 1.2);
+    CollisionChecker c({geo_solid(Solid::Shape::Sphere, Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(0.01))});
     const int i = c.add_object(object_solids(o));
     // A tiny probe just above the top misses, just below the top (over the centre) hits.
     const double top = o.size.z();
     EXPECT_FALSE(c.collide(i, geo_at(3, -2, top + 0.02), kIdentity)) << to_string(kind);
-    const double inside = kind == StaticKind::chair ? 0.45 * top - 0.02 : top - 0.05;  // the seat's top
+    const double inside = kind == StaticKind::Chair ? 0.45 * top - 0.02 : top - 0.05;  // the seat's top
     EXPECT_TRUE(c.collide(i, geo_at(3, -2, inside), kIdentity)) << to_string(kind);
   }
 }

@@ -166,15 +166,15 @@ INSTANTIATE_TEST_SUITE_P(Reference, LandingSystemContract, ::testing::ValuesIn(r
 // ---- each clause can fail: test-only systems with one flaw each ----
 
 enum class Flaw {
-  none,
-  empty_name,
-  name_changes_on_reset,
-  throws_without_frame,
-  nan_without_frame,
-  detections_without_frame,
-  state_kept_across_reset,  // forgets to reset its step count
-  depends_on_the_object,    // its output depends on which object it is
-  state_shared_by_objects,  // its step count is a static, reset by reset()
+  None,
+  EmptyName,
+  NameChangesOnReset,
+  ThrowsWithoutFrame,
+  NanWithoutFrame,
+  DetectionsWithoutFrame,
+  StateKeptAcrossReset,  // forgets to reset its step count
+  DependsOnTheObject,    // its output depends on which object it is
+  StateSharedByObjects,  // its step count is a static, reset by reset()
 };
 
 int& flawed_objects_made() {
@@ -195,35 +195,35 @@ class FlawedSystem final : public LandingSystem {
   explicit FlawedSystem(Flaw flaw) : flaw_(flaw), serial_(flawed_objects_made()++) {}
 
   [[nodiscard]] std::string_view name() const override {
-    if (flaw_ == Flaw::empty_name) return "";
-    if (flaw_ == Flaw::name_changes_on_reset && resets_ > 0) return "fake-after-reset";
+    if (flaw_ == Flaw::EmptyName) return "";
+    if (flaw_ == Flaw::NameChangesOnReset && resets_ > 0) return "fake-after-reset";
     return "fake";
   }
 
   void reset(const SystemSetup& setup) override {
     ++resets_;
     target_ = setup.gps_target;
-    if (flaw_ != Flaw::state_kept_across_reset) steps_ = 0;
+    if (flaw_ != Flaw::StateKeptAcrossReset) steps_ = 0;
     flawed_shared_steps() = 0;
   }
 
   SystemOutput update(const SystemInput& in) override {
-    if (flaw_ == Flaw::throws_without_frame && !in.frame) throw std::runtime_error("no frame");
-    long& steps = flaw_ == Flaw::state_shared_by_objects ? flawed_shared_steps() : steps_;
+    if (flaw_ == Flaw::ThrowsWithoutFrame && !in.frame) throw std::runtime_error("no frame");
+    long& steps = flaw_ == Flaw::StateSharedByObjects ? flawed_shared_steps() : steps_;
     ++steps;
     SystemOutput out;
     const Eigen::Vector2d to = target_ - in.state.position.head<2>();
     Eigen::Vector2d v = to.norm() > 2 ? Eigen::Vector2d(to * (2 / to.norm())) : to;
     v.x() += 1e-6 * static_cast<double>(steps);
-    if (flaw_ == Flaw::depends_on_the_object) v.x() += 1e-6 * serial_;
+    if (flaw_ == Flaw::DependsOnTheObject) v.x() += 1e-6 * serial_;
     const double z = in.state.position.z();
     const bool over = to.norm() < 0.5;
     out.command.velocity_world = Eigen::Vector3d(v.x(), v.y(), over ? -1.0 : std::clamp(10 - z, -1.0, 1.0));
     out.command.land = over && z < 1.5;
     out.phase = out.command.land ? "land" : over ? "descend" : "approach";
-    if (flaw_ == Flaw::nan_without_frame && !in.frame)
+    if (flaw_ == Flaw::NanWithoutFrame && !in.frame)
       out.command.velocity_world.x() = std::numeric_limits<double>::quiet_NaN();
-    if (in.frame || flaw_ == Flaw::detections_without_frame) out.detections.emplace_back();
+    if (in.frame || flaw_ == Flaw::DetectionsWithoutFrame) out.detections.emplace_back();
     return out;
   }
 
@@ -248,7 +248,7 @@ bool fails_saying(const ::testing::AssertionResult& r, const std::string& what) 
 }
 
 TEST(LandingSystemContractFake, WithoutAFlawPassesEveryClause) {
-  const contract::Factory f = flawed(Flaw::none);
+  const contract::Factory f = flawed(Flaw::None);
   EXPECT_TRUE(contract::check_name(f));
   EXPECT_TRUE(contract::check_frameless(f));
   EXPECT_TRUE(contract::check_outputs(f));
@@ -258,40 +258,40 @@ TEST(LandingSystemContractFake, WithoutAFlawPassesEveryClause) {
 }
 
 TEST(LandingSystemContractFake, CatchesAnEmptyOrChangingName) {
-  EXPECT_TRUE(fails_saying(contract::check_name(flawed(Flaw::empty_name)), "empty"));
-  EXPECT_TRUE(fails_saying(contract::check_name(flawed(Flaw::name_changes_on_reset)), "after reset()"));
-  contract::Factory misnamed = flawed(Flaw::none);
+  EXPECT_TRUE(fails_saying(contract::check_name(flawed(Flaw::EmptyName)), "empty"));
+  EXPECT_TRUE(fails_saying(contract::check_name(flawed(Flaw::NameChangesOnReset)), "after reset()"));
+  contract::Factory misnamed = flawed(Flaw::None);
   misnamed.expected_name = "opencv-mls";
   EXPECT_TRUE(fails_saying(contract::check_name(misnamed), "made as"));
 }
 
 TEST(LandingSystemContractFake, CatchesAStepWithoutAFrameThatThrowsOrGivesNaN) {
-  EXPECT_TRUE(fails_saying(contract::check_frameless(flawed(Flaw::throws_without_frame)), "threw"));
-  EXPECT_TRUE(fails_saying(contract::check_frameless(flawed(Flaw::nan_without_frame)), "non-finite command"));
-  EXPECT_TRUE(fails_saying(contract::check_outputs(flawed(Flaw::nan_without_frame)), "non-finite command"));
+  EXPECT_TRUE(fails_saying(contract::check_frameless(flawed(Flaw::ThrowsWithoutFrame)), "threw"));
+  EXPECT_TRUE(fails_saying(contract::check_frameless(flawed(Flaw::NanWithoutFrame)), "non-finite command"));
+  EXPECT_TRUE(fails_saying(contract::check_outputs(flawed(Flaw::NanWithoutFrame)), "non-finite command"));
 }
 
 TEST(LandingSystemContractFake, CatchesDetectionsWithoutAFrame) {
   EXPECT_TRUE(
-      fails_saying(contract::check_frameless(flawed(Flaw::detections_without_frame)), "detections without a frame"));
+      fails_saying(contract::check_frameless(flawed(Flaw::DetectionsWithoutFrame)), "detections without a frame"));
   EXPECT_TRUE(
-      fails_saying(contract::check_outputs(flawed(Flaw::detections_without_frame)), "detections without a frame"));
+      fails_saying(contract::check_outputs(flawed(Flaw::DetectionsWithoutFrame)), "detections without a frame"));
 }
 
 TEST(LandingSystemContractFake, CatchesStateKeptAcrossReset) {
-  const contract::Factory f = flawed(Flaw::state_kept_across_reset);
+  const contract::Factory f = flawed(Flaw::StateKeptAcrossReset);
   EXPECT_TRUE(fails_saying(contract::check_reset(f), "second run"));
   EXPECT_TRUE(contract::check_deterministic(f));  // fresh objects agree: only reset() is at fault
 }
 
 TEST(LandingSystemContractFake, CatchesOutputsThatDependOnTheObject) {
-  const contract::Factory f = flawed(Flaw::depends_on_the_object);
+  const contract::Factory f = flawed(Flaw::DependsOnTheObject);
   EXPECT_TRUE(fails_saying(contract::check_deterministic(f), "two fresh objects"));
   EXPECT_TRUE(contract::check_reset(f));
 }
 
 TEST(LandingSystemContractFake, CatchesStateSharedByObjects) {
-  const contract::Factory f = flawed(Flaw::state_shared_by_objects);
+  const contract::Factory f = flawed(Flaw::StateSharedByObjects);
   EXPECT_TRUE(fails_saying(contract::check_independent(f), "stepped in turn"));
   EXPECT_TRUE(contract::check_deterministic(f));  // alone, one after the other, it is fine
   EXPECT_TRUE(contract::check_reset(f));

@@ -41,7 +41,7 @@ bool mm_phase_never(const ScenarioResult& r, std::string_view phase) { return !m
 /// A pole or a box as a box footprint (a pole's square hull: conservative).
 StaticObject mm_box(Eigen::Vector2d position, Eigen::Vector3d size) {
   StaticObject o;
-  o.kind = StaticKind::box;
+  o.kind = StaticKind::Box;
   o.position = position;
   o.size = size;
   return o;
@@ -56,7 +56,7 @@ TEST(MmMls, LandsBesideThePoleThatOpencvMlsHits) {
   const StaticObject& pole = s.static_objects[0];
   const ScenarioResult r = mm_run(s, "mm-mls");
   EXPECT_FALSE(r.collided) << r.message;
-  EXPECT_EQ(r.status, Violation::none) << r.message;
+  EXPECT_EQ(r.status, Violation::None) << r.message;
   EXPECT_TRUE(r.landed);
   EXPECT_LE(r.dtl, 1.5);
   EXPECT_TRUE(r.descent_started);
@@ -75,7 +75,7 @@ TEST(MmMls, KeepsItsMarginFromABoxBesideTheMarker) {
   s.static_objects = {mm_box({1.0, 0.0}, {1, 1, 1})};
   const ScenarioResult r = mm_run(s, "mm-mls");
   EXPECT_FALSE(r.collided) << r.message;
-  EXPECT_EQ(r.status, Violation::none) << r.message;
+  EXPECT_EQ(r.status, Violation::None) << r.message;
   EXPECT_TRUE(r.landed);
   EXPECT_LE(r.dtl, 1.5);
   const double clearance = mm_distance_to_footprint(r.final_position.head<2>(), s.static_objects[0]);
@@ -94,11 +94,11 @@ TEST(MmMls, DoesNotLandOnABoxStandingOnTheMarker) {
   const StaticObject& box = s.static_objects[0];
 
   const ScenarioResult base = mm_run(s, "opencv-mls");
-  EXPECT_EQ(base.status, Violation::type_iii) << base.message;
+  EXPECT_EQ(base.status, Violation::TypeIII) << base.message;
 
   const ScenarioResult r = mm_run(s, "mm-mls");
   EXPECT_FALSE(r.collided) << r.message;
-  EXPECT_EQ(r.status, Violation::none) << r.message;
+  EXPECT_EQ(r.status, Violation::None) << r.message;
   EXPECT_TRUE(r.landed);
   EXPECT_LE(r.dtl, 1.5);
   EXPECT_GE(mm_distance_to_footprint(r.final_position.head<2>(), box), twin::Airframe::f450().footprint_radius())
@@ -110,7 +110,7 @@ TEST(MmMls, DoesNotLandOnABoxStandingOnTheMarker) {
   auto sut = make_landing_system("mm-mls", strict);
   const ScenarioResult refused = run_scenario(s, *sut);
   EXPECT_FALSE(refused.collided) << refused.message;
-  EXPECT_EQ(refused.status, Violation::type_ii) << refused.message;
+  EXPECT_EQ(refused.status, Violation::TypeII) << refused.message;
   EXPECT_FALSE(refused.landed);
   EXPECT_TRUE(refused.descent_started);
   EXPECT_TRUE(mm_phase_seen(refused, "no-landing-spot"));
@@ -127,8 +127,8 @@ TEST(MmMls, ClearGroundLandsAsWellAsOpencvMls) {
   s.time_limit = 30;
   const ScenarioResult a = mm_run(s, "opencv-mls");
   const ScenarioResult b = mm_run(s, "mm-mls");
-  EXPECT_EQ(a.status, Violation::none) << a.message;
-  EXPECT_EQ(b.status, Violation::none) << b.message;
+  EXPECT_EQ(a.status, Violation::None) << a.message;
+  EXPECT_EQ(b.status, Violation::None) << b.message;
   EXPECT_LE(a.dtl, 0.3);
   EXPECT_LE(b.dtl, 0.3);
   EXPECT_TRUE(mm_phase_never(b, "no-landing-spot"));
@@ -147,7 +147,7 @@ TEST(MmMls, TiltedCameraLandsWithBothSystems) {
   o.camera.height = 360;
   for (const char* system : {"opencv-mls", "mm-mls"}) {
     const ScenarioResult r = mm_run(s, system, o);
-    EXPECT_EQ(r.status, Violation::none) << system << ": " << r.message;
+    EXPECT_EQ(r.status, Violation::None) << system << ": " << r.message;
     EXPECT_TRUE(r.landed) << system;
     EXPECT_LE(r.dtl, 1.5) << system;
     // While tracking at cruise altitude it held about 10·tan 30° = 5.2 m
@@ -169,7 +169,7 @@ Scenario lookalike_beside_marker_scenario(double x) {
   s.marker.size = 0.95;
   s.marker.yaw_deg = 40.8;
   Distractor look;
-  look.kind = DistractorKind::lookalike;
+  look.kind = DistractorKind::Lookalike;
   look.flipped_bits = 2;
   look.size = 1.2;
   look.position = {x, 0.04};
@@ -189,10 +189,10 @@ TEST(MmMls, FollowsTheMarkerItTracksNotADecodableLookAlike) {
 
   const ScenarioResult base = mm_run(s, "opencv-mls");
   EXPECT_TRUE(base.false_detection) << "the look-alike must read as the target: " << base.message;
-  EXPECT_EQ(base.status, Violation::type_i) << base.message;
+  EXPECT_EQ(base.status, Violation::TypeI) << base.message;
 
   const ScenarioResult r = mm_run(s, "mm-mls");
-  EXPECT_EQ(r.status, Violation::none) << r.message;
+  EXPECT_EQ(r.status, Violation::None) << r.message;
   EXPECT_TRUE(r.landed);
   EXPECT_LE(r.dtl, 0.3) << r.message;
   // Once tracking, the look-alike is never taken for the target.
@@ -213,10 +213,10 @@ TEST(MmMls, ReacquiresTheMarkerWhenALookAlikeWasSeenFirst) {
   const Scenario s = lookalike_beside_marker_scenario(-2.84);
 
   const ScenarioResult base = mm_run(s, "opencv-mls");
-  EXPECT_EQ(base.status, Violation::type_i) << base.message;
+  EXPECT_EQ(base.status, Violation::TypeI) << base.message;
 
   const ScenarioResult r = mm_run(s, "mm-mls");
-  EXPECT_EQ(r.status, Violation::none) << r.message;
+  EXPECT_EQ(r.status, Violation::None) << r.message;
   EXPECT_LE(r.dtl, 0.3) << r.message;
   // A frame where the look-alike alone was the target (the track followed
   // it: the marker was not in view or not read); then the marker, and the

@@ -16,11 +16,13 @@ namespace {
 
 using touchdown::scenario::CameraFrame;
 using touchdown::scenario::CameraOptions;
+using touchdown::scenario::Label;
+using touchdown::scenario::mask_value;
 using touchdown::scenario::Renderer;
 using touchdown::scenario::Scenario;
 using touchdown::scenario::SceneState;
 
-Scenario render_scenario(touchdown::scenario::MapKind map = touchdown::scenario::MapKind::ground) {
+Scenario render_scenario(touchdown::scenario::MapKind map = touchdown::scenario::MapKind::Ground) {
   Scenario s;
   s.map = map;
   s.seed = 7;
@@ -201,7 +203,7 @@ TEST(RenderMask, VisibleAgreesWithTruthAtAltitudesTiltsYaws) {
 }
 
 TEST(RenderDetection, ArucoFindsTheMarkerInClearWeatherOnBothMaps) {
-  for (auto map : {touchdown::scenario::MapKind::ground, touchdown::scenario::MapKind::lawn}) {
+  for (auto map : {touchdown::scenario::MapKind::Ground, touchdown::scenario::MapKind::Lawn}) {
     const Scenario s = render_scenario(map);
     const CameraOptions cam;
     Renderer r(s, cam);
@@ -268,9 +270,9 @@ TEST(RenderDepth, GroundIsTheAnalyticPlane) {
   cam.tilt_deg = 80;
   Renderer sky(render_scenario(), cam);
   sky.render(render_state({0, 0, 5}), f);
-  EXPECT_EQ(f.mask[10], touchdown::scenario::kSky);
+  EXPECT_EQ(f.mask[10], mask_value(Label::Sky));
   EXPECT_TRUE(std::isinf(f.depth[10]));
-  EXPECT_EQ(f.mask[f.mask.size() - 10], touchdown::scenario::kGround);
+  EXPECT_EQ(f.mask[f.mask.size() - 10], mask_value(Label::Ground));
 }
 
 TEST(RenderDepth, TopFaceOfABoxAndTheZBuffer) {
@@ -286,9 +288,9 @@ TEST(RenderDepth, TopFaceOfABoxAndTheZBuffer) {
     CameraFrame f;
     r.render(render_state({0, 0, 10}), f);
     const std::size_t centre = 240 * 640 + 320;
-    EXPECT_EQ(f.mask[centre], touchdown::scenario::kStaticObject);
+    EXPECT_EQ(f.mask[centre], mask_value(Label::StaticObject));
     EXPECT_NEAR(f.depth[centre], 8.0, 1e-4);
-    EXPECT_EQ(f.mask[10 * 640 + 10], touchdown::scenario::kGround);
+    EXPECT_EQ(f.mask[10 * 640 + 10], mask_value(Label::Ground));
   }
   // Camera looking east and down at 45° from (−6, 0, 4): along the axis, a
   // 3 m box at x = −4 stands in front of a person at x = −2.5.
@@ -303,12 +305,12 @@ TEST(RenderDepth, TopFaceOfABoxAndTheZBuffer) {
   const std::size_t centre = 240 * 640 + 320;
   Renderer both(s, cam);
   both.render(st, f);
-  EXPECT_EQ(f.mask[centre], touchdown::scenario::kStaticObject);
+  EXPECT_EQ(f.mask[centre], mask_value(Label::StaticObject));
   EXPECT_NEAR(f.depth[centre], 1.5 * std::sqrt(2.0), 2e-2);  // the box's west face at x = −4.5
   s.static_objects.clear();
   Renderer alone(s, cam);
   alone.render(st, f);
-  EXPECT_EQ(f.mask[centre], touchdown::scenario::kDynamicObject);
+  EXPECT_EQ(f.mask[centre], mask_value(Label::DynamicObject));
 }
 
 TEST(RenderDeterminism, SameStateSameBytesRainChangesPerFrameMaskDoesNot) {
@@ -372,7 +374,7 @@ double render_lag_sd(const cv::Mat& grey, int lag) {
 // over both maps with and without leaf litter; textures sampled at the
 // mip level of one footprint (no optics) gave 0.71–0.90.
 TEST(RenderOptics, TextureDetailFinerThanTheOpticsDoesNotReachTheImage) {
-  for (const auto map : {touchdown::scenario::MapKind::ground, touchdown::scenario::MapKind::lawn}) {
+  for (const auto map : {touchdown::scenario::MapKind::Ground, touchdown::scenario::MapKind::Lawn}) {
     for (const double leaves : {0.0, 0.9}) {
       Scenario s = render_scenario(map);
       s.weather.ground_leaves = leaves;
@@ -391,14 +393,14 @@ TEST(RenderOptics, TextureDetailFinerThanTheOpticsDoesNotReachTheImage) {
 /// Weather that touches every cached and per-frame piece: ground cover and
 /// wetness (the cached texture), low light (the cached noise), particles.
 Scenario render_busy_scenario(std::uint64_t seed) {
-  Scenario s = render_scenario(touchdown::scenario::MapKind::lawn);
+  Scenario s = render_scenario(touchdown::scenario::MapKind::Lawn);
   s.seed = seed;
   s.weather.ground_snow = 0.3, s.weather.ground_leaves = 0.4, s.weather.ground_wetness = 0.6;
   s.weather.rain = 0.5, s.weather.snow = 0.4, s.weather.leaves = 0.5, s.weather.fog = 0.02, s.weather.ambient = 0.5;
   s.weather.sun_elevation_deg = 65;
   auto& box = s.static_objects.emplace_back();
   box.position = Eigen::Vector2d(1.5, 1), box.size = Eigen::Vector3d(0.8, 0.6, 0.7);
-  s.distractors.push_back({touchdown::scenario::DistractorKind::lookalike, 1, 2, 0.8, Eigen::Vector2d(-2.5, 3), 30});
+  s.distractors.push_back({touchdown::scenario::DistractorKind::Lookalike, 1, 2, 0.8, Eigen::Vector2d(-2.5, 3), 30});
   return s;
 }
 
@@ -487,7 +489,7 @@ TEST(RenderMap, DryScenesShareTheMapsGroundAndWetGroundIsDarkerByItsWaterFilm) {
   double dry_sum = 0, wet_sum = 0;
   std::size_t ground = 0;
   for (std::size_t i = 0; i < fa.mask.size(); ++i) {
-    if (fa.mask[i] != touchdown::scenario::kGround) continue;
+    if (fa.mask[i] != mask_value(Label::Ground)) continue;
     ++ground;
     for (std::size_t c = 0; c < 3; ++c) {
       dry_sum += fa.image.pixels[3 * i + c];
@@ -535,16 +537,16 @@ TEST(RenderExamples, DISABLED_WritePngs) {
   using touchdown::scenario::MapKind;
   using touchdown::scenario::Weather;
   const std::vector<Example> examples{
-      {"clear_ground", MapKind::ground, [](Weather&) {}},
-      {"clear_lawn", MapKind::lawn, [](Weather&) {}},
-      {"fog", MapKind::ground, [](Weather& w) { w.fog = 0.08; }},
-      {"rain", MapKind::ground, [](Weather& w) { w.rain = 1, w.ground_wetness = 0.5, w.ambient = 0.6; }},
-      {"snow", MapKind::lawn, [](Weather& w) { w.snow = 1, w.ground_snow = 0.6, w.ambient = 0.8; }},
-      {"leaves", MapKind::lawn, [](Weather& w) { w.leaves = 1, w.ground_leaves = 0.5; }},
-      {"dust", MapKind::ground, [](Weather& w) { w.dust = 1; }},
-      {"wet_glare", MapKind::ground,
+      {"clear_ground", MapKind::Ground, [](Weather&) {}},
+      {"clear_lawn", MapKind::Lawn, [](Weather&) {}},
+      {"fog", MapKind::Ground, [](Weather& w) { w.fog = 0.08; }},
+      {"rain", MapKind::Ground, [](Weather& w) { w.rain = 1, w.ground_wetness = 0.5, w.ambient = 0.6; }},
+      {"snow", MapKind::Lawn, [](Weather& w) { w.snow = 1, w.ground_snow = 0.6, w.ambient = 0.8; }},
+      {"leaves", MapKind::Lawn, [](Weather& w) { w.leaves = 1, w.ground_leaves = 0.5; }},
+      {"dust", MapKind::Ground, [](Weather& w) { w.dust = 1; }},
+      {"wet_glare", MapKind::Ground,
        [](Weather& w) { w.ground_wetness = 1, w.sun_elevation_deg = 70, w.sun_azimuth_deg = 190; }},
-      {"low_light", MapKind::ground, [](Weather& w) { w.ambient = 0.08; }},
+      {"low_light", MapKind::Ground, [](Weather& w) { w.ambient = 0.08; }},
   };
   for (const auto& e : examples) {
     Scenario s = render_scenario(e.map);
@@ -552,13 +554,13 @@ TEST(RenderExamples, DISABLED_WritePngs) {
     auto& box = s.static_objects.emplace_back();
     box.position = Eigen::Vector2d(3, 2.5), box.size = Eigen::Vector3d(1.2, 0.8, 1.0), box.yaw_deg = 20;
     auto& tree = s.static_objects.emplace_back();
-    tree.kind = touchdown::scenario::StaticKind::tree;
+    tree.kind = touchdown::scenario::StaticKind::Tree;
     tree.position = Eigen::Vector2d(-4, -3), tree.size = Eigen::Vector3d(3, 0.3, 5);
     auto& pole = s.static_objects.emplace_back();
-    pole.kind = touchdown::scenario::StaticKind::pole;
+    pole.kind = touchdown::scenario::StaticKind::Pole;
     pole.position = Eigen::Vector2d(2, -4), pole.size = Eigen::Vector3d(0.2, 0.2, 4);
-    s.dynamic_objects.emplace_back().kind = touchdown::scenario::DynamicKind::person;
-    s.distractors.push_back({touchdown::scenario::DistractorKind::lookalike, 1, 2, 0.8, Eigen::Vector2d(-2.5, 3), 30});
+    s.dynamic_objects.emplace_back().kind = touchdown::scenario::DynamicKind::Person;
+    s.distractors.push_back({touchdown::scenario::DistractorKind::Lookalike, 1, 2, 0.8, Eigen::Vector2d(-2.5, 3), 30});
     for (double tilt : {0.0, 50.0}) {
       CameraOptions cam;
       cam.tilt_deg = tilt;

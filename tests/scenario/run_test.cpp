@@ -22,7 +22,7 @@ ScenarioResult run_with(const Scenario& s, std::string_view system = "opencv-mls
 TEST(RunScenario, ClearWeatherLandsOnTheMarker) {
   const ScenarioResult r = run_with(test::clear_scenario());
   EXPECT_FALSE(r.violation()) << r.message;
-  EXPECT_EQ(r.status, Violation::none);
+  EXPECT_EQ(r.status, Violation::None);
   EXPECT_TRUE(r.landed);
   EXPECT_LT(r.dtl, 0.5) << r.message;
   EXPECT_TRUE(r.descent_started);
@@ -49,14 +49,14 @@ TEST(RunScenario, LookalikeMarkerLeadsToATypeILanding) {
   Scenario s = test::clear_scenario();
   s.marker.dictionary = "5X5_50";
   Distractor fake;
-  fake.kind = DistractorKind::lookalike;
+  fake.kind = DistractorKind::Lookalike;
   fake.flipped_bits = 1;
   fake.position = {-12, 0};
   s.distractors = {fake};
   s.drone.position = {-16, 0, 12};
   const ScenarioResult r = run_with(s);
   EXPECT_TRUE(r.violation());
-  EXPECT_EQ(r.status, Violation::type_i) << r.message;
+  EXPECT_EQ(r.status, Violation::TypeI) << r.message;
   EXPECT_TRUE(r.landed);
   EXPECT_NEAR(r.dtl, 12.0, 1.0);
   EXPECT_TRUE(r.false_detection);
@@ -69,7 +69,7 @@ TEST(RunScenario, DenseFogIsATypeIIViolation) {
   s.time_limit = 20;
   const ScenarioResult r = run_with(s);
   EXPECT_TRUE(r.violation());
-  EXPECT_EQ(r.status, Violation::type_ii) << r.message;
+  EXPECT_EQ(r.status, Violation::TypeII) << r.message;
   EXPECT_FALSE(r.landed);
   EXPECT_FALSE(r.descent_started);
   EXPECT_DOUBLE_EQ(r.ttl, 20);
@@ -82,7 +82,7 @@ TEST(RunScenario, PoleOnTheDescentPathIsATypeIIICollision) {
   const Scenario s = test::pole_on_marker_scenario();
   const ScenarioResult r = run_with(s);
   EXPECT_TRUE(r.violation());
-  EXPECT_EQ(r.status, Violation::type_iii) << r.message;
+  EXPECT_EQ(r.status, Violation::TypeIII) << r.message;
   EXPECT_TRUE(r.collided);
   EXPECT_EQ(r.collision.what, "static_objects[0] (pole)");
   // It hit the pole on the way down, below the pole's top.
@@ -93,9 +93,9 @@ TEST(RunScenario, PoleOnTheDescentPathIsATypeIIICollision) {
 TEST(RunScenario, ReplayIsBitIdentical) {
   Scenario s = test::clear_scenario();
   DynamicObject dog;
-  dog.kind = DynamicKind::dog;
+  dog.kind = DynamicKind::Dog;
   dog.size = {0.8, 0.3, 0.6};
-  dog.motion = MotionKind::wander;
+  dog.motion = MotionKind::Wander;
   dog.position = {3, 3};
   dog.speed = 1.5;
   s.dynamic_objects = {dog};
@@ -158,7 +158,7 @@ TEST(ScenarioRun, MaxTimeEndsTheRunAsATypeII) {
   }
   const ScenarioResult r = run.finish();
   EXPECT_FALSE(r.landed);
-  EXPECT_EQ(r.status, Violation::type_ii);
+  EXPECT_EQ(r.status, Violation::TypeII);
   EXPECT_TRUE(r.violation());
   EXPECT_FALSE(r.ok());
   EXPECT_EQ(r.ttl, 3.0);

@@ -48,35 +48,35 @@ drone:
 // kScnFull as a struct, written independently of the reader.
 Scenario scn_full() {
   Scenario s;
-  s.map = MapKind::ground;
+  s.map = MapKind::Ground;
   s.seed = 7;
   s.time_limit = 60;
   s.marker = {"4X4_50", 3, 1.0, {0.5, -0.5}, 10};
   Distractor wrong;
-  wrong.kind = DistractorKind::wrong_id;
+  wrong.kind = DistractorKind::WrongId;
   wrong.id = 4;
   wrong.position = {3, 0};
   Distractor lookalike;
-  lookalike.kind = DistractorKind::lookalike;
+  lookalike.kind = DistractorKind::Lookalike;
   lookalike.flipped_bits = 2;
   lookalike.size = 0.8;
   lookalike.position = {-3, 1};
   lookalike.yaw_deg = 45;
   s.distractors = {wrong, lookalike};
-  s.static_objects = {{StaticKind::pole, {2, 3}, 0, {0.2, 0.2, 5}}, {StaticKind::tree, {-6, -6}, 0, {4, 0.4, 9}}};
+  s.static_objects = {{StaticKind::Pole, {2, 3}, 0, {0.2, 0.2, 5}}, {StaticKind::Tree, {-6, -6}, 0, {4, 0.4, 9}}};
   DynamicObject person;
-  person.kind = DynamicKind::person;
+  person.kind = DynamicKind::Person;
   person.position = {1, -5};
   person.speed = 1.4;
-  person.motion = MotionKind::line;
+  person.motion = MotionKind::Line;
   person.extent = 6;
   DynamicObject bird;
-  bird.kind = DynamicKind::bird;
+  bird.kind = DynamicKind::Bird;
   bird.size = {0.3, 0.8, 0.2};
   bird.position = {0, 5};
   bird.altitude = 10;
   bird.speed = 8;
-  bird.motion = MotionKind::circle;
+  bird.motion = MotionKind::Circle;
   bird.extent = 4;
   s.dynamic_objects = {person, bird};
   s.weather.fog = 0.02;
@@ -143,13 +143,13 @@ TEST(ScenarioIo, EqualityComparesEveryField) {
   const Scenario a = scn_full();
   EXPECT_TRUE(a == scn_full());
   std::vector<Scenario> changed(12, a);
-  changed[0].map = MapKind::lawn;
+  changed[0].map = MapKind::Lawn;
   changed[1].seed = 8;
   changed[2].marker.dictionary = "4x4_50";  // the same dictionary, spelt otherwise: kept as written
   changed[3].distractors[1].flipped_bits = 3;
   changed[4].distractors.pop_back();
   changed[5].static_objects[1].size.z() = 9.5;
-  changed[6].dynamic_objects[1].motion = MotionKind::line;
+  changed[6].dynamic_objects[1].motion = MotionKind::Line;
   changed[7].dynamic_objects[0].heading_deg = 1;
   changed[8].weather.ambient = 0.9;
   changed[9].weather.ground_leaves = 0.1;
@@ -165,11 +165,11 @@ TEST(ScenarioIo, HandWrittenYamlParsesToKnownValues) {
   EXPECT_TRUE(s == scn_full()) << to_yaml(s);
   // Spot checks against the text, independent of scn_full().
   EXPECT_EQ(s.marker.id, 3);
-  EXPECT_EQ(s.distractors.at(0).kind, DistractorKind::wrong_id);
+  EXPECT_EQ(s.distractors.at(0).kind, DistractorKind::WrongId);
   EXPECT_EQ(s.distractors.at(0).size, 1.0);  // default
   EXPECT_EQ(s.static_objects.at(1).size, Eigen::Vector3d(4, 0.4, 9));
   EXPECT_EQ(s.dynamic_objects.at(0).size, Eigen::Vector3d(0.5, 0.4, 1.75));  // default
-  EXPECT_EQ(s.dynamic_objects.at(1).motion, MotionKind::circle);
+  EXPECT_EQ(s.dynamic_objects.at(1).motion, MotionKind::Circle);
   EXPECT_EQ(s.weather.snow, 0.0);
   EXPECT_EQ(s.weather.sun_azimuth_deg, 135.0);  // default
   EXPECT_EQ(s.gps_target(), Eigen::Vector2d(1.5, -1.0));
@@ -179,7 +179,7 @@ TEST(ScenarioIo, OptionalKeysTakeTheStructDefaults) {
   const Scenario s =
       parse_scenario("map: lawn\nmarker: {position: [0, 0]}\ndrone: {position: [-8, 0, 12]}\n", "min.yaml");
   Scenario expected;
-  expected.map = MapKind::lawn;
+  expected.map = MapKind::Lawn;
   EXPECT_TRUE(s == expected) << to_yaml(s);
   // Empty lists, written either way.
   const Scenario empty = parse_scenario(
@@ -193,28 +193,28 @@ TEST(ScenarioIo, ReadsHandWrittenJson) {
     "static_objects": [{"kind": "chair", "position": [3, 3], "size": [0.5, 0.5, 0.9]}],
     "drone": {"position": [-6, 0, 10], "gps_error": [0.5, 0.5]}})";
   const Scenario s = parse_scenario(json, "s.json");
-  EXPECT_EQ(s.map, MapKind::lawn);
+  EXPECT_EQ(s.map, MapKind::Lawn);
   EXPECT_EQ(s.marker.dictionary, "6X6_250");
   EXPECT_EQ(s.marker.id, 200);
   ASSERT_EQ(s.static_objects.size(), 1u);
-  EXPECT_EQ(s.static_objects[0].kind, StaticKind::chair);
+  EXPECT_EQ(s.static_objects[0].kind, StaticKind::Chair);
   EXPECT_EQ(s.drone.gps_error, Eigen::Vector2d(0.5, 0.5));
 }
 
 TEST(ScenarioIo, ExampleFileLoads) {
   const auto path = std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/scenarios/clear_ground.yaml";
   const Scenario s = load_scenario(path);
-  EXPECT_EQ(s.map, MapKind::ground);
+  EXPECT_EQ(s.map, MapKind::Ground);
   EXPECT_EQ(s.marker.position, Eigen::Vector2d(0, 0));
   EXPECT_EQ(s.drone.position, Eigen::Vector3d(-8, 0, 12));
   EXPECT_EQ(s.drone.gps_error, Eigen::Vector2d(1, -0.5));
   EXPECT_TRUE(s.distractors.empty());
   ASSERT_EQ(s.static_objects.size(), 1u);
-  EXPECT_EQ(s.static_objects[0].kind, StaticKind::box);
+  EXPECT_EQ(s.static_objects[0].kind, StaticKind::Box);
   EXPECT_DOUBLE_EQ(s.static_objects[0].position.norm(), 4.0);
   ASSERT_EQ(s.dynamic_objects.size(), 1u);
-  EXPECT_EQ(s.dynamic_objects[0].kind, DynamicKind::person);
-  EXPECT_EQ(s.dynamic_objects[0].motion, MotionKind::line);
+  EXPECT_EQ(s.dynamic_objects[0].kind, DynamicKind::Person);
+  EXPECT_EQ(s.dynamic_objects[0].motion, MotionKind::Line);
   // Clear weather: every effect off.
   const Weather& w = s.weather;
   for (double effect : {w.fog, w.rain, w.snow, w.dust, w.leaves, w.ground_wetness, w.ground_snow, w.ground_leaves}) {
@@ -334,13 +334,13 @@ std::vector<test::BadInput> scn_bad_inputs() {
        r("extent: 6}", "extent: 6, colour: red}"),
        {"s.yaml:17:", "dynamic_objects[0].colour: unknown key"}},
       {"UnknownWeatherKey", r("rain: 0.5", "hail: 0.5"), {"s.yaml:21:", "weather.hail: unknown key"}},
-      {"UnknownMap", r("map: ground", "map: desert"), {"s.yaml:1:", "map: expected one of ground, lawn, got 'desert'"}},
+      {"UnknownMap", r("map: ground", "map: desert"), {"s.yaml:1:", "map: expected one of ground, lawn; got 'desert'"}},
       {"UnknownMotion",
        r("motion: line", "motion: zigzag"),
        {"s.yaml:17:", "dynamic_objects[0].motion: expected one of still, line, circle, wander, external"}},
       {"UnknownStaticKind",
        r("kind: pole", "kind: lamp"),
-       {"s.yaml:14:", "static_objects[0].kind: expected one of box, chair, pole, tree, got 'lamp'"}},
+       {"s.yaml:14:", "static_objects[0].kind: expected one of box, chair, pole, tree; got 'lamp'"}},
       {"UnknownDistractorKind",
        r("kind: wrong_id", "kind: qr_code"),
        {"s.yaml:11:", "distractors[0].kind: expected one of wrong_id, lookalike, pattern"}},
@@ -418,13 +418,13 @@ TEST(ScenarioValidate, NamesTheFieldAtFault) {
 
 TEST(ScenarioValidate, AcceptsEveryKindWithinItsBounds) {
   Scenario s = scn_full();
-  s.static_objects.push_back({StaticKind::box, {5, 5}, 0, {3, 3, 3}});
-  s.static_objects.push_back({StaticKind::chair, {5, -5}, 0, {0.35, 0.8, 1.2}});
+  s.static_objects.push_back({StaticKind::Box, {5, 5}, 0, {3, 3, 3}});
+  s.static_objects.push_back({StaticKind::Chair, {5, -5}, 0, {0.35, 0.8, 1.2}});
   DynamicObject dog;
-  dog.kind = DynamicKind::dog;
+  dog.kind = DynamicKind::Dog;
   dog.size = {1.2, 0.15, 0.3};
   dog.speed = 4;
-  dog.motion = MotionKind::external;
+  dog.motion = MotionKind::External;
   s.dynamic_objects.push_back(dog);
   s.weather.fog = 0.4;
   s.weather.ambient = 0.15;
@@ -437,7 +437,7 @@ TEST(ScenarioValidate, AcceptsEveryKindWithinItsBounds) {
 TEST(ScenarioValidate, LookalikeAndPatternIdsNeedNotDifferFromTheMarker) {
   Scenario s = scn_full();
   s.distractors[1].id = s.marker.id;  // a lookalike's id is unused
-  s.distractors[0].kind = DistractorKind::pattern;
+  s.distractors[0].kind = DistractorKind::Pattern;
   s.distractors[0].id = 1000;  // a pattern's id is its grid seed, not a code
   std::string why;
   EXPECT_TRUE(s.validate(&why)) << why;
@@ -522,12 +522,12 @@ TEST(ScenarioIo, DocsExampleParses) {
 // ---- names ----
 
 TEST(ScenarioNames, EnumsHaveTheirFileNames) {
-  EXPECT_EQ(to_string(MapKind::lawn), "lawn");
-  EXPECT_EQ(to_string(DistractorKind::lookalike), "lookalike");
-  EXPECT_EQ(to_string(StaticKind::tree), "tree");
-  EXPECT_EQ(to_string(DynamicKind::dog), "dog");
-  EXPECT_EQ(to_string(MotionKind::external), "external");
-  EXPECT_EQ(to_string(MotionKind::wander), "wander");
+  EXPECT_EQ(to_string(MapKind::Lawn), "lawn");
+  EXPECT_EQ(to_string(DistractorKind::Lookalike), "lookalike");
+  EXPECT_EQ(to_string(StaticKind::Tree), "tree");
+  EXPECT_EQ(to_string(DynamicKind::Dog), "dog");
+  EXPECT_EQ(to_string(MotionKind::External), "external");
+  EXPECT_EQ(to_string(MotionKind::Wander), "wander");
 }
 
 // ---- random scenarios ----
@@ -547,8 +547,8 @@ TEST(ScenarioRandom, SameSeedSameScenarioAndEveryOneValid) {
 
 TEST(ScenarioRandom, FixedMapIsKept) {
   for (std::uint64_t seed = 0; seed < 20; ++seed) {
-    EXPECT_EQ(random_scenario(seed, MapKind::lawn).map, MapKind::lawn);
-    EXPECT_EQ(random_scenario(seed, MapKind::ground).map, MapKind::ground);
+    EXPECT_EQ(random_scenario(seed, MapKind::Lawn).map, MapKind::Lawn);
+    EXPECT_EQ(random_scenario(seed, MapKind::Ground).map, MapKind::Ground);
   }
 }
 
@@ -582,7 +582,7 @@ TEST(ScenarioRandom, DrawsLookLikeLandingTests) {
     for (const auto& o : s.dynamic_objects) {
       dynamic_kinds.insert(static_cast<int>(o.kind));
       motions.insert(static_cast<int>(o.motion));
-      EXPECT_NE(o.motion, MotionKind::external);
+      EXPECT_NE(o.motion, MotionKind::External);
     }
     if (s.weather.fog > 0 && s.weather.fog <= 0.15) ++light_fog;
     if (s.weather.fog > 0.15) ++foggy;

@@ -87,15 +87,15 @@ TEST(World, LandModeDescendsAtPx4SpeedsAndDetectsTheLanding) {
 TEST(World, ScriptedObjectsFollowTheirPaths) {
   Scenario s = world_empty_scenario();
   DynamicObject walker;
-  walker.motion = MotionKind::line;
+  walker.motion = MotionKind::Line;
   walker.position = {2, 3};
   walker.heading_deg = 90;
   walker.speed = 1.0;
   walker.extent = 4.0;
   DynamicObject dog;
-  dog.kind = DynamicKind::dog;
+  dog.kind = DynamicKind::Dog;
   dog.size = {0.8, 0.3, 0.6};
-  dog.motion = MotionKind::circle;
+  dog.motion = MotionKind::Circle;
   dog.position = {-5, 0};
   dog.heading_deg = 0;
   dog.speed = 2.0;
@@ -118,22 +118,22 @@ TEST(World, ScriptedObjectsFollowTheirPaths) {
 TEST(World, ExternalActionsMoveObjectsInWorldAxes) {
   Scenario s = world_empty_scenario();
   DynamicObject a;
-  a.motion = MotionKind::external;
+  a.motion = MotionKind::External;
   a.position = {0, 5};
   a.speed = 1.0;
   DynamicObject still;
-  still.motion = MotionKind::still;
+  still.motion = MotionKind::Still;
   still.position = {5, 5};
   s.dynamic_objects = {a, still, a};
   s.dynamic_objects[2].position = {0, -5};
   World w(s);
   ASSERT_EQ(w.external_count(), 2);
-  const std::vector<ObjectAction> act{ObjectAction::right, ObjectAction::up};
+  const std::vector<ObjectAction> act{ObjectAction::Right, ObjectAction::Up};
   for (int i = 0; i < 50; ++i) w.step({}, act);
   EXPECT_NEAR(w.dynamic_poses()[0].translation().x(), 1.0, 1e-9);
   EXPECT_NEAR(w.dynamic_poses()[2].translation().y(), -4.0, 1e-9);
   EXPECT_EQ(w.dynamic_poses()[1].translation().head<2>(), Eigen::Vector2d(5, 5));
-  const std::vector<ObjectAction> stay{ObjectAction::stay, ObjectAction::left};
+  const std::vector<ObjectAction> stay{ObjectAction::Stay, ObjectAction::Left};
   w.step({}, stay);
   EXPECT_NEAR(w.dynamic_poses()[0].translation().x(), 1.0, 1e-9);
   EXPECT_NEAR(w.dynamic_poses()[2].translation().x(), -0.02, 1e-9);
@@ -145,7 +145,7 @@ TEST(World, FlyingIntoAPoleIsACollisionWithItsName) {
   StaticObject box;
   box.position = {-6, 0};
   StaticObject pole;
-  pole.kind = StaticKind::pole;
+  pole.kind = StaticKind::Pole;
   pole.position = {4, 0};
   pole.size = {0.2, 0.2, 6};
   s.static_objects = {box, pole};
@@ -174,7 +174,7 @@ TEST(World, FlyingIntoAPoleIsACollisionWithItsName) {
 TEST(World, SameScenarioAndCommandsReplayBitIdentically) {
   Scenario s = world_empty_scenario();
   DynamicObject wanderer;
-  wanderer.motion = MotionKind::wander;
+  wanderer.motion = MotionKind::Wander;
   wanderer.extent = 3;
   s.dynamic_objects = {wanderer};
   s.seed = 42;

@@ -1,24 +1,29 @@
 #pragma once
 /// \file
 /// The drone's downward camera, rendered headless with OpenCV
-/// (src/scenario/render.cpp): the ground texture of the map and the markers
-/// by perspective warp, objects by projecting their solids into a z-buffer,
-/// sun shadows, and weather as image effects (fog by depth, rain and snow
-/// streaks, dust haze, falling leaves, ground snow/leaves/wetness with sun
-/// glare, low-light noise), motion blur at speed. Each frame also gives the
-/// semantic mask, the depth image and the marker's visible and true areas
-/// (the RLaGA paper's eq. 5 reward inputs).
+/// (src/scenario/render.cpp). A pinhole camera (CameraOptions): each pixel's
+/// ray is cast onto the ground plane z = 0, where it samples the map's
+/// mip-mapped ground texture and the markers' images (exact perspective per
+/// pixel; no image is warped); objects are rasterised from their tessellated
+/// solids into a z-buffer; then sun shadows, and weather as image effects
+/// (fog by depth, rain and snow streaks, dust haze, falling leaves, ground
+/// snow/leaves/wetness with sun glare, low-light noise), motion blur at
+/// speed. Each frame also gives the semantic mask, the depth image and the
+/// marker's visible and true areas (the RLaGA paper's eq. 5 reward inputs).
 ///
 /// Thread-safety: one Renderer per thread. render() reuses its buffers.
 /// Renderers on the same map share its texture (immutable, through a
 /// thread-safe process-wide cache of a few maps), so constructing renderers
 /// from several threads at once is safe and the second one on a map is fast.
 #include <Eigen/Geometry>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/core/image.hpp"
 #include "touchdown/scenario/scenario.hpp"
 
@@ -43,15 +48,30 @@ struct CameraOptions {
   [[nodiscard]] Eigen::Isometry3d T_body_camera() const;
 };
 
-/// Semantic mask labels.
-enum Label : std::uint8_t {
-  kGround = 0,
-  kMarker = 1,      ///< the target marker (with its white margin)
-  kDistractor = 2,  ///< distractor markers and patterns
-  kStaticObject = 3,
-  kDynamicObject = 4,
-  kSky = 5,
+/// Semantic mask labels; CameraFrame::mask holds their values (a byte per
+/// pixel: ground 0, marker 1, ..., sky 5).
+enum class Label : std::uint8_t {
+  Ground = 0,
+  Marker = 1,      ///< the target marker (with its white margin)
+  Distractor = 2,  ///< distractor markers and patterns
+  StaticObject = 3,
+  DynamicObject = 4,
+  Sky = 5,
 };
+
+}  // namespace touchdown::scenario
+
+template <>
+struct touchdown::EnumNames<touchdown::scenario::Label> {
+  static constexpr std::array<std::string_view, 6> names{"ground",        "marker",         "distractor",
+                                                         "static_object", "dynamic_object", "sky"};
+};
+
+namespace touchdown::scenario {
+
+inline std::string_view to_string(Label label) { return enum_name(label); }
+/// The byte CameraFrame::mask stores for `label`.
+constexpr std::uint8_t mask_value(Label label) { return static_cast<std::uint8_t>(label); }
 
 /// What the world looks like at one instant.
 struct SceneState {
@@ -66,7 +86,7 @@ struct CameraFrame {
   int width = 0;
   int height = 0;
   touchdown::BgrImage image;
-  std::vector<std::uint8_t> mask;  ///< Label per pixel, row-major
+  std::vector<std::uint8_t> mask;  ///< mask_value(Label) per pixel, row-major
   std::vector<float> depth;        ///< along the optical axis [m]; +inf for sky
   /// Target-marker pixels visible in the mask (occlusion by objects counts,
   /// weather does not) and the area its quadrilateral would cover with

@@ -19,7 +19,7 @@ namespace touchdown::scenario {
 /// One scenario of a campaign: its map and its run's outcome (without the
 /// trajectory and frames).
 struct CampaignEntry {
-  MapKind map = MapKind::ground;
+  MapKind map = MapKind::Ground;
   ScenarioOutcome outcome;
 };
 

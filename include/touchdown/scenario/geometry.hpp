@@ -12,8 +12,10 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <string_view>
 #include <vector>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/scenario/scenario.hpp"
 
 namespace touchdown::twin {
@@ -23,8 +25,8 @@ struct Airframe;
 namespace touchdown::scenario {
 
 struct Solid {
-  enum class Shape { box, cylinder, cone, sphere, capsule };
-  Shape shape = Shape::box;
+  enum class Shape { Box, Cylinder, Cone, Sphere, Capsule };
+  Shape shape = Shape::Box;
   /// Solid → parent frame. Cylinders, cones and capsules have their axis
   /// along local z and are centred on the origin (a cone's base at
   /// z = -height/2, its apex at +height/2).
@@ -34,6 +36,17 @@ struct Solid {
   Eigen::Vector3d size{1, 1, 1};
   std::array<std::uint8_t, 3> bgr{128, 128, 128};  ///< base colour for the renderer
 };
+
+}  // namespace touchdown::scenario
+
+template <>
+struct touchdown::EnumNames<touchdown::scenario::Solid::Shape> {
+  static constexpr std::array<std::string_view, 5> names{"box", "cylinder", "cone", "sphere", "capsule"};
+};
+
+namespace touchdown::scenario {
+
+inline std::string_view to_string(Solid::Shape shape) { return enum_name(shape); }
 
 /// The airframe's solids in its body frame (x forward, z up, origin at the
 /// body centre): body box, arms, propeller disks (cylinders), legs and feet.

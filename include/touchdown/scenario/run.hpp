@@ -10,12 +10,14 @@
 ///   Type II   no landing: the marker was never (or not long enough) detected;
 ///   Type III  collision.
 #include <Eigen/Core>
+#include <array>
 #include <chrono>
 #include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/scenario/camera.hpp"
 #include "touchdown/scenario/landing_system.hpp"
 #include "touchdown/scenario/world.hpp"
@@ -23,12 +25,24 @@
 namespace touchdown::scenario {
 
 enum class Violation {
-  none,
-  type_i,    ///< landed > radius from the marker: a false detection led it there
-  type_ii,   ///< did not land in time
-  type_iii,  ///< collision
+  None,
+  TypeI,    ///< landed > radius from the marker: a false detection led it there
+  TypeII,   ///< did not land in time
+  TypeIII,  ///< collision
 };
-std::string_view to_string(Violation v);
+
+}  // namespace touchdown::scenario
+
+// As the outputs print a type (JSON "type", the campaign CSV, "Type II" in
+// messages): the paper's roman numerals.
+template <>
+struct touchdown::EnumNames<touchdown::scenario::Violation> {
+  static constexpr std::array<std::string_view, 4> names{"none", "I", "II", "III"};
+};
+
+namespace touchdown::scenario {
+
+inline std::string_view to_string(Violation v) { return enum_name(v); }
 
 struct RunOptions {
   CameraOptions camera;
@@ -73,7 +87,7 @@ struct Timing {
 /// each scenario. `status` is the violation type (None: no violation); the
 /// violation flag is derived from it.
 struct ScenarioOutcome {
-  Violation status = Violation::none;
+  Violation status = Violation::None;
   std::string message;  ///< one line: what happened
   bool landed = false;
   bool collided = false;
@@ -89,8 +103,8 @@ struct ScenarioOutcome {
   int frame_count = 0;           ///< camera frames the system was given
   Timing timing;
 
-  [[nodiscard]] bool violation() const { return status != Violation::none; }
-  [[nodiscard]] bool ok() const { return status == Violation::none; }
+  [[nodiscard]] bool violation() const { return status != Violation::None; }
+  [[nodiscard]] bool ok() const { return status == Violation::None; }
 };
 
 /// A run's outcome and its per-step records.

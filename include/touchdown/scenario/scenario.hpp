@@ -14,29 +14,64 @@
 /// World frame: x east, y north, z up [m]; the ground is the plane z = 0.
 /// Yaw and heading angles are counter-clockwise from +x, in degrees.
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "touchdown/core/enum_names.hpp"
+
 namespace touchdown::scenario {
 
-enum class MapKind { ground, lawn };  ///< concrete, city-like / grass, natural
+enum class MapKind { Ground, Lawn };  ///< concrete, city-like / grass, natural
 enum class DistractorKind {
-  wrong_id,   ///< a valid marker of the same dictionary with another id
-  lookalike,  ///< the target's code with `flipped_bits` cells inverted
-  pattern,    ///< a random black-and-white grid with a marker's border
+  WrongId,    ///< a valid marker of the same dictionary with another id
+  Lookalike,  ///< the target's code with `flipped_bits` cells inverted
+  Pattern,    ///< a random black-and-white grid with a marker's border
 };
-enum class StaticKind { box, chair, pole, tree };
-enum class DynamicKind { person, dog, bird };
+enum class StaticKind { Box, Chair, Pole, Tree };
+enum class DynamicKind { Person, Dog, Bird };
 enum class MotionKind {
-  still,     ///< stays at its start
-  line,      ///< walks `extent` metres along its heading and back, repeatedly
-  circle,    ///< circles with radius `extent`, centre to its left
-  wander,    ///< seeded random walk within `extent` of its start
-  external,  ///< moved by an external controller (up/down/left/right/stay)
+  Still,     ///< stays at its start
+  Line,      ///< walks `extent` metres along its heading and back, repeatedly
+  Circle,    ///< circles with radius `extent`, centre to its left
+  Wander,    ///< seeded random walk within `extent` of its start
+  External,  ///< moved by an external controller (up/down/left/right/stay)
 };
+
+}  // namespace touchdown::scenario
+
+// The spellings of the scenario files (docs/formats.md) and the command line.
+template <>
+struct touchdown::EnumNames<touchdown::scenario::MapKind> {
+  static constexpr std::array<std::string_view, 2> names{"ground", "lawn"};
+};
+template <>
+struct touchdown::EnumNames<touchdown::scenario::DistractorKind> {
+  static constexpr std::array<std::string_view, 3> names{"wrong_id", "lookalike", "pattern"};
+};
+template <>
+struct touchdown::EnumNames<touchdown::scenario::StaticKind> {
+  static constexpr std::array<std::string_view, 4> names{"box", "chair", "pole", "tree"};
+};
+template <>
+struct touchdown::EnumNames<touchdown::scenario::DynamicKind> {
+  static constexpr std::array<std::string_view, 3> names{"person", "dog", "bird"};
+};
+template <>
+struct touchdown::EnumNames<touchdown::scenario::MotionKind> {
+  static constexpr std::array<std::string_view, 5> names{"still", "line", "circle", "wander", "external"};
+};
+
+namespace touchdown::scenario {
+
+inline std::string_view to_string(MapKind kind) { return enum_name(kind); }
+inline std::string_view to_string(DistractorKind kind) { return enum_name(kind); }
+inline std::string_view to_string(StaticKind kind) { return enum_name(kind); }
+inline std::string_view to_string(DynamicKind kind) { return enum_name(kind); }
+inline std::string_view to_string(MotionKind kind) { return enum_name(kind); }
 
 struct Marker {
   std::string dictionary = "4X4_50";  ///< OpenCV ArUco dictionary name
@@ -47,7 +82,7 @@ struct Marker {
 };
 
 struct Distractor {
-  DistractorKind kind = DistractorKind::wrong_id;
+  DistractorKind kind = DistractorKind::WrongId;
   int id = 1;            ///< wrong_id: the marker drawn; pattern: seed of the grid
   int flipped_bits = 1;  ///< lookalike: cells inverted in the target's code
   double size = 1.0;
@@ -59,7 +94,7 @@ struct Distractor {
 /// pole = diameter, diameter, height; tree = crown diameter, trunk diameter,
 /// height.
 struct StaticObject {
-  StaticKind kind = StaticKind::box;
+  StaticKind kind = StaticKind::Box;
   Eigen::Vector2d position{0, 0};
   double yaw_deg = 0;
   Eigen::Vector3d size{1, 1, 1};
@@ -68,13 +103,13 @@ struct StaticObject {
 /// A moving object. size = length, width, height [m] (a person's height is
 /// its z size); a bird flies at `altitude`, the others walk on the ground.
 struct DynamicObject {
-  DynamicKind kind = DynamicKind::person;
+  DynamicKind kind = DynamicKind::Person;
   Eigen::Vector3d size{0.5, 0.4, 1.75};
   Eigen::Vector2d position{0, 0};  ///< start
   double altitude = 0;             ///< bird only [m]
   double heading_deg = 0;          ///< start heading
   double speed = 1.0;              ///< [m/s]
-  MotionKind motion = MotionKind::line;
+  MotionKind motion = MotionKind::Line;
   double extent = 5.0;  ///< line length, circle radius or wander radius [m]
 };
 
@@ -102,7 +137,7 @@ struct DroneStart {
 };
 
 struct Scenario {
-  MapKind map = MapKind::ground;
+  MapKind map = MapKind::Ground;
   std::uint64_t seed = 1;  ///< place on the map, cover pattern, particles and wandering objects
   double time_limit = 60;  ///< [s]; no landing by then is a violation
   Marker marker;
@@ -135,12 +170,6 @@ struct PropertyBound {
 const std::vector<PropertyBound>& property_bounds();
 /// The row for `key`; throws InvalidArgument for an unknown key.
 const PropertyBound& property_bound(std::string_view key);
-
-std::string_view to_string(MapKind);
-std::string_view to_string(DistractorKind);
-std::string_view to_string(StaticKind);
-std::string_view to_string(DynamicKind);
-std::string_view to_string(MotionKind);
 
 /// Reads a scenario from YAML (JSON is YAML too). Unknown keys, missing
 /// keys, NaN and values outside property_bounds() throw ParseError naming

@@ -8,11 +8,14 @@
 ///
 /// Thread-safety: one World per thread. step() does not allocate.
 #include <Eigen/Geometry>
+#include <array>
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "touchdown/core/enum_names.hpp"
 #include "touchdown/scenario/geometry.hpp"
 #include "touchdown/scenario/scenario.hpp"
 #include "touchdown/twin/airframe.hpp"
@@ -51,7 +54,18 @@ struct DroneCommand {
 
 /// External control of a moving object, as the RLaGA paper's RL agent:
 /// one action per step, at the object's speed, in world axes (up = +y).
-enum class ObjectAction { stay, up, down, left, right };
+enum class ObjectAction { Stay, Up, Down, Left, Right };
+
+}  // namespace touchdown::scenario
+
+template <>
+struct touchdown::EnumNames<touchdown::scenario::ObjectAction> {
+  static constexpr std::array<std::string_view, 5> names{"stay", "up", "down", "left", "right"};
+};
+
+namespace touchdown::scenario {
+
+inline std::string_view to_string(ObjectAction action) { return enum_name(action); }
 
 struct DroneState {
   double t = 0;

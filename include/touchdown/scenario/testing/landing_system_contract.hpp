@@ -85,7 +85,7 @@ inline Script default_script() {
   Scenario& a = s.scenario;
   a = clear_scenario(35);
   StaticObject cube;
-  cube.kind = StaticKind::box;
+  cube.kind = StaticKind::Box;
   cube.position = {1.0, 0.0};
   cube.size = {1, 1, 1};
   a.static_objects = {cube};
@@ -96,7 +96,7 @@ inline Script default_script() {
   b.marker.id = 5;
   b.marker.position = {2, -3};
   StaticObject box;
-  box.kind = StaticKind::box;
+  box.kind = StaticKind::Box;
   box.position = {0, 0};
   box.size = {1, 1, 2};
   b.static_objects = {box};

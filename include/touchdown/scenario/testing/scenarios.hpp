@@ -12,7 +12,7 @@ namespace touchdown::scenario::contract {
 /// 1 m off.
 inline Scenario clear_scenario(double time_limit = 60) {
   Scenario s;
-  s.map = MapKind::ground;
+  s.map = MapKind::Ground;
   s.seed = 7;
   s.time_limit = time_limit;
   s.marker.dictionary = "4X4_50";
