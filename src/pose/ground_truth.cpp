@@ -27,10 +27,10 @@ std::string ground_truth_to_json(const GroundTruthSample& s) {
       out += '\\';
       out += c;
     } else if (static_cast<unsigned char>(c) < 0x20) {
-      static const char hex[] = "0123456789abcdef";
+      static const char kHex[] = "0123456789abcdef";
       out += "\\u00";
-      out += hex[(static_cast<unsigned char>(c) >> 4) & 0xF];
-      out += hex[static_cast<unsigned char>(c) & 0xF];
+      out += kHex[(static_cast<unsigned char>(c) >> 4) & 0xF];
+      out += kHex[static_cast<unsigned char>(c) & 0xF];
     } else {
       out += c;
     }

@@ -367,7 +367,7 @@ struct LedDetector::Impl {
     // the glow of a reflection or lamp beside it, does not pull the centre
     // (a constant level would leave the glow's gradient in the weights).
     const double xc = 0.5 * (x0 + x1), yc = 0.5 * (y0 + y1);
-    double s1 = 0, sx_ = 0, sy_ = 0, sxx = 0, sxy = 0, syy = 0, sv = 0, sxv = 0, syv = 0;
+    double s1 = 0, sum_x = 0, sum_y = 0, sxx = 0, sxy = 0, syy = 0, sv = 0, sxv = 0, syv = 0;
     for (int y = y0; y <= y1; ++y) {
       const std::uint8_t* p = img.row(y);
       const bool edge_row = y == y0 || y == y1;
@@ -376,8 +376,8 @@ struct LedDetector::Impl {
         if (v >= options.threshold) continue;  // another blob reaching into the window
         const double dx = x - xc, dy = y - yc;
         s1 += 1;
-        sx_ += dx;
-        sy_ += dy;
+        sum_x += dx;
+        sum_y += dy;
         sxx += dx * dx;
         sxy += dx * dy;
         syy += dy * dy;
@@ -390,7 +390,7 @@ struct LedDetector::Impl {
     if (s1 > 0) {
       plane_a = sv / s1;
       Eigen::Matrix3d n;
-      n << s1, sx_, sy_, sx_, sxx, sxy, sy_, sxy, syy;
+      n << s1, sum_x, sum_y, sum_x, sxx, sxy, sum_y, sxy, syy;
       const Eigen::Vector3d rhs(sv, sxv, syv);
       // A border that is a line or a few pixels cannot hold a tilt: keep the mean.
       if (spot.tilted_background && s1 >= 8 && sxx > 0 && syy > 0 &&

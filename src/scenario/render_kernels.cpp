@@ -18,8 +18,8 @@ namespace {
 constexpr float kInvTexel0 = static_cast<float>(1 / kGroundTexel);  // 40 texels/m, exact
 
 inline void ground_pixel(const GroundRow& g, int x, std::uint8_t* px, std::uint8_t* mk, float* dp) {
-  const float fx_ = static_cast<float>(x);
-  const float wdepth = (g.rz0 + g.az * fx_) * -g.inv_h;  // 1/depth
+  const float x_f = static_cast<float>(x);
+  const float wdepth = (g.rz0 + g.az * x_f) * -g.inv_h;  // 1/depth
   if (!(wdepth > g.w_min)) {
     px[3 * x] = kSkyBgr[0], px[3 * x + 1] = kSkyBgr[1], px[3 * x + 2] = kSkyBgr[2];
     mk[x] = mask_value(Label::Sky);
@@ -27,7 +27,7 @@ inline void ground_pixel(const GroundRow& g, int x, std::uint8_t* px, std::uint8
     return;
   }
   const float s = 1.0f / wdepth;
-  const float X = g.cxw + s * (g.rx0 + g.ax * fx_), Y = g.cyw + s * (g.ry0 + g.ay * fx_);
+  const float X = g.cxw + s * (g.rx0 + g.ax * x_f), Y = g.cyw + s * (g.ry0 + g.ay * x_f);
   const int k = mip_level(s * g.lod, g.levels);
   const unsigned msk = (static_cast<unsigned>(kGroundTexels) >> k) - 1;
   const float it = kInvTexel0 * std::bit_cast<float>(static_cast<std::uint32_t>(127 - k) << 23);
@@ -57,8 +57,8 @@ void ground_row_scalar(const GroundRow& g, int x0, int x1, std::uint8_t* px, std
 
 #if defined(__x86_64__) && defined(__GNUC__)
 bool has_avx2() {
-  static const bool yes = __builtin_cpu_supports("avx2");
-  return yes;
+  static const bool kYes = __builtin_cpu_supports("avx2");
+  return kYes;
 }
 
 namespace {

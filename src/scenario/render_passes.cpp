@@ -115,9 +115,9 @@ cv::Rect Renderer::Impl::markers_pass(Frame& fr, CameraFrame& out) {
       const float* dp = depth + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
       for (int x = bx0; x <= bx1; ++x) {
         if (mk[x] == mask_value(Label::Sky)) continue;
-        const float fx_ = static_cast<float>(x);
+        const float x_f = static_cast<float>(x);
         const float s = dp[x];  // the ground pass's depth: the same ray meets the same plane
-        const float dX = dx0 + s * (rx0 + ax * fx_), dY = dy0 + s * (ry0 + ay * fx_);
+        const float dX = dx0 + s * (rx0 + ax * x_f), dY = dy0 + s * (ry0 + ay * x_f);
         const float a = (dX * ecx + dY * esy) * inv_t + half;   // along image columns
         const float b = half - (-dX * esy + dY * ecx) * inv_t;  // along image rows
         if (!(a >= 0 && a < static_cast<float>(m0) && b >= 0 && b < static_cast<float>(m0))) continue;

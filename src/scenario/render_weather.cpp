@@ -65,8 +65,8 @@ void Renderer::Impl::glare_pass(Frame& fr, bool shadows_on) {
       const std::uint8_t* mk = mask + static_cast<std::size_t>(y) * static_cast<std::size_t>(W);
       const std::uint8_t* sm = shadows_on ? shadow_mask.ptr<std::uint8_t>(y) : nullptr;
       for (int x = xa; x < xb; ++x) {
-        const float fx_ = static_cast<float>(x);
-        const float rx = rx0 + ax * fx_, ry = ry0 + ay * fx_, rz = rz0 + az * fx_;
+        const float x_f = static_cast<float>(x);
+        const float rx = rx0 + ax * x_f, ry = ry0 + ay * x_f, rz = rz0 + az * x_f;
         // Mirror of the (downward) ray about the ground normal, dotted with the sun.
         const float num = rx * lx + ry * ly - rz * lz;
         if (num <= 0) continue;

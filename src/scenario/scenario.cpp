@@ -265,8 +265,8 @@ void check_marker_like(Checker& c, const Scenario& s, const pose::detail::ArucoD
 // ---- public: table --------------------------------------------------------------------
 
 const std::vector<PropertyBound>& property_bounds() {
-  static const std::vector<PropertyBound> rows = make_bounds();
-  return rows;
+  static const std::vector<PropertyBound> kRows = make_bounds();
+  return kRows;
 }
 
 const PropertyBound& property_bound(std::string_view key) {

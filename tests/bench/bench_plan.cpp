@@ -19,24 +19,24 @@ namespace tp = touchdown::plan;
 namespace {
 
 const tp::PlanProblem& problem() {
-  static const tp::PlanProblem p = tp::load_plan_problem(TOUCHDOWN_SOURCE_DIR "/data/plans/landing.yaml");
-  return p;
+  static const tp::PlanProblem kProblem = tp::load_plan_problem(TOUCHDOWN_SOURCE_DIR "/data/plans/landing.yaml");
+  return kProblem;
 }
 
 const tp::PlanResult& reference() {
-  static const tp::PlanResult r = [] {
+  static const tp::PlanResult kResult = [] {
     tp::PlannerOptions o = problem().options;
     o.export_qp = true;
     return tp::plan(problem().start, problem().goal, problem().pad, o);
   }();
-  return r;
+  return kResult;
 }
 
 // The bundled problem with tight limits (v_max 2.5 m/s over ground while the
 // pad drives at 2 m/s, a_max 1 m/s², ρ = 5 for shorter durations): its QP at
 // the allocated durations has active acceleration and velocity rows.
 const tp::PlanResult& tight() {
-  static const tp::PlanResult r = [] {
+  static const tp::PlanResult kResult = [] {
     tp::PlannerOptions o = problem().options;
     o.v_max = 2.5;
     o.a_max = 1.0;
@@ -44,7 +44,7 @@ const tp::PlanResult& tight() {
     o.export_qp = true;
     return tp::plan(problem().start, problem().goal, problem().pad, o);
   }();
-  return r;
+  return kResult;
 }
 
 const tp::QpProblem& bench_qp(int variant) { return variant == 0 ? reference().qp : tight().qp; }

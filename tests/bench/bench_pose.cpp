@@ -73,7 +73,7 @@ BENCHMARK(BM_OpenCvSolvePnP6)
 struct Frames {
   std::vector<tp::RenderedFrame> frames;
   static const Frames& moving() {
-    static const Frames f = [] {
+    static const Frames kFrames = [] {
       Frames r;
       const tp::CameraModel camera;
       const auto k = tp::default_constellation();
@@ -85,7 +85,7 @@ struct Frames {
       }
       return r;
     }();
-    return f;
+    return kFrames;
   }
 };
 
@@ -139,7 +139,7 @@ BENCHMARK(BM_LedFullSearch)->Unit(benchmark::kMillisecond);
 struct BlobSets {
   std::vector<std::vector<tp::Blob>> sets;
   static const BlobSets& front_board_with_distractors() {
-    static const BlobSets sets = [] {
+    static const BlobSets kSets = [] {
       BlobSets r;
       const tp::CameraModel camera;
       const auto k = tp::front_board_constellation();
@@ -173,7 +173,7 @@ struct BlobSets {
       }
       return r;
     }();
-    return sets;
+    return kSets;
   }
 };
 

@@ -22,7 +22,7 @@ struct Frame {
 };
 
 const Frame& frame() {
-  static const Frame f = [] {
+  static const Frame kFrame = [] {
     Frame fr;
     syn::Shape shape;
     shape.kind = syn::ShapeKind::Rubble;
@@ -38,7 +38,7 @@ const Frame& frame() {
     fr.pcd_binary = os.str();
     return fr;
   }();
-  return f;
+  return kFrame;
 }
 
 void BM_ReadPcdBinary(benchmark::State& state) {

@@ -34,7 +34,7 @@ constexpr std::array<std::pair<std::string_view, cv::aruco::PREDEFINED_DICTIONAR
 
 // Code counts and cell sizes come from OpenCV's own tables, read once.
 const std::array<ArucoDictionaryInfo, kNames.size()>& table() {
-  static const auto t = [] {
+  static const auto kTable = [] {
     std::array<ArucoDictionaryInfo, kNames.size()> out{};
     for (std::size_t i = 0; i < kNames.size(); ++i) {
       const auto d = cv::aruco::getPredefinedDictionary(kNames[i].second);
@@ -42,7 +42,7 @@ const std::array<ArucoDictionaryInfo, kNames.size()>& table() {
     }
     return out;
   }();
-  return t;
+  return kTable;
 }
 
 std::string upper(std::string_view s) {

@@ -40,7 +40,7 @@ std::string describe_type(int type) {
 
 // CRC-32 as used by PNG chunks (ISO 3309 polynomial, PNG spec sec. 5.5).
 std::uint32_t crc32(const unsigned char* p, std::size_t n) {
-  static const auto table = [] {
+  static const auto kTable = [] {
     std::array<std::uint32_t, 256> t{};
     for (std::uint32_t i = 0; i < 256; ++i) {
       std::uint32_t c = i;
@@ -50,7 +50,7 @@ std::uint32_t crc32(const unsigned char* p, std::size_t n) {
     return t;
   }();
   std::uint32_t c = 0xFFFFFFFFu;
-  for (std::size_t i = 0; i < n; ++i) c = table[(c ^ p[i]) & 0xFFu] ^ (c >> 8);
+  for (std::size_t i = 0; i < n; ++i) c = kTable[(c ^ p[i]) & 0xFFu] ^ (c >> 8);
   return c ^ 0xFFFFFFFFu;
 }
 

@@ -47,7 +47,7 @@ Bgr core_colour(LedColor c) {
 // Box–Muller per pixel and as deterministic (a fixed-seed Rng fills it).
 constexpr std::size_t kTableMask = 4095;
 const std::vector<float>& normal_table() {
-  static const std::vector<float> table = [] {
+  static const std::vector<float> kTable = [] {
     std::vector<float> t(kTableMask + 1);
     Rng rng(0x6e6f697365ull /* "noise" */, 0);
     double mean = 0, var = 0;
@@ -60,7 +60,7 @@ const std::vector<float>& normal_table() {
     for (std::size_t i = 0; i < d.size(); ++i) t[i] = static_cast<float>((d[i] - mean) / sd);
     return t;
   }();
-  return table;
+  return kTable;
 }
 
 // Per-thread scratch buffers, so that render() is const, thread-safe and
