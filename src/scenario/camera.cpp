@@ -8,12 +8,11 @@
 #include "core/format.hpp"
 #include "scenario/render_internal.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::scenario {
 
 namespace {
-
-using render_detail::rad;
 
 // Option values in messages: six decimals, trailing zeros trimmed.
 std::string num(double v) { return touchdown::detail::format_trimmed(v, 6); }
@@ -37,7 +36,7 @@ bool CameraOptions::validate(std::string* why) const {
   return true;
 }
 
-double CameraOptions::fx() const { return 0.5 * width / std::tan(0.5 * rad(hfov_deg)); }
+double CameraOptions::fx() const { return 0.5 * width / std::tan(0.5 * deg_to_rad(hfov_deg)); }
 
 Eigen::Matrix3d CameraOptions::K() const {
   // Pixel centres at integer coordinates (OpenCV's convention), so the
@@ -56,7 +55,8 @@ Eigen::Isometry3d CameraOptions::T_body_camera() const {
   nadir << 0, -1, 0, -1, 0, 0, 0, 0, -1;
   // Rotating about the camera's x axis by +tilt leans z towards body +x:
   // z' = nadir · (0, −sin, cos) = (sin, 0, −cos).
-  const Eigen::Matrix3d R = nadir * Eigen::AngleAxisd(rad(tilt_deg), Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Matrix3d R =
+      nadir * Eigen::AngleAxisd(deg_to_rad(tilt_deg), Eigen::Vector3d::UnitX()).toRotationMatrix();
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = R;
   T.translation() = offset_body;

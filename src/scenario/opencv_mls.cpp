@@ -10,6 +10,7 @@
 
 #include "pose/sim/aruco_dictionary.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::scenario::detail {
 
@@ -39,7 +40,7 @@ void OpencvMls::reset(const SystemSetup& setup) {
   detector_.emplace(cv::aruco::getPredefinedDictionary(dict->id), options_.detection_roi, options_.full_frame_period);
   K_inv_ = setup.camera.K().inverse();
   T_body_camera_ = setup.camera.T_body_camera();
-  tan_tilt_ = std::tan(setup.camera.tilt_deg * std::numbers::pi / 180.0);
+  tan_tilt_ = std::tan(deg_to_rad(setup.camera.tilt_deg));
   phase_ = Phase::Approach;
   have_estimate_ = false;
   track_exact_ = false;
@@ -187,7 +188,7 @@ double OpencvMls::in_dt(const DroneState& s) {
 /// anyway). At nadir: the target itself.
 Eigen::Vector2d OpencvMls::hover_point(const Eigen::Vector2d& target, const DroneState& s) const {
   if (tan_tilt_ == 0) return target;
-  const double yaw = s.yaw_deg * std::numbers::pi / 180.0;
+  const double yaw = deg_to_rad(s.yaw_deg);
   const double back = tan_tilt_ * std::max(0.0, s.position.z() - options_.land_altitude);
   return target - back * Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
 }

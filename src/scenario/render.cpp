@@ -42,6 +42,7 @@
 #include "scenario/render_impl.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
+#include "touchdown/core/units.hpp"
 #include "touchdown/scenario/camera.hpp"
 #include "touchdown/scenario/geometry.hpp"
 
@@ -58,7 +59,6 @@ using render_detail::map_placement;
 using render_detail::MapTextureKey;
 using render_detail::marker_cells;
 using render_detail::Mesh;
-using render_detail::rad;
 using render_detail::sat8;
 using render_detail::shared_map_texture;
 using render_detail::shared_unit_noise;
@@ -147,13 +147,13 @@ void Renderer::Impl::build_ground_and_markers(Impl& m, const Scenario& scenario,
 void Renderer::Impl::build_sun(Impl& m, const Scenario& scenario) {
   const Weather& w = scenario.weather;
   // Sun: azimuth counter-clockwise from +x (east), like every yaw here.
-  const double el = rad(w.sun_elevation_deg), az = rad(w.sun_azimuth_deg);
+  const double el = deg_to_rad(w.sun_elevation_deg), az = deg_to_rad(w.sun_azimuth_deg);
   m.sun = Eigen::Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
   if (el > 0) {
     // Direct light: weaker for a low sun, and attenuated through a ~30 m
     // fog/dust layer along the slant path (Beer–Lambert).
     const double beta_air = std::max(0.0, w.fog) + 0.05 * std::max(0.0, w.dust);
-    m.sun_strength = std::min(1.0, std::sin(el) / std::sin(rad(15))) * std::exp(-beta_air * 30 / std::sin(el));
+    m.sun_strength = std::min(1.0, std::sin(el) / std::sin(deg_to_rad(15))) * std::exp(-beta_air * 30 / std::sin(el));
   }
   m.shadow_keep = static_cast<int>(std::lround(256 * (1 - 0.55 * m.sun_strength)));
 }
@@ -186,7 +186,7 @@ void Renderer::Impl::build_objects(Impl& m, const Scenario& scenario) {
     }
   }
   // Static shadows: ground polygons, once.
-  if (m.sun_strength > 0.02 && m.sun.z() > std::sin(rad(3))) {
+  if (m.sun_strength > 0.02 && m.sun.z() > std::sin(deg_to_rad(3))) {
     for (const Mesh& mesh : m.static_meshes) {
       std::vector<cv::Point2f> pts, hull;
       for (const auto& p : mesh.v) {

@@ -19,7 +19,6 @@
 namespace touchdown::scenario::render_detail {
 
 inline constexpr double kPi = std::numbers::pi;
-inline double rad(double d) { return d * kPi / 180.0; }
 
 using Bgr = std::array<std::uint8_t, 3>;
 

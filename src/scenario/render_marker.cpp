@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "touchdown/core/random.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::scenario::render_detail {
 
@@ -54,8 +55,8 @@ Quad make_quad(const cv::Mat& cells, Label label, const Eigen::Vector2d& centre,
   Quad q;
   q.label = label;
   q.centre = centre;
-  q.cos_yaw = std::cos(rad(yaw_deg));
-  q.sin_yaw = std::sin(rad(yaw_deg));
+  q.cos_yaw = std::cos(deg_to_rad(yaw_deg));
+  q.sin_yaw = std::sin(deg_to_rad(yaw_deg));
   q.side = border_size * (bits + 4) / (bits + 2);
   const Eigen::Vector2d ex(q.cos_yaw, q.sin_yaw), ey(-q.sin_yaw, q.cos_yaw);
   const double h = 0.5 * q.side;

@@ -7,6 +7,7 @@
 
 #include "scenario/render_impl.hpp"
 #include "scenario/render_kernels.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::scenario {
 
@@ -25,7 +26,6 @@ using render_detail::lerp_bgra;
 using render_detail::Mesh;
 using render_detail::mip_level;
 using render_detail::Quad;
-using render_detail::rad;
 using render_detail::sat8;
 using render_detail::shoelace;
 
@@ -148,7 +148,7 @@ cv::Rect Renderer::Impl::markers_pass(Frame& fr, CameraFrame& out) {
 // when there are none)
 std::optional<cv::Rect> Renderer::Impl::shadows_pass(Frame& fr, const SceneState& state) {
   const int W = fr.width, H = fr.height;
-  if (shadow_keep < 256 && sun.z() > std::sin(rad(3))) {
+  if (shadow_keep < 256 && sun.z() > std::sin(deg_to_rad(3))) {
     if (shadow_mask.rows != H || shadow_mask.cols != W) shadow_mask = cv::Mat::zeros(H, W, CV_8U);
     int sx0 = W, sy0 = H, sx1 = -1, sy1 = -1;
     const auto draw_shadow = [&](const std::vector<cv::Point2f>& ground_hull) {
