@@ -107,7 +107,7 @@ void check_render_size(const tp::CameraModel& c, const std::string& what) {
 // the user typed flags. Names the flag instead, for render's options and
 // the ArUco baseline's.
 std::string in_flag_terms(std::string message) {
-  static const std::pair<const char*, const char*> names[] = {
+  static const std::pair<const char*, const char*> kFlagNames[] = {
       {"make_trajectory: ", ""},
       {"increase min_distance or reduce margin_px", "increase --min-distance"},
       {"min_distance, max_distance: need 0 < min_distance <= max_distance",
@@ -126,7 +126,7 @@ std::string in_flag_terms(std::string message) {
       {"marker_id", "--aruco-id"},
       {"dictionary: unknown", "--aruco-dict: unknown"},
   };
-  for (const auto& [field, flag] : names) {
+  for (const auto& [field, flag] : kFlagNames) {
     for (std::size_t at = message.find(field); at != std::string::npos;
          at = message.find(field, at + std::strlen(flag))) {
       message.replace(at, std::strlen(field), flag);

@@ -40,13 +40,13 @@ run-clang-tidy -p "$work" -j "$jobs" -quiet -extra-arg=-Wno-unknown-warning-opti
 sed 's/\x1b\[[0-9;]*m//g' "$work/log" >"$work/plain"
 findings=$(grep -E "^$root/.*: (warning|error): .*\[(readability-[a-z-]+)" "$work/plain" |
   sed -E "s|^$root/||; s/ \[readability-([a-z-]+).*\]$/ [\1]/" | sort -u || true)
+[ -z "$findings" ] || echo "$findings"
 if grep -qE "clang-diagnostic-error|^Error while processing" "$work/plain"; then
-  grep -E "clang-diagnostic-error|^Error while processing" "$work/plain" | sort -u | head -20 >&2
+  grep -E ": error: .*clang-diagnostic-error|^Error while processing" "$work/plain" | sed "s|^$root/||" | sort -u | head -20 >&2
   echo "scripts/tidy.sh: clang-tidy could not parse every file: no verdict" >&2
   exit 2
 fi
 if [ -n "$findings" ]; then
-  echo "$findings"
   echo "scripts/tidy.sh: $(echo "$findings" | wc -l) finding(s) (.clang-tidy)" >&2
   exit 1
 fi

@@ -276,8 +276,8 @@ TEST(LedPoseAppBadInput, EmptyDirectory) {
 TEST(LedPoseAppBadInput, CorruptFrameLeavesNoPartialOutput) {
   TempDir dir;
   const auto seq = rendered_sequence(dir);
-  static const char garbage[] = "\x13\x37 this is not a PNG \x00\xff garbage";
-  td::test::write_text(seq / "000001.png", std::string(garbage, sizeof garbage - 1));
+  static const char kGarbage[] = "\x13\x37 this is not a PNG \x00\xff garbage";
+  td::test::write_text(seq / "000001.png", std::string(kGarbage, sizeof kGarbage - 1));
   expect_bad_input(run(seq.string() + " --jsonl", dir), "000001.png");
   // Frame 000000 was fine, but its line must not have been printed either.
   expect_bad_input(run(seq.string(), dir), "000001.png");

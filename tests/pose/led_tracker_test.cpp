@@ -646,7 +646,7 @@ TEST(Ambiguity, QuasiPlanarBoardIsNeverConfidentlyWrong) {
     }
   }
   // Seen 2026-11-23: 18 ok, 29 ambiguous, 13 uncertain; 36 ok with depth.
-  EXPECT_GT(ambiguous, 10);           // the mechanism does fire at this range ...
+  EXPECT_GT(ambiguous, 10) << ok << " ok, " << uncertain << " uncertain";  // the mechanism does fire at this range ...
   EXPECT_GT(ok_with_depth, ok + 10);  // ... and depth settles much of what it could not
 }
 

@@ -200,7 +200,7 @@ Eigen::Vector4d table_plane(const td::PointCloud& cloud) {
 // Levelled (table plane → z = 0, its normal → +z) and scaled ×4, so the
 // table is about 2 × 1.7 m and the mug about 0.5 m tall, as a landing site.
 const TableScan& table_scan() {
-  static const TableScan scan = [] {
+  static const TableScan kScan = [] {
     td::PointCloud cloud = td::read_cloud(td::test::data_path("pcl/table_scene_mug_stereo_textured.pcd"));
     const Eigen::Vector4d plane = table_plane(cloud);
     const double scale = 4.0;
@@ -271,7 +271,7 @@ const TableScan& table_scan() {
                 s.shadow.x(), s.shadow.y(), s.bare.x(), s.bare.y());
     return s;
   }();
-  return scan;
+  return kScan;
 }
 
 }  // namespace

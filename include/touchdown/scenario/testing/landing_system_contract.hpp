@@ -107,8 +107,8 @@ inline Script default_script() {
 struct Factory {
   using Make = std::function<std::unique_ptr<LandingSystem>()>;
   Factory() = default;
-  Factory(std::string label_, Make make_, std::string expected_name_ = {})
-      : label(std::move(label_)), make(std::move(make_)), expected_name(std::move(expected_name_)) {}
+  Factory(std::string label_text, Make make_system, std::string expected = {})
+      : label(std::move(label_text)), make(std::move(make_system)), expected_name(std::move(expected)) {}
 
   std::string label;  ///< names the instantiation in test names (other characters than [A-Za-z0-9_] become '_')
   Make make;
