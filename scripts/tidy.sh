@@ -55,4 +55,5 @@ if [ "$status" != 0 ]; then
   echo "scripts/tidy.sh: run-clang-tidy failed (exit $status)" >&2
   exit 2
 fi
-echo "scripts/tidy.sh: $(grep -c '"file"' "$work/compile_commands.json") translation units, no findings" >&2
+units=$(python3 -c 'import json, sys; print(len(json.load(open(sys.argv[1]))))' "$work/compile_commands.json")
+echo "scripts/tidy.sh: $units translation units, no findings" >&2
