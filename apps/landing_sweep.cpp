@@ -228,6 +228,24 @@ void write_files(const Args& a, const tw::SearchResult& search, const Eigen::Vec
   }
 }
 
+// What was flown: with --search-radius, every point the search swept; else
+// the one sweep (then the same figures as the sweep's own).
+struct Totals {
+  std::size_t landings = 0;
+  double completeness = 0, seconds = 0, simulated_seconds = 0, run_sim_to_wall = 0;
+};
+
+Totals sweep_totals(const tw::SweepResult& r) {
+  return {r.landings(), r.completeness, r.seconds, r.simulated_seconds, r.run_sim_to_wall};
+}
+
+Totals totals(const Args& a, const tw::SearchResult& search) {
+  if (search.candidates.empty()) return sweep_totals(search.sweep);
+  const double planned = static_cast<double>(search.points_flown) * a.o.headings * a.o.runs;
+  return {search.landings, planned > 0 ? static_cast<double>(search.landings) / planned : 0.0, search.seconds,
+          search.simulated_seconds, search.run_sim_to_wall};
+}
+
 // NaN (no settled run) is JSON null, never a number standing in for it.
 nlohmann::json num(double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(round6(v)); }
 
@@ -254,6 +272,16 @@ nlohmann::json headings_json(const tw::SweepResult& r) {
                   {"reason", std::string(tw::to_string(h.reason))}});
   }
   return hs;
+}
+
+// runs, completeness, seconds and the speeds.
+void add_totals(nlohmann::json& j, const Totals& t) {
+  j["runs"] = t.landings;
+  j["completeness"] = round6(t.completeness);
+  j["seconds"] = round6(t.seconds);
+  j["landings_per_second"] = round6(static_cast<double>(t.landings) / t.seconds);
+  j["simulated_to_wall"] = round6(t.simulated_seconds / t.seconds);
+  j["run_simulated_to_wall"] = round6(t.run_sim_to_wall);
 }
 
 // The --json object.
@@ -299,12 +327,12 @@ nlohmann::json sweep_json(const Args& a, const tw::SearchResult& search) {
     }
     j["search"] = cs;
   }
-  j["runs"] = r.landings();
-  j["completeness"] = round6(r.completeness);
-  j["seconds"] = round6(r.seconds);
-  j["landings_per_second"] = round6(static_cast<double>(r.landings()) / r.seconds);
-  j["simulated_to_wall"] = round6(r.simulated_seconds / r.seconds);
-  j["run_simulated_to_wall"] = round6(r.run_sim_to_wall);
+  add_totals(j, totals(a, search));
+  if (!search.candidates.empty()) {
+    nlohmann::json chosen = {{"x", round6(o.landing_point.x())}, {"y", round6(o.landing_point.y())}};
+    add_totals(chosen, sweep_totals(r));
+    j["chosen"] = chosen;
+  }
   return j;
 }
 
@@ -316,12 +344,24 @@ void print_summary(const Args& a, const tw::SearchResult& search) {
   const tw::SweepResult& r = search.sweep;
   const tw::SweepOptions& o = a.o;
   const tw::HeadingScore* best = r.best >= 0 ? &r.headings[static_cast<std::size_t>(r.best)] : nullptr;
-  const double lps = static_cast<double>(r.landings()) / r.seconds;
+  const Totals t = totals(a, search);
+  const double lps = static_cast<double>(t.landings) / t.seconds;
   std::cout << std::fixed << std::setprecision(3);
-  std::cout << "landing_sweep: " << a.terrain_path << ", " << r.landings() << " landings (" << r.headings.size()
-            << " headings x " << r.rounds_completed << " runs) in " << r.seconds << " s (" << std::setprecision(0)
-            << lps << " landings/s; one landing simulates " << r.run_sim_to_wall << "x faster than real time)\n"
-            << std::setprecision(3) << "  safety threshold " << r.threshold.value() << " rad (tip-over "
+  std::cout << "landing_sweep: " << a.terrain_path << ", " << t.landings << " landings (";
+  if (search.candidates.empty()) {
+    std::cout << r.headings.size() << " headings x " << r.rounds_completed << " runs";
+  } else {
+    std::cout << search.points_flown << (search.points_flown == 1 ? " point x " : " points x ") << a.o.headings
+              << " headings x " << (t.completeness < 1 ? "up to " : "") << a.o.runs << " runs";
+  }
+  std::cout << ") in " << t.seconds << " s (" << std::setprecision(0) << lps << " landings/s; one landing simulates "
+            << t.run_sim_to_wall << "x faster than real time)\n";
+  if (!search.candidates.empty()) {
+    std::cout << std::setprecision(3) << "  chosen point (" << o.landing_point.x() << ", " << o.landing_point.y()
+              << "): " << r.landings() << " landings (" << r.headings.size() << " headings x " << r.rounds_completed
+              << " runs) in " << r.seconds << " s\n";
+  }
+  std::cout << std::setprecision(3) << "  safety threshold " << r.threshold.value() << " rad (tip-over "
             << r.threshold.tip_rad << ", propeller or arm strike " << r.threshold.prop_strike_rad << ")\n"
             << "  heading  S(psi)    mean  touchdown   prop   arm  body  tipped  invalid  verdict\n"
             << "    [deg]   [rad]   [rad]      [rad]   (runs with a strike, of " << r.rounds_completed << ")\n";

@@ -262,16 +262,25 @@ void choose_best_heading(SweepResult& out, int n) {
   out.safe = out.best >= 0 && out.headings[static_cast<std::size_t>(out.best)].safe;
 }
 
+// Appends each run's simulated time / wall time.
+void add_sim_to_wall_ratios(const SweepResult& sweep, std::vector<double>& ratios) {
+  for (const auto& r : sweep.runs) {
+    if (r.wall_seconds > 0) ratios.push_back(r.result.sim_time / r.wall_seconds);
+  }
+}
+
+// The median of the ratios (0 when there are none).
+double median(std::vector<double> ratios) {
+  if (ratios.empty()) return 0;
+  std::nth_element(ratios.begin(), ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2), ratios.end());
+  return ratios[ratios.size() / 2];
+}
+
 // The median over runs of simulated time / wall time.
 void median_run_sim_to_wall(SweepResult& out) {
   std::vector<double> ratios;
-  for (const auto& r : out.runs) {
-    if (r.wall_seconds > 0) ratios.push_back(r.result.sim_time / r.wall_seconds);
-  }
-  if (!ratios.empty()) {
-    std::nth_element(ratios.begin(), ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2), ratios.end());
-    out.run_sim_to_wall = ratios[ratios.size() / 2];
-  }
+  add_sim_to_wall_ratios(out, ratios);
+  if (!ratios.empty()) out.run_sim_to_wall = median(std::move(ratios));
 }
 
 }  // namespace
@@ -345,6 +354,7 @@ SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<cons
   if (!(radius >= 0) || !std::isfinite(radius)) throw InvalidArgument("search radius must be >= 0");
   if (spacing <= 0) spacing = radius > 0 ? radius / 2 : 1.0;
   if (!(spacing > 0) || !std::isfinite(spacing)) throw InvalidArgument("search spacing must be positive");
+  const auto t0 = std::chrono::steady_clock::now();
   SearchResult out;
   const double half_width = std::floor(radius / spacing + 1e-9);
   if (half_width > 50) {
@@ -379,6 +389,7 @@ SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<cons
   // not flown counts as done).
   const std::size_t per = static_cast<std::size_t>(options.headings) * options.runs;
   const std::size_t total = per * out.candidates.size();
+  std::vector<double> ratios;  // every landing's simulated / wall time
   for (std::size_t k = 0; k < out.candidates.size(); ++k) {
     auto& c = out.candidates[k];
     if ((c.xy - options.landing_point).norm() > safe_distance + 1e-9) break;
@@ -393,6 +404,10 @@ SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<cons
     SweepResult r = run_sweep(airframe, terrain, o);
     if (r.status == SweepStatus::FootprintNotCovered) continue;  // off the map
     c.covered = true;
+    ++out.points_flown;
+    out.landings += r.landings();
+    out.simulated_seconds += r.simulated_seconds;
+    add_sim_to_wall_ratios(r, ratios);
     c.best = r.best;
     c.yaw = r.best >= 0 ? r.headings[static_cast<std::size_t>(r.best)].yaw : 0.0;
     c.score =
@@ -411,6 +426,8 @@ SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<cons
     }
   }
   if (options.progress) options.progress(total, total);
+  out.run_sim_to_wall = median(std::move(ratios));
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (out.best < 0) {
     out.status = SweepStatus::FootprintNotCovered;
     out.message = "terrain does not cover the footprint at any landing point within " + std::to_string(radius) +

@@ -384,6 +384,45 @@ TEST(LandingSweepApp, RpyInRadiansGetsAWarning) {
       << r.err;
 }
 
+// Issue 31 item 4: the search reported the chosen point's 8 landings and
+// 0.047 s where it had flown 104 landings in about 1.1 s.
+TEST(LandingSweepApp, SearchTotalsCoverEveryPointFlown) {
+  TempDir dir;
+  const auto data = std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/terrains";
+  const std::string args = (data / "step.pcd").string() + " --extrinsics " + (data / "step.extrinsics.yaml").string() +
+                           " --search-radius 0.2 --search-spacing 0.1 --headings 4 --runs 2";
+  const AppRun r = run(args + " --json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  // The candidates flown: the grid within 0.2 m at 0.1 m spacing is 13
+  // points, and the scan covers all of them (each listed under `search`).
+  ASSERT_EQ(j["search"].size(), 13u);
+  EXPECT_EQ(j["runs"].get<int>(), 13 * 4 * 2);
+  EXPECT_EQ(j["completeness"].get<double>(), 1.0);
+  ASSERT_TRUE(j.contains("chosen"));
+  const auto& chosen = j["chosen"];
+  EXPECT_EQ(chosen["runs"].get<int>(), 4 * 2);
+  EXPECT_EQ(chosen["x"], j["landing_point"]["x"]);
+  EXPECT_EQ(chosen["y"], j["landing_point"]["y"]);
+  EXPECT_GE(j["seconds"].get<double>(), chosen["seconds"].get<double>());
+  EXPECT_GT(j["seconds"].get<double>(), 0);
+  EXPECT_NEAR(j["landings_per_second"].get<double>(), 104 / j["seconds"].get<double>(),
+              1e-3 * j["landings_per_second"].get<double>());
+  for (const char* key : {"completeness", "landings_per_second", "simulated_to_wall", "run_simulated_to_wall"}) {
+    EXPECT_TRUE(chosen.contains(key)) << key;
+  }
+  // The text header says the same totals; the chosen point's own are beside them.
+  const AppRun text = run(args, dir);
+  ASSERT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find(", 104 landings (13 points x 4 headings x 2 runs) in "), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("  chosen point ("), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("): 8 landings (4 headings x 2 runs) in "), std::string::npos) << text.out;
+  // Without a search there is no `chosen`: the sweep is the one point.
+  const AppRun plain = run(flat_stl(dir) + " --headings 2 --runs 1 --json", dir);
+  ASSERT_EQ(plain.code, 0) << plain.err;
+  EXPECT_FALSE(nlohmann::json::parse(plain.out).contains("chosen"));
+}
+
 TEST(LandingSweepAppBadInput, AbsurdCountsAreRefusedBeforeAnythingIsAllocated) {
   // Issue 11: these ended in std::bad_alloc (exit 3) or ran unbounded.
   TempDir dir;

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <numbers>
 
 #include "touchdown/core/error.hpp"
@@ -129,6 +131,39 @@ TEST(Search, MovesOffAStepEdgeToASafePoint) {
   EXPECT_LT(best.score, plain.headings[static_cast<std::size_t>(plain.best)].score);
   EXPECT_EQ(s.candidates.size(), 5u);  // centre and four neighbours at 0.3 m
   EXPECT_EQ(s.sweep.headings[static_cast<std::size_t>(s.sweep.best)].score, best.score);
+}
+
+// Issue 31 item 4: the search's totals cover every point it flew, not only
+// the chosen one (landing_sweep reported 8 landings where 104 were flown).
+TEST(Search, TotalsCoverEveryPointFlown) {
+  const double radius = 0.2, spacing = 0.1;
+  // The grid, counted here from its definition: the points (i, j) spacing
+  // apart within the radius.
+  int grid_points = 0;
+  for (int j = -2; j <= 2; ++j)
+    for (int i = -2; i <= 2; ++i) grid_points += std::hypot(i * spacing, j * spacing) <= radius + 1e-9 ? 1 : 0;
+  ASSERT_EQ(grid_points, 13);
+  const auto o = small(3, 2);
+  const auto s = tw::search_landing_point(tw::Airframe::f450(), td::test::flat_terrain(), o, radius, spacing);
+  ASSERT_TRUE(s.ok()) << s.message;
+  EXPECT_EQ(s.candidates.size(), 13u);
+  EXPECT_EQ(s.points_flown, grid_points);  // flat and covered everywhere: every point is flown
+  EXPECT_EQ(s.landings, static_cast<std::size_t>(grid_points * o.headings * o.runs));
+  EXPECT_EQ(s.sweep.landings(), static_cast<std::size_t>(o.headings * o.runs));  // the chosen point's own
+  EXPECT_GT(s.landings, s.sweep.landings());
+  EXPECT_GE(s.seconds, s.sweep.seconds);
+  EXPECT_GT(s.simulated_seconds, s.sweep.simulated_seconds);
+  EXPECT_GT(s.run_sim_to_wall, 0);
+  // Preferring the nearest safe point, the first ring ends the search: the
+  // centre alone is flown, and the totals are its own.
+  const auto near = tw::search_landing_point(tw::Airframe::f450(), td::test::flat_terrain(), o, radius, spacing,
+                                             tw::SearchPreference::Nearest);
+  ASSERT_TRUE(near.ok()) << near.message;
+  const auto evaluated = std::count_if(near.candidates.begin(), near.candidates.end(),
+                                       [](const tw::SearchCandidate& c) { return c.evaluated; });
+  EXPECT_EQ(evaluated, 1);
+  EXPECT_EQ(near.points_flown, 1);
+  EXPECT_EQ(near.landings, near.sweep.landings());
 }
 
 TEST(Sweep, InclineScoresItsAngleAtEveryHeadingWithPerturbations) {

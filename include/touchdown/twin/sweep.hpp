@@ -196,7 +196,14 @@ struct SearchResult {
   [[nodiscard]] bool ok() const { return status == SweepStatus::Ok; }
   std::vector<SearchCandidate> candidates;
   int best = -1;      ///< index into candidates
-  SweepResult sweep;  ///< the full sweep at the best candidate
+  SweepResult sweep;  ///< the full sweep at the best candidate (its own runs, seconds, ...)
+  /// Totals over every candidate swept, the chosen one included (what the
+  /// search cost; `sweep` has the chosen point's own figures).
+  int points_flown = 0;          ///< candidates evaluated and covered (their sweeps flew landings)
+  std::size_t landings = 0;      ///< landings flown at all points
+  double seconds = 0;            ///< wall time of the whole search
+  double simulated_seconds = 0;  ///< sum over all landings flown
+  double run_sim_to_wall = 0;    ///< median over all landings of simulated / wall time of one run
 };
 
 /// Which safe candidate a search returns.
