@@ -148,6 +148,7 @@ struct Args {
   // seed and profile.
   CLI::App* render = nullptr;
   std::string out_dir, r_camera, r_constellation;
+  bool overwrite = false;
   tp::TrajectoryKind trajectory = tp::TrajectoryKind::Static;
   tp::CameraGeometry geometry = tp::CameraGeometry::Facing;
   double camera_tilt_deg = 20;
@@ -192,7 +193,10 @@ void add_sequence_options(CLI::App& app, Args& a) {
 void add_render_command(CLI::App& app, Args& a) {
   auto* render = app.add_subcommand("render", "write a synthetic sequence (colour + depth PNGs, ground_truth.jsonl)");
   a.render = render;
-  render->add_option("OUT_DIR", a.out_dir, "directory to create")->required();
+  render->add_option("OUT_DIR", a.out_dir, "directory to create (its parent must exist)")->required();
+  render->add_flag("--overwrite", a.overwrite,
+                   "OUT_DIR may hold a sequence: replace it (its frames, ground truth, camera and constellation "
+                   "files; other files are kept)");
   render->add_option(
       "--camera", a.r_camera,
       "camera file, as for SEQUENCE_DIR, up to 4096x4096 pixels (default: a D435 colour stream at 848x480)");
@@ -314,7 +318,27 @@ tp::RenderOptions render_options(const Args& a) {
   return r;
 }
 
+// OUT_DIR, checked before any work: its parent exists, and it is new or
+// empty unless --overwrite (two sequences never mix).
+void check_render_output(const Args& a) {
+  fs::path target = fs::path(a.out_dir).lexically_normal();
+  if (!target.has_filename()) target = target.parent_path();
+  const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(parent, ec)) {
+    throw td::IoError(a.out_dir + ": output directory '" + parent.string() + "' does not exist");
+  }
+  if (!fs::exists(target, ec)) return;
+  if (!fs::is_directory(target, ec)) throw td::IoError(a.out_dir + ": exists and is not a directory");
+  if (!a.overwrite && !fs::is_empty(target, ec)) {
+    throw td::IoError(a.out_dir +
+                      ": exists and is not empty; give --overwrite to replace the sequence in it (other files are "
+                      "kept)");
+  }
+}
+
 int run_render(const Args& a) {
+  check_render_output(a);
   if (a.geometry != tp::CameraGeometry::Chase) refuse_unused(a.render_tilt, "applies only with --geometry chase");
   const auto camera = camera_or_default(a.r_camera);
   check_render_request(a, camera);

@@ -384,6 +384,49 @@ TEST(LedPoseAppBadInput, RenderErrorsNameTheFlagNotTheField) {
   EXPECT_EQ(distance.err.find("make_trajectory"), std::string::npos) << distance.err;
 }
 
+// Issue 31 item 3: `render /nonexist/x` exited 0 having created the whole
+// tree, where every other app refuses a missing output directory.
+TEST(LedPoseAppBadInput, RenderRefusesAMissingParentDirectory) {
+  TempDir dir;
+  const fs::path out = dir / "nonexist" / "x";
+  const AppRun r = run("render " + out.string() + " --frames 2", dir);
+  expect_bad_input(r, out.string() + ": output directory '" + (dir / "nonexist").string() + "' does not exist");
+  EXPECT_FALSE(fs::exists(dir / "nonexist"));
+  EXPECT_TRUE(dir.files().empty());
+}
+
+// Issue 31 item 3: rendering into a directory that held a sequence mixed
+// the two (the old frames beyond the new count stayed). Refused without
+// --overwrite; with it the old sequence's files go, other files stay.
+TEST(LedPoseApp, RenderIntoANonEmptyDirectoryNeedsOverwrite) {
+  TempDir dir;
+  const fs::path seq = dir / "seq";
+  ASSERT_EQ(run("render " + seq.string() + " --frames 3 --seed 1", dir).code, 0);
+  td::test::write_text(seq / "notes.txt", "mine");
+  const std::string first_truth = file_bytes(seq / "ground_truth.jsonl");
+  const AppRun refused = run("render " + seq.string() + " --frames 2 --seed 2", dir);
+  expect_bad_input(refused, seq.string() + ": exists and is not empty; give --overwrite");
+  EXPECT_EQ(file_bytes(seq / "ground_truth.jsonl"), first_truth);  // untouched
+  EXPECT_TRUE(fs::exists(seq / "000002.png"));
+
+  const AppRun r = run("render " + seq.string() + " --frames 2 --seed 2 --overwrite", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(seq)) files.push_back(e.path().filename().string());
+  std::sort(files.begin(), files.end());
+  EXPECT_EQ(files, (std::vector<std::string>{"000000.depth.png", "000000.png", "000001.depth.png", "000001.png",
+                                             "camera.yaml", "constellation.yaml", "ground_truth.jsonl", "notes.txt"}));
+  EXPECT_EQ(read_truth(seq).size(), 2u);
+  EXPECT_NE(file_bytes(seq / "ground_truth.jsonl"), first_truth);
+  EXPECT_EQ(file_bytes(seq / "notes.txt"), "mine");
+  EXPECT_EQ(dir.files(), std::vector<std::string>{"seq"});  // no staging directory left
+
+  // An existing empty directory is fine without --overwrite.
+  fs::create_directory(dir / "empty");
+  ASSERT_EQ(run("render " + (dir / "empty").string() + " --frames 1", dir).code, 0);
+  EXPECT_TRUE(fs::exists(dir / "empty" / "000000.png"));
+}
+
 // Issue 11: every count and size option has a range, shown by --help and
 // checked before anything is read or allocated. Before: --frames 100000000
 // ended in std::bad_alloc (exit 3); --seed -1 wrapped to 2^64 - 1;

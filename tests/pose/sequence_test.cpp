@@ -82,9 +82,15 @@ TEST(Sequence, WriteListReadRoundTrip) {
   EXPECT_EQ(cam2.distortion, cam.distortion);
   EXPECT_EQ(tp::load_constellation(out / "constellation.yaml").leds.size(), k.leds.size());
 
-  // Writing again over an existing sequence replaces its files.
+  // Writing again over an existing sequence replaces it: the old frames
+  // beyond the new count go too (issue 31: they stayed, mixing the two),
+  // a file the writer does not write stays.
+  touchdown::test::write_text(out / "notes.txt", "mine");
   tp::write_sequence(out, cam, k, std::span(traj).first(2), ropt, 18);
   EXPECT_EQ(tp::read_ground_truth(out / "ground_truth.jsonl").size(), 2u);
+  EXPECT_EQ(tp::list_sequence(out).size(), 2u);
+  EXPECT_FALSE(std::filesystem::exists(out / "000002.depth.png"));
+  EXPECT_TRUE(std::filesystem::exists(out / "notes.txt"));
   EXPECT_EQ(dir.files(), std::vector<std::string>{"seq"});
 }
 
@@ -99,6 +105,11 @@ TEST(Sequence, WriteFailsCleanly) {
   bad.noise_sigma = -1;
   EXPECT_THROW(tp::write_sequence(dir / "seq", cam, k, one, bad, 1), touchdown::InvalidArgument);
   EXPECT_THROW(tp::write_sequence(dir / "seq", cam, k, {}, {}, 1), touchdown::InvalidArgument);
+  // The sequence directory is created, never its parent (issue 31).
+  EXPECT_NE(error_of([&] {
+              tp::write_sequence(dir / "missing" / "seq", cam, k, one, {}, 1);
+            }).find("output directory '" + (dir / "missing").string() + "' does not exist"),
+            std::string::npos);
   EXPECT_EQ(dir.files(), std::vector<std::string>{"file"});
 }
 

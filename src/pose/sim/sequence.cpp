@@ -12,6 +12,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
 #include <system_error>
 
 #include "core/io_util.hpp"
@@ -197,6 +198,37 @@ void write_text(const fs::path& path, const std::string& text) {
   if (!f) throw IoError(path.string() + ": write error");
 }
 
+// A file write_sequence writes: NNNNNN.png, NNNNNN.depth.png, the ground
+// truth, camera and constellation.
+bool is_sequence_file(const std::string& name) {
+  if (name == "ground_truth.jsonl" || name == "camera.yaml" || name == "constellation.yaml") return true;
+  const bool six_digits =
+      name.size() >= 6 && std::all_of(name.begin(), name.begin() + 6, [](char c) { return c >= '0' && c <= '9'; });
+  const std::string rest = six_digits ? name.substr(6) : std::string();
+  return rest == ".png" || rest == ".depth.png";
+}
+
+// Removes the files of an older sequence in `target` that the new one does
+// not replace (its frames beyond the new count), so two sequences never mix;
+// any other file is kept.
+void remove_stale_sequence_files(const fs::path& target, const std::vector<std::string>& new_files) {
+  const std::set<std::string> replaced(new_files.begin(), new_files.end());
+  std::error_code ec, file_ec;
+  std::vector<fs::path> stale;
+  for (const auto& entry : fs::directory_iterator(target, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file(file_ec) && is_sequence_file(name) && !replaced.count(name)) {
+      stale.push_back(entry.path());
+    }
+  }
+  if (ec) throw IoError(target.string() + ": cannot list the directory: " + ec.message());
+  for (const auto& path : stale) {
+    if (!fs::remove(path, ec) || ec) {
+      throw IoError(path.string() + ": cannot remove the old sequence's file: " + ec.message());
+    }
+  }
+}
+
 }  // namespace
 
 void write_sequence(const fs::path& out_dir, const CameraModel& camera, const Constellation& constellation,
@@ -213,8 +245,9 @@ void write_sequence(const fs::path& out_dir, const CameraModel& camera, const Co
     throw IoError(target.string() + ": exists and is not a directory");
   }
   const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  fs::create_directories(parent, ec);
-  if (ec) throw IoError(parent.string() + ": cannot create the directory: " + ec.message());
+  if (!fs::is_directory(parent, ec)) {
+    throw IoError(target.string() + ": output directory '" + parent.string() + "' does not exist");
+  }
   static std::atomic<unsigned> counter{0};
   const fs::path staging = parent / ("." + target.filename().string() + ".partial-" + std::to_string(::getpid()) + "-" +
                                      std::to_string(counter++));
@@ -256,6 +289,7 @@ void write_sequence(const fs::path& out_dir, const CameraModel& camera, const Co
       if (!ec) return;
       fs::create_directory(target, ec);
     }
+    remove_stale_sequence_files(target, files);
     std::stable_partition(files.begin(), files.end(), [](const std::string& f) { return f != "ground_truth.jsonl"; });
     for (const auto& f : files) {
       fs::rename(staging / f, target / f, ec);

@@ -55,7 +55,11 @@ void read_frame(const SequenceFrame& frame, BgrImage& colour, DepthImage* depth)
 /// ground_truth.jsonl (ground_truth.hpp), camera.yaml and constellation.yaml.
 /// The files are rendered into a staging directory next to `out_dir` and
 /// moved into place at the end, so a failure leaves no partial files.
-/// Throws InvalidArgument for invalid inputs, IoError when writing fails.
+/// `out_dir` itself is created, never its parent. Over an existing sequence
+/// the new one replaces it: the old one's files that the new one does not
+/// overwrite (its frames beyond the new count) are removed, any other file
+/// is kept. Throws InvalidArgument for invalid inputs, IoError when the
+/// parent directory is missing or writing fails.
 void write_sequence(const std::filesystem::path& out_dir, const CameraModel& camera, const Constellation& constellation,
                     std::span<const TrajectorySample> samples, const RenderOptions& options, std::uint64_t seed);
 
