@@ -184,6 +184,32 @@ inline std::string read_text(const std::filesystem::path& p) {
   return s.str();
 }
 
+/// A copy of a bundled YAML file with a top-level key repeated at its end,
+/// and the one-line error its loader must give.
+struct RepeatedKeyFile {
+  std::filesystem::path path;  // the copy
+  std::string expected;        // "COPY:N: KEY: duplicate key (first at line M)"
+};
+
+/// Writes `original` to `copy` with the line "KEY: VALUE" appended; M is the
+/// line of `original` that starts with "KEY:" (a test failure when none does).
+inline RepeatedKeyFile with_repeated_key(const std::filesystem::path& original, const std::filesystem::path& copy,
+                                         const std::string& key, const std::string& value) {
+  std::string text = read_text(original);
+  if (!text.empty() && text.back() != '\n') text += '\n';
+  int first = 0;
+  int lines = 0;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    ++lines;
+    if (first == 0 && line.rfind(key + ":", 0) == 0) first = lines;
+  }
+  EXPECT_NE(first, 0) << original << " has no line starting with " << key << ":";
+  write_text(copy, text + key + ": " + value + "\n");
+  return {copy, copy.string() + ":" + std::to_string(lines + 1) + ": " + key + ": duplicate key (first at line " +
+                    std::to_string(first) + ")"};
+}
+
 /// Exit code and output of an app run as `exe args` (stdout and stderr
 /// captured through files in `dir`, removed afterwards).
 struct AppRun {

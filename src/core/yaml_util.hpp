@@ -2,11 +2,14 @@
 // The one YAML config reader of every module (internal; the CMake target
 // touchdown_yaml makes it available and links yaml-cpp). Every message reads
 // "source:line: key: what" (docs/formats.md).
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
+#include <map>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -16,10 +19,108 @@
 
 namespace touchdown::detail {
 
-/// Parses YAML text; syntax errors become ParseError "source:line: invalid YAML: ...".
+/// Finds a key repeated in one mapping, at any depth (block or flow style,
+/// maps inside sequences too). yaml-cpp keeps both entries and its
+/// `map[key]` returns the first, so a repeated key would silently lose its
+/// second value. Works on the parser's events, not on the loaded tree: an
+/// alias is one event, so a document of nested aliases costs its length, not
+/// its expansion. Only scalar keys are compared (by their text); null keys
+/// (`~`, `null`, an empty key) count as the same key.
+class DuplicateKeyCheck final : public YAML::EventHandler {
+ public:
+  /// The first repeated key of the first document, as "line: key: duplicate
+  /// key (first at line N)" (1-based lines, `key` a dotted path with [i] for
+  /// sequence items), or "" when every key is unique.
+  static std::string first_duplicate(std::string_view text) {
+    std::istringstream in{std::string(text)};
+    YAML::Parser parser(in);
+    DuplicateKeyCheck check;
+    parser.HandleNextDocument(check);
+    return check.found_;
+  }
+
+  void OnDocumentStart(const YAML::Mark& /*mark*/) override {}
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark& mark, YAML::anchor_t /*anchor*/) override { done(mark, "null", true); }
+  void OnAlias(const YAML::Mark& mark, YAML::anchor_t /*anchor*/) override { done(mark, "", false); }
+  void OnScalar(const YAML::Mark& mark, const std::string& /*tag*/, YAML::anchor_t /*anchor*/,
+                const std::string& value) override {
+    done(mark, value, true);
+  }
+  void OnSequenceStart(const YAML::Mark& /*mark*/, const std::string& /*tag*/, YAML::anchor_t /*anchor*/,
+                       YAML::EmitterStyle::value /*style*/) override {
+    open(false);
+  }
+  void OnSequenceEnd() override { close(); }
+  void OnMapStart(const YAML::Mark& /*mark*/, const std::string& /*tag*/, YAML::anchor_t /*anchor*/,
+                  YAML::EmitterStyle::value /*style*/) override {
+    open(true);
+  }
+  void OnMapEnd() override { close(); }
+
+ private:
+  struct Level {
+    bool is_map = false;
+    std::string path;                     // "" at the root, "a.b", "a[2]"
+    bool at_key = true;                   // a map: the next node is a key
+    std::string key;                      // a map: the key of the value being read
+    std::size_t index = 0;                // a sequence: the index of the next item
+    std::map<std::string, int> key_line;  // a map: each scalar key and its 0-based line
+  };
+
+  // The path of the node about to start inside the innermost open collection.
+  [[nodiscard]] std::string child_path() const {
+    if (levels_.empty()) return {};
+    const Level& l = levels_.back();
+    if (!l.is_map) return l.path + "[" + std::to_string(l.index) + "]";
+    if (l.at_key) return l.path.empty() ? "<key>" : l.path + ".<key>";
+    return l.path.empty() ? l.key : l.path + "." + l.key;
+  }
+  void open(bool is_map) {
+    Level l;
+    l.is_map = is_map;
+    l.path = child_path();
+    levels_.push_back(std::move(l));
+  }
+  void close() {
+    if (levels_.empty()) return;
+    levels_.pop_back();
+    done({}, "", false);
+  }
+  // A whole node ended in the innermost open collection.
+  void done(const YAML::Mark& mark, const std::string& text, bool scalar) {
+    if (levels_.empty()) return;
+    Level& l = levels_.back();
+    if (!l.is_map) {
+      ++l.index;
+      return;
+    }
+    if (l.at_key) {
+      l.key = scalar ? text : "<key>";
+      if (scalar && found_.empty()) {
+        const auto [it, fresh] = l.key_line.emplace(text, mark.line);
+        if (!fresh) {
+          found_ = std::to_string(mark.line + 1) + ": " + (l.path.empty() ? text : l.path + "." + text) +
+                   ": duplicate key (first at line " + std::to_string(it->second + 1) + ")";
+        }
+      }
+    }
+    l.at_key = !l.at_key;
+  }
+
+  std::vector<Level> levels_;
+  std::string found_;
+};
+
+/// Parses YAML text; syntax errors become ParseError "source:line: invalid
+/// YAML: ...", a key repeated in one mapping "source:line: key: duplicate key
+/// (first at line N)".
 inline YAML::Node load_yaml(std::string_view text, std::string_view source) {
   try {
-    return YAML::Load(std::string(text));
+    YAML::Node root = YAML::Load(std::string(text));
+    const std::string duplicate = DuplicateKeyCheck::first_duplicate(text);
+    if (!duplicate.empty()) throw ParseError(std::string(source) + ":" + duplicate);
+    return root;
   } catch (const YAML::Exception& e) {
     throw ParseError(std::string(source) + ":" + std::to_string(e.mark.line + 1) + ": invalid YAML: " + e.msg);
   }

@@ -315,6 +315,21 @@ TEST(LandingPlanAppBadInput, ExitTwoOneLineNoOutputs) {
   }
 }
 
+// Issue 31: a second `limits` appended to the bundled problem was ignored
+// (the first won) and the unchanged plan was written.
+TEST(LandingPlanAppBadInput, RepeatedKeyIsExitTwoNamingBothLines) {
+  TempDir dir;
+  const auto f = td::test::with_repeated_key(bundled(), dir / "landing.yaml", "limits", "{v_max: 0.1, a_max: 0.1}");
+  const AppRun r = run(f.path.string() + " --json --plot " + (dir / "p.svg").string() + " --samples " +
+                           (dir / "s.csv").string() + " --export-qp " + (dir / "qp.json").string(),
+                       dir);
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find(f.expected + "\n"), std::string::npos) << r.err;
+  EXPECT_EQ(dir.files(), std::vector<std::string>{"landing.yaml"});
+}
+
 TEST(LandingPlanAppBadInput, MissingFileAndMissingOutputDirectory) {
   TempDir dir;
   AppRun r = run((dir / "nope.yaml").string(), dir);

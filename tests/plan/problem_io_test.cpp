@@ -273,6 +273,16 @@ TEST(ProblemIo, LoadsAFile) {
             (dir / "bad.yaml").string() + ":4: limits.v_max: must be > 0, got -4");
 }
 
+// The case: a second `limits` appended to the bundled problem was
+// ignored (the first value won) and gave the unchanged plan.
+TEST(ProblemIo, RepeatedKeyIsAnError) {
+  test::TempDir dir;
+  const auto f = test::with_repeated_key(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/plans/landing.yaml",
+                                         dir / "landing.yaml", "limits", "{v_max: 0.1, a_max: 0.1}");
+  EXPECT_EQ(test::error_of([&] { load_plan_problem(f.path.string()); }), f.expected);
+  EXPECT_THROW(load_plan_problem(f.path.string()), ParseError);
+}
+
 // ---- bad input: one error naming the file, the line and the key ----
 
 class ProblemIoBadInput : public ::testing::TestWithParam<test::BadInput> {};

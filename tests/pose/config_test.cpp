@@ -78,6 +78,23 @@ void expect_same_leds(const tp::Constellation& file, const tp::Constellation& bu
 
 // ---- camera ---------------------------------------------------------------------------
 
+// `fx` twice in a camera file was taken (the first value won).
+TEST(CameraYaml, RepeatedKeyIsAnError) {
+  touchdown::test::TempDir dir;
+  const auto f = touchdown::test::with_repeated_key(source_path("data/cameras/d435_848x480.yaml"), dir / "cam.yaml",
+                                                    "fx", "600.0");
+  EXPECT_EQ(touchdown::test::error_of([&] { (void)tp::load_camera(f.path); }), f.expected);
+  EXPECT_THROW((void)tp::load_camera(f.path), touchdown::ParseError);
+}
+
+TEST(ConstellationYaml, RepeatedKeyIsAnError) {
+  touchdown::test::TempDir dir;
+  const auto f = touchdown::test::with_repeated_key(source_path("data/constellations/f450_leds.yaml"),
+                                                    dir / "leds.yaml", "name", "other");
+  EXPECT_EQ(touchdown::test::error_of([&] { (void)tp::load_constellation(f.path); }), f.expected);
+  EXPECT_THROW((void)tp::load_constellation(f.path), touchdown::ParseError);
+}
+
 TEST(CameraYaml, RoundTripIsExact) {
   tp::CameraModel c;
   c.width = 1281;

@@ -223,6 +223,24 @@ TEST(ScenarioIo, ExampleFileLoads) {
   EXPECT_EQ(w.ambient, 1.0);
 }
 
+// A second `map` appended to a scenario was ignored: it still ran on ground.
+TEST(ScenarioIo, RepeatedKeyIsAnError) {
+  test::TempDir dir;
+  const auto f = test::with_repeated_key(
+      std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/scenarios/clear_ground.yaml", dir / "s.yaml", "map", "lawn");
+  EXPECT_EQ(test::error_of([&] { (void)load_scenario(f.path); }), f.expected);
+  EXPECT_THROW((void)load_scenario(f.path), ParseError);
+}
+
+// JSON scenarios go through the same reader: a repeated member is refused too.
+TEST(ScenarioIo, RepeatedJsonMemberIsAnError) {
+  const std::string json =
+      "{\"map\": \"ground\",\n \"marker\": {\"position\": [0, 0], \"id\": 1,\n  \"id\": 2},\n"
+      " \"drone\": {\"position\": [-6, 0, 10]}}\n";
+  EXPECT_EQ(test::parse_error_of(parse_scenario, json, "s.json"),
+            "s.json:3: marker.id: duplicate key (first at line 2)");
+}
+
 TEST(ScenarioIo, LoadNamesAMissingFile) {
   const std::string message = test::error_of([] { (void)load_scenario("/nonexistent/scenario.yaml"); });
   EXPECT_NE(message.find("/nonexistent/scenario.yaml"), std::string::npos) << message;

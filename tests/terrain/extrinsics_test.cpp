@@ -37,6 +37,15 @@ TEST(Extrinsics, LegacyRpyKeyReadsDegreesToo) {
   EXPECT_EQ(error_of("rpy: [180, x, 0]\n"), "cam.yaml:1: rpy: expected a number, got 'x'");
 }
 
+TEST(Extrinsics, RepeatedKeyIsAnError) {
+  td::test::TempDir dir;
+  const auto f =
+      td::test::with_repeated_key(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/terrains/step.extrinsics.yaml",
+                                  dir / "cam.yaml", "rpy_deg", "[0, 0, 0]");
+  EXPECT_EQ(td::test::error_of([&] { (void)tt::load_extrinsics(f.path); }), f.expected);
+  EXPECT_THROW((void)tt::load_extrinsics(f.path), td::ParseError);
+}
+
 TEST(Extrinsics, RpyOrderIsZYX) {
   const double d = std::numbers::pi / 180;
   const Eigen::Matrix3d R = tt::rotation_from_rpy(10 * d, 20 * d, 30 * d);

@@ -28,6 +28,14 @@ using td::test::replace;
 
 }  // namespace
 
+TEST(Airframe, RepeatedKeyIsAnError) {
+  td::test::TempDir dir;
+  const auto f = td::test::with_repeated_key(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/airframes/f450.yaml",
+                                             dir / "af.yaml", "name", "other");
+  EXPECT_EQ(td::test::error_of([&] { (void)tw::load_airframe(f.path); }), f.expected);
+  EXPECT_THROW((void)tw::load_airframe(f.path), td::ParseError);
+}
+
 TEST(Airframe, BundledF450MatchesTheBuiltInDefault) {
   const auto a = tw::parse_airframe(f450_yaml(), "f450.yaml");
   const auto b = tw::Airframe::f450();
