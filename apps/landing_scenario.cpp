@@ -258,7 +258,7 @@ CLI::App* add_run_command(CLI::App& app, RunArgs& a) {
   cmd->add_option("--video", a.video_path, "write the camera view with detections and the outcome (.mp4 or .avi)")
       ->check([](const std::string& p) {
         const auto ext = fs::path(p).extension();
-        return ext == ".mp4" || ext == ".avi" ? std::string() : "--video: must end in .mp4 or .avi, got '" + p + "'";
+        return ext == ".mp4" || ext == ".avi" ? std::string() : "must end in .mp4 or .avi, got '" + p + "'";
       });
   cmd->add_option("--log", a.log_path, "per-step CSV: trajectory, phase, eq. 5 marker areas, detections")
       ->check(output_extension(".csv"));
@@ -373,7 +373,7 @@ CLI::App* add_random_command(CLI::App& app, RandomArgs& a) {
       ->check([](const std::string& p) {
         const auto ext = fs::path(p).extension();
         return ext == ".yaml" || ext == ".yml" || ext == ".json" ? std::string()
-                                                                 : "--output: must end in .yaml, .yml or .json";
+                                                                 : "must end in .yaml, .yml or .json, got '" + p + "'";
       });
   return cmd;
 }
