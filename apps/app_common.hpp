@@ -124,6 +124,9 @@ inline CLI::Validator number_in(double lo, double hi, bool lo_open = false, bool
 // (core/format.hpp), as every app prints them.
 using detail::format_fixed;
 
+// "1 segment", "2 segments": a count and its noun in messages (core/format.hpp).
+using detail::count_noun;
+
 /// `v` rounded to 3 decimals for JSON output (no negative zero).
 inline double round3(double v) { return std::round(v * 1e3) / 1e3 + 0.0; }
 

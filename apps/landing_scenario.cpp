@@ -383,8 +383,9 @@ int random_command(const RandomArgs& a) {
   const bool as_json = fs::path(a.out_path).extension() == ".json";
   write_text_atomically(a.out_path, as_json ? ts::to_json(s) : ts::to_yaml(s));
   std::cerr << "landing_scenario: wrote " << a.out_path << " (" << ts::to_string(s.map) << ", "
-            << s.static_objects.size() << " static, " << s.dynamic_objects.size() << " moving objects, "
-            << s.distractors.size() << " distractors)\n";
+            << s.static_objects.size() << " static, "
+            << count_noun(static_cast<long long>(s.dynamic_objects.size()), "moving object") << ", "
+            << count_noun(static_cast<long long>(s.distractors.size()), "distractor") << ")\n";
   return kExitOk;
 }
 
@@ -436,7 +437,7 @@ int campaign_command(CampaignArgs& a) {
       scenarios.push_back(ts::load_scenario(f));
       names.push_back(f);
     }
-    source = std::to_string(a.files.size()) + " files";
+    source = count_noun(static_cast<long long>(a.files.size()), "file");
   } else {
     scenarios = ts::random_scenarios(a.first_seed, a.count, a.map);
     for (int i = 0; i < a.count; ++i)

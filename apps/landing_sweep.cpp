@@ -318,8 +318,10 @@ void print_summary(const Args& a, const tw::SearchResult& search) {
   const tw::HeadingScore* best = r.best >= 0 ? &r.headings[static_cast<std::size_t>(r.best)] : nullptr;
   const double lps = static_cast<double>(r.landings()) / r.seconds;
   std::cout << std::fixed << std::setprecision(3);
-  std::cout << "landing_sweep: " << a.terrain_path << ", " << r.landings() << " landings (" << r.headings.size()
-            << " headings x " << r.rounds_completed << " runs) in " << r.seconds << " s (" << std::setprecision(0)
+  std::cout << "landing_sweep: " << a.terrain_path << ", "
+            << td::app::count_noun(static_cast<long long>(r.landings()), "landing") << " ("
+            << td::app::count_noun(static_cast<long long>(r.headings.size()), "heading") << " x "
+            << td::app::count_noun(r.rounds_completed, "run") << ") in " << r.seconds << " s (" << std::setprecision(0)
             << lps << " landings/s; one landing simulates " << r.run_sim_to_wall << "x faster than real time)\n"
             << std::setprecision(3) << "  safety threshold " << r.threshold.value() << " rad (tip-over "
             << r.threshold.tip_rad << ", propeller or arm strike " << r.threshold.prop_strike_rad << ")\n"

@@ -85,6 +85,18 @@ TEST(LandingSweepApp, JsonCsvAndPlot) {
   EXPECT_EQ(svg.find("nan"), std::string::npos);
 }
 
+// Issue 31, item 9: the header said "1 landings (1 headings x 1 runs)".
+TEST(LandingSweepApp, HeaderCountsInTheSingular) {
+  TempDir dir;
+  const auto terrain = flat_stl(dir);
+  const AppRun one = run(terrain + " --headings 1 --runs 1", dir);
+  ASSERT_EQ(one.code, 0) << one.err;
+  EXPECT_NE(one.out.find(", 1 landing (1 heading x 1 run) in "), std::string::npos) << one.out;
+  const AppRun two = run(terrain + " --headings 2 --runs 1", dir);
+  ASSERT_EQ(two.code, 0) << two.err;
+  EXPECT_NE(two.out.find(", 2 landings (2 headings x 1 run) in "), std::string::npos) << two.out;
+}
+
 TEST(LandingSweepAppBadInput, AirframeKeyIsNamed) {
   TempDir dir;
   const auto terrain = flat_stl(dir);
