@@ -181,6 +181,11 @@ TEST(LandingSweepAppBadInput, BadOptionsAndFiles) {
   const AppRun r = run((dir / "missing.stl").string(), dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("missing.stl: cannot open"), std::string::npos) << r.err;
+  // Issue 31, item 9: a directory said "unknown point cloud format ''".
+  const AppRun d = run(dir.path().string(), dir);
+  EXPECT_EQ(d.code, 2);
+  EXPECT_NE(d.err.find(": cannot open: is a directory"), std::string::npos) << d.err;
+  EXPECT_EQ(d.err.find("unknown point cloud format"), std::string::npos) << d.err;
 }
 
 // ---- the bundled terrains with a known answer (data/terrains/regenerate.sh) ----
