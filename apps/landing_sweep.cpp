@@ -100,9 +100,7 @@ void add_options(CLI::App& app, Args& a) {
       ->default_str("0.6,1");
   td::app::add_enum_option(app, "--metric", o.metric,
                            "full: strikes and tip-overs are unsafe; seed: the paper's final-nutation rule");
-  app.add_option("--seed", o.seed, "random seed (same seed -> same result for any thread count)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  td::app::add_seed_option(app, "--seed", o.seed, "random seed (same seed -> same result for any thread count)");
   app.add_option("--threads", o.threads, "worker threads, 0 = all cores")->capture_default_str();
   app.add_option("--time-budget", o.time_budget, "anytime: stop after the round that passes this many seconds, 0 = off")
       ->capture_default_str();

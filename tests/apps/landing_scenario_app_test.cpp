@@ -140,6 +140,21 @@ TEST(LandingScenarioApp, BadInputIsOneLineNamingTheKey) {
   const AppRun lone_t = scenario_app("run " + bundled_scenario() + " --snapshot-t 3", dir);
   EXPECT_EQ(lone_t.code, 2);
   EXPECT_NE(lone_t.err.find("--snapshot"), std::string::npos) << lone_t.err;
+  // Issue 31, item 9: a negative seed was taken as 2^64 - 1, and campaign
+  // seeds wrapped past it.
+  for (const std::string& args :
+       {std::string("random --seed -1 -o s.yaml"), std::string("campaign --seed -1 --count 2")}) {
+    const AppRun neg = scenario_app(args, dir);
+    EXPECT_EQ(neg.code, 2) << args;
+    EXPECT_NE(neg.err.find("--seed: must be >= 0, got -1"), std::string::npos) << neg.err;
+    EXPECT_EQ(neg.err.find('\n'), neg.err.size() - 1) << "one line: " << neg.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "s.yaml"));
+  const AppRun wrap = scenario_app("campaign --seed 18446744073709551615 --count 2", dir);
+  EXPECT_EQ(wrap.code, 2);
+  EXPECT_NE(wrap.err.find("--seed 18446744073709551615 with --count 2: the seeds would pass"), std::string::npos)
+      << wrap.err;
+  EXPECT_TRUE(wrap.out.empty()) << wrap.out;
   // A map name is refused listing the accepted ones (from the names table).
   const AppRun bad_map = scenario_app("random --map moon -o x.yaml", dir);
   EXPECT_EQ(bad_map.code, 2);
