@@ -3,6 +3,7 @@
 // (DESIGN.md, app conventions): 0 success, 2 bad usage or input, 3 internal.
 #include <CLI/CLI.hpp>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -120,9 +121,27 @@ inline CLI::Validator number_in(double lo, double hi, bool lo_open = false, bool
       "in " + range);
 }
 
+/// Adds a random-seed option: a non-negative integer. CLI11 alone would
+/// take "-1" for a std::uint64_t as 2^64 - 1; this refuses it
+/// ("--seed: must be >= 0, got -1").
+inline CLI::Option* add_seed_option(CLI::App& app, const std::string& name, std::uint64_t& seed,
+                                    const std::string& description) {
+  return app.add_option(name, seed, description)
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            const auto first = text.find_first_not_of(" \t");
+            return first != std::string::npos && text[first] == '-' ? "must be >= 0, got " + text : "";
+          },
+          "integer >= 0"))
+      ->capture_default_str();
+}
+
 // Numbers in summaries, tables and CSV columns: detail::format_fixed
 // (core/format.hpp), as every app prints them.
 using detail::format_fixed;
+
+// "1 segment", "2 segments": a count and its noun in messages (core/format.hpp).
+using detail::count_noun;
 
 /// `v` rounded to 3 decimals for JSON output (no negative zero).
 inline double round3(double v) { return std::round(v * 1e3) / 1e3 + 0.0; }

@@ -511,8 +511,8 @@ std::string summary(const std::string& path, const tp::PlanProblem& pb, const tp
     }
     os << "  cost          " << format_fixed(r.cost, 4) << " m^2/s^5 (integral of squared jerk); objective "
        << format_fixed(r.objective, 4) << " = cost + rho * sum T\n"
-       << "  durations     " << parts << " = " << format_fixed(sum, 3) << " s (" << r.trajectory.segments()
-       << " segments of order " << r.trajectory.order() << ")\n";
+       << "  durations     " << parts << " = " << format_fixed(sum, 3) << " s ("
+       << td::app::count_noun(r.trajectory.segments(), "segment") << " of order " << r.trajectory.order() << ")\n";
   } else if (!r.message.empty()) {
     os << "  message       " << r.message << "\n";
   }

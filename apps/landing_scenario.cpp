@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -258,7 +259,7 @@ CLI::App* add_run_command(CLI::App& app, RunArgs& a) {
   cmd->add_option("--video", a.video_path, "write the camera view with detections and the outcome (.mp4 or .avi)")
       ->check([](const std::string& p) {
         const auto ext = fs::path(p).extension();
-        return ext == ".mp4" || ext == ".avi" ? std::string() : "--video: must end in .mp4 or .avi, got '" + p + "'";
+        return ext == ".mp4" || ext == ".avi" ? std::string() : "must end in .mp4 or .avi, got '" + p + "'";
       });
   cmd->add_option("--log", a.log_path, "per-step CSV: trajectory, phase, eq. 5 marker areas, detections")
       ->check(output_extension(".csv"));
@@ -366,14 +367,14 @@ struct RandomArgs {
 
 CLI::App* add_random_command(CLI::App& app, RandomArgs& a) {
   auto* cmd = app.add_subcommand("random", "write a random valid scenario drawn from the bounds table");
-  cmd->add_option("--seed", a.seed, "random seed")->capture_default_str();
+  add_seed_option(*cmd, "--seed", a.seed, "random seed");
   add_enum_option(*cmd, "--map", a.map, kAnyMap, td::enum_names_list<ts::MapKind>() + " or " + kAnyMap);
   cmd->add_option("-o,--output", a.out_path, "scenario file to write (.yaml or .json)")
       ->required()
       ->check([](const std::string& p) {
         const auto ext = fs::path(p).extension();
         return ext == ".yaml" || ext == ".yml" || ext == ".json" ? std::string()
-                                                                 : "--output: must end in .yaml, .yml or .json";
+                                                                 : "must end in .yaml, .yml or .json, got '" + p + "'";
       });
   return cmd;
 }
@@ -383,8 +384,9 @@ int random_command(const RandomArgs& a) {
   const bool as_json = fs::path(a.out_path).extension() == ".json";
   write_text_atomically(a.out_path, as_json ? ts::to_json(s) : ts::to_yaml(s));
   std::cerr << "landing_scenario: wrote " << a.out_path << " (" << ts::to_string(s.map) << ", "
-            << s.static_objects.size() << " static, " << s.dynamic_objects.size() << " moving objects, "
-            << s.distractors.size() << " distractors)\n";
+            << s.static_objects.size() << " static, "
+            << count_noun(static_cast<long long>(s.dynamic_objects.size()), "moving object") << ", "
+            << count_noun(static_cast<long long>(s.distractors.size()), "distractor") << ")\n";
   return kExitOk;
 }
 
@@ -406,9 +408,7 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
       "run many scenarios (random ones by seed, or the given files) in parallel; violation rate and type mix");
   a.campaign.threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   auto* files_opt = cmd->add_option("SCENARIO", a.files, "scenario files (default: random ones)");
-  cmd->add_option("--seed", a.first_seed, "seed of the first random scenario")
-      ->capture_default_str()
-      ->excludes(files_opt);
+  add_seed_option(*cmd, "--seed", a.first_seed, "seed of the first random scenario")->excludes(files_opt);
   cmd->add_option("--count", a.count, "random scenarios")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str()
@@ -436,8 +436,12 @@ int campaign_command(CampaignArgs& a) {
       scenarios.push_back(ts::load_scenario(f));
       names.push_back(f);
     }
-    source = std::to_string(a.files.size()) + " files";
+    source = count_noun(static_cast<long long>(a.files.size()), "file");
   } else {
+    if (a.first_seed > std::numeric_limits<std::uint64_t>::max() - static_cast<std::uint64_t>(a.count - 1)) {
+      throw td::InvalidArgument("--seed " + std::to_string(a.first_seed) + " with --count " + std::to_string(a.count) +
+                                ": the seeds would pass 18446744073709551615 (2^64 - 1)");
+    }
     scenarios = ts::random_scenarios(a.first_seed, a.count, a.map);
     for (int i = 0; i < a.count; ++i)
       names.push_back("seed " + std::to_string(a.first_seed + static_cast<std::uint64_t>(i)));

@@ -100,9 +100,7 @@ void add_options(CLI::App& app, Args& a) {
       ->default_str("0.6,1");
   td::app::add_enum_option(app, "--metric", o.metric,
                            "full: strikes and tip-overs are unsafe; seed: the paper's final-nutation rule");
-  app.add_option("--seed", o.seed, "random seed (same seed -> same result for any thread count)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  td::app::add_seed_option(app, "--seed", o.seed, "random seed (same seed -> same result for any thread count)");
   app.add_option("--threads", o.threads, "worker threads, 0 = all cores")->capture_default_str();
   app.add_option("--time-budget", o.time_budget, "anytime: stop after the round that passes this many seconds, 0 = off")
       ->capture_default_str();
@@ -347,19 +345,23 @@ void print_summary(const Args& a, const tw::SearchResult& search) {
   const Totals t = totals(a, search);
   const double lps = static_cast<double>(t.landings) / t.seconds;
   std::cout << std::fixed << std::setprecision(3);
-  std::cout << "landing_sweep: " << a.terrain_path << ", " << t.landings << " landings (";
+  std::cout << "landing_sweep: " << a.terrain_path << ", "
+            << td::app::count_noun(static_cast<long long>(t.landings), "landing") << " (";
   if (search.candidates.empty()) {
-    std::cout << r.headings.size() << " headings x " << r.rounds_completed << " runs";
+    std::cout << td::app::count_noun(static_cast<long long>(r.headings.size()), "heading") << " x "
+              << td::app::count_noun(r.rounds_completed, "run");
   } else {
-    std::cout << search.points_flown << (search.points_flown == 1 ? " point x " : " points x ") << a.o.headings
-              << " headings x " << (t.completeness < 1 ? "up to " : "") << a.o.runs << " runs";
+    std::cout << td::app::count_noun(static_cast<long long>(search.points_flown), "point") << " x "
+              << td::app::count_noun(a.o.headings, "heading") << " x " << (t.completeness < 1 ? "up to " : "")
+              << td::app::count_noun(a.o.runs, "run");
   }
   std::cout << ") in " << t.seconds << " s (" << std::setprecision(0) << lps << " landings/s; one landing simulates "
             << t.run_sim_to_wall << "x faster than real time)\n";
   if (!search.candidates.empty()) {
     std::cout << std::setprecision(3) << "  chosen point (" << o.landing_point.x() << ", " << o.landing_point.y()
-              << "): " << r.landings() << " landings (" << r.headings.size() << " headings x " << r.rounds_completed
-              << " runs) in " << r.seconds << " s\n";
+              << "): " << td::app::count_noun(static_cast<long long>(r.landings()), "landing") << " ("
+              << td::app::count_noun(static_cast<long long>(r.headings.size()), "heading") << " x "
+              << td::app::count_noun(r.rounds_completed, "run") << ") in " << r.seconds << " s\n";
   }
   std::cout << std::setprecision(3) << "  safety threshold " << r.threshold.value() << " rad (tip-over "
             << r.threshold.tip_rad << ", propeller or arm strike " << r.threshold.prop_strike_rad << ")\n"

@@ -217,7 +217,7 @@ void add_render_command(CLI::App& app, Args& a) {
                    "number of frames (frames x camera pixels <= 1e10: 24,567 frames at 848x480, ~26 GB of PNGs)")
       ->check(number_in(1, tp::kMaxTrajectoryFrames))
       ->capture_default_str();
-  render->add_option("--seed", a.seed, "random seed")->check(number_in(0, 1e18))->capture_default_str();
+  td::app::add_seed_option(*render, "--seed", a.seed, "random seed");
   render->add_option("--min-distance", a.min_distance, "closest camera-constellation (LED centroid) distance [m]")
       ->check(number_in(0, tp::kMaxTrajectoryDistance, true))
       ->capture_default_str();
@@ -256,7 +256,7 @@ void add_benchmark_command(CLI::App& app, Args& a) {
                    "default scenarios at 848x480, ~75 min)")
       ->check(number_in(1, tp::kMaxTrajectoryFrames))
       ->capture_default_str();
-  bench->add_option("--seed", a.seed, "random seed")->check(number_in(0, 1e18))->capture_default_str();
+  td::app::add_seed_option(*bench, "--seed", a.seed, "random seed");
   bench->add_option(
       "--camera", a.r_camera,
       "camera file, as for SEQUENCE_DIR, up to 4096x4096 pixels (default: a D435 colour stream at 848x480)");

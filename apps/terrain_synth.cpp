@@ -111,7 +111,7 @@ void add_options(CLI::App& app, Args& a) {
       ->check(number_in(0, 100))
       ->capture_default_str();
   add_shape_options(app, a);
-  app.add_option("--seed", a.seed, "random seed")->check(number_in(0, 1e18))->capture_default_str();
+  td::app::add_seed_option(app, "--seed", a.seed, "random seed");
   app.add_flag("--json", a.json, "print one JSON object on stdout");
 }
 

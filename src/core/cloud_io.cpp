@@ -43,8 +43,9 @@ CloudFormat cloud_format_from_path(const std::filesystem::path& path) {
 }
 
 PointCloud read_cloud(const std::filesystem::path& path, CloudFormat format) {
-  if (format == CloudFormat::Auto) format = cloud_format_from_path(path);
+  // Opened first: a directory or a missing file says so, not "unknown format".
   std::ifstream in = detail::open_for_read(path);
+  if (format == CloudFormat::Auto) format = cloud_format_from_path(path);
   const std::string source = path.string();
   PointCloud cloud;
   switch (format) {

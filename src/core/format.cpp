@@ -46,4 +46,11 @@ std::string format_trimmed(double v, int decimals) {
   return s == "-0" ? "0" : s;
 }
 
+std::string count_noun(long long n, std::string_view noun, std::string_view plural) {
+  std::string s = std::to_string(n) + " ";
+  if (n == 1) return s.append(noun);
+  if (!plural.empty()) return s.append(plural);
+  return s.append(noun).append("s");
+}
+
 }  // namespace touchdown::detail

@@ -41,6 +41,10 @@ std::string format_general(double v, int significant = 6);
 /// printf's "%.<decimals>f", sign of a zero included. `decimals` in [0, 17].
 std::string format_fixed(double v, int decimals);
 
+/// A count and its noun for messages: "1 segment", "0 segments",
+/// "3 segments" (the plural adds "s"; `plural` overrides it).
+std::string count_noun(long long n, std::string_view noun, std::string_view plural = {});
+
 /// "%.<decimals>f" without trailing zeros and without a trailing point;
 /// a value that prints as zero prints "0" (never "-0"). `decimals` in [0, 17].
 std::string format_trimmed(double v, int decimals);

@@ -4,10 +4,13 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <mutex>
+#include <vector>
 
 #include "core/format.hpp"
 #include "touchdown/core/error.hpp"
@@ -19,23 +22,79 @@ namespace {
 
 using detail::format_fixed;
 
-// Why the terrain does not cover the footprint disk: how far the disk sticks
-// out of the scanned area (its radius minus the distance from the centre to
-// the nearest uncovered point, sampled every centimetre) and the scan's extent.
+// The edges of the scanned area's outline: the edges of the non-vertical
+// triangles (those top_z sees) that only one of them uses. A point off the
+// scan is nearest to the scan on one of these (for a triangle soup, every
+// edge is listed: still exact, only slower).
+std::vector<std::array<Eigen::Vector2d, 2>> outline_edges(const TerrainModel& terrain) {
+  const auto& mesh = terrain.mesh();
+  std::vector<std::uint64_t> edges;  // lo << 32 | hi, one per use
+  edges.reserve(mesh.triangles.size() * 3);
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector2f a = mesh.vertices[t[0]].head<2>(), b = mesh.vertices[t[1]].head<2>(),
+                          c = mesh.vertices[t[2]].head<2>();
+    const double det = (static_cast<double>(b.x()) - a.x()) * (static_cast<double>(c.y()) - a.y()) -
+                       (static_cast<double>(c.x()) - a.x()) * (static_cast<double>(b.y()) - a.y());
+    if (std::abs(det) < 1e-15) continue;  // vertical: not part of the scanned area seen from above
+    for (int k = 0; k < 3; ++k) {
+      const std::uint64_t u = t[static_cast<std::size_t>(k)], v = t[static_cast<std::size_t>((k + 1) % 3)];
+      edges.push_back(std::min(u, v) << 32 | std::max(u, v));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  std::vector<std::array<Eigen::Vector2d, 2>> out;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1) {
+      const auto u = static_cast<std::size_t>(edges[i] >> 32), v = static_cast<std::size_t>(edges[i] & 0xffffffffu);
+      out.push_back({mesh.vertices[u].head<2>().cast<double>(), mesh.vertices[v].head<2>().cast<double>()});
+    }
+    i = j;
+  }
+  return out;
+}
+
+double distance_to_segment(const Eigen::Vector2d& p, const std::array<Eigen::Vector2d, 2>& e) {
+  const Eigen::Vector2d d = e[1] - e[0];
+  const double len2 = d.squaredNorm();
+  const double t = len2 > 0 ? std::clamp((p - e[0]).dot(d) / len2, 0.0, 1.0) : 0.0;
+  return (e[0] + t * d - p).norm();
+}
+
+double distance_to_edges(const Eigen::Vector2d& p, const std::vector<std::array<Eigen::Vector2d, 2>>& edges) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& e : edges) best = std::min(best, distance_to_segment(p, e));
+  return best;
+}
+
+// Why the terrain does not cover the footprint disk: how far the disk reaches
+// beyond the scanned area (the largest distance from a point of the disk,
+// sampled every centimetre, to the scan), how far the landing point itself is
+// from the scan when it is off it, and the scan's extent.
 std::string off_scan_message(const TerrainModel& terrain, const Eigen::Vector2d& centre, double radius) {
+  auto edges = outline_edges(terrain);
+  // Only edges within reach matter: a point of the disk is at most
+  // radius + (the centre's distance to the outline) from its nearest edge.
+  const double reach = 2 * radius + distance_to_edges(centre, edges) + 1e-9;
+  std::erase_if(edges, [&](const auto& e) { return distance_to_segment(centre, e) > reach; });
   const int n = std::max(1, static_cast<int>(std::ceil(radius / 0.01)));
-  double nearest = radius;
+  double overhang = 0;
   for (int j = -n; j <= n; ++j) {
     for (int i = -n; i <= n; ++i) {
-      const Eigen::Vector2d d = Eigen::Vector2d(i, j) * (radius / n);
-      if (d.norm() > radius + 1e-12 || d.norm() >= nearest) continue;
-      if (!terrain.top_z(centre.x() + d.x(), centre.y() + d.y())) nearest = d.norm();
+      const Eigen::Vector2d p = centre + Eigen::Vector2d(i, j) * (radius / n);
+      if ((p - centre).norm() > radius + 1e-12 || terrain.top_z(p.x(), p.y())) continue;
+      overhang = std::max(overhang, distance_to_edges(p, edges));
     }
+  }
+  std::string off;
+  if (!terrain.top_z(centre.x(), centre.y())) {
+    off = " (the landing point itself is " + format_fixed(distance_to_edges(centre, edges), 3) + " m outside it)";
   }
   const auto& b = terrain.bounds();
   return "terrain does not cover the footprint (radius " + format_fixed(radius, 3) + " m) around the landing point (" +
          format_fixed(centre.x(), 3) + ", " + format_fixed(centre.y(), 3) + "): it sticks out of the scanned area by " +
-         format_fixed(radius - nearest, 3) + " m; the scan covers x in [" + format_fixed(b.min.x(), 3) + ", " +
+         format_fixed(overhang, 3) + " m" + off + "; the scan covers x in [" + format_fixed(b.min.x(), 3) + ", " +
          format_fixed(b.max.x(), 3) + "], y in [" + format_fixed(b.min.y(), 3) + ", " + format_fixed(b.max.y(), 3) +
          "] m";
 }
@@ -394,6 +453,9 @@ SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<cons
     auto& c = out.candidates[k];
     if ((c.xy - options.landing_point).norm() > safe_distance + 1e-9) break;
     c.evaluated = true;
+    // Off the map: run_sweep's own check, made here so that its message (the
+    // overhang, sampled over the footprint) is not built only to be dropped.
+    if (!terrain->max_top_z(c.xy, airframe.footprint_radius())) continue;
     SweepOptions o = options;
     o.landing_point = c.xy;
     if (options.progress) {

@@ -232,6 +232,20 @@ TEST(LandingPlanApp, SvgAndSummary) {
   EXPECT_NE(s.out.find("final QP"), std::string::npos) << s.out;
 }
 
+// Issue 31, item 9: the summary said "1 segments of order 7".
+TEST(LandingPlanApp, SummaryCountsSegmentsInTheSingular) {
+  TempDir dir;
+  std::string text = td::test::read_text(bundled());
+  text = replaced(text.substr(0, text.find("\ncorridor:") + 1), "segments: 2", "segments: 1");
+  td::test::write_text(dir / "one.yaml", text);
+  const AppRun one = run((dir / "one.yaml").string(), dir);
+  ASSERT_EQ(one.code, 0) << one.err;
+  EXPECT_NE(one.out.find("(1 segment of order 7)"), std::string::npos) << one.out;
+  const AppRun two = run(bundled(), dir);
+  ASSERT_EQ(two.code, 0) << two.err;
+  EXPECT_NE(two.out.find("(2 segments of order 7)"), std::string::npos) << two.out;
+}
+
 TEST(LandingPlanApp, InfeasibleIsExitOneWithConflicts) {
   TempDir dir;
   // A tiny acceleration limit and fixed durations: only the acceleration

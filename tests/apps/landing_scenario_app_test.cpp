@@ -126,12 +126,35 @@ TEST(LandingScenarioApp, BadInputIsOneLineNamingTheKey) {
     EXPECT_FALSE(std::filesystem::exists(log));
   }
   EXPECT_EQ(scenario_app("run " + bundled_scenario() + " --system px4", dir).code, 2);
-  EXPECT_EQ(scenario_app("run " + bundled_scenario() + " --video x.gif", dir).code, 2);
+  // Issue 31, item 9: the option's name once ("--video: --video: must end...").
+  const AppRun gif = scenario_app("run " + bundled_scenario() + " --video x.gif", dir);
+  EXPECT_EQ(gif.code, 2);
+  EXPECT_NE(gif.err.find("--video: must end in .mp4 or .avi, got 'x.gif'"), std::string::npos) << gif.err;
+  EXPECT_EQ(gif.err.find("--video: --video"), std::string::npos) << gif.err;
+  const AppRun txt = scenario_app("random --seed 1 -o x.txt", dir);
+  EXPECT_EQ(txt.code, 2);
+  EXPECT_NE(txt.err.find("--output: must end in .yaml, .yml or .json, got 'x.txt'"), std::string::npos) << txt.err;
+  EXPECT_EQ(txt.err.find("--output: --output"), std::string::npos) << txt.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.txt"));
   // An option that would be ignored is refused.
   const AppRun lone_t = scenario_app("run " + bundled_scenario() + " --snapshot-t 3", dir);
   EXPECT_EQ(lone_t.code, 2);
   EXPECT_NE(lone_t.err.find("--snapshot"), std::string::npos) << lone_t.err;
-  EXPECT_EQ(scenario_app("random --seed 1 -o x.txt", dir).code, 2);
+  // Issue 31, item 9: a negative seed was taken as 2^64 - 1, and campaign
+  // seeds wrapped past it.
+  for (const std::string& args :
+       {std::string("random --seed -1 -o s.yaml"), std::string("campaign --seed -1 --count 2")}) {
+    const AppRun neg = scenario_app(args, dir);
+    EXPECT_EQ(neg.code, 2) << args;
+    EXPECT_NE(neg.err.find("--seed: must be >= 0, got -1"), std::string::npos) << neg.err;
+    EXPECT_EQ(neg.err.find('\n'), neg.err.size() - 1) << "one line: " << neg.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "s.yaml"));
+  const AppRun wrap = scenario_app("campaign --seed 18446744073709551615 --count 2", dir);
+  EXPECT_EQ(wrap.code, 2);
+  EXPECT_NE(wrap.err.find("--seed 18446744073709551615 with --count 2: the seeds would pass"), std::string::npos)
+      << wrap.err;
+  EXPECT_TRUE(wrap.out.empty()) << wrap.out;
   // A map name is refused listing the accepted ones (from the names table).
   const AppRun bad_map = scenario_app("random --map moon -o x.yaml", dir);
   EXPECT_EQ(bad_map.code, 2);

@@ -85,6 +85,18 @@ TEST(LandingSweepApp, JsonCsvAndPlot) {
   EXPECT_EQ(svg.find("nan"), std::string::npos);
 }
 
+// Issue 31, item 9: the header said "1 landings (1 headings x 1 runs)".
+TEST(LandingSweepApp, HeaderCountsInTheSingular) {
+  TempDir dir;
+  const auto terrain = flat_stl(dir);
+  const AppRun one = run(terrain + " --headings 1 --runs 1", dir);
+  ASSERT_EQ(one.code, 0) << one.err;
+  EXPECT_NE(one.out.find(", 1 landing (1 heading x 1 run) in "), std::string::npos) << one.out;
+  const AppRun two = run(terrain + " --headings 2 --runs 1", dir);
+  ASSERT_EQ(two.code, 0) << two.err;
+  EXPECT_NE(two.out.find(", 2 landings (2 headings x 1 run) in "), std::string::npos) << two.out;
+}
+
 TEST(LandingSweepAppBadInput, AirframeKeyIsNamed) {
   TempDir dir;
   const auto terrain = flat_stl(dir);
@@ -125,6 +137,27 @@ TEST(LandingSweepAppBadInput, TerrainNotCoveringTheFootprint) {
   const AppRun r = run(terrain + " --landing-point 0.7,0", dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("does not cover the footprint"), std::string::npos) << r.err;
+  // Issue 31, item 5: every point off the scan said "by 0.352 m" (the
+  // footprint radius). The flat square's top spans [-0.775, 0.775] (cell
+  // centres): a footprint of radius 0.352 at (x, 0) reaches x + 0.352 - 0.775
+  // beyond it, and the point itself is x - 0.775 outside it when x > 0.775.
+  for (const double x : {0.7, 1.2, 2.0, 5.0}) {
+    const AppRun off = run(terrain + " --landing-point " + std::to_string(x) + ",0", dir);
+    EXPECT_EQ(off.code, 2);
+    expect_one_line(off);
+    const std::string key = "sticks out of the scanned area by ";
+    const auto at = off.err.find(key);
+    ASSERT_NE(at, std::string::npos) << off.err;
+    EXPECT_NEAR(std::stod(off.err.substr(at + key.size())), x + 0.352 - 0.775, 0.011) << off.err;
+    const std::string itself = "the landing point itself is ";
+    const auto at_point = off.err.find(itself);
+    if (x > 0.775) {
+      ASSERT_NE(at_point, std::string::npos) << off.err;
+      EXPECT_NEAR(std::stod(off.err.substr(at_point + itself.size())), x - 0.775, 0.002) << off.err;
+    } else {
+      EXPECT_EQ(at_point, std::string::npos) << off.err;
+    }
+  }
 }
 
 TEST(LandingSweepAppBadInput, BadOptionsAndFiles) {
@@ -148,6 +181,11 @@ TEST(LandingSweepAppBadInput, BadOptionsAndFiles) {
   const AppRun r = run((dir / "missing.stl").string(), dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("missing.stl: cannot open"), std::string::npos) << r.err;
+  // Issue 31, item 9: a directory said "unknown point cloud format ''".
+  const AppRun d = run(dir.path().string(), dir);
+  EXPECT_EQ(d.code, 2);
+  EXPECT_NE(d.err.find(": cannot open: is a directory"), std::string::npos) << d.err;
+  EXPECT_EQ(d.err.find("unknown point cloud format"), std::string::npos) << d.err;
 }
 
 // ---- the bundled terrains with a known answer (data/terrains/regenerate.sh) ----

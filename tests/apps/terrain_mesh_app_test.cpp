@@ -145,6 +145,23 @@ TEST(TerrainMeshAppBadInput, UnreadableFile) {
   EXPECT_TRUE(dir.files().empty());
 }
 
+// Issue 31, item 9: a directory (or a missing file without an extension)
+// said "unknown point cloud format ''".
+TEST(TerrainMeshAppBadInput, DirectoryOrMissingFileSaysSo) {
+  TempDir dir;
+  std::filesystem::create_directory(dir / "scans");
+  const AppRun d = run((dir / "scans").string() + " -o " + (dir / "out.stl").string(), dir);
+  EXPECT_EQ(d.code, 2);
+  EXPECT_NE(d.err.find("scans: cannot open: is a directory"), std::string::npos) << d.err;
+  EXPECT_EQ(d.err.find("unknown point cloud format"), std::string::npos) << d.err;
+  expect_one_line(d);
+  const AppRun m = run((dir / "nothing").string() + " -o " + (dir / "out.stl").string(), dir);
+  EXPECT_EQ(m.code, 2);
+  EXPECT_NE(m.err.find("nothing: cannot open: no such file"), std::string::npos) << m.err;
+  expect_one_line(m);
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.stl"));
+}
+
 TEST(TerrainMeshAppBadInput, OutputDirectoryMissing) {
   TempDir dir;
   td::test::write_text(dir / "step.pcd", small_step_pcd());

@@ -63,7 +63,7 @@ TEST(TerrainSynthAppBadInput, EveryOptionHasARange) {
   expect_refused("--plateau-size 0.6,-1", "--plateau-size", "outside (0, 1000]");
   expect_refused("--post 0,0,0,0.2", "--post", "radius must be in (0, 100]");
   expect_refused("--noise-scale -1", "--noise-scale", "outside [0, 100]");
-  expect_refused("--seed -1", "--seed", "outside [0, 1e+18]");
+  expect_refused("--seed -1", "--seed", "must be >= 0, got -1");
   // In range, but the camera would be inside the terrain.
   expect_refused("--camera-height 0.1", "--camera-height", "it sees from 0.2 m");
 }

@@ -17,6 +17,7 @@
 
 namespace {
 
+using touchdown::detail::count_noun;
 using touchdown::detail::format_exact;
 using touchdown::detail::format_fixed;
 using touchdown::detail::format_general;
@@ -173,6 +174,16 @@ TEST(Format, RefusesPrecisionOutOfRange) {
   EXPECT_THROW((void)format_general(1, 0), touchdown::InvalidArgument);
   EXPECT_THROW((void)format_general(1, 18), touchdown::InvalidArgument);
   EXPECT_EQ(format_fixed(1e308, 17).size(), 309u + 1 + 17);
+}
+
+TEST(CountNoun, SingularForOneOnly) {
+  EXPECT_EQ(count_noun(1, "segment"), "1 segment");
+  EXPECT_EQ(count_noun(0, "segment"), "0 segments");
+  EXPECT_EQ(count_noun(2, "segment"), "2 segments");
+  EXPECT_EQ(count_noun(-1, "run"), "-1 runs");
+  EXPECT_EQ(count_noun(1, "moving object"), "1 moving object");
+  EXPECT_EQ(count_noun(3, "child", "children"), "3 children");
+  EXPECT_EQ(count_noun(1, "child", "children"), "1 child");
 }
 
 }  // namespace

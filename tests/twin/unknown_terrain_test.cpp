@@ -144,6 +144,46 @@ TEST(UnknownTerrain, OffTheScanIsStillAnErrorSayingByHowMuch) {
   EXPECT_NE(r.message.find("x in [-1.490, 1.490]"), std::string::npos) << r.message;
 }
 
+// The overhang is how far the footprint reaches beyond the scan, whether the
+// landing point is on it or not (issue 31, item 5: it printed the footprint
+// radius for every point off the scan). Oracle: the 3 x 3 m map's top
+// surface is the rectangle [-1.49, 1.49]^2 (cell centres); a disk of radius r
+// at c reaches dist(c, rectangle) + r beyond it when c is outside, and
+// c.x + r - 1.49 when c is inside near the east edge.
+TEST(UnknownTerrain, OffTheScanMessageSaysTheRealOverhangAndDistance) {
+  const auto terrain = model_of(flat_with_hole(-0.5, 0, 0.2, tt::UnknownFill::Block));
+  const double r = tw::Airframe::f450().footprint_radius();
+  const double edge = 1.49;
+  auto rectangle_distance = [&](const Eigen::Vector2d& c) {
+    return Eigen::Vector2d(std::max(0.0, std::abs(c.x()) - edge), std::max(0.0, std::abs(c.y()) - edge)).norm();
+  };
+  auto number_after = [](const std::string& m, const std::string& key) {
+    const auto at = m.find(key);
+    EXPECT_NE(at, std::string::npos) << key << " in " << m;
+    return at == std::string::npos ? -1.0 : std::stod(m.substr(at + key.size()));
+  };
+  std::vector<double> seen;
+  for (const Eigen::Vector2d& c : {Eigen::Vector2d(1.3, 0), Eigen::Vector2d(1.6, 0), Eigen::Vector2d(2, 0),
+                                   Eigen::Vector2d(5, 0), Eigen::Vector2d(5, 5), Eigen::Vector2d(-3, 0.5)}) {
+    auto o = quick(1, 1);
+    o.landing_point = c;
+    const auto res = tw::run_sweep(tw::Airframe::f450(), terrain, o);
+    ASSERT_EQ(res.status, tw::SweepStatus::FootprintNotCovered) << c.transpose();
+    const double off = rectangle_distance(c);
+    const double expected = off > 0 ? off + r : c.x() + r - edge;
+    const double overhang = number_after(res.message, "sticks out of the scanned area by ");
+    EXPECT_NEAR(overhang, expected, 0.01) << res.message;
+    seen.push_back(overhang);
+    if (off > 0) {
+      EXPECT_NEAR(number_after(res.message, "the landing point itself is "), off, 0.002) << res.message;
+    } else {
+      EXPECT_EQ(res.message.find("the landing point itself"), std::string::npos) << res.message;
+    }
+  }
+  std::sort(seen.begin(), seen.end());
+  EXPECT_EQ(std::adjacent_find(seen.begin(), seen.end()), seen.end()) << "the overhangs must differ";
+}
+
 // ---- PCL's real stereo scan of a table with a mug --------------------------
 
 namespace {
