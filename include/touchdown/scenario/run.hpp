@@ -119,8 +119,8 @@ SystemSetup system_setup(const Scenario& scenario, const RunOptions& options);
 
 /// One closed-loop run stepped by its caller: run_scenario() is this class
 /// stepped to the end. Lets a caller advance several runs in turn, look at
-/// every step, or stop early. Holds references to `scenario`, `system` and
-/// `options`: they must outlive it.
+/// every step, or stop early. Holds references to `scenario` and `system`:
+/// they must outlive it. `options` is copied.
 class ScenarioRun {
  public:
   /// Resets `system` for `scenario`. `max_time` > 0 ends the run after that
@@ -150,7 +150,7 @@ class ScenarioRun {
  private:
   const Scenario& scenario_;
   LandingSystem& system_;
-  const RunOptions& options_;
+  RunOptions options_;
   std::chrono::steady_clock::time_point start_;
   World world_;
   Renderer renderer_;
