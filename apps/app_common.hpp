@@ -1,7 +1,11 @@
 #pragma once
 // Shared plumbing of the command-line apps: exit codes and error lines
 // (DESIGN.md, app conventions): 0 success, 2 bad usage or input, 3 internal.
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -9,6 +13,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -36,6 +41,22 @@ inline void write_text_atomically(const std::string& path, const std::string& te
     out.flush();
     if (!out) throw touchdown::IoError(path + ": write failed");
   });
+}
+
+/// Writes `text` to `path` (a StagedOutputs temporary); IoError naming
+/// `what` when the write fails.
+inline void write_text(const std::filesystem::path& path, const std::string& text, const std::string& what) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  out.flush();
+  if (!out) throw touchdown::IoError(what + ": write failed");
+}
+
+/// An optional output option's path staged in `outputs` (checked now, before
+/// any work); empty for an empty path.
+inline std::filesystem::path stage(touchdown::StagedOutputs& outputs, const std::string& path,
+                                   const std::string& option) {
+  return path.empty() ? std::filesystem::path() : outputs.add(path, option);
 }
 
 inline CLI::Validator output_extension(const std::string& ext) {
@@ -163,6 +184,42 @@ inline std::string large_count(double v) {
   }
   return detail::format_general(mantissa) + "e" + std::to_string(exponent);
 }
+
+/// One progress bar with an ETA on stderr, for work over about a second
+/// (DESIGN.md). Draw it only when stderr is a terminal (`on_terminal()`);
+/// close() the line before printing anything else.
+class ProgressBar {
+ public:
+  void draw(std::size_t done, std::size_t total) {
+    if (done != total && done < last_drawn_ + std::max<std::size_t>(1, total / 200)) return;
+    last_drawn_ = done;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const int width = 40, filled = static_cast<int>(width * done / std::max<std::size_t>(1, total));
+    std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
+              << std::string(static_cast<std::size_t>(width - filled), '.') << "] " << done << "/" << total;
+    if (done > 0 && done < total) {
+      const double left = elapsed * static_cast<double>(total - done) / static_cast<double>(done);
+      std::cerr << "  " << static_cast<long>(std::ceil(left)) << " s left ";
+    } else {
+      std::cerr << "  " << std::fixed << std::setprecision(1) << elapsed << " s      ";
+    }
+    std::cerr << std::flush;
+    open_ = done != total;
+    if (done == total) std::cerr << "\n";
+  }
+
+  void close() {
+    if (open_) std::cerr << "\n";
+    open_ = false;
+  }
+
+  [[nodiscard]] static bool on_terminal() { return isatty(STDERR_FILENO) != 0; }
+
+ private:
+  bool open_ = false;
+  const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::size_t last_drawn_ = 0;
+};
 
 /// Parses the command line and runs `body`, mapping exceptions to one line
 /// on stderr and the conventional exit codes.

@@ -16,6 +16,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "app_common.hpp"
@@ -572,6 +573,12 @@ int main(int argc, char** argv) {
 
   return td::app::run(app, argc, argv, [&]() -> int {
     tp::PlanProblem problem = tp::load_plan_problem(problem_path);
+    // Every output path is checked before the planning, and written through
+    // a temporary: a failed run leaves no file behind.
+    td::StagedOutputs staged;
+    const fs::path qp_tmp = td::app::stage(staged, qp_path, "--export-qp");
+    const fs::path plot_tmp = td::app::stage(staged, plot_path, "--plot");
+    const fs::path samples_tmp = td::app::stage(staged, samples_path, "--samples");
     problem.options.export_qp = !qp_path.empty();
     const auto t0 = std::chrono::steady_clock::now();
     tp::PlanResult r;
@@ -583,14 +590,14 @@ int main(int argc, char** argv) {
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-    // Every output is rendered first, and their directories checked, so that
-    // a bad path leaves no file behind.
-    std::vector<std::pair<std::string, std::string>> outputs;
-    if (!qp_path.empty() && r.status != tp::PlanStatus::NoCorridor) outputs.emplace_back(qp_path, qp_json(r.qp));
+    // Every output is rendered first, then written.
+    std::vector<std::tuple<fs::path, std::string, std::string>> outputs;  // temporary, text, path
+    if (!qp_path.empty() && r.status != tp::PlanStatus::NoCorridor)
+      outputs.emplace_back(qp_tmp, qp_json(r.qp), qp_path);
     if (!plot_path.empty()) {
       const PlotInput in{plot_title(problem_path, r), &problem, &r,
                          problem.goal ? *problem.goal : tp::default_goal(problem.options)};
-      outputs.emplace_back(plot_path, plot_svg(in));
+      outputs.emplace_back(plot_tmp, plot_svg(in), plot_path);
     }
     if (!samples_path.empty() && r.ok()) {
       // Refused before the rows are built, with what they would take.
@@ -602,13 +609,10 @@ int main(int argc, char** argv) {
                                   format_fixed(kMaxSampledSeconds, 0) + " s (~" +
                                   td::app::gigabytes(kMaxSampledSeconds * 1000 * kCsvBytesPerRow) + ")");
       }
-      outputs.emplace_back(samples_path, samples_csv(r.trajectory, problem.pad));
+      outputs.emplace_back(samples_tmp, samples_csv(r.trajectory, problem.pad), samples_path);
     }
-    for (const auto& [path, text] : outputs) {
-      const fs::path dir = fs::absolute(path).parent_path();
-      if (!fs::is_directory(dir)) throw td::IoError(path + ": directory " + dir.string() + " does not exist");
-    }
-    for (const auto& [path, text] : outputs) td::app::write_text_atomically(path, text);
+    for (const auto& [tmp, text, path] : outputs) td::app::write_text(tmp, text, path);
+    staged.commit();
 
     if (json) {
       std::cout << result_json(r, problem.options.order, seconds).dump() << "\n";

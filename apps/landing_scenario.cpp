@@ -130,38 +130,21 @@ void banner(cv::Mat& img, const ts::ScenarioResult& r) {
               cv::FONT_HERSHEY_SIMPLEX, 0.7, cv::Scalar(255, 255, 255), 2);
 }
 
-/// Writes frames to `path` (.mp4 or .avi) through a temporary file in the
-/// same directory, renamed when complete.
+/// Writes frames to `tmp`, the staged temporary of `path` (.mp4 or .avi:
+/// the temporary has the same extension, which picks the codec).
 class Video {
  public:
-  Video(const std::string& path, double fps, int w, int h) : path_(path) {
-    const fs::path p(path);
-    tmp_ = (p.parent_path() / ("." + p.stem().string() + ".partial" + p.extension().string())).string();
-    const int fourcc = p.extension() == ".avi" ? cv::VideoWriter::fourcc('M', 'J', 'P', 'G')
-                                               : cv::VideoWriter::fourcc('m', 'p', '4', 'v');
-    if (!writer_.open(tmp_, fourcc, fps, cv::Size(w, h)))
-      throw td::IoError(path + ": cannot open a video writer (" + p.extension().string() + ")");
-  }
-  ~Video() {
-    if (!done_) {
-      writer_.release();
-      std::error_code ec;
-      fs::remove(tmp_, ec);
-    }
+  Video(const fs::path& tmp, const std::string& path, double fps, int w, int h) {
+    const int fourcc = tmp.extension() == ".avi" ? cv::VideoWriter::fourcc('M', 'J', 'P', 'G')
+                                                 : cv::VideoWriter::fourcc('m', 'p', '4', 'v');
+    if (!writer_.open(tmp.string(), fourcc, fps, cv::Size(w, h)))
+      throw td::IoError(path + ": cannot open a video writer (" + tmp.extension().string() + ")");
   }
   void write(const cv::Mat& img) { writer_.write(img); }
-  void finish() {
-    writer_.release();
-    std::error_code ec;
-    fs::rename(tmp_, path_, ec);
-    if (ec) throw td::IoError(path_ + ": cannot rename the finished video: " + ec.message());
-    done_ = true;
-  }
+  void finish() { writer_.release(); }
 
  private:
-  std::string path_, tmp_;
   cv::VideoWriter writer_;
-  bool done_ = false;
 };
 
 std::string percent(int n, int of) { return format_fixed(of > 0 ? 100.0 * n / of : 0.0, 1) + " %"; }
@@ -292,6 +275,8 @@ CLI::App* add_run_command(CLI::App& app, RunArgs& a) {
 /// The overlaid frames of a run: every one to the video, the one nearest
 /// --snapshot-t kept for the snapshot, the last one for the outcome banner.
 struct RunImages {
+  td::StagedOutputs staged;  // --video, --snapshot, --log: checked before the run
+  fs::path snapshot_tmp, log_tmp;
   std::optional<Video> video;
   cv::Mat last, snapshot;
   double best_dt = 1e9;
@@ -313,7 +298,7 @@ void write_images(const RunArgs& a, const ts::ScenarioResult& r, RunImages& imag
     }
     std::vector<unsigned char> png;
     cv::imencode(".png", img, png);
-    write_text_atomically(a.snapshot_path, std::string(png.begin(), png.end()));
+    write_text(images.snapshot_tmp, std::string(png.begin(), png.end()), a.snapshot_path);
   }
 }
 
@@ -332,8 +317,12 @@ int run_command(RunArgs& a) {
   const ts::Scenario scenario = ts::load_scenario(a.scenario_path);
   auto sut = ts::make_landing_system(a.system);
   RunImages images;
-  if (!a.video_path.empty())
-    images.video.emplace(a.video_path, a.options.camera.rate_hz, a.options.camera.width, a.options.camera.height);
+  if (!a.video_path.empty()) {
+    images.video.emplace(images.staged.add(a.video_path, "--video"), a.video_path, a.options.camera.rate_hz,
+                         a.options.camera.width, a.options.camera.height);
+  }
+  images.snapshot_tmp = stage(images.staged, a.snapshot_path, "--snapshot");
+  images.log_tmp = stage(images.staged, a.log_path, "--log");
   a.options.on_frame = [&](const ts::CameraFrame& f, const ts::SystemOutput& out, const ts::DroneState& s) {
     if (!images.video && a.snapshot_path.empty()) return;
     images.last = overlay(f, out, s);
@@ -345,7 +334,8 @@ int run_command(RunArgs& a) {
   };
   const ts::ScenarioResult r = ts::run_scenario(scenario, *sut, a.options);
   write_images(a, r, images);
-  if (!a.log_path.empty()) write_text_atomically(a.log_path, log_csv(r, 1.0 / a.options.flight.rate_hz));
+  if (!a.log_path.empty()) write_text(images.log_tmp, log_csv(r, 1.0 / a.options.flight.rate_hz), a.log_path);
+  images.staged.commit();
   if (a.json) {
     std::cout << result_json(a.scenario_path, sut->name(), r).dump(2) << "\n";
   } else {
@@ -380,9 +370,12 @@ CLI::App* add_random_command(CLI::App& app, RandomArgs& a) {
 }
 
 int random_command(const RandomArgs& a) {
+  td::StagedOutputs staged;
+  const fs::path tmp = staged.add(a.out_path, "--output");
   const ts::Scenario s = a.map ? ts::random_scenario(a.seed, *a.map) : ts::random_scenario(a.seed);
   const bool as_json = fs::path(a.out_path).extension() == ".json";
-  write_text_atomically(a.out_path, as_json ? ts::to_json(s) : ts::to_yaml(s));
+  write_text(tmp, as_json ? ts::to_json(s) : ts::to_yaml(s), a.out_path);
+  staged.commit();
   std::cerr << "landing_scenario: wrote " << a.out_path << " (" << ts::to_string(s.map) << ", "
             << s.static_objects.size() << " static, "
             << count_noun(static_cast<long long>(s.dynamic_objects.size()), "moving object") << ", "
@@ -428,6 +421,8 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
 }
 
 int campaign_command(CampaignArgs& a) {
+  td::StagedOutputs staged;
+  const fs::path csv_tmp = stage(staged, a.csv_path, "--csv");
   std::vector<ts::Scenario> scenarios;
   std::vector<std::string> names;
   std::string source;
@@ -454,7 +449,8 @@ int campaign_command(CampaignArgs& a) {
   // oversubscribe the cores.
   cv::setNumThreads(1);
   const ts::CampaignResult c = ts::run_campaign(scenarios, a.campaign);
-  if (!a.csv_path.empty()) write_text_atomically(a.csv_path, campaign_csv(c, names));
+  if (!a.csv_path.empty()) write_text(csv_tmp, campaign_csv(c, names), a.csv_path);
+  staged.commit();
   if (a.json) {
     std::cout << campaign_json(c, source, a.campaign).dump(2) << "\n";
   } else {

@@ -1,6 +1,5 @@
 // landing_sweep: land the drone's digital twin on a terrain at n headings ×
 // m noisy runs and pick the safest heading (issue 3).
-#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -161,39 +160,6 @@ std::shared_ptr<const tw::TerrainModel> load_terrain(const std::string& app_name
   return tw::make_terrain_model(std::move(terrain_file), a.cloud_options);
 }
 
-// One progress bar with an ETA on stderr (a terminal only); the line is
-// closed before anything else is printed.
-class ProgressBar {
- public:
-  void draw(std::size_t done, std::size_t total) {
-    if (done != total && done < last_drawn_ + std::max<std::size_t>(1, total / 200)) return;
-    last_drawn_ = done;
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    const int width = 40, filled = static_cast<int>(width * done / std::max<std::size_t>(1, total));
-    std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
-              << std::string(static_cast<std::size_t>(width - filled), '.') << "] " << done << "/" << total;
-    if (done > 0 && done < total) {
-      const double left = elapsed * static_cast<double>(total - done) / static_cast<double>(done);
-      std::cerr << "  " << static_cast<long>(std::ceil(left)) << " s left ";
-    } else {
-      std::cerr << "  " << std::fixed << std::setprecision(1) << elapsed << " s      ";
-    }
-    std::cerr << std::flush;
-    open_ = done != total;
-    if (done == total) std::cerr << "\n";
-  }
-
-  void close() {
-    if (open_) std::cerr << "\n";
-    open_ = false;
-  }
-
- private:
-  bool open_ = false;
-  const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-  std::size_t last_drawn_ = 0;
-};
-
 // The sweep at the landing point, or with --search-radius the search (the
 // landing point then becomes the best one found).
 tw::SearchResult sweep_or_search(const tw::Airframe& airframe, const std::shared_ptr<const tw::TerrainModel>& terrain,
@@ -211,19 +177,26 @@ tw::SearchResult sweep_or_search(const tw::Airframe& airframe, const std::shared
   return search;
 }
 
-// --runs-csv and --plot.
-void write_files(const Args& a, const tw::SearchResult& search, const Eigen::Vector2d& requested,
+// --runs-csv and --plot, to the temporaries `outputs` staged for them.
+struct OutputFiles {
+  td::StagedOutputs staged;
+  std::filesystem::path runs_csv, plot;
+};
+
+void write_files(const Args& a, OutputFiles& out, const tw::SearchResult& search, const Eigen::Vector2d& requested,
                  const tw::Airframe& airframe, const tw::TerrainModel& terrain) {
   const tw::SweepResult& r = search.sweep;
-  if (!a.runs_csv_path.empty()) td::app::write_text_atomically(a.runs_csv_path, runs_csv(r));
-  if (!a.plot_path.empty()) {
+  if (!out.runs_csv.empty()) td::app::write_text(out.runs_csv, runs_csv(r), a.runs_csv_path);
+  if (!out.plot.empty()) {
     const tw::SweepPlotLabels labels{std::filesystem::path(a.terrain_path).filename().string(),
                                      a.airframe_path.empty() ? "F450 (built in)" : airframe.name};
-    td::app::write_text_atomically(
-        a.plot_path, search.candidates.empty()
-                         ? tw::sweep_plot_svg(r, labels)
-                         : tw::search_plot_svg(search, requested, a.search_radius, airframe, terrain, labels));
+    td::app::write_text(out.plot,
+                        search.candidates.empty()
+                            ? tw::sweep_plot_svg(r, labels)
+                            : tw::search_plot_svg(search, requested, a.search_radius, airframe, terrain, labels),
+                        a.plot_path);
   }
+  out.staged.commit();
 }
 
 // What was flown: with --search-radius, every point the search swept; else
@@ -410,14 +383,18 @@ int main(int argc, char** argv) {
 
   return td::app::run(app, argc, argv, [&]() -> int {
     finish_sweep_options(a);
+    OutputFiles out;  // checked before any work; nothing is left if the run fails
+    out.runs_csv = td::app::stage(out.staged, a.runs_csv_path, "--runs-csv");
+    out.plot = td::app::stage(out.staged, a.plot_path, "--plot");
     const tw::Airframe airframe = a.airframe_path.empty() ? tw::Airframe::f450() : tw::load_airframe(a.airframe_path);
     const auto terrain = load_terrain(app.get_name(), a);
-    ProgressBar bar;
-    if (isatty(STDERR_FILENO)) a.o.progress = [&bar](std::size_t done, std::size_t total) { bar.draw(done, total); };
+    td::app::ProgressBar bar;
+    if (td::app::ProgressBar::on_terminal())
+      a.o.progress = [&bar](std::size_t done, std::size_t total) { bar.draw(done, total); };
     const Eigen::Vector2d requested = a.o.landing_point;
     const tw::SearchResult search = sweep_or_search(airframe, terrain, a);
     bar.close();  // e.g. a --time-budget stop: the summary gets its own line
-    write_files(a, search, requested, airframe, *terrain);
+    write_files(a, out, search, requested, airframe, *terrain);
     if (a.json) {
       std::cout << sweep_json(a, search).dump() << "\n";
     } else {

@@ -92,9 +92,13 @@ int main(int argc, char** argv) {
     }
     std::string why;
     if (!opt.validate(&why)) throw td::InvalidArgument(why);
-    // Check outputs before the work, so a bad path fails fast.
+    // Check outputs before the work, so a bad path fails fast; a failed run
+    // leaves none of them.
     td::mesh_format_from_path(output);
     if (!save_cloud.empty()) td::cloud_format_from_path(save_cloud);
+    td::StagedOutputs outputs;
+    const std::filesystem::path output_tmp = outputs.add(output, "--output");
+    const std::filesystem::path save_cloud_tmp = td::app::stage(outputs, save_cloud, "--save-cloud");
     if (!extrinsics_path.empty()) {
       const auto ext = td::app::load_extrinsics_with_warnings(app.get_name(), extrinsics_path);
       opt.T_world_camera = ext.T_world_camera;
@@ -107,8 +111,9 @@ int main(int argc, char** argv) {
     if (extrinsics_path.empty() && !assume_world) td::app::require_world_frame(input, cloud);
     td::terrain::TerrainResult result = td::terrain::mesh_terrain(std::move(cloud), opt);
     if (!result.ok()) throw td::InvalidArgument(input + ": " + result.message);
-    if (!save_cloud.empty()) td::write_cloud(result.filtered_cloud, save_cloud);
-    td::write_mesh(result.mesh, output);
+    if (!save_cloud.empty()) td::write_cloud(result.filtered_cloud, save_cloud_tmp);
+    td::write_mesh(result.mesh, output_tmp);
+    outputs.commit();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
     const auto& r = result.report;

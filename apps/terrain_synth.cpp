@@ -174,19 +174,26 @@ td::PointCloud scan(Args& a, const Eigen::Isometry3d& T) {
   return cloud;
 }
 
-// The cloud, and with --extrinsics-out the camera pose.
-void write_outputs(const Args& a, const td::PointCloud& cloud, const Eigen::Isometry3d& T) {
+// The cloud, and with --extrinsics-out the camera pose, through `outputs`
+// (staged before the work).
+struct OutputFiles {
+  td::StagedOutputs staged;
+  std::filesystem::path cloud, extrinsics;
+};
+
+void write_outputs(const Args& a, OutputFiles& out, const td::PointCloud& cloud, const Eigen::Isometry3d& T) {
   if (td::cloud_format_from_path(a.output) == td::CloudFormat::Pcd) {
-    td::write_pcd(cloud, a.output, a.encoding);
+    td::write_pcd(cloud, out.cloud, a.encoding);
   } else {
-    td::write_cloud(cloud, a.output);
+    td::write_cloud(cloud, out.cloud);
   }
   if (!a.extrinsics_out.empty()) {
     td::terrain::Extrinsics e;
     if (a.frame == "camera") e.T_world_camera = T;
     const std::string text = td::terrain::format_extrinsics(e, false);
-    td::app::write_text_atomically(a.extrinsics_out, text);
+    td::app::write_text(out.extrinsics, text, a.extrinsics_out);
   }
+  out.staged.commit();
 }
 
 void print_result(const Args& a, const td::PointCloud& cloud) {
@@ -211,6 +218,9 @@ int main(int argc, char** argv) {
 
   return td::app::run(app, argc, argv, [&]() -> int {
     prepare_shape(a);
+    OutputFiles out;
+    out.cloud = out.staged.add(a.output, "--output");
+    out.extrinsics = td::app::stage(out.staged, a.extrinsics_out, "--extrinsics-out");
     check_image_size(a.cam);
     a.shape.rubble_seed = a.seed;
     a.shape.prepare();
@@ -218,7 +228,7 @@ int main(int argc, char** argv) {
     const Eigen::Isometry3d T =
         syn::nadir_camera_pose(a.cam_x, a.cam_y, a.cam_height, touchdown::deg_to_rad(a.cam_yaw_deg));
     const td::PointCloud cloud = scan(a, T);
-    write_outputs(a, cloud, T);
+    write_outputs(a, out, cloud, T);
     print_result(a, cloud);
     return td::app::kExitOk;
   });

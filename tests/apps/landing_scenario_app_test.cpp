@@ -163,3 +163,21 @@ TEST(LandingScenarioApp, BadInputIsOneLineNamingTheKey) {
 }
 
 }  // namespace
+
+// Issue 31 item 2: a bad output path used to be found after the whole
+// simulation, leaving the finished video behind. Every path is now checked
+// before the run and a failed run leaves no file.
+TEST(LandingScenarioApp, ABadOutputPathLeavesNoOtherOutput) {
+  for (const std::string bad : {"--snapshot nope/a.png", "--log nope/l.csv", "--video nope/v.avi"}) {
+    SCOPED_TRACE(bad);
+    TempDir dir;
+    const std::string good =
+        bad.rfind("--video", 0) == 0 ? " --log " + (dir / "ok.csv").string() : " --video " + (dir / "ok.avi").string();
+    const AppRun r = scenario_app("run " + bundled_scenario() + good + " " + bad, dir);
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find(bad.substr(0, bad.find(' ')) + ": nope/"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
+    EXPECT_TRUE(dir.files().empty()) << dir.files().front();
+  }
+}

@@ -481,3 +481,21 @@ TEST(LandingSweepAppBadInput, AbsurdCountsAreRefusedBeforeAnythingIsAllocated) {
     EXPECT_TRUE(r->out.empty());
   }
 }
+
+// Issue 31 item 2: --runs-csv was written before --plot failed.
+TEST(LandingSweepAppBadInput, ABadOutputPathLeavesNoOtherOutput) {
+  TempDir dir;
+  const auto terrain = flat_stl(dir);
+  const AppRun r = run(terrain + " --headings 4 --runs 2 --runs-csv " + (dir / "ok.csv").string() + " --plot " +
+                           (dir / "nope" / "p.svg").string(),
+                       dir);
+  EXPECT_EQ(r.code, 2) << r.err;
+  expect_one_line(r);
+  EXPECT_NE(r.err.find("--plot: "), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "ok.csv"));
+  // One path for two outputs is refused too (the second would overwrite the first).
+  const AppRun same = run(
+      terrain + " --headings 4 --runs 2 --runs-csv " + (dir / "a.csv").string() + " --plot " + (dir / "a.csv").string(),
+      dir);
+  EXPECT_EQ(same.code, 2) << same.err;
+}

@@ -296,3 +296,16 @@ TEST(TerrainMeshApp, HelpShowsEveryDefault) {
   ASSERT_EQ(r.code, 0);
   td::test::expect_help_shows_defaults(r.out);
 }
+
+// Issue 31 item 2: --save-cloud was written before the mesh's path failed.
+TEST(TerrainMeshAppBadInput, ABadOutputPathLeavesNoOtherOutput) {
+  TempDir dir;
+  td::test::write_text(dir / "step.pcd", small_step_pcd());
+  const AppRun r = run((dir / "step.pcd").string() + " --save-cloud " + (dir / "kept.pcd").string() + " -o " +
+                           (dir / "nodir" / "out.stl").string(),
+                       dir);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("--output: "), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(dir.files().size(), 1u) << "only the input";
+}

@@ -90,3 +90,14 @@ TEST(TerrainSynthApp, HelpShowsEveryDefault) {
   td::test::expect_help_shows_defaults(r.out);
   EXPECT_NE(r.out.find("--post FLOAT:in [-1000, 1000]=[0.205,0.205,0.04,0.25]"), std::string::npos) << r.out;
 }
+
+// Issue 31 item 2: the cloud was written before --extrinsics-out failed.
+TEST(TerrainSynthAppBadInput, ABadOutputPathLeavesNoOtherOutput) {
+  TempDir dir;
+  const AppRun r = synth(
+      "flat -o " + (dir / "ok.pcd").string() + " --frame camera --extrinsics-out " + (dir / "nope" / "e.yaml").string(),
+      dir);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("--extrinsics-out: "), std::string::npos) << r.err;
+  EXPECT_TRUE(dir.files().empty());
+}
