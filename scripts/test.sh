@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The README's test commands. Both install dependencies if missing, check
-# the format, build Release and run the whole ctest suite; --full (what CI
+# the format, build Release, run the whole ctest suite and check the
+# example outputs of README.md and docs/cli.md (scripts/readme_check.py); --full (what CI
 # runs, .ci/run) then runs the naming checks (scripts/tidy.sh), the same
 # suite under ASan+UBSan and each libFuzzer target for a short fixed time
 # (when clang is present). Each step prints its
@@ -22,7 +23,7 @@ case "${1:-}" in
   --full) full=1 ;;
   "") ;;
   -h | --help)
-    sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'
+    sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'
     exit 0
     ;;
   *)
@@ -86,6 +87,10 @@ configure build -DCMAKE_BUILD_TYPE=Release -DTOUCHDOWN_WERROR=ON
 cmake --build build -j"$jobs"
 step "Tests (Release)"
 ctest --test-dir build -j"$jobs" --output-on-failure
+step "README and docs/cli.md examples (scripts/readme_check.py)"
+# Runs every `$ command` of the two files with the Release apps and compares
+# what it prints with the figures shown (timings excepted); ~1 min.
+scripts/readme_check.py --bin build/apps
 
 if [ "${SKIP_TIDY:-0}" != "1" ]; then
   step "Naming checks (clang-tidy)"
