@@ -26,6 +26,8 @@ packages=(
   clang libclang-rt-14-dev clang-format
   # the naming checks (scripts/tidy.sh, .clang-tidy)
   clang-tidy
+  # scripts/readme_check.py (the README-commands check) and scripts/tidy.sh
+  python3
 )
 
 missing=()
