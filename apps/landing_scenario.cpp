@@ -350,7 +350,16 @@ int run_command(RunArgs& a) {
   }
   images.snapshot_tmp = stage(images.staged, a.snapshot_path, "--snapshot");
   images.log_tmp = stage(images.staged, a.log_path, "--log");
+  // On a terminal: progress in camera frames of the time limit's worth (a
+  // landing ends it early: the bar is then completed at the frames flown).
+  std::optional<ProgressBar> bar;
+  if (ProgressBar::on_terminal()) bar.emplace();
+  const auto frames_max =
+      static_cast<std::size_t>(std::max(1.0, std::ceil(scenario.time_limit * a.options.camera.rate_hz)));
+  std::size_t frames = 0;
   a.options.on_frame = [&](const ts::CameraFrame& f, const ts::SystemOutput& out, const ts::DroneState& s) {
+    ++frames;
+    if (bar) bar->draw(std::min(frames, frames_max - 1), frames_max);
     if (!images.video && a.snapshot_path.empty()) return;
     images.last = overlay(f, out, s);
     if (images.video) images.video->write(images.last);
@@ -359,7 +368,14 @@ int run_command(RunArgs& a) {
       images.snapshot = images.last.clone();
     }
   };
-  const ts::ScenarioResult r = ts::run_scenario(scenario, *sut, a.options);
+  ts::ScenarioResult r;
+  try {
+    r = ts::run_scenario(scenario, *sut, a.options);
+  } catch (...) {
+    if (bar) bar->close();
+    throw;
+  }
+  if (bar) bar->draw(frames, frames);
   write_images(a, r, images);
   if (!a.log_path.empty()) write_text(images.log_tmp, log_csv(r, 1.0 / a.options.flight.rate_hz), a.log_path);
   images.staged.commit();
@@ -475,7 +491,22 @@ int campaign_command(CampaignArgs& a) {
   // The campaign's threads are the parallelism: OpenCV's own would
   // oversubscribe the cores.
   cv::setNumThreads(1);
-  const ts::CampaignResult c = ts::run_campaign(scenarios, a.campaign);
+  // On a terminal: a bar with the time left, from the scenarios finished
+  // (the library calls this one scenario at a time).
+  std::optional<ProgressBar> bar;
+  if (ProgressBar::on_terminal()) {
+    bar.emplace();
+    a.campaign.progress = [&bar](const ts::CampaignProgress& p, const ts::CampaignEntry&) {
+      bar->draw(p.done, p.total);
+    };
+  }
+  ts::CampaignResult c;
+  try {
+    c = ts::run_campaign(scenarios, a.campaign);
+  } catch (...) {
+    if (bar) bar->close();
+    throw;
+  }
   if (!a.csv_path.empty()) write_text(csv_tmp, campaign_csv(c, names), a.csv_path);
   staged.commit();
   if (a.json) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
@@ -140,6 +141,7 @@ TEST(LandingScenarioApp, CampaignOverFilesWritesSummaryAndCsv) {
   const AppRun r = scenario_app(
       "campaign " + bundled_scenario() + " " + bundled_scenario() + " --threads 2 --json --csv " + csv.string(), dir);
   ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;  // not a terminal: no progress bar
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["count"], 2);
   EXPECT_EQ(j["violations"], 0);
@@ -228,6 +230,44 @@ TEST(LandingScenarioApp, BadInputIsOneLineNamingTheKey) {
 }
 
 }  // namespace
+
+// Issue 31 item 11: a campaign (minutes) and a run showed nothing while
+// they worked. On a terminal (a pseudo-terminal from script(1)) a progress
+// bar with the time left is drawn on stderr and completed before the
+// results; the tests above check that stderr stays empty otherwise.
+TEST(LandingScenarioApp, ProgressBarOnATerminal) {
+  if (std::system("command -v script >/dev/null 2>&1") != 0) GTEST_SKIP() << "no script(1) for a pseudo-terminal";
+  TempDir dir;
+  const auto on_tty = [&](const std::string& args) {
+    const auto out = dir / "tty.txt";
+    const std::string cmd =
+        "script -qec \"" + std::string(LANDING_SCENARIO_EXE) + " " + args + "\" /dev/null > " + out.string() + " 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    return td::test::read_text(out);
+  };
+  const std::string campaign =
+      on_tty("campaign " + bundled_scenario() + " " + bundled_scenario() + " --threads 2 --json");
+  const auto first = campaign.find("] 1/2  "), done = campaign.find("] 2/2  "), json = campaign.find('{');
+  ASSERT_NE(first, std::string::npos) << campaign;
+  EXPECT_NE(campaign.find(" s left", first), std::string::npos) << campaign;
+  ASSERT_NE(done, std::string::npos) << campaign;
+  ASSERT_NE(json, std::string::npos) << campaign;
+  EXPECT_LT(first, done);
+  EXPECT_LT(done, json);  // the bar is finished before the results
+  // run: camera frames of the 60 s time limit at 10 Hz; completed at the
+  // frames flown when it lands.
+  const std::string run = on_tty("run " + bundled_scenario());
+  EXPECT_NE(run.find("/600  "), std::string::npos) << run;
+  EXPECT_NE(run.find(" s left"), std::string::npos) << run;
+  const auto outcome = run.find("outcome    ok");
+  ASSERT_NE(outcome, std::string::npos) << run;
+  const auto last_bar = run.rfind("] ", outcome);
+  ASSERT_NE(last_bar, std::string::npos) << run;
+  const std::string counts = run.substr(last_bar + 2, run.find(' ', last_bar + 2) - last_bar - 2);
+  const auto slash = counts.find('/');
+  ASSERT_NE(slash, std::string::npos) << counts;
+  EXPECT_EQ(counts.substr(0, slash), counts.substr(slash + 1)) << counts;  // complete: n/n
+}
 
 // Issue 31 item 2: a bad output path used to be found after the whole
 // simulation, leaving the finished video behind. Every path is now checked
