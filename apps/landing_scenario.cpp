@@ -282,7 +282,38 @@ struct RunImages {
   double best_dt = 1e9;
 };
 
+/// A --snapshot-t within this of the end of the flight [s] is at the end:
+/// half a physics step, as the flight ends on a step.
+double end_tolerance(const RunArgs& a) { return 0.5 / a.options.flight.rate_hz; }
+
+/// A --snapshot-t past the scenario's time limit can never be met: refused
+/// before the run.
+void check_snapshot_time(const RunArgs& a, const ts::Scenario& scenario) {
+  if (a.snapshot_t > scenario.time_limit) {
+    throw td::InvalidArgument("--snapshot-t " + td::detail::format_general(a.snapshot_t) +
+                              ": after the time limit of " + a.scenario_path + " (" +
+                              td::detail::format_general(scenario.time_limit) + " s)");
+  }
+}
+
+/// Whether the snapshot shows the outcome banner: the outcome is known only
+/// at the end of the flight, so a snapshot at the end (or by default, the
+/// last frame) has it and a mid-flight one shows its time, altitude and
+/// phase only. A time past the end is refused (known only after the run:
+/// nothing has been written yet).
+bool snapshot_shows_outcome(const RunArgs& a, const ts::ScenarioResult& r) {
+  if (a.snapshot_t < 0) return true;
+  if (a.snapshot_t > r.flight_s + end_tolerance(a)) {
+    throw td::InvalidArgument("--snapshot-t " + td::detail::format_general(a.snapshot_t) +
+                              ": after the end of the flight at " + format_fixed(r.flight_s, 2) +
+                              " s (checked after the run; nothing was written)");
+  }
+  return a.snapshot_t >= r.flight_s - end_tolerance(a);
+}
+
 void write_images(const RunArgs& a, const ts::ScenarioResult& r, RunImages& images) {
+  const bool snapshot_outcome = a.snapshot_path.empty() || snapshot_shows_outcome(a, r);
+  // Only the frames after the outcome carry its banner: the held final ones.
   if (!images.last.empty()) banner(images.last, r);
   if (images.video) {
     // Hold the outcome on screen for a second.
@@ -290,12 +321,7 @@ void write_images(const RunArgs& a, const ts::ScenarioResult& r, RunImages& imag
     images.video->finish();
   }
   if (!a.snapshot_path.empty()) {
-    // `last` already carries the outcome banner.
-    cv::Mat img = images.last;
-    if (!images.snapshot.empty()) {
-      img = images.snapshot;
-      banner(img, r);
-    }
+    const cv::Mat& img = snapshot_outcome || images.snapshot.empty() ? images.last : images.snapshot;
     std::vector<unsigned char> png;
     cv::imencode(".png", img, png);
     write_text(images.snapshot_tmp, std::string(png.begin(), png.end()), a.snapshot_path);
@@ -315,6 +341,7 @@ void print_run(const RunArgs& a, const ts::Scenario& scenario, std::string_view 
 
 int run_command(RunArgs& a) {
   const ts::Scenario scenario = ts::load_scenario(a.scenario_path);
+  check_snapshot_time(a, scenario);
   auto sut = ts::make_landing_system(a.system);
   RunImages images;
   if (!a.video_path.empty()) {
@@ -323,7 +350,16 @@ int run_command(RunArgs& a) {
   }
   images.snapshot_tmp = stage(images.staged, a.snapshot_path, "--snapshot");
   images.log_tmp = stage(images.staged, a.log_path, "--log");
+  // On a terminal: progress in camera frames of the time limit's worth (a
+  // landing ends it early: the bar is then completed at the frames flown).
+  std::optional<ProgressBar> bar;
+  if (ProgressBar::on_terminal()) bar.emplace();
+  const auto frames_max =
+      static_cast<std::size_t>(std::max(1.0, std::ceil(scenario.time_limit * a.options.camera.rate_hz)));
+  std::size_t frames = 0;
   a.options.on_frame = [&](const ts::CameraFrame& f, const ts::SystemOutput& out, const ts::DroneState& s) {
+    ++frames;
+    if (bar) bar->draw(std::min(frames, frames_max - 1), frames_max);
     if (!images.video && a.snapshot_path.empty()) return;
     images.last = overlay(f, out, s);
     if (images.video) images.video->write(images.last);
@@ -332,7 +368,14 @@ int run_command(RunArgs& a) {
       images.snapshot = images.last.clone();
     }
   };
-  const ts::ScenarioResult r = ts::run_scenario(scenario, *sut, a.options);
+  ts::ScenarioResult r;
+  try {
+    r = ts::run_scenario(scenario, *sut, a.options);
+  } catch (...) {
+    if (bar) bar->close();
+    throw;
+  }
+  if (bar) bar->draw(frames, frames);
   write_images(a, r, images);
   if (!a.log_path.empty()) write_text(images.log_tmp, log_csv(r, 1.0 / a.options.flight.rate_hz), a.log_path);
   images.staged.commit();
@@ -448,7 +491,22 @@ int campaign_command(CampaignArgs& a) {
   // The campaign's threads are the parallelism: OpenCV's own would
   // oversubscribe the cores.
   cv::setNumThreads(1);
-  const ts::CampaignResult c = ts::run_campaign(scenarios, a.campaign);
+  // On a terminal: a bar with the time left, from the scenarios finished
+  // (the library calls this one scenario at a time).
+  std::optional<ProgressBar> bar;
+  if (ProgressBar::on_terminal()) {
+    bar.emplace();
+    a.campaign.progress = [&bar](const ts::CampaignProgress& p, const ts::CampaignEntry&) {
+      bar->draw(p.done, p.total);
+    };
+  }
+  ts::CampaignResult c;
+  try {
+    c = ts::run_campaign(scenarios, a.campaign);
+  } catch (...) {
+    if (bar) bar->close();
+    throw;
+  }
   if (!a.csv_path.empty()) write_text(csv_tmp, campaign_csv(c, names), a.csv_path);
   staged.commit();
   if (a.json) {

@@ -44,6 +44,7 @@ CampaignResult run_campaign(const std::vector<Scenario>& scenarios, const Campai
   result.entries.resize(scenarios.size());
   std::atomic<std::size_t> next{0};
   std::mutex progress_mutex;
+  std::size_t done = 0;  // guarded by progress_mutex
   std::exception_ptr failure;
   std::mutex failure_mutex;
   const auto worker = [&] {
@@ -56,7 +57,7 @@ CampaignResult run_campaign(const std::vector<Scenario>& scenarios, const Campai
         e.outcome = std::move(static_cast<ScenarioOutcome&>(r));
         if (options.progress) {
           const std::lock_guard lock(progress_mutex);
-          options.progress(i, e);
+          options.progress(CampaignProgress{++done, scenarios.size(), i}, e);
         }
       }
     } catch (...) {

@@ -4,8 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <string>
 
 #include "test_util.hpp"
@@ -49,6 +52,69 @@ TEST(LandingScenarioApp, BundledScenarioLandsWithJsonLogAndSnapshot) {
   EXPECT_EQ(csv.rfind("t,x,y,z,vx,vy,vz,yaw_deg,phase,", 0), 0u);
   EXPECT_NE(csv.find(",land,"), std::string::npos);
   EXPECT_GT(std::filesystem::file_size(png), 10000u);
+  // Not a terminal: no progress bar, nothing at all on stderr.
+  EXPECT_TRUE(r.err.empty()) << r.err;
+}
+
+// The outcome banner's colour (BGR) at the frame's bottom-left corner, where
+// the banner has no text; the camera image there is never exactly that.
+bool has_outcome_banner(const std::filesystem::path& png) {
+  const cv::Mat img = cv::imread(png.string(), cv::IMREAD_COLOR);
+  if (img.empty()) return false;
+  for (int row = img.rows - 38; row < img.rows - 2; ++row) {
+    for (int col = 0; col < 6; ++col) {
+      if (img.at<cv::Vec3b>(row, col) != cv::Vec3b(0, 140, 0)) return false;
+    }
+  }
+  return true;
+}
+
+// Issue 31 item 10: a snapshot at 9 s (mid-descent, 7.9 m up) showed
+// "LANDED (no violation)", and one past the end of the flight silently gave
+// the last frame. The banner is only on frames after the outcome; a time
+// past the end is refused, leaving no output.
+TEST(LandingScenarioApp, OutcomeBannerOnlyOnFramesAfterTheOutcome) {
+  TempDir dir;
+  const auto mid = dir / "mid.png", last = dir / "last.png";
+  const AppRun r =
+      scenario_app("run " + bundled_scenario() + " --json --snapshot " + mid.string() + " --snapshot-t 9", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(nlohmann::json::parse(r.out)["violation"], false);
+  ASSERT_TRUE(std::filesystem::exists(mid));
+  EXPECT_FALSE(has_outcome_banner(mid));
+  const AppRun d = scenario_app("run " + bundled_scenario() + " --snapshot " + last.string(), dir);
+  ASSERT_EQ(d.code, 0) << d.err;
+  EXPECT_TRUE(has_outcome_banner(last));  // by default: the last frame, after the outcome
+
+  // Past the end of the flight (known after the run): exit 2, one line with
+  // the requested time and the flight's end, no file.
+  TempDir out;
+  const auto late = out / "late.png", log = out / "late.csv";
+  const AppRun e = scenario_app(
+      "run " + bundled_scenario() + " --snapshot " + late.string() + " --snapshot-t 50 --log " + log.string(), out);
+  EXPECT_EQ(e.code, 2) << e.err;
+  EXPECT_EQ(std::count(e.err.begin(), e.err.end(), '\n'), 1) << e.err;
+  const std::string key = "--snapshot-t 50: after the end of the flight at ";
+  const auto at = e.err.find(key);
+  ASSERT_NE(at, std::string::npos) << e.err;
+  EXPECT_TRUE(e.out.empty()) << e.out;
+  EXPECT_TRUE(out.files().empty()) << out.files().front();
+  // Exactly at the end: the outcome frame, with the banner.
+  const double end = std::stod(e.err.substr(at + key.size()));
+  EXPECT_GT(end, 10.0);
+  EXPECT_LT(end, 50.0);
+  const auto at_end = dir / "end.png";
+  const AppRun f = scenario_app(
+      "run " + bundled_scenario() + " --snapshot " + at_end.string() + " --snapshot-t " + std::to_string(end), dir);
+  ASSERT_EQ(f.code, 0) << f.err;
+  EXPECT_TRUE(has_outcome_banner(at_end));
+
+  // Past the scenario's own time limit (60 s): refused before the run.
+  const AppRun g = scenario_app("run " + bundled_scenario() + " --snapshot " + late.string() + " --snapshot-t 61", out);
+  EXPECT_EQ(g.code, 2);
+  EXPECT_NE(g.err.find("--snapshot-t 61: after the time limit of "), std::string::npos) << g.err;
+  EXPECT_NE(g.err.find("clear_ground.yaml (60 s)"), std::string::npos) << g.err;
+  EXPECT_TRUE(out.files().empty()) << out.files().front();
 }
 
 TEST(LandingScenarioApp, RandomScenariosAreValidAndRunIdentically) {
@@ -75,6 +141,7 @@ TEST(LandingScenarioApp, CampaignOverFilesWritesSummaryAndCsv) {
   const AppRun r = scenario_app(
       "campaign " + bundled_scenario() + " " + bundled_scenario() + " --threads 2 --json --csv " + csv.string(), dir);
   ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;  // not a terminal: no progress bar
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["count"], 2);
   EXPECT_EQ(j["violations"], 0);
@@ -163,6 +230,44 @@ TEST(LandingScenarioApp, BadInputIsOneLineNamingTheKey) {
 }
 
 }  // namespace
+
+// Issue 31 item 11: a campaign (minutes) and a run showed nothing while
+// they worked. On a terminal (a pseudo-terminal from script(1)) a progress
+// bar with the time left is drawn on stderr and completed before the
+// results; the tests above check that stderr stays empty otherwise.
+TEST(LandingScenarioApp, ProgressBarOnATerminal) {
+  if (std::system("command -v script >/dev/null 2>&1") != 0) GTEST_SKIP() << "no script(1) for a pseudo-terminal";
+  TempDir dir;
+  const auto on_tty = [&](const std::string& args) {
+    const auto out = dir / "tty.txt";
+    const std::string cmd =
+        "script -qec \"" + std::string(LANDING_SCENARIO_EXE) + " " + args + "\" /dev/null > " + out.string() + " 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    return td::test::read_text(out);
+  };
+  const std::string campaign =
+      on_tty("campaign " + bundled_scenario() + " " + bundled_scenario() + " --threads 2 --json");
+  const auto first = campaign.find("] 1/2  "), done = campaign.find("] 2/2  "), json = campaign.find('{');
+  ASSERT_NE(first, std::string::npos) << campaign;
+  EXPECT_NE(campaign.find(" s left", first), std::string::npos) << campaign;
+  ASSERT_NE(done, std::string::npos) << campaign;
+  ASSERT_NE(json, std::string::npos) << campaign;
+  EXPECT_LT(first, done);
+  EXPECT_LT(done, json);  // the bar is finished before the results
+  // run: camera frames of the 60 s time limit at 10 Hz; completed at the
+  // frames flown when it lands.
+  const std::string run = on_tty("run " + bundled_scenario());
+  EXPECT_NE(run.find("/600  "), std::string::npos) << run;
+  EXPECT_NE(run.find(" s left"), std::string::npos) << run;
+  const auto outcome = run.find("outcome    ok");
+  ASSERT_NE(outcome, std::string::npos) << run;
+  const auto last_bar = run.rfind("] ", outcome);
+  ASSERT_NE(last_bar, std::string::npos) << run;
+  const std::string counts = run.substr(last_bar + 2, run.find(' ', last_bar + 2) - last_bar - 2);
+  const auto slash = counts.find('/');
+  ASSERT_NE(slash, std::string::npos) << counts;
+  EXPECT_EQ(counts.substr(0, slash), counts.substr(slash + 1)) << counts;  // complete: n/n
+}
 
 // Issue 31 item 2: a bad output path used to be found after the whole
 // simulation, leaving the finished video behind. Every path is now checked

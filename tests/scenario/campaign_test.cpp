@@ -29,7 +29,7 @@ TEST(Campaign, SameResultsForAnyThreadCount) {
   const CampaignResult one = run_campaign(scenarios, o);
   o.threads = 2;
   std::vector<std::size_t> reported;
-  o.progress = [&](std::size_t i, const CampaignEntry&) { reported.push_back(i); };
+  o.progress = [&](const CampaignProgress& p, const CampaignEntry&) { reported.push_back(p.index); };
   const CampaignResult two = run_campaign(scenarios, o);
   ASSERT_EQ(one.entries.size(), scenarios.size());
   ASSERT_EQ(two.entries.size(), scenarios.size());
@@ -62,6 +62,37 @@ TEST(Campaign, SameResultsForAnyThreadCount) {
   EXPECT_EQ(s.type_i + s.type_ii + s.type_iii, s.violations);
   EXPECT_DOUBLE_EQ(s.violation_rate(), violations / 2.0);
   EXPECT_GT(s.timing.total_s, 0);
+}
+
+// Issue 31 item 11: the progress callback drives the app's progress bar.
+// It is called once per scenario, with done counting 1..total (in call
+// order, whichever thread finishes), each index once, and the entry it
+// passes is the one the result holds.
+TEST(Campaign, ProgressCountsEachScenarioOnceUpToTheTotal) {
+  std::vector<Scenario> scenarios = random_scenarios(40, 3, MapKind::Ground);
+  for (auto& x : scenarios) x.time_limit = 10;
+  CampaignOptions o;
+  o.run.camera.width = 160;
+  o.run.camera.height = 120;
+  o.threads = 2;
+  std::vector<CampaignProgress> calls;
+  std::vector<ScenarioOutcome> outcomes;
+  o.progress = [&](const CampaignProgress& p, const CampaignEntry& e) {
+    calls.push_back(p);
+    outcomes.push_back(e.outcome);
+  };
+  const CampaignResult r = run_campaign(scenarios, o);
+  ASSERT_EQ(calls.size(), scenarios.size());
+  std::vector<int> seen(scenarios.size(), 0);
+  for (std::size_t k = 0; k < calls.size(); ++k) {
+    EXPECT_EQ(calls[k].done, k + 1);
+    EXPECT_EQ(calls[k].total, scenarios.size());
+    ASSERT_LT(calls[k].index, scenarios.size());
+    ++seen[calls[k].index];
+    EXPECT_EQ(outcomes[k].message, r.entries[calls[k].index].outcome.message);
+    EXPECT_EQ(outcomes[k].frame_count, r.entries[calls[k].index].outcome.frame_count);
+  }
+  for (std::size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], 1) << "scenario " << i;
 }
 
 TEST(Campaign, RandomScenariosAreTheSeededOnes) {

@@ -5,6 +5,7 @@
 /// random sampling). Scenario i of a seeded campaign is
 /// random_scenario(first_seed + i, map); results are in scenario order and
 /// identical for any thread count.
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -23,6 +24,13 @@ struct CampaignEntry {
   ScenarioOutcome outcome;
 };
 
+/// Where a campaign stands when a scenario finishes: `done` scenarios of
+/// `total` are finished (1, 2, …, total over the calls), the latest being
+/// scenario `index`.
+struct CampaignProgress {
+  std::size_t done = 0, total = 0, index = 0;
+};
+
 struct CampaignOptions {
   std::string system = "opencv-mls";  ///< a make_landing_system() name
   MlsOptions mls;
@@ -30,9 +38,12 @@ struct CampaignOptions {
   /// campaign runs scenarios concurrently).
   RunOptions run;
   int threads = 1;  ///< worker threads, ≥ 1
-  /// Called after each scenario finishes (from the worker thread that ran
-  /// it, one call at a time): index, outcome. May be empty.
-  std::function<void(std::size_t, const CampaignEntry&)> progress;
+  /// Called once after each scenario finishes, from the worker thread that
+  /// ran it but one call at a time (under a lock), with `done` counting up
+  /// 1, 2, …, total across the calls: for a progress bar. It does not change
+  /// the results (each goes to its scenario's slot). May be empty; an
+  /// exception from it stops the campaign and propagates.
+  std::function<void(const CampaignProgress&, const CampaignEntry&)> progress;
 
   [[nodiscard]] bool validate(std::string* why) const;
 };
