@@ -191,7 +191,9 @@ inline std::string large_count(double v) {
 class ProgressBar {
  public:
   void draw(std::size_t done, std::size_t total) {
-    if (done != total && done < last_drawn_ + std::max<std::size_t>(1, total / 200)) return;
+    // The first call draws (a 0/total line shows the work has started).
+    if (drawn_ && done != total && done < last_drawn_ + std::max<std::size_t>(1, total / 200)) return;
+    drawn_ = true;
     last_drawn_ = done;
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     const int width = 40, filled = static_cast<int>(width * done / std::max<std::size_t>(1, total));
@@ -216,7 +218,7 @@ class ProgressBar {
   [[nodiscard]] static bool on_terminal() { return isatty(STDERR_FILENO) != 0; }
 
  private:
-  bool open_ = false;
+  bool open_ = false, drawn_ = false;
   const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   std::size_t last_drawn_ = 0;
 };

@@ -496,6 +496,7 @@ int campaign_command(CampaignArgs& a) {
   std::optional<ProgressBar> bar;
   if (ProgressBar::on_terminal()) {
     bar.emplace();
+    bar->draw(0, scenarios.size());
     a.campaign.progress = [&bar](const ts::CampaignProgress& p, const ts::CampaignEntry&) {
       bar->draw(p.done, p.total);
     };
