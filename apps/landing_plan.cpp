@@ -22,6 +22,7 @@
 #include "app_common.hpp"
 #include "core/convex_hull.hpp"
 #include "core/svg_plot.hpp"
+#include "touchdown/core/units.hpp"
 #include "touchdown/plan/planner.hpp"
 #include "touchdown/plan/problem_io.hpp"
 
@@ -478,7 +479,7 @@ std::string plot_svg(const PlotInput& in) {
   std::string sub = "pad frame (x forward, y left, z up; origin at the pad centre)";
   if (pb.pad.velocity.norm() > 0 || pb.pad.yaw_rate != 0) {
     sub += "; pad moving at " + format_fixed(pb.pad.velocity.norm(), 2) + " m/s, yaw rate " +
-           format_fixed(pb.pad.yaw_rate, 3) + " rad/s";
+           format_fixed(td::rad_to_deg(pb.pad.yaw_rate), 2) + " deg/s";
   }
   svg.text(kPlotWidth / 2, 38, sub, " text-anchor='middle' fill='#444'");
 
@@ -587,6 +588,7 @@ int main(int argc, char** argv) {
 
   return td::app::run(app, argc, argv, [&]() -> int {
     tp::PlanProblem problem = tp::load_plan_problem(problem_path);
+    td::app::print_warnings(app.get_name(), problem.warnings);
     // Every output path is checked before the planning, and written through
     // a temporary: a failed run leaves no file behind.
     td::StagedOutputs staged;

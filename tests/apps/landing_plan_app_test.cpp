@@ -339,6 +339,40 @@ TEST(LandingPlanApp, InfeasibleIsExitOneWithConflicts) {
   EXPECT_NE(s.out.find("acceleration"), std::string::npos) << s.out;
 }
 
+// Issue 31 item 9: radians in camera.rpy_deg or pad.yaw_deg give a warning
+// on stderr naming the file, line and key, and the run goes on; the plot's
+// subtitle gives the pad's turn rate in deg/s, as the file does.
+TEST(LandingPlanApp, RadiansInDegreeKeysWarnAndTheRunContinues) {
+  TempDir dir;
+  td::test::write_text(dir / "p.yaml", replaced(td::test::read_text(bundled()), "yaw_deg: 0.0", "yaw_deg: 0.35"));
+  const AppRun r = run((dir / "p.yaml").string() + " --json", dir);
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err, "landing_plan: warning: " + (dir / "p.yaml").string() +
+                       ":27: pad.yaw_deg: 0.35 looks like radians (within +-2 pi, not a whole degree) but is read as "
+                       "degrees; if radians were meant, write 20.05\n");
+  EXPECT_TRUE(nlohmann::json::accept(r.out)) << r.out;
+  // A camera turned by radians read as degrees looks the wrong way: the
+  // warning comes first and explains the error that follows.
+  td::test::write_text(dir / "c.yaml", replaced(td::test::read_text(bundled()), "rpy_deg: [-45.0, 0.0, 90.0]",
+                                                "rpy_deg: [-0.785, 0, 1.571]"));
+  const AppRun c = run((dir / "c.yaml").string(), dir);
+  EXPECT_EQ(c.err.rfind("landing_plan: warning: " + (dir / "c.yaml").string() +
+                            ":40: corridor.camera.rpy_deg: [-0.785, 0, 1.571] look like radians",
+                        0),
+            0u)
+      << c.err;
+  const AppRun ok = run(bundled(), dir);
+  EXPECT_TRUE(ok.err.empty()) << ok.err;
+
+  td::test::write_text(dir / "turning.yaml",
+                       replaced(td::test::read_text(bundled()), "yaw_rate_deg: 0.0", "yaw_rate_deg: 10.0"));
+  const AppRun t = run((dir / "turning.yaml").string() + " --plot " + (dir / "t.svg").string(), dir);
+  ASSERT_TRUE(t.code == 0 || t.code == 1) << t.err;
+  const std::string svg = td::test::read_text(dir / "t.svg");
+  EXPECT_NE(svg.find("yaw rate 10.00 deg/s"), std::string::npos);
+  EXPECT_EQ(svg.find("rad/s"), std::string::npos);
+}
+
 // ---- bad input: exit 2, one line naming the file and the key, no output ----
 
 namespace {
@@ -369,6 +403,8 @@ std::vector<BadProblem> bad_problems() {
       {"unknown key", replace_key_line(y, "order", "order: 7\ncolour: red"), "colour: unknown key"},
       {"unknown nested key", replaced(y, "  radius: 0.25", "  radius: 0.25\n  radious: 0.3"),
        "corridor.radious: unknown key"},
+      {"old pad.yaw_rate (rad/s)", replaced(y, "yaw_rate_deg: 0.0", "yaw_rate: 0.2"),
+       "p.yaml:26: pad.yaw_rate: renamed to pad.yaw_rate_deg (deg/s)"},
   };
 }
 
