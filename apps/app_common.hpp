@@ -17,6 +17,7 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/format.hpp"
 #include "touchdown/core/atomic_file.hpp"
@@ -222,6 +223,12 @@ class ProgressBar {
   const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   std::size_t last_drawn_ = 0;
 };
+
+/// Prints each warning of a loaded file (a reader's `warnings`) on stderr
+/// as "APP: warning: FILE:LINE: key: ..."; the run continues.
+inline void print_warnings(const std::string& app, const std::vector<std::string>& warnings) {
+  for (const auto& w : warnings) std::cerr << app << ": warning: " << w << "\n";
+}
 
 /// Parses the command line and runs `body`, mapping exceptions to one line
 /// on stderr and the conventional exit codes.

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <string>
 
+#include "app_common.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/point_cloud.hpp"
 #include "touchdown/terrain/extrinsics.hpp"
@@ -16,7 +17,7 @@ namespace touchdown::app {
 /// "APP: warning: FILE:LINE: key: ...".
 inline terrain::Extrinsics load_extrinsics_with_warnings(const std::string& app, const std::string& path) {
   terrain::Extrinsics e = terrain::load_extrinsics(path);
-  for (const auto& w : e.warnings) std::cerr << app << ": warning: " << w << "\n";
+  print_warnings(app, e.warnings);
   return e;
 }
 

@@ -22,6 +22,7 @@
 #include "app_common.hpp"
 #include "core/convex_hull.hpp"
 #include "core/svg_plot.hpp"
+#include "touchdown/core/units.hpp"
 #include "touchdown/plan/planner.hpp"
 #include "touchdown/plan/problem_io.hpp"
 
@@ -35,7 +36,9 @@ using Json = nlohmann::ordered_json;
 using td::app::format_fixed;
 using td::app::round3;
 
-constexpr int kExitNotOk = 1;  // infeasible or no corridor: a result, but no trajectory to fly
+// Infeasible, no corridor or the time allocation cut short at its cap: a
+// result, but no trajectory to fly.
+constexpr int kExitNotOk = 1;
 // --samples: one ~220-byte row per millisecond, built in memory before it is
 // written; a trajectory of 16 segments of up to 1000 s would take ~3.5 GB.
 constexpr double kMaxSampledSeconds = 1000;
@@ -63,7 +66,7 @@ Json groups_json(const std::vector<tp::ConstraintGroup>& groups) {
   return out;
 }
 
-Json result_json(const tp::PlanResult& r, int order, double seconds) {
+Json result_json(const tp::PlanResult& r, int order, int max_evaluations, double seconds) {
   Json j;
   j["status"] = tp::to_string(r.status);
   j["cost"] = r.cost;
@@ -81,7 +84,10 @@ Json result_json(const tp::PlanResult& r, int order, double seconds) {
   Json corridor = Json::array();
   for (const auto& p : r.segment_polytopes) corridor.push_back({{"A", matrix_json(p.A)}, {"b", vector_json(p.b)}});
   j["corridor"] = std::move(corridor);
-  j["time_allocation"] = {{"evaluations", r.evaluations}, {"ms", round3(r.allocation_ms)}};
+  j["time_allocation"] = {{"evaluations", r.evaluations},
+                          {"max_evaluations", max_evaluations},
+                          {"cap_reached", r.evaluation_cap_reached},
+                          {"ms", round3(r.allocation_ms)}};
   j["qp"] = {{"iterations", r.qp_iterations}, {"us", round3(r.qp_us)}};
   j["seconds"] = std::round(seconds * 1e6) / 1e6;
   if (r.status == tp::PlanStatus::Infeasible) j["conflicts"] = groups_json(r.conflicts);
@@ -473,7 +479,7 @@ std::string plot_svg(const PlotInput& in) {
   std::string sub = "pad frame (x forward, y left, z up; origin at the pad centre)";
   if (pb.pad.velocity.norm() > 0 || pb.pad.yaw_rate != 0) {
     sub += "; pad moving at " + format_fixed(pb.pad.velocity.norm(), 2) + " m/s, yaw rate " +
-           format_fixed(pb.pad.yaw_rate, 3) + " rad/s";
+           format_fixed(td::rad_to_deg(pb.pad.yaw_rate), 2) + " deg/s";
   }
   svg.text(kPlotWidth / 2, 38, sub, " text-anchor='middle' fill='#444'");
 
@@ -533,12 +539,20 @@ std::string summary(const std::string& path, const tp::PlanProblem& pb, const tp
   }
   if (r.status != tp::PlanStatus::NoCorridor) {  // else nothing was solved
     if (pb.options.durations.empty()) {
-      os << "  time alloc    " << r.evaluations << " QPs in " << format_fixed(r.allocation_ms, 2) << " ms\n";
+      os << "  time alloc    " << td::app::count_noun(r.evaluations, "QP") << " in " << format_fixed(r.allocation_ms, 2)
+         << " ms\n";
+      if (r.evaluation_cap_reached && r.ok()) {
+        os << "  warning       the time allocation stopped at time.max_evaluations ("
+           << td::app::count_noun(pb.options.time.max_evaluations, "QP")
+           << ") before it converged: the durations may be far from optimal (raise time.max_evaluations)\n";
+      }
     } else {
       os << "  time alloc    off (fixed durations)\n";
     }
-    os << "  final QP      " << r.qp_iterations << " iterations in " << format_fixed(r.qp_us, 1)
-       << " us (cold start)\n";
+    if (r.status != tp::PlanStatus::AllocationCutShort) {  // else no final QP was solved
+      os << "  final QP      " << r.qp_iterations << " iterations in " << format_fixed(r.qp_us, 1)
+         << " us (cold start)\n";
+    }
   }
   os << "  total         " << format_fixed(seconds * 1000, 2) << " ms\n";
   return os.str();
@@ -549,7 +563,8 @@ std::string summary(const std::string& path, const tp::PlanProblem& pb, const tp
 int main(int argc, char** argv) {
   CLI::App app{
       "Plan a minimum-jerk landing onto a moving pad inside the visual safe flight corridor, from a problem YAML "
-      "(docs/formats.md). Exit 0: planned; 1: infeasible or no corridor (the report still prints); 2: bad input.",
+      "(docs/formats.md). Exit 0: planned; 1: infeasible, no corridor or allocation cut short (the report still "
+      "prints); 2: bad input.",
       "landing_plan"};
   std::string problem_path, qp_path, plot_path, samples_path;
   bool json = false;
@@ -573,6 +588,7 @@ int main(int argc, char** argv) {
 
   return td::app::run(app, argc, argv, [&]() -> int {
     tp::PlanProblem problem = tp::load_plan_problem(problem_path);
+    td::app::print_warnings(app.get_name(), problem.warnings);
     // Every output path is checked before the planning, and written through
     // a temporary: a failed run leaves no file behind.
     td::StagedOutputs staged;
@@ -581,18 +597,30 @@ int main(int argc, char** argv) {
     const fs::path samples_tmp = td::app::stage(staged, samples_path, "--samples");
     problem.options.export_qp = !qp_path.empty();
     const auto t0 = std::chrono::steady_clock::now();
+    // A long time allocation (16 segments of order 20 take a minute) shows
+    // a progress bar on a terminal once it has run for a second.
+    td::app::ProgressBar bar;
+    if (td::app::ProgressBar::on_terminal()) {
+      problem.options.progress = [&bar, t0](int done, int cap) {
+        if (std::chrono::steady_clock::now() - t0 < std::chrono::seconds(1)) return;
+        bar.draw(static_cast<std::size_t>(done), static_cast<std::size_t>(cap));
+      };
+    }
     tp::PlanResult r;
     try {
       r = tp::plan(problem.start, problem.goal, problem.pad, problem.options);
     } catch (const td::InvalidArgument& e) {
+      bar.close();
       // A start or goal outside the corridor: the file's values are at fault.
       throw td::InvalidArgument(problem_path + ": " + e.what());
     }
+    bar.close();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
     // Every output is rendered first, then written.
     std::vector<std::tuple<fs::path, std::string, std::string>> outputs;  // temporary, text, path
-    if (!qp_path.empty() && r.status != tp::PlanStatus::NoCorridor)
+    // No QP without a corridor, nor without durations (allocation cut short).
+    if (!qp_path.empty() && r.status != tp::PlanStatus::NoCorridor && r.status != tp::PlanStatus::AllocationCutShort)
       outputs.emplace_back(qp_tmp, qp_json(r.qp), qp_path);
     if (!plot_path.empty()) {
       const PlotInput in{plot_title(problem_path, r), &problem, &r,
@@ -615,7 +643,7 @@ int main(int argc, char** argv) {
     staged.commit();
 
     if (json) {
-      std::cout << result_json(r, problem.options.order, seconds).dump() << "\n";
+      std::cout << result_json(r, problem.options.order, problem.options.time.max_evaluations, seconds).dump() << "\n";
     } else {
       std::cout << summary(problem_path, problem, r, seconds);
     }

@@ -14,8 +14,10 @@
 #include <string_view>
 #include <vector>
 
+#include "format.hpp"
 #include "io_util.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::detail {
 
@@ -169,6 +171,33 @@ struct YamlReader {
   std::string text(const YAML::Node& n, const std::string& key) const {
     if (!n.IsScalar()) fail(n, key, "expected a string");
     return n.Scalar();
+  }
+  /// A warning (never an error) for angles in degrees that look like
+  /// radians: every value within ±2π and one not a whole number of degrees
+  /// ("cam.yaml:2: rpy_deg: [3.14159, 0, 1.5708] look like radians (all
+  /// within +-2 pi, not whole degrees) but are read as degrees; if radians
+  /// were meant, write [180, 0, 90]"); "" when they look like degrees. The
+  /// reader never prints: the caller collects it for the app to show.
+  std::string radians_warning(const YAML::Node& n, const std::string& key, const std::vector<double>& deg) const {
+    const double two_pi = 2 * 3.14159265358979323846;
+    const bool small = std::all_of(deg.begin(), deg.end(), [&](double v) { return std::abs(v) <= two_pi; });
+    const bool fractional = std::any_of(deg.begin(), deg.end(), [](double v) { return v != std::round(v); });
+    if (deg.empty() || !small || !fractional) return "";
+    std::string as_read, as_radians;
+    for (std::size_t i = 0; i < deg.size(); ++i) {
+      as_read += (i ? ", " : "") + format_general(deg[i]);
+      as_radians += (i ? ", " : "") + format_general(std::round(rad_to_deg(deg[i]) * 100) / 100);
+    }
+    if (deg.size() > 1) {
+      as_read = "[" + as_read + "]";
+      as_radians = "[" + as_radians + "]";
+    }
+    std::string where(source);
+    if (n.IsDefined() && n.Mark().line >= 0) where += ":" + std::to_string(n.Mark().line + 1);
+    return where + ": " + key + ": " + as_read +
+           (deg.size() > 1 ? " look like radians (all within +-2 pi, not whole degrees) but are read as degrees"
+                           : " looks like radians (within +-2 pi, not a whole degree) but is read as degrees") +
+           "; if radians were meant, write " + as_radians;
   }
   /// Fails on any key of `map` not in `keys` (catches typos).
   void only(const YAML::Node& map, const std::string& prefix, std::initializer_list<const char*> keys) const {

@@ -10,6 +10,7 @@
 #include <limits>
 #include <nlopt.hpp>
 
+#include "core/format.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/plan/qp.hpp"
 
@@ -425,6 +426,7 @@ struct Allocation {
   std::vector<double> T;
   double objective = std::numeric_limits<double>::infinity();
   int evaluations = 0;
+  bool cap_reached = false;
 };
 
 // J(T) + ρ ΣT for feasible durations; infeasible ones get a penalty above
@@ -439,8 +441,15 @@ struct AllocationContext {
 
 constexpr double kPenalty = 1e12;
 
+// One evaluation; at the cap it solves nothing, records that the cap was
+// reached and stops the local search (NLopt's own maxeval is not trusted to
+// count the same way).
 double allocation_objective(unsigned n, const double* x, double* /*grad*/, void* data) {
   auto* c = static_cast<AllocationContext*>(data);
+  if (c->best->evaluations >= c->o->time.max_evaluations) {
+    c->best->cap_reached = true;
+    throw nlopt::forced_stop();
+  }
   for (unsigned k = 0; k < n; ++k) c->T[k] = std::clamp(x[k], c->o->time.min, c->o->time.max);
   ++c->best->evaluations;
   const QpStatus status = c->runner->solve(c->T, true);
@@ -456,48 +465,67 @@ double allocation_objective(unsigned n, const double* x, double* /*grad*/, void*
     c->best->objective = value;
     c->best->T = c->T;
   }
+  if (c->o->progress) c->o->progress(c->best->evaluations, c->o->time.max_evaluations);
   return value;
 }
 
+// The coarse grid: 4 log-spaced durations per segment (short durations
+// matter most), so that the local search starts in the best basin.
+void evaluate_grid(unsigned s, AllocationContext& ctx) {
+  const TimeAllocationOptions& t = ctx.o->time;
+  const int per = 4;
+  int total = 1;
+  for (unsigned k = 0; k < s; ++k) total *= per;
+  std::vector<double> g(s);
+  for (int idx = 0; idx < total; ++idx) {
+    int rest = idx;
+    for (unsigned k = 0; k < s; ++k) {
+      const int m = rest % per;
+      rest /= per;
+      g[k] = t.min * std::pow(t.max / t.min, (m + 0.5) / per);
+    }
+    allocation_objective(s, g.data(), nullptr, &ctx);
+  }
+}
+
+// Every QP solve counts against time.max_evaluations: the grid (4^s points,
+// up to 3 segments) runs only when it fits with the guess, then the guess,
+// then the local search with what is left.
 Allocation allocate_time(const QpBuilder& builder, const PlannerOptions& o, const std::vector<double>& guess) {
   ReducedRunner runner(builder);
   Allocation best;
   AllocationContext ctx{&runner, &o, &best, guess};
   const auto s = static_cast<unsigned>(o.segments);
-  // A coarse grid first (4 per segment, up to 3 segments) so that the local
-  // search starts in the best basin, then the heuristic guess.
   if (s <= 3) {
-    const int per = 4;
-    int total = 1;
-    for (unsigned k = 0; k < s; ++k) total *= per;
-    std::vector<double> g(s);
-    for (int idx = 0; idx < total; ++idx) {
-      int rest = idx;
-      for (unsigned k = 0; k < s; ++k) {
-        const int m = rest % per;
-        rest /= per;
-        // Log-spaced in [min, max] (short durations matter most).
-        g[k] = o.time.min * std::pow(o.time.max / o.time.min, (m + 0.5) / per);
-      }
-      allocation_objective(s, g.data(), nullptr, &ctx);
+    const int grid = 1 << (2 * s);  // 4^s
+    if (o.time.max_evaluations >= grid + 1) {
+      evaluate_grid(s, ctx);
+    } else {
+      best.cap_reached = true;  // the grid did not fit
     }
   }
   allocation_objective(s, guess.data(), nullptr, &ctx);
+  if (best.evaluations >= o.time.max_evaluations) {
+    best.cap_reached = true;  // no solve left for the local search
+    return best;
+  }
   std::vector<double> x = best.T;
   nlopt::opt opt(s >= 2 ? nlopt::LN_BOBYQA : nlopt::LN_SBPLX, s);
   opt.set_lower_bounds(std::vector<double>(s, o.time.min));
   opt.set_upper_bounds(std::vector<double>(s, o.time.max));
   opt.set_min_objective(allocation_objective, &ctx);
   opt.set_xtol_rel(1e-4);
-  opt.set_maxeval(std::max(1, o.time.max_evaluations - best.evaluations));
+  // One more than is left: the objective stops the search at the cap and
+  // records it (a search that ends by itself on its last solve did not hit it).
+  opt.set_maxeval(o.time.max_evaluations - best.evaluations + 1);
   std::vector<double> step(s);
   for (unsigned k = 0; k < s; ++k) step[k] = std::min(0.25 * (o.time.max - o.time.min), std::max(0.1, 0.2 * x[k]));
   opt.set_initial_step(step);
   double f = 0;
   try {
-    opt.optimize(x, f);
+    if (opt.optimize(x, f) == nlopt::MAXEVAL_REACHED) best.cap_reached = true;
   } catch (const std::exception&) {
-    // NLopt's stops (round-off, bounds) keep the best point, which ctx tracked.
+    // NLopt's stops (round-off, bounds, the cap) keep the best point, which ctx tracked.
   }
   return best;
 }
@@ -655,7 +683,17 @@ PlanResult plan_in_corridor(const KinematicState& start, const KinematicState& g
         allocate_time(builder, options, initial_durations(start, goal, options, result.segment_polytopes));
     result.allocation_ms = micros_since(t0) / 1000;
     result.evaluations = a.evaluations;
+    result.evaluation_cap_reached = a.cap_reached;
     T = a.T;
+    if (a.cap_reached && !(a.objective < kPenalty)) {
+      // No feasible durations seen before the cap: the problem is not shown
+      // infeasible, so neither a diagnosis nor more solves.
+      result.status = PlanStatus::AllocationCutShort;
+      result.message = "the time allocation reached time.max_evaluations (" +
+                       detail::count_noun(options.time.max_evaluations, "QP") +
+                       ") before it found feasible durations; raise time.max_evaluations";
+      return result;
+    }
   }
   if (options.export_qp) builder.build(T, result.qp);
   ReducedRunner runner(builder);

@@ -102,12 +102,28 @@ KinematicState read_state(const YamlReader& r, const YAML::Node& map, const std:
   return s;
 }
 
-PadMotion read_pad(const YamlReader& r, const YAML::Node& map) {
-  only(r, map, "pad.", {"v", "yaw_rate", "yaw_deg"});
+PadMotion read_pad(const YamlReader& r, const YAML::Node& map, std::vector<std::string>& warnings) {
+  // The turn rate was `yaw_rate` in rad/s, alone among the file's angles:
+  // the old name is refused (a value in rad/s read as deg/s would be 57x off).
+  if (map.IsMap()) {
+    if (const YAML::Node old = map["yaw_rate"]) {
+      std::string what = "renamed to pad.yaw_rate_deg (deg/s); the file's other angles are degrees too";
+      double rad = 0;
+      if (old.IsScalar() && detail::parse_double(detail::trim(old.Scalar()), rad) && std::isfinite(rad)) {
+        what += ": " + format_general(rad) + " rad/s is yaw_rate_deg: " + format_general(rad_to_deg(rad));
+      }
+      r.fail(old, "pad.yaw_rate", what);
+    }
+  }
+  only(r, map, "pad.", {"v", "yaw_rate_deg", "yaw_deg"});
   PadMotion pad;
   if (const YAML::Node v = map["v"]) pad.velocity = vec3(r, v, "pad.v");
-  if (const YAML::Node w = map["yaw_rate"]) pad.yaw_rate = r.number(w, "pad.yaw_rate");
-  if (const YAML::Node y = map["yaw_deg"]) pad.yaw = angle_deg(r, y, "pad.yaw_deg", r.number(y, "pad.yaw_deg"));
+  if (const YAML::Node w = map["yaw_rate_deg"]) pad.yaw_rate = deg_to_rad(r.number(w, "pad.yaw_rate_deg"));
+  if (const YAML::Node y = map["yaw_deg"]) {
+    const double deg = r.number(y, "pad.yaw_deg");
+    pad.yaw = angle_deg(r, y, "pad.yaw_deg", deg);
+    if (std::string w = r.radians_warning(y, "pad.yaw_deg", {deg}); !w.empty()) warnings.push_back(std::move(w));
+  }
   return pad;
 }
 
@@ -126,7 +142,7 @@ void read_time(const YamlReader& r, const YAML::Node& map, TimeAllocationOptions
   }
 }
 
-CameraFov read_camera(const YamlReader& r, const YAML::Node& map) {
+CameraFov read_camera(const YamlReader& r, const YAML::Node& map, std::vector<std::string>& warnings) {
   const std::string prefix = "corridor.camera.";
   only(r, map, prefix, {"p", "rpy_deg", "fov_deg", "range"});
   CameraFov c;
@@ -135,6 +151,9 @@ CameraFov read_camera(const YamlReader& r, const YAML::Node& map) {
     const Eigen::Vector3d deg = vec3(r, n, prefix + "rpy_deg");
     Eigen::Vector3d rad;
     for (int i = 0; i < 3; ++i) rad(i) = angle_deg(r, n, prefix + "rpy_deg", deg(i));
+    if (std::string w = r.radians_warning(n, prefix + "rpy_deg", {deg.x(), deg.y(), deg.z()}); !w.empty()) {
+      warnings.push_back(std::move(w));
+    }
     c.T_pad_camera.linear() = rotation_from_rpy(rad);
   }
   if (const YAML::Node n = map["fov_deg"]) {
@@ -166,7 +185,7 @@ CameraFov read_camera(const YamlReader& r, const YAML::Node& map) {
   return c;
 }
 
-CorridorOptions read_corridor(const YamlReader& r, const YAML::Node& map) {
+CorridorOptions read_corridor(const YamlReader& r, const YAML::Node& map, std::vector<std::string>& warnings) {
   only(r, map, "corridor.", {"h_touchdown", "deflate", "dilate", "max_dilations", "radius", "margin", "camera"});
   CorridorOptions c;
   if (const YAML::Node n = map["h_touchdown"]) c.h_touchdown = positive(r, n, "corridor.h_touchdown");
@@ -177,7 +196,7 @@ CorridorOptions read_corridor(const YamlReader& r, const YAML::Node& map) {
   }
   if (const YAML::Node n = map["radius"]) c.radius = non_negative(r, n, "corridor.radius");
   if (const YAML::Node n = map["margin"]) c.margin = non_negative(r, n, "corridor.margin");
-  if (const YAML::Node n = map["camera"]) c.camera = read_camera(r, n);
+  if (const YAML::Node n = map["camera"]) c.camera = read_camera(r, n, warnings);
   return c;
 }
 
@@ -209,7 +228,7 @@ void read_problem(const YamlReader& r, const YAML::Node& root, PlanProblem& p) {
        {"start", "goal", "pad", "limits", "order", "segments", "durations", "time", "corridor", "obstacles"});
   p.start = read_state(r, r.child(root, "", "start"), "start");
   if (const YAML::Node g = root["goal"]) p.goal = read_state(r, g, "goal");
-  if (const YAML::Node pad = root["pad"]) p.pad = read_pad(r, pad);
+  if (const YAML::Node pad = root["pad"]) p.pad = read_pad(r, pad, p.warnings);
 
   PlannerOptions& o = p.options;
   const YAML::Node limits = r.child(root, "", "limits");
@@ -220,7 +239,7 @@ void read_problem(const YamlReader& r, const YAML::Node& root, PlanProblem& p) {
   if (const YAML::Node n = root["order"]) o.order = integer_in(r, n, "order", kMinOrder, kMaxOrder);
   if (const YAML::Node n = root["segments"]) o.segments = integer_in(r, n, "segments", 1, kMaxSegments);
   if (const YAML::Node c = root["corridor"]) {
-    o.corridor = read_corridor(r, c);
+    o.corridor = read_corridor(r, c, p.warnings);
     if (o.segments < 2) {
       r.fail(root["segments"] ? root["segments"] : c, "segments",
              "must be >= 2 with a corridor (the rear part and the touchdown part need a segment each), got " +
@@ -289,7 +308,7 @@ std::string plan_problem_to_yaml(const PlanProblem& p) {
   std::ostringstream os;
   os << "start: " << state(p.start) << "\n";
   if (p.goal) os << "goal: " << state(*p.goal) << "\n";
-  os << "pad: {v: " << vec(p.pad.velocity) << ", yaw_rate: " << format_exact(p.pad.yaw_rate)
+  os << "pad: {v: " << vec(p.pad.velocity) << ", yaw_rate_deg: " << format_exact(degrees(p.pad.yaw_rate))
      << ", yaw_deg: " << format_exact(degrees(p.pad.yaw)) << "}\n";
   os << "limits: {v_max: " << format_exact(o.v_max) << ", a_max: " << format_exact(o.a_max) << "}\n";
   os << "order: " << o.order << "\nsegments: " << o.segments << "\n";

@@ -38,19 +38,6 @@ Eigen::Vector3d vec3(const detail::YamlReader& r, const YAML::Node& node, const 
   return {v[0], v[1], v[2]};
 }
 
-// True when rpy_deg values look like radians: every angle within ±2π and at
-// least one that is not a whole number of degrees ([3.14159, 0, 1.5708]).
-bool looks_like_radians(const Eigen::Vector3d& v) {
-  const bool small = (v.array().abs() <= 2 * std::numbers::pi).all();
-  const bool fractional = (v.array() != v.array().round()).any();
-  return small && fractional;
-}
-
-std::string list3(const Eigen::Vector3d& v) {
-  using detail::format_general;
-  return "[" + format_general(v.x()) + ", " + format_general(v.y()) + ", " + format_general(v.z()) + "]";
-}
-
 // Reads one pose map: {xyz, rpy_deg} or {matrix}. `prefix` is "" or
 // "body.". `rpy` is the key's earlier name (also degrees), still read. The
 // rotation is required: a missing one is never taken for the identity
@@ -77,13 +64,8 @@ Eigen::Isometry3d parse_pose(const detail::YamlReader& r, const YAML::Node& map,
              "matrix); a camera looking straight down is rpy_deg: [180, 0, 0]");
     }
     const Eigen::Vector3d deg = vec3(r, rpy, rpy_key);
-    if (looks_like_radians(deg)) {
-      std::string where(r.source);
-      if (rpy.Mark().line >= 0) where += ":" + std::to_string(rpy.Mark().line + 1);
-      warnings.push_back(where + ": " + rpy_key + ": " + list3(deg) +
-                         " look like radians (all within +-2 pi, not whole degrees) but are read as degrees; if "
-                         "radians were meant, write " +
-                         list3((deg.unaryExpr(&rad_to_deg) * 100).array().round().matrix() / 100));
+    if (std::string w = r.radians_warning(rpy, rpy_key, {deg.x(), deg.y(), deg.z()}); !w.empty()) {
+      warnings.push_back(std::move(w));
     }
     return pose_from_xyz_rpy(t, deg.unaryExpr(&deg_to_rad));
   }

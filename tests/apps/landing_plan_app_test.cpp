@@ -246,6 +246,68 @@ TEST(LandingPlanApp, SummaryCountsSegmentsInTheSingular) {
   EXPECT_NE(two.out.find("(2 segments of order 7)"), std::string::npos) << two.out;
 }
 
+// Issue 31 item 6: time.max_evaluations below 18 had no effect (every cap
+// printed "18 QPs") and reaching the cap was never reported.
+TEST(LandingPlanApp, EvaluationCapIsHonouredAndReported) {
+  TempDir dir;
+  const std::string y = td::test::read_text(bundled());
+  for (const int cap : {5, 16, 17}) {
+    SCOPED_TRACE(cap);
+    td::test::write_text(
+        dir / "p.yaml",
+        td::test::replace_key_line(
+            y, "time", "time: {min: 0.3, max: 8.0, rho: 1.0, max_evaluations: " + std::to_string(cap) + "}"));
+    const AppRun r = run((dir / "p.yaml").string() + " --json", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["status"], "ok");
+    EXPECT_EQ(j["time_allocation"]["evaluations"].get<int>(), cap);
+    EXPECT_EQ(j["time_allocation"]["max_evaluations"].get<int>(), cap);
+    EXPECT_EQ(j["time_allocation"]["cap_reached"], true);
+    const AppRun s = run((dir / "p.yaml").string(), dir);
+    ASSERT_EQ(s.code, 0) << s.err;
+    EXPECT_NE(s.out.find("  time alloc    " + std::to_string(cap) + " QPs"), std::string::npos) << s.out;
+    EXPECT_NE(s.out.find("warning       the time allocation stopped at time.max_evaluations (" + std::to_string(cap)),
+              std::string::npos)
+        << s.out;
+  }
+  // The bundled problem converges well within its cap: no warning.
+  const AppRun b = run(bundled() + " --json", dir);
+  ASSERT_EQ(b.code, 0) << b.err;
+  const auto j = nlohmann::json::parse(b.out);
+  EXPECT_EQ(j["time_allocation"]["cap_reached"], false);
+  EXPECT_EQ(j["time_allocation"]["max_evaluations"].get<int>(), 300);
+  const AppRun s = run(bundled(), dir);
+  EXPECT_EQ(s.out.find("warning"), std::string::npos) << s.out;
+}
+
+// A cap reached before any feasible durations: status allocation_cut_short,
+// exit 1, no trajectory and no conflicts (not a verdict of infeasibility).
+TEST(LandingPlanApp, CapBeforeAnyFeasibleDurationsIsCutShort) {
+  TempDir dir;
+  std::string text = td::test::read_text(bundled());
+  text = text.substr(0, text.find("\ncorridor:") + 1);  // no corridor, 2 segments
+  text = replaced(text, "p: [-3.0, 0.0, 2.0]", "p: [-10.0, 0.0, 2.0]");
+  text = td::test::replace_key_line(text, "limits", "limits: {v_max: 100.0, a_max: 0.5}");
+  text = td::test::replace_key_line(text, "time", "time: {min: 0.3, max: 8.0, rho: 1.0, max_evaluations: 1}");
+  td::test::write_text(dir / "p.yaml", text);
+  const AppRun r = run((dir / "p.yaml").string() + " --json --export-qp " + (dir / "qp.json").string(), dir);
+  ASSERT_EQ(r.code, 1) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["status"], "allocation_cut_short");
+  EXPECT_EQ(j["time_allocation"]["cap_reached"], true);
+  EXPECT_EQ(j["time_allocation"]["evaluations"].get<int>(), 1);
+  EXPECT_FALSE(j.contains("conflicts"));
+  EXPECT_TRUE(j["segments"].empty());
+  EXPECT_NE(j["message"].get<std::string>().find("raise time.max_evaluations"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(dir / "qp.json"));
+  const AppRun s = run((dir / "p.yaml").string(), dir);
+  EXPECT_EQ(s.code, 1);
+  EXPECT_NE(s.out.find("allocation_cut_short"), std::string::npos) << s.out;
+  EXPECT_EQ(s.out.find("final QP"), std::string::npos) << s.out;
+  EXPECT_NE(s.out.find("time alloc    1 QP in"), std::string::npos) << s.out;
+}
+
 TEST(LandingPlanApp, InfeasibleIsExitOneWithConflicts) {
   TempDir dir;
   // A tiny acceleration limit and fixed durations: only the acceleration
@@ -275,6 +337,40 @@ TEST(LandingPlanApp, InfeasibleIsExitOneWithConflicts) {
   EXPECT_EQ(s.code, 1);
   EXPECT_NE(s.out.find("infeasible"), std::string::npos) << s.out;
   EXPECT_NE(s.out.find("acceleration"), std::string::npos) << s.out;
+}
+
+// Issue 31 item 9: radians in camera.rpy_deg or pad.yaw_deg give a warning
+// on stderr naming the file, line and key, and the run goes on; the plot's
+// subtitle gives the pad's turn rate in deg/s, as the file does.
+TEST(LandingPlanApp, RadiansInDegreeKeysWarnAndTheRunContinues) {
+  TempDir dir;
+  td::test::write_text(dir / "p.yaml", replaced(td::test::read_text(bundled()), "yaw_deg: 0.0", "yaw_deg: 0.35"));
+  const AppRun r = run((dir / "p.yaml").string() + " --json", dir);
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err, "landing_plan: warning: " + (dir / "p.yaml").string() +
+                       ":27: pad.yaw_deg: 0.35 looks like radians (within +-2 pi, not a whole degree) but is read as "
+                       "degrees; if radians were meant, write 20.05\n");
+  EXPECT_TRUE(nlohmann::json::accept(r.out)) << r.out;
+  // A camera turned by radians read as degrees looks the wrong way: the
+  // warning comes first and explains the error that follows.
+  td::test::write_text(dir / "c.yaml", replaced(td::test::read_text(bundled()), "rpy_deg: [-45.0, 0.0, 90.0]",
+                                                "rpy_deg: [-0.785, 0, 1.571]"));
+  const AppRun c = run((dir / "c.yaml").string(), dir);
+  EXPECT_EQ(c.err.rfind("landing_plan: warning: " + (dir / "c.yaml").string() +
+                            ":40: corridor.camera.rpy_deg: [-0.785, 0, 1.571] look like radians",
+                        0),
+            0u)
+      << c.err;
+  const AppRun ok = run(bundled(), dir);
+  EXPECT_TRUE(ok.err.empty()) << ok.err;
+
+  td::test::write_text(dir / "turning.yaml",
+                       replaced(td::test::read_text(bundled()), "yaw_rate_deg: 0.0", "yaw_rate_deg: 10.0"));
+  const AppRun t = run((dir / "turning.yaml").string() + " --plot " + (dir / "t.svg").string(), dir);
+  ASSERT_TRUE(t.code == 0 || t.code == 1) << t.err;
+  const std::string svg = td::test::read_text(dir / "t.svg");
+  EXPECT_NE(svg.find("yaw rate 10.00 deg/s"), std::string::npos);
+  EXPECT_EQ(svg.find("rad/s"), std::string::npos);
 }
 
 // ---- bad input: exit 2, one line naming the file and the key, no output ----
@@ -307,6 +403,8 @@ std::vector<BadProblem> bad_problems() {
       {"unknown key", replace_key_line(y, "order", "order: 7\ncolour: red"), "colour: unknown key"},
       {"unknown nested key", replaced(y, "  radius: 0.25", "  radius: 0.25\n  radious: 0.3"),
        "corridor.radious: unknown key"},
+      {"old pad.yaw_rate (rad/s)", replaced(y, "yaw_rate_deg: 0.0", "yaw_rate: 0.2"),
+       "p.yaml:26: pad.yaw_rate: renamed to pad.yaw_rate_deg (deg/s)"},
   };
 }
 

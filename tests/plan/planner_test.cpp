@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "touchdown/core/error.hpp"
 #include "touchdown/plan/qp.hpp"
@@ -249,6 +251,69 @@ TEST(Planner, ExportedQpSolvedDirectlyGivesThePlannersAnswer) {
   EXPECT_LT(worst, 1e-6);
   EXPECT_LT(solver.kkt().stationarity, 1e-6);
   EXPECT_LT(solver.kkt().primal, 1e-9);
+}
+
+// time.max_evaluations is a cap on every QP solve of the time allocation
+// (issue 31 item 6: below 18 it had no effect, the coarse grid and the
+// guess alone took 17 and the local search at least one more): the
+// progress callback sees each solve, and reaching the cap is reported.
+TEST(Planner, EvaluationCapIsHonouredExactlyAndReported) {
+  tp::KinematicState start;
+  start.p = Eigen::Vector3d(-3, 0.4, 2.2);
+  tp::PadMotion pad;
+  pad.velocity = Eigen::Vector3d(2, 0, 0);
+  for (const int cap : {1, 2, 5, 16, 17, 18, 300}) {
+    tp::PlannerOptions o = planner_with_corridor();
+    o.time.max_evaluations = cap;
+    std::vector<std::pair<int, int>> calls;
+    o.progress = [&calls](int done, int of) { calls.emplace_back(done, of); };
+    const tp::PlanResult r = tp::plan(start, std::nullopt, pad, o);
+    // Never a verdict of infeasibility from a search cut short.
+    ASSERT_TRUE(r.ok() || r.status == tp::PlanStatus::AllocationCutShort) << "cap " << cap << ": " << r.message;
+    if (cap >= 5) {
+      EXPECT_TRUE(r.ok()) << "cap " << cap << ": " << r.message;
+    }
+    EXPECT_LE(r.evaluations, cap);
+    ASSERT_EQ(static_cast<int>(calls.size()), r.evaluations) << "cap " << cap;
+    for (std::size_t i = 0; i < calls.size(); ++i) {
+      EXPECT_EQ(calls[i].first, static_cast<int>(i) + 1);
+      EXPECT_EQ(calls[i].second, cap);
+    }
+    if (cap < 18) {
+      // Every one of these stops the allocation early: exactly the cap, reported.
+      EXPECT_EQ(r.evaluations, cap);
+      EXPECT_TRUE(r.evaluation_cap_reached) << "cap " << cap;
+    }
+    if (cap == 300) {
+      EXPECT_FALSE(r.evaluation_cap_reached);  // converges well before
+      EXPECT_LT(r.evaluations, 300);
+    }
+  }
+}
+
+// A cap reached before any feasible durations were seen is not a verdict of
+// infeasibility: the status says the allocation was cut short, with no
+// trajectory and no diagnosis (which would cost solves beyond the cap); the
+// same problem with room to search is planned.
+TEST(Planner, CapReachedBeforeAnyFeasibleDurationsIsAllocationCutShort) {
+  tp::KinematicState start;
+  start.p = Eigen::Vector3d(-10, 0, 2);
+  tp::PlannerOptions o = planner_loose(7, 2, {});
+  o.a_max = 0.5;  // the first guess (about 1.2 s for 10 m) needs far more
+  for (const int cap : {1, 5}) {
+    o.time.max_evaluations = cap;
+    const tp::PlanResult r = tp::plan(start, std::nullopt, {}, o);
+    EXPECT_EQ(r.status, tp::PlanStatus::AllocationCutShort) << "cap " << cap << ": " << r.message;
+    EXPECT_TRUE(r.evaluation_cap_reached);
+    EXPECT_EQ(r.evaluations, cap);
+    EXPECT_TRUE(r.conflicts.empty());
+    EXPECT_NE(r.message.find("time.max_evaluations"), std::string::npos) << r.message;
+    EXPECT_EQ(tp::to_string(r.status), "allocation_cut_short");
+  }
+  o.time.max_evaluations = 300;
+  const tp::PlanResult r = tp::plan(start, std::nullopt, {}, o);
+  EXPECT_TRUE(r.ok()) << r.message;
+  EXPECT_FALSE(r.evaluation_cap_reached);
 }
 
 TEST(Planner, InfeasibleProblemsNameTheConflictingGroup) {

@@ -73,7 +73,7 @@ void problem_io_expect_same(const PlanProblem& a, const PlanProblem& b, double r
 const char* const kProblemIoFull =
     "start: {p: [-3, 0, 2], v: [0.3, 0, 0], a: [0, 0, 0.1]}\n"  // 1
     "goal: {p: [0, 0, 0.6], v: [0, 0, -0.2]}\n"                 // 2
-    "pad: {v: [2, 0, 0], yaw_rate: 0.1, yaw_deg: 30}\n"         // 3
+    "pad: {v: [2, 0, 0], yaw_rate_deg: 6, yaw_deg: 30}\n"       // 3
     "limits: {v_max: 4, a_max: 5}\n"                            // 4
     "order: 8\n"                                                // 5
     "segments: 3\n"                                             // 6
@@ -112,7 +112,8 @@ TEST(ProblemIo, ReadsEveryKey) {
   EXPECT_EQ(p.goal->v, Eigen::Vector3d(0, 0, -0.2));
   EXPECT_EQ(p.goal->a, Eigen::Vector3d::Zero());
   EXPECT_EQ(p.pad.velocity, Eigen::Vector3d(2, 0, 0));
-  EXPECT_EQ(p.pad.yaw_rate, 0.1);
+  EXPECT_EQ(p.pad.yaw_rate, deg_to_rad(6.0));  // deg/s in the file, rad/s in the struct
+  EXPECT_TRUE(p.warnings.empty());
   EXPECT_DOUBLE_EQ(p.pad.yaw, std::numbers::pi / 6);
   const PlannerOptions& o = p.options;
   EXPECT_EQ(o.v_max, 4);
@@ -210,7 +211,7 @@ TEST(ProblemIo, RoundTripOfRandomProblems) {
     p.start = {vec(), vec(), vec()};
     if (trial % 2) p.goal = KinematicState{vec(), vec(), vec()};
     p.pad.velocity = vec();
-    p.pad.yaw_rate = awkward();
+    p.pad.yaw_rate = deg_to_rad(awkward());  // deg/s in the file, as the yaw: exact through degrees
     p.pad.yaw = deg_to_rad(360 * u(rng));
     PlannerOptions& o = p.options;
     o.order = 5 + trial % 16;
@@ -281,6 +282,29 @@ TEST(ProblemIo, RepeatedKeyIsAnError) {
                                          dir / "landing.yaml", "limits", "{v_max: 0.1, a_max: 0.1}");
   EXPECT_EQ(test::error_of([&] { load_plan_problem(f.path.string()); }), f.expected);
   EXPECT_THROW(load_plan_problem(f.path.string()), ParseError);
+}
+
+// Issue 31 item 9: radians written where degrees are read get a warning
+// naming the file, line and key (as camera pose files do); the problem
+// still reads, as degrees.
+TEST(ProblemIo, RadiansInDegreeKeysAreWarnedAbout) {
+  std::string text = problem_io_replace(kProblemIoFull, "rpy_deg: [-45, 0, 90]", "rpy_deg: [-0.785, 0, 1.571]");
+  PlanProblem p = parse_plan_problem(text, "p.yaml");
+  ASSERT_EQ(p.warnings.size(), 1u);
+  EXPECT_EQ(p.warnings[0],
+            "p.yaml:18: corridor.camera.rpy_deg: [-0.785, 0, 1.571] look like radians (all within +-2 pi, not whole "
+            "degrees) but are read as degrees; if radians were meant, write [-44.98, 0, 90.01]");
+  EXPECT_NEAR(rpy_from_rotation(p.options.corridor->camera->T_pad_camera.linear()).z(), deg_to_rad(1.571), 1e-12);
+  text = problem_io_replace(kProblemIoFull, "yaw_deg: 30", "yaw_deg: 1.5708");
+  p = parse_plan_problem(text, "p.yaml");
+  ASSERT_EQ(p.warnings.size(), 1u);
+  EXPECT_NE(p.warnings[0].find("p.yaml:3: pad.yaw_deg: 1.5708 looks like radians"), std::string::npos) << p.warnings[0];
+  EXPECT_NE(p.warnings[0].find("write 90"), std::string::npos) << p.warnings[0];
+  // Whole degrees, or angles beyond 2 pi, are degrees: no warning.
+  text = problem_io_replace(kProblemIoFull, "rpy_deg: [-45, 0, 90]", "rpy_deg: [-2, 0, 3]");
+  EXPECT_TRUE(parse_plan_problem(text, "p.yaml").warnings.empty());
+  text = problem_io_replace(kProblemIoFull, "rpy_deg: [-45, 0, 90]", "rpy_deg: [-45.5, 0, 90]");
+  EXPECT_TRUE(parse_plan_problem(text, "p.yaml").warnings.empty());
 }
 
 // ---- bad input: one error naming the file, the line and the key ----
@@ -392,6 +416,13 @@ std::vector<test::BadInput> problem_io_bad_inputs() {
       {"InvalidYaml", r("segments: 3", "segments: [3"), {"p.yaml:", "invalid YAML"}},
       {"NotAMapping", "- 1\n- 2\n", {"p.yaml:1: <document>: expected a mapping"}},
       {"Empty", "", {"p.yaml: <document>: expected a mapping"}},
+      // Issue 31 item 9: the turn rate was the file's only angle in radians.
+      {"OldYawRateName",
+       r("yaw_rate_deg: 6", "yaw_rate: 0.4"),
+       {"p.yaml:3: pad.yaw_rate: renamed to pad.yaw_rate_deg (deg/s)", "0.4 rad/s is yaw_rate_deg: 22.9183"}},
+      {"OldYawRateNameNotANumber",
+       r("yaw_rate_deg: 6", "yaw_rate: fast"),
+       {"p.yaml:3: pad.yaw_rate: renamed to pad.yaw_rate_deg (deg/s)"}},
   };
 }
 

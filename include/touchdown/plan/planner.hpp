@@ -36,6 +36,7 @@
 /// plan() is a pure function.
 #include <Eigen/Core>
 #include <array>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -81,6 +82,12 @@ struct TimeAllocationOptions {
   double min = 0.3;
   double max = 8;
   double rho = 1;  ///< weight of the total duration in J(T) + ρ ΣT [cost units per s], ≥ 0
+  /// Cap on the time allocation's QP solves, ≥ 1, honoured exactly: every
+  /// solve counts (the coarse grid, the first guess, the local search).
+  /// The coarse grid (4 points per segment, up to 3 segments) runs only when
+  /// the cap leaves room for it and the guess; the local search gets the
+  /// rest. The plan then solves the QP once more at the chosen durations
+  /// (PlanResult::qp_us), which is not an evaluation.
   int max_evaluations = 300;
 };
 
@@ -115,6 +122,11 @@ struct PlannerOptions {
   /// plan itself once glibc hands the freed heap back to the system
   /// (docs/benchmarks.md, "Landing trajectory", heap note).
   bool export_qp = false;
+  /// Called after each QP solve of the time allocation with the solves done
+  /// so far and time.max_evaluations (an app draws a progress bar from it;
+  /// the allocation may stop before the cap). Called on the planning
+  /// thread; empty: none.
+  std::function<void(int evaluations, int max_evaluations)> progress;
   /// False (with "field: what is wrong" in *why) for an invalid value.
   [[nodiscard]] bool validate(std::string* why) const;
 };
@@ -123,13 +135,17 @@ enum class PlanStatus {
   Ok,
   Infeasible,  ///< no trajectory meets the constraints; `conflicts` names the groups
   NoCorridor,  ///< the corridor could not be built (see corridor.status)
+  /// The time allocation reached time.max_evaluations before it found
+  /// durations at which the QP is feasible: the problem may well be
+  /// feasible (raise the cap); no trajectory, no diagnosis.
+  AllocationCutShort,
 };
 
 }  // namespace touchdown::plan
 
 template <>
 struct touchdown::EnumNames<touchdown::plan::PlanStatus> {
-  static constexpr std::array<std::string_view, 3> names{"ok", "infeasible", "no_corridor"};
+  static constexpr std::array<std::string_view, 4> names{"ok", "infeasible", "no_corridor", "allocation_cut_short"};
 };
 
 namespace touchdown::plan {
@@ -161,9 +177,15 @@ struct PlanResult {
   std::vector<Polytope> segment_polytopes;  ///< one per segment (empty without a corridor)
   QpProblem qp;                             ///< at the chosen durations (only with options.export_qp)
   int evaluations = 0;                      ///< QPs solved by the time allocation (0 with fixed durations)
-  double allocation_ms = 0;                 ///< wall time of the time allocation
-  int qp_iterations = 0;                    ///< of the final QP
-  double qp_us = 0;                         ///< wall time of the final QP (cold start)
+  /// The time allocation stopped at time.max_evaluations (it wanted more
+  /// solves: the coarse grid did not fit or the local search had not
+  /// converged): the durations may be far from optimal. With an ok() plan a
+  /// warning; with no feasible durations found the status is
+  /// AllocationCutShort.
+  bool evaluation_cap_reached = false;
+  double allocation_ms = 0;  ///< wall time of the time allocation
+  int qp_iterations = 0;     ///< of the final QP
+  double qp_us = 0;          ///< wall time of the final QP (cold start)
   [[nodiscard]] bool ok() const { return status == PlanStatus::Ok; }
 };
 

@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "touchdown/plan/planner.hpp"
 
@@ -22,6 +23,10 @@ struct PlanProblem {
   std::optional<KinematicState> goal;  ///< pad frame; empty: default_goal(options)
   PadMotion pad;                       ///< the pad's predicted motion
   PlannerOptions options;              ///< limits, order, segments, durations, corridor, obstacles
+  /// Values that parse but look wrong, one line each ("p.yaml:41:
+  /// corridor.camera.rpy_deg: [-0.78, 0, 1.57] look like radians ..."): the
+  /// library never prints; landing_plan shows them on stderr.
+  std::vector<std::string> warnings;
 };
 
 /// Parses a problem. Throws ParseError naming `source`, the line and the
