@@ -497,7 +497,13 @@ struct SequenceRun {
   std::string out;     // printed at the end: a bad frame leaves no partial output
   int ok = 0;
   std::vector<double> ms, rms, pos_err, rot_err;
+  std::vector<std::string> wrong_ok;  // frames reported ok but off the truth by more than kWrongOk*
 };
+
+// A pose reported ok but farther than this from the ground truth is wrong
+// (the benchmark's wrong-ok threshold).
+constexpr double kWrongOkPositionM = 0.1;
+constexpr double kWrongOkRotationRad = 0.1;
 
 // Reads frame `f` into run.colour (and run.depth), refusing an image of
 // another size than the camera's or depth in another unit.
@@ -534,6 +540,7 @@ void record_estimate(const tp::SequenceFrame& f, const tp::PoseEstimate& e, doub
       const auto [p, r] = tp::pose_error(e.T_camera_body, truth[run.ti].T_camera_body);
       run.pos_err.push_back(p);
       run.rot_err.push_back(r);
+      if (p > kWrongOkPositionM || r > kWrongOkRotationRad) run.wrong_ok.push_back(f.name);
     }
   }
   if (jsonl) run.out += pose_json(f.name, e, elapsed) + "\n";
@@ -560,7 +567,20 @@ void print_sequence_summary(const Args& a, std::size_t frames, const SequenceRun
             << "  time per frame  median " << format_fixed(median(run.ms), 3) << " ms\n";
   if (!run.pos_err.empty()) {
     std::cout << "  vs ground truth mean position error " << format_fixed(mean(run.pos_err), 4) << " m, orientation "
-              << format_fixed(mean(run.rot_err), 4) << " rad (" << run.pos_err.size() << " frames)\n";
+              << format_fixed(mean(run.rot_err), 4) << " rad (" << run.pos_err.size() << " frames)\n"
+              << "                  max  position error "
+              << format_fixed(*std::max_element(run.pos_err.begin(), run.pos_err.end()), 4) << " m, orientation "
+              << format_fixed(*std::max_element(run.rot_err.begin(), run.rot_err.end()), 4) << " rad\n"
+              << "  wrong but ok    " << td::app::count_noun(static_cast<long long>(run.wrong_ok.size()), "frame")
+              << " (> " << td::detail::format_general(kWrongOkPositionM) << " m or "
+              << td::detail::format_general(kWrongOkRotationRad) << " rad)";
+    // The first few, so that the user can look at them.
+    constexpr std::size_t kListed = 8;
+    for (std::size_t i = 0; i < std::min(kListed, run.wrong_ok.size()); ++i) {
+      std::cout << (i == 0 ? ": " : ", ") << run.wrong_ok[i];
+    }
+    if (run.wrong_ok.size() > kListed) std::cout << ", ...";
+    std::cout << "\n";
   }
 }
 
