@@ -613,6 +613,24 @@ TEST(LedPoseAppBadInput, TruncatedPngFrame) {
   EXPECT_NE(r.err.find("CRC"), std::string::npos) << r.err;
 }
 
+// A 0-byte colour or depth frame: one line naming the file, not OpenCV's
+// assertion text on two lines (issue 31 item 9).
+TEST(LedPoseAppBadInput, EmptyFrameFile) {
+  TempDir dir;
+  const auto seq = rendered_sequence(dir);
+  const std::string colour = td::test::read_text(seq / "000002.png");
+  td::test::write_text(seq / "000002.png", "");
+  AppRun r = run(seq.string() + " --jsonl", dir);
+  expect_bad_input(r, "000002.png: empty file (0 bytes)");
+  EXPECT_EQ(r.err.find("OpenCV"), std::string::npos) << r.err;
+  td::test::write_text(seq / "000002.png", colour);
+  td::test::write_text(seq / "000004.depth.png", "");
+  r = run(seq.string(), dir);
+  expect_bad_input(r, "000004.depth.png: empty file (0 bytes)");
+  // Without depth the depth PNGs are not read: the run succeeds.
+  EXPECT_EQ(run(seq.string() + " --no-depth", dir).code, 0);
+}
+
 // ---- camera files users already have (issue 11) --------------------------------------
 
 namespace {

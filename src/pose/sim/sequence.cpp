@@ -94,12 +94,17 @@ cv::Mat read_image(const fs::path& path) {
     auto in = detail::open_for_read(path);  // IoError naming the file when missing or unreadable
     bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
+  // imdecode asserts on an empty buffer, in a message of several lines.
+  if (bytes.empty()) throw ParseError(path.string() + ": empty file (0 bytes)");
   check_png(bytes, path);
   cv::Mat m;
   try {
     m = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
   } catch (const cv::Exception& e) {
-    throw ParseError(path.string() + ": cannot decode the image: " + e.what());
+    // e.what() is OpenCV's multi-line report; its condition is one line.
+    std::string why = e.err;
+    std::replace(why.begin(), why.end(), '\n', ' ');
+    throw ParseError(path.string() + ": cannot decode the image (" + why + ")");
   }
   if (m.empty()) throw ParseError(path.string() + ": not a readable image (corrupt or unsupported format)");
   return m;
