@@ -143,6 +143,8 @@ struct Args {
   // Sequence mode.
   std::string sequence_dir, camera_file, constellation_file, method = "led";
   tp::ArucoOptions aruco;
+  // Given on the command line: checked against the sequence's own marker.
+  CLI::Option *aruco_dict_opt = nullptr, *aruco_id_opt = nullptr, *aruco_size_opt = nullptr;
   bool no_depth = false, jsonl = false, fuse = false;
   // render; benchmark shares the camera, constellation, geometry, tilt,
   // seed and profile.
@@ -175,14 +177,16 @@ void add_sequence_options(CLI::App& app, Args& a) {
   app.add_option("--constellation", a.constellation_file,
                  "LED constellation YAML (default: SEQUENCE_DIR/constellation.yaml)");
   app.add_option("--method", a.method, "led or aruco")->check(CLI::IsMember({"led", "aruco"}))->capture_default_str();
-  app.add_option("--aruco-dict", a.aruco.dictionary, "ArUco dictionary (4X4_50, 6X6_250, APRILTAG_36h11, ...)")
-      ->capture_default_str();
-  app.add_option("--aruco-id", a.aruco.marker_id, "ArUco marker id on the airframe (below the dictionary's size)")
-      ->check(number_in(0, kMaxArucoId))
-      ->capture_default_str();
-  app.add_option("--aruco-size", a.aruco.marker_size, "ArUco marker edge [m]")
-      ->check(number_in(0, 10, true))
-      ->capture_default_str();
+  a.aruco_dict_opt = app.add_option("--aruco-dict", a.aruco.dictionary,
+                                    "ArUco dictionary (4X4_50, 6X6_250, APRILTAG_36h11, ...; default: the one "
+                                    "SEQUENCE_DIR/sequence.yaml records, else 4X4_50)");
+  a.aruco_id_opt = app.add_option("--aruco-id", a.aruco.marker_id,
+                                  "ArUco marker id on the airframe, below the dictionary's size (default: "
+                                  "SEQUENCE_DIR/sequence.yaml's, else 3)")
+                       ->check(number_in(0, kMaxArucoId));
+  a.aruco_size_opt = app.add_option("--aruco-size", a.aruco.marker_size,
+                                    "ArUco marker edge [m] (default: SEQUENCE_DIR/sequence.yaml's, else 0.1)")
+                         ->check(number_in(0, 10, true));
   app.add_flag("--no-depth", a.no_depth, "ignore depth images (2-D gating only)");
   app.add_flag("--fuse", a.fuse,
                "report poses fused over the track's frames (a Kalman filter) instead of each frame's own; "
@@ -473,7 +477,48 @@ struct Estimator {
   std::optional<tp::ArucoPoseEstimator> marker;
 };
 
-void set_up_estimator(Estimator& est, const Args& a, const tp::CameraModel& camera, const tp::Constellation& k) {
+// "DICT_4x4_50" and "4X4_50" name the same dictionary.
+std::string dictionary_key(std::string name) {
+  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::toupper(c); });
+  return name.rfind("DICT_", 0) == 0 ? name.substr(5) : name;
+}
+
+// The ArUco marker to look for: the one the sequence was rendered with
+// (sequence.yaml) unless the sequence does not record it. An option given
+// on the command line that contradicts the recorded marker is refused: the
+// poses would be wrong by the size ratio without a word (issue 31 item 12).
+tp::ArucoOptions marker_of_sequence(const Args& a, const fs::path& dir, const tp::SequenceInfo& info) {
+  std::string why;  // the options themselves first: "--aruco-id: 60 is not in dictionary 4X4_50"
+  if (!a.aruco.validate(&why)) throw td::InvalidArgument(in_flag_terms(why));
+  if (!info.aruco) return a.aruco;
+  const std::string file = (dir / tp::kSequenceInfoFile).string();
+  const auto refuse = [&](const CLI::Option* opt, const std::string& given, const std::string& recorded,
+                          const char* key) {
+    throw td::InvalidArgument(opt->get_name() + " " + given + " contradicts " + file +
+                              ": the sequence was rendered with " + key + " " + recorded +
+                              " (leave the option out to use it)");
+  };
+  const tp::ArucoOptions& rec = *info.aruco;
+  if (a.aruco_dict_opt->count() && dictionary_key(a.aruco.dictionary) != dictionary_key(rec.dictionary)) {
+    refuse(a.aruco_dict_opt, a.aruco.dictionary, rec.dictionary, "aruco.dictionary");
+  }
+  if (a.aruco_id_opt->count() && a.aruco.marker_id != rec.marker_id) {
+    refuse(a.aruco_id_opt, std::to_string(a.aruco.marker_id), std::to_string(rec.marker_id), "aruco.id");
+  }
+  if (a.aruco_size_opt->count() &&
+      std::abs(a.aruco.marker_size - rec.marker_size) > 1e-9 * std::max(1.0, rec.marker_size)) {
+    refuse(a.aruco_size_opt, td::detail::format_exact(a.aruco.marker_size), td::detail::format_exact(rec.marker_size),
+           "aruco.size");
+  }
+  tp::ArucoOptions o = a.aruco;
+  o.dictionary = rec.dictionary;
+  o.marker_id = rec.marker_id;
+  o.marker_size = rec.marker_size;
+  return o;
+}
+
+void set_up_estimator(Estimator& est, const Args& a, const tp::CameraModel& camera, const tp::Constellation& k,
+                      const tp::SequenceInfo& info) {
   if (a.method == "led") {
     tp::TrackerOptions to;
     to.use_depth = !a.no_depth;
@@ -481,7 +526,7 @@ void set_up_estimator(Estimator& est, const Args& a, const tp::CameraModel& came
     est.tracker.emplace(camera, k, to);
   } else {
     try {
-      est.marker.emplace(camera, k.T_body_marker, a.aruco);
+      est.marker.emplace(camera, k.T_body_marker, marker_of_sequence(a, a.sequence_dir, info));
     } catch (const td::InvalidArgument& e) {
       throw td::InvalidArgument(in_flag_terms(e.what()));
     }
@@ -593,7 +638,7 @@ int run_sequence(const Args& a) {
   const auto k =
       tp::load_constellation(config_path(a.constellation_file, dir, "constellation.yaml", "--constellation"));
   Estimator est;
-  set_up_estimator(est, a, camera, k);
+  set_up_estimator(est, a, camera, k, tp::read_sequence_info(dir));
   // Ground truth, when the sequence carries it (a rendered one does).
   std::vector<tp::GroundTruthSample> truth;
   if (fs::exists(dir / "ground_truth.jsonl")) truth = tp::read_ground_truth(dir / "ground_truth.jsonl");

@@ -165,8 +165,8 @@ void expect_each_refused(const std::vector<RefusedArgs>& cases, const TempDir& d
 TEST(LedPoseApp, RenderWritesASequence) {
   TempDir dir;
   const auto seq = render(dir);
-  for (const char* f : {"camera.yaml", "constellation.yaml", "ground_truth.jsonl", "000000.png", "000011.png",
-                        "000000.depth.png", "000011.depth.png"}) {
+  for (const char* f : {"camera.yaml", "constellation.yaml", "sequence.yaml", "ground_truth.jsonl", "000000.png",
+                        "000011.png", "000000.depth.png", "000011.depth.png"}) {
     EXPECT_TRUE(fs::exists(seq / f)) << f;
   }
   EXPECT_FALSE(fs::exists(seq / "000012.png"));
@@ -248,6 +248,59 @@ TEST(LedPoseApp, SummaryReportsMaxErrorsAndWrongButOkFrames) {
   EXPECT_NE(r.out.find("wrong but ok    2 frames (> 0.1 m or 0.1 rad): " + moved + ", " + turned + "\n"),
             std::string::npos)
       << r.out;
+}
+
+// The marker a sequence was rendered with is recorded in sequence.yaml and
+// used by --method aruco (issue 31 item 12): with a 0.2 m marker the
+// defaults (0.1 m) put every pose at half the distance.
+TEST(LedPoseApp, ArucoUsesTheMarkerTheSequenceRecords) {
+  TempDir dir;
+  const auto seq = render(dir, "big", "--aruco-size 0.2 --aruco-id 7 --aruco-dict 5X5_100");
+  const std::string info = td::test::read_text(seq / "sequence.yaml");
+  EXPECT_NE(info.find("seed: 3"), std::string::npos) << info;
+  EXPECT_NE(info.find("aruco: {dictionary: 5X5_100, id: 7, size: 0.2}"), std::string::npos) << info;
+  const auto truth = read_truth(seq);
+  for (const std::string extra : {"", " --aruco-size 0.2 --aruco-id 7 --aruco-dict dict_5x5_100"}) {
+    SCOPED_TRACE(extra);
+    const AppRun r = run(seq.string() + " --jsonl --method aruco" + extra, dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    // A wrong marker size scales every distance by the size ratio (0.5 with
+    // the defaults); the baseline's own noise at 2-3 m is a few percent.
+    std::vector<double> ratios;
+    for (const auto& line : lines_of(r.out)) {
+      const auto j = nlohmann::json::parse(line);
+      if (!j["ok"].get<bool>()) continue;
+      const Eigen::Vector3d t(j["t"][0].get<double>(), j["t"][1].get<double>(), j["t"][2].get<double>());
+      ratios.push_back(t.norm() / truth.at(j["frame"].get<std::string>()).t.norm());
+    }
+    ASSERT_GE(ratios.size(), 6u) << r.out;
+    std::sort(ratios.begin(), ratios.end());
+    EXPECT_NEAR(ratios[ratios.size() / 2], 1.0, 0.05) << r.out;
+  }
+  // An explicit value that contradicts the record is refused, naming the
+  // option, the file and both values.
+  expect_each_refused({{seq.string() + " --method aruco --aruco-size 0.1", "--aruco-size 0.1 contradicts"},
+                       {seq.string() + " --method aruco --aruco-id 3", "aruco.id 7"},
+                       {seq.string() + " --method aruco --aruco-dict 4X4_50", "aruco.dictionary 5X5_100"}},
+                      dir);
+  const AppRun r = run(seq.string() + " --method aruco --aruco-size 0.1", dir);
+  EXPECT_NE(r.err.find("sequence.yaml"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("aruco.size 0.2"), std::string::npos) << r.err;
+}
+
+// A sequence without sequence.yaml (rendered before it existed, or recorded)
+// takes the options' defaults; a malformed one is refused naming its line.
+TEST(LedPoseApp, SequenceWithoutInfoFileUsesTheDefaults) {
+  TempDir dir;
+  const auto seq = rendered_sequence(dir);
+  fs::remove(seq / "sequence.yaml");
+  const AppRun r = run(seq.string() + " --jsonl --method aruco --aruco-size 0.1", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  check_jsonl(r.out, seq, false);
+  td::test::write_text(seq / "sequence.yaml", "seed: 3\naruco: {dictionary: 4X4_50, id: 3, size: -1}\n");
+  expect_bad_input(run(seq.string() + " --method aruco", dir), "sequence.yaml:2: aruco");
+  td::test::write_text(seq / "sequence.yaml", "seed: 3\nseed: 4\n");
+  expect_bad_input(run(seq.string() + " --method aruco", dir), "sequence.yaml:2: seed: duplicate key");
 }
 
 TEST(LedPoseApp, RenderAndTrackingAreDeterministic) {
