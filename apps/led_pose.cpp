@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -359,7 +360,12 @@ int run_render(const Args& a) {
   } catch (const td::InvalidArgument& e) {
     throw td::InvalidArgument(in_flag_terms(e.what()));
   }
-  tp::write_sequence(a.out_dir, camera, k, samples, r, a.seed);
+  td::app::ProgressBar bar;
+  std::function<void(std::size_t, std::size_t)> progress;
+  if (td::app::ProgressBar::on_terminal())
+    progress = [&bar](std::size_t done, std::size_t total) { bar.draw(done, total); };
+  tp::write_sequence(a.out_dir, camera, k, samples, r, a.seed, progress);
+  bar.close();
   std::cerr << "led_pose: wrote " << samples.size() << " frames to " << a.out_dir << "\n";
   return td::app::kExitOk;
 }
@@ -643,7 +649,15 @@ int run_sequence(const Args& a) {
   std::vector<tp::GroundTruthSample> truth;
   if (fs::exists(dir / "ground_truth.jsonl")) truth = tp::read_ground_truth(dir / "ground_truth.jsonl");
   SequenceRun run;
-  for (const auto& f : frames_list) {
+  // A progress bar on a terminal once the run has taken over a second.
+  td::app::ProgressBar bar;
+  const bool on_terminal = td::app::ProgressBar::on_terminal();
+  const auto start = std::chrono::steady_clock::now();
+  for (std::size_t i = 0; i < frames_list.size(); ++i) {
+    const tp::SequenceFrame& f = frames_list[i];
+    if (on_terminal && std::chrono::steady_clock::now() - start > std::chrono::seconds(1)) {
+      bar.draw(i, frames_list.size());
+    }
     const bool want_depth = a.method == "led" && !a.no_depth && f.depth;
     read_checked_frame(f, want_depth, camera, camera_path, run);
     const touchdown::DepthImageView dv = run.depth.view();
@@ -653,6 +667,7 @@ int run_sequence(const Args& a) {
     const double elapsed = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     record_estimate(f, e, elapsed, truth, a.jsonl, run);
   }
+  bar.close();
   if (a.jsonl) {
     std::cout << run.out;
     return td::app::kExitOk;

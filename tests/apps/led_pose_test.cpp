@@ -303,6 +303,24 @@ TEST(LedPoseApp, SequenceWithoutInfoFileUsesTheDefaults) {
   expect_bad_input(run(seq.string() + " --method aruco", dir), "sequence.yaml:2: seed: duplicate key");
 }
 
+// On a terminal, render shows a progress bar on stderr (issue 31 item 11);
+// script(1) gives the app a terminal. Without one (every other test) stderr
+// stays as it was.
+TEST(LedPoseApp, RenderShowsProgressOnATerminal) {
+  if (!fs::exists("/usr/bin/script")) GTEST_SKIP() << "no script(1) to give the app a terminal";
+  TempDir dir;
+  const fs::path out = dir / "tty";
+  const AppRun r = td::test::run_app(
+      "/usr/bin/script", "-qec \"" + std::string(LED_POSE_EXE) + " render " + out.string() + " --frames 12\" /dev/null",
+      dir);
+  ASSERT_EQ(r.code, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("] 12/12"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("led_pose: wrote 12 frames"), std::string::npos) << r.out;
+  const AppRun plain = run("render " + (dir / "plain").string() + " --frames 2", dir);
+  ASSERT_EQ(plain.code, 0) << plain.err;
+  EXPECT_EQ(plain.err.find("2/2"), std::string::npos) << plain.err;
+}
+
 TEST(LedPoseApp, RenderAndTrackingAreDeterministic) {
   TempDir dir;
   // The fixture was rendered by another process with the same arguments.

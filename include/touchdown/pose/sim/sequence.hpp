@@ -16,6 +16,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -89,7 +90,9 @@ SequenceInfo read_sequence_info(const std::filesystem::path& dir);
 /// overwrite (its frames beyond the new count) are removed, any other file
 /// is kept. Throws InvalidArgument for invalid inputs, IoError when the
 /// parent directory is missing or writing fails.
+/// `progress`, when set, is called with (frames written, total) after each frame.
 void write_sequence(const std::filesystem::path& out_dir, const CameraModel& camera, const Constellation& constellation,
-                    std::span<const TrajectorySample> samples, const RenderOptions& options, std::uint64_t seed);
+                    std::span<const TrajectorySample> samples, const RenderOptions& options, std::uint64_t seed,
+                    const std::function<void(std::size_t done, std::size_t total)>& progress = {});
 
 }  // namespace touchdown::pose
