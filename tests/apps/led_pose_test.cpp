@@ -528,8 +528,9 @@ TEST(LedPoseApp, RenderIntoANonEmptyDirectoryNeedsOverwrite) {
   std::vector<std::string> files;
   for (const auto& e : fs::directory_iterator(seq)) files.push_back(e.path().filename().string());
   std::sort(files.begin(), files.end());
-  EXPECT_EQ(files, (std::vector<std::string>{"000000.depth.png", "000000.png", "000001.depth.png", "000001.png",
-                                             "camera.yaml", "constellation.yaml", "ground_truth.jsonl", "notes.txt"}));
+  EXPECT_EQ(files,
+            (std::vector<std::string>{"000000.depth.png", "000000.png", "000001.depth.png", "000001.png", "camera.yaml",
+                                      "constellation.yaml", "ground_truth.jsonl", "notes.txt", "sequence.yaml"}));
   EXPECT_EQ(read_truth(seq).size(), 2u);
   EXPECT_NE(file_bytes(seq / "ground_truth.jsonl"), first_truth);
   EXPECT_EQ(file_bytes(seq / "notes.txt"), "mine");
