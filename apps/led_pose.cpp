@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -143,6 +144,8 @@ struct Args {
   // Sequence mode.
   std::string sequence_dir, camera_file, constellation_file, method = "led";
   tp::ArucoOptions aruco;
+  // Given on the command line: checked against the sequence's own marker.
+  CLI::Option *aruco_dict_opt = nullptr, *aruco_id_opt = nullptr, *aruco_size_opt = nullptr;
   bool no_depth = false, jsonl = false, fuse = false;
   // render; benchmark shares the camera, constellation, geometry, tilt,
   // seed and profile.
@@ -175,14 +178,16 @@ void add_sequence_options(CLI::App& app, Args& a) {
   app.add_option("--constellation", a.constellation_file,
                  "LED constellation YAML (default: SEQUENCE_DIR/constellation.yaml)");
   app.add_option("--method", a.method, "led or aruco")->check(CLI::IsMember({"led", "aruco"}))->capture_default_str();
-  app.add_option("--aruco-dict", a.aruco.dictionary, "ArUco dictionary (4X4_50, 6X6_250, APRILTAG_36h11, ...)")
-      ->capture_default_str();
-  app.add_option("--aruco-id", a.aruco.marker_id, "ArUco marker id on the airframe (below the dictionary's size)")
-      ->check(number_in(0, kMaxArucoId))
-      ->capture_default_str();
-  app.add_option("--aruco-size", a.aruco.marker_size, "ArUco marker edge [m]")
-      ->check(number_in(0, 10, true))
-      ->capture_default_str();
+  a.aruco_dict_opt = app.add_option("--aruco-dict", a.aruco.dictionary,
+                                    "ArUco dictionary (4X4_50, 6X6_250, APRILTAG_36h11, ...; default: the one "
+                                    "SEQUENCE_DIR/sequence.yaml records, else 4X4_50)");
+  a.aruco_id_opt = app.add_option("--aruco-id", a.aruco.marker_id,
+                                  "ArUco marker id on the airframe, below the dictionary's size (default: "
+                                  "SEQUENCE_DIR/sequence.yaml's, else 3)")
+                       ->check(number_in(0, kMaxArucoId));
+  a.aruco_size_opt = app.add_option("--aruco-size", a.aruco.marker_size,
+                                    "ArUco marker edge [m] (default: SEQUENCE_DIR/sequence.yaml's, else 0.1)")
+                         ->check(number_in(0, 10, true));
   app.add_flag("--no-depth", a.no_depth, "ignore depth images (2-D gating only)");
   app.add_flag("--fuse", a.fuse,
                "report poses fused over the track's frames (a Kalman filter) instead of each frame's own; "
@@ -355,7 +360,12 @@ int run_render(const Args& a) {
   } catch (const td::InvalidArgument& e) {
     throw td::InvalidArgument(in_flag_terms(e.what()));
   }
-  tp::write_sequence(a.out_dir, camera, k, samples, r, a.seed);
+  td::app::ProgressBar bar;
+  std::function<void(std::size_t, std::size_t)> progress;
+  if (td::app::ProgressBar::on_terminal())
+    progress = [&bar](std::size_t done, std::size_t total) { bar.draw(done, total); };
+  tp::write_sequence(a.out_dir, camera, k, samples, r, a.seed, progress);
+  bar.close();
   std::cerr << "led_pose: wrote " << samples.size() << " frames to " << a.out_dir << "\n";
   return td::app::kExitOk;
 }
@@ -473,7 +483,48 @@ struct Estimator {
   std::optional<tp::ArucoPoseEstimator> marker;
 };
 
-void set_up_estimator(Estimator& est, const Args& a, const tp::CameraModel& camera, const tp::Constellation& k) {
+// "DICT_4x4_50" and "4X4_50" name the same dictionary.
+std::string dictionary_key(std::string name) {
+  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::toupper(c); });
+  return name.rfind("DICT_", 0) == 0 ? name.substr(5) : name;
+}
+
+// The ArUco marker to look for: the one the sequence was rendered with
+// (sequence.yaml) unless the sequence does not record it. An option given
+// on the command line that contradicts the recorded marker is refused: the
+// poses would be wrong by the size ratio without a word (issue 31 item 12).
+tp::ArucoOptions marker_of_sequence(const Args& a, const fs::path& dir, const tp::SequenceInfo& info) {
+  std::string why;  // the options themselves first: "--aruco-id: 60 is not in dictionary 4X4_50"
+  if (!a.aruco.validate(&why)) throw td::InvalidArgument(in_flag_terms(why));
+  if (!info.aruco) return a.aruco;
+  const std::string file = (dir / tp::kSequenceInfoFile).string();
+  const auto refuse = [&](const CLI::Option* opt, const std::string& given, const std::string& recorded,
+                          const char* key) {
+    throw td::InvalidArgument(opt->get_name() + " " + given + " contradicts " + file +
+                              ": the sequence was rendered with " + key + " " + recorded +
+                              " (leave the option out to use it)");
+  };
+  const tp::ArucoOptions& rec = *info.aruco;
+  if (a.aruco_dict_opt->count() && dictionary_key(a.aruco.dictionary) != dictionary_key(rec.dictionary)) {
+    refuse(a.aruco_dict_opt, a.aruco.dictionary, rec.dictionary, "aruco.dictionary");
+  }
+  if (a.aruco_id_opt->count() && a.aruco.marker_id != rec.marker_id) {
+    refuse(a.aruco_id_opt, std::to_string(a.aruco.marker_id), std::to_string(rec.marker_id), "aruco.id");
+  }
+  if (a.aruco_size_opt->count() &&
+      std::abs(a.aruco.marker_size - rec.marker_size) > 1e-9 * std::max(1.0, rec.marker_size)) {
+    refuse(a.aruco_size_opt, td::detail::format_exact(a.aruco.marker_size), td::detail::format_exact(rec.marker_size),
+           "aruco.size");
+  }
+  tp::ArucoOptions o = a.aruco;
+  o.dictionary = rec.dictionary;
+  o.marker_id = rec.marker_id;
+  o.marker_size = rec.marker_size;
+  return o;
+}
+
+void set_up_estimator(Estimator& est, const Args& a, const tp::CameraModel& camera, const tp::Constellation& k,
+                      const tp::SequenceInfo& info) {
   if (a.method == "led") {
     tp::TrackerOptions to;
     to.use_depth = !a.no_depth;
@@ -481,7 +532,7 @@ void set_up_estimator(Estimator& est, const Args& a, const tp::CameraModel& came
     est.tracker.emplace(camera, k, to);
   } else {
     try {
-      est.marker.emplace(camera, k.T_body_marker, a.aruco);
+      est.marker.emplace(camera, k.T_body_marker, marker_of_sequence(a, a.sequence_dir, info));
     } catch (const td::InvalidArgument& e) {
       throw td::InvalidArgument(in_flag_terms(e.what()));
     }
@@ -497,7 +548,13 @@ struct SequenceRun {
   std::string out;     // printed at the end: a bad frame leaves no partial output
   int ok = 0;
   std::vector<double> ms, rms, pos_err, rot_err;
+  std::vector<std::string> wrong_ok;  // frames reported ok but off the truth by more than kWrongOk*
 };
+
+// A pose reported ok but farther than this from the ground truth is wrong
+// (the benchmark's wrong-ok threshold).
+constexpr double kWrongOkPositionM = 0.1;
+constexpr double kWrongOkRotationRad = 0.1;
 
 // Reads frame `f` into run.colour (and run.depth), refusing an image of
 // another size than the camera's or depth in another unit.
@@ -534,6 +591,7 @@ void record_estimate(const tp::SequenceFrame& f, const tp::PoseEstimate& e, doub
       const auto [p, r] = tp::pose_error(e.T_camera_body, truth[run.ti].T_camera_body);
       run.pos_err.push_back(p);
       run.rot_err.push_back(r);
+      if (p > kWrongOkPositionM || r > kWrongOkRotationRad) run.wrong_ok.push_back(f.name);
     }
   }
   if (jsonl) run.out += pose_json(f.name, e, elapsed) + "\n";
@@ -560,7 +618,20 @@ void print_sequence_summary(const Args& a, std::size_t frames, const SequenceRun
             << "  time per frame  median " << format_fixed(median(run.ms), 3) << " ms\n";
   if (!run.pos_err.empty()) {
     std::cout << "  vs ground truth mean position error " << format_fixed(mean(run.pos_err), 4) << " m, orientation "
-              << format_fixed(mean(run.rot_err), 4) << " rad (" << run.pos_err.size() << " frames)\n";
+              << format_fixed(mean(run.rot_err), 4) << " rad (" << run.pos_err.size() << " frames)\n"
+              << "                  max  position error "
+              << format_fixed(*std::max_element(run.pos_err.begin(), run.pos_err.end()), 4) << " m, orientation "
+              << format_fixed(*std::max_element(run.rot_err.begin(), run.rot_err.end()), 4) << " rad\n"
+              << "  wrong but ok    " << td::app::count_noun(static_cast<long long>(run.wrong_ok.size()), "frame")
+              << " (> " << td::detail::format_general(kWrongOkPositionM) << " m or "
+              << td::detail::format_general(kWrongOkRotationRad) << " rad)";
+    // The first few, so that the user can look at them.
+    constexpr std::size_t kListed = 8;
+    for (std::size_t i = 0; i < std::min(kListed, run.wrong_ok.size()); ++i) {
+      std::cout << (i == 0 ? ": " : ", ") << run.wrong_ok[i];
+    }
+    if (run.wrong_ok.size() > kListed) std::cout << ", ...";
+    std::cout << "\n";
   }
 }
 
@@ -573,12 +644,20 @@ int run_sequence(const Args& a) {
   const auto k =
       tp::load_constellation(config_path(a.constellation_file, dir, "constellation.yaml", "--constellation"));
   Estimator est;
-  set_up_estimator(est, a, camera, k);
+  set_up_estimator(est, a, camera, k, tp::read_sequence_info(dir));
   // Ground truth, when the sequence carries it (a rendered one does).
   std::vector<tp::GroundTruthSample> truth;
   if (fs::exists(dir / "ground_truth.jsonl")) truth = tp::read_ground_truth(dir / "ground_truth.jsonl");
   SequenceRun run;
-  for (const auto& f : frames_list) {
+  // A progress bar on a terminal once the run has taken over a second.
+  td::app::ProgressBar bar;
+  const bool on_terminal = td::app::ProgressBar::on_terminal();
+  const auto start = std::chrono::steady_clock::now();
+  for (std::size_t i = 0; i < frames_list.size(); ++i) {
+    const tp::SequenceFrame& f = frames_list[i];
+    if (on_terminal && std::chrono::steady_clock::now() - start > std::chrono::seconds(1)) {
+      bar.draw(i, frames_list.size());
+    }
     const bool want_depth = a.method == "led" && !a.no_depth && f.depth;
     read_checked_frame(f, want_depth, camera, camera_path, run);
     const touchdown::DepthImageView dv = run.depth.view();
@@ -588,6 +667,7 @@ int run_sequence(const Args& a) {
     const double elapsed = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     record_estimate(f, e, elapsed, truth, a.jsonl, run);
   }
+  bar.close();
   if (a.jsonl) {
     std::cout << run.out;
     return td::app::kExitOk;

@@ -15,7 +15,9 @@
 #include <set>
 #include <system_error>
 
+#include "core/format.hpp"
 #include "core/io_util.hpp"
+#include "core/yaml_util.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::pose {
@@ -94,12 +96,17 @@ cv::Mat read_image(const fs::path& path) {
     auto in = detail::open_for_read(path);  // IoError naming the file when missing or unreadable
     bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
+  // imdecode asserts on an empty buffer, in a message of several lines.
+  if (bytes.empty()) throw ParseError(path.string() + ": empty file (0 bytes)");
   check_png(bytes, path);
   cv::Mat m;
   try {
     m = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
   } catch (const cv::Exception& e) {
-    throw ParseError(path.string() + ": cannot decode the image: " + e.what());
+    // e.what() is OpenCV's multi-line report; its condition is one line.
+    std::string why = e.err;
+    std::replace(why.begin(), why.end(), '\n', ' ');
+    throw ParseError(path.string() + ": cannot decode the image (" + why + ")");
   }
   if (m.empty()) throw ParseError(path.string() + ": not a readable image (corrupt or unsupported format)");
   return m;
@@ -169,6 +176,62 @@ void read_frame(const SequenceFrame& frame, BgrImage& colour, DepthImage* depth)
   d.copyTo(cv::Mat(d.rows, d.cols, CV_16UC1, depth->pixels.data()));
 }
 
+// ---- sequence.yaml -----------------------------------------------------------
+
+std::string sequence_info_to_yaml(const SequenceInfo& info) {
+  std::string out = "# How led_pose render made this sequence (docs/formats.md, \"Image sequences\")\n";
+  if (info.seed) out += "seed: " + std::to_string(*info.seed) + "\n";
+  if (info.aruco) {
+    out += "aruco: {dictionary: " + info.aruco->dictionary + ", id: " + std::to_string(info.aruco->marker_id) +
+           ", size: " + detail::format_exact(info.aruco->marker_size) + "}\n";
+  }
+  return out;
+}
+
+namespace {
+
+std::uint64_t read_seed(const detail::YamlReader& r, const YAML::Node& n) {
+  const std::string text = n.IsScalar() ? std::string(detail::trim(n.Scalar())) : std::string();
+  std::uint64_t v = 0;
+  const bool digits = !text.empty() && text.size() <= 20 &&
+                      std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+  if (!digits || !detail::parse_int(text, v)) r.fail(n, "seed", "expected an integer in [0, 2^64), got '" + text + "'");
+  return v;
+}
+
+}  // namespace
+
+SequenceInfo parse_sequence_info(std::string_view yaml_text, std::string_view source) {
+  const YAML::Node root = detail::load_yaml(yaml_text, source);
+  const detail::YamlReader r{source};
+  SequenceInfo info;
+  if (!root || root.IsNull()) return info;
+  try {
+    r.only(root, "", {"seed", "aruco"});
+    if (root["seed"]) info.seed = read_seed(r, root["seed"]);
+    if (const YAML::Node a = root["aruco"]) {
+      r.only(a, "aruco.", {"dictionary", "id", "size"});
+      ArucoOptions o;
+      o.dictionary = r.text(r.child(a, "aruco.", "dictionary"), "aruco.dictionary");
+      o.marker_id = r.integer(r.child(a, "aruco.", "id"), "aruco.id");
+      o.marker_size = r.number(r.child(a, "aruco.", "size"), "aruco.size");
+      std::string why;
+      if (!o.validate(&why)) r.fail(a, "aruco", why);
+      info.aruco = o;
+    }
+  } catch (const YAML::Exception& e) {
+    throw ParseError(std::string(source) + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  return info;
+}
+
+SequenceInfo read_sequence_info(const fs::path& dir) {
+  const fs::path path = dir / kSequenceInfoFile;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return {};
+  return parse_sequence_info(detail::read_text_file(path), path.string());
+}
+
 // ---- ground truth JSON lines -------------------------------------------------
 
 // ---- sequence writer -------------------------------------------------------
@@ -201,7 +264,10 @@ void write_text(const fs::path& path, const std::string& text) {
 // A file write_sequence writes: NNNNNN.png, NNNNNN.depth.png, the ground
 // truth, camera and constellation.
 bool is_sequence_file(const std::string& name) {
-  if (name == "ground_truth.jsonl" || name == "camera.yaml" || name == "constellation.yaml") return true;
+  if (name == "ground_truth.jsonl" || name == "camera.yaml" || name == "constellation.yaml" ||
+      name == kSequenceInfoFile) {
+    return true;
+  }
   const bool six_digits =
       name.size() >= 6 && std::all_of(name.begin(), name.begin() + 6, [](char c) { return c >= '0' && c <= '9'; });
   const std::string rest = six_digits ? name.substr(6) : std::string();
@@ -232,7 +298,8 @@ void remove_stale_sequence_files(const fs::path& target, const std::vector<std::
 }  // namespace
 
 void write_sequence(const fs::path& out_dir, const CameraModel& camera, const Constellation& constellation,
-                    std::span<const TrajectorySample> samples, const RenderOptions& options, std::uint64_t seed) {
+                    std::span<const TrajectorySample> samples, const RenderOptions& options, std::uint64_t seed,
+                    const std::function<void(std::size_t done, std::size_t total)>& progress) {
   if (samples.empty()) throw InvalidArgument("write_sequence: no samples to render");
   if (samples.size() > 1000000) throw InvalidArgument("write_sequence: more than 1000000 frames (names are 6 digits)");
   const SyntheticCamera renderer(camera, constellation, options);  // validates
@@ -276,11 +343,19 @@ void write_sequence(const fs::path& out_dir, const CameraModel& camera, const Co
       g.leds_visible = frame.led_visible;
       g.marker_visible = frame.marker_visible;
       ground_truth += ground_truth_to_json(g) + "\n";
+      if (progress) progress(i + 1, samples.size());
     }
     write_text(staging / "ground_truth.jsonl", ground_truth);
     write_text(staging / "camera.yaml", camera_to_yaml(camera));
     write_text(staging / "constellation.yaml", constellation_to_yaml(constellation));
-    files.insert(files.end(), {"ground_truth.jsonl", "camera.yaml", "constellation.yaml"});
+    SequenceInfo info;
+    info.seed = seed;
+    info.aruco.emplace();
+    info.aruco->dictionary = options.aruco_dictionary;
+    info.aruco->marker_id = options.aruco_id;
+    info.aruco->marker_size = options.aruco_size;
+    write_text(staging / kSequenceInfoFile, sequence_info_to_yaml(info));
+    files.insert(files.end(), {"ground_truth.jsonl", "camera.yaml", "constellation.yaml", kSequenceInfoFile});
 
     // Into place: one rename of the whole directory when the target is new;
     // otherwise file by file (each rename atomic; the ground truth last).
