@@ -15,7 +15,8 @@ the fence, are its expected output (stdout and stderr together). A fence
 without a `$ ` line is not looked at. `<!-- readme-check: skip (reason) -->`
 on the line before a fence skips it (listed as skipped, with the reason).
 A command whose first word is neither an app in --bin (also written
-`build/apps/APP`) nor a script in KNOWN_SCRIPTS is skipped, with the reason.
+`build/apps/APP`), a script in KNOWN_SCRIPTS nor a tool in KNOWN_TOOLS is
+skipped, with the reason.
 
 How it runs. Each command runs with `bash -c`, in file order (a later
 command reads what an earlier one wrote), with --bin first on PATH, in a
@@ -83,6 +84,9 @@ TIMING_PATTERNS = [
 
 # Scripts the check runs, in the repository itself (not the scratch directory).
 KNOWN_SCRIPTS = {"scripts/demo.sh"}
+# Standard tools an example may use to prepare an input (run in the scratch
+# directory like an app: `sed ... data/plans/landing.yaml > tight.yaml`).
+KNOWN_TOOLS = {"sed", "cp", "printf"}
 
 SKIP_MARKER = re.compile(r"<!--\s*readme-check:\s*skip\s*\((.*)\)\s*-->")
 NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
@@ -161,7 +165,7 @@ def classify(cmd, bin_dir):
     if cmd.skip:
         return
     word = first_word(cmd.text)
-    if word in KNOWN_SCRIPTS:
+    if word in KNOWN_SCRIPTS or word in KNOWN_TOOLS:
         return
     app = word[len("build/apps/") :] if word.startswith("build/apps/") else word
     if "/" in app or not (bin_dir / app).is_file():
