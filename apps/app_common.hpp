@@ -31,19 +31,6 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitBadInput = 2;
 inline constexpr int kExitInternal = 3;
 
-/// Validator of an output path: it must end in `ext` (".svg", ".csv",
-/// ".json"), so that a file named x.png never receives SVG text.
-/// Writes `text` to `path` through a temporary file and a rename, so a
-/// failed write never leaves a partial output; IoError naming `path`.
-inline void write_text_atomically(const std::string& path, const std::string& text) {
-  touchdown::write_file_atomically(path, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    out.flush();
-    if (!out) throw touchdown::IoError(path + ": write failed");
-  });
-}
-
 /// Writes `text` to `path` (a StagedOutputs temporary); IoError naming
 /// `what` when the write fails.
 inline void write_text(const std::filesystem::path& path, const std::string& text, const std::string& what) {
@@ -60,6 +47,8 @@ inline std::filesystem::path stage(touchdown::StagedOutputs& outputs, const std:
   return path.empty() ? std::filesystem::path() : outputs.add(path, option);
 }
 
+/// Validator of an output path: it must end in `ext` (".svg", ".csv",
+/// ".json"), so that a file named x.png never receives SVG text.
 inline CLI::Validator output_extension(const std::string& ext) {
   return CLI::Validator(
       [ext](std::string& path) -> std::string {

@@ -483,12 +483,6 @@ struct Estimator {
   std::optional<tp::ArucoPoseEstimator> marker;
 };
 
-// "DICT_4x4_50" and "4X4_50" name the same dictionary.
-std::string dictionary_key(std::string name) {
-  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::toupper(c); });
-  return name.rfind("DICT_", 0) == 0 ? name.substr(5) : name;
-}
-
 // The ArUco marker to look for: the one the sequence was rendered with
 // (sequence.yaml) unless the sequence does not record it. An option given
 // on the command line that contradicts the recorded marker is refused: the
@@ -505,7 +499,8 @@ tp::ArucoOptions marker_of_sequence(const Args& a, const fs::path& dir, const tp
                               " (leave the option out to use it)");
   };
   const tp::ArucoOptions& rec = *info.aruco;
-  if (a.aruco_dict_opt->count() && dictionary_key(a.aruco.dictionary) != dictionary_key(rec.dictionary)) {
+  if (a.aruco_dict_opt->count() &&
+      tp::canonical_aruco_dictionary(a.aruco.dictionary) != tp::canonical_aruco_dictionary(rec.dictionary)) {
     refuse(a.aruco_dict_opt, a.aruco.dictionary, rec.dictionary, "aruco.dictionary");
   }
   if (a.aruco_id_opt->count() && a.aruco.marker_id != rec.marker_id) {

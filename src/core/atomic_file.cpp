@@ -67,12 +67,14 @@ fs::path StagedOutputs::add(const fs::path& target, const std::string& label) {
   const std::string what = label.empty() ? target.string() : label + ": " + target.string();
   check_writable(target, what, true);
   std::error_code ec;
+  fs::path identity = fs::weakly_canonical(target, ec);
+  if (ec) identity = fs::absolute(target).lexically_normal();
   for (const Entry& e : entries_) {
-    if (e.target == target || fs::weakly_canonical(e.target, ec) == fs::weakly_canonical(target, ec)) {
+    if (e.identity == identity) {
       throw IoError(what + ": is also the output of " + (e.label.empty() ? e.target.string() : e.label));
     }
   }
-  entries_.push_back({target, temporary_beside(target, target.extension().string()), label});
+  entries_.push_back({target, temporary_beside(target, target.extension().string()), identity, label});
   return entries_.back().tmp;
 }
 

@@ -572,6 +572,17 @@ TEST(ArucoOptions, SizeOutsideTheRangeIsRejected) {
   }
 }
 
+TEST(ArucoOptions, CanonicalDictionaryNameIgnoresCaseAndPrefix) {
+  for (const std::string& name : aruco_dictionary_names()) {
+    EXPECT_EQ(canonical_aruco_dictionary(name), name);
+    std::string lower = "dict_" + name;
+    for (auto& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    EXPECT_EQ(canonical_aruco_dictionary(lower), name) << lower;
+  }
+  EXPECT_EQ(canonical_aruco_dictionary("4X4_51"), "");
+  EXPECT_NE(canonical_aruco_dictionary("4X4_50"), canonical_aruco_dictionary("4X4_100"));
+}
+
 TEST(ArucoOptions, EveryListedDictionaryValidatesAndMatchesOpenCV) {
   const auto names = aruco_dictionary_names();
   ASSERT_EQ(names.size(), 21u);  // OpenCV 4.6's PREDEFINED_DICTIONARY_NAME

@@ -42,6 +42,7 @@ class StagedOutputs {
  private:
   struct Entry {
     std::filesystem::path target, tmp;
+    std::filesystem::path identity;  ///< the file `target` names (symlinks and ".." resolved)
     std::string label;
   };
   std::vector<Entry> entries_;

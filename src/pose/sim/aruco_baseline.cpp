@@ -22,6 +22,11 @@ namespace touchdown::pose {
 
 std::vector<std::string> aruco_dictionary_names() { return detail::aruco_dictionary_name_list(); }
 
+std::string canonical_aruco_dictionary(std::string_view name) {
+  const detail::ArucoDictionaryInfo* d = detail::find_aruco_dictionary(name);
+  return d ? std::string(d->name) : std::string();
+}
+
 bool ArucoOptions::validate(std::string* why) const {
   auto fail = [&](const std::string& m) {
     if (why) *why = m;

@@ -21,6 +21,7 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "touchdown/core/image.hpp"
@@ -58,6 +59,11 @@ struct ArucoOptions {
 /// The dictionary names ArucoOptions::dictionary accepts, in OpenCV's
 /// PREDEFINED_DICTIONARY_NAME order (canonical spelling).
 std::vector<std::string> aruco_dictionary_names();
+
+/// The canonical spelling of a dictionary name ArucoOptions::dictionary
+/// accepts ("dict_4x4_50" → "4X4_50"); "" when unknown. Two names are the
+/// same dictionary when their canonical names are equal.
+std::string canonical_aruco_dictionary(std::string_view name);
 
 /// Per-frame ArUco pose: detect markers, pick `marker_id`, solve IPPE on
 /// its four corners with the camera's distortion, and return
