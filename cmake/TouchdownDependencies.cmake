@@ -4,8 +4,10 @@ find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(assimp REQUIRED)
 find_package(yaml-cpp REQUIRED)
 find_package(Threads REQUIRED)
+# nlohmann-json: the apps' --json output and the violation search's results
+# directory (header-only, used in a few translation units).
+find_package(nlohmann_json 3 REQUIRED)
 if(TOUCHDOWN_BUILD_APPS OR TOUCHDOWN_BUILD_BENCHMARKS OR TOUCHDOWN_BUILD_TESTS)
-  find_package(nlohmann_json 3 REQUIRED)
   find_package(CLI11 REQUIRED)
 endif()
 if(TOUCHDOWN_BUILD_TESTS)
@@ -29,3 +31,8 @@ find_package(Ceres 2 REQUIRED)
 find_package(NLopt REQUIRED)
 # Landing test world: FCL for the drone's collisions with scene objects.
 find_package(fcl 0.7 REQUIRED)
+# Violation search: pagmo2 for NSGA-II's non-dominated sorting and crowding
+# distance (privately, in one translation unit); Open MPI for campaigns
+# across processes and machines (only the campaign runner, touchdown::search_mpi).
+find_package(pagmo REQUIRED)
+find_package(MPI COMPONENTS C)

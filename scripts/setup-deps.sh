@@ -20,6 +20,9 @@ packages=(
   libcli11-dev
   libgtest-dev libgmock-dev
   libbenchmark-dev
+  # the violation search: NSGA-II and Pareto utilities, campaigns across processes
+  libpagmo-dev
+  libopenmpi-dev openmpi-bin
   # xmllint: the SVG plot test's independent XML parser
   libxml2-utils
   # libFuzzer and the sanitizer runtimes for clang

@@ -51,7 +51,15 @@ CampaignResult run_campaign(const std::vector<Scenario>& scenarios, const Campai
     try {
       auto system = make_landing_system(options.system, options.mls);
       for (std::size_t i = next++; i < scenarios.size(); i = next++) {
-        ScenarioResult r = run_scenario(scenarios[i], *system, options.run);
+        ScenarioResult r;
+        if (options.external_for) {
+          RunOptions run = options.run;
+          run.external = options.external_for(i);
+          r = run_scenario(scenarios[i], *system, run);
+        } else {
+          r = run_scenario(scenarios[i], *system, options.run);
+        }
+        if (options.inspect) options.inspect(i, r);
         CampaignEntry& e = result.entries[i];
         e.map = scenarios[i].map;
         e.outcome = std::move(static_cast<ScenarioOutcome&>(r));

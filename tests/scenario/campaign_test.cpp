@@ -107,6 +107,58 @@ TEST(Campaign, RandomScenariosAreTheSeededOnes) {
   EXPECT_FALSE(any[0] == any[1]);
 }
 
+// The per-scenario controller drives each run's `external` objects (the
+// same as handing it to run_scenario), and `inspect` sees each run's whole
+// result once, for its own index.
+TEST(Campaign, PerScenarioControllerAndInspectionAreThoseOfSingleRuns) {
+  std::vector<Scenario> scenarios = campaign_short_scenarios();
+  for (auto& s : scenarios) {
+    DynamicObject dog;
+    dog.kind = DynamicKind::Dog;
+    dog.size = {0.8, 0.3, 0.6};
+    dog.position = s.marker.position + Eigen::Vector2d(-3, 0);
+    dog.speed = 2;
+    dog.motion = MotionKind::External;
+    s.dynamic_objects = {dog};
+  }
+  const auto controller_for = [](std::size_t index) {
+    return [index](const World&, std::vector<ObjectAction>& actions) {
+      for (auto& a : actions) a = index == 0 ? ObjectAction::Right : ObjectAction::Up;
+    };
+  };
+  CampaignOptions o;
+  o.run.camera.width = 320;
+  o.run.camera.height = 240;
+  o.threads = 2;
+  o.external_for = controller_for;
+  std::vector<int> seen(scenarios.size(), 0);
+  std::vector<double> last_t(scenarios.size(), 0);
+  std::vector<std::size_t> frames(scenarios.size(), 0);
+  o.inspect = [&](std::size_t i, const ScenarioResult& r) {
+    ++seen[i];
+    frames[i] = r.frames.size();
+    last_t[i] = r.trajectory.empty() ? 0.0 : r.trajectory.back().t;
+  };
+  const CampaignResult campaign = run_campaign(scenarios, o);
+  for (std::size_t i = 0; i < scenarios.size(); ++i) {
+    EXPECT_EQ(seen[i], 1) << i;
+    RunOptions run = o.run;
+    run.external = controller_for(i);
+    auto system = make_landing_system(o.system, o.mls);
+    const ScenarioResult single = run_scenario(scenarios[i], *system, run);
+    EXPECT_EQ(campaign.entries[i].outcome.message, single.message) << i;
+    EXPECT_EQ(campaign.entries[i].outcome.final_position, single.final_position) << i;
+    EXPECT_EQ(frames[i], single.frames.size()) << i;
+    EXPECT_EQ(last_t[i], single.trajectory.back().t) << i;
+    // The controller does move the dog.
+    World w(scenarios[i]);
+    std::vector<ObjectAction> actions(1);
+    controller_for(i)(w, actions);
+    w.step(DroneCommand{}, actions);
+    EXPECT_NE(w.dynamic_poses()[0].translation().head<2>(), scenarios[i].dynamic_objects[0].position) << i;
+  }
+}
+
 TEST(Campaign, RefusesBadOptionsBeforeRunning) {
   std::vector<Scenario> scenarios(2);
   CampaignOptions o;

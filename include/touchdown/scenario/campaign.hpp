@@ -44,6 +44,15 @@ struct CampaignOptions {
   /// the results (each goes to its scenario's slot). May be empty; an
   /// exception from it stops the campaign and propagates.
   std::function<void(const CampaignProgress&, const CampaignEntry&)> progress;
+  /// Per scenario, a controller for its `external` dynamic objects (the
+  /// search's DQN): called once per scenario, in the worker thread that runs
+  /// it, before the run; the callable it returns drives that run only (so it
+  /// may keep per-run state). May be empty: the objects stay.
+  std::function<std::function<void(const World&, std::vector<ObjectAction>&)>(std::size_t index)> external_for;
+  /// Called in the worker thread right after scenario `index` ran, with its
+  /// whole result (trajectory and frames records), concurrently for
+  /// different indices: to keep more of a run than its outcome. May be empty.
+  std::function<void(std::size_t index, const ScenarioResult&)> inspect;
 
   [[nodiscard]] bool validate(std::string* why) const;
 };
