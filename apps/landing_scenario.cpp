@@ -25,11 +25,14 @@
 #include "touchdown/scenario/campaign.hpp"
 #include "touchdown/scenario/run.hpp"
 #include "touchdown/scenario/scenario.hpp"
+#include "touchdown/search/dqn.hpp"
+#include "touchdown/search/object_policy.hpp"
 
 namespace {
 
 namespace td = touchdown;
 namespace ts = touchdown::scenario;
+namespace tsr = touchdown::search;
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 using namespace touchdown::app;
@@ -227,7 +230,7 @@ void print_campaign(const ts::CampaignResult& c, const std::string& source, cons
 // ---- run: one scenario ----------------------------------------------------------------
 
 struct RunArgs {
-  std::string scenario_path, system = "opencv-mls", video_path, log_path, snapshot_path;
+  std::string scenario_path, system = "opencv-mls", video_path, log_path, snapshot_path, weights_path;
   bool json = false;
   double snapshot_t = -1;
   ts::RunOptions options;
@@ -252,6 +255,10 @@ CLI::App* add_run_command(CLI::App& app, RunArgs& a) {
   cmd->add_option("--snapshot-t", a.snapshot_t, "time of the snapshot [s] (default: the last frame)")
       ->check(number_in(0, 3600))
       ->needs(snapshot_opt);
+  cmd->add_option("--weights", a.weights_path,
+                  "drive the scenario's `external` dynamic objects with this DQN, as a landing_fuzz rlaga campaign "
+                  "did (its results directory's dqn_weights.json); without it they stay")
+      ->check(CLI::ExistingFile);
   cmd->add_flag("--json", a.json, "one JSON object on stdout");
   ts::CameraOptions& camera = a.options.camera;
   cmd->add_option("--width", camera.width, "camera image width [px]")
@@ -343,6 +350,10 @@ int run_command(RunArgs& a) {
   const ts::Scenario scenario = ts::load_scenario(a.scenario_path);
   check_snapshot_time(a, scenario);
   auto sut = ts::make_landing_system(a.system);
+  if (!a.weights_path.empty()) {
+    a.options.external =
+        tsr::ObjectPolicy(std::make_shared<const tsr::QNetwork>(tsr::load_weights(a.weights_path)));
+  }
   RunImages images;
   if (!a.video_path.empty()) {
     images.video.emplace(images.staged.add(a.video_path, "--video"), a.video_path, a.options.camera.rate_hz,

@@ -1,0 +1,596 @@
+// landing_fuzz: searches the marker-landing test world for violations of a
+// landing system (RLaGA paper): campaigns by the four methods (rlaga,
+// diverse-ga, many-objective-ga, random) into resumable results
+// directories, on threads or MPI ranks; DQN pre-training; the source's
+// metrics and its Table 2 comparison; and shrinking a violation to the
+// genes it needs.
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "app_common.hpp"
+#include "core/io_util.hpp"
+#include "touchdown/core/atomic_file.hpp"
+#include "touchdown/search/compare.hpp"
+#include "touchdown/search/dqn.hpp"
+#include "touchdown/search/metrics.hpp"
+#include "touchdown/search/mpi_evaluator.hpp"
+#include "touchdown/search/search.hpp"
+#include "touchdown/search/shrink.hpp"
+#include "touchdown/search/surrogate.hpp"
+
+namespace {
+
+namespace td = touchdown;
+namespace ts = touchdown::scenario;
+namespace tsr = touchdown::search;
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+using namespace touchdown::app;
+
+constexpr const char* kWeightsFile = "dqn_weights.json";
+
+// ---- shared pieces ---------------------------------------------------------------------
+
+// FNV-1a (64 bit) of the weights text: campaign.json records which weights
+// drove the objects, so that --resume refuses others.
+std::string weights_id(const std::string& text) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (const unsigned char c : text) {
+    h ^= c;
+    h *= 0x100000001b3ull;
+  }
+  std::ostringstream s;
+  s << "fnv1a64:" << std::hex << h;
+  return s.str();
+}
+
+struct Common {
+  std::string system = "opencv-mls";
+  int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+};
+
+void add_common(CLI::App& cmd, Common& c) {
+  cmd.add_option("--system", c.system, "landing system under test")
+      ->check(CLI::IsMember(ts::landing_system_names()))
+      ->capture_default_str();
+  cmd.add_option("--threads", c.threads, "worker threads (per MPI rank)")->check(CLI::Range(1, 256))->capture_default_str();
+}
+
+tsr::EvaluatorOptions evaluator_options(const Common& c, std::shared_ptr<const tsr::QNetwork> policy) {
+  tsr::EvaluatorOptions o;
+  o.system = c.system;
+  o.threads = c.threads;
+  o.policy = std::move(policy);
+  return o;
+}
+
+std::string percent(double v) { return format_fixed(v, 1) + " %"; }
+
+std::string optional_count(const std::optional<int>& v) { return v ? std::to_string(*v) : "not found"; }
+
+Json metrics_json(const tsr::SearchMetrics& m) {
+  Json j;
+  j["evaluated"] = m.evaluated;
+  j["violations"] = m.violations;
+  j["violation_percent"] = round3(m.violation_percent);
+  j["type_i"] = m.type_i;
+  j["type_ii"] = m.type_ii;
+  j["type_iii"] = m.type_iii;
+  j["top_10"] = m.top_k ? Json(*m.top_k) : Json(nullptr);
+  j["rounds_all_types"] = m.rounds_all_types ? Json(*m.rounds_all_types) : Json(nullptr);
+  j["parameter_distance"] = round3(m.parameter_distance);
+  j["coverage_cells"] = m.coverage_cells;
+  return j;
+}
+
+void print_metrics(const tsr::SearchMetrics& m) {
+  std::cout << "evaluated          " << m.evaluated << " scenarios\n"
+            << "violations         " << m.violations << " (" << percent(m.violation_percent) << "): type I "
+            << m.type_i << ", type II " << m.type_ii << ", type III " << m.type_iii << "\n"
+            << "top-10             " << optional_count(m.top_k) << " (scenarios evaluated until the 10th violation)\n"
+            << "all three types    " << optional_count(m.rounds_all_types) << " (scenarios evaluated until found)\n"
+            << "parameter distance " << format_fixed(m.parameter_distance, 3)
+            << " (mean pairwise, normalised genes of the violations)\n"
+            << "3-D coverage       " << m.coverage_cells << " cells of 2 m visited by violating runs\n";
+}
+
+// The DQN that drives the objects of an rlaga campaign: --weights, else the
+// directory's copy when resuming, else pre-trained now (deterministic for
+// the seed).
+std::shared_ptr<const tsr::QNetwork> campaign_policy(const std::string& weights_path, const fs::path& dir, bool resume,
+                                                     int episodes, std::uint64_t seed, bool quiet) {
+  if (!weights_path.empty()) return std::make_shared<const tsr::QNetwork>(tsr::load_weights(weights_path));
+  if (resume && fs::exists(dir / kWeightsFile)) {
+    return std::make_shared<const tsr::QNetwork>(tsr::load_weights(dir / kWeightsFile));
+  }
+  if (!quiet) std::cerr << "pre-training the DQN (" << episodes << " surrogate episodes, seed " << seed << ")\n";
+  tsr::DqnTraining t = tsr::train_dqn(tsr::DqnOptions{}, tsr::SurrogateOptions{}, episodes, seed);
+  return std::make_shared<const tsr::QNetwork>(std::move(t.network));
+}
+
+// ---- campaign --------------------------------------------------------------------------
+
+struct CampaignArgs {
+  Common common;
+  tsr::SearchOptions search;
+  ts::MapKind map = ts::MapKind::Ground;
+  std::string out, weights, base_path;
+  int episodes = 800;
+  bool resume = false, json = false, source_chromosome = false;
+};
+
+CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
+  auto* cmd = app.add_subcommand("campaign", "search for violations: one method, one map, one seed");
+  add_enum_option(*cmd, "--method", a.search.method, "search method: " + td::enum_names_list<tsr::Method>());
+  add_common(*cmd, a.common);
+  add_enum_option(*cmd, "--map", a.map, "map: " + td::enum_names_list<ts::MapKind>());
+  cmd->add_option("--budget", a.search.budget, "scenarios to evaluate")->check(CLI::Range(1, 1000000))->capture_default_str();
+  cmd->add_option("--population", a.search.ga.population, "GA population (and batch size)")
+      ->check(CLI::Range(2, 10000))
+      ->capture_default_str();
+  add_seed_option(*cmd, "--seed", a.search.seed, "campaign seed (seed pool, operators, DQN pre-training)");
+  cmd->add_option("--out", a.out, "results directory (created; must not hold another campaign)")->required();
+  cmd->add_flag("--resume", a.resume, "continue the campaign in --out where it stopped");
+  cmd->add_option("--weights", a.weights,
+                  "rlaga: DQN weights file (default: pre-train now; the directory keeps a copy, " +
+                      std::string(kWeightsFile) + ")")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--episodes", a.episodes, "rlaga without --weights: surrogate pre-training episodes")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  cmd->add_option("--base", a.base_path,
+                  "scenario giving every field that is not a gene (marker type, drone start, time limit; default: "
+                  "the built-in one)")
+      ->check(CLI::ExistingFile);
+  cmd->add_flag("--source-chromosome", a.source_chromosome,
+                "the source's chromosome: no static-object and distractor genes");
+  cmd->add_flag("--json", a.json, "the metrics as one JSON object on stdout");
+  return cmd;
+}
+
+// "generation 3/15  60/300 scenarios  violations I 1 · II 20 · III 2  4 min left"
+class CampaignProgressLine {
+ public:
+  void draw(const tsr::SearchProgress& p) {
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const int run = p.done - p.resumed;
+    std::cerr << "\rgeneration " << p.generation + 1 << "/" << p.generations << "  " << p.done << "/" << p.budget
+              << " scenarios  violations I " << p.type_i << " · II " << p.type_ii << " · III " << p.type_iii;
+    if (run > 0 && p.done < p.budget) {
+      const double left = elapsed / run * (p.budget - p.done);
+      std::cerr << "  " << (left < 120 ? std::to_string(static_cast<long>(std::ceil(left))) + " s"
+                                        : std::to_string(static_cast<long>(std::ceil(left / 60))) + " min")
+                << " left ";
+    }
+    std::cerr << "   " << std::flush;
+    open_ = true;
+  }
+  void close() {
+    if (open_) std::cerr << "\n";
+    open_ = false;
+  }
+
+ private:
+  bool open_ = false;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
+  a.search.system = a.common.system;
+  a.search.base = a.base_path.empty() ? ts::Scenario{} : ts::load_scenario(a.base_path);
+  a.search.base.map = a.map;
+  if (a.source_chromosome) a.search.chromosome = tsr::ChromosomeOptions::source();
+  std::string why;
+  if (!a.search.validate(&why)) throw td::InvalidArgument(why);  // before any rank starts serving
+  const fs::path dir = a.out;
+  const bool rank0 = mpi.rank() == 0;
+  if (rank0 && !a.resume && fs::exists(dir / "campaign.json")) {
+    throw td::InvalidArgument(a.out + ": holds a campaign already (campaign.json); --resume continues it, or "
+                              "choose another --out");
+  }
+  std::shared_ptr<const tsr::QNetwork> policy;
+  if (a.search.method == tsr::Method::Rlaga) {
+    policy = campaign_policy(a.weights, dir, a.resume, a.episodes, a.search.seed, !rank0 || a.json);
+    a.search.weights_id = weights_id(tsr::weights_text(*policy));
+  }
+  cv::setNumThreads(1);  // the campaign's threads are the parallelism
+  const tsr::EvaluatorOptions eo = evaluator_options(a.common, policy);
+  std::unique_ptr<tsr::Evaluator> evaluator;
+  if (mpi.size() > 1) {
+    auto m = std::make_unique<tsr::MpiEvaluator>(eo);
+    if (!rank0) {
+      m->serve();
+      return kExitOk;
+    }
+    evaluator = std::move(m);
+  } else {
+    evaluator = std::make_unique<tsr::LocalEvaluator>(eo);
+  }
+  std::optional<CampaignProgressLine> line;
+  if (ProgressBar::on_terminal()) line.emplace();
+  tsr::SearchResult r;
+  try {
+    r = tsr::run_search(a.search, *evaluator, dir, a.resume, [&](const tsr::SearchProgress& p) {
+      if (line) line->draw(p);
+    });
+  } catch (...) {
+    if (line) line->close();
+    throw;
+  }
+  if (line) line->close();
+  if (policy && !fs::exists(dir / kWeightsFile)) {
+    const std::string text = tsr::weights_text(*policy);
+    td::write_file_atomically(dir / kWeightsFile, [&](const fs::path& tmp) { write_text(tmp, text, kWeightsFile); });
+  }
+  if (a.json) {
+    Json j;
+    j["directory"] = a.out;
+    j["method"] = tsr::to_string(a.search.method);
+    j["system"] = a.search.system;
+    j["map"] = ts::to_string(a.map);
+    j["seed"] = a.search.seed;
+    j["resumed"] = r.resumed;
+    j["metrics"] = metrics_json(r.metrics);
+    j["wall_s"] = round3(r.wall_s);
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::cout << "campaign           " << tsr::to_string(a.search.method) << " on " << a.search.system << ", map "
+              << ts::to_string(a.map) << ", seed " << a.search.seed << " -> " << a.out << "\n";
+    print_metrics(r.metrics);
+    std::cout << "time               " << format_fixed(r.wall_s, 1) << " s wall on " << mpi.size() << " x "
+              << a.common.threads << " threads" << (r.resumed > 0 ? " (" + std::to_string(r.resumed) + " resumed)" : "")
+              << "\n";
+  }
+  return kExitOk;
+}
+
+// ---- train-dqn -------------------------------------------------------------------------
+
+struct TrainArgs {
+  int episodes = 800;
+  std::uint64_t seed = 1;
+  std::string out;
+  bool json = false;
+};
+
+CLI::App* add_train_command(CLI::App& app, TrainArgs& a) {
+  auto* cmd = app.add_subcommand("train-dqn", "pre-train the objects' DQN in the surrogate environment");
+  cmd->add_option("--episodes", a.episodes, "surrogate episodes")->check(CLI::Range(1, 1000000))->capture_default_str();
+  add_seed_option(*cmd, "--seed", a.seed, "training seed");
+  cmd->add_option("-o,--output", a.out, "weights file to write")->required()->check(output_extension(".json"));
+  cmd->add_flag("--json", a.json, "the summary as one JSON object on stdout");
+  return cmd;
+}
+
+int train_command(const TrainArgs& a) {
+  td::StagedOutputs staged;
+  const fs::path tmp = staged.add(a.out, "--output");
+  std::optional<ProgressBar> bar;
+  if (ProgressBar::on_terminal()) bar.emplace();
+  const auto t0 = std::chrono::steady_clock::now();
+  tsr::DqnTraining t = tsr::train_dqn(tsr::DqnOptions{}, tsr::SurrogateOptions{}, a.episodes, a.seed,
+                                      [&](int done, int total) {
+                                        if (bar) bar->draw(static_cast<std::size_t>(done), static_cast<std::size_t>(total));
+                                      });
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  write_text(tmp, tsr::weights_text(t.network), a.out);
+  staged.commit();
+  const std::size_t n = t.episode_returns.size(), last = std::min<std::size_t>(100, n);
+  double mean_last = 0;
+  for (std::size_t i = n - last; i < n; ++i) mean_last += t.episode_returns[i] / static_cast<double>(last);
+  if (a.json) {
+    Json j;
+    j["weights"] = a.out;
+    j["episodes"] = a.episodes;
+    j["seed"] = a.seed;
+    j["mean_return_last_100"] = round3(mean_last);
+    j["wall_s"] = round3(wall);
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::cout << "weights   " << a.out << " (" << t.network.parameter_count() << " parameters, 2 x "
+              << t.network.hidden() << " hidden units)\n"
+              << "training  " << a.episodes << " surrogate episodes, seed " << a.seed << ", "
+              << format_fixed(wall, 1) << " s\n"
+              << "return    " << format_fixed(mean_last, 2) << " (eq. 5, mean of the last " << last << " episodes)\n";
+  }
+  return kExitOk;
+}
+
+// ---- metrics ---------------------------------------------------------------------------
+
+struct MetricsArgs {
+  std::string dir;
+  bool json = false;
+};
+
+CLI::App* add_metrics_command(CLI::App& app, MetricsArgs& a) {
+  auto* cmd = app.add_subcommand("metrics", "the source's metrics of a results directory");
+  cmd->add_option("RESULT_DIR", a.dir, "results directory of a campaign")->required();
+  cmd->add_flag("--json", a.json, "the metrics as one JSON object on stdout");
+  return cmd;
+}
+
+int metrics_command(const MetricsArgs& a) {
+  const tsr::ResultsDirectory d = tsr::load_results_directory(a.dir);
+  const tsr::SearchMetrics m = tsr::compute_metrics(d.records);
+  const Json campaign = Json::parse(d.campaign_json);
+  if (a.json) {
+    Json j;
+    j["directory"] = a.dir;
+    j["campaign"] = {{"method", campaign.value("method", "")},
+                     {"system", campaign.value("system", "")},
+                     {"map", campaign.value("map", "")},
+                     {"budget", campaign.value("budget", 0)},
+                     {"seed", campaign.value("seed", 0)}};
+    j["metrics"] = metrics_json(m);
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::cout << "campaign           " << campaign.value("method", "") << " on " << campaign.value("system", "")
+              << ", map " << campaign.value("map", "") << ", seed " << campaign.value("seed", 0) << ", "
+              << d.records.size() << " of " << campaign.value("budget", 0) << " scenarios\n";
+    print_metrics(m);
+  }
+  return kExitOk;
+}
+
+// ---- compare ---------------------------------------------------------------------------
+
+struct CompareArgs {
+  Common common;
+  std::vector<std::string> methods{"rlaga", "diverse-ga", "many-objective-ga", "random"};
+  std::vector<std::string> maps{"ground", "lawn"};
+  int seeds = 3, budget = 300, population = 20, episodes = 800;
+  std::string out, plot, weights;
+  bool json = false;
+};
+
+CLI::App* add_compare_command(CLI::App& app, CompareArgs& a) {
+  auto* cmd = app.add_subcommand(
+      "compare", "the source's Table 2: every method on every map over seeds 1..N (resumable campaigns in --out)");
+  cmd->add_option("--methods", a.methods, "methods")->check(one_of<tsr::Method>())->capture_default_str()->delimiter(',');
+  cmd->add_option("--maps", a.maps, "maps")->check(one_of<ts::MapKind>())->capture_default_str()->delimiter(',');
+  cmd->add_option("--seeds", a.seeds, "campaign seeds 1..N per method and map")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  cmd->add_option("--budget", a.budget, "scenarios per campaign")->check(CLI::Range(1, 1000000))->capture_default_str();
+  cmd->add_option("--population", a.population, "GA population")->check(CLI::Range(2, 10000))->capture_default_str();
+  add_common(*cmd, a.common);
+  cmd->add_option("--out", a.out,
+                  "directory of the campaigns (MAP/METHOD/seed-K; an existing campaign there is resumed)")
+      ->required();
+  cmd->add_option("--weights", a.weights, "rlaga: DQN weights (default: pre-trained per seed)")->check(CLI::ExistingFile);
+  cmd->add_option("--episodes", a.episodes, "rlaga without --weights: pre-training episodes")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  cmd->add_option("--plot", a.plot, "cumulative violations against scenarios evaluated")->check(output_extension(".svg"));
+  cmd->add_flag("--json", a.json, "the table as one JSON object on stdout");
+  return cmd;
+}
+
+int compare_command(const CompareArgs& a) {
+  td::StagedOutputs staged;
+  const fs::path plot_tmp = stage(staged, a.plot, "--plot");
+  if (a.budget < a.population) {
+    throw td::InvalidArgument("--budget " + std::to_string(a.budget) + " is less than --population " +
+                              std::to_string(a.population) + ": the seed pool alone needs a whole population");
+  }
+  cv::setNumThreads(1);
+  std::vector<tsr::CompareCell> cells;
+  const int total = static_cast<int>(a.maps.size() * a.methods.size()) * a.seeds;
+  int done = 0;
+  const bool terminal = ProgressBar::on_terminal();
+  for (const std::string& map : a.maps) {
+    for (const std::string& method : a.methods) {
+      tsr::CompareCell cell;
+      cell.method = method;
+      cell.map = map;
+      for (int k = 1; k <= a.seeds; ++k) {
+        tsr::SearchOptions o;
+        o.method = td::from_string<tsr::Method>(method);
+        o.system = a.common.system;
+        o.budget = a.budget;
+        o.ga.population = a.population;
+        o.seed = static_cast<std::uint64_t>(k);
+        o.base.map = td::from_string<ts::MapKind>(map);
+        const fs::path dir = fs::path(a.out) / map / method / ("seed-" + std::to_string(k));
+        const bool resume = fs::exists(dir / "campaign.json");
+        std::shared_ptr<const tsr::QNetwork> policy;
+        if (o.method == tsr::Method::Rlaga) {
+          policy = campaign_policy(a.weights, dir, resume, a.episodes, o.seed, true);
+          o.weights_id = weights_id(tsr::weights_text(*policy));
+        }
+        tsr::LocalEvaluator evaluator(evaluator_options(a.common, policy));
+        std::optional<CampaignProgressLine> line;
+        if (terminal) {
+          std::cerr << "[" << done + 1 << "/" << total << "] " << method << " on " << map << ", seed " << k << "\n";
+          line.emplace();
+        }
+        const tsr::SearchResult r = tsr::run_search(o, evaluator, dir, resume, [&](const tsr::SearchProgress& p) {
+          if (line) line->draw(p);
+        });
+        if (line) line->close();
+        if (policy && !fs::exists(dir / kWeightsFile)) {
+          const std::string text = tsr::weights_text(*policy);
+          td::write_file_atomically(dir / kWeightsFile,
+                                    [&](const fs::path& tmp) { write_text(tmp, text, kWeightsFile); });
+        }
+        cell.per_seed.push_back(r.metrics);
+        cell.cumulative.push_back(tsr::cumulative_violations(r.records));
+        ++done;
+      }
+      cells.push_back(std::move(cell));
+    }
+  }
+  const std::string title = "Violations found: " + a.common.system + ", budget " + std::to_string(a.budget) + ", " +
+                            count_noun(a.seeds, "seed");
+  if (!a.plot.empty()) write_text(plot_tmp, tsr::compare_plot_svg(cells, title), a.plot);
+  staged.commit();
+  if (a.json) {
+    Json j;
+    j["system"] = a.common.system;
+    j["budget"] = a.budget;
+    j["population"] = a.population;
+    j["seeds"] = a.seeds;
+    Json rows = Json::array();
+    for (const auto& c : cells) {
+      Json per_seed = Json::array();
+      for (const auto& m : c.per_seed) per_seed.push_back(metrics_json(m));
+      rows.push_back({{"method", c.method}, {"map", c.map}, {"per_seed", per_seed}});
+    }
+    j["rows"] = std::move(rows);
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::cout << title << "\n" << tsr::compare_table(cells);
+  }
+  return kExitOk;
+}
+
+// ---- shrink ----------------------------------------------------------------------------
+
+struct ShrinkArgs {
+  Common common;
+  std::string input, out, weights;
+  int index = -1;
+  bool json = false;
+};
+
+CLI::App* add_shrink_command(CLI::App& app, ShrinkArgs& a) {
+  auto* cmd = app.add_subcommand(
+      "shrink", "why did it fail: reset genes to benign values while the violation stays; the smallest failing "
+                "scenario and the genes it needs");
+  cmd->add_option("INPUT", a.input, "a results directory (its campaign's system and weights) or a scenario file")
+      ->required();
+  cmd->add_option("--index", a.index, "results directory: the scenario's index (default: the first violation)")
+      ->check(CLI::Range(0, 100000000));
+  add_common(*cmd, a.common);
+  cmd->add_option("--weights", a.weights, "scenario file: DQN weights driving its external objects")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", a.out, "the smallest failing scenario (YAML)")->required()->check(output_extension(".yaml"));
+  cmd->add_flag("--json", a.json, "the result as one JSON object on stdout");
+  return cmd;
+}
+
+int shrink_command(ShrinkArgs& a) {
+  td::StagedOutputs staged;
+  const fs::path tmp = staged.add(a.out, "--output");
+  ts::Scenario scenario, base;
+  std::string source = a.input;
+  std::shared_ptr<const tsr::QNetwork> policy;
+  if (!a.weights.empty()) policy = std::make_shared<const tsr::QNetwork>(tsr::load_weights(a.weights));
+  if (fs::is_directory(a.input)) {
+    const tsr::ResultsDirectory d = tsr::load_results_directory(a.input);
+    const Json campaign = Json::parse(d.campaign_json);
+    const tsr::EvaluationRecord* pick = nullptr;
+    for (const auto& r : d.records) {
+      if (a.index >= 0 ? r.index == a.index : r.evaluation.violation_found()) {
+        pick = &r;
+        break;
+      }
+    }
+    if (!pick) {
+      throw td::InvalidArgument(a.input + ": " + (a.index >= 0 ? "no scenario with index " + std::to_string(a.index)
+                                                                : std::string("no violation to shrink")));
+    }
+    source = (fs::path(a.input) / pick->scenario).string();
+    scenario = ts::load_scenario(source);
+    base = ts::parse_scenario(campaign.at("base_scenario").dump(), a.input + "/campaign.json: base_scenario");
+    a.common.system = campaign.value("system", a.common.system);
+    const fs::path stored = fs::path(a.input) / kWeightsFile;
+    if (!policy && fs::exists(stored)) policy = std::make_shared<const tsr::QNetwork>(tsr::load_weights(stored));
+  } else {
+    scenario = ts::load_scenario(a.input);
+    base.map = scenario.map;
+  }
+  cv::setNumThreads(1);
+  tsr::LocalEvaluator evaluator(evaluator_options(a.common, policy));
+  std::optional<ProgressBar> bar;
+  if (ProgressBar::on_terminal()) bar.emplace();
+  const tsr::ShrinkResult r = tsr::shrink(scenario, base, evaluator, [&](int done, int total) {
+    if (bar) bar->draw(static_cast<std::size_t>(done), static_cast<std::size_t>(total));
+  });
+  if (bar) bar->close();
+  if (!r.ok()) {
+    throw td::InvalidArgument(source + ": not a violation on " + a.common.system + " (" + r.message +
+                              "): nothing to shrink");
+  }
+  write_text(tmp, ts::to_yaml(r.smallest), a.out);
+  staged.commit();
+  if (a.json) {
+    Json j;
+    j["scenario"] = source;
+    j["system"] = a.common.system;
+    j["violation"] = ts::to_string(r.violation);
+    j["message"] = r.message;
+    j["necessary"] = r.necessary;
+    Json steps = Json::array();
+    for (const auto& s : r.steps) {
+      steps.push_back({{"gene", s.gene}, {"tried", s.tried}, {"outcome", ts::to_string(s.outcome)},
+                       {"kept", s.kept}, {"message", s.message}});
+    }
+    j["steps"] = std::move(steps);
+    j["smallest"] = a.out;
+    j["runs"] = r.runs();
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::cout << "scenario   " << source << " on " << a.common.system << ": type " << ts::to_string(r.violation)
+              << " (" << r.message << ")\n";
+    for (const auto& s : r.steps) {
+      std::cout << "  reset " << s.gene << ": "
+                << (!s.tried ? s.message
+                             : (s.kept ? "still type " + std::string(ts::to_string(s.outcome)) + ", kept"
+                                       : "now " + (s.outcome == ts::Violation::None
+                                                       ? std::string("no violation")
+                                                       : "type " + std::string(ts::to_string(s.outcome))) +
+                                             ": needed"))
+                << "\n";
+    }
+    std::cout << "needs      ";
+    for (std::size_t i = 0; i < r.necessary.size(); ++i) std::cout << (i ? ", " : "") << r.necessary[i];
+    std::cout << (r.necessary.empty() ? "none of its genes (the base scenario fails alone)" : "") << "\n"
+              << "smallest   " << a.out << " (" << r.runs() << " runs)\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // MPI first: under mpirun every rank parses the same command line.
+  const tsr::MpiSession mpi(argc, argv);
+  CLI::App app{"Search the marker-landing test world for violations of a landing system (RLaGA): campaigns, DQN "
+               "pre-training, metrics, the source's comparison, and shrinking a violation to its causes.",
+               "landing_fuzz"};
+  app.require_subcommand(1);
+  CampaignArgs campaign_args;
+  TrainArgs train_args;
+  MetricsArgs metrics_args;
+  CompareArgs compare_args;
+  ShrinkArgs shrink_args;
+  auto* campaign_cmd = add_campaign_command(app, campaign_args);
+  auto* train_cmd = add_train_command(app, train_args);
+  auto* metrics_cmd = add_metrics_command(app, metrics_args);
+  auto* compare_cmd = add_compare_command(app, compare_args);
+  add_shrink_command(app, shrink_args);
+  const int code = run(app, argc, argv, [&]() -> int {
+    if (*campaign_cmd) return campaign_command(campaign_args, mpi);
+    if (mpi.size() > 1) throw td::InvalidArgument("only `campaign` runs on several MPI ranks");
+    if (*train_cmd) return train_command(train_args);
+    if (*metrics_cmd) return metrics_command(metrics_args);
+    if (*compare_cmd) return compare_command(compare_args);
+    return shrink_command(shrink_args);
+  });
+  // An error on one rank that the others may not see (rank 0's results
+  // directory) must not leave them waiting.
+  if (code != kExitOk && mpi.size() > 1) mpi.abort(code);
+  return code;
+}

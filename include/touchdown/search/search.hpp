@@ -1,0 +1,157 @@
+#pragma once
+/// \file
+/// The violation search (RLaGA paper): a campaign of `budget` scenario
+/// runs that looks for violations of a landing system under test, by one
+/// of four methods:
+///   rlaga              the source's method: the GA of Algorithm 1 over the
+///                      chromosome (Fig. 3), fitness eq. 6, and every
+///                      dynamic object driven during the run by the DQN
+///                      (eq. 3–5, ObjectPolicy);
+///   diverse-ga         the same GA without RL (the source's ablation):
+///                      fitness eq. 1, objects on their scripted motions;
+///   many-objective-ga  the source's baseline: NSGA-II on (DTL, TTL), crowded
+///                      tournament, the same crossover, uniform mutation;
+///   random             scenarios drawn as the GA's seed pool is, no search.
+///
+/// A campaign writes its results directory as it goes (docs/formats.md,
+/// "Violation search results directory"): campaign.json (what was asked),
+/// results.jsonl (one line per evaluated scenario, in evaluation order),
+/// scenarios/NNNNNN.yaml (every scenario, replayable with
+/// `landing_scenario run`) and state.json (the pool after each finished
+/// generation). A killed campaign resumes from it with the same final
+/// results file. Every random draw comes from (seed, generation) or (seed,
+/// draw index), never from a shared generator, so the results are the same
+/// for any thread count and any evaluator (threads or MPI ranks).
+///
+/// The choices the source leaves open are in docs/architecture.md,
+/// "Violation search (issue 32)".
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "touchdown/core/enum_names.hpp"
+#include "touchdown/scenario/campaign.hpp"
+#include "touchdown/search/chromosome.hpp"
+#include "touchdown/search/evaluation.hpp"
+#include "touchdown/search/genetic.hpp"
+#include "touchdown/search/metrics.hpp"
+#include "touchdown/search/records.hpp"
+
+namespace touchdown::search {
+
+enum class Method { Rlaga, DiverseGa, ManyObjectiveGa, Random };
+
+}  // namespace touchdown::search
+
+template <>
+struct touchdown::EnumNames<touchdown::search::Method> {
+  static constexpr std::array<std::string_view, 4> names{"rlaga", "diverse-ga", "many-objective-ga", "random"};
+};
+
+namespace touchdown::search {
+
+inline std::string_view to_string(Method m) { return enum_name(m); }
+
+class QNetwork;
+
+/// What runs a batch of scenarios (one generation): threads in this process
+/// (LocalEvaluator) or MPI ranks (mpi_evaluator.hpp). Must give the same
+/// evaluations for the same scenarios, whatever runs them.
+class Evaluator {
+ public:
+  virtual ~Evaluator() = default;
+  /// Runs `scenarios` and returns one evaluation per scenario, in order.
+  /// `on_done(i, e)` is called once per scenario as it finishes (in any
+  /// order, one call at a time), from the thread that called evaluate() or
+  /// a worker; it may throw to stop the batch (the exception propagates).
+  virtual std::vector<Evaluation> evaluate(const std::vector<scenario::Scenario>& scenarios,
+                                           const std::function<void(std::size_t, const Evaluation&)>& on_done) = 0;
+};
+
+struct EvaluatorOptions {
+  std::string system = "opencv-mls";  ///< a make_landing_system() name
+  scenario::MlsOptions mls;
+  scenario::RunOptions run;  ///< camera, flight, violation radius; callbacks must be empty
+  int threads = 1;           ///< worker threads
+  /// Drives the `external` dynamic objects of every run (rlaga); null:
+  /// they stay where they start.
+  std::shared_ptr<const QNetwork> policy;
+  double decision_period = 0.1;  ///< [s] the policy's action is held this long
+
+  [[nodiscard]] bool validate(std::string* why) const;
+};
+
+/// Runs a batch with scenario::run_campaign's worker threads.
+class LocalEvaluator final : public Evaluator {
+ public:
+  explicit LocalEvaluator(EvaluatorOptions options);  ///< throws InvalidArgument for invalid options
+  std::vector<Evaluation> evaluate(const std::vector<scenario::Scenario>& scenarios,
+                                   const std::function<void(std::size_t, const Evaluation&)>& on_done) override;
+  [[nodiscard]] const EvaluatorOptions& options() const { return options_; }
+
+ private:
+  EvaluatorOptions options_;
+};
+
+struct SearchOptions {
+  Method method = Method::Rlaga;
+  std::string system = "opencv-mls";  ///< recorded in campaign.json (the evaluator runs it)
+  int budget = 300;                   ///< scenarios evaluated in all (≥ population)
+  std::uint64_t seed = 1;
+  GaOptions ga;  ///< population, thresholds, mutation candidates
+  /// Gene slots. The method sets drive_objects (rlaga: true, else false).
+  ChromosomeOptions chromosome;
+  /// Every field that is not a gene (map, time limit, marker type, drone
+  /// start); default: Scenario{} on the ground map.
+  scenario::Scenario base;
+  double violation_radius = 1.5;  ///< [m] scales DTL in the fitness (the evaluator's run.violation_radius)
+  /// Text identifying the DQN weights (rlaga; recorded in campaign.json so
+  /// that --resume refuses other weights). Empty for the other methods.
+  std::string weights_id;
+
+  [[nodiscard]] bool validate(std::string* why) const;
+  /// Generations the budget allows: ceil(budget / population), the seed
+  /// pool counting as generation 0.
+  [[nodiscard]] int generations() const;
+};
+
+/// Where a campaign stands, after each evaluated scenario.
+struct SearchProgress {
+  int generation = 0, generations = 0;
+  int done = 0, budget = 0;  ///< scenarios evaluated (including those resumed from the directory)
+  int type_i = 0, type_ii = 0, type_iii = 0;
+  int resumed = 0;  ///< of `done`, read back from the results directory
+};
+
+struct SearchResult {
+  std::vector<EvaluationRecord> records;  ///< every evaluated scenario, in order
+  SearchMetrics metrics;
+  int resumed = 0;     ///< records read back from the directory, not run again
+  double wall_s = 0;   ///< of this call
+};
+
+/// Runs the campaign into `out_dir`. Without `resume` the directory must not
+/// hold a campaign (an empty or missing directory is fine); with `resume` it
+/// must hold one with the same campaign.json (else InvalidArgument naming
+/// the key that differs). Throws InvalidArgument for invalid options.
+SearchResult run_search(const SearchOptions& options, Evaluator& evaluator, const std::filesystem::path& out_dir,
+                        bool resume, const std::function<void(const SearchProgress&)>& progress = {});
+
+/// The layout a campaign with these options searches over (its base with
+/// the method's drive_objects).
+ChromosomeLayout search_layout(const SearchOptions& options);
+
+/// Reads a results directory's records (results.jsonl) and its campaign.json
+/// as text (for `landing_fuzz metrics`). Throws ParseError / IoError naming
+/// the file.
+struct ResultsDirectory {
+  std::string campaign_json;
+  std::vector<EvaluationRecord> records;
+};
+ResultsDirectory load_results_directory(const std::filesystem::path& dir);
+
+}  // namespace touchdown::search

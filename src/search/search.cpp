@@ -1,0 +1,429 @@
+// The violation search's campaign loop (search.hpp): the GA of the RLaGA
+// paper's Algorithm 1 (rlaga, diverse-ga), NSGA-II (many-objective-ga) and
+// random sampling, over a results directory that a killed campaign resumes
+// from. The choices the source leaves open are in docs/architecture.md,
+// "Violation search (issue 32)".
+#include "touchdown/search/search.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <optional>
+#include <set>
+
+#include "core/io_util.hpp"
+#include "search/search_io.hpp"
+#include "touchdown/core/atomic_file.hpp"
+#include "touchdown/core/error.hpp"
+#include "touchdown/core/random.hpp"
+#include "touchdown/search/object_policy.hpp"
+#include "touchdown/search/pareto.hpp"
+
+namespace touchdown::search {
+
+namespace fs = std::filesystem;
+
+// ---- options ---------------------------------------------------------------------------
+
+bool EvaluatorOptions::validate(std::string* why) const {
+  std::string w;
+  if (!run.validate(&w)) return invalid(why, "run." + w);
+  if (run.on_frame || run.external) return invalid(why, "run: frame and external callbacks are not allowed");
+  if (!mls.validate(&w)) return invalid(why, "mls." + w);
+  if (threads < 1 || threads > 256) return invalid(why, "threads: must be in [1, 256]");
+  if (!(decision_period > 0 && decision_period <= 10)) return invalid(why, "decision_period: must be in (0, 10] s");
+  return true;
+}
+
+bool SearchOptions::validate(std::string* why) const {
+  std::string w;
+  if (!ga.validate(&w)) return invalid(why, "ga." + w);
+  if (budget < 1) return invalid(why, "budget: must be ≥ 1");
+  if (budget < ga.population) {
+    return invalid(why, "budget: " + std::to_string(budget) + " is less than the population (" +
+                            std::to_string(ga.population) + "): the seed pool alone needs a whole population");
+  }
+  if (!chromosome.validate(&w)) return invalid(why, "chromosome." + w);
+  if (!base.validate(&w)) return invalid(why, "base." + w);
+  if (!(violation_radius > 0)) return invalid(why, "violation_radius: must be > 0");
+  if (system.empty()) return invalid(why, "system: empty");
+  return true;
+}
+
+int SearchOptions::generations() const { return (budget + ga.population - 1) / ga.population; }
+
+ChromosomeLayout search_layout(const SearchOptions& options) {
+  ChromosomeOptions c = options.chromosome;
+  c.drive_objects = options.method == Method::Rlaga;
+  return ChromosomeLayout(options.base, c);
+}
+
+// ---- the local evaluator ---------------------------------------------------------------
+
+LocalEvaluator::LocalEvaluator(EvaluatorOptions options) : options_(std::move(options)) {
+  std::string why;
+  if (!options_.validate(&why)) throw InvalidArgument("evaluator options: " + why);
+  (void)scenario::make_landing_system(options_.system, options_.mls);  // a bad name fails now
+}
+
+std::vector<Evaluation> LocalEvaluator::evaluate(const std::vector<scenario::Scenario>& scenarios,
+                                                 const std::function<void(std::size_t, const Evaluation&)>& on_done) {
+  std::vector<Evaluation> out(scenarios.size());
+  scenario::CampaignOptions c;
+  c.system = options_.system;
+  c.mls = options_.mls;
+  c.run = options_.run;
+  c.threads = options_.threads;
+  if (options_.policy) {
+    c.external_for = [this](std::size_t) {
+      return std::function<void(const scenario::World&, std::vector<scenario::ObjectAction>&)>(
+          ObjectPolicy(options_.policy, options_.decision_period));
+    };
+  }
+  c.inspect = [&](std::size_t i, const scenario::ScenarioResult& r) {
+    out[i] = evaluate_result(r, scenarios[i].time_limit);
+  };
+  if (on_done) {
+    c.progress = [&](const scenario::CampaignProgress& p, const scenario::CampaignEntry&) { on_done(p.index, out[p.index]); };
+  }
+  (void)scenario::run_campaign(scenarios, c);
+  return out;
+}
+
+// ---- the campaign ----------------------------------------------------------------------
+
+namespace {
+
+// Streams of the campaign's random draws: generation g's operators use
+// Rng(seed, g); the d-th drawn chromosome (seed pool, random method) comes
+// from Rng(seed, kDrawStream + d). None depends on how the runs are spread.
+constexpr std::uint64_t kDrawStream = std::uint64_t{1} << 40;
+
+std::uint64_t draw_seed(std::uint64_t seed, int d) {
+  Rng rng(seed, kDrawStream + static_cast<std::uint64_t>(d));
+  return rng.next() >> 11;
+}
+
+std::string scenario_file(int index) {
+  std::string n = std::to_string(index);
+  if (n.size() < 6) n.insert(0, 6 - n.size(), '0');
+  return "scenarios/" + n + ".yaml";
+}
+
+double fitness_of(Method method, const Evaluation& e, double radius) {
+  return method == Method::Rlaga ? fitness_eq6(e, radius) : fitness_eq1(e, radius);
+}
+
+std::array<double, 2> objectives_of(const Evaluation& e) { return {e.dtl, e.ttl}; }
+
+// The results directory as the campaign writes it: results.jsonl in index
+// order (a finished run waits for its predecessors), scenario files before
+// their runs, state.json after each generation.
+class Directory {
+ public:
+  Directory(fs::path dir, bool resume, const std::string& config) : dir_(std::move(dir)) {
+    const fs::path campaign = dir_ / "campaign.json";
+    if (!resume) {
+      if (fs::exists(campaign)) {
+        throw InvalidArgument(dir_.string() +
+                              ": holds a campaign already (campaign.json); --resume continues it, or choose another "
+                              "directory");
+      }
+      if (fs::exists(dir_) && !fs::is_directory(dir_)) throw InvalidArgument(dir_.string() + ": not a directory");
+      fs::create_directories(dir_ / "scenarios");
+      write_file_atomically(campaign, [&](const fs::path& tmp) { write(tmp, config); });
+      write_file_atomically(dir_ / "results.jsonl", [&](const fs::path& tmp) { write(tmp, ""); });
+      fs::remove(dir_ / "state.json");
+    } else {
+      if (!fs::exists(campaign)) {
+        throw InvalidArgument(dir_.string() + ": no campaign to resume (no campaign.json)");
+      }
+      const std::string difference = detail::config_difference(detail::read_text_file(campaign), config,
+                                                                campaign.string());
+      if (!difference.empty()) {
+        throw InvalidArgument(campaign.string() + ": a results directory from another campaign: " + difference);
+      }
+      fs::create_directories(dir_ / "scenarios");
+      const fs::path results = dir_ / "results.jsonl";
+      if (fs::exists(results)) {
+        LoadedRecords loaded = load_records_tolerant(results);
+        existing_ = std::move(loaded.records);
+        if (loaded.truncated_tail) {  // a line cut by the kill: drop it, the run is done again
+          std::string text;
+          for (const auto& r : existing_) text += record_line(r) + "\n";
+          write_file_atomically(results, [&](const fs::path& tmp) { write(tmp, text); });
+        }
+      }
+      const fs::path state = dir_ / "state.json";
+      if (fs::exists(state)) state_ = detail::parse_state(detail::read_text_file(state), state.string());
+    }
+    out_.open(dir_ / "results.jsonl", std::ios::binary | std::ios::app);
+    if (!out_) throw IoError((dir_ / "results.jsonl").string() + ": cannot open for appending");
+  }
+
+  [[nodiscard]] const std::vector<EvaluationRecord>& existing() const { return existing_; }
+  [[nodiscard]] const detail::PoolState& state() const { return state_; }
+
+  void write_scenario(int index, const scenario::Scenario& s) const {
+    write_file_atomically(dir_ / scenario_file(index), [&](const fs::path& tmp) { write(tmp, scenario::to_yaml(s)); });
+  }
+  void append(const EvaluationRecord& r) {
+    out_ << record_line(r) << '\n';
+    out_.flush();
+    if (!out_) throw IoError((dir_ / "results.jsonl").string() + ": write failed");
+  }
+  void save_state(const detail::PoolState& s) const {
+    write_file_atomically(dir_ / "state.json", [&](const fs::path& tmp) { write(tmp, detail::state_json(s)); });
+  }
+
+ private:
+  static void write(const fs::path& path, const std::string& text) {
+    std::ofstream f(path, std::ios::binary);
+    f << text;
+    f.flush();
+    if (!f) throw IoError(path.string() + ": write failed");
+  }
+
+  fs::path dir_;
+  std::vector<EvaluationRecord> existing_;
+  detail::PoolState state_;
+  std::ofstream out_;
+};
+
+struct Individual {
+  Chromosome chromosome;
+  int index = 0;  // its record
+};
+
+class Campaign {
+ public:
+  Campaign(const SearchOptions& o, Evaluator& evaluator, Directory& dir,
+           const std::function<void(const SearchProgress&)>& progress)
+      : o_(o), layout_(search_layout(o)), evaluator_(evaluator), dir_(dir), progress_(progress) {
+    progress_state_.generations = o.generations();
+    progress_state_.budget = o.budget;
+  }
+
+  std::vector<EvaluationRecord> run() {
+    const detail::PoolState& state = dir_.state();
+    int generation = state.generation + 1;
+    if (state.generation >= 0) {
+      for (const auto& m : state.pool) pool_.push_back({m.chromosome, m.index});
+      evaluated_ = state.evaluated;
+      records_.assign(dir_.existing().begin(), dir_.existing().begin() + std::min<std::ptrdiff_t>(
+                                                                             evaluated_, static_cast<std::ptrdiff_t>(
+                                                                                             dir_.existing().size())));
+      if (static_cast<int>(records_.size()) != evaluated_) {
+        throw InvalidArgument("results directory: state.json says " + std::to_string(evaluated_) +
+                              " scenarios were evaluated, results.jsonl has " +
+                              std::to_string(dir_.existing().size()));
+      }
+      for (const auto& r : records_) count(r, true);
+    }
+    for (; evaluated_ < o_.budget; ++generation) {
+      progress_state_.generation = generation;
+      const int n = std::min(o_.ga.population, o_.budget - evaluated_);
+      std::vector<Chromosome> batch =
+          (o_.method == Method::Random || generation == 0) ? draws(n) : offspring(generation, n);
+      const std::vector<Individual> evaluated = evaluate(batch, generation);
+      if (o_.method != Method::Random) select(evaluated);
+      detail::PoolState s;
+      s.generation = generation;
+      s.evaluated = evaluated_;
+      for (const auto& p : pool_) s.pool.push_back({p.index, p.chromosome});
+      dir_.save_state(s);
+    }
+    return records_;
+  }
+
+ private:
+  void count(const EvaluationRecord& r, bool resumed) {
+    ++progress_state_.done;
+    if (resumed) ++progress_state_.resumed;
+    progress_state_.type_i += r.evaluation.violation == scenario::Violation::TypeI;
+    progress_state_.type_ii += r.evaluation.violation == scenario::Violation::TypeII;
+    progress_state_.type_iii += r.evaluation.violation == scenario::Violation::TypeIII;
+  }
+
+  Chromosome canonical(const Chromosome& c) const { return layout_.encode(layout_.decode(c)); }
+
+  std::vector<Chromosome> draws(int n) const {
+    std::vector<Chromosome> out;
+    for (int k = 0; k < n; ++k) out.push_back(layout_.draw(draw_seed(o_.seed, evaluated_ + k)));
+    return out;
+  }
+
+  // Algorithm 1 (and NSGA-II's loop): parents by tournament from the pool,
+  // adjacent pairs cross over, each child mutates; a child equal to a pool
+  // member or to an earlier child is mutated again (a scenario already run
+  // is not run again: ours are deterministic), at most 20 times.
+  std::vector<Chromosome> offspring(int generation, int n) const {
+    Rng rng(o_.seed, static_cast<std::uint64_t>(generation));
+    const std::size_t parents_needed = static_cast<std::size_t>(n + (n % 2));
+    std::vector<std::size_t> parents;
+    if (o_.method == Method::ManyObjectiveGa) {
+      std::vector<std::array<double, 2>> objectives;
+      for (const auto& p : pool_) objectives.push_back(objectives_of(records_[static_cast<std::size_t>(p.index)].evaluation));
+      parents = crowded_tournament(pareto_ranking(objectives), parents_needed, rng);
+    } else {
+      std::vector<double> fitness;
+      for (const auto& p : pool_) fitness.push_back(records_[static_cast<std::size_t>(p.index)].fitness);
+      parents = tournament_select(fitness, parents_needed, rng);
+    }
+    std::vector<Chromosome> pool_chromosomes;
+    for (const auto& p : pool_) pool_chromosomes.push_back(p.chromosome);
+    std::vector<Chromosome> children;
+    for (std::size_t k = 0; k < parents.size(); ++k) children.push_back(pool_chromosomes[parents[k]]);
+    for (std::size_t k = 0; k + 1 < children.size(); k += 2) {
+      (void)crossover(layout_, children[k], children[k + 1], o_.ga.crossover_threshold, rng);
+    }
+    children.resize(static_cast<std::size_t>(n));
+    std::set<Chromosome> seen(pool_chromosomes.begin(), pool_chromosomes.end());
+    const bool diverse = o_.method != Method::ManyObjectiveGa;
+    for (Chromosome& c : children) {
+      if (diverse) {
+        (void)mutate(layout_, c, pool_chromosomes, o_.ga, rng);
+      } else {
+        (void)mutate_uniform(layout_, c, o_.ga.mutation_threshold, rng);
+      }
+      c = canonical(c);
+      for (int attempt = 0; attempt < 20 && seen.count(c) > 0; ++attempt) {
+        if (diverse) {
+          mutate_gene(layout_, c, rng.next() % layout_.genes().size(), pool_chromosomes, o_.ga.mutation_candidates,
+                      rng);
+        } else {
+          (void)mutate_uniform(layout_, c, -1.0, rng);  // r > -1 always: a forced redraw
+        }
+        c = canonical(c);
+      }
+      seen.insert(c);
+    }
+    return children;
+  }
+
+  // Runs the batch (records already in the directory are read back, not
+  // run), appending each record in index order as soon as its predecessors
+  // are there.
+  std::vector<Individual> evaluate(const std::vector<Chromosome>& batch, int generation) {
+    const int first = evaluated_;
+    std::vector<scenario::Scenario> scenarios;
+    std::vector<std::size_t> pending;  // batch positions to run
+    std::vector<std::optional<EvaluationRecord>> done(batch.size());
+    std::vector<EvaluationRecord> waiting;  // the records of `pending`, without their evaluation
+    for (std::size_t k = 0; k < batch.size(); ++k) {
+      const int index = first + static_cast<int>(k);
+      EvaluationRecord r;
+      r.index = index;
+      r.generation = generation;
+      r.scenario = scenario_file(index);
+      r.genes = layout_.normalised(batch[k]);
+      if (static_cast<std::size_t>(index) < dir_.existing().size()) {
+        const EvaluationRecord& old = dir_.existing()[static_cast<std::size_t>(index)];
+        if (old.genes != r.genes || old.generation != generation) {
+          throw InvalidArgument("results directory: results.jsonl line " + std::to_string(index + 1) +
+                                " is not this campaign's scenario " + std::to_string(index) +
+                                " (the directory was changed by hand?)");
+        }
+        done[k] = old;
+        continue;
+      }
+      scenario::Scenario s = layout_.decode(batch[k]);
+      dir_.write_scenario(index, s);
+      scenarios.push_back(std::move(s));
+      pending.push_back(k);
+      waiting.push_back(std::move(r));
+    }
+    std::size_t next = 0;  // the first batch position not yet written
+    const auto flush = [&] {
+      for (; next < batch.size() && done[next]; ++next) {
+        if (first + static_cast<int>(next) >= static_cast<int>(records_.size())) {
+          const bool resumed = static_cast<std::size_t>(first) + next < dir_.existing().size();
+          if (!resumed) dir_.append(*done[next]);
+          records_.push_back(*done[next]);
+          count(*done[next], resumed);
+          if (progress_) progress_(progress_state_);
+        }
+      }
+    };
+    flush();
+    if (!scenarios.empty()) {
+      (void)evaluator_.evaluate(scenarios, [&](std::size_t i, const Evaluation& e) {
+        EvaluationRecord r = waiting[i];
+        r.evaluation = e;
+        r.fitness = fitness_of(o_.method, e, o_.violation_radius);
+        done[pending[i]] = std::move(r);
+        flush();
+      });
+    }
+    flush();
+    TD_ASSERT(next == batch.size());
+    evaluated_ = first + static_cast<int>(batch.size());
+    std::vector<Individual> out;
+    for (std::size_t k = 0; k < batch.size(); ++k) out.push_back({batch[k], first + static_cast<int>(k)});
+    return out;
+  }
+
+  // The next pool: generation 0 is the pool; after it, the best of pool and
+  // offspring (elitist, (μ + λ)) by fitness, or NSGA-II's survivors.
+  void select(const std::vector<Individual>& offspring) {
+    std::vector<Individual> all = pool_;
+    all.insert(all.end(), offspring.begin(), offspring.end());
+    const std::size_t n = std::min<std::size_t>(static_cast<std::size_t>(o_.ga.population), all.size());
+    std::vector<std::size_t> keep;
+    if (o_.method == Method::ManyObjectiveGa) {
+      std::vector<std::array<double, 2>> objectives;
+      for (const auto& a : all) objectives.push_back(objectives_of(records_[static_cast<std::size_t>(a.index)].evaluation));
+      keep = nsga2_survivors(objectives, n);
+    } else {
+      std::vector<double> fitness;
+      for (const auto& a : all) fitness.push_back(records_[static_cast<std::size_t>(a.index)].fitness);
+      keep = best_indices(fitness, n);
+    }
+    std::vector<Individual> next;
+    for (std::size_t k : keep) next.push_back(all[k]);
+    pool_ = std::move(next);
+  }
+
+  const SearchOptions& o_;
+  ChromosomeLayout layout_;
+  Evaluator& evaluator_;
+  Directory& dir_;
+  const std::function<void(const SearchProgress&)>& progress_;
+  SearchProgress progress_state_;
+  std::vector<Individual> pool_;
+  std::vector<EvaluationRecord> records_;
+  int evaluated_ = 0;
+};
+
+}  // namespace
+
+SearchResult run_search(const SearchOptions& options, Evaluator& evaluator, const fs::path& out_dir, bool resume,
+                        const std::function<void(const SearchProgress&)>& progress) {
+  std::string why;
+  if (!options.validate(&why)) throw InvalidArgument("search options: " + why);
+  const auto t0 = std::chrono::steady_clock::now();
+  Directory dir(out_dir, resume, detail::campaign_config(options));
+  if (static_cast<int>(dir.existing().size()) > options.budget) {
+    throw InvalidArgument((out_dir / "results.jsonl").string() + ": holds " + std::to_string(dir.existing().size()) +
+                          " records, more than the budget");
+  }
+  Campaign campaign(options, evaluator, dir, progress);
+  SearchResult result;
+  result.records = campaign.run();
+  result.resumed = static_cast<int>(std::min(dir.existing().size(), result.records.size()));
+  result.metrics = compute_metrics(result.records);
+  result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return result;
+}
+
+ResultsDirectory load_results_directory(const fs::path& dir) {
+  ResultsDirectory r;
+  const fs::path campaign = dir / "campaign.json";
+  if (!fs::is_directory(dir)) throw IoError(dir.string() + ": not a directory");
+  if (!fs::exists(campaign)) throw IoError(dir.string() + ": not a results directory (no campaign.json)");
+  r.campaign_json = detail::read_text_file(campaign);
+  r.records = load_records(dir / "results.jsonl");
+  return r;
+}
+
+}  // namespace touchdown::search

@@ -1,0 +1,147 @@
+// landing_fuzz end to end: a small campaign and its metrics, the same
+// results file on 2 MPI ranks as in one process, resuming, and bad input
+// (unknown method, budget below the population, corrupt or wrong-version
+// weights, another campaign's directory) as one line with exit 2 and
+// nothing overwritten.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "test_util.hpp"
+#include "touchdown/scenario/scenario.hpp"
+
+namespace td = touchdown;
+using td::test::AppRun;
+using td::test::TempDir;
+namespace fs = std::filesystem;
+
+namespace {
+
+AppRun fuzz_app(const std::string& args, const TempDir& dir) { return td::test::run_app(LANDING_FUZZ_EXE, args, dir); }
+
+// A short base scenario (10 s time limit) so that each run is cheap.
+std::string short_base(const TempDir& dir) {
+  td::scenario::Scenario s;
+  s.time_limit = 10;
+  const fs::path p = dir / "base.yaml";
+  std::ofstream(p) << td::scenario::to_yaml(s);
+  return p.string();
+}
+
+int lines(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
+
+void expect_one_line(const AppRun& r, const std::string& needle) {
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find(needle), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+TEST(LandingFuzzApp, CampaignWritesItsDirectoryAndMetricsReadsIt) {
+  TempDir dir;
+  const std::string common = " --budget 4 --population 2 --seed 2 --threads 2 --base " + short_base(dir);
+  const AppRun r = fuzz_app("campaign --method diverse-ga --json --out " + (dir / "c").string() + common, dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["metrics"]["evaluated"], 4);
+  EXPECT_EQ(j["method"], "diverse-ga");
+  EXPECT_EQ(lines(td::test::read_text(dir / "c" / "results.jsonl")), 4);
+  for (const char* f : {"campaign.json", "state.json", "scenarios/000000.yaml", "scenarios/000003.yaml"}) {
+    EXPECT_TRUE(fs::exists(dir / "c" / f)) << f;
+  }
+  const AppRun m = fuzz_app("metrics --json " + (dir / "c").string(), dir);
+  ASSERT_EQ(m.code, 0) << m.err;
+  EXPECT_EQ(nlohmann::json::parse(m.out)["metrics"], j["metrics"]);
+  // Human output names every metric.
+  const AppRun h = fuzz_app("metrics " + (dir / "c").string(), dir);
+  ASSERT_EQ(h.code, 0) << h.err;
+  for (const char* key : {"violations", "top-10", "all three types", "parameter distance", "3-D coverage"}) {
+    EXPECT_NE(h.out.find(key), std::string::npos) << key;
+  }
+  // Resuming a finished campaign runs nothing and changes nothing.
+  const std::string before = td::test::read_text(dir / "c" / "results.jsonl");
+  const AppRun again = fuzz_app("campaign --method diverse-ga --resume --json --out " + (dir / "c").string() + common, dir);
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_EQ(nlohmann::json::parse(again.out)["resumed"], 4);
+  EXPECT_EQ(td::test::read_text(dir / "c" / "results.jsonl"), before);
+}
+
+TEST(LandingFuzzApp, TwoMpiRanksWriteTheSameResultsAsOneProcess) {
+  const std::string mpiexec = MPIEXEC;
+  if (mpiexec.empty() || !fs::exists(mpiexec)) GTEST_SKIP() << "no mpirun";
+  TempDir dir;
+  const std::string common = " --method rlaga --episodes 20 --budget 4 --population 2 --seed 5 --threads 1 --base " +
+                             short_base(dir);
+  const AppRun one = fuzz_app("campaign --out " + (dir / "one").string() + common, dir);
+  ASSERT_EQ(one.code, 0) << one.err;
+  // Open MPI refuses root unless told (CI runs as root).
+  const std::string env = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1 ";
+  const AppRun two = td::test::run_app(env + mpiexec + " -np 2 " + LANDING_FUZZ_EXE,
+                                       "campaign --out " + (dir / "two").string() + common, dir);
+  ASSERT_EQ(two.code, 0) << two.err << two.out;
+  EXPECT_EQ(td::test::read_text(dir / "one" / "results.jsonl"), td::test::read_text(dir / "two" / "results.jsonl"));
+  EXPECT_EQ(td::test::read_text(dir / "one" / "dqn_weights.json"), td::test::read_text(dir / "two" / "dqn_weights.json"));
+}
+
+TEST(LandingFuzzApp, BadInputIsOneLineWithExitTwoAndNothingOverwritten) {
+  TempDir dir;
+  const std::string base = " --base " + short_base(dir);
+  expect_one_line(fuzz_app("campaign --method hill-climbing --out " + (dir / "x").string(), dir), "hill-climbing");
+  expect_one_line(fuzz_app("campaign --method random --budget 10 --population 20 --out " + (dir / "x").string(), dir),
+                  "budget: 10 is less than the population (20)");
+  EXPECT_FALSE(fs::exists(dir / "x"));
+  // Corrupt, truncated and wrong-version weights.
+  std::ofstream(dir / "garbage.json") << "not weights at all";
+  expect_one_line(fuzz_app("campaign --method rlaga --weights " + (dir / "garbage.json").string() + " --out " +
+                               (dir / "x").string() + base,
+                           dir),
+                  "garbage.json");
+  ASSERT_EQ(fuzz_app("train-dqn --episodes 5 -o " + (dir / "w.json").string(), dir).code, 0);
+  const std::string weights = td::test::read_text(dir / "w.json");
+  std::ofstream(dir / "cut.json") << weights.substr(0, weights.size() / 2);
+  expect_one_line(fuzz_app("campaign --method rlaga --weights " + (dir / "cut.json").string() + " --out " +
+                               (dir / "x").string() + base,
+                           dir),
+                  "cut.json");
+  std::string v2 = weights;
+  const auto at = v2.find("\"version\"");
+  ASSERT_NE(at, std::string::npos) << weights.substr(0, 200);
+  const auto digit = v2.find_first_of("0123456789", at);
+  v2[digit] = '9';
+  std::ofstream(dir / "v9.json") << v2;
+  expect_one_line(fuzz_app("campaign --method rlaga --weights " + (dir / "v9.json").string() + " --out " +
+                               (dir / "x").string() + base,
+                           dir),
+                  "v9.json");
+  EXPECT_FALSE(fs::exists(dir / "x"));
+  // Another campaign's directory: refused without and with --resume.
+  const std::string c = (dir / "c").string();
+  ASSERT_EQ(fuzz_app("campaign --method random --budget 2 --population 2 --out " + c + base, dir).code, 0);
+  const std::string before = td::test::read_text(dir / "c" / "results.jsonl");
+  expect_one_line(fuzz_app("campaign --method random --budget 2 --population 2 --out " + c + base, dir),
+                  "holds a campaign already");
+  expect_one_line(fuzz_app("campaign --method random --budget 2 --population 2 --seed 9 --resume --out " + c + base, dir),
+                  "another campaign: seed:");
+  expect_one_line(fuzz_app("campaign --method diverse-ga --budget 2 --population 2 --resume --out " + c + base, dir),
+                  "another campaign: method:");
+  EXPECT_EQ(td::test::read_text(dir / "c" / "results.jsonl"), before);
+  expect_one_line(fuzz_app("metrics " + (dir / "nowhere").string(), dir), "nowhere");
+  // shrink of a scenario that passes: nothing to shrink, no output file.
+  const std::string clear = (fs::path(TOUCHDOWN_SOURCE_DIR) / "data/scenarios/clear_ground.yaml").string();
+  expect_one_line(fuzz_app("shrink " + clear + " -o " + (dir / "small.yaml").string(), dir), "nothing to shrink");
+  EXPECT_FALSE(fs::exists(dir / "small.yaml"));
+}
+
+TEST(LandingFuzzApp, HelpShowsEveryDefault) {
+  TempDir dir;
+  for (const char* sub : {"campaign", "compare"}) {
+    const AppRun r = fuzz_app(std::string(sub) + " --help", dir);
+    ASSERT_EQ(r.code, 0);
+    td::test::expect_help_shows_defaults(r.out);
+  }
+}
+
+}  // namespace

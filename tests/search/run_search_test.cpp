@@ -1,0 +1,132 @@
+// The search with real runs: the local evaluator gives the same
+// evaluations for any thread count and agrees with a single run_scenario
+// (DQN-driven objects included), and shrink() names what a hand-built
+// Type II needs.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "touchdown/core/random.hpp"
+#include "touchdown/search/dqn.hpp"
+#include "touchdown/search/object_policy.hpp"
+#include "touchdown/search/search.hpp"
+#include "touchdown/search/shrink.hpp"
+
+namespace touchdown::search {
+namespace {
+
+namespace fs = std::filesystem;
+
+EvaluatorOptions small_camera(int threads) {
+  EvaluatorOptions o;
+  o.run.camera.width = 320;
+  o.run.camera.height = 240;
+  o.threads = threads;
+  return o;
+}
+
+std::shared_ptr<const QNetwork> some_network() {
+  auto net = std::make_shared<QNetwork>();
+  Rng rng(5);
+  net->initialise(rng);
+  return net;
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+TEST(LocalEvaluator, SameResultsFileForOneAndTwoThreads) {
+  SearchOptions o;
+  o.method = Method::Rlaga;
+  o.budget = 4;
+  o.ga.population = 2;
+  o.seed = 3;
+  o.base.time_limit = 10;
+  o.weights_id = "test";
+  const fs::path root = fs::temp_directory_path() / "td_run_search_threads";
+  fs::remove_all(root);
+  EvaluatorOptions one = small_camera(1), two = small_camera(2);
+  one.policy = two.policy = some_network();
+  LocalEvaluator e1(one), e2(two);
+  const SearchResult r1 = run_search(o, e1, root / "one", false);
+  const SearchResult r2 = run_search(o, e2, root / "two", false);
+  ASSERT_EQ(r1.records.size(), 4u);
+  EXPECT_EQ(read(root / "one" / "results.jsonl"), read(root / "two" / "results.jsonl"));
+  // A record is the run of its scenario file, objects driven by the policy.
+  const scenario::Scenario s = scenario::load_scenario(root / "one" / r1.records[3].scenario);
+  auto system = scenario::make_landing_system("opencv-mls");
+  scenario::RunOptions run = one.run;
+  run.external = ObjectPolicy(one.policy, one.decision_period);
+  const Evaluation single = evaluate_result(scenario::run_scenario(s, *system, run), s.time_limit);
+  EXPECT_EQ(single.message, r1.records[3].evaluation.message);
+  EXPECT_EQ(single.dtl, r1.records[3].evaluation.dtl);
+  EXPECT_EQ(single.reward_sum, r1.records[3].evaluation.reward_sum);
+  EXPECT_EQ(single.cells, r1.records[3].evaluation.cells);
+  fs::remove_all(root);
+}
+
+// A box over the marker hides it (Type II); light fog, rain, a far tree and
+// a far walking person are beside the point. Shrinking must name the box
+// alone and reset everything else.
+TEST(Shrink, NamesExactlyTheBoxOverTheMarkerOfAHandBuiltTypeII) {
+  scenario::Scenario s;  // the drone 8 m west of the marker at 12 m
+  s.time_limit = 25;
+  s.weather.fog = 0.02;
+  s.weather.rain = 0.3;
+  scenario::StaticObject box;
+  box.kind = scenario::StaticKind::Box;
+  box.position = s.marker.position;
+  box.size = {1.8, 1.8, 0.4};
+  scenario::StaticObject tree;
+  tree.kind = scenario::StaticKind::Tree;
+  tree.position = {12, 12};
+  tree.size = {3, 0.4, 6};
+  s.static_objects = {box, tree};
+  scenario::DynamicObject person;
+  person.position = {-10, 12};
+  person.heading_deg = 90;
+  s.dynamic_objects = {person};
+  std::string why;
+  ASSERT_TRUE(s.validate(&why)) << why;
+  LocalEvaluator evaluator(small_camera(1));
+  std::vector<int> progress;
+  const ShrinkResult r = shrink(s, scenario::Scenario{}, evaluator, [&](int done, int) { progress.push_back(done); });
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_EQ(r.violation, scenario::Violation::TypeII) << r.message;
+  EXPECT_EQ(r.necessary, std::vector<std::string>{"static_objects[0] (box)"});
+  ASSERT_EQ(r.steps.size(), 5u);  // box, tree, person, fog, rain
+  EXPECT_EQ(r.steps[0].gene, "static_objects[0] (box)");
+  EXPECT_EQ(r.steps[0].outcome, scenario::Violation::None) << r.steps[0].message;
+  EXPECT_EQ(r.runs(), 6);
+  EXPECT_EQ(progress.back(), 6);
+  // The smallest scenario: the box on a clear day, nothing else.
+  EXPECT_EQ(r.smallest.static_objects.size(), 1u);
+  EXPECT_EQ(r.smallest.static_objects[0].kind, scenario::StaticKind::Box);
+  EXPECT_TRUE(r.smallest.dynamic_objects.empty());
+  EXPECT_EQ(r.smallest.weather.fog, 0.0);
+  EXPECT_EQ(r.smallest.weather.rain, 0.0);
+  // ... and it still fails the same way (an independent run).
+  auto system = scenario::make_landing_system("opencv-mls");
+  scenario::RunOptions run = small_camera(1).run;
+  EXPECT_EQ(scenario::run_scenario(r.smallest, *system, run).status, scenario::Violation::TypeII);
+}
+
+TEST(Shrink, AScenarioThatPassesHasNothingToShrink) {
+  scenario::Scenario s;
+  s.time_limit = 40;
+  LocalEvaluator evaluator(small_camera(1));
+  const ShrinkResult r = shrink(s, scenario::Scenario{}, evaluator);
+  EXPECT_FALSE(r.ok());
+  EXPECT_EQ(r.status, ShrinkStatus::NotViolating);
+  EXPECT_TRUE(r.steps.empty());
+  EXPECT_EQ(to_string(r.status), "not_violating");
+}
+
+}  // namespace
+}  // namespace touchdown::search
