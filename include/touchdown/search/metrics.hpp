@@ -1,0 +1,46 @@
+#pragma once
+/// \file
+/// The violation search's metrics (RLaGA paper, §4.3), computed from a
+/// results file's records (records.hpp). Definitions and the choices the
+/// source leaves open are in docs/architecture.md, "Violation search
+/// (issue 32)" → "Metrics". Pure functions, thread-safe.
+#include <optional>
+#include <vector>
+
+#include "touchdown/search/records.hpp"
+
+namespace touchdown::search {
+
+struct SearchMetrics {
+  int evaluated = 0;   ///< scenarios evaluated (records)
+  int violations = 0;  ///< of them, with a violation of any type
+  int type_i = 0, type_ii = 0, type_iii = 0;
+  double violation_percent = 0;  ///< 100 × violations / evaluated; 0 when nothing was evaluated
+  /// Scenarios evaluated until the K-th violation, that one included (a
+  /// count, 1-based); nullopt: fewer than K violations.
+  std::optional<int> top_k;
+  /// Rounds until Types I, II and III have all appeared: a round is one
+  /// evaluated scenario (not a generation), so this is the count of
+  /// scenarios evaluated until the first scenario that completes the set,
+  /// that one included; nullopt: some type never appeared.
+  std::optional<int> rounds_all_types;
+  /// eq. 7: the mean Euclidean distance over all pairs of violating
+  /// scenarios between their normalised genes (each in [0, 1]), divided by
+  /// sqrt(dimension) so that it lies in [0, 1]; 0 with fewer than 2
+  /// violating scenarios or no genes.
+  double parameter_distance = 0;
+  /// Distinct kCoverageCell-sized cells visited by violating runs (the
+  /// union of their Evaluation::cells): the 3-D trajectory coverage.
+  int coverage_cells = 0;
+};
+
+/// Every metric over `records`, which must be in index order (record i has
+/// index i) with genes of one length among the violating ones
+/// (InvalidArgument otherwise, as for k < 1). `k`: Top-K's K.
+SearchMetrics compute_metrics(const std::vector<EvaluationRecord>& records, int k = 10);
+
+/// Violations found after each evaluation: element i counts the violating
+/// records among records[0..i].
+std::vector<int> cumulative_violations(const std::vector<EvaluationRecord>& records);
+
+}  // namespace touchdown::search
