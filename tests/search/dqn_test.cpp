@@ -304,6 +304,15 @@ TEST_F(WeightsFile, SaveIntoAMissingDirectoryLeavesNothing) {
   EXPECT_FALSE(fs::exists(dir_ / "no"));
 }
 
+TEST(WeightsFuzzSeeds, ParseOrFailAsTheirNamesSay) {
+  const fs::path dir = fs::path(TOUCHDOWN_SOURCE_DIR) / "tests/fuzz/seeds/dqn_weights";
+  EXPECT_EQ(load_weights(dir / "hidden1.txt").hidden(), 1);
+  const QNetwork exotic = load_weights(dir / "hidden3_exotic.txt");
+  EXPECT_EQ(parse_weights(weights_text(exotic), "x").parameters(), exotic.parameters());
+  for (const char* bad : {"truncated.txt", "version2.txt", "wrong_count.txt"})
+    EXPECT_THROW((void)load_weights(dir / bad), ParseError) << bad;
+}
+
 // A network whose Q(L) = relu(object x / 10), Q(R) = relu(−object x / 10),
 // the rest 0: it moves the object towards the marker's x, L when right of it.
 std::shared_ptr<const QNetwork> towards_marker_x() {
