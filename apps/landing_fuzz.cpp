@@ -37,7 +37,7 @@ namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 using namespace touchdown::app;
 
-constexpr const char* kWeightsFile = "dqn_weights.json";
+constexpr const char* kWeightsFile = "dqn_weights.txt";
 
 // ---- shared pieces ---------------------------------------------------------------------
 
@@ -63,7 +63,9 @@ void add_common(CLI::App& cmd, Common& c) {
   cmd.add_option("--system", c.system, "landing system under test")
       ->check(CLI::IsMember(ts::landing_system_names()))
       ->capture_default_str();
-  cmd.add_option("--threads", c.threads, "worker threads (per MPI rank)")->check(CLI::Range(1, 256))->capture_default_str();
+  cmd.add_option("--threads", c.threads, "worker threads (per MPI rank)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
 }
 
 tsr::EvaluatorOptions evaluator_options(const Common& c, std::shared_ptr<const tsr::QNetwork> policy) {
@@ -95,8 +97,8 @@ Json metrics_json(const tsr::SearchMetrics& m) {
 
 void print_metrics(const tsr::SearchMetrics& m) {
   std::cout << "evaluated          " << m.evaluated << " scenarios\n"
-            << "violations         " << m.violations << " (" << percent(m.violation_percent) << "): type I "
-            << m.type_i << ", type II " << m.type_ii << ", type III " << m.type_iii << "\n"
+            << "violations         " << m.violations << " (" << percent(m.violation_percent) << "): type I " << m.type_i
+            << ", type II " << m.type_ii << ", type III " << m.type_iii << "\n"
             << "top-10             " << optional_count(m.top_k) << " (scenarios evaluated until the 10th violation)\n"
             << "all three types    " << optional_count(m.rounds_all_types) << " (scenarios evaluated until found)\n"
             << "parameter distance " << format_fixed(m.parameter_distance, 3)
@@ -134,7 +136,9 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
   add_enum_option(*cmd, "--method", a.search.method, "search method: " + td::enum_names_list<tsr::Method>());
   add_common(*cmd, a.common);
   add_enum_option(*cmd, "--map", a.map, "map: " + td::enum_names_list<ts::MapKind>());
-  cmd->add_option("--budget", a.search.budget, "scenarios to evaluate")->check(CLI::Range(1, 1000000))->capture_default_str();
+  cmd->add_option("--budget", a.search.budget, "scenarios to evaluate")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
   cmd->add_option("--population", a.search.ga.population, "GA population (and batch size)")
       ->check(CLI::Range(2, 10000))
       ->capture_default_str();
@@ -144,14 +148,16 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
   cmd->add_option("--weights", a.weights,
                   "rlaga: DQN weights file (default: pre-train now; the directory keeps a copy, " +
                       std::string(kWeightsFile) + ")")
-      ->check(CLI::ExistingFile);
+      ->check(CLI::ExistingFile)
+      ->default_str("pre-train");
   cmd->add_option("--episodes", a.episodes, "rlaga without --weights: surrogate pre-training episodes")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
   cmd->add_option("--base", a.base_path,
                   "scenario giving every field that is not a gene (marker type, drone start, time limit; default: "
                   "the built-in one)")
-      ->check(CLI::ExistingFile);
+      ->check(CLI::ExistingFile)
+      ->default_str("built-in");
   cmd->add_flag("--source-chromosome", a.source_chromosome,
                 "the source's chromosome: no static-object and distractor genes");
   cmd->add_flag("--json", a.json, "the metrics as one JSON object on stdout");
@@ -168,8 +174,9 @@ class CampaignProgressLine {
               << " scenarios  violations I " << p.type_i << " · II " << p.type_ii << " · III " << p.type_iii;
     if (run > 0 && p.done < p.budget) {
       const double left = elapsed / run * (p.budget - p.done);
-      std::cerr << "  " << (left < 120 ? std::to_string(static_cast<long>(std::ceil(left))) + " s"
-                                        : std::to_string(static_cast<long>(std::ceil(left / 60))) + " min")
+      std::cerr << "  "
+                << (left < 120 ? std::to_string(static_cast<long>(std::ceil(left))) + " s"
+                               : std::to_string(static_cast<long>(std::ceil(left / 60))) + " min")
                 << " left ";
     }
     std::cerr << "   " << std::flush;
@@ -195,7 +202,8 @@ int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
   const fs::path dir = a.out;
   const bool rank0 = mpi.rank() == 0;
   if (rank0 && !a.resume && fs::exists(dir / "campaign.json")) {
-    throw td::InvalidArgument(a.out + ": holds a campaign already (campaign.json); --resume continues it, or "
+    throw td::InvalidArgument(a.out +
+                              ": holds a campaign already (campaign.json); --resume continues it, or "
                               "choose another --out");
   }
   std::shared_ptr<const tsr::QNetwork> policy;
@@ -267,7 +275,7 @@ CLI::App* add_train_command(CLI::App& app, TrainArgs& a) {
   auto* cmd = app.add_subcommand("train-dqn", "pre-train the objects' DQN in the surrogate environment");
   cmd->add_option("--episodes", a.episodes, "surrogate episodes")->check(CLI::Range(1, 1000000))->capture_default_str();
   add_seed_option(*cmd, "--seed", a.seed, "training seed");
-  cmd->add_option("-o,--output", a.out, "weights file to write")->required()->check(output_extension(".json"));
+  cmd->add_option("-o,--output", a.out, "weights file to write (docs/formats.md, \"DQN weights file\")")->required();
   cmd->add_flag("--json", a.json, "the summary as one JSON object on stdout");
   return cmd;
 }
@@ -278,10 +286,10 @@ int train_command(const TrainArgs& a) {
   std::optional<ProgressBar> bar;
   if (ProgressBar::on_terminal()) bar.emplace();
   const auto t0 = std::chrono::steady_clock::now();
-  tsr::DqnTraining t = tsr::train_dqn(tsr::DqnOptions{}, tsr::SurrogateOptions{}, a.episodes, a.seed,
-                                      [&](int done, int total) {
-                                        if (bar) bar->draw(static_cast<std::size_t>(done), static_cast<std::size_t>(total));
-                                      });
+  tsr::DqnTraining t =
+      tsr::train_dqn(tsr::DqnOptions{}, tsr::SurrogateOptions{}, a.episodes, a.seed, [&](int done, int total) {
+        if (bar) bar->draw(static_cast<std::size_t>(done), static_cast<std::size_t>(total));
+      });
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   write_text(tmp, tsr::weights_text(t.network), a.out);
   staged.commit();
@@ -299,8 +307,8 @@ int train_command(const TrainArgs& a) {
   } else {
     std::cout << "weights   " << a.out << " (" << t.network.parameter_count() << " parameters, 2 x "
               << t.network.hidden() << " hidden units)\n"
-              << "training  " << a.episodes << " surrogate episodes, seed " << a.seed << ", "
-              << format_fixed(wall, 1) << " s\n"
+              << "training  " << a.episodes << " surrogate episodes, seed " << a.seed << ", " << format_fixed(wall, 1)
+              << " s\n"
               << "return    " << format_fixed(mean_last, 2) << " (eq. 5, mean of the last " << last << " episodes)\n";
   }
   return kExitOk;
@@ -357,7 +365,10 @@ struct CompareArgs {
 CLI::App* add_compare_command(CLI::App& app, CompareArgs& a) {
   auto* cmd = app.add_subcommand(
       "compare", "the source's Table 2: every method on every map over seeds 1..N (resumable campaigns in --out)");
-  cmd->add_option("--methods", a.methods, "methods")->check(one_of<tsr::Method>())->capture_default_str()->delimiter(',');
+  cmd->add_option("--methods", a.methods, "methods")
+      ->check(one_of<tsr::Method>())
+      ->capture_default_str()
+      ->delimiter(',');
   cmd->add_option("--maps", a.maps, "maps")->check(one_of<ts::MapKind>())->capture_default_str()->delimiter(',');
   cmd->add_option("--seeds", a.seeds, "campaign seeds 1..N per method and map")
       ->check(CLI::Range(1, 1000))
@@ -368,11 +379,15 @@ CLI::App* add_compare_command(CLI::App& app, CompareArgs& a) {
   cmd->add_option("--out", a.out,
                   "directory of the campaigns (MAP/METHOD/seed-K; an existing campaign there is resumed)")
       ->required();
-  cmd->add_option("--weights", a.weights, "rlaga: DQN weights (default: pre-trained per seed)")->check(CLI::ExistingFile);
+  cmd->add_option("--weights", a.weights, "rlaga: DQN weights (default: pre-trained per seed)")
+      ->check(CLI::ExistingFile)
+      ->default_str("pre-train");
   cmd->add_option("--episodes", a.episodes, "rlaga without --weights: pre-training episodes")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
-  cmd->add_option("--plot", a.plot, "cumulative violations against scenarios evaluated")->check(output_extension(".svg"));
+  cmd->add_option("--plot", a.plot, "cumulative violations against scenarios evaluated")
+      ->check(output_extension(".svg"))
+      ->default_str("none");
   cmd->add_flag("--json", a.json, "the table as one JSON object on stdout");
   return cmd;
 }
@@ -385,50 +400,55 @@ int compare_command(const CompareArgs& a) {
                               std::to_string(a.population) + ": the seed pool alone needs a whole population");
   }
   cv::setNumThreads(1);
+  // Seeds outermost: a compare stopped early (or still running) has every
+  // method and map at the seeds it finished. Cells stay in map, method order.
   std::vector<tsr::CompareCell> cells;
-  const int total = static_cast<int>(a.maps.size() * a.methods.size()) * a.seeds;
-  int done = 0;
-  const bool terminal = ProgressBar::on_terminal();
   for (const std::string& map : a.maps) {
     for (const std::string& method : a.methods) {
       tsr::CompareCell cell;
       cell.method = method;
       cell.map = map;
-      for (int k = 1; k <= a.seeds; ++k) {
-        tsr::SearchOptions o;
-        o.method = td::from_string<tsr::Method>(method);
-        o.system = a.common.system;
-        o.budget = a.budget;
-        o.ga.population = a.population;
-        o.seed = static_cast<std::uint64_t>(k);
-        o.base.map = td::from_string<ts::MapKind>(map);
-        const fs::path dir = fs::path(a.out) / map / method / ("seed-" + std::to_string(k));
-        const bool resume = fs::exists(dir / "campaign.json");
-        std::shared_ptr<const tsr::QNetwork> policy;
-        if (o.method == tsr::Method::Rlaga) {
-          policy = campaign_policy(a.weights, dir, resume, a.episodes, o.seed, true);
-          o.weights_id = weights_id(tsr::weights_text(*policy));
-        }
-        tsr::LocalEvaluator evaluator(evaluator_options(a.common, policy));
-        std::optional<CampaignProgressLine> line;
-        if (terminal) {
-          std::cerr << "[" << done + 1 << "/" << total << "] " << method << " on " << map << ", seed " << k << "\n";
-          line.emplace();
-        }
-        const tsr::SearchResult r = tsr::run_search(o, evaluator, dir, resume, [&](const tsr::SearchProgress& p) {
-          if (line) line->draw(p);
-        });
-        if (line) line->close();
-        if (policy && !fs::exists(dir / kWeightsFile)) {
-          const std::string text = tsr::weights_text(*policy);
-          td::write_file_atomically(dir / kWeightsFile,
-                                    [&](const fs::path& tmp) { write_text(tmp, text, kWeightsFile); });
-        }
-        cell.per_seed.push_back(r.metrics);
-        cell.cumulative.push_back(tsr::cumulative_violations(r.records));
-        ++done;
-      }
       cells.push_back(std::move(cell));
+    }
+  }
+  const int total = static_cast<int>(cells.size()) * a.seeds;
+  int done = 0;
+  const bool terminal = ProgressBar::on_terminal();
+  for (int k = 1; k <= a.seeds; ++k) {
+    for (tsr::CompareCell& cell : cells) {
+      tsr::SearchOptions o;
+      o.method = td::from_string<tsr::Method>(cell.method);
+      o.system = a.common.system;
+      o.budget = a.budget;
+      o.ga.population = a.population;
+      o.seed = static_cast<std::uint64_t>(k);
+      o.base.map = td::from_string<ts::MapKind>(cell.map);
+      const fs::path dir = fs::path(a.out) / cell.map / cell.method / ("seed-" + std::to_string(k));
+      const bool resume = fs::exists(dir / "campaign.json");
+      std::shared_ptr<const tsr::QNetwork> policy;
+      if (o.method == tsr::Method::Rlaga) {
+        policy = campaign_policy(a.weights, dir, resume, a.episodes, o.seed, true);
+        o.weights_id = weights_id(tsr::weights_text(*policy));
+      }
+      tsr::LocalEvaluator evaluator(evaluator_options(a.common, policy));
+      std::optional<CampaignProgressLine> line;
+      if (terminal) {
+        std::cerr << "[" << done + 1 << "/" << total << "] " << cell.method << " on " << cell.map << ", seed " << k
+                  << "\n";
+        line.emplace();
+      }
+      const tsr::SearchResult r = tsr::run_search(o, evaluator, dir, resume, [&](const tsr::SearchProgress& p) {
+        if (line) line->draw(p);
+      });
+      if (line) line->close();
+      if (policy && !fs::exists(dir / kWeightsFile)) {
+        const std::string text = tsr::weights_text(*policy);
+        td::write_file_atomically(dir / kWeightsFile,
+                                  [&](const fs::path& tmp) { write_text(tmp, text, kWeightsFile); });
+      }
+      cell.per_seed.push_back(r.metrics);
+      cell.cumulative.push_back(tsr::cumulative_violations(r.records));
+      ++done;
     }
   }
   const std::string title = "Violations found: " + a.common.system + ", budget " + std::to_string(a.budget) + ", " +
@@ -466,8 +486,9 @@ struct ShrinkArgs {
 
 CLI::App* add_shrink_command(CLI::App& app, ShrinkArgs& a) {
   auto* cmd = app.add_subcommand(
-      "shrink", "why did it fail: reset genes to benign values while the violation stays; the smallest failing "
-                "scenario and the genes it needs");
+      "shrink",
+      "why did it fail: reset genes to benign values while the violation stays; the smallest failing "
+      "scenario and the genes it needs");
   cmd->add_option("INPUT", a.input, "a results directory (its campaign's system and weights) or a scenario file")
       ->required();
   cmd->add_option("--index", a.index, "results directory: the scenario's index (default: the first violation)")
@@ -475,7 +496,9 @@ CLI::App* add_shrink_command(CLI::App& app, ShrinkArgs& a) {
   add_common(*cmd, a.common);
   cmd->add_option("--weights", a.weights, "scenario file: DQN weights driving its external objects")
       ->check(CLI::ExistingFile);
-  cmd->add_option("-o,--output", a.out, "the smallest failing scenario (YAML)")->required()->check(output_extension(".yaml"));
+  cmd->add_option("-o,--output", a.out, "the smallest failing scenario (YAML)")
+      ->required()
+      ->check(output_extension(".yaml"));
   cmd->add_flag("--json", a.json, "the result as one JSON object on stdout");
   return cmd;
 }
@@ -498,8 +521,9 @@ int shrink_command(ShrinkArgs& a) {
       }
     }
     if (!pick) {
-      throw td::InvalidArgument(a.input + ": " + (a.index >= 0 ? "no scenario with index " + std::to_string(a.index)
-                                                                : std::string("no violation to shrink")));
+      throw td::InvalidArgument(
+          a.input + ": " +
+          (a.index >= 0 ? "no scenario with index " + std::to_string(a.index) : std::string("no violation to shrink")));
     }
     source = (fs::path(a.input) / pick->scenario).string();
     scenario = ts::load_scenario(source);
@@ -534,23 +558,27 @@ int shrink_command(ShrinkArgs& a) {
     j["necessary"] = r.necessary;
     Json steps = Json::array();
     for (const auto& s : r.steps) {
-      steps.push_back({{"gene", s.gene}, {"tried", s.tried}, {"outcome", ts::to_string(s.outcome)},
-                       {"kept", s.kept}, {"message", s.message}});
+      steps.push_back({{"gene", s.gene},
+                       {"tried", s.tried},
+                       {"outcome", ts::to_string(s.outcome)},
+                       {"kept", s.kept},
+                       {"message", s.message}});
     }
     j["steps"] = std::move(steps);
     j["smallest"] = a.out;
     j["runs"] = r.runs();
     std::cout << j.dump(2) << "\n";
   } else {
-    std::cout << "scenario   " << source << " on " << a.common.system << ": type " << ts::to_string(r.violation)
-              << " (" << r.message << ")\n";
+    std::cout << "scenario   " << source << " on " << a.common.system << ": type " << ts::to_string(r.violation) << " ("
+              << r.message << ")\n";
     for (const auto& s : r.steps) {
       std::cout << "  reset " << s.gene << ": "
                 << (!s.tried ? s.message
                              : (s.kept ? "still type " + std::string(ts::to_string(s.outcome)) + ", kept"
-                                       : "now " + (s.outcome == ts::Violation::None
-                                                       ? std::string("no violation")
-                                                       : "type " + std::string(ts::to_string(s.outcome))) +
+                                       : "now " +
+                                             (s.outcome == ts::Violation::None
+                                                  ? std::string("no violation")
+                                                  : "type " + std::string(ts::to_string(s.outcome))) +
                                              ": needed"))
                 << "\n";
     }
@@ -567,9 +595,10 @@ int shrink_command(ShrinkArgs& a) {
 int main(int argc, char** argv) {
   // MPI first: under mpirun every rank parses the same command line.
   const tsr::MpiSession mpi(argc, argv);
-  CLI::App app{"Search the marker-landing test world for violations of a landing system (RLaGA): campaigns, DQN "
-               "pre-training, metrics, the source's comparison, and shrinking a violation to its causes.",
-               "landing_fuzz"};
+  CLI::App app{
+      "Search the marker-landing test world for violations of a landing system (RLaGA): campaigns, DQN "
+      "pre-training, metrics, the source's comparison, and shrinking a violation to its causes.",
+      "landing_fuzz"};
   app.require_subcommand(1);
   CampaignArgs campaign_args;
   TrainArgs train_args;

@@ -35,4 +35,4 @@ find_package(fcl 0.7 REQUIRED)
 # distance (privately, in one translation unit); Open MPI for campaigns
 # across processes and machines (only the campaign runner, touchdown::search_mpi).
 find_package(pagmo REQUIRED)
-find_package(MPI REQUIRED COMPONENTS C)
+find_package(MPI REQUIRED COMPONENTS CXX)

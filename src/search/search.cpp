@@ -84,7 +84,9 @@ std::vector<Evaluation> LocalEvaluator::evaluate(const std::vector<scenario::Sce
     out[i] = evaluate_result(r, scenarios[i].time_limit);
   };
   if (on_done) {
-    c.progress = [&](const scenario::CampaignProgress& p, const scenario::CampaignEntry&) { on_done(p.index, out[p.index]); };
+    c.progress = [&](const scenario::CampaignProgress& p, const scenario::CampaignEntry&) {
+      on_done(p.index, out[p.index]);
+    };
   }
   (void)scenario::run_campaign(scenarios, c);
   return out;
@@ -138,8 +140,8 @@ class Directory {
       if (!fs::exists(campaign)) {
         throw InvalidArgument(dir_.string() + ": no campaign to resume (no campaign.json)");
       }
-      const std::string difference = detail::config_difference(detail::read_text_file(campaign), config,
-                                                                campaign.string());
+      const std::string difference =
+          detail::config_difference(touchdown::detail::read_text_file(campaign), config, campaign.string());
       if (!difference.empty()) {
         throw InvalidArgument(campaign.string() + ": a results directory from another campaign: " + difference);
       }
@@ -155,7 +157,7 @@ class Directory {
         }
       }
       const fs::path state = dir_ / "state.json";
-      if (fs::exists(state)) state_ = detail::parse_state(detail::read_text_file(state), state.string());
+      if (fs::exists(state)) state_ = detail::parse_state(touchdown::detail::read_text_file(state), state.string());
     }
     out_.open(dir_ / "results.jsonl", std::ios::binary | std::ios::app);
     if (!out_) throw IoError((dir_ / "results.jsonl").string() + ": cannot open for appending");
@@ -210,13 +212,12 @@ class Campaign {
     if (state.generation >= 0) {
       for (const auto& m : state.pool) pool_.push_back({m.chromosome, m.index});
       evaluated_ = state.evaluated;
-      records_.assign(dir_.existing().begin(), dir_.existing().begin() + std::min<std::ptrdiff_t>(
-                                                                             evaluated_, static_cast<std::ptrdiff_t>(
-                                                                                             dir_.existing().size())));
+      records_.assign(dir_.existing().begin(),
+                      dir_.existing().begin() +
+                          std::min<std::ptrdiff_t>(evaluated_, static_cast<std::ptrdiff_t>(dir_.existing().size())));
       if (static_cast<int>(records_.size()) != evaluated_) {
         throw InvalidArgument("results directory: state.json says " + std::to_string(evaluated_) +
-                              " scenarios were evaluated, results.jsonl has " +
-                              std::to_string(dir_.existing().size()));
+                              " scenarios were evaluated, results.jsonl has " + std::to_string(dir_.existing().size()));
       }
       for (const auto& r : records_) count(r, true);
     }
@@ -263,7 +264,8 @@ class Campaign {
     std::vector<std::size_t> parents;
     if (o_.method == Method::ManyObjectiveGa) {
       std::vector<std::array<double, 2>> objectives;
-      for (const auto& p : pool_) objectives.push_back(objectives_of(records_[static_cast<std::size_t>(p.index)].evaluation));
+      for (const auto& p : pool_)
+        objectives.push_back(objectives_of(records_[static_cast<std::size_t>(p.index)].evaluation));
       parents = crowded_tournament(pareto_ranking(objectives), parents_needed, rng);
     } else {
       std::vector<double> fitness;
@@ -372,7 +374,8 @@ class Campaign {
     std::vector<std::size_t> keep;
     if (o_.method == Method::ManyObjectiveGa) {
       std::vector<std::array<double, 2>> objectives;
-      for (const auto& a : all) objectives.push_back(objectives_of(records_[static_cast<std::size_t>(a.index)].evaluation));
+      for (const auto& a : all)
+        objectives.push_back(objectives_of(records_[static_cast<std::size_t>(a.index)].evaluation));
       keep = nsga2_survivors(objectives, n);
     } else {
       std::vector<double> fitness;
@@ -421,7 +424,7 @@ ResultsDirectory load_results_directory(const fs::path& dir) {
   const fs::path campaign = dir / "campaign.json";
   if (!fs::is_directory(dir)) throw IoError(dir.string() + ": not a directory");
   if (!fs::exists(campaign)) throw IoError(dir.string() + ": not a results directory (no campaign.json)");
-  r.campaign_json = detail::read_text_file(campaign);
+  r.campaign_json = touchdown::detail::read_text_file(campaign);
   r.records = load_records(dir / "results.jsonl");
   return r;
 }

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "test_util.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/search/dqn.hpp"
 #include "touchdown/search/object_policy.hpp"
@@ -34,13 +35,6 @@ std::shared_ptr<const QNetwork> some_network() {
   return net;
 }
 
-std::string read(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
 TEST(LocalEvaluator, SameResultsFileForOneAndTwoThreads) {
   SearchOptions o;
   o.method = Method::Rlaga;
@@ -57,7 +51,7 @@ TEST(LocalEvaluator, SameResultsFileForOneAndTwoThreads) {
   const SearchResult r1 = run_search(o, e1, root / "one", false);
   const SearchResult r2 = run_search(o, e2, root / "two", false);
   ASSERT_EQ(r1.records.size(), 4u);
-  EXPECT_EQ(read(root / "one" / "results.jsonl"), read(root / "two" / "results.jsonl"));
+  EXPECT_EQ(test::read_text(root / "one" / "results.jsonl"), test::read_text(root / "two" / "results.jsonl"));
   // A record is the run of its scenario file, objects driven by the policy.
   const scenario::Scenario s = scenario::load_scenario(root / "one" / r1.records[3].scenario);
   auto system = scenario::make_landing_system("opencv-mls");

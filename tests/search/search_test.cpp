@@ -3,15 +3,17 @@
 // directory, resuming a killed campaign, refusing another campaign's
 // directory, and the GA's elitism. The real evaluator's runs are checked in
 // run_search_test.cpp.
+#include "touchdown/search/search.hpp"
+
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "test_util.hpp"
 #include "touchdown/core/error.hpp"
-#include "touchdown/search/search.hpp"
 
 namespace touchdown::search {
 namespace {
@@ -61,13 +63,6 @@ class FakeEvaluator final : public Evaluator {
   }
 };
 
-std::string read(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
 class SearchDir : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -95,8 +90,8 @@ TEST_F(SearchDir, SameSeedSameResultsFileForEveryMethod) {
     const SearchResult ra = run_search(small(m), a, root_ / (std::string(to_string(m)) + "-a"), false);
     const SearchResult rb = run_search(small(m), b, root_ / (std::string(to_string(m)) + "-b"), false);
     ASSERT_EQ(ra.records.size(), 30u) << to_string(m);
-    EXPECT_EQ(read(root_ / (std::string(to_string(m)) + "-a") / "results.jsonl"),
-              read(root_ / (std::string(to_string(m)) + "-b") / "results.jsonl"))
+    EXPECT_EQ(test::read_text(root_ / (std::string(to_string(m)) + "-a") / "results.jsonl"),
+              test::read_text(root_ / (std::string(to_string(m)) + "-b") / "results.jsonl"))
         << to_string(m);
     EXPECT_EQ(a.evaluated, 30);
     for (std::size_t i = 0; i < ra.records.size(); ++i) {
@@ -153,14 +148,15 @@ TEST_F(SearchDir, AKilledCampaignResumesToTheSameResultsFile) {
       FakeEvaluator killed;
       killed.fail_after = kill;
       EXPECT_THROW(run_search(small(m), killed, dir, false), std::runtime_error);
-      const std::string partial = read(dir / "results.jsonl");
+      const std::string partial = test::read_text(dir / "results.jsonl");
       const int written = static_cast<int>(std::count(partial.begin(), partial.end(), '\n'));
       // Lines are written in index order: a run finished before its
       // predecessors waits for them (and is lost with the kill).
-      EXPECT_EQ(partial, read(root_ / (name + "-whole") / "results.jsonl").substr(0, partial.size()));
+      EXPECT_EQ(partial, test::read_text(root_ / (name + "-whole") / "results.jsonl").substr(0, partial.size()));
       FakeEvaluator rest;
       const SearchResult r = run_search(small(m), rest, dir, true);
-      EXPECT_EQ(read(dir / "results.jsonl"), read(root_ / (name + "-whole") / "results.jsonl")) << name << " " << kill;
+      EXPECT_EQ(test::read_text(dir / "results.jsonl"), test::read_text(root_ / (name + "-whole") / "results.jsonl"))
+          << name << " " << kill;
       EXPECT_EQ(r.records.size(), 30u);
       // What was written is not run again.
       EXPECT_EQ(r.resumed, written) << name << " " << kill;
@@ -182,14 +178,14 @@ TEST_F(SearchDir, ACutLastLineIsRunAgain) {
   }
   FakeEvaluator rest;
   (void)run_search(small(Method::Random), rest, dir, true);
-  EXPECT_EQ(read(dir / "results.jsonl"), read(root_ / "whole" / "results.jsonl"));
+  EXPECT_EQ(test::read_text(dir / "results.jsonl"), test::read_text(root_ / "whole" / "results.jsonl"));
 }
 
 TEST_F(SearchDir, RefusesAnotherCampaignsDirectoryAndOverwritesNothing) {
   FakeEvaluator e;
   const fs::path dir = root_ / "c";
   (void)run_search(small(Method::DiverseGa), e, dir, false);
-  const std::string before = read(dir / "results.jsonl");
+  const std::string before = test::read_text(dir / "results.jsonl");
   // Without --resume: the directory holds a campaign.
   try {
     (void)run_search(small(Method::DiverseGa), e, dir, false);
@@ -208,7 +204,7 @@ TEST_F(SearchDir, RefusesAnotherCampaignsDirectoryAndOverwritesNothing) {
   }
   other = small(Method::Random);
   EXPECT_THROW(run_search(other, e, dir, true), InvalidArgument);
-  EXPECT_EQ(read(dir / "results.jsonl"), before);
+  EXPECT_EQ(test::read_text(dir / "results.jsonl"), before);
   // A directory without a campaign cannot be resumed.
   EXPECT_THROW(run_search(small(Method::DiverseGa), e, root_ / "empty", true), InvalidArgument);
 }
