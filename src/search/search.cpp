@@ -25,12 +25,22 @@ namespace fs = std::filesystem;
 
 // ---- options ---------------------------------------------------------------------------
 
+namespace {
+
+// The campaign that runs a batch (without its per-run hooks).
+scenario::CampaignOptions campaign_options(const EvaluatorOptions& o) {
+  scenario::CampaignOptions c;
+  c.system = o.system;
+  c.mls = o.mls;
+  c.run = o.run;
+  c.threads = o.threads;
+  return c;
+}
+
+}  // namespace
+
 bool EvaluatorOptions::validate(std::string* why) const {
-  std::string w;
-  if (!run.validate(&w)) return invalid(why, "run." + w);
-  if (run.on_frame || run.external) return invalid(why, "run: frame and external callbacks are not allowed");
-  if (!mls.validate(&w)) return invalid(why, "mls." + w);
-  if (threads < 1 || threads > 256) return invalid(why, "threads: must be in [1, 256]");
+  if (!campaign_options(*this).validate(why)) return false;
   if (!(decision_period > 0 && decision_period <= 10)) return invalid(why, "decision_period: must be in (0, 10] s");
   return true;
 }
@@ -69,11 +79,7 @@ LocalEvaluator::LocalEvaluator(EvaluatorOptions options) : options_(std::move(op
 std::vector<Evaluation> LocalEvaluator::evaluate(const std::vector<scenario::Scenario>& scenarios,
                                                  const std::function<void(std::size_t, const Evaluation&)>& on_done) {
   std::vector<Evaluation> out(scenarios.size());
-  scenario::CampaignOptions c;
-  c.system = options_.system;
-  c.mls = options_.mls;
-  c.run = options_.run;
-  c.threads = options_.threads;
+  scenario::CampaignOptions c = campaign_options(options_);
   if (options_.policy) {
     c.external_for = [this](std::size_t) {
       return std::function<void(const scenario::World&, std::vector<scenario::ObjectAction>&)>(

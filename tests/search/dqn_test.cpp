@@ -13,6 +13,7 @@
 #include <limits>
 #include <memory>
 
+#include "test_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/scenario/world.hpp"
 #include "touchdown/search/object_policy.hpp"
@@ -209,13 +210,8 @@ TEST(TrainDqn, SameSeedSameParameters) {
 
 class WeightsFile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("touchdown_dqn_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  test::TempDir tmp_;
+  const fs::path& dir_ = tmp_.path();
   fs::path write(const std::string& name, const std::string& text) {
     const fs::path p = dir_ / name;
     std::ofstream(p, std::ios::binary) << text;
@@ -246,7 +242,6 @@ class WeightsFile : public ::testing::Test {
     net.set_parameters(p);
     return net;
   }
-  fs::path dir_;
 };
 
 TEST_F(WeightsFile, RoundTripIsBitExact) {

@@ -65,14 +65,8 @@ class FakeEvaluator final : public Evaluator {
 
 class SearchDir : public ::testing::Test {
  protected:
-  void SetUp() override {
-    root_ = fs::temp_directory_path() /
-            ("td_search_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-  }
-  void TearDown() override { fs::remove_all(root_); }
-  fs::path root_;
+  test::TempDir tmp_;
+  const fs::path& root_ = tmp_.path();
 };
 
 SearchOptions small(Method m) {
