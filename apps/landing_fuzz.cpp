@@ -307,8 +307,8 @@ int train_command(const TrainArgs& a) {
   } else {
     std::cout << "weights   " << a.out << " (" << t.network.parameter_count() << " parameters, 2 x "
               << t.network.hidden() << " hidden units)\n"
-              << "training  " << a.episodes << " surrogate episodes, seed " << a.seed << ", in " << format_fixed(wall, 1)
-              << " s\n"
+              << "training  " << a.episodes << " surrogate episodes, seed " << a.seed << ", in "
+              << format_fixed(wall, 1) << " s\n"
               << "return    " << format_fixed(mean_last, 2) << " (eq. 5, mean of the last " << last << " episodes)\n";
   }
   return kExitOk;

@@ -351,8 +351,7 @@ int run_command(RunArgs& a) {
   check_snapshot_time(a, scenario);
   auto sut = ts::make_landing_system(a.system);
   if (!a.weights_path.empty()) {
-    a.options.external =
-        tsr::ObjectPolicy(std::make_shared<const tsr::QNetwork>(tsr::load_weights(a.weights_path)));
+    a.options.external = tsr::ObjectPolicy(std::make_shared<const tsr::QNetwork>(tsr::load_weights(a.weights_path)));
   }
   RunImages images;
   if (!a.video_path.empty()) {

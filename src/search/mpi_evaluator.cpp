@@ -125,7 +125,8 @@ std::vector<Evaluation> MpiEvaluator::evaluate(const std::vector<scenario::Scena
     MPI_Get_count(&status, MPI_CHAR, &n);
     std::string text(static_cast<std::size_t>(n), '\0');
     check(MPI_Recv(text.data(), n, MPI_CHAR, r, kResultTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "receive");
-    if (!text.empty() && text.front() == '!') throw std::runtime_error("MPI rank " + std::to_string(r) + ": " + text.substr(1));
+    if (!text.empty() && text.front() == '!')
+      throw std::runtime_error("MPI rank " + std::to_string(r) + ": " + text.substr(1));
     const std::vector<std::string> parts = split_records(text);
     std::size_t k = 0;
     for (std::size_t i = static_cast<std::size_t>(r); i < scenarios.size(); i += static_cast<std::size_t>(size_), ++k) {

@@ -36,9 +36,8 @@ std::vector<Group> weather_groups(const scenario::Scenario& s) {
   std::vector<Group> out;
   const auto add = [&](const char* name, double scenario::Weather::*field) {
     if (s.weather.*field != clear.*field) {
-      out.push_back({std::string("weather.") + name, [field, clear](scenario::Scenario& x) {
-                       x.weather.*field = clear.*field;
-                     }});
+      out.push_back(
+          {std::string("weather.") + name, [field, clear](scenario::Scenario& x) { x.weather.*field = clear.*field; }});
     }
   };
   add("fog", &scenario::Weather::fog);
@@ -71,8 +70,7 @@ ShrinkResult shrink(const scenario::Scenario& original, const scenario::Scenario
 
   // The object groups (removals), then weather, seed and marker (resets).
   Removals removed{std::vector<bool>(original.static_objects.size()),
-                   std::vector<bool>(original.dynamic_objects.size()),
-                   std::vector<bool>(original.distractors.size())};
+                   std::vector<bool>(original.dynamic_objects.size()), std::vector<bool>(original.distractors.size())};
   struct Try {
     std::string name;
     std::vector<bool>* list = nullptr;  // a removal ...
@@ -83,25 +81,31 @@ ShrinkResult shrink(const scenario::Scenario& original, const scenario::Scenario
   for (std::size_t i = 0; i < original.static_objects.size(); ++i) {
     tries.push_back({"static_objects[" + std::to_string(i) + "] (" +
                          std::string(scenario::to_string(original.static_objects[i].kind)) + ")",
-                     &removed.statics, i, {}});
+                     &removed.statics,
+                     i,
+                     {}});
   }
   for (std::size_t i = 0; i < original.dynamic_objects.size(); ++i) {
     tries.push_back({"dynamic_objects[" + std::to_string(i) + "] (" +
                          std::string(scenario::to_string(original.dynamic_objects[i].kind)) + ")",
-                     &removed.dynamics, i, {}});
+                     &removed.dynamics,
+                     i,
+                     {}});
   }
   for (std::size_t i = 0; i < original.distractors.size(); ++i) {
     tries.push_back({"distractors[" + std::to_string(i) + "] (" +
                          std::string(scenario::to_string(original.distractors[i].kind)) + ")",
-                     &removed.distractors, i, {}});
+                     &removed.distractors,
+                     i,
+                     {}});
   }
   for (Group& g : weather_groups(original)) tries.push_back({g.name, nullptr, 0, std::move(g.reset)});
   if (original.seed != base.seed) {
     tries.push_back({"seed", nullptr, 0, [seed = base.seed](scenario::Scenario& x) { x.seed = seed; }});
   }
   if (original.marker.position != base.marker.position) {
-    tries.push_back({"marker.position", nullptr, 0,
-                     [p = base.marker.position](scenario::Scenario& x) { x.marker.position = p; }});
+    tries.push_back(
+        {"marker.position", nullptr, 0, [p = base.marker.position](scenario::Scenario& x) { x.marker.position = p; }});
   }
   const int total = 1 + static_cast<int>(tries.size());
 

@@ -130,8 +130,8 @@ struct SearchProgress {
 struct SearchResult {
   std::vector<EvaluationRecord> records;  ///< every evaluated scenario, in order
   SearchMetrics metrics;
-  int resumed = 0;     ///< records read back from the directory, not run again
-  double wall_s = 0;   ///< of this call
+  int resumed = 0;    ///< records read back from the directory, not run again
+  double wall_s = 0;  ///< of this call
 };
 
 /// Runs the campaign into `out_dir`. Without `resume` the directory must not

@@ -26,7 +26,7 @@ struct ShrinkStep {
   std::string gene;  ///< e.g. "weather.fog", "static_objects[2] (box)", "marker.position"
   scenario::Violation outcome = scenario::Violation::None;  ///< of the run with the reset
   std::string message;                                      ///< that run's outcome line
-  bool kept = false;  ///< the reset kept the violation type: it stays reset
+  bool kept = false;                                        ///< the reset kept the violation type: it stays reset
   /// False when the reset would make the scenario invalid (not run, not
   /// counted as necessary; `message` says why).
   bool tried = true;
