@@ -120,6 +120,12 @@ std::shared_ptr<const tsr::QNetwork> campaign_policy(const std::string& weights_
   return std::make_shared<const tsr::QNetwork>(std::move(t.network));
 }
 
+// The results directory's copy of the weights that drove its objects
+// (written once, atomically, by the library's writer).
+void keep_weights(const std::shared_ptr<const tsr::QNetwork>& policy, const fs::path& dir) {
+  if (policy && !fs::exists(dir / kWeightsFile)) tsr::save_weights(*policy, dir / kWeightsFile);
+}
+
 // ---- campaign --------------------------------------------------------------------------
 
 struct CampaignArgs {
@@ -236,10 +242,7 @@ int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
     throw;
   }
   if (line) line->close();
-  if (policy && !fs::exists(dir / kWeightsFile)) {
-    const std::string text = tsr::weights_text(*policy);
-    td::write_file_atomically(dir / kWeightsFile, [&](const fs::path& tmp) { write_text(tmp, text, kWeightsFile); });
-  }
+  keep_weights(policy, dir);
   if (a.json) {
     Json j;
     j["directory"] = a.out;
@@ -441,11 +444,7 @@ int compare_command(const CompareArgs& a) {
         if (line) line->draw(p);
       });
       if (line) line->close();
-      if (policy && !fs::exists(dir / kWeightsFile)) {
-        const std::string text = tsr::weights_text(*policy);
-        td::write_file_atomically(dir / kWeightsFile,
-                                  [&](const fs::path& tmp) { write_text(tmp, text, kWeightsFile); });
-      }
+      keep_weights(policy, dir);
       cell.per_seed.push_back(r.metrics);
       cell.cumulative.push_back(tsr::cumulative_violations(r.records));
       ++done;
@@ -584,7 +583,10 @@ int shrink_command(ShrinkArgs& a) {
     }
     std::cout << "needs      ";
     for (std::size_t i = 0; i < r.necessary.size(); ++i) std::cout << (i ? ", " : "") << r.necessary[i];
-    std::cout << (r.necessary.empty() ? "none of its genes (the base scenario fails alone)" : "") << "\n"
+    std::cout << (r.necessary.empty() ? "none of its genes (with every gene reset it still fails: the cause lies in "
+                                        "the base scenario's own fields)"
+                                      : "")
+              << "\n"
               << "smallest   " << a.out << " (" << r.runs() << " runs)\n";
   }
   return kExitOk;
