@@ -253,6 +253,8 @@ int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
     j["resumed"] = r.resumed;
     j["metrics"] = metrics_json(r.metrics);
     j["wall_s"] = round3(r.wall_s);
+    j["evaluation_s"] = round3(r.evaluation_s);
+    j["search_s"] = round3(r.search_s());
     std::cout << j.dump(2) << "\n";
   } else {
     std::cout << "campaign           " << tsr::to_string(a.search.method) << " on " << a.search.system << ", map "
@@ -260,7 +262,8 @@ int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
     print_metrics(r.metrics);
     std::cout << "time               " << format_fixed(r.wall_s, 1) << " s wall on " << mpi.size() << " x "
               << a.common.threads << " threads" << (r.resumed > 0 ? " (" + std::to_string(r.resumed) + " resumed)" : "")
-              << "\n";
+              << "; the search's own work " << format_fixed(r.search_s(), 2) << " s ("
+              << format_fixed(r.wall_s > 0 ? 100 * r.search_s() / r.wall_s : 0.0, 2) << " %)\n";
   }
   return kExitOk;
 }

@@ -257,7 +257,7 @@ CLI::App* add_run_command(CLI::App& app, RunArgs& a) {
       ->needs(snapshot_opt);
   cmd->add_option("--weights", a.weights_path,
                   "drive the scenario's `external` dynamic objects with this DQN, as a landing_fuzz rlaga campaign "
-                  "did (its results directory's dqn_weights.json); without it they stay")
+                  "did (its results directory's dqn_weights.txt); without it they stay")
       ->check(CLI::ExistingFile);
   cmd->add_flag("--json", a.json, "one JSON object on stdout");
   ts::CameraOptions& camera = a.options.camera;
@@ -443,7 +443,7 @@ struct CampaignArgs {
   std::uint64_t first_seed = 1;
   int count = 100;
   std::optional<ts::MapKind> map;  // empty: any
-  std::string csv_path;
+  std::string csv_path, weights_path;
   bool json = false, whole_frame = false;
   ts::CampaignOptions campaign;
 };
@@ -468,6 +468,10 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
   cmd->add_option("--threads", a.campaign.threads, "worker threads")->check(CLI::Range(1, 256))->capture_default_str();
   cmd->add_flag("--whole-frame-detection", a.whole_frame,
                 "detect in the whole frame every time (no tracking ROI), as the published baseline");
+  cmd->add_option("--weights", a.weights_path,
+                  "drive every scenario's `external` dynamic objects with this DQN, as the landing_fuzz rlaga "
+                  "campaign that wrote the files did (its dqn_weights.txt); without it they stay")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--csv", a.csv_path, "one row per scenario")->check(output_extension(".csv"));
   cmd->add_flag("--json", a.json, "the summary as one JSON object on stdout");
   return cmd;
@@ -498,6 +502,14 @@ int campaign_command(CampaignArgs& a) {
              (a.map ? std::string(ts::to_string(*a.map)) : kAnyMap);
   }
   a.campaign.mls.detection_roi = !a.whole_frame;
+  if (!a.weights_path.empty()) {
+    // One network, shared read-only; one ObjectPolicy per run (it keeps the
+    // run's held action), as the search's LocalEvaluator does.
+    auto network = std::make_shared<const tsr::QNetwork>(tsr::load_weights(a.weights_path));
+    a.campaign.external_for = [network](std::size_t) {
+      return std::function<void(const ts::World&, std::vector<ts::ObjectAction>&)>(tsr::ObjectPolicy(network));
+    };
+  }
   // The campaign's threads are the parallelism: OpenCV's own would
   // oversubscribe the cores.
   cv::setNumThreads(1);

@@ -79,6 +79,7 @@ TIMING_PATTERNS = [
     r"\b(?:render|system|physics|other) #",  # landing_scenario time shares "(render 0.431, ..." / "render 47 %"
     r'"(?:seconds|ms|us)": ?#',  # JSON/JSONL timing keys (terrain_mesh, led_pose, landing_plan)
     r"\bETA:? #",  # progress lines
+    r"own work # s \(# %\)",  # landing_fuzz campaign: "the search's own work 0.05 s (1.31 %)"
     r"^(?:f450|paper) .* (?:led|aruco) .* #$",  # led_pose benchmark: the last column, ms/frame (median)
 ]
 

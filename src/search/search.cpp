@@ -212,6 +212,8 @@ class Campaign {
     progress_state_.budget = o.budget;
   }
 
+  [[nodiscard]] double evaluation_s() const { return evaluation_s_; }
+
   std::vector<EvaluationRecord> run() {
     const detail::PoolState& state = dir_.state();
     int generation = state.generation + 1;
@@ -355,6 +357,7 @@ class Campaign {
     };
     flush();
     if (!scenarios.empty()) {
+      const auto t0 = std::chrono::steady_clock::now();
       (void)evaluator_.evaluate(scenarios, [&](std::size_t i, const Evaluation& e) {
         EvaluationRecord r = waiting[i];
         r.evaluation = e;
@@ -362,6 +365,7 @@ class Campaign {
         done[pending[i]] = std::move(r);
         flush();
       });
+      evaluation_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
     flush();
     TD_ASSERT(next == batch.size());
@@ -402,6 +406,7 @@ class Campaign {
   std::vector<Individual> pool_;
   std::vector<EvaluationRecord> records_;
   int evaluated_ = 0;
+  double evaluation_s_ = 0;
 };
 
 }  // namespace
@@ -421,6 +426,7 @@ SearchResult run_search(const SearchOptions& options, Evaluator& evaluator, cons
   result.records = campaign.run();
   result.resumed = static_cast<int>(std::min(dir.existing().size(), result.records.size()));
   result.metrics = compute_metrics(result.records);
+  result.evaluation_s = campaign.evaluation_s();
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return result;
 }

@@ -10,6 +10,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "test_util.hpp"
 #include "touchdown/scenario/scenario.hpp"
@@ -100,6 +102,82 @@ TEST(LandingFuzzApp, TwoMpiRanksWriteTheSameResultsAsOneProcess) {
   ASSERT_EQ(two.code, 0) << two.err << two.out;
   EXPECT_EQ(td::test::read_text(dir / "one" / "results.jsonl"), td::test::read_text(dir / "two" / "results.jsonl"));
   EXPECT_EQ(td::test::read_text(dir / "one" / "dqn_weights.txt"), td::test::read_text(dir / "two" / "dqn_weights.txt"));
+}
+
+// Every scenario of an rlaga campaign replays with `landing_scenario
+// campaign --weights DIR/dqn_weights.txt` to the same outcome, message and
+// all (the DQN drives the replay's objects as it drove the search's); the
+// same file without the weights runs another flight (its person stands
+// still). The README's campaign (30 s limit, seed 1), whose DQN-driven
+// person walks into the drone.
+TEST(LandingFuzzApp, AnRlagaCampaignReplaysWithItsWeights) {
+  TempDir dir;
+  td::scenario::Scenario base;
+  base.time_limit = 30;
+  std::ofstream(dir / "base30.yaml") << td::scenario::to_yaml(base);
+  const fs::path c = dir / "rl";
+  ASSERT_EQ(fuzz_app("campaign --method rlaga --budget 8 --population 4 --seed 1 --threads 2 --base " +
+                         (dir / "base30.yaml").string() + " --out " + c.string(),
+                     dir)
+                .code,
+            0);
+  std::vector<nlohmann::json> records;
+  std::string files;
+  {
+    std::ifstream in(c / "results.jsonl");
+    for (std::string line; std::getline(in, line);) {
+      records.push_back(nlohmann::json::parse(line));
+      files += " " + (c / records.back()["scenario"].get<std::string>()).string();
+    }
+  }
+  ASSERT_EQ(records.size(), 8u);
+  const auto replay = [&](const std::string& weights, const std::string& scenario_files) {
+    const fs::path csv = dir / "replay.csv";
+    fs::remove(csv);
+    const AppRun r = td::test::run_app(
+        LANDING_SCENARIO_EXE, "campaign --threads 2 " + weights + "--csv " + csv.string() + scenario_files, dir);
+    EXPECT_EQ(r.code, 0) << r.err;
+    std::vector<std::pair<std::string, std::string>> rows;  // (type, message)
+    std::ifstream in(csv);
+    std::string line;
+    std::getline(in, line);  // header
+    while (std::getline(in, line)) {
+      std::vector<std::string> cells;
+      std::size_t start = 0;
+      for (int k = 0; k < 13; ++k) {  // message is the 14th, last column (it may hold commas)
+        const std::size_t comma = line.find(',', start);
+        cells.push_back(line.substr(start, comma - start));
+        start = comma + 1;
+      }
+      std::string message = line.substr(start);
+      if (message.size() >= 2 && message.front() == '"') message = message.substr(1, message.size() - 2);
+      rows.emplace_back(cells[3], message);
+    }
+    return rows;
+  };
+  const auto with = replay("--weights " + (c / "dqn_weights.txt").string() + " ", files);
+  ASSERT_EQ(with.size(), records.size());
+  int driven = -1;
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const auto& e = records[i]["evaluation"];
+    EXPECT_EQ(with[i].first, e["violation"].get<std::string>()) << i;
+    EXPECT_EQ(with[i].second, e["message"].get<std::string>()) << i;
+    if (driven < 0 && e["message"].get<std::string>().find("collided with dynamic_objects") != std::string::npos) {
+      driven = static_cast<int>(i);
+    }
+  }
+  ASSERT_GE(driven, 0) << "no run of this campaign collided with a moving object: pick another seed";
+  const auto without = replay("", " " + (c / records[driven]["scenario"].get<std::string>()).string());
+  ASSERT_EQ(without.size(), 1u);
+  EXPECT_NE(without[0].second, with[driven].second);
+  // Bad weights: one line, exit 2, no CSV.
+  std::ofstream(dir / "bad.txt") << "touchdown-dqn-weights 1\nnot a number\n";
+  const AppRun bad = td::test::run_app(LANDING_SCENARIO_EXE,
+                                       "campaign --weights " + (dir / "bad.txt").string() + " --csv " +
+                                           (dir / "b.csv").string() + " " + (c / "scenarios/000000.yaml").string(),
+                                       dir);
+  expect_one_line(bad, "bad.txt");
+  EXPECT_FALSE(fs::exists(dir / "b.csv"));
 }
 
 TEST(LandingFuzzApp, BadInputIsOneLineWithExitTwoAndNothingOverwritten) {

@@ -8,9 +8,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "test_util.hpp"
 #include "touchdown/core/error.hpp"
@@ -50,9 +52,11 @@ class FakeEvaluator final : public Evaluator {
  public:
   int fail_after = -1;
   int evaluated = 0;
+  std::chrono::milliseconds pause{0};  // per batch: a stand-in for the runs' time
   std::vector<Evaluation> evaluate(const std::vector<scenario::Scenario>& scenarios,
                                    const std::function<void(std::size_t, const Evaluation&)>& on_done) override {
     std::vector<Evaluation> out(scenarios.size());
+    std::this_thread::sleep_for(pause);
     for (std::size_t k = scenarios.size(); k-- > 0;) {
       if (fail_after >= 0 && evaluated >= fail_after) throw std::runtime_error("killed");
       out[k] = fake_evaluation(scenarios[k]);
@@ -100,6 +104,24 @@ TEST_F(SearchDir, SameSeedSameResultsFileForEveryMethod) {
     const SearchResult rc = run_search(other, c, root_ / (std::string(to_string(m)) + "-c"), false);
     EXPECT_NE(rc.records[0].genes, ra.records[0].genes);
   }
+}
+
+// The time inside the evaluator is told apart from the search's own work:
+// 5 batches of at least 20 ms each are inside, the rest is the search's.
+TEST_F(SearchDir, EvaluationTimeIsToldApartFromTheSearchsOwnWork) {
+  FakeEvaluator e;
+  e.pause = std::chrono::milliseconds(20);
+  const SearchResult r = run_search(small(Method::DiverseGa), e, root_ / "c", false);
+  EXPECT_GE(r.evaluation_s, 5 * 0.020);
+  EXPECT_LE(r.evaluation_s, r.wall_s);
+  EXPECT_GE(r.search_s(), 0.0);
+  EXPECT_DOUBLE_EQ(r.search_s(), r.wall_s - r.evaluation_s);
+  // Resumed to the end: nothing runs, so nothing is inside the evaluator.
+  FakeEvaluator again;
+  again.pause = std::chrono::milliseconds(20);
+  const SearchResult resumed = run_search(small(Method::DiverseGa), again, root_ / "c", true);
+  EXPECT_EQ(resumed.resumed, 30);
+  EXPECT_EQ(resumed.evaluation_s, 0.0);
 }
 
 TEST_F(SearchDir, ScenarioFilesDecodeTheRecordedGenes) {
