@@ -172,6 +172,11 @@ class Directory {
   [[nodiscard]] const std::vector<EvaluationRecord>& existing() const { return existing_; }
   [[nodiscard]] const detail::PoolState& state() const { return state_; }
 
+  [[nodiscard]] bool has_scenario(int index) const { return fs::exists(dir_ / scenario_file(index)); }
+  [[nodiscard]] bool scenarios_complete() const {
+    return std::all_of(existing_.begin(), existing_.end(),
+                       [this](const EvaluationRecord& r) { return has_scenario(r.index); });
+  }
   void write_scenario(int index, const scenario::Scenario& s) const {
     write_file_atomically(dir_ / scenario_file(index), [&](const fs::path& tmp) { write(tmp, scenario::to_yaml(s)); });
   }
@@ -215,7 +220,14 @@ class Campaign {
   [[nodiscard]] double evaluation_s() const { return evaluation_s_; }
 
   std::vector<EvaluationRecord> run() {
-    const detail::PoolState& state = dir_.state();
+    // state.json is a shortcut past the finished generations. A directory
+    // kept without its scenario files (docs/results/table2 keeps only
+    // campaign.json, state.json and results.jsonl) is replayed from
+    // generation 0 instead: the same draws and operators rebuild every
+    // chromosome (checked against the recorded genes), the records are read
+    // back, not run, and each missing scenario file is written again.
+    const detail::PoolState replay;
+    const detail::PoolState& state = dir_.scenarios_complete() ? dir_.state() : replay;
     int generation = state.generation + 1;
     if (state.generation >= 0) {
       for (const auto& m : state.pool) pool_.push_back({m.chromosome, m.index});
@@ -335,6 +347,7 @@ class Campaign {
                                 " (the directory was changed by hand?)");
         }
         done[k] = old;
+        if (!dir_.has_scenario(index)) dir_.write_scenario(index, layout_.decode(batch[k]));
         continue;
       }
       scenario::Scenario s = layout_.decode(batch[k]);

@@ -4,9 +4,10 @@
 # 7-15 min each on 2 cores, more than one session's machine time. The
 # campaigns resume (landing_fuzz compare resumes every campaign it finds in
 # --out), and what a campaign needs to resume or to be reported -
-# campaign.json, state.json, results.jsonl and the rlaga DQN's
-# dqn_weights.txt, not the scenario files, which decode from the genes in
-# results.jsonl - is kept in the repository under docs/results/table2/, so a
+# campaign.json, results.jsonl and the rlaga DQN's dqn_weights.txt; not
+# state.json or the scenario files: resuming without them replays the
+# search from results.jsonl, runs nothing again and writes the scenario
+# files back - is kept in the repository under docs/results/table2/, so a
 # new machine continues where the last one stopped.
 #
 #   tests/bench/table2.sh restore SYSTEM WORK   # docs/results/table2/SYSTEM -> WORK/SYSTEM
@@ -19,7 +20,7 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 root=$(pwd)
 usage() {
-  sed -n '12,18p' "$0" | sed 's/^# \{0,1\}//' >&2
+  sed -n '13,18p' "$0" | sed 's/^# \{0,1\}//' >&2
   exit 2
 }
 [ $# -eq 3 ] || usage
@@ -43,11 +44,11 @@ copy_campaigns() {
     dir=$(dirname "$dir")
     rel=${dir#"$from"/}
     mkdir -p "$to/$rel"
-    for f in campaign.json state.json results.jsonl dqn_weights.txt; do
+    for f in campaign.json results.jsonl dqn_weights.txt; do
       if [ -f "$dir/$f" ]; then cp "$dir/$f" "$to/$rel/$f.tmp" && mv "$to/$rel/$f.tmp" "$to/$rel/$f"; fi
     done
     echo "$rel: $(wc -l <"$dir/results.jsonl" 2>/dev/null || echo 0) scenarios" >&2
-  done < <(find "$from" -name campaign.json | sort)
+  done < <(find -H "$from" -name campaign.json | sort)
 }
 
 case "$action" in

@@ -139,6 +139,34 @@ TEST_F(SearchDir, ScenarioFilesDecodeTheRecordedGenes) {
   }
 }
 
+// A directory kept without its scenario files (docs/results/table2 keeps
+// only campaign.json, state.json and results.jsonl) gets them back, byte for
+// byte, when resumed, and nothing is run again.
+TEST_F(SearchDir, ResumingWritesMissingScenarioFilesBack) {
+  FakeEvaluator e;
+  const SearchOptions o = small(Method::Rlaga);
+  (void)run_search(o, e, root_ / "c", false);
+  const std::string first = test::read_text(root_ / "c" / "scenarios" / "000000.yaml");
+  const std::string last = test::read_text(root_ / "c" / "scenarios" / "000029.yaml");
+  fs::remove_all(root_ / "c" / "scenarios");
+  FakeEvaluator again;
+  const SearchResult r = run_search(o, again, root_ / "c", true);
+  EXPECT_EQ(again.evaluated, 0);
+  EXPECT_EQ(r.resumed, 30);
+  EXPECT_EQ(test::read_text(root_ / "c" / "scenarios" / "000000.yaml"), first);
+  EXPECT_EQ(test::read_text(root_ / "c" / "scenarios" / "000029.yaml"), last);
+  // A campaign killed mid-generation and kept the same way resumes to the
+  // same results file.
+  FakeEvaluator killed;
+  killed.fail_after = 14;
+  EXPECT_THROW(run_search(o, killed, root_ / "k", false), std::runtime_error);
+  fs::remove_all(root_ / "k" / "scenarios");
+  FakeEvaluator rest;
+  (void)run_search(o, rest, root_ / "k", true);
+  EXPECT_EQ(test::read_text(root_ / "k" / "results.jsonl"), test::read_text(root_ / "c" / "results.jsonl"));
+  EXPECT_EQ(test::read_text(root_ / "k" / "scenarios" / "000029.yaml"), last);
+}
+
 TEST_F(SearchDir, TheGaIsElitistAndFindsMoreThanItsSeedPool) {
   FakeEvaluator e;
   SearchOptions o = small(Method::DiverseGa);
