@@ -222,7 +222,7 @@ class Campaign {
   std::vector<EvaluationRecord> run() {
     // state.json is a shortcut past the finished generations. A directory
     // kept without its scenario files (docs/results/table2 keeps only
-    // campaign.json, state.json and results.jsonl) is replayed from
+    // campaign.json and results.jsonl) is replayed from
     // generation 0 instead: the same draws and operators rebuild every
     // chromosome (checked against the recorded genes), the records are read
     // back, not run, and each missing scenario file is written again.
