@@ -8,13 +8,16 @@
 #include <functional>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 
 #include "app_common.hpp"
+#include "touchdown/core/units.hpp"
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/constellation.hpp"
+#include "touchdown/pose/ground_truth.hpp"
 #include "touchdown/pose/led_tracker.hpp"
 #include "touchdown/pose/sim/aruco_baseline.hpp"
 #include "touchdown/pose/sim/pose_benchmark.hpp"
@@ -51,9 +54,19 @@ std::string pose_json(const std::string& frame, const tp::PoseEstimate& e, doubl
     if (q.w() < 0) q.coeffs() = -q.coeffs();
     std::snprintf(buf, sizeof(buf),
                   "{\"frame\": \"%s\", \"ok\": true, \"t\": [%.6f, %.6f, %.6f], \"q\": [%.7f, %.7f, %.7f, %.7f], "
-                  "\"sigma\": [%.6f, %.6f], \"reproj_px\": %.3f, \"leds\": %d, \"blobs\": %d, \"ms\": %.3f}",
+                  "\"sigma\": [%.6f, %.6f], \"reproj_px\": %.3f, \"leds\": %d, \"blobs\": %d, \"ms\": %.3f, ",
                   frame.c_str(), t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z(), e.sigma_position_m,
                   e.sigma_rotation_rad, e.rms_px, e.points, e.blobs, ms);
+    // The full 6×6 twist covariance, row-major (docs/formats.md).
+    std::string out = buf;
+    out += "\"covariance\": [";
+    for (int r = 0; r < 6; ++r) {
+      for (int c = 0; c < 6; ++c) {
+        std::snprintf(buf, sizeof(buf), "%s%.6e", r + c ? ", " : "", e.covariance(r, c));
+        out += buf;
+      }
+    }
+    return out + "]}";
   } else if (e.status == tp::PoseStatus::Uncertain) {  // the figures that failed the gate
     std::snprintf(buf, sizeof(buf),
                   "{\"frame\": \"%s\", \"ok\": false, \"reason\": \"%s\", \"sigma\": [%.6f, %.6f], \"blobs\": %d, "
@@ -147,6 +160,7 @@ struct Args {
   // Given on the command line: checked against the sequence's own marker.
   CLI::Option *aruco_dict_opt = nullptr, *aruco_id_opt = nullptr, *aruco_size_opt = nullptr;
   bool no_depth = false, jsonl = false, fuse = false;
+  std::string attitude_file;
   // render; benchmark shares the camera, constellation, geometry, tilt,
   // seed and profile.
   CLI::App* render = nullptr;
@@ -193,6 +207,9 @@ void add_sequence_options(CLI::App& app, Args& a) {
                "report poses fused over the track's frames (a Kalman filter) instead of each frame's own; "
                "not for a flight stack that filters the poses itself");
   app.add_flag("--jsonl", a.jsonl, "one JSON object per frame on stdout");
+  app.add_option("--attitude", a.attitude_file,
+                 "attitude JSON Lines, one line per frame: the gravity direction measured in the camera and the body "
+                 "frame (docs/formats.md); the LED tracker uses it as a prior");
 }
 
 void add_render_command(CLI::App& app, Args& a) {
@@ -630,6 +647,29 @@ void print_sequence_summary(const Args& a, std::size_t frames, const SequenceRun
   }
 }
 
+// The attitude file's prior for every frame of the sequence, in its order;
+// a frame the file lacks is an error naming it.
+std::vector<tp::AttitudePrior> attitude_per_frame(const fs::path& file, const std::vector<tp::SequenceFrame>& frames) {
+  const std::vector<tp::AttitudeSample> samples = tp::read_attitude(file);
+  std::map<std::string, const tp::AttitudeSample*> by_frame;
+  for (const auto& s : samples) by_frame[s.frame] = &s;
+  std::vector<tp::AttitudePrior> out;
+  out.reserve(frames.size());
+  for (const auto& f : frames) {
+    const auto it = by_frame.find(f.name);
+    if (it == by_frame.end()) {
+      throw td::ParseError(file.string() + ": no line for frame \"" + f.name + "\" of the sequence (" +
+                           std::to_string(samples.size()) + " lines for " + std::to_string(frames.size()) + " frames)");
+    }
+    tp::AttitudePrior p;
+    p.g_camera = it->second->g_camera;
+    p.g_body = it->second->g_body;
+    p.sigma_rad = td::deg_to_rad(it->second->sigma_deg);
+    out.push_back(p);
+  }
+  return out;
+}
+
 int run_sequence(const Args& a) {
   if (a.sequence_dir.empty()) throw td::InvalidArgument("SEQUENCE_DIR is required (or a subcommand; see --help)");
   const fs::path dir(a.sequence_dir);
@@ -643,6 +683,12 @@ int run_sequence(const Args& a) {
   // Ground truth, when the sequence carries it (a rendered one does).
   std::vector<tp::GroundTruthSample> truth;
   if (fs::exists(dir / "ground_truth.jsonl")) truth = tp::read_ground_truth(dir / "ground_truth.jsonl");
+  // The attitude prior, one per frame, all checked before any frame runs.
+  std::vector<tp::AttitudePrior> priors;
+  if (!a.attitude_file.empty()) {
+    if (a.method != "led") throw td::InvalidArgument("--attitude: only the LED method uses an attitude prior");
+    priors = attitude_per_frame(a.attitude_file, frames_list);
+  }
   SequenceRun run;
   // A progress bar on a terminal once the run has taken over a second.
   td::app::ProgressBar bar;
@@ -657,8 +703,10 @@ int run_sequence(const Args& a) {
     read_checked_frame(f, want_depth, camera, camera_path, run);
     const touchdown::DepthImageView dv = run.depth.view();
     const auto t0 = std::chrono::steady_clock::now();
-    const tp::PoseEstimate e = est.tracker ? est.tracker->track(run.colour.view(), want_depth ? &dv : nullptr)
-                                           : est.marker->estimate(run.colour.view());
+    const tp::PoseEstimate e = !est.tracker ? est.marker->estimate(run.colour.view())
+                               : priors.empty()
+                                   ? est.tracker->track(run.colour.view(), want_depth ? &dv : nullptr)
+                                   : est.tracker->track(run.colour.view(), want_depth ? &dv : nullptr, priors[i]);
     const double elapsed = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     record_estimate(f, e, elapsed, truth, a.jsonl, run);
   }

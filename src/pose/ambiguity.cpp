@@ -140,7 +140,7 @@ double depth_misfit(const Constellation& k, std::span<const Blob> blobs, const s
 }
 
 Matrix6d fit_covariance(const PoseRefinement& fit, double floor_variance) {
-  return std::max(fit.noise_variance, floor_variance) * fit.unit_covariance;
+  return fit.covariance_for(std::max(fit.noise_variance, floor_variance));
 }
 
 std::pair<double, double> fit_sigmas(const PoseRefinement& fit, const CorrespondenceOptions& o) {
@@ -160,7 +160,7 @@ bool distinct_poses(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, cons
 BranchDecision resolve_branches(const PinholeCamera& cam, const Constellation& k, const ConstellationShape& shape,
                                 std::span<const Blob> blobs, const std::array<int, kMaxLeds>& blob_of_led,
                                 const MatchedSet& set, const PoseRefinement& fit, const Eigen::Isometry3d* predicted,
-                                const CorrespondenceOptions& o) {
+                                const CorrespondenceOptions& o, const AttitudeConstraint& attitude) {
   BranchDecision d;
   d.alternative =
       refine_pose_gauss_newton(cam, set.points(), set.pixels(), mirrored_branch(fit.T_camera_body, shape), o.refine);
@@ -170,12 +170,15 @@ BranchDecision resolve_branches(const PinholeCamera& cam, const Constellation& k
     return d;
   }
   if ((d.alternative.T_camera_body * shape.centroid).z() <= 0) return d;
-  // 1. Reprojection: Σr² of each branch against the detection noise.
+  // 1. Reprojection: Σr² of each branch against the detection noise, and
+  // with an attitude prior its χ² (the other branch is refined on the image
+  // alone, so that the prior cannot pull it back onto the fit).
   const double count = static_cast<double>(set.n);
   const double sigma2 =
       std::max({fit.noise_variance, d.alternative.noise_variance, o.detection_sigma_px * o.detection_sigma_px});
-  const double delta =
-      count * (d.alternative.rms_px * d.alternative.rms_px - fit.rms_px * fit.rms_px) / sigma2;  // > 0: fit better
+  const double delta =  // > 0: fit better
+      count * (d.alternative.rms_px * d.alternative.rms_px - fit.rms_px * fit.rms_px) / sigma2 +
+      attitude.chi2(d.alternative.T_camera_body.linear()) - attitude.chi2(fit.T_camera_body.linear());
   if (delta > o.branch_chi2) return d;
   if (delta < -o.branch_chi2) {
     d.verdict = BranchVerdict::Switch;
@@ -208,18 +211,19 @@ BranchDecision resolve_branches(const PinholeCamera& cam, const Constellation& k
 
 PoseStatus vet_fit(const PinholeCamera& cam, const Constellation& k, const ConstellationShape& shape,
                    std::span<const Blob> blobs, const std::array<int, kMaxLeds>& blob_of_led, PoseRefinement& fit,
-                   const Eigen::Isometry3d* predicted, double max_rms_px, const CorrespondenceOptions& o) {
+                   const Eigen::Isometry3d* predicted, double max_rms_px, const CorrespondenceOptions& o,
+                   const AttitudeConstraint& attitude) {
   if (shape.symmetric) return PoseStatus::Ambiguous;
   MatchedSet set;
   gather(k, blobs, blob_of_led, set);
-  const BranchDecision d = resolve_branches(cam, k, shape, blobs, blob_of_led, set, fit, predicted, o);
+  const BranchDecision d = resolve_branches(cam, k, shape, blobs, blob_of_led, set, fit, predicted, o, attitude);
   if (d.verdict == BranchVerdict::Ambiguous) return PoseStatus::Ambiguous;
   if (d.verdict == BranchVerdict::Switch) {
     // The other branch, refined as the fit was (with the measured depths).
     MatchedSet fused;
     gather(k, blobs, blob_of_led, o, fused);
-    const PoseRefinement refined = refine_pose_gauss_newton(cam, fused.points(), fused.pixels(),
-                                                            d.alternative.T_camera_body, o.refine, fused.depth());
+    const PoseRefinement refined = refine_pose_gauss_newton(
+        cam, fused.points(), fused.pixels(), d.alternative.T_camera_body, o.refine, fused.depth(), attitude);
     fit = refined.ok() ? refined : d.alternative;
   }
   if (fit.rms_px > max_rms_px) return PoseStatus::ReprojectionTooLarge;

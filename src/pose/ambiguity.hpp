@@ -9,7 +9,8 @@
 //   Collins & Bartoli 2014, weak-perspective flip). mirrored_branch() seeds
 //   the other branch, Gauss–Newton refines it, resolve_branches() decides:
 //   by reprojection when the difference is significant for the detection
-//   noise (a χ² test), else by the depth image at the blobs (the same test
+//   noise (a χ² test; with an attitude prior its χ² joins the
+//   reprojection's), else by the depth image at the blobs (the same test
 //   on the depth pattern), else by temporal consistency with the tracked
 //   motion, else Ambiguous.
 // - Uncertainty: within one branch, a small or distant constellation can
@@ -62,8 +63,9 @@ double depth_misfit(const Constellation& constellation, std::span<const Blob> bl
                     const std::array<int, kMaxLeds>& blob_of_led, const Eigen::Isometry3d& T_camera_body,
                     const CorrespondenceOptions& options);
 
-// A fit's twist covariance with its noise variance floored:
-// max(σ², floor_variance)·(JᵀWJ)⁻¹ [px² for the variances].
+// A fit's twist covariance for its pixel noise variance floored,
+// max(σ², floor_variance) [px²]; the depths and the attitude prior count
+// with their own σ (PoseRefinement::covariance_for).
 Matrix6d fit_covariance(const PoseRefinement& fit, double floor_variance);
 // The 1-σ position [m] and rotation [rad] of a fit (pose_sigmas of
 // fit_covariance floored at detection_sigma_px²), and whether
@@ -84,13 +86,15 @@ BranchDecision resolve_branches(const PinholeCamera& camera, const Constellation
                                 const ConstellationShape& shape, std::span<const Blob> blobs,
                                 const std::array<int, kMaxLeds>& blob_of_led, const MatchedSet& set,
                                 const PoseRefinement& fit, const Eigen::Isometry3d* predicted,
-                                const CorrespondenceOptions& options);
+                                const CorrespondenceOptions& options, const AttitudeConstraint& attitude = {});
 
 // The full search with the constellation's shape precomputed (the tracker
 // keeps it; find_correspondences computes it per call).
+// `attitude` (when active) gates every hypothesis (attitude_gate_chi2) and
+// joins every refinement.
 Correspondence find_correspondences(const PinholeCamera& camera, const Constellation& constellation,
                                     const ConstellationShape& shape, std::span<const Blob> blobs,
-                                    const CorrespondenceOptions& options);
+                                    const CorrespondenceOptions& options, const AttitudeConstraint& attitude = {});
 
 // The checks a fit that reprojects well must pass to be reported Ok, one
 // rule for the search and the tracker: a symmetric constellation is
@@ -100,7 +104,8 @@ Correspondence find_correspondences(const PinholeCamera& camera, const Constella
 // Uncertain. `predicted` (may be null) is the tracker's prediction.
 PoseStatus vet_fit(const PinholeCamera& camera, const Constellation& constellation, const ConstellationShape& shape,
                    std::span<const Blob> blobs, const std::array<int, kMaxLeds>& blob_of_led, PoseRefinement& fit,
-                   const Eigen::Isometry3d* predicted, double max_rms_px, const CorrespondenceOptions& options);
+                   const Eigen::Isometry3d* predicted, double max_rms_px, const CorrespondenceOptions& options,
+                   const AttitudeConstraint& attitude = {});
 
 // True if two poses differ by more than the options' distinctness
 // thresholds (branch_distinct_m, branch_distinct_deg).

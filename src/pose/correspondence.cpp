@@ -46,6 +46,8 @@ bool CorrespondenceOptions::validate(std::string* why) const {
   if (!(branch_distinct_m >= 0) || !std::isfinite(branch_distinct_m)) return fail("branch_distinct_m: must be >= 0");
   if (!(branch_distinct_deg >= 0 && branch_distinct_deg <= 180))
     return fail("branch_distinct_deg: must be in [0, 180]");
+  if (!(attitude_gate_chi2 > 0) || !std::isfinite(attitude_gate_chi2))
+    return fail("attitude_gate_chi2: must be positive");
   return true;
 }
 
@@ -91,11 +93,13 @@ bool for_each_blob_tuple(const Constellation& k, std::span<const Blob> blobs, co
 // The state one search shares between its hypotheses.
 class Search {
  public:
-  Search(const PinholeCamera& cam, const Constellation& k, std::span<const Blob> blobs, const CorrespondenceOptions& o)
+  Search(const PinholeCamera& cam, const Constellation& k, std::span<const Blob> blobs, const CorrespondenceOptions& o,
+         const AttitudeConstraint& attitude)
       : cam_(cam),
         k_(k),
         blobs_(blobs),
         o_(o),
+        attitude_(attitude),
         n_(k.leds.size()),
         penalty2_(o.missing_penalty_px * o.missing_penalty_px),
         centroid_(k.centroid()),
@@ -130,7 +134,7 @@ class Search {
     detail::MatchedSet set;
     detail::gather(k_, blobs_, assign, o_, set);
     PoseRefinement fit =
-        refine_pose_gauss_newton(cam_, set.points(), set.pixels(), e.T_camera_body, o_.refine, set.depth());
+        refine_pose_gauss_newton(cam_, set.points(), set.pixels(), e.T_camera_body, o_.refine, set.depth(), attitude_);
     if (!fit.ok()) return true;
     // Re-match from the refined pose and refine once more if it changed.
     std::array<int, kMaxLeds> again{};
@@ -138,8 +142,8 @@ class Search {
     if (rematched >= o_.min_leds && again != assign) {
       assign = again;
       detail::gather(k_, blobs_, assign, o_, set);
-      const PoseRefinement f2 =
-          refine_pose_gauss_newton(cam_, set.points(), set.pixels(), fit.T_camera_body, o_.refine, set.depth());
+      const PoseRefinement f2 = refine_pose_gauss_newton(cam_, set.points(), set.pixels(), fit.T_camera_body, o_.refine,
+                                                         set.depth(), attitude_);
       if (!f2.ok()) return true;
       fit = f2;
     }
@@ -173,8 +177,8 @@ class Search {
       return best_;
     }
     // Never a confident wrong pose (ambiguity.hpp).
-    best_.status =
-        detail::vet_fit(cam_, k_, shape, blobs_, best_.blob_of_led, best_.fit, nullptr, o_.accept_rms_px, o_);
+    best_.status = detail::vet_fit(cam_, k_, shape, blobs_, best_.blob_of_led, best_.fit, nullptr, o_.accept_rms_px, o_,
+                                   attitude_);
     return best_;
   }
 
@@ -235,6 +239,9 @@ class Search {
   bool plausible(const PoseRefinement& fit, const std::array<int, kMaxLeds>& assign, std::size_t matched) const {
     const double depth = (fit.T_camera_body * centroid_).z();
     if (depth < o_.min_distance || depth > o_.max_distance) return false;
+    // The measured gravity direction: a pose that tilts the board against
+    // it is not the board.
+    if (attitude_.chi2(fit.T_camera_body.linear()) > o_.attitude_gate_chi2) return false;
     // Emission geometry (Led::normal, half_angle_deg): every matched LED
     // must shine toward the camera, within the margin.
     if (!detail::matched_leds_face_camera(k_, assign, fit.T_camera_body, margin_)) return false;
@@ -261,6 +268,7 @@ class Search {
   const Constellation& k_;
   std::span<const Blob> blobs_;
   const CorrespondenceOptions& o_;
+  const AttitudeConstraint& attitude_;
   std::size_t n_;
   double penalty2_;
   Eigen::Vector3d centroid_;
@@ -281,7 +289,8 @@ class Search {
 namespace detail {
 
 Correspondence find_correspondences(const PinholeCamera& cam, const Constellation& k, const ConstellationShape& shape,
-                                    std::span<const Blob> all_blobs, const CorrespondenceOptions& o) {
+                                    std::span<const Blob> all_blobs, const CorrespondenceOptions& o,
+                                    const AttitudeConstraint& attitude) {
   const std::size_t first = std::min(all_blobs.size(), o.max_blobs);
   const std::span<const Blob> blobs = all_blobs.first(std::max(first, std::min(all_blobs.size(), o.max_blobs_retry)));
   if (blobs.size() < static_cast<std::size_t>(o.min_leds) || k.leds.size() < 4) {
@@ -294,7 +303,7 @@ Correspondence find_correspondences(const PinholeCamera& cam, const Constellatio
   // colour-compatible blobs: first among the `first` brightest blobs, then,
   // if that gave no pose, the tuples that use one of the next ones
   // (max_blobs_retry). Every hypothesis is verified against all of them.
-  Search search(cam, k, blobs, o);
+  Search search(cam, k, blobs, o, attitude);
   const auto pass = [&](bool retry) {
     for_each_subset(k.leds.size(), [&](const Quad& L) {
       Quad B{};

@@ -41,6 +41,28 @@ bool depth_residual(const Eigen::Isometry3d& T, const Eigen::Vector3d& p_body, d
   return true;
 }
 
+double AttitudeConstraint::chi2(const Eigen::Matrix3d& R) const {
+  if (!active()) return 0;
+  return (R * g_body - g_camera).squaredNorm() / (sigma_rad * sigma_rad);
+}
+
+void attitude_residual(const Eigen::Isometry3d& T, const AttitudeConstraint& a, Eigen::Vector3d& r,
+                       Eigen::Matrix<double, 3, 6>* J) {
+  const double scale = a.pixel_sigma_px / a.sigma_rad;
+  const Eigen::Vector3d g = T.linear() * a.g_body;
+  r = (g - a.g_camera) * scale;
+  if (J) {
+    // R ← exp(φ^) R moves R g by φ × R g = −[R g]× φ; ρ does not move it.
+    J->leftCols<3>().setZero();
+    J->rightCols<3>() = -scale * hat(g);
+  }
+}
+
+Matrix6d PoseRefinement::covariance_for(double pixel_variance) const {
+  const Matrix6d information = pixel_information / pixel_variance + constraint_information;
+  return information.ldlt().solve(Matrix6d::Identity());
+}
+
 bool GaussNewtonOptions::validate(std::string* why) const {
   if (max_iterations < 1 || max_iterations > 1000) return invalid(why, "max_iterations: must be in 1..1000");
   if (!(step_tolerance >= 0) || !std::isfinite(step_tolerance)) return invalid(why, "step_tolerance: must be >= 0");
@@ -53,7 +75,8 @@ bool GaussNewtonOptions::validate(std::string* why) const {
 
 PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<const Eigen::Vector3d> p_body,
                                         std::span<const Eigen::Vector2d> uv, const Eigen::Isometry3d& initial,
-                                        const GaussNewtonOptions& o, const DepthConstraints& depth) {
+                                        const GaussNewtonOptions& o, const DepthConstraints& depth,
+                                        const AttitudeConstraint& attitude) {
   if (!o.validate(nullptr)) {  // cheap on the hot path; the message only on failure
     std::string why;
     (void)o.validate(&why);  // false again: called only for the message
@@ -67,10 +90,21 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
   if (with_depth && (depth.z_m.size() != n || depth.sigma_m.size() != n || !(depth.pixel_sigma_px > 0))) {
     throw InvalidArgument("gauss-newton depth constraints: need one depth and one sigma per point");
   }
+  const bool with_attitude = attitude.active();
+  if (with_attitude && (!std::isfinite(attitude.sigma_rad) || !(attitude.pixel_sigma_px > 0) ||
+                        !attitude.g_camera.allFinite() || !attitude.g_body.allFinite() ||
+                        std::abs(attitude.g_camera.norm() - 1) > 1e-3 || std::abs(attitude.g_body.norm() - 1) > 1e-3)) {
+    throw InvalidArgument(
+        "gauss-newton attitude constraint: need unit gravity vectors, finite sigma_rad and pixel_sigma_px > 0");
+  }
   std::size_t depth_count = 0;  // depth residuals in use
   Eigen::Isometry3d T = initial;
-  Matrix6d H;
+  // H_pixels: the reprojections' part of H; H_constraints: the depths' and
+  // the attitude's, in their own σ (their pixel scale taken out).
+  Matrix6d H, H_pixels, H_constraints;
   Vector6d g;
+  Eigen::Vector3d ra;
+  Eigen::Matrix<double, 3, 6> Ja;
   Eigen::Vector2d r;
   Eigen::Matrix<double, 2, 6> J;
   Eigen::Matrix<double, 1, 6> Jd;
@@ -83,6 +117,8 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
   };
   auto accumulate = [&](const Eigen::Isometry3d& pose, double& cost, bool with_jacobian) {
     H.setZero();
+    H_pixels.setZero();
+    H_constraints.setZero();
     g.setZero();
     cost = 0;
     depth_count = 0;
@@ -94,6 +130,7 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
       cost += w * r.squaredNorm();
       if (with_jacobian) {
         H.noalias() += w * J.transpose() * J;
+        H_pixels.noalias() += w * J.transpose() * J;
         g.noalias() += w * J.transpose() * r;
       }
       if (!with_depth || !std::isfinite(depth.z_m[i]) || !(depth.sigma_m[i] > 0)) continue;
@@ -109,7 +146,17 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
       cost += wd * rd * rd;
       if (with_jacobian) {
         H.noalias() += wd * Jd.transpose() * Jd;
+        H_constraints.noalias() += (wd / (depth.pixel_sigma_px * depth.pixel_sigma_px)) * Jd.transpose() * Jd;
         g.noalias() += wd * Jd.transpose() * rd;
+      }
+    }
+    if (with_attitude) {
+      attitude_residual(pose, attitude, ra, with_jacobian ? &Ja : nullptr);
+      cost += ra.squaredNorm();
+      if (with_jacobian) {
+        H.noalias() += Ja.transpose() * Ja;
+        H_constraints.noalias() += (1.0 / (attitude.pixel_sigma_px * attitude.pixel_sigma_px)) * Ja.transpose() * Ja;
+        g.noalias() += Ja.transpose() * ra;
       }
     }
     return true;
@@ -184,10 +231,15 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
     sq += r.squaredNorm();
   }
   out.rms_px = std::sqrt(sq / static_cast<double>(n));
-  const double dof = 2.0 * static_cast<double>(n) + static_cast<double>(depth_count) - 6.0;
+  const double dof =
+      2.0 * static_cast<double>(n) + static_cast<double>(depth_count) + (with_attitude ? 2.0 : 0.0) - 6.0;
   const double sigma2 = dof > 0 ? cost / dof : 0.0;
   out.unit_covariance = H.ldlt().solve(Matrix6d::Identity());
   out.noise_variance = sigma2;
+  // As of the last accumulate() (at T, with its Huber weights).
+  out.pixel_information = H_pixels;
+  out.constraint_information = H_constraints;
+
   out.covariance = sigma2 * out.unit_covariance;
   return out;
 }

@@ -49,6 +49,9 @@ std::string ground_truth_to_json(const GroundTruthSample& s) {
 }
 
 namespace {
+// How far from 1 a gravity direction's norm may be: printed unit vectors
+// with 6 or more digits are well within it.
+constexpr double kAttitudeUnitTolerance = 1e-3;
 
 // A small strict JSON reader (RFC 8259) for one ground-truth line: an object
 // whose values are strings, numbers, booleans, null, arrays and nested
@@ -136,6 +139,76 @@ class LineParser {
     out.T_camera_body = Eigen::Isometry3d::Identity();
     out.T_camera_body.linear() = q.toRotationMatrix();
     out.T_camera_body.translation() = Eigen::Vector3d(tq[0], tq[1], tq[2]);
+    return out;
+  }
+
+  // One attitude line (ground_truth.hpp): the same strict reader.
+  AttitudeSample parse_attitude() {
+    AttitudeSample out;
+    bool have_frame = false, have_t_s = false, have_gc = false, have_gb = false, have_sigma = false;
+    double g[6] = {};
+    skip_ws();
+    expect('{', "expected a JSON object");
+    skip_ws();
+    if (peek() == '}') fail("missing key \"frame\"");
+    std::string key;
+    for (;;) {
+      skip_ws();
+      parse_string(key);
+      skip_ws();
+      expect(':', "expected ':' after a key");
+      skip_ws();
+      auto once = [&](bool& seen) {
+        if (seen) fail("duplicate key \"" + key + "\"");
+        seen = true;
+      };
+      if (key == "frame") {
+        once(have_frame);
+        if (peek() != '"') fail("frame: expected a string");
+        parse_string(out.frame);
+      } else if (key == "t_s") {
+        once(have_t_s);
+        out.t_s = parse_number(key);
+      } else if (key == "g_camera") {
+        once(have_gc);
+        parse_number_array(key, g, 3);
+      } else if (key == "g_body") {
+        once(have_gb);
+        parse_number_array(key, g + 3, 3);
+      } else if (key == "sigma_deg") {
+        once(have_sigma);
+        out.sigma_deg = parse_number(key);
+      } else {
+        skip_value(0);
+      }
+      skip_ws();
+      if (peek() == ',') {
+        ++i_;
+        continue;
+      }
+      expect('}', "expected ',' or '}' in the object");
+      break;
+    }
+    skip_ws();
+    if (i_ != s_.size()) fail("unexpected text after the JSON object");
+    if (!have_frame) fail("missing key \"frame\"");
+    if (!have_t_s) fail("missing key \"t_s\"");
+    if (!have_gc) fail("missing key \"g_camera\"");
+    if (!have_gb) fail("missing key \"g_body\"");
+    if (!have_sigma) fail("missing key \"sigma_deg\"");
+    out.g_camera = Eigen::Vector3d(g[0], g[1], g[2]);
+    out.g_body = Eigen::Vector3d(g[3], g[4], g[5]);
+    for (const auto& [name, v] : {std::pair{"g_camera", out.g_camera}, std::pair{"g_body", out.g_body}}) {
+      const double n = v.norm();
+      if (!(std::abs(n - 1) <= kAttitudeUnitTolerance)) {
+        fail(std::string(name) + ": not a unit vector (norm " + detail::format_exact(n) + ")");
+      }
+    }
+    if (!(out.sigma_deg > 0 && out.sigma_deg <= 90)) {
+      fail("sigma_deg: must be in (0, 90] (got " + detail::format_exact(out.sigma_deg) + ")");
+    }
+    out.g_camera.normalize();
+    out.g_body.normalize();
     return out;
   }
 
@@ -353,6 +426,39 @@ std::vector<GroundTruthSample> parse_ground_truth(std::string_view text, std::st
 
 std::vector<GroundTruthSample> read_ground_truth(const fs::path& path) {
   return parse_ground_truth(detail::read_text_file(path), path.string());
+}
+
+std::vector<AttitudeSample> parse_attitude(std::string_view text, std::string_view source) {
+  std::vector<AttitudeSample> out;
+  std::size_t line = 0, pos = 0;
+  std::vector<std::pair<std::string, std::size_t>> seen;  // frame, line: duplicates are an error
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    ++line;
+    const std::string_view l = detail::trim(text.substr(pos, end - pos));
+    pos = end + 1;
+    if (l.empty()) continue;
+    out.push_back(LineParser(l, source, line).parse_attitude());
+    out.back().line = line;
+  }
+  std::vector<std::size_t> order(out.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return out[a].frame < out[b].frame; });
+  for (std::size_t i = 1; i < order.size(); ++i) {
+    const AttitudeSample& a = out[order[i - 1]];
+    const AttitudeSample& b = out[order[i]];
+    if (a.frame == b.frame) {
+      detail::parse_fail_line(source, b.line,
+                              "frame \"" + b.frame + "\" again (first on line " + std::to_string(a.line) + ")");
+    }
+  }
+  return out;
+}
+
+std::vector<AttitudeSample> read_attitude(const fs::path& path) {
+  return parse_attitude(detail::read_text_file(path), path.string());
 }
 
 }  // namespace touchdown::pose

@@ -42,6 +42,16 @@ bool TrackerOptions::validate(std::string* why) const {
   return true;
 }
 
+bool AttitudePrior::validate(std::string* why) const {
+  auto unit = [](const Eigen::Vector3d& v) { return v.allFinite() && std::abs(v.norm() - 1) <= 1e-3; };
+  if (!unit(g_camera)) return invalid(why, "attitude prior: g_camera must be a finite unit vector");
+  if (!unit(g_body)) return invalid(why, "attitude prior: g_body must be a finite unit vector");
+  if (!(sigma_rad > 0 && sigma_rad <= std::numbers::pi / 2)) {
+    return invalid(why, "attitude prior: sigma_rad must be in (0, pi/2]");
+  }
+  return true;
+}
+
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 }  // namespace
@@ -68,6 +78,7 @@ struct LedTracker::Impl {
   detail::OptimalMatcher matcher;
   detail::PoseFilter filter;
   detail::ConstellationShape shape;  // best-fit plane, symmetry: for the ambiguity checks
+  AttitudeConstraint attitude;       // this frame's prior (inactive without one)
   double min_led_spacing = 0;
   double emission_margin = 0;  // [rad] slack on the LEDs' emission cones
   double const_mad = 0, const_radius = 0;
@@ -95,6 +106,20 @@ struct LedTracker::Impl {
     const_radius = k.radius();
     const_centroid = k.centroid();
     led_to_blob.fill(-1);
+  }
+
+  void set_prior(const AttitudePrior& prior) {
+    std::string why;
+    if (!prior.validate(nullptr)) {
+      (void)prior.validate(&why);  // false again: called only for the message
+      throw InvalidArgument(why);
+    }
+    attitude.g_camera = prior.g_camera.normalized();
+    attitude.g_body = prior.g_body.normalized();
+    attitude.sigma_rad = std::sqrt(2.0) * prior.sigma_rad;  // the difference of two directions
+    // Weighed against the reprojections by the pixel noise they have: the
+    // track's pooled estimate (noise_floor()), else the default floor.
+    attitude.pixel_sigma_px = std::sqrt(noise_floor());
   }
 
   Eigen::Isometry3d predicted() const {
@@ -301,7 +326,7 @@ struct LedTracker::Impl {
       return false;
     }
     const PoseRefinement refit =
-        refine_pose_gauss_newton(pin, set.points(), set.pixels(), fit.T_camera_body, co.refine, set.depth());
+        refine_pose_gauss_newton(pin, set.points(), set.pixels(), fit.T_camera_body, co.refine, set.depth(), attitude);
     if (refit.ok()) fit = refit;
     return true;
   }
@@ -357,8 +382,8 @@ struct LedTracker::Impl {
     if (matched < explainable - 2) return false;
     detail::MatchedSet set;
     detail::gather(constellation, work, led_to_blob, options.correspondence, set);
-    PoseRefinement fit =
-        refine_pose_gauss_newton(pin, set.points(), set.pixels(), T, options.correspondence.refine, set.depth());
+    PoseRefinement fit = refine_pose_gauss_newton(pin, set.points(), set.pixels(), T, options.correspondence.refine,
+                                                  set.depth(), attitude);
     if (!fit.ok() || fit.rms_px > options.reinit_rms_px) return false;
     // Re-match from the refined pose with the tighter inlier gate: picks up
     // LEDs the prediction missed and drops ones it mismatched.
@@ -369,7 +394,7 @@ struct LedTracker::Impl {
       led_to_blob = again;
       detail::gather(constellation, work, led_to_blob, options.correspondence, set);
       const PoseRefinement f2 = refine_pose_gauss_newton(pin, set.points(), set.pixels(), fit.T_camera_body,
-                                                         options.correspondence.refine, set.depth());
+                                                         options.correspondence.refine, set.depth(), attitude);
       if (f2.ok()) fit = f2;
     }
     if (options.shared_blob_margin_px >= 0) drop_shared_blobs(fit, set);
@@ -386,7 +411,7 @@ struct LedTracker::Impl {
     // The search's rule (ambiguity.hpp), with the prediction to settle the
     // mirrored branch; anything but Ok ends the track.
     const PoseStatus verdict = detail::vet_fit(pin, constellation, shape, work, led_to_blob, fit, &T,
-                                               options.reinit_rms_px, options.correspondence);
+                                               options.reinit_rms_px, options.correspondence, attitude);
     // Uncertain on its own may still be Ok fused with the earlier frames.
     if (verdict != PoseStatus::Ok && verdict != PoseStatus::Uncertain) return false;
     settle(fit, static_cast<int>(set.n), false);
@@ -414,7 +439,8 @@ struct LedTracker::Impl {
       lose(PoseStatus::TooFewBlobs);
       return estimate;
     }
-    const Correspondence c = detail::find_correspondences(pin, constellation, shape, work, options.correspondence);
+    const Correspondence c =
+        detail::find_correspondences(pin, constellation, shape, work, options.correspondence, attitude);
     if (c.status != PoseStatus::Ok && c.status != PoseStatus::Uncertain) {
       lose(c.status);
       return estimate;
@@ -424,8 +450,9 @@ struct LedTracker::Impl {
     int matched = c.matched;
     detail::MatchedSet set;
     if (options.shared_blob_margin_px >= 0 && drop_shared_blobs(fit, set)) {
-      const PoseStatus verdict = detail::vet_fit(pin, constellation, shape, work, led_to_blob, fit, nullptr,
-                                                 options.correspondence.accept_rms_px, options.correspondence);
+      const PoseStatus verdict =
+          detail::vet_fit(pin, constellation, shape, work, led_to_blob, fit, nullptr,
+                          options.correspondence.accept_rms_px, options.correspondence, attitude);
       if (verdict != PoseStatus::Ok && verdict != PoseStatus::Uncertain) {
         lose(verdict);
         return estimate;
@@ -455,11 +482,27 @@ LedTracker::LedTracker(LedTracker&&) noexcept = default;
 LedTracker& LedTracker::operator=(LedTracker&&) noexcept = default;
 
 const PoseEstimate& LedTracker::track(const BgrImageView& colour, const DepthImageView* depth) {
+  impl_->attitude = {};
   impl_->detector.detect(colour, impl_->options.use_depth ? depth : nullptr, impl_->detected);
   return impl_->run(impl_->detected);
 }
 
-const PoseEstimate& LedTracker::track_blobs(std::span<const Blob> blobs) { return impl_->run(blobs); }
+const PoseEstimate& LedTracker::track(const BgrImageView& colour, const DepthImageView* depth,
+                                      const AttitudePrior& prior) {
+  impl_->set_prior(prior);
+  impl_->detector.detect(colour, impl_->options.use_depth ? depth : nullptr, impl_->detected);
+  return impl_->run(impl_->detected);
+}
+
+const PoseEstimate& LedTracker::track_blobs(std::span<const Blob> blobs) {
+  impl_->attitude = {};
+  return impl_->run(blobs);
+}
+
+const PoseEstimate& LedTracker::track_blobs(std::span<const Blob> blobs, const AttitudePrior& prior) {
+  impl_->set_prior(prior);
+  return impl_->run(blobs);
+}
 
 void LedTracker::reset() { impl_->lose(PoseStatus::TooFewBlobs); }
 

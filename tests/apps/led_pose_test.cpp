@@ -188,6 +188,43 @@ TEST(LedPoseApp, LedWithoutDepthMatchesGroundTruth) {
   EXPECT_GE(check_jsonl(r.out, seq, true), 11);
 }
 
+// An attitude file made from the ground truth (gravity 20° off the camera's
+// y axis, as a camera tilted up sees it): the poses still match the truth,
+// and every ok line carries the full covariance, symmetric and positive.
+std::string attitude_from_truth(const fs::path& seq, const std::string& sigma_deg = "1.0") {
+  const Eigen::Vector3d g_camera = Eigen::Vector3d(0, std::cos(0.349), -std::sin(0.349));
+  std::ostringstream out;
+  out << std::setprecision(17);
+  for (const auto& [frame, truth] : read_truth(seq)) {
+    const Eigen::Vector3d g_body = truth.q.normalized().toRotationMatrix().transpose() * g_camera;
+    out << "{\"frame\": \"" << frame << "\", \"t_s\": 0, \"g_camera\": [" << g_camera.x() << ", " << g_camera.y()
+        << ", " << g_camera.z() << "], \"g_body\": [" << g_body.x() << ", " << g_body.y() << ", " << g_body.z()
+        << "], \"sigma_deg\": " << sigma_deg << "}\n";
+  }
+  return out.str();
+}
+
+TEST(LedPoseApp, AttitudePriorKeepsThePosesAndCovarianceIsPrinted) {
+  TempDir dir;
+  const auto seq = rendered_sequence(dir);
+  td::test::write_text(dir / "att.jsonl", attitude_from_truth(seq));
+  const AppRun r = run(seq.string() + " --jsonl --attitude " + (dir / "att.jsonl").string(), dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_GE(check_jsonl(r.out, seq, true), 11);
+  for (const auto& line : lines_of(r.out)) {
+    const auto j = nlohmann::json::parse(line);
+    if (!j["ok"].get<bool>()) continue;
+    ASSERT_TRUE(j.contains("covariance")) << line;
+    ASSERT_EQ(j["covariance"].size(), 36u) << line;
+    Eigen::Matrix<double, 6, 6> c;
+    for (int i = 0; i < 36; ++i) c(i / 6, i % 6) = j["covariance"][static_cast<std::size_t>(i)].get<double>();
+    EXPECT_LT((c - c.transpose()).norm(), 1e-6 * c.norm()) << line;
+    EXPECT_GT(c.diagonal().minCoeff(), 0.0) << line;
+    // The sigma pair is the root of the traces (rotation: the lower block).
+    EXPECT_NEAR(j["sigma"][1].get<double>(), std::sqrt(c.bottomRightCorner<3, 3>().trace()), 2e-6) << line;
+  }
+}
+
 TEST(LedPoseApp, ArucoRuns) {
   TempDir dir;
   const auto seq = rendered_sequence(dir);
@@ -395,6 +432,42 @@ TEST(LedPoseAppBadInput, CorruptFrameLeavesNoPartialOutput) {
   expect_bad_input(run(seq.string() + " --jsonl", dir), "000001.png");
   // Frame 000000 was fine, but its line must not have been printed either.
   expect_bad_input(run(seq.string(), dir), "000001.png");
+}
+
+// A bad attitude file: exit 2 naming the file and line (or the frame it
+// lacks), nothing on stdout, before any frame is tracked.
+TEST(LedPoseAppBadInput, BadAttitudeFilesNameTheLine) {
+  TempDir dir;
+  const auto seq = rendered_sequence(dir);
+  const std::string good = attitude_from_truth(seq);
+  const auto lines = lines_of(good);
+  ASSERT_EQ(lines.size(), 12u);
+  auto with_line = [&](std::size_t index, const std::string& replacement) {
+    std::string text;
+    for (std::size_t i = 0; i < lines.size(); ++i) text += (i == index ? replacement : lines[i]) + "\n";
+    return text;
+  };
+  const std::string frame2 = R"({"frame": "000002", "t_s": 0, )";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {with_line(5, ""), "no line for frame \"000005\" of the sequence"},
+      {with_line(2, frame2 + R"("g_camera": [0, 0.5, 0], "g_body": [0, 0, -1], "sigma_deg": 1})"),
+       "att.jsonl:3: g_camera: not a unit vector (norm 0.5)"},
+      {with_line(2, frame2 + R"("g_camera": [0, 1, 0], "g_body": [0, 0, NaN], "sigma_deg": 1})"), "att.jsonl:3: "},
+      {with_line(2, frame2 + R"("g_camera": [0, 1, 0], "g_body": [0, 0, -1], "sigma_deg": 0})"),
+       "att.jsonl:3: sigma_deg: must be in (0, 90]"},
+      {with_line(2, frame2 + R"("g_camera": [0, 1, 0], "g_body": [0, 0, -1], "sigma_deg": -2})"),
+       "att.jsonl:3: sigma_deg: must be in (0, 90]"},
+      {with_line(2, frame2 + R"("g_camera": [0, 1, 0], "sigma_deg": 1})"), "att.jsonl:3: missing key \"g_body\""},
+  };
+  for (const auto& [text, needle] : cases) {
+    SCOPED_TRACE(needle);
+    td::test::write_text(dir / "att.jsonl", text);
+    expect_bad_input(run(seq.string() + " --jsonl --attitude " + (dir / "att.jsonl").string(), dir), needle);
+  }
+  expect_bad_input(run(seq.string() + " --attitude " + (dir / "none.jsonl").string(), dir), "none.jsonl");
+  td::test::write_text(dir / "att.jsonl", good);
+  expect_bad_input(run(seq.string() + " --method aruco --attitude " + (dir / "att.jsonl").string(), dir),
+                   "--attitude: only the LED method");
 }
 
 TEST(LedPoseAppBadInput, DepthOfAnotherSize) {

@@ -233,3 +233,106 @@ TEST(GaussNewton, DepthsNotOnePerPointThrow) {
   EXPECT_LT((b.T_camera_body.translation() - a.T_camera_body.translation()).norm(), 1e-9);
   EXPECT_NEAR(b.noise_variance, a.noise_variance, 1e-12);
 }
+
+// ---- the attitude prior (issue 33, item 3) ----------------------------------
+
+namespace {
+
+// A unit vector turned by a random rotation of `sigma` [rad] per axis: how
+// an IMU's gravity direction is off.
+Eigen::Vector3d noisy_direction(const Eigen::Vector3d& v, double sigma, touchdown::Rng& rng) {
+  const Eigen::Vector3d a(rng.normal(0, sigma), rng.normal(0, sigma), rng.normal(0, sigma));
+  return (a.norm() > 0 ? Eigen::AngleAxisd(a.norm(), a.normalized()) * v : v).normalized();
+}
+
+}  // namespace
+
+TEST(GaussNewton, AttitudeJacobianMatchesFiniteDifferences) {
+  touchdown::Rng rng(31);
+  for (int k = 0; k < 50; ++k) {
+    const auto T = random_pose(rng);
+    tp::AttitudeConstraint a;
+    a.g_camera = Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal()).normalized();
+    a.g_body = Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal()).normalized();
+    a.sigma_rad = rng.uniform(0.005, 0.1);
+    a.pixel_sigma_px = rng.uniform(0.05, 1.0);
+    Eigen::Vector3d r;
+    Eigen::Matrix<double, 3, 6> J;
+    tp::attitude_residual(T, a, r, &J);
+    for (int i = 0; i < 6; ++i) {
+      tp::Vector6d d = tp::Vector6d::Zero();
+      d[i] = 1e-6;
+      Eigen::Vector3d rp, rm;
+      tp::attitude_residual(tp::se3_exp(d) * T, a, rp, nullptr);
+      tp::attitude_residual(tp::se3_exp(-d) * T, a, rm, nullptr);
+      const Eigen::Vector3d fd = (rp - rm) / 2e-6;
+      EXPECT_LT((fd - J.col(i)).norm(), 1e-5 * (1 + fd.norm())) << "column " << i;
+    }
+    // χ² is the residual in units of its σ.
+    EXPECT_NEAR(a.chi2(T.linear()), (r / a.pixel_sigma_px).squaredNorm(), 1e-9 * (1 + r.squaredNorm()));
+  }
+}
+
+// The covariance a fit with the attitude prior reports is the truth: over
+// many draws of pixel noise and of both IMUs' noise, the normalised
+// estimation error squared of the 6-D twist averages its 6 degrees of
+// freedom (Bar-Shalom et al. 2001, §5.4: NEES), and the prior shrinks the
+// rotation's error where the image leaves it loose. Oracle: the simulated
+// noise, not the code's own figures.
+TEST(GaussNewton, AttitudePriorCovarianceIsTrueByNees) {
+  touchdown::Rng rng(32);
+  const double sigma_px = 0.5, sigma_imu = 0.0175;  // 1° per IMU
+  const int trials = 400;
+  double nees_prior = 0, nees_plain = 0, tilt_prior = 0, tilt_plain = 0;
+  const auto p = constellation(Shape::QuasiPlanar, rng, 6);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 0).normalized()).toRotationMatrix();
+  T.translation() << 0.1, -0.05, 2.5;
+  const Eigen::Vector3d g_camera = Eigen::Vector3d(0, 0.94, -0.34).normalized();
+  const Eigen::Vector3d g_body = T.linear().transpose() * g_camera;
+  for (int k = 0; k < trials; ++k) {
+    const auto uv = observe(T, p, rng, sigma_px);
+    tp::AttitudeConstraint a;
+    a.g_camera = noisy_direction(g_camera, sigma_imu, rng);
+    a.g_body = noisy_direction(g_body, sigma_imu, rng);
+    a.sigma_rad = std::sqrt(2.0) * sigma_imu;
+    a.pixel_sigma_px = sigma_px;  // the residuals weighed by their true noise: the fit is the MLE
+    const auto with = tp::refine_pose_gauss_newton(kCamera, p, uv, T, {}, {}, a);
+    const auto without = tp::refine_pose_gauss_newton(kCamera, p, uv, T);
+    ASSERT_TRUE(with.ok() && without.ok()) << k;
+    const tp::Vector6d e_with = tp::se3_log(T * with.T_camera_body.inverse());
+    const tp::Vector6d e_without = tp::se3_log(T * without.T_camera_body.inverse());
+    nees_prior += e_with.dot(with.covariance_for(sigma_px * sigma_px).ldlt().solve(e_with));
+    nees_plain += e_without.dot(without.covariance_for(sigma_px * sigma_px).ldlt().solve(e_without));
+    // The error of the rotation about a horizontal axis (what gravity fixes).
+    const Eigen::Vector3d phi = e_with.tail<3>(), phi0 = e_without.tail<3>();
+    tilt_prior += (phi - phi.dot(g_camera) * g_camera).squaredNorm();
+    tilt_plain += (phi0 - phi0.dot(g_camera) * g_camera).squaredNorm();
+  }
+  nees_prior /= trials;
+  nees_plain /= trials;
+  // The mean of 400 χ²(6) has σ = √(12/400) ≈ 0.17: [5, 7] is ±6σ.
+  EXPECT_GT(nees_prior, 5.0);
+  EXPECT_LT(nees_prior, 7.0);
+  EXPECT_GT(nees_plain, 5.0);
+  EXPECT_LT(nees_plain, 7.0);
+  EXPECT_LT(tilt_prior, 0.5 * tilt_plain);  // the prior pins the tilt
+  // Without prior and at the assumed noise, covariance_for is the old σ²(JᵀJ)⁻¹.
+  const auto uv = observe(T, p, rng, sigma_px);
+  const auto plain = tp::refine_pose_gauss_newton(kCamera, p, uv, T);
+  EXPECT_LT((plain.covariance_for(0.3) - 0.3 * plain.unit_covariance).norm(), 1e-9 * plain.unit_covariance.norm());
+}
+
+TEST(GaussNewton, BadAttitudeConstraintIsRejected) {
+  touchdown::Rng rng(33);
+  const auto p = constellation(Shape::NonPlanar, rng, 6);
+  const auto T = random_pose(rng);
+  const auto uv = observe(T, p, rng, 0.1);
+  tp::AttitudeConstraint a;
+  a.g_camera = Eigen::Vector3d(0, 2, 0);  // not a unit vector
+  a.g_body = Eigen::Vector3d::UnitZ();
+  a.sigma_rad = 0.02;
+  EXPECT_THROW(tp::refine_pose_gauss_newton(kCamera, p, uv, T, {}, {}, a), touchdown::InvalidArgument);
+  a.g_camera = Eigen::Vector3d(std::nan(""), 0, 0);
+  EXPECT_THROW(tp::refine_pose_gauss_newton(kCamera, p, uv, T, {}, {}, a), touchdown::InvalidArgument);
+}

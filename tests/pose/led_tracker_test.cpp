@@ -890,3 +890,65 @@ TEST(LedTracker, FusedFramesAreOkSoonerAndNeverWrong) {
   EXPECT_GE(ok_fused, ok_alone);
   EXPECT_GT(ok_alone, 10);
 }
+
+// The attitude prior (issue 33, item 3) on the case above: the quasi-planar
+// board far away and near-frontal, no depth, where the image alone leaves
+// the mirrored tilt open. With both IMUs' gravity directions (1° each) the
+// tilt is pinned: the mirrored branch is ruled out, so many frames that were
+// Ambiguous are Ok, and none of them is wrong. Gravity in a random
+// direction of the camera frame (the camera on a vehicle turns with it).
+TEST(Ambiguity, AttitudePriorSettlesTheMirroredTilt) {
+  const auto k = quasi_planar_board();
+  const auto cam = d435();
+  touchdown::Rng rng(43);
+  const double sigma = 0.0175;
+  int ok = 0, ambiguous = 0, ok_prior = 0, ambiguous_prior = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    const Eigen::Vector3d axis(rng.uniform(-1, 1), rng.uniform(-1, 1), 0);
+    T.linear() = (Eigen::AngleAxisd(rng.uniform(-M_PI, M_PI), Eigen::Vector3d::UnitZ()) *
+                  Eigen::AngleAxisd(rng.uniform(0.1, 0.4), axis.normalized()))
+                     .toRotationMatrix();
+    T.translation() << rng.uniform(-0.1, 0.1), rng.uniform(-0.05, 0.05), rng.uniform(0.8, 1.6);
+    const auto blobs = blobs_of(k, cam.pinhole(), T, rng, 0.4);
+    const Eigen::Vector3d g = Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal()).normalized();
+    auto noisy = [&](const Eigen::Vector3d& v) {
+      const Eigen::Vector3d a(rng.normal(0, sigma), rng.normal(0, sigma), rng.normal(0, sigma));
+      return (Eigen::AngleAxisd(a.norm(), a.normalized()) * v).normalized().eval();
+    };
+    tp::AttitudePrior prior;
+    prior.g_camera = noisy(g);
+    prior.g_body = noisy(T.linear().transpose() * g);
+    prior.sigma_rad = sigma;
+    tp::LedTracker plain(cam, k), with(cam, k);
+    const auto& e = plain.track_blobs(blobs);
+    ok += e.ok();
+    ambiguous += e.status == tp::PoseStatus::Ambiguous;
+    if (e.ok()) EXPECT_FALSE(wrong(e.T_camera_body, T)) << trial;
+    const auto& f = with.track_blobs(blobs, prior);
+    ok_prior += f.ok();
+    ambiguous_prior += f.status == tp::PoseStatus::Ambiguous;
+    if (f.ok()) EXPECT_FALSE(wrong(f.T_camera_body, T)) << trial << " rot err " << rotation_error(f.T_camera_body, T);
+  }
+  EXPECT_GT(ambiguous, 10);                       // the image alone leaves many open ...
+  EXPECT_LT(ambiguous_prior, ambiguous / 3 + 1);  // ... the prior settles most
+  EXPECT_GT(ok_prior, ok + 10) << ok << " ok without, " << ok_prior << " with";
+}
+
+TEST(LedTracker, BadAttitudePriorIsRejected) {
+  const auto k = f450();
+  const auto cam = d435();
+  tp::LedTracker tracker(cam, k);
+  touchdown::Rng rng(3);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() << 0, 0, 1;
+  const auto blobs = blobs_of(k, cam.pinhole(), T, rng, 0.1);
+  tp::AttitudePrior prior;
+  prior.g_camera = Eigen::Vector3d::UnitY();
+  prior.g_body = Eigen::Vector3d::UnitZ();
+  prior.sigma_rad = 0;
+  EXPECT_THROW(tracker.track_blobs(blobs, prior), touchdown::InvalidArgument);
+  prior.sigma_rad = 0.01;
+  prior.g_body = Eigen::Vector3d(0, 0, 1.1);
+  EXPECT_THROW(tracker.track_blobs(blobs, prior), touchdown::InvalidArgument);
+}

@@ -275,3 +275,50 @@ TEST(GroundTruth, MalformedLinesNameFileAndLine) {
     EXPECT_NE(m.find(what), std::string::npos) << line << " -> " << m;
   }
 }
+
+// The attitude file (issue 33, item 3): the independent renderer's lines
+// read back as unit vectors; every malformed line is named with its line.
+TEST(Attitude, ReadsTheIndependentRenderersLines) {
+  const std::string text =
+      R"({"frame": "000000", "t_s": 0.0, "g_camera": [-0.0067389199406155805, 0.9252667810796028, -0.3792571301750625], "g_body": [0.3757554322684758, -0.07720579602642995, -0.9234972226166446], "sigma_deg": 1.0})"
+      "\n\n"
+      R"({"frame": "000001", "t_s": 0.033333, "g_camera": [0, 1, 0], "g_body": [0, 0, -1], "sigma_deg": 0.5, "extra": [1, {"a": 2}]})"
+      "\n";
+  const auto s = tp::parse_attitude(text, "att.jsonl");
+  ASSERT_EQ(s.size(), 2u);
+  EXPECT_EQ(s[0].frame, "000000");
+  EXPECT_EQ(s[0].line, 1u);
+  EXPECT_EQ(s[1].line, 3u);
+  EXPECT_NEAR(s[0].g_camera.norm(), 1.0, 1e-15);
+  EXPECT_NEAR(s[0].g_body.z(), -0.9234972226166446, 1e-9);
+  EXPECT_DOUBLE_EQ(s[1].sigma_deg, 0.5);
+  EXPECT_DOUBLE_EQ(s[1].t_s, 0.033333);
+}
+
+TEST(Attitude, MalformedLinesNameFileAndLine) {
+  const std::string good = R"({"frame":"000000","t_s":0,"g_camera":[0,1,0],"g_body":[0,0,-1],"sigma_deg":1})";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"not json", "expected a JSON object"},
+      {R"({"frame":"000001","t_s":0,"g_camera":[0,1,0],"sigma_deg":1})", "missing key \"g_body\""},
+      {R"({"frame":"000001","t_s":0,"g_camera":[0,1,0],"g_body":[0,0,-1]})", "missing key \"sigma_deg\""},
+      {R"({"frame":"000001","t_s":0,"g_camera":[0,0.9,0],"g_body":[0,0,-1],"sigma_deg":1})",
+       "g_camera: not a unit vector (norm 0.9)"},
+      {R"({"frame":"000001","t_s":0,"g_camera":[0,1,0],"g_body":[0,0,0],"sigma_deg":1})",
+       "g_body: not a unit vector (norm 0)"},
+      {R"({"frame":"000001","t_s":0,"g_camera":[0,1,0],"g_body":[0,0,NaN],"sigma_deg":1})", "g_body"},
+      {R"({"frame":"000001","t_s":0,"g_camera":[0,1,0],"g_body":[0,0,1e999],"sigma_deg":1})", "out of range"},
+      {R"({"frame":"000001","t_s":0,"g_camera":[0,1,0],"g_body":[0,0,-1],"sigma_deg":0})",
+       "sigma_deg: must be in (0, 90] (got 0)"},
+      {R"({"frame":"000001","t_s":0,"g_camera":[0,1,0],"g_body":[0,0,-1],"sigma_deg":-1})", "sigma_deg: must be in"},
+      {R"({"frame":"000001","t_s":0,"g_camera":[0,1],"g_body":[0,0,-1],"sigma_deg":1})",
+       "g_camera: expected 3 numbers"},
+      {R"({"frame":"000000","t_s":0,"g_camera":[0,1,0],"g_body":[0,0,-1],"sigma_deg":1})",
+       "frame \"000000\" again (first on line 1)"},
+  };
+  for (const auto& [line, what] : cases) {
+    const std::string text = good + "\n\n" + line + "\n";
+    const std::string m = error_of([&] { tp::parse_attitude(text, "seq/att.jsonl"); });
+    EXPECT_NE(m.find("seq/att.jsonl:3: "), std::string::npos) << line << " -> " << m;
+    EXPECT_NE(m.find(what), std::string::npos) << line << " -> " << m;
+  }
+}

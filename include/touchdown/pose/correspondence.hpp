@@ -87,6 +87,10 @@ struct CorrespondenceOptions {
   /// counted from).
   double branch_distinct_m = 0.05;
   double branch_distinct_deg = 5.0;
+  /// With an attitude prior (LedTracker::track's AttitudePrior), a pose
+  /// whose gravity misfit χ² = |R g_body − g_camera|² / σ² (2 degrees of
+  /// freedom) exceeds this is not the board: 13.8 is the 99.9 % point.
+  double attitude_gate_chi2 = 13.8;
   /// A pose whose 1-σ position [m] or rotation [rad] (root of the
   /// covariance's trace: the RMS of the 3-D error) exceeds these is
   /// Uncertain, not Ok. Set from measurement, not from Gaussian tails: the

@@ -62,6 +62,16 @@ struct PoseRefinement {
   Matrix6d covariance = Matrix6d::Zero();       ///< of the left-perturbation twist, σ² (JᵀWJ)⁻¹
   Matrix6d unit_covariance = Matrix6d::Zero();  ///< (JᵀWJ)⁻¹: the covariance for 1 px² of pixel noise
   double noise_variance = 0;                    ///< σ² = Σ w r² / (2n − 6) [px²], the residuals' estimate
+  /// The information (inverse covariance) the fit's measurements carry, in
+  /// two parts: the reprojections' Σ w JᵀJ for 1 px² of pixel noise, and
+  /// that of the depths and the attitude in their own σ (the pixel scale of
+  /// their residuals taken out). covariance_for(σ²) combines them for a
+  /// pixel noise σ² without rescaling the other measurements' σ.
+  Matrix6d pixel_information = Matrix6d::Zero();
+  Matrix6d constraint_information = Matrix6d::Zero();
+  /// The twist covariance for a pixel noise variance [px²]:
+  /// (pixel_information / σ² + constraint_information)⁻¹.
+  [[nodiscard]] Matrix6d covariance_for(double pixel_variance) const;
   /// As every touchdown Result: true when it holds a usable answer (here a
   /// pose, also when the iteration limit stopped it before step_tolerance).
   [[nodiscard]] bool ok() const { return status != RefineStatus::Degenerate; }
@@ -87,16 +97,42 @@ struct DepthConstraints {
   double pixel_sigma_px = 0.2;      ///< the pixel noise the depths are scaled to [px]
 };
 
+/// The gravity ("down") direction measured in both frames — by the
+/// camera's own IMU in the camera frame and by the body's (the drone's
+/// flight controller) in the body frame — as a prior on the rotation:
+/// the residual R_camera_body·g_body − g_camera, 1-σ `sigma_rad` per
+/// component (the two vectors' noise combined: √2 × each one's σ when
+/// they are alike), in the units of a pixel error of σ = pixel_sigma_px
+/// like DepthConstraints. It fixes the rotation's two tilt angles, not the
+/// rotation about gravity, nor the position. sigma_rad = 0: no prior.
+struct AttitudeConstraint {
+  Eigen::Vector3d g_camera = Eigen::Vector3d::Zero();  ///< unit
+  Eigen::Vector3d g_body = Eigen::Vector3d::Zero();    ///< unit
+  double sigma_rad = 0;                                ///< > 0 when in use
+  double pixel_sigma_px = 0.2;                         ///< the pixel noise the residual is scaled to [px]
+  [[nodiscard]] bool active() const { return sigma_rad > 0; }
+  /// χ² of a rotation against the prior: |R g_body − g_camera|² / σ² (2
+  /// degrees of freedom); 0 when not active.
+  [[nodiscard]] double chi2(const Eigen::Matrix3d& R_camera_body) const;
+};
+
+/// Residual of the attitude prior in pixel units (3 components, rank 2)
+/// and its 3×6 Jacobian for the left perturbation: ∂(R g)/∂φ = −[R g]×.
+void attitude_residual(const Eigen::Isometry3d& T_camera_body, const AttitudeConstraint& attitude,
+                       Eigen::Vector3d& residual, Eigen::Matrix<double, 3, 6>* jacobian);
+
 /// Residual of a measured depth (DepthConstraints) in pixel units and its
 /// 1×6 Jacobian for the left perturbation. False if p is behind the camera.
 bool depth_residual(const Eigen::Isometry3d& T_camera_body, const Eigen::Vector3d& p_body, double z_m, double scale,
                     double& residual, Eigen::Matrix<double, 1, 6>* jacobian);
 
 /// Refines `initial` (body → camera) to minimise the reprojection error
-/// (and the depth error, with `depth`). rms_px is the reprojection's only;
-/// the covariance and the noise estimate count the depth residuals.
+/// (and the depth error, with `depth`, and the attitude prior's, with
+/// `attitude`). rms_px is the reprojection's only; the covariance and the
+/// noise estimate count the depth and attitude residuals.
 PoseRefinement refine_pose_gauss_newton(const PinholeCamera& camera, std::span<const Eigen::Vector3d> p_body,
                                         std::span<const Eigen::Vector2d> uv_px, const Eigen::Isometry3d& initial,
-                                        const GaussNewtonOptions& options = {}, const DepthConstraints& depth = {});
+                                        const GaussNewtonOptions& options = {}, const DepthConstraints& depth = {},
+                                        const AttitudeConstraint& attitude = {});
 
 }  // namespace touchdown::pose

@@ -29,6 +29,7 @@
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/constellation.hpp"
 #include "touchdown/pose/correspondence.hpp"
+#include "touchdown/pose/gauss_newton.hpp"
 #include "touchdown/pose/led_detector.hpp"
 #include "touchdown/pose/pose_estimate.hpp"
 
@@ -99,6 +100,25 @@ struct TrackerOptions {
   [[nodiscard]] bool validate(std::string* why) const;
 };
 
+/// The gravity ("down") direction measured on both sides of the link, for
+/// one frame: by the camera's own IMU (the vehicle's) in the camera frame
+/// and by the drone's IMU (its flight controller's attitude) in the body
+/// frame, each a unit vector with `sigma_rad` of noise (1-σ per axis).
+/// With it the tracker fixes the board's tilt (the two rotation angles
+/// about horizontal axes) that a small, distant or nearly flat board's
+/// image leaves loose: the correspondence search drops hypotheses that
+/// contradict it (CorrespondenceOptions::attitude_gate_chi2), the mirrored
+/// branch is judged with it, and it is a term of every Gauss–Newton fit
+/// (AttitudeConstraint, σ = √2·sigma_rad for the difference of the two).
+struct AttitudePrior {
+  Eigen::Vector3d g_camera = Eigen::Vector3d::Zero();
+  Eigen::Vector3d g_body = Eigen::Vector3d::Zero();
+  double sigma_rad = 0;  ///< > 0 [rad]
+  /// False (and why) unless both vectors are finite and unit (within 1e-3)
+  /// and sigma_rad is in (0, π/2].
+  [[nodiscard]] bool validate(std::string* why) const;
+};
+
 class LedTracker {
  public:
   /// Throws InvalidArgument on an invalid camera, constellation or options.
@@ -109,8 +129,12 @@ class LedTracker {
 
   /// One frame: detect, gate, match (or search), refine.
   const PoseEstimate& track(const BgrImageView& colour, const DepthImageView* depth = nullptr);
+  /// The same with the frame's attitude prior. Throws InvalidArgument if
+  /// `prior` does not validate.
+  const PoseEstimate& track(const BgrImageView& colour, const DepthImageView* depth, const AttitudePrior& prior);
   /// The same from blobs detected elsewhere (uv_undistorted and color used).
   const PoseEstimate& track_blobs(std::span<const Blob> blobs);
+  const PoseEstimate& track_blobs(std::span<const Blob> blobs, const AttitudePrior& prior);
   /// Forget the track: the next frame runs the full search.
   void reset();
 
