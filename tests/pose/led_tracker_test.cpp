@@ -924,11 +924,15 @@ TEST(Ambiguity, AttitudePriorSettlesTheMirroredTilt) {
     const auto& e = plain.track_blobs(blobs);
     ok += e.ok();
     ambiguous += e.status == tp::PoseStatus::Ambiguous;
-    if (e.ok()) EXPECT_FALSE(wrong(e.T_camera_body, T)) << trial;
+    if (e.ok()) {
+      EXPECT_FALSE(wrong(e.T_camera_body, T)) << trial;
+    }
     const auto& f = with.track_blobs(blobs, prior);
     ok_prior += f.ok();
     ambiguous_prior += f.status == tp::PoseStatus::Ambiguous;
-    if (f.ok()) EXPECT_FALSE(wrong(f.T_camera_body, T)) << trial << " rot err " << rotation_error(f.T_camera_body, T);
+    if (f.ok()) {
+      EXPECT_FALSE(wrong(f.T_camera_body, T)) << trial << " rot err " << rotation_error(f.T_camera_body, T);
+    }
   }
   EXPECT_GT(ambiguous, 10);                       // the image alone leaves many open ...
   EXPECT_LT(ambiguous_prior, ambiguous / 3 + 1);  // ... the prior settles most
