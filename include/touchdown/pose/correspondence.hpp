@@ -76,8 +76,17 @@ struct CorrespondenceOptions {
   double depth_sigma_k = 0.0025;
   /// Fuse the blobs' measured depths (σ_z above) into the Gauss–Newton
   /// refinement (DepthConstraints): pins the distance and the tilt a
-  /// quasi-planar board's reprojection leaves loose.
-  bool fuse_depth = true;
+  /// quasi-planar board's reprojection leaves loose — when the depth at an
+  /// LED is the LED's. Off by default (issue 33): on sequences from a
+  /// renderer that is not ours the depth read around a small LED spot at
+  /// range mixes in the drone's body behind it, and the fused fits came
+  /// out 4–5 cm too far at 2 m with a σ of 1 cm (dangerous frames, NEES
+  /// 89 on the position at 2–3 m); without fusion, success over 0.4–3 m
+  /// went from 0.62 to 0.94 with no dangerous frame (docs/benchmarks.md,
+  /// "LED pose on an independent renderer"). The depth still gates blobs,
+  /// tests 3-D outliers and settles the mirrored branch (depth_misfit,
+  /// which removes a common offset).
+  bool fuse_depth = false;
   /// The tracked motion rules a branch out when its rotation is farther from
   /// the prediction than the other's by more than this [deg] (a constant-
   /// velocity prediction is good to a degree or two per frame).
