@@ -73,30 +73,61 @@ bool GaussNewtonOptions::validate(std::string* why) const {
   return true;
 }
 
-PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<const Eigen::Vector3d> p_body,
-                                        std::span<const Eigen::Vector2d> uv, const Eigen::Isometry3d& initial,
-                                        const GaussNewtonOptions& o, const DepthConstraints& depth,
-                                        const AttitudeConstraint& attitude) {
+namespace {
+
+// Throws InvalidArgument on options or constraints the fit cannot use.
+void check_inputs(std::size_t n, const GaussNewtonOptions& o, const DepthConstraints& depth,
+                  const AttitudeConstraint& attitude) {
   if (!o.validate(nullptr)) {  // cheap on the hot path; the message only on failure
     std::string why;
     (void)o.validate(&why);  // false again: called only for the message
     throw InvalidArgument("gauss-newton options: " + why);
   }
-  PoseRefinement out;
-  out.T_camera_body = initial;
-  const std::size_t n = p_body.size();
-  if (n < 3 || uv.size() != n) return out;
-  const bool with_depth = !depth.z_m.empty();
-  if (with_depth && (depth.z_m.size() != n || depth.sigma_m.size() != n || !(depth.pixel_sigma_px > 0))) {
+  if (!depth.z_m.empty() && (depth.z_m.size() != n || depth.sigma_m.size() != n || !(depth.pixel_sigma_px > 0))) {
     throw InvalidArgument("gauss-newton depth constraints: need one depth and one sigma per point");
   }
-  const bool with_attitude = attitude.active();
-  if (with_attitude && (!std::isfinite(attitude.sigma_rad) || !(attitude.pixel_sigma_px > 0) ||
-                        !attitude.g_camera.allFinite() || !attitude.g_body.allFinite() ||
-                        std::abs(attitude.g_camera.norm() - 1) > 1e-3 || std::abs(attitude.g_body.norm() - 1) > 1e-3)) {
+  if (attitude.active() &&
+      (!std::isfinite(attitude.sigma_rad) || !(attitude.pixel_sigma_px > 0) || !attitude.g_camera.allFinite() ||
+       !attitude.g_body.allFinite() || std::abs(attitude.g_camera.norm() - 1) > 1e-3 ||
+       std::abs(attitude.g_body.norm() - 1) > 1e-3)) {
     throw InvalidArgument(
         "gauss-newton attitude constraint: need unit gravity vectors, finite sigma_rad and pixel_sigma_px > 0");
   }
+}
+
+// The fit's summary at its final pose T: reprojection RMS, covariances and
+// the two parts of the information.
+void finish_refinement(const PinholeCamera& cam, std::span<const Eigen::Vector3d> p_body,
+                       std::span<const Eigen::Vector2d> uv, const Eigen::Isometry3d& T, const Matrix6d& H,
+                       const Matrix6d& H_pixels, const Matrix6d& H_constraints, double sigma2, PoseRefinement& out) {
+  out.T_camera_body = T;
+  double sq = 0;
+  Eigen::Vector2d r;
+  for (std::size_t i = 0; i < p_body.size(); ++i) {
+    reprojection_residual(cam, T, p_body[i], uv[i], r, nullptr);
+    sq += r.squaredNorm();
+  }
+  out.rms_px = std::sqrt(sq / static_cast<double>(p_body.size()));
+  out.unit_covariance = H.ldlt().solve(Matrix6d::Identity());
+  out.noise_variance = sigma2;
+  out.pixel_information = H_pixels;
+  out.constraint_information = H_constraints;
+  out.covariance = sigma2 * out.unit_covariance;
+}
+
+}  // namespace
+
+PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<const Eigen::Vector3d> p_body,
+                                        std::span<const Eigen::Vector2d> uv, const Eigen::Isometry3d& initial,
+                                        const GaussNewtonOptions& o, const DepthConstraints& depth,
+                                        const AttitudeConstraint& attitude) {
+  const std::size_t n = p_body.size();
+  check_inputs(n, o, depth, attitude);
+  PoseRefinement out;
+  out.T_camera_body = initial;
+  if (n < 3 || uv.size() != n) return out;
+  const bool with_depth = !depth.z_m.empty();
+  const bool with_attitude = attitude.active();
   std::size_t depth_count = 0;  // depth residuals in use
   Eigen::Isometry3d T = initial;
   // H_pixels: the reprojections' part of H; H_constraints: the depths' and
@@ -224,23 +255,10 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
     return out;
   }
   T.linear() = Eigen::Quaterniond(T.linear()).normalized().toRotationMatrix();  // shed rounding drift
-  out.T_camera_body = T;
-  double sq = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    reprojection_residual(cam, T, p_body[i], uv[i], r, nullptr);
-    sq += r.squaredNorm();
-  }
-  out.rms_px = std::sqrt(sq / static_cast<double>(n));
   const double dof =
       2.0 * static_cast<double>(n) + static_cast<double>(depth_count) + (with_attitude ? 2.0 : 0.0) - 6.0;
-  const double sigma2 = dof > 0 ? cost / dof : 0.0;
-  out.unit_covariance = H.ldlt().solve(Matrix6d::Identity());
-  out.noise_variance = sigma2;
-  // As of the last accumulate() (at T, with its Huber weights).
-  out.pixel_information = H_pixels;
-  out.constraint_information = H_constraints;
-
-  out.covariance = sigma2 * out.unit_covariance;
+  // H, H_pixels and H_constraints as of the last accumulate() (at T, with its Huber weights).
+  finish_refinement(cam, p_body, uv, T, H, H_pixels, H_constraints, dof > 0 ? cost / dof : 0.0, out);
   return out;
 }
 
