@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
+#include <vector>
 
 #include "app_common.hpp"
 #include "touchdown/core/units.hpp"
@@ -161,6 +162,7 @@ struct Args {
   CLI::Option *aruco_dict_opt = nullptr, *aruco_id_opt = nullptr, *aruco_size_opt = nullptr;
   bool no_depth = false, jsonl = false, fuse = false;
   std::string attitude_file;
+  std::vector<double> max_sigma;  // --max-sigma POSITION_M,ROTATION_RAD (empty: the tracker's default)
   // render; benchmark shares the camera, constellation, geometry, tilt,
   // seed and profile.
   CLI::App* render = nullptr;
@@ -210,6 +212,13 @@ void add_sequence_options(CLI::App& app, Args& a) {
   app.add_option("--attitude", a.attitude_file,
                  "attitude JSON Lines, one line per frame: the gravity direction measured in the camera and the body "
                  "frame (docs/formats.md); the LED tracker uses it as a prior");
+  app.add_option("--max-sigma", a.max_sigma,
+                 "POSITION_M,ROTATION_RAD: report a pose whose 1-sigma exceeds either as 'too uncertain' "
+                 "(default: 0.03,0.03, none with --attitude; a larger limit reports more far frames and risks wrong "
+                 "ones, docs/benchmarks.md)")
+      ->delimiter(',')
+      ->expected(2)
+      ->check(CLI::PositiveNumber);
 }
 
 void add_render_command(CLI::App& app, Args& a) {
@@ -541,6 +550,10 @@ void set_up_estimator(Estimator& est, const Args& a, const tp::CameraModel& came
     tp::TrackerOptions to;
     to.use_depth = !a.no_depth;
     to.fuse_frames = a.fuse;
+    if (a.max_sigma.size() == 2) {
+      to.correspondence.max_sigma_position_m = to.correspondence.attitude_max_sigma_position_m = a.max_sigma[0];
+      to.correspondence.max_sigma_rotation_rad = to.correspondence.attitude_max_sigma_rotation_rad = a.max_sigma[1];
+    }
     est.tracker.emplace(camera, k, to);
   } else {
     try {

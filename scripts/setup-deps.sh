@@ -31,6 +31,11 @@ packages=(
   clang-tidy
   # scripts/readme_check.py (the README-commands check) and scripts/tidy.sh
   python3
+  # the independent LED renderer (../shared/tools/render_led_sequence.py):
+  # tests/bench/led_independent.py and its ctest
+  python3-numpy python3-opencv
+  # rendering the SVG plots to PNG to look at them (docs/images/)
+  librsvg2-bin
 )
 
 missing=()

@@ -147,9 +147,10 @@ std::pair<double, double> fit_sigmas(const PoseRefinement& fit, const Correspond
   return pose_sigmas(fit_covariance(fit, o.detection_sigma_px * o.detection_sigma_px), fit.T_camera_body);
 }
 
-bool too_uncertain(const PoseRefinement& fit, const CorrespondenceOptions& o) {
+bool too_uncertain(const PoseRefinement& fit, const CorrespondenceOptions& o, bool with_attitude) {
   const auto [position, rotation] = fit_sigmas(fit, o);
-  return position > o.max_sigma_position_m || rotation > o.max_sigma_rotation_rad;
+  const auto [max_position, max_rotation] = o.sigma_limits(with_attitude);
+  return position > max_position || rotation > max_rotation;
 }
 
 bool distinct_poses(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, const CorrespondenceOptions& o) {
@@ -227,7 +228,7 @@ PoseStatus vet_fit(const PinholeCamera& cam, const Constellation& k, const Const
     fit = refined.ok() ? refined : d.alternative;
   }
   if (fit.rms_px > max_rms_px) return PoseStatus::ReprojectionTooLarge;
-  if (too_uncertain(fit, o)) return PoseStatus::Uncertain;
+  if (too_uncertain(fit, o, attitude.active())) return PoseStatus::Uncertain;
   return PoseStatus::Ok;
 }
 

@@ -69,9 +69,9 @@ double depth_misfit(const Constellation& constellation, std::span<const Blob> bl
 Matrix6d fit_covariance(const PoseRefinement& fit, double floor_variance);
 // The 1-σ position [m] and rotation [rad] of a fit (pose_sigmas of
 // fit_covariance floored at detection_sigma_px²), and whether
-// they exceed the options' max_sigma_position_m / max_sigma_rotation_rad.
+// they exceed the options' sigma_limits (with or without an attitude prior).
 std::pair<double, double> fit_sigmas(const PoseRefinement& fit, const CorrespondenceOptions& options);
-bool too_uncertain(const PoseRefinement& fit, const CorrespondenceOptions& options);
+bool too_uncertain(const PoseRefinement& fit, const CorrespondenceOptions& options, bool with_attitude);
 
 enum class BranchVerdict { Keep, Switch, Ambiguous };
 

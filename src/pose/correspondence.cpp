@@ -42,6 +42,8 @@ bool CorrespondenceOptions::validate(std::string* why) const {
   if (!(depth_sigma_k >= 0) || !std::isfinite(depth_sigma_k)) return fail("depth_sigma_k: must be >= 0");
   if (!(max_sigma_position_m > 0)) return fail("max_sigma_position_m: must be positive");
   if (!(max_sigma_rotation_rad > 0)) return fail("max_sigma_rotation_rad: must be positive");
+  if (!(attitude_max_sigma_position_m > 0)) return fail("attitude_max_sigma_position_m: must be positive");
+  if (!(attitude_max_sigma_rotation_rad > 0)) return fail("attitude_max_sigma_rotation_rad: must be positive");
   if (!(branch_track_deg >= 0 && branch_track_deg <= 180)) return fail("branch_track_deg: must be in [0, 180]");
   if (!(branch_distinct_m >= 0) || !std::isfinite(branch_distinct_m)) return fail("branch_distinct_m: must be >= 0");
   if (!(branch_distinct_deg >= 0 && branch_distinct_deg <= 180))

@@ -502,6 +502,10 @@ void LedDetector::detect(const BgrImageView& colour, const DepthImageView* depth
   d.label(colour);
   for (const auto& c : d.components) {
     if (c.area < d.options.min_area || c.area > d.options.max_area) continue;
+    if (d.options.drop_border_blobs &&
+        (c.x0 == 0 || c.y0 == 0 || c.x1 == colour.width - 1 || c.y1 == colour.height - 1)) {
+      continue;  // cut by the border: its centre is not the spot's (DetectorOptions::drop_border_blobs)
+    }
     const int spots = d.split(colour, c);
     const bool crowded = spots > 1 || d.crowded(c);
     auto keep = [&](const std::int32_t* labels, std::int32_t label, int area, int min_sum) {

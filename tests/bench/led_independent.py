@@ -22,7 +22,8 @@ seed, frames, flags, renderer source) and reused while complete. About 1 MB of d
 Modes: single (led_pose's per-frame poses), fuse (--fuse), attitude (--attitude SEQ/attitude.jsonl, the
 renderer's IMU "down" directions; needs a led_pose that has the option); combine with '+', e.g. fuse+attitude.
 
-Exit status: 0 done, 2 bad arguments or a missing tool, 3 a tool failed.
+Exit status: 0 done, 1 a --require-* floor or ceiling missed, 2 bad arguments or a missing tool (77 with
+--skip-missing), 3 a tool failed.
 
 Example (docs/benchmarks.md):
   tests/bench/led_independent.py --work /tmp/led_independent --seeds 101-104 --mix --frames 600 \\
@@ -50,9 +51,23 @@ def die(message, code=2):
     sys.exit(code)
 
 
+SKIP_CODE = 77  # --skip-missing: the renderer or its Python modules are missing (ctest's SKIP_RETURN_CODE)
+
+
+def missing_tool(message, a):
+    """A missing renderer or module: exit 2, or with --skip-missing say so and exit SKIP_CODE."""
+    if a.skip_missing:
+        print("%s: skipped: %s" % (PROG, message))
+        sys.exit(SKIP_CODE)
+    die(message)
+
+
 try:
     import numpy as np
 except ImportError:
+    if "--skip-missing" in sys.argv:
+        print("%s: skipped: %s lacks numpy (apt-get install python3-numpy)" % (PROG, sys.executable))
+        sys.exit(77)
     die("%s lacks numpy: run this script with /usr/bin/python3 (apt-get install python3-numpy)" % sys.executable)
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -165,6 +180,15 @@ def arguments():
                          "/work/shared/tools/render_led_sequence.py")
     ap.add_argument("--python", default="/usr/bin/python3",
                     help="interpreter with numpy and cv2 for the renderer (default: %(default)s)")
+    ap.add_argument("--skip-missing", action="store_true",
+                    help="a missing renderer, numpy or cv2 is not an error: print why and exit %d (for ctest)" %
+                         SKIP_CODE)
+    ap.add_argument("--require-dangerous", type=int, metavar="N",
+                    help="exit 1 when a mode has more than N dangerous frames")
+    ap.add_argument("--require-success", type=float, metavar="F",
+                    help="exit 1 when a mode's success fraction over all frames is below F")
+    ap.add_argument("--require-success-2m", type=float, metavar="F",
+                    help="exit 1 when a mode's success fraction over the frames within 2 m is below F")
     a = ap.parse_args()
     try:
         a.seed_list = parse_seeds(a.seeds)
@@ -215,15 +239,15 @@ def check_renderer(a):
         return
     a.renderer_checked = True
     if not os.path.isfile(a.renderer):
-        die("the renderer %s does not exist: pass --renderer" % a.renderer)
+        missing_tool("the renderer %s does not exist: pass --renderer" % a.renderer, a)
     try:
         r = subprocess.run([a.python, "-c", "import numpy, cv2"], capture_output=True, text=True, timeout=120)
     except OSError as e:
-        die("cannot run %s: %s" % (a.python, e))
+        missing_tool("cannot run %s: %s" % (a.python, e), a)
     if r.returncode != 0:
         missing = "cv2: apt-get install python3-opencv" if "cv2" in r.stderr else \
             "numpy: apt-get install python3-numpy" if "numpy" in r.stderr else "numpy or cv2"
-        die("%s lacks %s" % (a.python, missing))
+        missing_tool("%s lacks %s" % (a.python, missing), a)
 
 
 def file_sha(path):
@@ -617,7 +641,7 @@ def main():
     a.work = os.path.abspath(a.work)
     version = check_led_pose(a.led_pose, a.mode_list)
     if not os.path.isfile(a.renderer):
-        die("the renderer %s does not exist: pass --renderer" % a.renderer)
+        missing_tool("the renderer %s does not exist: pass --renderer" % a.renderer, a)
     a.renderer_sha = file_sha(a.renderer)
     if a.json:
         parent = os.path.dirname(os.path.abspath(a.json))
@@ -718,7 +742,26 @@ def main():
     print(report(a, summary, dangerous))
     if a.json:
         write_json_atomically(a.json, summary)
-    return 0
+    return check_requirements(a, records)
+
+
+def check_requirements(a, records):
+    """--require-*: 1 (with one line per figure that misses) when a mode misses a floor or ceiling, else 0."""
+    failures = []
+    for mode, rs in grouped(records, lambda r: r["mode"]).items():
+        every, near = figures(rs), figures([r for r in rs if r["distance_m"] < 2.0])
+        if a.require_dangerous is not None and every["dangerous"] > a.require_dangerous:
+            failures.append("%s: %d dangerous frames, at most %d allowed" % (mode, every["dangerous"],
+                                                                             a.require_dangerous))
+        if a.require_success is not None and (every["success_fraction"] or 0) < a.require_success:
+            failures.append("%s: success %.3f over all %d frames, below %.3f" % (
+                mode, every["success_fraction"] or 0, every["frames"], a.require_success))
+        if a.require_success_2m is not None and near["frames"] and near["success_fraction"] < a.require_success_2m:
+            failures.append("%s: success %.3f over the %d frames within 2 m, below %.3f" % (
+                mode, near["success_fraction"], near["frames"], a.require_success_2m))
+    for f in failures:
+        print("%s: FAILED %s" % (PROG, f), file=sys.stderr)
+    return 1 if failures else 0
 
 
 if __name__ == "__main__":

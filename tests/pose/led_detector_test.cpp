@@ -169,6 +169,35 @@ TEST(LedDetector, SubPixelCentresAndColourClasses) {
   EXPECT_EQ(cv::connectedComponents(bin, labels, 8) - 1, static_cast<int>(blobs.size()));
 }
 
+// A spot whose centre lies just outside the image shows part of its halo on
+// the border row: its measured centre sits inside, pulled by several pixels
+// (the tracker matched such a blob to its LED and reported a pose 0.22 rad
+// wrong). Dropped by default; kept with drop_border_blobs off, and then
+// measurably off. A spot 6 px inside the border is untouched.
+TEST(LedDetector, SpotsCutByTheImageBorderAreDropped) {
+  touchdown::Rng rng(35);
+  auto img = dark(rng);
+  const Eigen::Vector2d outside(300.3, 481.0), inside(500.4, 200.6), edge(700.2, 473.4);
+  spot(img, outside, 2.5, {600, 600, 600});
+  spot(img, inside, 1.5, {40, 50, 300});
+  spot(img, edge, 1.5, {70, 300, 60});  // lit pixels end ~3 px above the bottom row
+  std::vector<tp::Blob> blobs;
+  tp::LedDetector(d435()).detect(img.view(), nullptr, blobs);
+  ASSERT_EQ(blobs.size(), 2U);
+  for (const auto& b : blobs) {
+    EXPECT_LT(std::min((b.uv_px - inside).norm(), (b.uv_px - edge).norm()), 0.1);
+  }
+  tp::DetectorOptions keep;
+  keep.drop_border_blobs = false;
+  tp::LedDetector(d435(), keep).detect(img.view(), nullptr, blobs);
+  ASSERT_EQ(blobs.size(), 3U);
+  const auto cut = std::min_element(blobs.begin(), blobs.end(), [&](const tp::Blob& a, const tp::Blob& b) {
+    return (a.uv_px - outside).norm() < (b.uv_px - outside).norm();
+  });
+  EXPECT_GT((cut->uv_px - outside).norm(), 2.0);  // the bias the option guards against
+  EXPECT_LT(cut->uv_px.y(), 480.0);
+}
+
 TEST(LedDetector, ConnectivityAndAreaLimits) {
   touchdown::BgrImage img;
   img.resize(64, 32);
@@ -243,6 +272,7 @@ TEST(LedDetector, BlobCountMatchesOpenCvOnRandomSparseImages) {
   tp::DetectorOptions o;
   o.min_area = 1;
   o.max_blobs = 100000;
+  o.drop_border_blobs = false;  // OpenCV counts the components on the border too
   tp::LedDetector det(cam, o);
   for (int trial = 0; trial < 20; ++trial) {
     touchdown::BgrImage img;

@@ -12,8 +12,10 @@
 /// Thread-safety: a free function without shared state. Allocation: none.
 #include <array>
 #include <cstddef>
+#include <limits>
 #include <span>
 #include <string>
+#include <utility>
 
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/constellation.hpp"
@@ -102,14 +104,31 @@ struct CorrespondenceOptions {
   double attitude_gate_chi2 = 13.8;
   /// A pose whose 1-σ position [m] or rotation [rad] (root of the
   /// covariance's trace: the RMS of the 3-D error) exceeds these is
-  /// Uncertain, not Ok. Set from measurement, not from Gaussian tails: the
-  /// errors have a heavier tail than the covariance predicts (biased blob
-  /// centres the fit absorbs). A looser limit reports more frames and more
-  /// poses over 0.1 m or 0.1 rad wrong; 0.03 comes from a scan of that
-  /// trade on random constellations (docs/benchmarks.md, "Data it was not
-  /// tuned to").
+  /// Uncertain, not Ok (`led_pose --max-sigma`). On by default without an
+  /// attitude prior, as a safety net: the branch and correspondence tests
+  /// do not yet exclude every other explanation of a frame, and a wrong
+  /// branch comes with a σ that does not cover it. Measured on 14 400
+  /// frames from the independent renderer (docs/benchmarks.md, "LED pose on
+  /// an independent renderer"): without the limit success rises from 0.907
+  /// to 0.932 but 226 frames are wrong beyond 3 σ (4- and 6-LED boards at
+  /// 2–3 m); 0.03 and 0.04 give none. First set from a scan on our own
+  /// renderer ("Data it was not tuned to"). With fuse_frames the frame's
+  /// own σ must pass as well as the fused one.
   double max_sigma_position_m = 0.03;
   double max_sigma_rotation_rad = 0.03;
+  /// The limits when an attitude prior is given (LedTracker::track with an
+  /// AttitudePrior): off (infinite) by default. The prior's gravity test
+  /// excludes the mirrored branch, the wrong poses the limit above guards
+  /// against; measured on the same frames: success 0.969 with 0.03, 0.987
+  /// without, no frame wrong beyond 3 σ either way.
+  double attitude_max_sigma_position_m = std::numeric_limits<double>::infinity();
+  double attitude_max_sigma_rotation_rad = std::numeric_limits<double>::infinity();
+  /// The limits (position [m], rotation [rad]) that apply with or without
+  /// an attitude prior.
+  [[nodiscard]] std::pair<double, double> sigma_limits(bool with_attitude) const {
+    return with_attitude ? std::pair{attitude_max_sigma_position_m, attitude_max_sigma_rotation_rad}
+                         : std::pair{max_sigma_position_m, max_sigma_rotation_rad};
+  }
   /// False (with the offending field and why in *why) for an invalid value.
   [[nodiscard]] bool validate(std::string* why) const;
 };
