@@ -86,8 +86,10 @@ TIMING_PATTERNS = [
 # Scripts the check runs, in the repository itself (not the scratch directory).
 KNOWN_SCRIPTS = {"scripts/demo.sh"}
 # Standard tools an example may use to prepare an input (run in the scratch
-# directory like an app: `sed ... data/plans/landing.yaml > tight.yaml`).
-KNOWN_TOOLS = {"sed", "cp", "printf"}
+# directory like an app: `sed ... data/plans/landing.yaml > tight.yaml`),
+# and Debian's Python for the independent LED renderer
+# (../shared/tools/render_led_sequence.py, seeded: same files every run).
+KNOWN_TOOLS = {"sed", "cp", "printf", "/usr/bin/python3"}
 
 SKIP_MARKER = re.compile(r"<!--\s*readme-check:\s*skip\s*\((.*)\)\s*-->")
 NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
