@@ -214,11 +214,12 @@ void add_sequence_options(CLI::App& app, Args& a) {
                  "frame (docs/formats.md); the LED tracker uses it as a prior");
   app.add_option("--max-sigma", a.max_sigma,
                  "POSITION_M,ROTATION_RAD: report a pose whose 1-sigma exceeds either as 'too uncertain' "
-                 "(default: 0.03,0.03, none with --attitude; a larger limit reports more far frames and risks wrong "
-                 "ones, docs/benchmarks.md)")
+                 "(default: 0.03,0.03; a larger limit reports more far frames and risks wrong ones, "
+                 "docs/benchmarks.md)")
       ->delimiter(',')
       ->expected(2)
-      ->check(CLI::PositiveNumber);
+      ->allow_extra_args(false)  // `--max-sigma 0.05,0.05 SEQ` leaves SEQ to the positional
+      ->check(number_in(0, 10, true));
 }
 
 void add_render_command(CLI::App& app, Args& a) {
@@ -556,6 +557,7 @@ void set_up_estimator(Estimator& est, const Args& a, const tp::CameraModel& came
     }
     est.tracker.emplace(camera, k, to);
   } else {
+    if (!a.max_sigma.empty()) throw td::InvalidArgument("--max-sigma: only the LED method reports a sigma limit");
     try {
       est.marker.emplace(camera, k.T_body_marker, marker_of_sequence(a, a.sequence_dir, info));
     } catch (const td::InvalidArgument& e) {

@@ -273,8 +273,11 @@ struct LedTracker::Impl {
     // (measured: 14 frames wrong beyond 3 σ with --fuse on the independent
     // renderer's sequences when only the fused σ was tested).
     const auto [max_position, max_rotation] = co.sigma_limits(attitude.active());
-    if (unconfirmed || std::max(sigma.first, own.first) > max_position ||
-        std::max(sigma.second, own.second) > max_rotation) {
+    const std::pair<double, double> tested = {std::max(sigma.first, own.first), std::max(sigma.second, own.second)};
+    if (unconfirmed || tested.first > max_position || tested.second > max_rotation) {
+      // The figures that were tested (a fused frame rejected on its own σ
+      // shows that σ, not the smaller fused one).
+      std::tie(estimate.sigma_position_m, estimate.sigma_rotation_rad) = tested;
       estimate.status = PoseStatus::Uncertain;
       estimate.points = 0;
       estimate.rms_px = 0;

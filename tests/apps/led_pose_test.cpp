@@ -225,6 +225,41 @@ TEST(LedPoseApp, AttitudePriorKeepsThePosesAndCovarianceIsPrinted) {
   }
 }
 
+// --max-sigma: a tight limit holds frames back as `too uncertain` with the
+// figures that failed; the option before the directory leaves it to the
+// positional; one value, zero, NaN or --method aruco are refused.
+TEST(LedPoseApp, MaxSigmaHoldsBackFramesAndIsChecked) {
+  TempDir dir;
+  const auto seq = rendered_sequence(dir);
+  const AppRun loose = run(seq.string() + " --jsonl", dir);
+  ASSERT_EQ(loose.code, 0) << loose.err;
+  const AppRun tight = run("--max-sigma 0.0001,0.0001 " + seq.string() + " --jsonl", dir);
+  ASSERT_EQ(tight.code, 0) << tight.err;
+  int ok_loose = 0, ok_tight = 0, held = 0;
+  for (const auto& line : lines_of(loose.out)) ok_loose += nlohmann::json::parse(line)["ok"].get<bool>();
+  for (const auto& line : lines_of(tight.out)) {
+    const auto j = nlohmann::json::parse(line);
+    if (j["ok"].get<bool>()) {
+      ++ok_tight;
+      continue;
+    }
+    if (j.value("reason", "") != "too uncertain") continue;
+    ++held;
+    EXPECT_TRUE(j["sigma"][0].get<double>() > 0.0001 || j["sigma"][1].get<double>() > 0.0001) << line;
+  }
+  EXPECT_GE(ok_loose, 11);
+  EXPECT_EQ(ok_tight, 0);
+  EXPECT_GE(held, ok_loose - 1);  // the first frame of a track may be unconfirmed either way
+  expect_each_refused(
+      {
+          {seq.string() + " --max-sigma 0.05", "--max-sigma"},
+          {seq.string() + " --max-sigma 0,0.05", "--max-sigma"},
+          {seq.string() + " --max-sigma nan,0.05", "--max-sigma"},
+          {seq.string() + " --method aruco --max-sigma 0.05,0.05", "--max-sigma: only the LED method"},
+      },
+      dir);
+}
+
 TEST(LedPoseApp, ArucoRuns) {
   TempDir dir;
   const auto seq = rendered_sequence(dir);

@@ -22,8 +22,9 @@ seed, frames, flags, renderer source) and reused while complete. About 1 MB of d
 Modes: single (led_pose's per-frame poses), fuse (--fuse), attitude (--attitude SEQ/attitude.jsonl, the
 renderer's IMU "down" directions; needs a led_pose that has the option); combine with '+', e.g. fuse+attitude.
 
-Exit status: 0 done, 1 a --require-* floor or ceiling missed, 2 bad arguments or a missing tool (77 with
---skip-missing), 3 a tool failed.
+Exit status: 0 done, 1 a --require-* floor or ceiling missed (or a mode without frames to check), 2 bad
+arguments or a missing tool (77 instead with --skip-missing when the renderer, numpy or cv2 is missing),
+3 a tool failed.
 
 Example (docs/benchmarks.md):
   tests/bench/led_independent.py --work /tmp/led_independent --seeds 101-104 --mix --frames 600 \\
@@ -203,6 +204,12 @@ def arguments():
         die("--jobs must be at least 1, got %d" % a.jobs)
     if a.list < 0:
         die("--list must be 0 or more, got %d" % a.list)
+    if a.require_dangerous is not None and a.require_dangerous < 0:
+        die("--require-dangerous must be 0 or more, got %d" % a.require_dangerous)
+    for name in ("require_success", "require_success_2m"):
+        value = getattr(a, name)
+        if value is not None and not 0 <= value <= 1:
+            die("--%s must be a fraction in [0, 1], got %g" % (name.replace("_", "-"), value))
     if not a.constellations:
         folder = os.path.join(REPO, "tests", "data", "led_independent")
         a.constellations = sorted(os.path.join(folder, f) for f in os.listdir(folder) if f.endswith(".yaml")) \
@@ -748,8 +755,15 @@ def main():
 def check_requirements(a, records):
     """--require-*: 1 (with one line per figure that misses) when a mode misses a floor or ceiling, else 0."""
     failures = []
-    for mode, rs in grouped(records, lambda r: r["mode"]).items():
+    by_mode = grouped(records, lambda r: r["mode"])
+    for mode in a.mode_list:
+        rs = by_mode.get(mode, [])
         every, near = figures(rs), figures([r for r in rs if r["distance_m"] < 2.0])
+        if not rs:
+            failures.append("%s: no frames measured" % mode)
+            continue
+        if a.require_success_2m is not None and not near["frames"]:
+            failures.append("%s: no frames within 2 m to check --require-success-2m on" % mode)
         if a.require_dangerous is not None and every["dangerous"] > a.require_dangerous:
             failures.append("%s: %d dangerous frames, at most %d allowed" % (mode, every["dangerous"],
                                                                              a.require_dangerous))
