@@ -743,6 +743,20 @@ TEST(LedTracker, PooledFloorStartsAfterItsMinimumFits) {
   }
 }
 
+namespace {
+
+// Frame f of 40 of an approach from `far` to 0.9 m at a steady speed,
+// turning slowly (0.3 rad about the camera's z over the 40 frames).
+Eigen::Isometry3d approach(const Eigen::Isometry3d& far, int f) {
+  const double s = f / 39.0;
+  Eigen::Isometry3d T = far;
+  T.translation() = far.translation() * (1 - s) + Eigen::Vector3d(0.02, -0.01, 0.9) * s;
+  T.linear() = Eigen::AngleAxisd(0.3 * s, Eigen::Vector3d::UnitZ()).toRotationMatrix() * far.linear();
+  return T;
+}
+
+}  // namespace
+
 // A board too far to vouch for gives Uncertain frames — no pose, the 1-σ
 // that failed the gate — but the track goes on: the later frames are
 // matched against its prediction (not re-searched), and when the drone
@@ -756,11 +770,7 @@ TEST(LedTracker, UncertainFramesKeepTheTrack) {
   const Eigen::Isometry3d far = front_toward_camera(rng, 3.2);
   int uncertain = 0, searched_after_first = 0;
   for (int f = 0; f < 40; ++f) {
-    // From 3.2 m to 0.9 m at a steady speed, turning slowly.
-    const double s = f / 39.0;
-    Eigen::Isometry3d T = far;
-    T.translation() = far.translation() * (1 - s) + Eigen::Vector3d(0.02, -0.01, 0.9) * s;
-    T.linear() = Eigen::AngleAxisd(0.3 * s, Eigen::Vector3d::UnitZ()).toRotationMatrix() * far.linear();
+    const Eigen::Isometry3d T = approach(far, f);
     auto blobs = blobs_of(k, cam, T, rng, 0.5);
     add_depth(blobs, k, cam, T, rng);
     const tp::PoseEstimate& e = tracker.track_blobs(blobs);
@@ -919,10 +929,7 @@ TEST(LedTracker, AttitudeSigmaLimitIsItsOwnOption) {
   const Eigen::Vector3d g_camera = Eigen::Vector3d(0.1, 0.95, -0.3).normalized();
   int ok_loose = 0;
   for (int f = 0; f < 40; ++f) {
-    const double s = f / 39.0;
-    Eigen::Isometry3d T = far;
-    T.translation() = far.translation() * (1 - s) + Eigen::Vector3d(0.02, -0.01, 0.9) * s;
-    T.linear() = Eigen::AngleAxisd(0.3 * s, Eigen::Vector3d::UnitZ()).toRotationMatrix() * far.linear();
+    const Eigen::Isometry3d T = approach(far, f);
     auto blobs = blobs_of(k, cam, T, rng, 0.5);
     add_depth(blobs, k, cam, T, rng);
     tp::AttitudePrior prior;
