@@ -223,8 +223,9 @@ PoseStatus vet_fit(const PinholeCamera& cam, const Constellation& k, const Const
     // The other branch, refined as the fit was (with the measured depths).
     MatchedSet fused;
     gather(k, blobs, blob_of_led, o, fused);
-    const PoseRefinement refined = refine_pose_gauss_newton(
-        cam, fused.points(), fused.pixels(), d.alternative.T_camera_body, o.refine, fused.depth(), attitude);
+    const PoseRefinement refined =
+        refine_pose_gauss_newton(cam, fused.points(), fused.pixels(), d.alternative.T_camera_body, o.refine,
+                                 fused.depth(), attitude, fused.biases());
     fit = refined.ok() ? refined : d.alternative;
   }
   if (fit.rms_px > max_rms_px) return PoseStatus::ReprojectionTooLarge;

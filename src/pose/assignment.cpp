@@ -1,7 +1,9 @@
 #include "pose/assignment.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace touchdown::pose::detail {
 
@@ -21,6 +23,7 @@ void gather(const Constellation& k, std::span<const Blob> blobs, const std::arra
             MatchedSet& s, double depth_sigma_k, double pixel_sigma) {
   s.n = 0;
   s.depths = 0;
+  s.has_bias = false;
   s.pixel_sigma = pixel_sigma;
   // Merged blobs only when the others are too few for a pose: first ones
   // far larger than the other matched LEDs' (an LED and its reflection or
@@ -51,6 +54,8 @@ void gather(const Constellation& k, std::span<const Blob> blobs, const std::arra
     if ((skip_joined && b.area > oversized) || (skip_split && b.split)) continue;
     s.p[s.n] = k.leds[l].p_body;
     s.uv[s.n] = b.uv_undistorted;
+    s.blob[s.n] = blob_of_led[l];
+    s.bias[s.n] = 0;
     s.z[s.n] = std::numeric_limits<double>::quiet_NaN();
     s.sigma[s.n] = 1;
     if (depth_sigma_k >= 0 && b.has_point) {
@@ -63,9 +68,28 @@ void gather(const Constellation& k, std::span<const Blob> blobs, const std::arra
   }
 }
 
+double blob_bias_variance(const Blob& b, std::span<const Blob> blobs, const CorrespondenceOptions& o) {
+  const double r = std::max(1.0, std::sqrt(b.area / std::numbers::pi));
+  double nearest2 = kInf;
+  for (const Blob& other : blobs) {
+    if (&other == &b) continue;
+    nearest2 = std::min(nearest2, (other.uv_px - b.uv_px).squaredNorm());
+  }
+  const double q = std::sqrt(nearest2) / r;  // the nearest blob's distance in b's radii
+  const double half = 0.5 * o.crowded_radii;
+  const double f = q >= o.crowded_radii ? 0.0 : std::pow(std::min(1.0, (o.crowded_radii - q) / half), 2);
+  double sigma = o.crowded_bias_px * f;
+  if (b.split) sigma = std::max(sigma, o.split_bias * r);
+  return sigma * sigma;
+}
+
 void gather(const Constellation& k, std::span<const Blob> blobs, const std::array<int, kMaxLeds>& blob_of_led,
             const CorrespondenceOptions& o, MatchedSet& s) {
   gather(k, blobs, blob_of_led, s, o.fuse_depth ? o.depth_sigma_k : -1.0, o.detection_sigma_px);
+  for (std::size_t i = 0; i < s.n; ++i) {
+    s.bias[i] = blob_bias_variance(blobs[static_cast<std::size_t>(s.blob[i])], blobs, o);
+    s.has_bias |= s.bias[i] > 0;
+  }
 }
 
 Eigen::Vector3d camera_in_body(const Eigen::Isometry3d& T_camera_body) {

@@ -22,11 +22,18 @@ struct MatchedSet {
   std::array<Eigen::Vector2d, kMaxLeds> uv;
   std::array<double, kMaxLeds> z;      // the blob's measured depth [m], NaN = none
   std::array<double, kMaxLeds> sigma;  // its 1-σ [m]
+  std::array<int, kMaxLeds> blob;      // the blob's index
+  std::array<double, kMaxLeds> bias;   // the blob centre's own error variance [px²] (blob_bias_variance)
   std::size_t n = 0;
+  bool has_bias = false;     // some bias[i] > 0
   std::size_t depths = 0;    // points with a measured depth
   double pixel_sigma = 0.2;  // [px] the depth residuals' scale
   [[nodiscard]] std::span<const Eigen::Vector3d> points() const { return {p.data(), n}; }
   [[nodiscard]] std::span<const Eigen::Vector2d> pixels() const { return {uv.data(), n}; }
+  // The blobs' own error variances for the Gauss–Newton covariance (none when all are 0).
+  [[nodiscard]] std::span<const double> biases() const {
+    return has_bias ? std::span<const double>{bias.data(), n} : std::span<const double>{};
+  }
   // The measured depths for the Gauss–Newton refinement (none if no blob has one).
   [[nodiscard]] DepthConstraints depth() const {
     if (depths == 0) return {};
@@ -42,8 +49,14 @@ Eigen::Vector3d camera_in_body(const Eigen::Isometry3d& T_camera_body);
 bool matched_leds_face_camera(const Constellation& constellation, const std::array<int, kMaxLeds>& blob_of_led,
                               const Eigen::Isometry3d& T_camera_body, double emission_margin);
 
+// The variance [px²] of blob b's centre error of its own under o's
+// crowding model (CorrespondenceOptions::crowded_bias): from the nearest
+// other blob of `blobs` and b's split flag.
+double blob_bias_variance(const Blob& b, std::span<const Blob> blobs, const CorrespondenceOptions& o);
+
 // Fills `s` with the LEDs that have a blob in `blob_of_led` (−1: none).
-// The matched set for a pose fit under `o` (depths fused when o.fuse_depth).
+// The matched set for a pose fit under `o` (depths fused when o.fuse_depth,
+// each blob's blob_bias_variance).
 void gather(const Constellation& constellation, std::span<const Blob> blobs,
             const std::array<int, kMaxLeds>& blob_of_led, const CorrespondenceOptions& o, MatchedSet& s);
 

@@ -38,6 +38,11 @@ bool CorrespondenceOptions::validate(std::string* why) const {
   if (refine.max_iterations < 1) return fail("refine.max_iterations: must be positive");
   if (!(detection_sigma_px > 0) || !std::isfinite(detection_sigma_px))
     return fail("detection_sigma_px: must be positive");
+  if (!(crowded_radii > 0) || !std::isfinite(crowded_radii)) return fail("crowded_radii: must be positive");
+  if (!(crowded_bias_px >= 0) || !std::isfinite(crowded_bias_px)) {
+    return fail("crowded_bias_px: must be >= 0 (0 = off)");
+  }
+  if (!(split_bias >= 0) || !std::isfinite(split_bias)) return fail("split_bias: must be >= 0");
   if (!(branch_chi2 > 0) || !std::isfinite(branch_chi2)) return fail("branch_chi2: must be positive");
   if (!(depth_sigma_k >= 0) || !std::isfinite(depth_sigma_k)) return fail("depth_sigma_k: must be >= 0");
   if (!(max_sigma_position_m > 0)) return fail("max_sigma_position_m: must be positive");
@@ -135,8 +140,8 @@ class Search {
     if (sq + (static_cast<double>(n_) - matched) * penalty2_ >= best_score_) return true;
     detail::MatchedSet set;
     detail::gather(k_, blobs_, assign, o_, set);
-    PoseRefinement fit =
-        refine_pose_gauss_newton(cam_, set.points(), set.pixels(), e.T_camera_body, o_.refine, set.depth(), attitude_);
+    PoseRefinement fit = refine_pose_gauss_newton(cam_, set.points(), set.pixels(), e.T_camera_body, o_.refine,
+                                                  set.depth(), attitude_, set.biases());
     if (!fit.ok()) return true;
     // Re-match from the refined pose and refine once more if it changed.
     std::array<int, kMaxLeds> again{};
@@ -145,7 +150,7 @@ class Search {
       assign = again;
       detail::gather(k_, blobs_, assign, o_, set);
       const PoseRefinement f2 = refine_pose_gauss_newton(cam_, set.points(), set.pixels(), fit.T_camera_body, o_.refine,
-                                                         set.depth(), attitude_);
+                                                         set.depth(), attitude_, set.biases());
       if (!f2.ok()) return true;
       fit = f2;
     }

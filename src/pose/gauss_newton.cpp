@@ -60,7 +60,12 @@ void attitude_residual(const Eigen::Isometry3d& T, const AttitudeConstraint& a, 
 
 Matrix6d PoseRefinement::covariance_for(double pixel_variance) const {
   const Matrix6d information = pixel_information / pixel_variance + constraint_information;
-  return information.ldlt().solve(Matrix6d::Identity());
+  const Matrix6d inverse = information.ldlt().solve(Matrix6d::Identity());
+  if (pixel_bias_moment.isZero(0)) return inverse;
+  // The blobs' own errors (bias_variance) through the estimator's gain
+  // I⁻¹ Jᵢᵀ / σ²: I⁻¹ (Σ vᵢ JᵢᵀJᵢ / σ⁴) I⁻¹.
+  const Matrix6d extra = inverse * (pixel_bias_moment / (pixel_variance * pixel_variance)) * inverse;
+  return inverse + 0.5 * (extra + extra.transpose());
 }
 
 bool GaussNewtonOptions::validate(std::string* why) const {
@@ -77,7 +82,7 @@ namespace {
 
 // Throws InvalidArgument on options or constraints the fit cannot use.
 void check_inputs(std::size_t n, const GaussNewtonOptions& o, const DepthConstraints& depth,
-                  const AttitudeConstraint& attitude) {
+                  const AttitudeConstraint& attitude, std::span<const double> bias_variance) {
   if (!o.validate(nullptr)) {  // cheap on the hot path; the message only on failure
     std::string why;
     (void)o.validate(&why);  // false again: called only for the message
@@ -85,6 +90,11 @@ void check_inputs(std::size_t n, const GaussNewtonOptions& o, const DepthConstra
   }
   if (!depth.z_m.empty() && (depth.z_m.size() != n || depth.sigma_m.size() != n || !(depth.pixel_sigma_px > 0))) {
     throw InvalidArgument("gauss-newton depth constraints: need one depth and one sigma per point");
+  }
+  if (!bias_variance.empty() &&
+      (bias_variance.size() != n ||
+       !std::all_of(bias_variance.begin(), bias_variance.end(), [](double v) { return v >= 0 && std::isfinite(v); }))) {
+    throw InvalidArgument("gauss-newton bias_variance: need one finite variance >= 0 per point");
   }
   if (attitude.active() &&
       (!std::isfinite(attitude.sigma_rad) || !(attitude.pixel_sigma_px > 0) || !attitude.g_camera.allFinite() ||
@@ -99,13 +109,19 @@ void check_inputs(std::size_t n, const GaussNewtonOptions& o, const DepthConstra
 // the two parts of the information.
 void finish_refinement(const PinholeCamera& cam, std::span<const Eigen::Vector3d> p_body,
                        std::span<const Eigen::Vector2d> uv, const Eigen::Isometry3d& T, const Matrix6d& H,
-                       const Matrix6d& H_pixels, const Matrix6d& H_constraints, double sigma2, PoseRefinement& out) {
+                       const Matrix6d& H_pixels, const Matrix6d& H_constraints, double sigma2,
+                       std::span<const double> bias_variance, PoseRefinement& out) {
   out.T_camera_body = T;
   double sq = 0;
   Eigen::Vector2d r;
+  Eigen::Matrix<double, 2, 6> J;
+  out.pixel_bias_moment.setZero();
   for (std::size_t i = 0; i < p_body.size(); ++i) {
-    reprojection_residual(cam, T, p_body[i], uv[i], r, nullptr);
+    reprojection_residual(cam, T, p_body[i], uv[i], r, bias_variance.empty() ? nullptr : &J);
     sq += r.squaredNorm();
+    if (!bias_variance.empty() && bias_variance[i] > 0) {
+      out.pixel_bias_moment.noalias() += bias_variance[i] * J.transpose() * J;
+    }
   }
   out.rms_px = std::sqrt(sq / static_cast<double>(p_body.size()));
   out.unit_covariance = H.ldlt().solve(Matrix6d::Identity());
@@ -113,6 +129,10 @@ void finish_refinement(const PinholeCamera& cam, std::span<const Eigen::Vector3d
   out.pixel_information = H_pixels;
   out.constraint_information = H_constraints;
   out.covariance = sigma2 * out.unit_covariance;
+  if (!out.pixel_bias_moment.isZero(0)) {  // (H/σ²)⁻¹ (M/σ⁴) (H/σ²)⁻¹ = H⁻¹ M H⁻¹
+    const Matrix6d extra = out.unit_covariance * out.pixel_bias_moment * out.unit_covariance;
+    out.covariance += 0.5 * (extra + extra.transpose());
+  }
 }
 
 }  // namespace
@@ -120,9 +140,9 @@ void finish_refinement(const PinholeCamera& cam, std::span<const Eigen::Vector3d
 PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<const Eigen::Vector3d> p_body,
                                         std::span<const Eigen::Vector2d> uv, const Eigen::Isometry3d& initial,
                                         const GaussNewtonOptions& o, const DepthConstraints& depth,
-                                        const AttitudeConstraint& attitude) {
+                                        const AttitudeConstraint& attitude, std::span<const double> bias_variance) {
   const std::size_t n = p_body.size();
-  check_inputs(n, o, depth, attitude);
+  check_inputs(n, o, depth, attitude, bias_variance);
   PoseRefinement out;
   out.T_camera_body = initial;
   if (n < 3 || uv.size() != n) return out;
@@ -258,7 +278,7 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
   const double dof =
       2.0 * static_cast<double>(n) + static_cast<double>(depth_count) + (with_attitude ? 2.0 : 0.0) - 6.0;
   // H, H_pixels and H_constraints as of the last accumulate() (at T, with its Huber weights).
-  finish_refinement(cam, p_body, uv, T, H, H_pixels, H_constraints, dof > 0 ? cost / dof : 0.0, out);
+  finish_refinement(cam, p_body, uv, T, H, H_pixels, H_constraints, dof > 0 ? cost / dof : 0.0, bias_variance, out);
   return out;
 }
 

@@ -335,8 +335,8 @@ struct LedTracker::Impl {
       detail::gather(constellation, work, led_to_blob, co, set);
       return false;
     }
-    const PoseRefinement refit =
-        refine_pose_gauss_newton(pin, set.points(), set.pixels(), fit.T_camera_body, co.refine, set.depth(), attitude);
+    const PoseRefinement refit = refine_pose_gauss_newton(pin, set.points(), set.pixels(), fit.T_camera_body, co.refine,
+                                                          set.depth(), attitude, set.biases());
     if (refit.ok()) fit = refit;
     return true;
   }
@@ -393,7 +393,7 @@ struct LedTracker::Impl {
     detail::MatchedSet set;
     detail::gather(constellation, work, led_to_blob, options.correspondence, set);
     PoseRefinement fit = refine_pose_gauss_newton(pin, set.points(), set.pixels(), T, options.correspondence.refine,
-                                                  set.depth(), attitude);
+                                                  set.depth(), attitude, set.biases());
     if (!fit.ok() || fit.rms_px > options.reinit_rms_px) return false;
     // Re-match from the refined pose with the tighter inlier gate: picks up
     // LEDs the prediction missed and drops ones it mismatched.
@@ -403,8 +403,9 @@ struct LedTracker::Impl {
     if (matched >= options.correspondence.min_leds && again != led_to_blob) {
       led_to_blob = again;
       detail::gather(constellation, work, led_to_blob, options.correspondence, set);
-      const PoseRefinement f2 = refine_pose_gauss_newton(pin, set.points(), set.pixels(), fit.T_camera_body,
-                                                         options.correspondence.refine, set.depth(), attitude);
+      const PoseRefinement f2 =
+          refine_pose_gauss_newton(pin, set.points(), set.pixels(), fit.T_camera_body, options.correspondence.refine,
+                                   set.depth(), attitude, set.biases());
       if (f2.ok()) fit = f2;
     }
     if (options.shared_blob_margin_px >= 0) drop_shared_blobs(fit, set);

@@ -323,6 +323,60 @@ TEST(GaussNewton, AttitudePriorCovarianceIsTrueByNees) {
   EXPECT_LT((plain.covariance_for(0.3) - 0.3 * plain.unit_covariance).norm(), 1e-9 * plain.unit_covariance.norm());
 }
 
+// One blob with an error of its own (a neighbour's glow pulling its
+// centre; CorrespondenceOptions::crowded_bias_px): bias_variance leaves the
+// fit as it is and carries that error into the covariance. Oracle: the
+// NEES of 400 fits with the point's extra noise drawn as stated is a
+// χ²(6) mean; without it the covariance is far too small.
+TEST(GaussNewton, BiasVarianceMakesTheCovarianceTrueForOneNoisyPoint) {
+  touchdown::Rng rng(34);
+  const double sigma_px = 0.2, sigma_bias = 1.0;
+  const int trials = 400;
+  const auto p = constellation(Shape::NonPlanar, rng, 6);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, -1, 0.5).normalized()).toRotationMatrix();
+  T.translation() << -0.05, 0.1, 1.8;
+  std::vector<double> bias(p.size(), 0.0);
+  bias[2] = sigma_bias * sigma_bias;
+  double nees_bias = 0, nees_plain = 0;
+  for (int k = 0; k < trials; ++k) {
+    auto uv = observe(T, p, rng, sigma_px);
+    uv[2] += Eigen::Vector2d(rng.normal(0, sigma_bias), rng.normal(0, sigma_bias));
+    const auto with = tp::refine_pose_gauss_newton(kCamera, p, uv, T, {}, {}, {}, bias);
+    const auto without = tp::refine_pose_gauss_newton(kCamera, p, uv, T);
+    ASSERT_TRUE(with.ok() && without.ok()) << k;
+    // The estimate is the plain least-squares one: only the covariance changes.
+    ASSERT_LT((with.T_camera_body.matrix() - without.T_camera_body.matrix()).norm(), 1e-12) << k;
+    const tp::Vector6d e = tp::se3_log(T * with.T_camera_body.inverse());
+    nees_bias += e.dot(with.covariance_for(sigma_px * sigma_px).ldlt().solve(e));
+    nees_plain += e.dot(without.covariance_for(sigma_px * sigma_px).ldlt().solve(e));
+    if (k == 0) {  // .covariance (at the fit's own noise estimate) carries the bias term too
+      const tp::Matrix6d expected = with.noise_variance * with.unit_covariance +
+                                    with.unit_covariance * with.pixel_bias_moment * with.unit_covariance;
+      EXPECT_LT((with.covariance - expected).norm(), 1e-9 * expected.norm());
+    }
+  }
+  nees_bias /= trials;
+  nees_plain /= trials;
+  EXPECT_GT(nees_bias, 5.0);  // 400 χ²(6): σ of the mean ≈ 0.17
+  EXPECT_LT(nees_bias, 7.0);
+  EXPECT_GT(nees_plain, 12.0) << nees_bias;  // the plain covariance hides the noisy point
+}
+
+TEST(GaussNewton, BadBiasVarianceIsRejected) {
+  touchdown::Rng rng(35);
+  const auto p = constellation(Shape::NonPlanar, rng, 6);
+  const auto T = random_pose(rng);
+  const auto uv = observe(T, p, rng, 0.1);
+  const std::vector<double> short_list(p.size() - 1, 0.0);
+  EXPECT_THROW(tp::refine_pose_gauss_newton(kCamera, p, uv, T, {}, {}, {}, short_list), touchdown::InvalidArgument);
+  std::vector<double> negative(p.size(), 0.0);
+  negative[1] = -0.1;
+  EXPECT_THROW(tp::refine_pose_gauss_newton(kCamera, p, uv, T, {}, {}, {}, negative), touchdown::InvalidArgument);
+  negative[1] = std::nan("");
+  EXPECT_THROW(tp::refine_pose_gauss_newton(kCamera, p, uv, T, {}, {}, {}, negative), touchdown::InvalidArgument);
+}
+
 TEST(GaussNewton, BadAttitudeConstraintIsRejected) {
   touchdown::Rng rng(33);
   const auto p = constellation(Shape::NonPlanar, rng, 6);

@@ -273,6 +273,63 @@ TEST(Correspondence, BlobFarLargerThanTheOthersStaysOutOfTheFit) {
   }
 }
 
+// The crowding model of a blob centre (CorrespondenceOptions::crowded_*):
+// by the nearest other blob's distance in the blob's radii — none beyond
+// crowded_radii, the full crowded_bias_px within half of it, the quadratic
+// fall in between — and at least split_bias · r for a split blob; gather()
+// carries it per matched point, and no bias span when every one is 0.
+TEST(Correspondence, CrowdedAndSplitBlobsCarryTheirOwnError) {
+  const tp::CorrespondenceOptions o;
+  const double r = 3.0;
+  auto blob_at = [&](double u) {
+    tp::Blob b;
+    b.area = std::numbers::pi * r * r;
+    b.uv_px = b.uv_undistorted = Eigen::Vector2d(u, 100);
+    return b;
+  };
+  auto variance_with_neighbour_at = [&](double radii) {
+    const std::vector<tp::Blob> blobs{blob_at(100), blob_at(100 + radii * r)};
+    return tp::detail::blob_bias_variance(blobs[0], blobs, o);
+  };
+  EXPECT_EQ(variance_with_neighbour_at(8.5), 0.0);
+  EXPECT_EQ(variance_with_neighbour_at(o.crowded_radii), 0.0);
+  EXPECT_NEAR(variance_with_neighbour_at(6.0), std::pow(o.crowded_bias_px * 0.25, 2), 1e-15);
+  EXPECT_NEAR(variance_with_neighbour_at(4.0), std::pow(o.crowded_bias_px, 2), 1e-15);
+  EXPECT_NEAR(variance_with_neighbour_at(2.0), std::pow(o.crowded_bias_px, 2), 1e-15);
+  std::vector<tp::Blob> lone{blob_at(100)};
+  EXPECT_EQ(tp::detail::blob_bias_variance(lone[0], lone, o), 0.0);
+  lone[0].split = true;
+  EXPECT_NEAR(tp::detail::blob_bias_variance(lone[0], lone, o), std::pow(o.split_bias * r, 2), 1e-15);
+  tp::CorrespondenceOptions off = o;
+  off.crowded_bias_px = 0;
+  const std::vector<tp::Blob> pair{blob_at(100), blob_at(100 + 3 * r)};
+  EXPECT_EQ(tp::detail::blob_bias_variance(pair[0], pair, off), 0.0);
+
+  // gather(): per matched point, in the set's order.
+  const auto k = f450();
+  const auto cam = d435().pinhole();
+  touchdown::Rng rng(36);
+  const Eigen::Isometry3d T = front_toward_camera(rng, 1.0);
+  auto blobs = blobs_of(k, cam, T, rng, 0.0);
+  std::array<int, tp::kMaxLeds> assignment{};
+  assignment.fill(-1);
+  for (std::size_t l = 0; l < k.leds.size(); ++l) assignment[l] = static_cast<int>(l);
+  tp::detail::MatchedSet set;
+  tp::detail::gather(k, blobs, assignment, off, set);
+  EXPECT_TRUE(set.biases().empty());
+  blobs.push_back(blobs[1]);  // a lamp right beside LED 1's blob
+  blobs.back().uv_px += Eigen::Vector2d(1.0, 0);
+  tp::detail::gather(k, blobs, assignment, o, set);
+  ASSERT_EQ(set.biases().size(), set.n);
+  for (std::size_t i = 0; i < set.n; ++i) {
+    const double expected = tp::detail::blob_bias_variance(blobs[static_cast<std::size_t>(set.blob[i])], blobs, o);
+    EXPECT_EQ(set.biases()[i], expected) << i;
+    if (set.blob[i] == 1) {
+      EXPECT_GT(expected, 0.0);
+    }
+  }
+}
+
 // The P3P pre-test drops hypotheses whose fourth LED is far from where the
 // first three put it, before EPnP: the same assignments as without it, from
 // far fewer EPnP solves (six LED-coloured distractors around the board and

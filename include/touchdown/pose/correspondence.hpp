@@ -69,6 +69,23 @@ struct CorrespondenceOptions {
   /// estimate (Σr² / (2n − 6)) is raised to at least this, for the
   /// reprojection test between pose branches and the reported sigma.
   double detection_sigma_px = 0.2;
+  /// A blob whose centre lies within crowded_radii of its own radii
+  /// (r = √(area/π)) of another blob's centre is pulled by that blob's
+  /// glow: an error of its own, not the common pixel noise, which does not
+  /// average out over the LEDs and which the fit's residuals hide (the fit
+  /// leans toward it). Its variance is added to the fit's covariance (not
+  /// to its weights; GaussNewton's bias_variance): (crowded_bias_px · f)²,
+  /// f = 1 at half crowded_radii or closer, falling to 0 at crowded_radii
+  /// as ((crowded_radii − q) / (crowded_radii / 2))², q the distance in
+  /// radii. Measured on an independent renderer's frames (docs/benchmarks.md,
+  /// "LED pose: the sigma made true"): isolated centres 0.008–0.03 px off
+  /// (RMS), centres 4–5 radii from another 0.04–0.08 px, 3–4 radii 0.14 px.
+  /// 0 = off.
+  double crowded_radii = 8;
+  double crowded_bias_px = 0.05;
+  /// A blob split from a larger one (Blob::split; its neighbour's glow
+  /// pulls it by up to a pixel) has a bias of at least split_bias · r.
+  double split_bias = 0.25;
   /// A branch whose Σ squared reprojection error exceeds the other's by more
   /// than this × detection_sigma_px² is ruled out (χ², 3σ = 9).
   double branch_chi2 = 9.0;

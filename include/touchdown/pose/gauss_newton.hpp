@@ -69,8 +69,16 @@ struct PoseRefinement {
   /// pixel noise σ² without rescaling the other measurements' σ.
   Matrix6d pixel_information = Matrix6d::Zero();
   Matrix6d constraint_information = Matrix6d::Zero();
-  /// The twist covariance for a pixel noise variance [px²]:
-  /// (pixel_information / σ² + constraint_information)⁻¹.
+  /// Σ vᵢ JᵢᵀJᵢ over the points with a bias_variance vᵢ > 0 (Jᵢ the
+  /// reprojection's 2×6 Jacobian at the final pose) [px² · px²/twist²]:
+  /// the errors of single blobs that do not average out (a neighbour's
+  /// glow pulling a centre), carried into the covariance (covariance_for).
+  Matrix6d pixel_bias_moment = Matrix6d::Zero();
+  /// The twist covariance for a pixel noise variance σ² [px²]: with the
+  /// information I = pixel_information / σ² + constraint_information,
+  /// I⁻¹ + I⁻¹ (pixel_bias_moment / σ⁴) I⁻¹ — the fit's estimate is
+  /// unchanged by the points' bias variances, its covariance carries them
+  /// (the sandwich form of a least-squares estimate's covariance).
   [[nodiscard]] Matrix6d covariance_for(double pixel_variance) const;
   /// As every touchdown Result: true when it holds a usable answer (here a
   /// pose, also when the iteration limit stopped it before step_tolerance).
@@ -130,9 +138,13 @@ bool depth_residual(const Eigen::Isometry3d& T_camera_body, const Eigen::Vector3
 /// (and the depth error, with `depth`, and the attitude prior's, with
 /// `attitude`). rms_px is the reprojection's only; the covariance and the
 /// noise estimate count the depth and attitude residuals.
+/// `bias_variance` (empty = none): per point, an error of its own [px²]
+/// beyond the common pixel noise (blob_bias_variance() of its blob); it
+/// does not weigh the fit, it widens the covariance (pixel_bias_moment).
 PoseRefinement refine_pose_gauss_newton(const PinholeCamera& camera, std::span<const Eigen::Vector3d> p_body,
                                         std::span<const Eigen::Vector2d> uv_px, const Eigen::Isometry3d& initial,
                                         const GaussNewtonOptions& options = {}, const DepthConstraints& depth = {},
-                                        const AttitudeConstraint& attitude = {});
+                                        const AttitudeConstraint& attitude = {},
+                                        std::span<const double> bias_variance = {});
 
 }  // namespace touchdown::pose
