@@ -175,8 +175,21 @@ BranchDecision resolve_branches(const PinholeCamera& cam, const Constellation& k
   // with an attitude prior its χ² (the other branch is refined on the image
   // alone, so that the prior cannot pull it back onto the fit).
   const double count = static_cast<double>(set.n);
-  const double sigma2 =
-      std::max({fit.noise_variance, d.alternative.noise_variance, o.detection_sigma_px * o.detection_sigma_px});
+  // The noise both are judged by, at least detection_sigma_px²: the larger
+  // of the two branches' residual variances — unless detection_sigma_px is
+  // the camera's measured noise (the tracker's noise pool), then the better
+  // branch's. A wrong branch's residuals are its misfit, not noise; taking
+  // them as the noise made every misfit look like noise (seen on an
+  // independent renderer's 6-LED board at 3.2 m: the track's branch at
+  // 0.035 px RMS against the mirrored one at 0.139 px scored χ² 2.7 and the
+  // depth pattern then chose the wrong one; docs/benchmarks.md, "LED pose:
+  // the sigma made true"). Without a measured noise the larger is kept: two
+  // residual variances of a few degrees of freedom each are too noisy to
+  // trust the smaller.
+  const double floor = o.detection_sigma_px * o.detection_sigma_px;
+  const double sigma2 = o.detection_sigma_measured
+                            ? std::max(std::min(fit.noise_variance, d.alternative.noise_variance), floor)
+                            : std::max({fit.noise_variance, d.alternative.noise_variance, floor});
   const double delta =  // > 0: fit better
       count * (d.alternative.rms_px * d.alternative.rms_px - fit.rms_px * fit.rms_px) / sigma2 +
       attitude.chi2(d.alternative.T_camera_body.linear()) - attitude.chi2(fit.T_camera_body.linear());

@@ -378,6 +378,21 @@ struct LedTracker::Impl {
     led_to_blob.fill(-1);
   }
 
+  // The correspondence options the search and the branch test judge a fit
+  // by: the default detection noise until the noise pool vouches, then the
+  // camera's pooled noise (noise_floor()), so that a branch or assignment
+  // that reprojects several times worse than this camera's noise is ruled
+  // out rather than weighed against the 0.2 px default.
+  CorrespondenceOptions judged;
+  const CorrespondenceOptions& judging_options() {
+    judged = options.correspondence;
+    if (options.noise_pool_frames > 0 && static_cast<int>(noise_pool.size()) >= options.noise_pool_min_fits) {
+      judged.detection_sigma_px = std::sqrt(noise_floor());
+      judged.detection_sigma_measured = true;
+    }
+    return judged;
+  }
+
   bool try_track() {
     const Eigen::Isometry3d T = predicted();
     const Eigen::Vector3d c = T * const_centroid;
@@ -422,7 +437,7 @@ struct LedTracker::Impl {
     // The search's rule (ambiguity.hpp), with the prediction to settle the
     // mirrored branch; anything but Ok ends the track.
     const PoseStatus verdict = detail::vet_fit(pin, constellation, shape, work, led_to_blob, fit, &T,
-                                               options.reinit_rms_px, options.correspondence, attitude);
+                                               options.reinit_rms_px, judging_options(), attitude);
     // Uncertain on its own may still be Ok fused with the earlier frames.
     if (verdict != PoseStatus::Ok && verdict != PoseStatus::Uncertain) return false;
     settle(fit, static_cast<int>(set.n), false);
@@ -450,8 +465,7 @@ struct LedTracker::Impl {
       lose(PoseStatus::TooFewBlobs);
       return estimate;
     }
-    const Correspondence c =
-        detail::find_correspondences(pin, constellation, shape, work, options.correspondence, attitude);
+    const Correspondence c = detail::find_correspondences(pin, constellation, shape, work, judging_options(), attitude);
     if (c.status != PoseStatus::Ok && c.status != PoseStatus::Uncertain) {
       lose(c.status);
       return estimate;
@@ -461,9 +475,8 @@ struct LedTracker::Impl {
     int matched = c.matched;
     detail::MatchedSet set;
     if (options.shared_blob_margin_px >= 0 && drop_shared_blobs(fit, set)) {
-      const PoseStatus verdict =
-          detail::vet_fit(pin, constellation, shape, work, led_to_blob, fit, nullptr,
-                          options.correspondence.accept_rms_px, options.correspondence, attitude);
+      const PoseStatus verdict = detail::vet_fit(pin, constellation, shape, work, led_to_blob, fit, nullptr,
+                                                 options.correspondence.accept_rms_px, judging_options(), attitude);
       if (verdict != PoseStatus::Ok && verdict != PoseStatus::Uncertain) {
         lose(verdict);
         return estimate;

@@ -69,6 +69,11 @@ struct CorrespondenceOptions {
   /// estimate (Σr² / (2n − 6)) is raised to at least this, for the
   /// reprojection test between pose branches and the reported sigma.
   double detection_sigma_px = 0.2;
+  /// detection_sigma_px is this camera's measured noise, not a default (the
+  /// tracker sets it from its noise pool): the branch test then judges both
+  /// branches by the better one's residual variance (floored at it) rather
+  /// than the worse one's.
+  bool detection_sigma_measured = false;
   /// A blob whose centre lies within crowded_radii of its own radii
   /// (r = √(area/π)) of another blob's centre is pulled by that blob's
   /// glow: an error of its own, not the common pixel noise, which does not
