@@ -618,6 +618,18 @@ tp::Constellation quasi_planar_board() {
   return k;
 }
 
+// The quasi-planar board 0.1–0.4 rad off facing the camera, turned freely
+// about its normal, at a distance in [z_min, z_max] [m].
+Eigen::Isometry3d board_seen_from_below(touchdown::Rng& rng, double z_min, double z_max) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  const Eigen::Vector3d axis(rng.uniform(-1, 1), rng.uniform(-1, 1), 0);
+  T.linear() = (Eigen::AngleAxisd(rng.uniform(-M_PI, M_PI), Eigen::Vector3d::UnitZ()) *
+                Eigen::AngleAxisd(rng.uniform(0.1, 0.4), axis.normalized()))
+                   .toRotationMatrix();
+  T.translation() << rng.uniform(-0.1, 0.1), rng.uniform(-0.05, 0.05), rng.uniform(z_min, z_max);
+  return T;
+}
+
 bool wrong(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth) {
   return (estimate.translation() - truth.translation()).norm() > 0.1 || rotation_error(estimate, truth) > 0.1;
 }
@@ -665,12 +677,7 @@ TEST(Ambiguity, MeasuredNoiseSettlesWhatTheDefaultFloorCannot) {
   measured.detection_sigma_measured = true;
   int keep_default = 0, keep_measured = 0, switch_measured = 0, trials = 0;
   for (int trial = 0; trial < 60; ++trial) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    const Eigen::Vector3d axis(rng.uniform(-1, 1), rng.uniform(-1, 1), 0);
-    T.linear() = (Eigen::AngleAxisd(rng.uniform(-M_PI, M_PI), Eigen::Vector3d::UnitZ()) *
-                  Eigen::AngleAxisd(rng.uniform(0.1, 0.4), axis.normalized()))
-                     .toRotationMatrix();
-    T.translation() << rng.uniform(-0.1, 0.1), rng.uniform(-0.05, 0.05), rng.uniform(1.5, 3.0);
+    const Eigen::Isometry3d T = board_seen_from_below(rng, 1.5, 3.0);
     const auto blobs = blobs_of(k, cam, T, rng, 0.03);
     std::array<int, tp::kMaxLeds> assignment{};
     assignment.fill(-1);
@@ -726,12 +733,7 @@ TEST(Ambiguity, QuasiPlanarBoardIsNeverConfidentlyWrong) {
   touchdown::Rng rng(43);
   int ok = 0, ambiguous = 0, uncertain = 0, ok_with_depth = 0;
   for (int trial = 0; trial < 60; ++trial) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    const Eigen::Vector3d axis(rng.uniform(-1, 1), rng.uniform(-1, 1), 0);
-    T.linear() = (Eigen::AngleAxisd(rng.uniform(-M_PI, M_PI), Eigen::Vector3d::UnitZ()) *
-                  Eigen::AngleAxisd(rng.uniform(0.1, 0.4), axis.normalized()))
-                     .toRotationMatrix();
-    T.translation() << rng.uniform(-0.1, 0.1), rng.uniform(-0.05, 0.05), rng.uniform(0.8, 1.6);
+    const Eigen::Isometry3d T = board_seen_from_below(rng, 0.8, 1.6);
     auto blobs = blobs_of(k, cam, T, rng, 0.4);
     const auto c = tp::find_correspondences(cam, k, blobs);
     if (c.ok()) {
@@ -1059,12 +1061,7 @@ TEST(Ambiguity, AttitudePriorSettlesTheMirroredTilt) {
   const double sigma = 0.0175;
   int ok = 0, ambiguous = 0, ok_prior = 0, ambiguous_prior = 0;
   for (int trial = 0; trial < 60; ++trial) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    const Eigen::Vector3d axis(rng.uniform(-1, 1), rng.uniform(-1, 1), 0);
-    T.linear() = (Eigen::AngleAxisd(rng.uniform(-M_PI, M_PI), Eigen::Vector3d::UnitZ()) *
-                  Eigen::AngleAxisd(rng.uniform(0.1, 0.4), axis.normalized()))
-                     .toRotationMatrix();
-    T.translation() << rng.uniform(-0.1, 0.1), rng.uniform(-0.05, 0.05), rng.uniform(0.8, 1.6);
+    const Eigen::Isometry3d T = board_seen_from_below(rng, 0.8, 1.6);
     const auto blobs = blobs_of(k, cam.pinhole(), T, rng, 0.4);
     const Eigen::Vector3d g = Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal()).normalized();
     auto noisy = [&](const Eigen::Vector3d& v) {
