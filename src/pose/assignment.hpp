@@ -50,7 +50,7 @@ bool matched_leds_face_camera(const Constellation& constellation, const std::arr
                               const Eigen::Isometry3d& T_camera_body, double emission_margin);
 
 // The variance [px²] of blob b's centre error of its own under o's
-// crowding model (CorrespondenceOptions::crowded_bias): from the nearest
+// crowding model (CorrespondenceOptions::crowded_bias_px): from the nearest
 // other blob of `blobs` and b's split flag.
 double blob_bias_variance(const Blob& b, std::span<const Blob> blobs, const CorrespondenceOptions& o);
 
