@@ -139,6 +139,28 @@ double depth_misfit(const Constellation& k, std::span<const Blob> blobs, const s
   return chi2;
 }
 
+namespace {
+// P(a, x) = γ(a, x) / Γ(a) = x^a e^−x / Γ(a + 1) · Σₙ xⁿ / ((a + 1)…(a + n)).
+double lower_gamma_regularised(double a, double x) {
+  if (x <= 0) return 0;
+  double term = 1, sum = 1;
+  for (int n = 1; n < 1000 && term > 1e-16 * sum; ++n) {
+    term *= x / (a + n);
+    sum += term;
+  }
+  return std::min(1.0, std::exp(a * std::log(x) - x - std::lgamma(a + 1)) * sum);
+}
+}  // namespace
+
+double chi2_quantile(double dof, double p) {
+  double lo = 0, hi = dof + 20 * std::sqrt(2 * dof) + 20;
+  for (int i = 0; i < 200 && hi - lo > 1e-12 * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (lower_gamma_regularised(0.5 * dof, 0.5 * mid) < p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
 Matrix6d fit_covariance(const PoseRefinement& fit, double floor_variance) {
   return fit.covariance_for(std::max(fit.noise_variance, floor_variance));
 }

@@ -67,6 +67,12 @@ double depth_misfit(const Constellation& constellation, std::span<const Blob> bl
 // max(σ², floor_variance) [px²]; the depths and the attitude prior count
 // with their own σ (PoseRefinement::covariance_for).
 Matrix6d fit_covariance(const PoseRefinement& fit, double floor_variance);
+// The p-quantile of the χ² distribution with `dof` degrees of freedom
+// (dof > 0, 0 < p < 1): bisection on the regularised lower incomplete gamma
+// function P(dof/2, x/2) by its power series (Abramowitz & Stegun 6.5.29).
+// A fit's σ̂² = cost / dof is σ² χ²_dof / dof, so σ̂² · dof / chi2_quantile(dof,
+// α) bounds σ² from above at confidence 1 − α.
+double chi2_quantile(double dof, double p);
 // The 1-σ position [m] and rotation [rad] of a fit (pose_sigmas of
 // fit_covariance floored at detection_sigma_px²), and whether
 // they exceed the options' sigma_limits (with or without an attitude prior).

@@ -279,6 +279,7 @@ PoseRefinement refine_pose_gauss_newton(const PinholeCamera& cam, std::span<cons
       2.0 * static_cast<double>(n) + static_cast<double>(depth_count) + (with_attitude ? 2.0 : 0.0) - 6.0;
   // H, H_pixels and H_constraints as of the last accumulate() (at T, with its Huber weights).
   finish_refinement(cam, p_body, uv, T, H, H_pixels, H_constraints, dof > 0 ? cost / dof : 0.0, bias_variance, out);
+  out.degrees_of_freedom = std::max(dof, 0.0);
   return out;
 }
 

@@ -35,6 +35,9 @@ bool TrackerOptions::validate(std::string* why) const {
   if (noise_pool_min_fits < 1 || (noise_pool_frames > 0 && noise_pool_min_fits > noise_pool_frames)) {
     return fail("noise_pool_min_fits: must be in 1..noise_pool_frames");
   }
+  if (!(unpooled_noise_confidence >= 0 && unpooled_noise_confidence < 1)) {
+    return fail("unpooled_noise_confidence: must be in [0, 1)");
+  }
   if (!std::isfinite(shared_blob_margin_px)) return fail("shared_blob_margin_px: must be finite (< 0 = off)");
   if (!(min_detection_sigma_px > 0 && min_detection_sigma_px <= correspondence.detection_sigma_px)) {
     return fail("min_detection_sigma_px: must be in (0, correspondence.detection_sigma_px]");
@@ -66,6 +69,10 @@ struct LedTracker::Impl {
   PoseEstimate estimate;
   std::array<int, kMaxLeds> led_to_blob{};
   std::vector<double> noise_pool, noise_sorted;  // tracked fits' σ̂² (ring), scratch
+  // k / χ²_k(1 − c) by k (judged_noise; 0 = not computed yet): k ≤ 2 per
+  // LED + 1 per depth + 2 for the attitude − 6. Fixed size: tracking a frame
+  // does not allocate.
+  std::array<double, 3 * kMaxLeds> noise_bound_factor{};
   std::size_t noise_next = 0;
   bool tracking = false;
   bool have_velocity = false;
@@ -239,7 +246,7 @@ struct LedTracker::Impl {
   // fit starts a new track (the filter restarts).
   void settle(const PoseRefinement& fit, int points, bool fresh) {
     const CorrespondenceOptions& co = options.correspondence;
-    Matrix6d covariance = detail::fit_covariance(fit, noise_floor());
+    Matrix6d covariance = fit.covariance_for(std::max(judged_noise(fit), noise_floor()));
     if (!fresh) pool_noise(fit.noise_variance);
     Eigen::Isometry3d T = fit.T_camera_body;
     std::pair<double, double> sigma = pose_sigmas(covariance, T);
@@ -341,16 +348,35 @@ struct LedTracker::Impl {
     return true;
   }
 
+  // The pool holds enough tracked fits to stand for this camera's noise.
+  [[nodiscard]] bool pool_vouches() const {
+    return options.noise_pool_frames > 0 && static_cast<int>(noise_pool.size()) >= options.noise_pool_min_fits;
+  }
+
+  // The pixel noise variance a fit's covariance assumes before the floor:
+  // its own σ̂², raised to its upper confidence bound while the pool does
+  // not vouch (TrackerOptions::unpooled_noise_confidence).
+  double judged_noise(const PoseRefinement& fit) {
+    const double c = options.unpooled_noise_confidence;
+    const double k = fit.degrees_of_freedom;
+    if (pool_vouches() || !(c > 0) || !(k > 0)) return fit.noise_variance;
+    const auto key = static_cast<std::size_t>(std::lround(k));  // a whole number
+    if (key >= noise_bound_factor.size()) return fit.noise_variance * k / detail::chi2_quantile(k, 1 - c);
+    double& f = noise_bound_factor[key];
+    if (!(f > 0)) f = k / detail::chi2_quantile(k, 1 - c);
+    return fit.noise_variance * f;
+  }
+
   // The detection-noise variance floor (TrackerOptions::noise_pool_frames).
   double noise_floor() {
     const double sd = options.correspondence.detection_sigma_px;
     const int n = static_cast<int>(noise_pool.size());
-    if (options.noise_pool_frames == 0 || n < options.noise_pool_min_fits) return sd * sd;
+    if (!pool_vouches()) return sd * sd;
     noise_sorted.assign(noise_pool.begin(), noise_pool.end());
     const auto mid = noise_sorted.begin() + n / 2;
     std::nth_element(noise_sorted.begin(), mid, noise_sorted.end());
     const double lo = options.min_detection_sigma_px;
-    return std::clamp(1.25 * *mid, lo * lo, sd * sd);
+    return std::max(1.25 * *mid, lo * lo);
   }
 
   void pool_noise(double variance) {
@@ -386,7 +412,7 @@ struct LedTracker::Impl {
   CorrespondenceOptions judged;
   const CorrespondenceOptions& judging_options() {
     judged = options.correspondence;
-    if (options.noise_pool_frames > 0 && static_cast<int>(noise_pool.size()) >= options.noise_pool_min_fits) {
+    if (pool_vouches()) {
       judged.detection_sigma_px = std::sqrt(noise_floor());
       judged.detection_sigma_measured = true;
     }

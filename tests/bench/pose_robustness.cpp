@@ -13,7 +13,12 @@
 //                   [--profile clean|harsh=harsh] [--no-depth] [--fuse]
 //                   [--max-sigma X] [--max-wrong-ok N] [--min-success R]
 //                   [--calibration] [--centroids] [--floor-px X=0.1]
+//                   [--attitude SIGMA_DEG]
 //
+// --attitude gives the tracker the drone's attitude as a prior each frame
+// (LedTracker::track with an AttitudePrior): gravity fixed in the camera
+// frame, both directions with SIGMA_DEG of noise per axis, as the IMUs would
+// measure them; --max-sigma then sets the limits with the prior too.
 // --calibration prints the reported sigma against the true error by sigma
 // bin; --centroids the matched, un-merged blobs' centre error by blob area.
 // It also counts the frames with >= 4 un-merged LEDs whose pose could pass
@@ -36,6 +41,7 @@
 #include <string_view>
 #include <vector>
 
+#include "touchdown/core/random.hpp"
 #include "touchdown/pose/gauss_newton.hpp"
 #include "touchdown/pose/led_tracker.hpp"
 #include "touchdown/pose/sim/pose_benchmark.hpp"
@@ -56,6 +62,7 @@ struct Args {
   bool calibration = false;  // print error / sigma by sigma bin
   bool centroids = false;    // print the matched blobs' centre errors by blob area
   double max_sigma = -1;     // < 0: the tracker's default
+  double attitude_deg = -1;  // > 0: an attitude prior with this noise [deg]
   double floor_px = 0.1;     // detection noise of the feasibility bound [px]
   long max_wrong_ok = -1;    // < 0: no check
   double min_success = -1;   // < 0: no check
@@ -102,6 +109,9 @@ Args parse(int argc, char** argv) {
       }
     } else if (k == "--max-sigma") {
       a.max_sigma = std::atof(v);
+    } else if (k == "--attitude") {
+      a.attitude_deg = std::atof(v);
+      if (!(a.attitude_deg > 0 && a.attitude_deg < 90)) usage("--attitude: must be in (0, 90) degrees");
     } else if (k == "--floor-px") {
       a.floor_px = std::atof(v);
     } else if (k == "--max-wrong-ok") {
@@ -196,6 +206,27 @@ bool feasible(const tp::CameraModel& camera, const tp::Constellation& k, const t
   return position <= o.correspondence.max_sigma_position_m && rotation <= o.correspondence.max_sigma_rotation_rad;
 }
 
+// The attitude prior of frame i (--attitude): gravity fixed in the camera
+// frame (a camera tilted up on a level vehicle), both measured directions
+// turned by sigma_deg of noise per axis, seeded by the sequence and frame.
+tp::AttitudePrior attitude_prior(const Eigen::Isometry3d& T_camera_body, double sigma_deg, std::uint64_t seed,
+                                 std::size_t i) {
+  touchdown::Rng rng(seed * 1000003ULL + i);
+  const double s = sigma_deg * 3.14159265358979323846 / 180;
+  auto noisy = [&](const Eigen::Vector3d& v) {
+    const Eigen::Vector3d a(rng.normal(0, s), rng.normal(0, s), rng.normal(0, s));
+    return (Eigen::AngleAxisd(a.norm(), a.norm() > 0 ? a.normalized() : Eigen::Vector3d::UnitX()) * v)
+        .normalized()
+        .eval();
+  };
+  const Eigen::Vector3d g = Eigen::Vector3d(0.0, 0.94, -0.34).normalized();
+  tp::AttitudePrior prior;
+  prior.g_camera = noisy(g);
+  prior.g_body = noisy(T_camera_body.linear().transpose() * g);
+  prior.sigma_rad = s;
+  return prior;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -205,6 +236,8 @@ int main(int argc, char** argv) {
   options.fuse_frames = args.fuse;
   if (args.max_sigma >= 0) {  // the uncertainty gate (position [m] and rotation [rad])
     options.correspondence.max_sigma_position_m = options.correspondence.max_sigma_rotation_rad = args.max_sigma;
+    options.correspondence.attitude_max_sigma_position_m = args.max_sigma;
+    options.correspondence.attitude_max_sigma_rotation_rad = args.max_sigma;
   }
   tp::RenderOptions render = tp::apply_profile({}, args.profile);
   render.render_marker = false;
@@ -232,7 +265,11 @@ int main(int argc, char** argv) {
       for (std::size_t i = 0; i < trajectory.size(); ++i) {
         synth.render(trajectory[i].T_camera_body, tp::motion_blur_start(trajectory, i), render_seed, i, frame);
         const touchdown::DepthImageView depth = frame.depth.view();
-        const tp::PoseEstimate& e = tracker.track(frame.colour.view(), args.use_depth ? &depth : nullptr);
+        const tp::PoseEstimate& e =
+            args.attitude_deg > 0
+                ? tracker.track(frame.colour.view(), args.use_depth ? &depth : nullptr,
+                                attitude_prior(trajectory[i].T_camera_body, args.attitude_deg, render_seed, i))
+                : tracker.track(frame.colour.view(), args.use_depth ? &depth : nullptr);
         int visible = 0, clear = 0;
         for (std::size_t l = 0; l < frame.led_visible.size(); ++l) {
           visible += frame.led_visible[l] ? 1 : 0;

@@ -504,9 +504,12 @@ TEST(LedTracker, BlobTwoLedsShareStaysOutOfTheFit) {
   const auto [ok_on, worst_on] = run(0.5);
   EXPECT_GE(ok_on, 19);
   EXPECT_LT(worst_on, 0.005);
-  // Without the rule the blob pulls the fit.
+  // Without the rule the blob pulls the fit: the poses are worse, or — now
+  // that the track's pooled noise is not capped at the 0.2 px default — its
+  // residual widens the σ past the limit and no pose is reported (seen: 0
+  // of 20 Ok).
   const auto [ok_off, worst_off] = run(-1);
-  EXPECT_GT(worst_off, 3 * worst_on) << ok_off;
+  EXPECT_TRUE(ok_off <= ok_on / 2 || worst_off > 3 * worst_on) << ok_off << " Ok, worst " << worst_off;
 }
 
 TEST(LedTracker, JumpOffThePredictionGoesToTheSearch) {
@@ -755,7 +758,11 @@ TEST(Ambiguity, QuasiPlanarBoardIsNeverConfidentlyWrong) {
 }
 
 // The reported 1-σ position and rotation match the scatter of the
-// estimates under 0.5 px of blob noise, within a factor of two.
+// estimates under 0.5 px of blob noise — more than the 0.2 px default floor
+// assumes — within a factor of two, once the track has pooled its fits'
+// noise (the seventh frame of each track: the first is the search, not
+// pooled; the pool is not capped at the default floor). Seen: 1.15× and
+// 1.12×; before the pool vouches the σ is an upper bound (below).
 TEST(LedTracker, SigmaMatchesTheObservedScatter) {
   const auto k = f450();
   const auto cam = d435();
@@ -765,21 +772,76 @@ TEST(LedTracker, SigmaMatchesTheObservedScatter) {
   T.translation() << 0.05, 0.02, 1.0;
   double sum_sq = 0, sum_sigma = 0, sum_rot_sq = 0, sum_rot_sigma = 0;
   const int trials = 200;
+  tp::TrackerOptions o;
+  o.correspondence.max_sigma_position_m = o.correspondence.max_sigma_rotation_rad = 1;  // calibration, not the gate
   for (int i = 0; i < trials; ++i) {
-    tp::LedTracker tracker(cam, k);
+    tp::LedTracker tracker(cam, k, o);
+    for (int f = 0; f <= o.noise_pool_min_fits; ++f) (void)tracker.track_blobs(blobs_of(k, cam.pinhole(), T, rng, 0.5));
     const auto& e = tracker.track_blobs(blobs_of(k, cam.pinhole(), T, rng, 0.5));
-    ASSERT_TRUE(e.ok());
+    ASSERT_TRUE(e.ok()) << i << ": " << tp::to_string(e.status);
     sum_sq += (e.T_camera_body.translation() - T.translation()).squaredNorm();
     sum_sigma += e.sigma_position_m;
     sum_rot_sq += std::pow(rotation_error(e.T_camera_body, T), 2);
     sum_rot_sigma += e.sigma_rotation_rad;
   }
   const double rms = std::sqrt(sum_sq / trials), sigma = sum_sigma / trials;
-  EXPECT_GT(sigma, 0.5 * rms);
-  EXPECT_LT(sigma, 2.0 * rms);
+  EXPECT_GT(sigma, 0.75 * rms);
+  EXPECT_LT(sigma, 1.5 * rms);
   const double rot_rms = std::sqrt(sum_rot_sq / trials), rot_sigma = sum_rot_sigma / trials;
-  EXPECT_GT(rot_sigma, 0.5 * rot_rms);
-  EXPECT_LT(rot_sigma, 2.0 * rot_rms);
+  EXPECT_GT(rot_sigma, 0.75 * rot_rms);
+  EXPECT_LT(rot_sigma, 1.5 * rot_rms);
+}
+
+// The χ² quantile behind the bound, against the closed form for 2 degrees
+// of freedom (−2 ln(1 − p)) and printed tables (NIST/SEMATECH e-Handbook,
+// 1.3.6.7.4), the 99.9 % point for 6 included (the NEES bound of the
+// benchmarks, 22.458).
+TEST(LedTracker, ChiSquareQuantileMatchesTables) {
+  for (const double p : {0.001, 0.05, 0.5, 0.95, 0.999}) {
+    EXPECT_NEAR(tp::detail::chi2_quantile(2, p), -2 * std::log(1 - p), 1e-9) << p;
+  }
+  EXPECT_NEAR(tp::detail::chi2_quantile(1, 0.05), 0.00393, 1e-5);
+  EXPECT_NEAR(tp::detail::chi2_quantile(6, 0.05), 1.635, 1e-3);
+  EXPECT_NEAR(tp::detail::chi2_quantile(10, 0.05), 3.940, 1e-3);
+  EXPECT_NEAR(tp::detail::chi2_quantile(3, 0.999), 16.266, 1e-3);
+  EXPECT_NEAR(tp::detail::chi2_quantile(6, 0.999), 22.458, 1e-3);
+  EXPECT_NEAR(tp::detail::chi2_quantile(30, 0.95), 43.773, 1e-3);
+}
+
+// The first frame of a track, on a camera noisier than the default floor:
+// its σ rests on the frame's own σ̂² (6 degrees of freedom here), which is
+// often well below the noise by chance. Raised to its 95 % upper bound
+// (TrackerOptions::unpooled_noise_confidence) the σ covers the error: few
+// Ok frames beyond 3 σ — where the point estimate leaves several times as
+// many.
+TEST(LedTracker, FirstFrameSigmaCoversTheErrorOfANoisyCamera) {
+  const auto k = f450();
+  const auto cam = d435();
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() << 0.05, 0.02, 1.0;
+  auto beyond = [&](double confidence) {
+    touchdown::Rng rng(46);
+    tp::TrackerOptions o;
+    o.unpooled_noise_confidence = confidence;
+    o.correspondence.max_sigma_position_m = o.correspondence.max_sigma_rotation_rad = 1;  // every frame counts
+    int ok = 0, out = 0;
+    for (int i = 0; i < 1000; ++i) {
+      tp::LedTracker tracker(cam, k, o);
+      const auto& e = tracker.track_blobs(blobs_of(k, cam.pinhole(), T, rng, 0.5));
+      if (!e.ok()) continue;
+      ++ok;
+      out += (e.T_camera_body.translation() - T.translation()).norm() > 3 * e.sigma_position_m ||
+             rotation_error(e.T_camera_body, T) > 3 * e.sigma_rotation_rad;
+    }
+    return std::pair{ok, out};
+  };
+  const auto [ok, out] = beyond(tp::TrackerOptions{}.unpooled_noise_confidence);
+  const auto [ok_point, out_point] = beyond(0);
+  EXPECT_GT(ok, 900);
+  EXPECT_GT(ok_point, 900);
+  EXPECT_LE(out, 10);                          // seen: 3 of 1000
+  EXPECT_GE(out_point, 3 * std::max(out, 3));  // seen: 36
 }
 
 // A sensor quieter than the default floor (detection_sigma_px = 0.2 px):
@@ -862,7 +924,10 @@ Eigen::Isometry3d approach(const Eigen::Isometry3d& far, int f) {
 // A board too far to vouch for gives Uncertain frames — no pose, the 1-σ
 // that failed the gate — but the track goes on: the later frames are
 // matched against its prediction (not re-searched), and when the drone
-// comes close the tracked pose is Ok and right.
+// comes close the tracked pose is Ok and right. 0.3 px of blob noise: with
+// 0.5 px this small board's rotation σ, now measured from the track's
+// pooled noise rather than capped at the 0.2 px default, stays above 0.03
+// down to 0.9 m.
 TEST(LedTracker, UncertainFramesKeepTheTrack) {
   const auto k = tp::front_board_constellation();
   const tp::CameraModel camera = d435();
@@ -873,7 +938,7 @@ TEST(LedTracker, UncertainFramesKeepTheTrack) {
   int uncertain = 0, searched_after_first = 0;
   for (int f = 0; f < 40; ++f) {
     const Eigen::Isometry3d T = approach(far, f);
-    auto blobs = blobs_of(k, cam, T, rng, 0.5);
+    auto blobs = blobs_of(k, cam, T, rng, 0.3);
     add_depth(blobs, k, cam, T, rng);
     const tp::PoseEstimate& e = tracker.track_blobs(blobs);
     if (e.status == tp::PoseStatus::Uncertain) {
@@ -976,7 +1041,8 @@ TEST(PoseFilter, FollowsConstantVelocityAndRestartsOnAJump) {
 }
 
 // The tracker with fuse_frames: on a board approaching from afar, at least
-// as many frames Ok as frame by frame, none wrong.
+// as many frames Ok as frame by frame, none wrong (0.3 px of blob noise:
+// seen 25 Ok, 35 Uncertain of 60).
 // Fusion lowers the σ but does not admit a frame the σ limit rejects on its
 // own (issue 33: a track on the wrong branch fused into confident wrong
 // poses): fed the same blobs, the fused tracker is Ok on exactly the frames
@@ -995,7 +1061,7 @@ TEST(LedTracker, FusedFramesAreOkOnlyWhenTheFrameIsAndNeverWrong) {
     const double s = f / 59.0;
     Eigen::Isometry3d T = far;
     T.translation() = far.translation() * (1 - s) + Eigen::Vector3d(0.02, -0.01, 1.2) * s;
-    auto blobs = blobs_of(k, cam, T, rng, 0.5);
+    auto blobs = blobs_of(k, cam, T, rng, 0.3);
     add_depth(blobs, k, cam, T, rng);
     const tp::PoseEstimate a = alone.track_blobs(blobs);
     const tp::PoseEstimate& e = fused.track_blobs(blobs);
@@ -1015,9 +1081,11 @@ TEST(LedTracker, FusedFramesAreOkOnlyWhenTheFrameIsAndNeverWrong) {
 
 // The σ limit with an attitude prior is its own option (issue 33): by
 // default the same 0.03, so every Ok frame is within it; lifted, the far
-// frames are reported with the σ they have. Not asserted: that the σ then
-// covers the error — on these blobs (0.5 px noise) frame 4 came out
-// 0.155 rad wrong with σ_rot 0.039, the reason the default keeps the limit.
+// frames are reported with the σ they have, and it covers their error: no
+// frame wrong by 0.1 m or 0.1 rad beyond 3 σ. On these blobs (0.5 px noise)
+// frame 4 came out 0.155 rad wrong with σ_rot 0.039 while the track's
+// noise was the frame's own σ̂² — now its upper bound until the pool
+// vouches (TrackerOptions::unpooled_noise_confidence): σ_rot 0.055.
 TEST(LedTracker, AttitudeSigmaLimitIsItsOwnOption) {
   const auto k = tp::front_board_constellation();
   const tp::CameraModel camera = d435();
@@ -1044,6 +1112,13 @@ TEST(LedTracker, AttitudeSigmaLimitIsItsOwnOption) {
       EXPECT_TRUE(w.sigma_position_m <= 0.03 && w.sigma_rotation_rad <= 0.03) << f;
     }
     ok_loose += l.ok() && (l.sigma_position_m > 0.03 || l.sigma_rotation_rad > 0.03);
+    if (l.ok()) {
+      const double dp = (l.T_camera_body.translation() - T.translation()).norm();
+      const double dr = rotation_error(l.T_camera_body, T);
+      EXPECT_FALSE((dp > 0.1 || dr > 0.1) && (dp > 3 * l.sigma_position_m || dr > 3 * l.sigma_rotation_rad))
+          << f << ": " << dp << " m, " << dr << " rad off, sigma " << l.sigma_position_m << ", "
+          << l.sigma_rotation_rad;
+    }
   }
   EXPECT_GE(ok_loose, 3);  // reported, with their σ, instead of held back
 }

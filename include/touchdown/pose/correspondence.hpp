@@ -139,11 +139,11 @@ struct CorrespondenceOptions {
   double max_sigma_rotation_rad = 0.03;
   /// The limits when an attitude prior is given (LedTracker::track with an
   /// AttitudePrior): the same 0.03 by default. On the independent
-  /// renderer's frames the prior without a limit gave 0.987 success and no
-  /// frame wrong beyond 3 σ, but on our own synthetic blobs with 0.5 px
-  /// noise a far frame came out 0.155 rad wrong with σ_rot 0.039 (the
-  /// pixel noise under-estimated before the track's pool fills) — so the
-  /// limit stays until the σ is calibrated per blob (issue 33, item 2).
+  /// renderer's frames the prior without a limit gave 0.986 success and no
+  /// frame wrong beyond 3 σ; on our own renderer's harsh profile 2 of 1 524
+  /// Ok frames were (tracked fits reprojecting at 1.6–2.4 px: a wrong blob
+  /// in the fit, which no noise model covers) — so the limit stays
+  /// (docs/benchmarks.md, "LED pose: a noisy camera's sigma").
   double attitude_max_sigma_position_m = 0.03;
   double attitude_max_sigma_rotation_rad = 0.03;
   /// The limits (position [m], rotation [rad]) that apply with or without

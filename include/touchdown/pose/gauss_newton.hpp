@@ -62,6 +62,9 @@ struct PoseRefinement {
   Matrix6d covariance = Matrix6d::Zero();       ///< of the left-perturbation twist, σ² (JᵀWJ)⁻¹
   Matrix6d unit_covariance = Matrix6d::Zero();  ///< (JᵀWJ)⁻¹: the covariance for 1 px² of pixel noise
   double noise_variance = 0;                    ///< σ² = Σ w r² / (2n − 6) [px²], the residuals' estimate
+  /// The degrees of freedom noise_variance rests on: 2n − 6, plus one per
+  /// fused depth and two for an attitude constraint (0: no estimate).
+  double degrees_of_freedom = 0;
   /// The information (inverse covariance) the fit's measurements carry, in
   /// two parts: the reprojections' Σ w JᵀJ for 1 px² of pixel noise, and
   /// that of the depths and the attitude in their own σ (the pixel scale of

@@ -78,8 +78,10 @@ struct TrackerOptions {
   /// correspondence.detection_sigma_px; then it is the noise scale measured
   /// on this camera: 1.25 × the median σ̂² of the last noise_pool_frames
   /// tracked fits (1.25 covers the median's bias below the mean of a χ²
-  /// with few degrees of freedom), kept within
-  /// [min_detection_sigma_px², detection_sigma_px²]. One frame's σ̂² rests
+  /// with few degrees of freedom), at least min_detection_sigma_px² — and
+  /// above detection_sigma_px² when the camera is noisier than that default
+  /// (before issue 33 the pool was capped there, and a 0.5 px camera's σ
+  /// then came from single frames' σ̂²). One frame's σ̂² rests
   /// on 6–14 degrees of freedom and can be small by chance; the pool's
   /// median cannot, and a sensor quieter than the default floor no longer
   /// has its poses' sigma overstated (docs/benchmarks.md, "Data it was not
@@ -91,6 +93,15 @@ struct TrackerOptions {
   /// frames judged at the default floor (docs/benchmarks.md, "LED pose:
   /// physical reflections").
   int noise_pool_min_fits = 5;
+  /// Until the pool vouches, a frame noisier than the default floor is
+  /// judged by its own σ̂², which rests on a few degrees of freedom and is
+  /// often well below the noise by chance (σ̂² ~ σ² χ²_k / k: with k = 6,
+  /// below half of σ² one time in five): the σ it would give does not cover
+  /// the error (a board at 3 m with 0.5 px noise came out 0.155 rad wrong
+  /// with σ_rot 0.039). The covariance then assumes the upper bound
+  /// σ̂² k / χ²_k(1 − c) of the noise at this confidence c instead (k = 6:
+  /// 3.7 σ̂²). 0 = off (the point estimate).
+  double unpooled_noise_confidence = 0.95;
   /// A matched blob within 1.5 × its radius √(area/π) + this [px] of an
   /// unmatched, facing LED's reprojection is the two LEDs merged and leaves
   /// the fit, as long as the fit keeps correspondence.search_min_leds
