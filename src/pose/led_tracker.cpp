@@ -35,6 +35,11 @@ bool TrackerOptions::validate(std::string* why) const {
   if (noise_pool_min_fits < 1 || (noise_pool_frames > 0 && noise_pool_min_fits > noise_pool_frames)) {
     return fail("noise_pool_min_fits: must be in 1..noise_pool_frames");
   }
+  if (track_min_leds < 3 || track_min_leds > correspondence.min_leds) {
+    return fail("track_min_leds: must be in 3..correspondence.min_leds");
+  }
+  if (!(few_led_jump_m > 0)) return fail("few_led_jump_m: must be positive");
+  if (!(few_led_jump_rad > 0)) return fail("few_led_jump_rad: must be positive");
   if (!(unpooled_noise_confidence >= 0 && unpooled_noise_confidence < 1)) {
     return fail("unpooled_noise_confidence: must be in [0, 1)");
   }
@@ -247,7 +252,7 @@ struct LedTracker::Impl {
   void settle(const PoseRefinement& fit, int points, bool fresh) {
     const CorrespondenceOptions& co = options.correspondence;
     Matrix6d covariance = fit.covariance_for(std::max(judged_noise(fit), noise_floor()));
-    if (!fresh) pool_noise(fit.noise_variance);
+    if (!fresh && fit.degrees_of_freedom > 0) pool_noise(fit.noise_variance);  // 3 LEDs: no estimate
     Eigen::Isometry3d T = fit.T_camera_body;
     std::pair<double, double> sigma = pose_sigmas(covariance, T);
     const std::pair<double, double> own = sigma;  // the frame's own: the limit holds for it too
@@ -425,8 +430,12 @@ struct LedTracker::Impl {
     if (!(c.z() > 1e-6)) return false;
     gate(T);
     suppress_duplicates(options.duplicate_fraction * min_led_spacing * pin.fx / c.z());
+    // Fewer LEDs than a pose may otherwise rest on only right after an Ok
+    // frame of this track (TrackerOptions::track_min_leds).
+    const bool last_ok = estimate.status == PoseStatus::Ok;
+    const int need = last_ok ? options.track_min_leds : options.correspondence.min_leds;
     int matched = matcher.match(pin, constellation, work, T, options.track_gate_px, emission_margin, led_to_blob);
-    if (matched < options.correspondence.min_leds) return false;
+    if (matched < need) return false;
     // Most of the blobs around the prediction unexplained: the track may
     // have locked onto a wrong assignment; let the full search decide.
     const int explainable = static_cast<int>(std::min(constellation.leds.size(), work.size()));
@@ -441,7 +450,7 @@ struct LedTracker::Impl {
     std::array<int, kMaxLeds> again{};
     matched = matcher.match(pin, constellation, work, fit.T_camera_body, options.correspondence.inlier_px,
                             emission_margin, again);
-    if (matched >= options.correspondence.min_leds && again != led_to_blob) {
+    if (matched >= need && again != led_to_blob) {
       led_to_blob = again;
       detail::gather(constellation, work, led_to_blob, options.correspondence, set);
       const PoseRefinement f2 =
@@ -456,16 +465,23 @@ struct LedTracker::Impl {
     // may itself be wrong.
     const bool vouched =
         estimate.status == PoseStatus::Ok && (previous_ok || !(options.constant_velocity && have_velocity));
-    if (vouched && ((fit.T_camera_body.translation() - T.translation()).norm() > options.max_jump_m ||
-                    detail::rotation_angle(fit.T_camera_body.linear(), T.linear()) > options.max_jump_rad)) {
-      return false;
-    }
+    auto jumped = [&](double m, double rad) {
+      return (fit.T_camera_body.translation() - T.translation()).norm() > m ||
+             detail::rotation_angle(fit.T_camera_body.linear(), T.linear()) > rad;
+    };
+    if (vouched && jumped(options.max_jump_m, options.max_jump_rad)) return false;
+    const bool few = static_cast<int>(set.n) < options.correspondence.min_leds;
+    if (few && !vouched) return false;
     // The search's rule (ambiguity.hpp), with the prediction to settle the
     // mirrored branch; anything but Ok ends the track.
     const PoseStatus verdict = detail::vet_fit(pin, constellation, shape, work, led_to_blob, fit, &T,
                                                options.reinit_rms_px, judging_options(), attitude);
     // Uncertain on its own may still be Ok fused with the earlier frames.
     if (verdict != PoseStatus::Ok && verdict != PoseStatus::Uncertain) return false;
+    // On fewer LEDs the prediction is the only check: the fit the branch
+    // test settled on (it may have switched to the other branch by the
+    // depth pattern) must still be the prediction's.
+    if (few && jumped(options.few_led_jump_m, options.few_led_jump_rad)) return false;
     settle(fit, static_cast<int>(set.n), false);
     return true;
   }
@@ -476,7 +492,7 @@ struct LedTracker::Impl {
     if (!options.use_depth) {
       for (auto& b : work) b.has_point = false;
     }
-    if (tracking && work.size() >= static_cast<std::size_t>(options.correspondence.min_leds) && try_track()) {
+    if (tracking && work.size() >= static_cast<std::size_t>(options.track_min_leds) && try_track()) {
       estimate.blobs = static_cast<int>(work.size());
       return estimate;
     }

@@ -53,6 +53,20 @@ struct TrackerOptions {
   /// docs/benchmarks.md, "LED pose: joined blobs out of the fit").
   double max_jump_m = 0.25;
   double max_jump_rad = 0.25;  ///< see max_jump_m [rad]
+  /// A tracked frame may rest on this many LEDs (3 or more; below
+  /// correspondence.min_leds) when the previous frame was Ok on the same
+  /// track: an LED dropped out or left the image for a frame. Three LEDs fix
+  /// a pose exactly — no residual left to check it by, and up to four P3P
+  /// solutions — so the constant-velocity prediction must vouch for it: the
+  /// fit is refined from the prediction (the nearest solution), the branch
+  /// test's tracked-motion rule weighs the mirrored one, and the fit must lie
+  /// within few_led_jump_m / few_led_jump_rad of the prediction (a 1 g
+  /// acceleration moves 5.5 mm off it in 1/30 s). Its σ is the track's
+  /// pooled noise through the three LEDs' geometry. = correspondence.min_leds
+  /// turns it off.
+  int track_min_leds = 3;
+  double few_led_jump_m = 0.05;
+  double few_led_jump_rad = 0.05;  ///< see track_min_leds [rad]
   /// Fuse each frame's fit with the earlier frames of the track (an
   /// extended Kalman filter on SE(3) with constant body velocity; a jump
   /// beyond its χ² gate restarts it): the reported pose and its sigma are
