@@ -65,6 +65,18 @@ struct TrackerOptions {
   /// pooled noise through the three LEDs' geometry. = correspondence.min_leds
   /// turns it off.
   int track_min_leds = 3;
+  /// A tracked fit reprojecting worse than this × the track's pooled noise
+  /// (once the pool vouches) is tested for one wrong blob: the blob without
+  /// which the fit reprojects best leaves it if that halves the RMS (own
+  /// renderer, harsh profile: a 7-LED fit at 2.4 px among 11 blobs, where
+  /// the track's fits reproject at 0.05–0.1 px, was 0.19 rad wrong with
+  /// σ_rot 0.05). 0 = off, the default: at 5 it removed that frame and
+  /// raised our harsh profile's Ok share by 1–2 % with no new wrong frame,
+  /// but on the independent renderer it drops crowded blobs whose bias the
+  /// covariance carried, and the share of frames beyond the NEES 99.9 %
+  /// bound rose to 0.56 % (docs/benchmarks.md, "LED pose: a tracked frame
+  /// on three LEDs").
+  double outlier_rms_factor = 0;
   double few_led_jump_m = 0.05;
   double few_led_jump_rad = 0.05;  ///< see track_min_leds [rad]
   /// Fuse each frame's fit with the earlier frames of the track (an
