@@ -74,6 +74,16 @@ Eigen::Isometry3d front_toward_camera(touchdown::Rng& rng, double distance) {
   return T;
 }
 
+// The F450 seen from below, its yaw 0.3 rad, `z` [m] from the camera; in
+// frame `frame` of a slow drift (0.01 rad, 4 mm across and 5 mm nearer per
+// frame), turned `turn` [rad] more about the optical axis.
+Eigen::Isometry3d f450_from_below(double z, int frame = 0, double turn = 0.0) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(0.3 + 0.01 * frame + turn, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() << 0.05 + 0.004 * frame, 0.02, z - 0.005 * frame;
+  return T;
+}
+
 using touchdown::test::rotation_error;
 
 }  // namespace
@@ -774,9 +784,7 @@ TEST(LedTracker, SigmaMatchesTheObservedScatter) {
   const auto k = f450();
   const auto cam = d435();
   touchdown::Rng rng(44);
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  T.translation() << 0.05, 0.02, 1.0;
+  const Eigen::Isometry3d T = f450_from_below(1.0);
   double sum_sq = 0, sum_sigma = 0, sum_rot_sq = 0, sum_rot_sigma = 0;
   const int trials = 200;
   tp::TrackerOptions o;
@@ -824,9 +832,7 @@ TEST(LedTracker, ChiSquareQuantileMatchesTables) {
 TEST(LedTracker, FirstFrameSigmaCoversTheErrorOfANoisyCamera) {
   const auto k = f450();
   const auto cam = d435();
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  T.translation() << 0.05, 0.02, 1.0;
+  const Eigen::Isometry3d T = f450_from_below(1.0);
   auto beyond = [&](double confidence) {
     touchdown::Rng rng(46);
     tp::TrackerOptions o;
@@ -857,9 +863,7 @@ TEST(LedTracker, FirstFrameSigmaCoversTheErrorOfANoisyCamera) {
 TEST(LedTracker, PooledNoiseFloorFollowsAQuietSensor) {
   const auto k = f450();
   const auto cam = d435();
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  T.translation() << 0.05, 0.02, 1.5;
+  const Eigen::Isometry3d T = f450_from_below(1.5);
   auto run = [&](int pool) {
     touchdown::Rng rng(45);
     tp::TrackerOptions o;
@@ -943,13 +947,7 @@ TEST(LedTracker, ATrackedFrameRestsOnThreeLedsAfterAnOkFrame) {
   tp::Constellation k;
   for (const int i : {0, 2, 4, 5}) k.leds.push_back(f.leds[static_cast<std::size_t>(i)]);
   const auto cam = d435();
-  auto pose = [](int frame) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() =
-        Eigen::AngleAxisd(0.3 + 0.01 * frame + (frame >= 28 ? 0.08 : 0.0), Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    T.translation() << 0.05 + 0.004 * frame, 0.02, 1.0 - 0.005 * frame;
-    return T;
-  };
+  auto pose = [](int frame) { return f450_from_below(1.0, frame, frame >= 28 ? 0.08 : 0.0); };
   auto run = [&](const tp::TrackerOptions& o) {
     tp::LedTracker tracker(cam, k, o);
     touchdown::Rng rng(49);
@@ -1003,12 +1001,7 @@ TEST(LedTracker, ATrackedFrameRestsOnThreeLedsAfterAnOkFrame) {
 TEST(LedTracker, AWrongBlobLeavesATrackedFit) {
   const auto k = f450();
   const auto cam = d435();
-  auto pose = [](int frame) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = Eigen::AngleAxisd(0.3 + 0.01 * frame, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    T.translation() << 0.05 + 0.004 * frame, 0.02, 1.6 - 0.005 * frame;
-    return T;
-  };
+  auto pose = [](int frame) { return f450_from_below(1.6, frame); };
   auto run = [&](double factor) {
     tp::TrackerOptions o;
     o.outlier_rms_factor = factor;
@@ -1054,10 +1047,7 @@ TEST(LedTracker, FourLedsOfALargerBoardMustFitAsInTheSearch) {
     touchdown::Rng rng(51);
     tp::PoseEstimate e;
     for (int frame = 0; frame <= 12; ++frame) {
-      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-      T.linear() = Eigen::AngleAxisd(0.3 + 0.01 * frame, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-      T.translation() << 0.05 + 0.004 * frame, 0.02, 1.0 - 0.005 * frame;
-      auto blobs = blobs_of(k, cam.pinhole(), T, rng, 0.05);
+      auto blobs = blobs_of(k, cam.pinhole(), f450_from_below(1.0, frame), rng, 0.05);
       if (frame >= 10) blobs.resize(4);  // LEDs 4 and 5 hidden
       if (frame == 12) blobs[1].uv_undistorted = blobs[1].uv_px = blobs[1].uv_undistorted + Eigen::Vector2d(5, 0);
       e = tracker.track_blobs(blobs);
