@@ -384,12 +384,13 @@ struct LedTracker::Impl {
       }
     }
     led_to_blob = before;
-    if (best_led < kMaxLeds && best.rms_px < 0.5 * fit.rms_px) {
+    const bool dropped = best_led < kMaxLeds && best.rms_px < 0.5 * fit.rms_px;
+    if (dropped) {
       led_to_blob[best_led] = -1;
       fit = best;
     }
     detail::gather(constellation, work, led_to_blob, co, set);
-    return best_led < kMaxLeds && led_to_blob[best_led] < 0;
+    return dropped;
   }
 
   // The pool holds enough tracked fits to stand for this camera's noise.
@@ -404,9 +405,8 @@ struct LedTracker::Impl {
     const double c = options.unpooled_noise_confidence;
     const double k = fit.degrees_of_freedom;
     if (pool_vouches() || !(c > 0) || !(k > 0)) return fit.noise_variance;
-    const auto key = static_cast<std::size_t>(std::lround(k));  // a whole number
-    if (key >= noise_bound_factor.size()) return fit.noise_variance * k / detail::chi2_quantile(k, 1 - c);
-    double& f = noise_bound_factor[key];
+    // k is a whole number below the array's size (2n + depths + 2 − 6, n ≤ kMaxLeds).
+    double& f = noise_bound_factor.at(static_cast<std::size_t>(std::lround(k)));
     if (!(f > 0)) f = k / detail::chi2_quantile(k, 1 - c);
     return fit.noise_variance * f;
   }

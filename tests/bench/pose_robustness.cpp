@@ -42,6 +42,7 @@
 #include <vector>
 
 #include "touchdown/core/random.hpp"
+#include "touchdown/core/units.hpp"
 #include "touchdown/pose/gauss_newton.hpp"
 #include "touchdown/pose/led_tracker.hpp"
 #include "touchdown/pose/sim/pose_benchmark.hpp"
@@ -212,7 +213,7 @@ bool feasible(const tp::CameraModel& camera, const tp::Constellation& k, const t
 tp::AttitudePrior attitude_prior(const Eigen::Isometry3d& T_camera_body, double sigma_deg, std::uint64_t seed,
                                  std::size_t i) {
   touchdown::Rng rng(seed * 1000003ULL + i);
-  const double s = sigma_deg * 3.14159265358979323846 / 180;
+  const double s = touchdown::deg_to_rad(sigma_deg);
   auto noisy = [&](const Eigen::Vector3d& v) {
     const Eigen::Vector3d a(rng.normal(0, s), rng.normal(0, s), rng.normal(0, s));
     return (Eigen::AngleAxisd(a.norm(), a.norm() > 0 ? a.normalized() : Eigen::Vector3d::UnitX()) * v)
