@@ -84,6 +84,9 @@ enum class BranchVerdict { Keep, Switch, Ambiguous };
 struct BranchDecision {
   BranchVerdict verdict = BranchVerdict::Keep;
   PoseRefinement alternative;  // the other branch, when it was distinct
+  // The reprojection and the depths each ruled out a different branch: the
+  // verdict is then their sum's (Ambiguous when it is not decisive).
+  bool contradicted = false;
 };
 
 // Compares `fit` (refined on the matched set) with its mirrored branch.

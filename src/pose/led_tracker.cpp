@@ -43,6 +43,9 @@ bool TrackerOptions::validate(std::string* why) const {
   }
   if (!(few_led_jump_m > 0)) return fail("few_led_jump_m: must be positive");
   if (!(few_led_jump_rad > 0)) return fail("few_led_jump_rad: must be positive");
+  if (!(few_point_prediction_sigma_factor >= 1) || !std::isfinite(few_point_prediction_sigma_factor)) {
+    return fail("few_point_prediction_sigma_factor: must be >= 1 and finite");
+  }
   if (!(unpooled_noise_confidence >= 0 && unpooled_noise_confidence < 1)) {
     return fail("unpooled_noise_confidence: must be in [0, 1)");
   }
@@ -88,6 +91,10 @@ struct LedTracker::Impl {
   // `estimate`): with it, a prediction is vouched for (try_track()'s jump
   // test).
   bool previous_ok = false;
+  // The last frame's fit had its σ within few_point_prediction_sigma_factor
+  // × the limits: a tracked fit on fewer points than the search accepts
+  // may rest on its prediction (try_track()).
+  bool last_nearly_precise = false;
   Eigen::Isometry3d last_pose = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d previous_pose = Eigen::Isometry3d::Identity();
   detail::OptimalMatcher matcher;
@@ -289,6 +296,8 @@ struct LedTracker::Impl {
     // renderer's sequences when only the fused σ was tested).
     const auto [max_position, max_rotation] = co.sigma_limits(attitude.active());
     const std::pair<double, double> tested = {std::max(sigma.first, own.first), std::max(sigma.second, own.second)};
+    const double f = options.few_point_prediction_sigma_factor;
+    last_nearly_precise = !(tested.first > f * max_position || tested.second > f * max_rotation);
     if (unconfirmed || tested.first > max_position || tested.second > max_rotation) {
       // The figures that were tested (a fused frame rejected on its own σ
       // shows that σ, not the smaller fused one).
@@ -445,6 +454,7 @@ struct LedTracker::Impl {
     tracking = false;
     have_velocity = false;
     previous_ok = false;
+    last_nearly_precise = false;
     led_to_blob.fill(-1);
   }
 
@@ -521,6 +531,18 @@ struct LedTracker::Impl {
     if (vouched && jumped(options.max_jump_m, options.max_jump_rad)) return false;
     const bool few = static_cast<int>(set.n) < options.correspondence.min_leds;
     if (few && !vouched) return false;
+    // Fewer points than the search accepts on its own (of a board that has
+    // more) rest on the prediction: only on one from a fit whose σ was near
+    // the limits (TrackerOptions::few_point_prediction_sigma_factor; own
+    // renderer, harsh profile: four points after a too-uncertain frame, two
+    // centres 2.5 px off in the blur and a neighbour's glow, absorbed by the
+    // fit's two redundant measurements — 0.75 rad wrong at 0.07 px with
+    // σ_rot 0.022; holding such a frame back and letting the next one
+    // report did not help: the same biased blobs confirmed it, three frames
+    // 0.2 rad wrong at σ_rot 0.014).
+    const int search_min =
+        std::min(options.correspondence.search_min_leds, static_cast<int>(constellation.leds.size()));
+    if (static_cast<int>(set.n) < search_min && !last_nearly_precise) return false;
     // The search's rule (ambiguity.hpp), with the prediction to settle the
     // mirrored branch; anything but Ok ends the track.
     const PoseStatus verdict = detail::vet_fit(pin, constellation, shape, work, led_to_blob, fit, &T,

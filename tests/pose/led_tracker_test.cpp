@@ -593,6 +593,7 @@ TEST(LedTracker, RejectsBadConfiguration) {
       {"track_min_leds:", [](O& t) { t.track_min_leds = 5; }},
       {"few_led_jump_m:", [](O& t) { t.few_led_jump_m = 0; }},
       {"few_led_jump_rad:", [](O& t) { t.few_led_jump_rad = std::nan(""); }},
+      {"few_point_prediction_sigma_factor:", [](O& t) { t.few_point_prediction_sigma_factor = 0.5; }},
   });
 }
 
@@ -717,6 +718,66 @@ TEST(Ambiguity, MeasuredNoiseSettlesWhatTheDefaultFloorCannot) {
   // Seen: 17 of 60 kept by default, 60 of 60 in the measured noise.
   EXPECT_GE(keep_measured, 55) << keep_default << " / " << keep_measured << " of " << trials;
   EXPECT_GT(keep_measured, keep_default + 20) << keep_default << " / " << keep_measured << " of " << trials;
+}
+
+// When the reprojection rules out one branch and the depth pattern the
+// other, the two independent χ² add and the stronger evidence wins. Blobs
+// at the true pose's exact projections with the depths the mirrored branch
+// would show: with a quiet camera's noise (image χ² ∝ 1/σ²) the image
+// keeps the fit, as σ grows the depths switch it — never back — and in
+// between the sum may be too small to decide (Ambiguous). A prediction
+// does not overrule the measurements. With the true depths, the fit is kept.
+TEST(Ambiguity, ReprojectionAndDepthDisagreeingAddUp) {
+  const auto k = quasi_planar_board();
+  const auto cam = d435().pinhole();
+  const auto shape = tp::detail::ConstellationShape::of(k);
+  touchdown::Rng rng(53);
+  int both_ends = 0, contradicted = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const Eigen::Isometry3d T = board_seen_from_below(rng, 0.8, 1.6);
+    auto blobs = blobs_of(k, cam, T, rng, 0.0);
+    std::array<int, tp::kMaxLeds> assignment{};
+    assignment.fill(-1);
+    for (std::size_t l = 0; l < k.leds.size(); ++l) assignment[l] = static_cast<int>(l);
+    tp::CorrespondenceOptions o;
+    o.detection_sigma_measured = true;
+    tp::detail::MatchedSet set;
+    tp::detail::gather(k, blobs, assignment, o, set);
+    const auto fit = tp::refine_pose_gauss_newton(cam, set.points(), set.pixels(), T);
+    ASSERT_TRUE(fit.ok()) << trial;
+    auto verdict_at = [&](double sigma_px, const Eigen::Isometry3d* predicted = nullptr) {
+      o.detection_sigma_px = sigma_px;
+      return tp::detail::resolve_branches(cam, k, shape, blobs, assignment, set, fit, predicted, o);
+    };
+    const auto plain = verdict_at(0.005);
+    if (!plain.alternative.ok() || plain.verdict != tp::detail::BranchVerdict::Keep) continue;  // no distinct branch
+    const Eigen::Isometry3d mirrored = plain.alternative.T_camera_body;
+    auto set_depths = [&](const Eigen::Isometry3d& pose) {
+      for (std::size_t l = 0; l < k.leds.size(); ++l) {
+        blobs[l].has_point = true;
+        blobs[l].p_camera = cam.back_project(blobs[l].uv_undistorted, (pose * k.leds[l].p_body).z());
+      }
+    };
+    set_depths(T);
+    EXPECT_EQ(verdict_at(0.05).verdict, tp::detail::BranchVerdict::Keep) << trial;
+    set_depths(mirrored);
+    bool switched = false, kept = false;
+    for (const double sigma : {0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0}) {
+      const auto d = verdict_at(sigma);
+      if (d.verdict == tp::detail::BranchVerdict::Switch) switched = true;
+      if (d.verdict == tp::detail::BranchVerdict::Keep) {
+        EXPECT_FALSE(switched) << trial << ": kept again at σ " << sigma;
+        kept = true;
+      }
+      if (d.contradicted) {
+        ++contradicted;
+        EXPECT_EQ(verdict_at(sigma, &T).verdict, d.verdict) << trial << " σ " << sigma;
+      }
+    }
+    both_ends += kept && switched;
+  }
+  EXPECT_GE(both_ends, 10);
+  EXPECT_GE(contradicted, 10);
 }
 
 // The mirrored branch of a planar board seen from afar reprojects almost

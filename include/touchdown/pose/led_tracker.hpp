@@ -79,6 +79,17 @@ struct TrackerOptions {
   double outlier_rms_factor = 0;
   double few_led_jump_m = 0.05;
   double few_led_jump_rad = 0.05;  ///< see track_min_leds [rad]
+  /// A tracked fit on fewer LEDs than the search accepts on its own
+  /// (correspondence.search_min_leds, of a constellation that has more)
+  /// rests on the prediction, so the last frame's fit must have had its σ
+  /// within this × the σ limits (correspondence.sigma_limits); else the
+  /// full search decides. A fit well beyond the limits may itself be wrong,
+  /// and four points absorb a few biased centres: own renderer, harsh
+  /// profile, four points tracked from a fit at 2–3 × the limit were
+  /// reported 0.2–0.75 rad wrong with σ_rot 0.014–0.022 (docs/benchmarks.md,
+  /// "LED pose: the own renderer's harsh frames"; 3 lets them through, 1
+  /// costs the harsh chase sequence 4 % more frames than 1.5).
+  double few_point_prediction_sigma_factor = 1.5;
   /// Fuse each frame's fit with the earlier frames of the track (an
   /// extended Kalman filter on SE(3) with constant body velocity; a jump
   /// beyond its χ² gate restarts it): the reported pose and its sigma are
