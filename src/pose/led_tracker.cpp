@@ -296,9 +296,9 @@ struct LedTracker::Impl {
     // renderer's sequences when only the fused σ was tested).
     const auto [max_position, max_rotation] = co.sigma_limits(attitude.active());
     const std::pair<double, double> tested = {std::max(sigma.first, own.first), std::max(sigma.second, own.second)};
-    const double f = options.few_point_prediction_sigma_factor;
-    last_nearly_precise = !(tested.first > f * max_position || tested.second > f * max_rotation);
-    if (unconfirmed || tested.first > max_position || tested.second > max_rotation) {
+    auto beyond = [&](double f) { return tested.first > f * max_position || tested.second > f * max_rotation; };
+    last_nearly_precise = !beyond(options.few_point_prediction_sigma_factor);
+    if (unconfirmed || beyond(1.0)) {
       // The figures that were tested (a fused frame rejected on its own σ
       // shows that σ, not the smaller fused one).
       std::tie(estimate.sigma_position_m, estimate.sigma_rotation_rad) = tested;
