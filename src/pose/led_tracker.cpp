@@ -294,9 +294,9 @@ struct LedTracker::Impl {
     // its own: a track on the wrong branch fuses into a confident wrong pose
     // (measured: 14 frames wrong beyond 3 σ with --fuse on the independent
     // renderer's sequences when only the fused σ was tested).
-    const auto [max_position, max_rotation] = co.sigma_limits(attitude.active());
+    const std::pair<double, double> limits = co.sigma_limits(attitude.active());
     const std::pair<double, double> tested = {std::max(sigma.first, own.first), std::max(sigma.second, own.second)};
-    auto beyond = [&](double f) { return tested.first > f * max_position || tested.second > f * max_rotation; };
+    auto beyond = [&](double f) { return tested.first > f * limits.first || tested.second > f * limits.second; };
     last_nearly_precise = !beyond(options.few_point_prediction_sigma_factor);
     if (unconfirmed || beyond(1.0)) {
       // The figures that were tested (a fused frame rejected on its own σ
