@@ -17,6 +17,17 @@ namespace {
 
 Eigen::Vector3d vee(const Eigen::Matrix3d& S) { return {S(2, 1), S(0, 2), S(1, 0)}; }
 
+// PX4's ControlMath::constrainXY: v0 + v1 limited to `max`, giving way on
+// the feed-forward v1 first (the position error's v0 keeps its priority).
+Eigen::Vector2d constrain_xy(const Eigen::Vector2d& v0, const Eigen::Vector2d& v1, double max) {
+  if ((v0 + v1).norm() <= max) return v0 + v1;
+  if (v0.norm() >= max) return v0 * (max / v0.norm());
+  // |v0 + s v1| = max for s in [0, 1): the positive root of a quadratic.
+  const double a = v1.squaredNorm(), b = 2 * v0.dot(v1), c = v0.squaredNorm() - max * max;
+  const double root = (-b + std::sqrt(std::max(0.0, b * b - 4 * a * c))) / (2 * a);
+  return v0 + root * v1;
+}
+
 }  // namespace
 
 LandController::LandController(const ControllerParams& params, double mass, const Eigen::Matrix3d& inertia_about_com,
@@ -25,20 +36,39 @@ LandController::LandController(const ControllerParams& params, double mass, cons
 
 LandController::Output LandController::update(const VehicleState& s, const Eigen::Vector2d& landing_point,
                                               double heading, double land_speed, bool level) {
+  Setpoint sp;
+  sp.position.head<2>() = landing_point;
+  sp.velocity.z() = -land_speed;
+  sp.yaw = heading;
+  sp.land = true;
+  return update(s, sp, level);
+}
+
+LandController::Output LandController::update(const VehicleState& s, const Setpoint& sp, bool level) {
   const auto& cp = p_;
   const double dt = dt_;
   const Eigen::Vector3d& p = s.p_world;
   const Eigen::Vector3d& v = s.v_world;
   const Eigen::Matrix3d& R = s.R_world_body;
   const Eigen::Vector3d& w = s.w_body;
+  const double heading = sp.yaw;
   Output out;
-  // Position → velocity (PX4 PositionControl::_positionControl).
-  Eigen::Vector2d v_sp = cp.xy_p * (landing_point - p.head<2>());
-  if (v_sp.norm() > cp.xy_vel_max) v_sp *= cp.xy_vel_max / v_sp.norm();
-  const double vz_sp = -land_speed;
+  // Position → velocity (PX4 PositionControl::_positionControl). Land mode
+  // (the twin): x, y from the position only, z the land speed, neither
+  // limited but by MPC_XY_VEL_MAX; the arithmetic is the original loop's.
+  Eigen::Vector2d v_sp = Eigen::Vector2d::Zero();
+  if (sp.position.head<2>().allFinite()) v_sp = cp.xy_p * (sp.position.head<2>() - p.head<2>());
+  double vz_sp = sp.velocity.z();
+  if (sp.land) {
+    if (v_sp.norm() > cp.xy_vel_max) v_sp *= cp.xy_vel_max / v_sp.norm();
+  } else {
+    v_sp = constrain_xy(v_sp, sp.velocity.head<2>(), cp.xy_vel_max);
+    if (std::isfinite(sp.position.z())) vz_sp += cp.z_p * (sp.position.z() - p.z());
+    vz_sp = std::clamp(vz_sp, -cp.z_vel_max_down, cp.z_vel_max_up);
+  }
   // Velocity → acceleration (PositionControl::_velocityControl), PID with
   // the derivative low-passed at MPC_VELD_LP (touchdown shocks must not
-  // become tilt commands).
+  // become tilt commands), plus the feed-forward acceleration.
   const double lp = 1.0 - std::exp(-2.0 * std::numbers::pi * cp.vel_deriv_lp_hz * dt);
   accel_lp_ += lp * ((v - v_prev_) / dt - accel_lp_);
   const Eigen::Vector3d& accel = accel_lp_;
@@ -48,12 +78,17 @@ LandController::Output LandController::update(const VehicleState& s, const Eigen
   Eigen::Vector2d a_xy = cp.xy_vel_p * e_xy + cp.xy_vel_i * vel_int_ - cp.xy_vel_d * accel.head<2>();
   const double e_z = vz_sp - v.z();
   vz_int_ = std::clamp(vz_int_ + e_z * dt, -3.0, 3.0);
-  const double a_z = cp.z_vel_p * e_z + cp.z_vel_i * vz_int_;
-  // Thrust vector with the tilt limit (MPC_TILTMAX_LND).
+  double a_z = cp.z_vel_p * e_z + cp.z_vel_i * vz_int_;
+  if (!sp.land) {
+    a_xy += sp.acceleration.head<2>();
+    a_z += sp.acceleration.z();
+  }
+  // Thrust vector with the tilt limit (MPC_TILTMAX_LND in land mode, else
+  // MPC_TILTMAX_AIR).
   Eigen::Vector3d F(a_xy.x(), a_xy.y(), a_z + kStandardGravity);
   F *= mass_;
   F.z() = std::max(F.z(), 0.1 * hover_thrust_);
-  const double max_h = F.z() * std::tan(deg_to_rad(cp.tilt_max_deg));
+  const double max_h = F.z() * std::tan(deg_to_rad(sp.land ? cp.tilt_max_deg : cp.tilt_max_air_deg));
   if (F.head<2>().norm() > max_h) F.head<2>() *= max_h / F.head<2>().norm();
   // Desired attitude: body z along F, heading ψ.
   const Eigen::Vector3d zb = F.normalized();
@@ -77,6 +112,10 @@ LandController::Output LandController::update(const VehicleState& s, const Eigen
   Eigen::Vector3d w_sp(-cp.roll_p * e_R.x(), -cp.pitch_p * e_R.y(), -cp.yaw_p * e_R.z());
   const double yaw_rate_max = deg_to_rad(cp.yaw_rate_max_deg);
   w_sp.z() = std::clamp(w_sp.z(), -yaw_rate_max, yaw_rate_max);
+  if (!sp.land) {
+    const double rate_max = deg_to_rad(cp.roll_pitch_rate_max_deg);
+    w_sp.head<2>() = w_sp.head<2>().cwiseMax(-rate_max).cwiseMin(rate_max);
+  }
   const Eigen::Vector3d alpha(cp.rate_p_roll_pitch * (w_sp.x() - w.x()), cp.rate_p_roll_pitch * (w_sp.y() - w.y()),
                               cp.rate_p_yaw * (w_sp.z() - w.z()));
   const Eigen::Matrix3d& J = inertia_;

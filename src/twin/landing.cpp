@@ -11,11 +11,10 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
-#include <cstdarg>
-#include <mutex>
 #include <numbers>
 
 #include "contacts.hpp"
+#include "ode_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/rotation.hpp"
 #include "touchdown/core/units.hpp"
@@ -24,17 +23,8 @@
 namespace touchdown::twin {
 namespace {
 
-void ensure_ode() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    dInitODE2(0);
-    // ODE prints solver notes (e.g. "LCP internal error, s <= 0" when a
-    // pivot degenerates; the step still completes) to stderr, which would
-    // corrupt the apps' output. Instability is detected from the state instead.
-    dSetMessageHandler([](int, const char*, va_list) {});
-  });
-  dAllocateODEDataForThread(dAllocateMaskAll);
-}
+using detail::ensure_ode;
+using detail::soft_params;
 
 Eigen::Matrix3d rotation_of(dBodyID b) {
   const dReal* r = dBodyGetRotation(b);  // 3x4 row-major
@@ -47,13 +37,6 @@ Eigen::Matrix3d rotation_of(dBodyID b) {
 Eigen::Vector3d vec_of(const dReal* v) { return {v[0], v[1], v[2]}; }
 
 double nutation_of(const Eigen::Matrix3d& R) { return std::acos(std::clamp(R(2, 2), -1.0, 1.0)); }
-
-// ODE's ERP/CFM for a spring-damper contact (ODE manual, "Joint error and
-// the error reduction parameter", "Soft constraint and constraint force mixing").
-void soft_params(double h, double kp, double kd, double& erp, double& cfm) {
-  erp = h * kp / (h * kp + kd);
-  cfm = 1.0 / (h * kp + kd);
-}
 
 enum class PartKind { Foot, Leg, Arm, Propeller, Body };
 

@@ -10,6 +10,7 @@
 /// Thread-safety: one instance per run. No allocation in update().
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <limits>
 #include <vector>
 
 namespace touchdown::twin {
@@ -28,12 +29,30 @@ struct VehicleState {
   Eigen::Vector3d w_body = Eigen::Vector3d::Zero();  ///< angular velocity in body axes [rad/s]
 };
 
-/// PX4 land mode: position → velocity (mc_pos_control PositionControl),
-/// velocity → acceleration (PID, derivative low-passed at MPC_VELD_LP) →
-/// thrust vector with the land-mode tilt limit, attitude (geometric error,
-/// Lee, Leok & McClamroch 2010) → rates → body torque. After ground contact
-/// (`level`) the attitude setpoint is level at the commanded heading, as
-/// PX4's limit_thrust_during_landing.
+/// A trajectory setpoint, as PX4's `trajectory_setpoint` message: a NaN
+/// position axis is not position-controlled (its velocity is then the
+/// setpoint of that axis); velocity and acceleration are feed-forward terms
+/// added to the position and velocity loops' outputs.
+struct Setpoint {
+  /// World [m]; NaN per axis: that axis follows `velocity` only.
+  Eigen::Vector3d position = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();      ///< [m/s]
+  Eigen::Vector3d acceleration = Eigen::Vector3d::Zero();  ///< [m/s²]
+  double yaw = 0;                                          ///< heading [rad]
+  /// Land mode: MPC_TILTMAX_LND and no velocity or rate limits (the twin's
+  /// landings); otherwise MPC_TILTMAX_AIR, MPC_XY_VEL_MAX, MPC_Z_VEL_MAX_UP/DN
+  /// and MC_*RATE_MAX apply.
+  bool land = false;
+};
+
+/// PX4's multicopter position control: position → velocity (mc_pos_control
+/// PositionControl), velocity → acceleration (PID, derivative low-passed at
+/// MPC_VELD_LP) plus feed-forward → thrust vector with the tilt limit,
+/// attitude (geometric error, Lee, Leok & McClamroch 2010) → rates → body
+/// torque. Land mode (the twin's landings) is the setpoint with the
+/// landing point's x, y, no z position and the land speed down. After
+/// ground contact (`level`) the attitude setpoint is level at the commanded
+/// heading, as PX4's limit_thrust_during_landing.
 class LandController {
  public:
   LandController(const ControllerParams& params, double mass, const Eigen::Matrix3d& inertia_about_com, double dt);
@@ -49,6 +68,15 @@ class LandController {
   /// descending at `land_speed` [m/s].
   Output update(const VehicleState& s, const Eigen::Vector2d& landing_point, double heading, double land_speed,
                 bool level);
+  /// One control step towards a trajectory setpoint.
+  Output update(const VehicleState& s, const Setpoint& setpoint, bool level);
+  /// Restarts the integrators and the derivative's history (a new flight).
+  void reset() {
+    vel_int_.setZero();
+    vz_int_ = 0;
+    v_prev_.setZero();
+    accel_lp_.setZero();
+  }
   /// A step without control (disarmed): keeps the velocity history.
   void idle(const Eigen::Vector3d& v_world) { v_prev_ = v_world; }
   /// Ground contact: the horizontal velocity integrator restarts.

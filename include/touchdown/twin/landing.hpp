@@ -29,6 +29,12 @@ struct ControllerParams {
   double z_vel_p = 4.0;             ///< MPC_Z_VEL_P_ACC [1/s]
   double z_vel_i = 2.0;             ///< MPC_Z_VEL_I_ACC [1/s²]
   double tilt_max_deg = 12.0;       ///< MPC_TILTMAX_LND (the tilt limit of land mode)
+  // Outside land mode (flight_control.hpp, Setpoint::land false):
+  double z_p = 1.0;                  ///< MPC_Z_P [1/s]
+  double z_vel_max_up = 3.0;         ///< MPC_Z_VEL_MAX_UP [m/s]
+  double z_vel_max_down = 1.5;       ///< MPC_Z_VEL_MAX_DN [m/s]
+  double tilt_max_air_deg = 45.0;    ///< MPC_TILTMAX_AIR
+  double roll_pitch_rate_max_deg = 220.0;  ///< MC_ROLLRATE_MAX, MC_PITCHRATE_MAX [deg/s]
   double vel_deriv_lp_hz = 5.0;     ///< MPC_VELD_LP: low-pass of the velocity derivative [Hz]
   double roll_p = 6.5;              ///< MC_ROLL_P [1/s]
   double pitch_p = 6.5;             ///< MC_PITCH_P [1/s]

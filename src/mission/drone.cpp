@@ -1,0 +1,310 @@
+// The mission's quadrotor on ODE with the moving pad (drone.hpp). Contacts
+// between the airframe's primitives and the pad box or the ground plane
+// come from ODE's own primitive colliders (no trimesh: thread-safe).
+#include "touchdown/mission/drone.hpp"
+
+#include <ode/ode.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "../twin/ode_util.hpp"
+#include "touchdown/core/error.hpp"
+
+namespace touchdown::mission {
+namespace {
+
+enum class Part { Foot, Leg, Arm, Propeller, Body };
+
+bool positive(double x) { return x > 0 && std::isfinite(x); }
+
+Eigen::Vector3d vec_of(const dReal* v) { return {v[0], v[1], v[2]}; }
+
+void to_ode(const Eigen::Matrix3d& M, dMatrix3 R) {
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) R[i * 4 + j] = M(i, j);
+    R[i * 4 + 3] = 0;
+  }
+}
+
+Eigen::Matrix3d rotation_of(dBodyID b) {
+  const dReal* r = dBodyGetRotation(b);
+  Eigen::Matrix3d R;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) R(i, j) = r[i * 4 + j];
+  return R;
+}
+
+// A rotation taking z onto `axis` (for capsules and cylinders, whose ODE
+// axis is their local z).
+Eigen::Matrix3d z_onto(const Eigen::Vector3d& axis) {
+  return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), axis.normalized()).toRotationMatrix();
+}
+
+}  // namespace
+
+bool DroneOptions::validate(std::string* why) const {
+  std::string af;
+  if (!airframe.validate(&af)) return invalid(why, "drone.airframe: " + af);
+  if (!(step > 0 && step <= 0.01)) return invalid(why, "drone.step: must be in (0, 0.01] s");
+  if (!(drag_linear >= 0) || !std::isfinite(drag_linear)) return invalid(why, "drone.drag_linear: must be >= 0");
+  if (!(drag_quadratic >= 0) || !std::isfinite(drag_quadratic)) {
+    return invalid(why, "drone.drag_quadratic: must be >= 0");
+  }
+  if (!positive(contact_stiffness)) return invalid(why, "drone.contact_stiffness: must be positive [N/m]");
+  if (!(contact_damping >= 0) || !std::isfinite(contact_damping)) {
+    return invalid(why, "drone.contact_damping: must be >= 0 [N s/m]");
+  }
+  if (!(pad_friction >= 0) || !std::isfinite(pad_friction)) return invalid(why, "drone.pad_friction: must be >= 0");
+  if (!(ground_friction >= 0) || !std::isfinite(ground_friction)) {
+    return invalid(why, "drone.ground_friction: must be >= 0");
+  }
+  return true;
+}
+
+struct DroneSimulation::Impl {
+  Impl(DroneOptions o, PadGeometry p)
+      : options(std::move(o)),
+        pad(p),
+        af(options.airframe),
+        com(af.centre_of_mass()),
+        mixer(af, com),
+        controller(options.controller, af.total_mass(), af.inertia_about_com(), options.step),
+        motor_alpha(1.0 - std::exp(-options.step / af.motor_time_constant)) {
+    twin::detail::ensure_ode();
+    world = dWorldCreate();
+    threading = dThreadingAllocateSelfThreadedImplementation();
+    dWorldSetStepThreadingImplementation(world, dThreadingImplementationGetFunctions(threading), threading);
+    dWorldSetGravity(world, 0, 0, -twin::kStandardGravity);
+    dWorldSetContactSurfaceLayer(world, 0.0005);
+    dWorldSetContactMaxCorrectingVel(world, 1.0);
+    dWorldSetAutoDisableFlag(world, 0);
+    contact_group = dJointGroupCreate(0);
+    body = dBodyCreate(world);
+    dMass m;
+    const Eigen::Matrix3d I = af.inertia_about_com();
+    dMassSetParameters(&m, af.total_mass(), 0, 0, 0, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
+    dBodySetMass(body, &m);
+    twin::detail::soft_params(options.step, options.contact_stiffness, options.contact_damping, erp, cfm);
+    // The airframe's collision parts, offset from the centre of mass.
+    auto attach = [&](dGeomID g, const Eigen::Vector3d& centre, const Eigen::Matrix3d& R, Part kind) {
+      dGeomSetBody(g, body);
+      const Eigen::Vector3d c = centre - com;
+      dGeomSetOffsetPosition(g, c.x(), c.y(), c.z());
+      dMatrix3 r;
+      to_ode(R, r);
+      dGeomSetOffsetRotation(g, r);
+      geoms.push_back(g);
+      kinds.push_back(kind);
+      reach = std::max(reach, c.norm());
+    };
+    const std::size_t n = af.motor_count();
+    for (std::size_t i = 0; i < n; ++i) {
+      motor_r.push_back(af.motor_position(i) - com);
+      const twin::Capsule a = af.arm(i);
+      const double length = (a.b - a.a).norm();
+      attach(dCreateCapsule(nullptr, a.radius, length), 0.5 * (a.a + a.b), z_onto(a.b - a.a), Part::Arm);
+      reach = std::max(reach, (a.b - com).norm() + a.radius);
+      const twin::Disk d = af.propeller(i);
+      attach(dCreateCylinder(nullptr, d.radius, 2 * d.half_thickness), d.centre, z_onto(d.axis), Part::Propeller);
+      reach = std::max(reach, (d.centre - com).norm() + d.radius + d.half_thickness);
+    }
+    for (std::size_t i = 0; i < af.legs.size(); ++i) {
+      const twin::Sphere f = af.foot(i);
+      attach(dCreateSphere(nullptr, f.radius), f.centre, Eigen::Matrix3d::Identity(), Part::Foot);
+      reach = std::max(reach, (f.centre - com).norm() + f.radius);
+      const twin::Capsule l = af.leg(i);
+      attach(dCreateCapsule(nullptr, l.radius, std::max((l.b - l.a).norm(), 1e-4)), 0.5 * (l.a + l.b),
+             z_onto(l.b - l.a), Part::Leg);
+    }
+    const twin::Box b = af.body_box();
+    attach(dCreateBox(nullptr, 2 * b.half_extents.x(), 2 * b.half_extents.y(), 2 * b.half_extents.z()), b.centre,
+           Eigen::Matrix3d::Identity(), Part::Body);
+    reach = std::max(reach, (b.centre - com).norm() + b.half_extents.norm());
+    // The pad: a kinematic body (moved, not pushed) carrying a box below
+    // its top face; the ground plane z = 0.
+    pad_body = dBodyCreate(world);
+    dBodySetKinematic(pad_body);
+    pad_geom = dCreateBox(nullptr, pad.size.x(), pad.size.y(), pad.thickness);
+    dGeomSetBody(pad_geom, pad_body);
+    dGeomSetOffsetPosition(pad_geom, 0, 0, -0.5 * pad.thickness);
+    ground = dCreatePlane(nullptr, 0, 0, 1, 0);
+    motor = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
+    support = af.support_points();
+  }
+  ~Impl() {
+    for (dGeomID g : geoms) dGeomDestroy(g);
+    dGeomDestroy(pad_geom);
+    dGeomDestroy(ground);
+    dJointGroupDestroy(contact_group);
+    dWorldDestroy(world);
+    dThreadingFreeImplementation(threading);
+  }
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+
+  DroneState read() const {
+    DroneState s;
+    s.p = vec_of(dBodyGetPosition(body));
+    s.v = vec_of(dBodyGetLinearVel(body));
+    s.R = rotation_of(body);
+    s.w_body = s.R.transpose() * vec_of(dBodyGetAngularVel(body));
+    s.a = accel;
+    return s;
+  }
+
+  // Contacts of every part with the pad and the ground, as ODE contact
+  // joints for this step.
+  void collide() {
+    contact_state = {};
+    const Eigen::Vector3d p = vec_of(dBodyGetPosition(body));
+    const Eigen::Vector3d p_pad = T_pad.inverse() * p;
+    const double half_diagonal = 0.5 * pad.size.norm();
+    const bool near_pad = p_pad.z() < reach + pad.thickness && p_pad.head<2>().norm() < reach + half_diagonal;
+    const bool near_ground = p.z() < reach;
+    if (!near_pad && !near_ground) return;
+    std::array<dContactGeom, 4> found{};
+    for (std::size_t i = 0; i < geoms.size(); ++i) {
+      for (int target = 0; target < 2; ++target) {
+        if ((target == 0 && !near_pad) || (target == 1 && !near_ground)) continue;
+        const int k = dCollide(geoms[i], target == 0 ? pad_geom : ground, static_cast<int>(found.size()), found.data(),
+                               sizeof(dContactGeom));
+        for (int c = 0; c < k; ++c) {
+          dContact contact{};
+          contact.surface.mode = dContactApprox1 | dContactSoftERP | dContactSoftCFM;
+          contact.surface.mu = target == 0 ? options.pad_friction : options.ground_friction;
+          contact.surface.soft_erp = erp;
+          contact.surface.soft_cfm = cfm;
+          contact.geom = found[static_cast<std::size_t>(c)];
+          // dCollide's normal points from the second geom into the first
+          // (the drone part): pushes the drone out.
+          const dJointID j = dJointCreateContact(world, contact_group, &contact);
+          dJointAttach(j, body, target == 0 ? pad_body : nullptr);
+          ++contact_state.contacts;
+          if (target == 1) {
+            contact_state.on_ground = true;
+          } else if (kinds[i] == Part::Foot || kinds[i] == Part::Leg ||
+                     (kinds[i] == Part::Body && !af.has_landing_gear())) {
+            contact_state.support_on_pad = true;
+          } else {
+            contact_state.strike_on_pad = true;
+          }
+        }
+      }
+    }
+  }
+
+  DroneOptions options;
+  PadGeometry pad;
+  const twin::Airframe& af;
+  Eigen::Vector3d com;
+  twin::Mixer mixer;
+  twin::LandController controller;
+  double motor_alpha;
+  dWorldID world{};
+  dThreadingImplementationID threading{};
+  dJointGroupID contact_group{};
+  dBodyID body{}, pad_body{};
+  dGeomID pad_geom{}, ground{};
+  std::vector<dGeomID> geoms;
+  std::vector<Part> kinds;
+  std::vector<Eigen::Vector3d> motor_r, support;
+  double reach = 0, erp = 0.2, cfm = 1e-5;
+  Eigen::VectorXd motor;
+  Eigen::Isometry3d T_pad = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d accel = Eigen::Vector3d::Zero();
+  ContactState contact_state;
+};
+
+DroneSimulation::DroneSimulation(DroneOptions options, PadGeometry pad) {
+  std::string why;
+  if (!options.validate(&why)) throw InvalidArgument(why);
+  if (!(pad.size.allFinite() && pad.size.minCoeff() > 0 && pad.thickness > 0 && std::isfinite(pad.thickness))) {
+    throw InvalidArgument("pad: size and thickness must be positive");
+  }
+  impl_ = std::make_unique<Impl>(std::move(options), pad);
+}
+
+DroneSimulation::~DroneSimulation() = default;
+
+void DroneSimulation::place(const Eigen::Isometry3d& T_world_body, const Eigen::Vector3d& v, bool armed) {
+  Impl& m = *impl_;
+  const Eigen::Vector3d p = T_world_body * m.com;
+  dBodySetPosition(m.body, p.x(), p.y(), p.z());
+  dMatrix3 R;
+  to_ode(T_world_body.linear(), R);
+  dBodySetRotation(m.body, R);
+  dBodySetLinearVel(m.body, v.x(), v.y(), v.z());
+  dBodySetAngularVel(m.body, 0, 0, 0);
+  const double hover = m.af.total_mass() * twin::kStandardGravity / static_cast<double>(m.motor.size());
+  m.motor.setConstant(armed ? hover : 0.0);
+  m.controller.reset();
+  m.controller.idle(v);
+  m.accel.setZero();
+}
+
+void DroneSimulation::set_pad(const Eigen::Isometry3d& T_world_pad, const Eigen::Vector3d& v,
+                              const Eigen::Vector3d& w) {
+  Impl& m = *impl_;
+  m.T_pad = T_world_pad;
+  const Eigen::Vector3d& p = T_world_pad.translation();
+  dBodySetPosition(m.pad_body, p.x(), p.y(), p.z());
+  dMatrix3 R;
+  to_ode(T_world_pad.linear(), R);
+  dBodySetRotation(m.pad_body, R);
+  dBodySetLinearVel(m.pad_body, v.x(), v.y(), v.z());
+  dBodySetAngularVel(m.pad_body, w.x(), w.y(), w.z());
+}
+
+void DroneSimulation::step(const twin::Setpoint& setpoint, const Eigen::Vector3d& p_estimate,
+                           const Eigen::Vector3d& v_estimate, bool armed, const Eigen::Vector3d& wind) {
+  Impl& m = *impl_;
+  const double dt = m.options.step;
+  const DroneState s = m.read();
+  if (armed) {
+    const twin::LandController::Output u = m.controller.update({p_estimate, v_estimate, s.R, s.w_body}, setpoint, false);
+    const Eigen::VectorXd cmd = m.mixer.mix(u.thrust, u.torque);
+    m.motor += (cmd - m.motor) * m.motor_alpha;
+  } else {
+    m.controller.idle(v_estimate);
+    m.motor -= m.motor * m.motor_alpha;  // disarmed: spin down
+  }
+  for (Eigen::Index i = 0; i < m.motor.size(); ++i) {
+    const Eigen::Vector3d& r = m.motor_r[static_cast<std::size_t>(i)];
+    dBodyAddRelForceAtRelPos(m.body, 0, 0, m.motor[i], r.x(), r.y(), r.z());
+    dBodyAddRelTorque(m.body, 0, 0, -m.af.spin[static_cast<std::size_t>(i)] * m.af.torque_coefficient * m.motor[i]);
+  }
+  // Drag against the air: linear + quadratic in the airspeed.
+  const Eigen::Vector3d air = s.v - wind;
+  const Eigen::Vector3d drag = -(m.options.drag_linear + m.options.drag_quadratic * air.norm()) * air;
+  dBodyAddForce(m.body, drag.x(), drag.y(), drag.z());
+  m.collide();
+  dWorldStep(m.world, dt);
+  dJointGroupEmpty(m.contact_group);
+  m.accel = (vec_of(dBodyGetLinearVel(m.body)) - s.v) / dt;
+}
+
+DroneState DroneSimulation::state() const { return impl_->read(); }
+const ContactState& DroneSimulation::contacts() const { return impl_->contact_state; }
+const DroneOptions& DroneSimulation::options() const { return impl_->options; }
+const Eigen::VectorXd& DroneSimulation::motor_thrusts() const { return impl_->motor; }
+
+Eigen::Isometry3d DroneSimulation::T_world_body() const {
+  const DroneState s = impl_->read();
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = s.R;
+  T.translation() = s.p - s.R * impl_->com;
+  return T;
+}
+
+double DroneSimulation::support_height_above_pad() const {
+  const Impl& m = *impl_;
+  const Eigen::Isometry3d T = m.T_pad.inverse() * T_world_body();
+  double lowest = 1e300;
+  for (const Eigen::Vector3d& q : m.support) lowest = std::min(lowest, (T * q).z());
+  return lowest - m.af.support_radius();
+}
+
+}  // namespace touchdown::mission

@@ -1,0 +1,188 @@
+// The ground vehicle (vehicle.hpp): skid-steer kinematics, pure pursuit and
+// a rate-limited speed controller.
+#include "touchdown/mission/vehicle.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "touchdown/core/error.hpp"
+
+namespace touchdown::mission {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+bool positive(double x) { return x > 0 && std::isfinite(x); }
+
+double wrap_pi(double a) { return std::remainder(a, 2 * kPi); }
+
+}  // namespace
+
+bool VehicleOptions::validate(std::string* why) const {
+  if (!positive(speed)) return invalid(why, "vehicle.speed: must be positive [m/s]");
+  if (!positive(radius)) return invalid(why, "vehicle.radius: must be positive [m]");
+  if (!positive(max_acceleration)) return invalid(why, "vehicle.max_acceleration: must be positive [m/s^2]");
+  if (!positive(max_wheel_speed)) return invalid(why, "vehicle.max_wheel_speed: must be positive [m/s]");
+  if (!positive(track_width)) return invalid(why, "vehicle.track_width: must be positive [m]");
+  if (!(radius > track_width)) return invalid(why, "vehicle.radius: must exceed the track width");
+  if (!positive(drive_time_constant)) return invalid(why, "vehicle.drive_time_constant: must be positive [s]");
+  if (!positive(lookahead)) return invalid(why, "vehicle.lookahead: must be positive [m]");
+  if (!(random_speed_sigma >= 0) || !std::isfinite(random_speed_sigma)) {
+    return invalid(why, "vehicle.random_speed_sigma: must be >= 0 [m/s]");
+  }
+  if (!positive(random_change_time)) return invalid(why, "vehicle.random_change_time: must be positive [s]");
+  if (!pad_position.allFinite() || !(pad_position.z() > 0)) {
+    return invalid(why, "vehicle.pad_position: must be finite with z (height above the ground) > 0");
+  }
+  // The outer track on the tightest turn at full speed.
+  const double top = speed + (path == VehiclePath::Random ? 2 * random_speed_sigma : 0.0);
+  const double outer = path == VehiclePath::Line ? top : top * (1 + 0.5 * track_width / radius);
+  if (outer > max_wheel_speed) {
+    return invalid(why, "vehicle.speed: the outer track would need " + std::to_string(outer) +
+                            " m/s on this path, above max_wheel_speed");
+  }
+  return true;
+}
+
+Eigen::Vector2d VehicleState::world_acceleration() const {
+  const Eigen::Vector2d forward(std::cos(yaw), std::sin(yaw)), left(-std::sin(yaw), std::cos(yaw));
+  return acceleration * forward + speed * yaw_rate * left;
+}
+
+Eigen::Isometry3d VehicleState::T_world_vehicle() const {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(position.x(), position.y(), 0);
+  return T;
+}
+
+GroundVehicle::GroundVehicle(const VehicleOptions& options, std::uint64_t seed) : options_(options), rng_(seed) {
+  std::string why;
+  if (!options_.validate(&why)) throw InvalidArgument(why);
+  random_speed_ = options_.speed;
+  if (options_.start_at_speed) {
+    const double v = options_.speed, k = path_curvature(0);
+    state_.speed = speed_command_ = v;
+    state_.yaw_rate = k * v;
+    state_.wheel_left = v * (1 - 0.5 * k * options_.track_width);
+    state_.wheel_right = v * (1 + 0.5 * k * options_.track_width);
+  }
+}
+
+Eigen::Vector2d GroundVehicle::path_point(double s) const {
+  const double R = options_.radius, sense = options_.counter_clockwise ? 1.0 : -1.0;
+  switch (options_.path) {
+    case VehiclePath::Line:
+      return {s, 0};
+    case VehiclePath::Circle:
+      return {R * std::sin(s / R), sense * R * (1 - std::cos(s / R))};
+    case VehiclePath::FigureEight: {
+      // Two circles tangent at the origin, the first lobe left of +x.
+      const double lobe = 2 * kPi * R;
+      const double u = std::fmod(std::fmod(s, 2 * lobe) + 2 * lobe, 2 * lobe);
+      const double side = u < lobe ? sense : -sense;
+      const double a = (u < lobe ? u : u - lobe) / R;
+      return {R * std::sin(a), side * R * (1 - std::cos(a))};
+    }
+    case VehiclePath::Random:
+      return state_.position;
+  }
+  return state_.position;
+}
+
+double GroundVehicle::path_curvature(double s) const {
+  const double sense = options_.counter_clockwise ? 1.0 : -1.0, R = options_.radius;
+  switch (options_.path) {
+    case VehiclePath::Line:
+      return 0;
+    case VehiclePath::Circle:
+      return sense / R;
+    case VehiclePath::FigureEight: {
+      const double lobe = 2 * kPi * R;
+      const double u = std::fmod(std::fmod(s, 2 * lobe) + 2 * lobe, 2 * lobe);
+      return (u < lobe ? sense : -sense) / R;
+    }
+    case VehiclePath::Random:
+      return random_curvature_;
+  }
+  return 0;
+}
+
+// The speed and yaw-rate commands of this step: the speed target ramped at
+// max_acceleration; the curvature from pure pursuit (κ = 2 sin α / L,
+// Coulter 1992) on the path, or the random drive's curvature.
+void GroundVehicle::commands(double dt, double* v_cmd, double* w_cmd) {
+  const VehicleOptions& o = options_;
+  double target = o.speed;
+  double curvature = 0;
+  if (o.path == VehiclePath::Random) {
+    // Ornstein–Uhlenbeck walks of the speed and the curvature (time scale
+    // random_change_time), bounded by the options.
+    const double a = std::exp(-dt / o.random_change_time), b = std::sqrt(1 - a * a);
+    random_speed_ = o.speed + a * (random_speed_ - o.speed) + b * o.random_speed_sigma * rng_.normal();
+    random_speed_ = std::clamp(random_speed_, 0.25 * o.speed, o.speed + 2 * o.random_speed_sigma);
+    random_curvature_ = a * random_curvature_ + b * (0.5 / o.radius) * rng_.normal();
+    random_curvature_ = std::clamp(random_curvature_, -1 / o.radius, 1 / o.radius);
+    target = random_speed_;
+    curvature = random_curvature_;
+  } else {
+    // The closest path point, by projection from the last one (the path is
+    // followed forward; a few Gauss–Newton steps).
+    for (int i = 0; i < 3; ++i) {
+      const double h = 1e-3;
+      const Eigen::Vector2d tangent = (path_point(s_ + h) - path_point(s_ - h)) / (2 * h);
+      s_ += (state_.position - path_point(s_)).dot(tangent) / std::max(tangent.squaredNorm(), 1e-9);
+    }
+    const Eigen::Vector2d goal = path_point(s_ + o.lookahead) - state_.position;
+    const double alpha = wrap_pi(std::atan2(goal.y(), goal.x()) - state_.yaw);
+    curvature = 2 * std::sin(alpha) / std::max(goal.norm(), 1e-6);
+  }
+  speed_command_ += std::clamp(target - speed_command_, -o.max_acceleration * dt, o.max_acceleration * dt);
+  *v_cmd = speed_command_;
+  *w_cmd = curvature * *v_cmd;
+}
+
+void GroundVehicle::step(double dt) {
+  if (!(dt > 0) || !std::isfinite(dt)) throw InvalidArgument("vehicle step: dt must be positive");
+  const VehicleOptions& o = options_;
+  double v_cmd = 0, w_cmd = 0;
+  commands(dt, &v_cmd, &w_cmd);
+  // Skid-steer: the two tracks' speeds, scaled together (keeping the
+  // curvature) to the wheel limit, each through its first-order drive.
+  double left = v_cmd - 0.5 * w_cmd * o.track_width, right = v_cmd + 0.5 * w_cmd * o.track_width;
+  const double top = std::max(std::abs(left), std::abs(right));
+  if (top > o.max_wheel_speed) {
+    left *= o.max_wheel_speed / top;
+    right *= o.max_wheel_speed / top;
+  }
+  const double k = 1 - std::exp(-dt / o.drive_time_constant);
+  VehicleState& s = state_;
+  s.wheel_left += k * (left - s.wheel_left);
+  s.wheel_right += k * (right - s.wheel_right);
+  const double v = 0.5 * (s.wheel_left + s.wheel_right);
+  const double w = (s.wheel_right - s.wheel_left) / o.track_width;
+  s.acceleration = (v - s.speed) / dt;
+  // Exact integration of a constant speed and yaw rate over the step.
+  const double yaw_mid = s.yaw + 0.5 * w * dt;
+  const double chord = std::abs(w * dt) > 1e-9 ? 2 * v / w * std::sin(0.5 * w * dt) : v * dt;
+  s.position += chord * Eigen::Vector2d(std::cos(yaw_mid), std::sin(yaw_mid));
+  s.yaw = wrap_pi(s.yaw + w * dt);
+  s.speed = v;
+  s.yaw_rate = w;
+  s.t += dt;
+}
+
+Eigen::Isometry3d GroundVehicle::T_world_pad() const {
+  Eigen::Isometry3d T = state_.T_world_vehicle();
+  T.translation() += T.linear() * options_.pad_position;
+  return T;
+}
+
+Eigen::Vector3d GroundVehicle::pad_velocity() const {
+  const Eigen::Matrix3d R = state_.T_world_vehicle().linear();
+  const Eigen::Vector3d omega(0, 0, state_.yaw_rate);
+  return R * Eigen::Vector3d(state_.speed, 0, 0) + omega.cross(R * options_.pad_position);
+}
+
+}  // namespace touchdown::mission
