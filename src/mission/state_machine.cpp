@@ -31,6 +31,11 @@ bool StateMachineOptions::validate(std::string* why) const {
   }
   if (!positive(shutdown_radius)) return invalid(why, "shutdown_radius: must be positive [m]");
   if (!positive(shutdown_height)) return invalid(why, "shutdown_height: must be positive [m]");
+  if (!(contact_height >= shutdown_height) || !std::isfinite(contact_height)) {
+    return invalid(why, "contact_height: must be finite and >= shutdown_height [m]");
+  }
+  if (!positive(contact_speed)) return invalid(why, "contact_speed: must be positive [m/s]");
+  if (!(contact_time >= 0) || !std::isfinite(contact_time)) return invalid(why, "contact_time: must be >= 0 [s]");
   if (!(shutdown_height < min_height_without_plan)) {
     return invalid(why, "shutdown_height: must be below min_height_without_plan");
   }
@@ -50,7 +55,9 @@ StateMachineOutput StateMachine::go(MissionState to, TransitionReason why, doubl
   state_ = to;
   entered_ = t;
   stable_since_ = -1;
+  stalled_since_ = -1;
   plan_failures_ = 0;
+  if (to == MissionState::Rendezvous) ok_run_ = 0;  // the tracker initialises here
   out.state = to;
   out.motors_off = to == MissionState::Shutdown;
   out.gave_up = gave_up_;
@@ -130,8 +137,16 @@ StateMachineOutput StateMachine::step(const StateMachineInputs& in) {
       if (std::abs(in.vehicle_yaw_rate) > o.max_vehicle_yaw_rate) {
         return abort_landing(MissionState::Tracking, TransitionReason::VehicleTurning);
       }
-      if (in.height <= o.shutdown_height && in.p_estimate.head<2>().norm() <= o.shutdown_radius) {
-        return go(MissionState::Shutdown, TransitionReason::TouchdownZone, in.t);
+      if (in.height > o.contact_height || std::abs(in.v_estimate.z()) >= o.contact_speed) {
+        stalled_since_ = -1;
+      } else if (stalled_since_ < 0) {
+        stalled_since_ = in.t;
+      }
+      if (in.height <= o.shutdown_height || (stalled_since_ >= 0 && in.t - stalled_since_ >= o.contact_time)) {
+        if (in.p_estimate.head<2>().norm() <= o.shutdown_radius) {
+          return go(MissionState::Shutdown, TransitionReason::TouchdownZone, in.t);
+        }
+        return abort_landing(MissionState::Tracking, TransitionReason::LowOffCentre);
       }
       if (!in.have_plan && in.height < o.min_height_without_plan) {
         return abort_landing(MissionState::Tracking, TransitionReason::LowWithoutPlan);

@@ -71,7 +71,7 @@ TEST(StateMachine, NominalPathThroughAllFiveStates) {
   EXPECT_EQ(s.machine.state(), MissionState::Landing);
   // Descends onto the pad centre: shutdown, motors off.
   s.in.p_estimate = {0.03, -0.02, 0.2};
-  s.in.height = 0.05;
+  s.in.height = s.options.shutdown_height;
   const auto out = s.step();
   ASSERT_TRUE(out.transitioned);
   EXPECT_EQ(out.transition.reason, TransitionReason::TouchdownZone);
@@ -165,7 +165,8 @@ TEST(StateMachine, EachLandingAbortNamesItsGuard) {
                        Case{TransitionReason::PlanInfeasible, MissionState::Tracking},
                        Case{TransitionReason::VehicleAccelerating, MissionState::Tracking},
                        Case{TransitionReason::VehicleTurning, MissionState::Tracking},
-                       Case{TransitionReason::LowWithoutPlan, MissionState::Tracking}}) {
+                       Case{TransitionReason::LowWithoutPlan, MissionState::Tracking},
+                       Case{TransitionReason::LowOffCentre, MissionState::Tracking}}) {
     SCOPED_TRACE(std::string(tdm::to_string(c.reason)));
     Script s;
     s.reach(MissionState::Landing);
@@ -202,6 +203,11 @@ TEST(StateMachine, EachLandingAbortNamesItsGuard) {
         EXPECT_FALSE(s.run(0.5).has_value());
         s.in.have_plan = false;
         break;
+      case TransitionReason::LowOffCentre:
+        s.in.p_estimate = {0.0, s.options.shutdown_radius * 1.5, 0.1};
+        s.in.v_estimate = {0, 0, -0.3};
+        s.in.height = s.options.shutdown_height;
+        break;
       default:
         FAIL();
     }
@@ -214,14 +220,25 @@ TEST(StateMachine, EachLandingAbortNamesItsGuard) {
 TEST(StateMachine, ShutdownNeedsBothTheRadiusAndTheHeight) {
   Script s;
   s.reach(MissionState::Landing);
-  s.in.height = 0.03;
-  s.in.p_estimate = {0.2, 0, 0.1};  // low but beside the centre
-  EXPECT_FALSE(s.run(0.5).has_value());
   s.in.p_estimate = {0.0, 0, 0.3};
   s.in.height = 0.2;  // above the centre but high
   EXPECT_FALSE(s.run(0.5).has_value());
-  s.in.height = 0.05;
+  s.in.height = s.options.shutdown_height;
   EXPECT_EQ(s.run(0.1), TransitionReason::TouchdownZone);
+}
+
+TEST(StateMachine, ContactFeltShutsDownAboveABiasedHeight) {
+  Script s;
+  s.reach(MissionState::Landing);
+  // The estimate says 5 cm above the pad (a bias), descending: no shutdown.
+  s.in.p_estimate = {0.02, 0, 0.3};
+  s.in.height = 0.05;
+  s.in.v_estimate = {0, 0, -0.3};
+  EXPECT_FALSE(s.run(0.5).has_value());
+  // The descent stops there (the feet are down): after contact_time, shutdown.
+  s.in.v_estimate = {0, 0, -0.02};
+  EXPECT_FALSE(s.run(s.options.contact_time - 0.02).has_value());
+  EXPECT_EQ(s.run(0.05), TransitionReason::TouchdownZone);
 }
 
 TEST(StateMachine, GivesUpAfterMaxLandingAttempts) {
@@ -269,7 +286,7 @@ TEST(StateMachine, NamesRoundTrip) {
     const auto s = static_cast<MissionState>(i);
     EXPECT_EQ(touchdown::from_string<MissionState>(tdm::to_string(s)), s);
   }
-  for (int i = 0; i < 11; ++i) {
+  for (int i = 0; i < 12; ++i) {
     const auto r = static_cast<TransitionReason>(i);
     EXPECT_EQ(touchdown::from_string<TransitionReason>(tdm::to_string(r)), r);
   }

@@ -39,13 +39,14 @@ enum class TransitionReason {
   ArrivedAtRendezvous,  ///< within rendezvous_radius of the rendezvous point (fix)
   TrackerLocked,        ///< lock_frames consecutive Ok pose frames
   TrackingStable,       ///< tracking error and relative speed small for stable_time
-  TouchdownZone,        ///< within shutdown_radius and shutdown_height: motors off
+  TouchdownZone,        ///< within shutdown_radius and shutdown_height (or contact felt): motors off
   RendezvousTimeout,    ///< no lock within rendezvous_timeout: approach again
   PoseLost,             ///< no Ok pose for pose_timeout
   PlanInfeasible,       ///< max_plan_failures consecutive replans failed
   VehicleAccelerating,  ///< the vehicle's acceleration above max_vehicle_acceleration
   VehicleTurning,       ///< the vehicle's yaw rate above max_vehicle_yaw_rate
   LowWithoutPlan,       ///< below min_height_without_plan with no valid plan
+  LowOffCentre,         ///< down to shutdown_height but beyond shutdown_radius: climb back
   GaveUp,               ///< max_landing_attempts landings aborted
 };
 
@@ -60,10 +61,10 @@ struct touchdown::EnumNames<touchdown::mission::MissionState> {
 };
 template <>
 struct touchdown::EnumNames<touchdown::mission::TransitionReason> {
-  static constexpr std::array<std::string_view, 11> names{
-      "arrived_at_rendezvous", "tracker_locked",     "tracking_stable", "touchdown_zone",
-      "rendezvous_timeout",    "pose_lost",          "plan_infeasible", "vehicle_accelerating",
-      "vehicle_turning",       "low_without_plan",   "gave_up"};
+  static constexpr std::array<std::string_view, 12> names{
+      "arrived_at_rendezvous", "tracker_locked",   "tracking_stable", "touchdown_zone",
+      "rendezvous_timeout",    "pose_lost",        "plan_infeasible", "vehicle_accelerating",
+      "vehicle_turning",       "low_without_plan", "low_off_centre",  "gave_up"};
 };
 
 namespace touchdown::mission {
@@ -87,8 +88,15 @@ struct StateMachineOptions {
   double max_vehicle_acceleration = 4.0;  ///< [m/s²] above it in landing → tracking
   double max_vehicle_yaw_rate = 1.2;      ///< [rad/s] above it in landing → tracking
   double min_height_without_plan = 0.6;   ///< [m] above the pad: lower in landing needs a valid plan
-  double shutdown_radius = 0.08;          ///< [m] horizontal distance from the pad centre
-  double shutdown_height = 0.06;          ///< [m] of the drone's lowest point above the pad surface
+  double shutdown_radius = 0.10;          ///< [m] horizontal distance from the pad centre
+  double shutdown_height = 0.02;          ///< [m] of the drone's lowest point above the pad surface
+  /// Touchdown felt (as PX4's land detector feels ground contact): below
+  /// contact_height [m] the relative vertical speed has stayed under
+  /// contact_speed [m/s] for contact_time [s] — the feet are on the pad even
+  /// if the estimate's height has a bias.
+  double contact_height = 0.08;
+  double contact_speed = 0.1;
+  double contact_time = 0.2;
   int max_landing_attempts = 3;           ///< aborted landings before giving up, ≥ 1
   /// False (with "key: problem" in *why) for an invalid value.
   [[nodiscard]] bool validate(std::string* why) const;
@@ -150,6 +158,7 @@ class StateMachine {
   int ok_run_ = 0;                ///< consecutive Ok frames
   double last_ok_ = -1e300;       ///< time of the last Ok frame
   double stable_since_ = -1;      ///< < 0: not stable
+  double stalled_since_ = -1;     ///< < 0: no contact felt
   int plan_failures_ = 0;
   int attempts_ = 0;
   bool gave_up_ = false;

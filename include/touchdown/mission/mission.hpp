@@ -1,0 +1,152 @@
+#pragma once
+/// \file
+/// One landing mission, closed loop, in simulation: the ground vehicle
+/// drives its path with the pad and the camera; the perception measures the
+/// drone from the camera's frames; the ground station runs the state
+/// machine and the guidance at `ground_rate_hz` and sends setpoints over a
+/// link with latency and drop-outs; the drone's flight controller fuses its
+/// IMU with the position fixes and pose measurements that reach it (a Kalman
+/// filter per axis with delayed measurements) and flies the setpoints; ODE
+/// decides how it touches down on the moving pad.
+///
+/// Outcomes: `landed` (at rest on the pad, standing on its feet, inside the
+/// pad, nothing else touched), `crashed` (touched the ground, struck the pad
+/// with a propeller, arm or the body, tipped over or came to rest off the
+/// pad), `aborted` (the state machine gave up), `timeout`.
+///
+/// Determinism: every random stream is drawn from (seed, run index); the
+/// results of run_missions() are the same for any thread count (only the
+/// replans' wall times differ).
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "touchdown/mission/drone.hpp"
+#include "touchdown/mission/guidance.hpp"
+#include "touchdown/mission/perception.hpp"
+#include "touchdown/mission/state_machine.hpp"
+#include "touchdown/mission/vehicle.hpp"
+
+namespace touchdown::mission {
+
+/// Wind: a mean plus gusts (a first-order Gauss–Markov process per axis,
+/// the Dryden model's low-order form).
+struct WindOptions {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();  ///< world [m/s]
+  double gust_sigma = 0;                           ///< per horizontal axis [m/s] (vertical: half)
+  double gust_time = 2.0;                          ///< correlation time [s], > 0
+};
+
+/// The radio link between the ground station and the drone (both ways).
+struct LinkOptions {
+  double latency = 0.03;  ///< [s], ≥ 0
+  double dropout = 0.02;  ///< probability a message is lost, [0, 1)
+  /// The drone holds its last setpoint this long without a new one, then
+  /// stops moving relative to the world (PX4's offboard-loss hold) [s].
+  double setpoint_timeout = 0.5;
+};
+
+/// The external position fix before the tracker locks (RTK-less GNSS on
+/// both, or the vehicle's odometry and the drone's flow sensor): the
+/// drone's position relative to the pad with a slowly wandering error.
+struct FixOptions {
+  double rate_hz = 5;          ///< > 0
+  double sigma = 0.3;          ///< per horizontal axis [m] (vertical the same)
+  double correlation_time = 20;  ///< of the error [s], > 0
+};
+
+struct MissionOptions {
+  VehicleOptions vehicle;
+  DroneOptions drone;
+  PadGeometry pad;
+  StateMachineOptions machine;
+  GuidanceOptions guidance;
+  PerceptionMode perception = PerceptionMode::Model;
+  PerceptionModelOptions perception_model;  ///< its camera is the guidance corridor's
+  WindOptions wind;
+  LinkOptions link;
+  FixOptions fix;
+  /// The drone's start: hovering here relative to the vehicle's start
+  /// (vehicle frame = world at t = 0) [m].
+  Eigen::Vector3d drone_start{-6.0, -3.0, 3.0};
+  double ground_rate_hz = 50;  ///< state machine, guidance and setpoints [Hz]
+  double imu_accel_sigma = 0.1;  ///< accelerometer noise per sample [m/s²]
+  double timeout = 90;         ///< mission time limit [s]
+  /// False (with "key: problem", the key as in MISSION.yaml) for an invalid
+  /// value, including a vehicle the drone's limits cannot follow and a
+  /// camera that cannot see the rendezvous or tracking point.
+  [[nodiscard]] bool validate(std::string* why) const;
+  /// The options with the perception model's camera set from the corridor.
+  [[nodiscard]] PerceptionModelOptions perception_options() const;
+};
+
+enum class MissionOutcome { Landed, Aborted, Crashed, Timeout };
+
+}  // namespace touchdown::mission
+
+template <>
+struct touchdown::EnumNames<touchdown::mission::MissionOutcome> {
+  static constexpr std::array<std::string_view, 4> names{"landed", "aborted", "crashed", "timeout"};
+};
+
+namespace touchdown::mission {
+
+inline std::string_view to_string(MissionOutcome o) { return enum_name(o); }
+
+/// A sample of a recorded mission (50 Hz), world frame unless named.
+struct MissionSample {
+  double t = 0;
+  MissionState state = MissionState::Searching;
+  Eigen::Vector3d drone = Eigen::Vector3d::Zero(), drone_v = Eigen::Vector3d::Zero();  ///< true centre of mass
+  Eigen::Vector3d estimate = Eigen::Vector3d::Zero(), estimate_v = Eigen::Vector3d::Zero();  ///< the drone's own
+  Eigen::Vector3d setpoint = Eigen::Vector3d::Zero(), setpoint_v = Eigen::Vector3d::Zero();  ///< as the drone flies it
+  Eigen::Vector3d pad = Eigen::Vector3d::Zero(), pad_v = Eigen::Vector3d::Zero();
+  double pad_yaw = 0;
+  Eigen::Vector3d relative = Eigen::Vector3d::Zero();  ///< the drone in the pad frame (truth)
+  double pose_error = -1;  ///< the last Ok measurement's error [m]; < 0: none yet
+  double tracking_error = 0;  ///< |setpoint − true position| [m]
+};
+
+struct MissionResult {
+  MissionOutcome outcome = MissionOutcome::Timeout;
+  std::string message;  ///< why (crash cause, abort reason)
+  double duration = 0;  ///< simulated [s]
+  /// At rest on the pad: the airframe's body origin from the pad centre,
+  /// horizontally [m] (landed and crashed-on-the-pad runs; else NaN).
+  double touchdown_error = std::numeric_limits<double>::quiet_NaN();
+  /// Relative to the pad at the first foot contact [m/s] (NaN: none).
+  Eigen::Vector3d touchdown_velocity = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  std::array<double, 5> time_in_state{};  ///< [s] per MissionState
+  double max_tracking_error = 0;  ///< |setpoint − true position| in tracking and landing [m]
+  /// The largest per-axis world speed and acceleration in landing, and the
+  /// planner's limits they are held to.
+  double max_axis_speed = 0, max_axis_acceleration = 0, v_limit = 0, a_limit = 0;
+  int replans = 0, replan_failures = 0;
+  double replan_median_ms = 0;
+  int pose_frames = 0, pose_ok = 0;  ///< camera frames with the drone in view, of them with a pose
+  double pose_error_median = 0, pose_error_max = 0;  ///< [m] of the Ok ones
+  int landing_attempts = 0;
+  std::vector<Transition> transitions;
+  std::vector<MissionSample> trace;  ///< when recorded
+  [[nodiscard]] bool landed() const { return outcome == MissionOutcome::Landed; }
+  [[nodiscard]] double touchdown_speed() const { return touchdown_velocity.norm(); }
+};
+
+/// Perception factory for the `render` mode (mission_render.hpp supplies
+/// one); empty: the model.
+using PerceptionFactory = std::function<std::unique_ptr<Perception>(const MissionOptions&, std::uint64_t seed)>;
+
+/// One mission. Throws InvalidArgument for invalid options.
+MissionResult run_mission(const MissionOptions& options, std::uint64_t seed, std::uint64_t run = 0,
+                          bool record = false, const PerceptionFactory& perception = {});
+
+/// `runs` missions (run i seeded by (seed, i)) on `threads` threads (0:
+/// all cores); `progress` (any thread, serialised) after each.
+std::vector<MissionResult> run_missions(const MissionOptions& options, int runs, std::uint64_t seed, int threads,
+                                        const PerceptionFactory& perception = {},
+                                        const std::function<void(int done, int total)>& progress = {});
+
+}  // namespace touchdown::mission
