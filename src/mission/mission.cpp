@@ -124,11 +124,11 @@ bool MissionOptions::validate(std::string* why) const {
   if (!(fix.sigma >= 0) || !std::isfinite(fix.sigma)) return invalid(why, "fix.sigma: must be >= 0 [m]");
   if (!positive(fix.correlation_time)) return invalid(why, "fix.correlation_time: must be positive [s]");
   if (!drone_start.allFinite() || !(drone_start.z() > 1)) {
-    return invalid(why, "drone_start: must be finite and above 1 m");
+    return invalid(why, "drone.start: must be finite and above 1 m");
   }
   if (!(ground_rate_hz >= 10 && ground_rate_hz <= 1000)) return invalid(why, "ground_rate_hz: must be in [10, 1000]");
   if (!(imu_accel_sigma >= 0) || !std::isfinite(imu_accel_sigma)) {
-    return invalid(why, "imu_accel_sigma: must be >= 0 [m/s^2]");
+    return invalid(why, "drone.imu_accel_sigma: must be >= 0 [m/s^2]");
   }
   if (!positive(timeout)) return invalid(why, "timeout: must be positive [s]");
   // The drone must be able to follow the vehicle: its speed (the pad's, plus
@@ -361,10 +361,11 @@ MissionResult run_mission(const MissionOptions& options, std::uint64_t seed, std
 
     // Bookkeeping.
     res.time_in_state[static_cast<std::size_t>(state)] += dt;
-    if (state == MissionState::Tracking || state == MissionState::Landing) {
-      if (flown.position.allFinite()) res.max_tracking_error = std::max(res.max_tracking_error, (flown.position - truth.p).norm());
-    }
-    if (state == MissionState::Landing) {
+    // Tracking error: the guidance's reference (pad frame, without the
+    // pad-frame integral's offset) against where the drone is.
+    const double tracking_error = (guide.reference.p - rel_truth.p).norm();
+    if (state == MissionState::Landing && !touched) {
+      res.max_tracking_error = std::max(res.max_tracking_error, tracking_error);
       res.max_axis_speed = std::max(res.max_axis_speed, truth.v.cwiseAbs().maxCoeff());
       res.max_axis_acceleration = std::max(res.max_axis_acceleration, truth.a.cwiseAbs().maxCoeff());
     }
@@ -383,7 +384,7 @@ MissionResult run_mission(const MissionOptions& options, std::uint64_t seed, std
       s.pad_yaw = std::atan2(pad.T_world_pad.linear()(1, 0), pad.T_world_pad.linear()(0, 0));
       s.relative = rel_truth.p;
       s.pose_error = last_pose_error;
-      s.tracking_error = flown.position.allFinite() ? (flown.position - truth.p).norm() : 0;
+      s.tracking_error = tracking_error;
       res.trace.push_back(s);
     }
 

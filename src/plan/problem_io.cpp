@@ -12,6 +12,7 @@
 #include "core/format.hpp"
 #include "core/io_util.hpp"
 #include "core/yaml_util.hpp"
+#include "planner_yaml.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/rotation.hpp"
 #include "touchdown/core/units.hpp"
@@ -127,23 +128,25 @@ PadMotion read_pad(const YamlReader& r, const YAML::Node& map, std::vector<std::
   return pad;
 }
 
-void read_time(const YamlReader& r, const YAML::Node& map, TimeAllocationOptions& t) {
-  only(r, map, "time.", {"min", "max", "rho", "max_evaluations"});
-  if (const YAML::Node n = map["min"]) t.min = duration(r, n, "time.min", r.number(n, "time.min"));
-  if (const YAML::Node n = map["max"]) t.max = duration(r, n, "time.max", r.number(n, "time.max"));
+void read_time(const YamlReader& r, const YAML::Node& map, const std::string& at, TimeAllocationOptions& t) {
+  const std::string k = at + "time.";
+  only(r, map, k, {"min", "max", "rho", "max_evaluations"});
+  if (const YAML::Node n = map["min"]) t.min = duration(r, n, k + "min", r.number(n, k + "min"));
+  if (const YAML::Node n = map["max"]) t.max = duration(r, n, k + "max", r.number(n, k + "max"));
   if (!(t.min < t.max)) {
-    const YAML::Node at = map["max"] ? map["max"] : map["min"];
-    r.fail(at, map["max"] ? "time.max" : "time.min",
+    const YAML::Node where = map["max"] ? map["max"] : map["min"];
+    r.fail(where, map["max"] ? k + "max" : k + "min",
            "need time.min < time.max, got min " + format_general(t.min) + " s, max " + format_general(t.max) + " s");
   }
-  if (const YAML::Node n = map["rho"]) t.rho = non_negative(r, n, "time.rho");
+  if (const YAML::Node n = map["rho"]) t.rho = non_negative(r, n, k + "rho");
   if (const YAML::Node n = map["max_evaluations"]) {
-    t.max_evaluations = integer_in(r, n, "time.max_evaluations", 1, kMaxEvaluations);
+    t.max_evaluations = integer_in(r, n, k + "max_evaluations", 1, kMaxEvaluations);
   }
 }
 
-CameraFov read_camera(const YamlReader& r, const YAML::Node& map, std::vector<std::string>& warnings) {
-  const std::string prefix = "corridor.camera.";
+CameraFov read_camera(const YamlReader& r, const YAML::Node& map, const std::string& at,
+                      std::vector<std::string>& warnings) {
+  const std::string prefix = at + "corridor.camera.";
   only(r, map, prefix, {"p", "rpy_deg", "fov_deg", "range"});
   CameraFov c;
   if (const YAML::Node n = map["p"]) c.T_pad_camera.translation() = vec3(r, n, prefix + "p");
@@ -185,26 +188,28 @@ CameraFov read_camera(const YamlReader& r, const YAML::Node& map, std::vector<st
   return c;
 }
 
-CorridorOptions read_corridor(const YamlReader& r, const YAML::Node& map, std::vector<std::string>& warnings) {
-  only(r, map, "corridor.", {"h_touchdown", "deflate", "dilate", "max_dilations", "radius", "margin", "camera"});
+CorridorOptions read_corridor(const YamlReader& r, const YAML::Node& map, const std::string& at,
+                              std::vector<std::string>& warnings) {
+  const std::string k = at + "corridor.";
+  only(r, map, k, {"h_touchdown", "deflate", "dilate", "max_dilations", "radius", "margin", "camera"});
   CorridorOptions c;
-  if (const YAML::Node n = map["h_touchdown"]) c.h_touchdown = positive(r, n, "corridor.h_touchdown");
-  if (const YAML::Node n = map["deflate"]) c.deflate = non_negative(r, n, "corridor.deflate");
-  if (const YAML::Node n = map["dilate"]) c.dilate = positive(r, n, "corridor.dilate");
+  if (const YAML::Node n = map["h_touchdown"]) c.h_touchdown = positive(r, n, k + "h_touchdown");
+  if (const YAML::Node n = map["deflate"]) c.deflate = non_negative(r, n, k + "deflate");
+  if (const YAML::Node n = map["dilate"]) c.dilate = positive(r, n, k + "dilate");
   if (const YAML::Node n = map["max_dilations"]) {
-    c.max_dilations = integer_in(r, n, "corridor.max_dilations", 1, kMaxDilations);
+    c.max_dilations = integer_in(r, n, k + "max_dilations", 1, kMaxDilations);
   }
-  if (const YAML::Node n = map["radius"]) c.radius = non_negative(r, n, "corridor.radius");
-  if (const YAML::Node n = map["margin"]) c.margin = non_negative(r, n, "corridor.margin");
-  if (const YAML::Node n = map["camera"]) c.camera = read_camera(r, n, warnings);
+  if (const YAML::Node n = map["radius"]) c.radius = non_negative(r, n, k + "radius");
+  if (const YAML::Node n = map["margin"]) c.margin = non_negative(r, n, k + "margin");
+  if (const YAML::Node n = map["camera"]) c.camera = read_camera(r, n, at, warnings);
   return c;
 }
 
-std::vector<Box> read_obstacles(const YamlReader& r, const YAML::Node& list) {
-  if (!list.IsSequence()) r.fail(list, "obstacles", "expected a list of {min: [x, y, z], max: [x, y, z]}");
+std::vector<Box> read_obstacles(const YamlReader& r, const YAML::Node& list, const std::string& at) {
+  if (!list.IsSequence()) r.fail(list, at + "obstacles", "expected a list of {min: [x, y, z], max: [x, y, z]}");
   std::vector<Box> out;
   for (std::size_t i = 0; i < list.size(); ++i) {
-    const std::string prefix = "obstacles[" + std::to_string(i) + "].";
+    const std::string prefix = at + "obstacles[" + std::to_string(i) + "].";
     const YAML::Node o = list[i];
     only(r, o, prefix, {"min", "max"});
     Box b;
@@ -223,42 +228,53 @@ std::vector<Box> read_obstacles(const YamlReader& r, const YAML::Node& list) {
   return out;
 }
 
+}  // namespace
+
+namespace io {
+
+void read_planner(const YamlReader& r, const YAML::Node& root, const std::string& at, bool limits_required,
+                  PlannerOptions& o, std::vector<std::string>& warnings) {
+  const YAML::Node limits = limits_required ? r.child(root, at, "limits") : root["limits"];
+  if (limits) {
+    const std::string k = at + "limits.";
+    only(r, limits, k, {"v_max", "a_max"});
+    if (limits_required || limits["v_max"]) o.v_max = positive(r, r.child(limits, k, "v_max"), k + "v_max");
+    if (limits_required || limits["a_max"]) o.a_max = positive(r, r.child(limits, k, "a_max"), k + "a_max");
+  }
+  if (const YAML::Node n = root["order"]) o.order = integer_in(r, n, at + "order", kMinOrder, kMaxOrder);
+  if (const YAML::Node n = root["segments"]) o.segments = integer_in(r, n, at + "segments", 1, kMaxSegments);
+  if (const YAML::Node c = root["corridor"]) o.corridor = read_corridor(r, c, at, warnings);
+  if (o.corridor && o.segments < 2) {
+    r.fail(root["segments"] ? root["segments"] : root["corridor"], at + "segments",
+           "must be >= 2 with a corridor (the rear part and the touchdown part need a segment each), got " +
+               std::to_string(o.segments));
+  }
+  if (const YAML::Node n = root["durations"]) {
+    const auto d = r.numbers(n, at + "durations");
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      duration(r, n[i], at + "durations[" + std::to_string(i) + "]", d[i]);
+    }
+    if (d.size() != static_cast<std::size_t>(o.segments)) {
+      r.fail(n, at + "durations",
+             "expected one per segment (" + std::to_string(o.segments) + "), got " + std::to_string(d.size()));
+    }
+    o.durations = d;
+  }
+  if (const YAML::Node t = root["time"]) read_time(r, t, at, o.time);
+  if (const YAML::Node obstacles = root["obstacles"]) o.obstacles = read_obstacles(r, obstacles, at);
+}
+
+}  // namespace io
+
+namespace {
+
 void read_problem(const YamlReader& r, const YAML::Node& root, PlanProblem& p) {
   only(r, root, "",
        {"start", "goal", "pad", "limits", "order", "segments", "durations", "time", "corridor", "obstacles"});
   p.start = read_state(r, r.child(root, "", "start"), "start");
   if (const YAML::Node g = root["goal"]) p.goal = read_state(r, g, "goal");
   if (const YAML::Node pad = root["pad"]) p.pad = read_pad(r, pad, p.warnings);
-
-  PlannerOptions& o = p.options;
-  const YAML::Node limits = r.child(root, "", "limits");
-  only(r, limits, "limits.", {"v_max", "a_max"});
-  o.v_max = positive(r, r.child(limits, "limits.", "v_max"), "limits.v_max");
-  o.a_max = positive(r, r.child(limits, "limits.", "a_max"), "limits.a_max");
-
-  if (const YAML::Node n = root["order"]) o.order = integer_in(r, n, "order", kMinOrder, kMaxOrder);
-  if (const YAML::Node n = root["segments"]) o.segments = integer_in(r, n, "segments", 1, kMaxSegments);
-  if (const YAML::Node c = root["corridor"]) {
-    o.corridor = read_corridor(r, c, p.warnings);
-    if (o.segments < 2) {
-      r.fail(root["segments"] ? root["segments"] : c, "segments",
-             "must be >= 2 with a corridor (the rear part and the touchdown part need a segment each), got " +
-                 std::to_string(o.segments));
-    }
-  }
-  if (const YAML::Node n = root["durations"]) {
-    const auto d = r.numbers(n, "durations");
-    for (std::size_t i = 0; i < d.size(); ++i) {
-      duration(r, n[i], "durations[" + std::to_string(i) + "]", d[i]);
-    }
-    if (d.size() != static_cast<std::size_t>(o.segments)) {
-      r.fail(n, "durations",
-             "expected one per segment (" + std::to_string(o.segments) + "), got " + std::to_string(d.size()));
-    }
-    o.durations = d;
-  }
-  if (const YAML::Node t = root["time"]) read_time(r, t, o.time);
-  if (const YAML::Node obstacles = root["obstacles"]) o.obstacles = read_obstacles(r, obstacles);
+  io::read_planner(r, root, "", true, p.options, p.warnings);
 }
 
 // The degrees that deg_to_rad() maps to exactly `rad`, when one lies within

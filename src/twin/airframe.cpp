@@ -22,6 +22,30 @@ using detail::format_general;
 
 Airframe Airframe::f450() { return Airframe{}; }
 
+Airframe Airframe::quad180() {
+  Airframe a;
+  a.name = "180 mm quadrotor, short landing gear";
+  a.body_size = {0.08, 0.08, 0.035};
+  a.body_mass = 0.30;
+  a.motor_radius = 0.09;
+  a.motor_z = 0.015;
+  a.arm_radius = 0.006;
+  a.motor_mass = 0.025;
+  a.max_thrust = 3.5;
+  a.motor_time_constant = 0.03;
+  a.torque_coefficient = 0.012;
+  a.prop_radius = 0.0508;
+  a.prop_thickness = 0.006;
+  a.prop_height = 0.012;
+  a.gear_mass = 0.03;
+  a.gear_top_z = -0.0175;
+  a.foot_z = -0.055;
+  a.leg_radius = 0.004;
+  a.foot_radius = 0.006;
+  a.legs = {{0.05, 0.05}, {0.05, -0.05}, {-0.05, -0.05}, {-0.05, 0.05}};
+  return a;
+}
+
 double Airframe::total_mass() const {
   return body_mass + motor_mass * static_cast<double>(motor_count()) + (has_landing_gear() ? gear_mass : 0.0);
 }

@@ -48,6 +48,23 @@ TEST(Airframe, BundledF450MatchesTheBuiltInDefault) {
   EXPECT_TRUE(a.inertia_about_com().isApprox(b.inertia_about_com()));
 }
 
+TEST(Airframe, BundledQuad180MatchesTheBuiltIn) {
+  const auto a = tw::load_airframe(std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/airframes/quad180.yaml");
+  const auto b = tw::Airframe::quad180();
+  EXPECT_EQ(a.name, b.name);
+  EXPECT_EQ(a.body_size, b.body_size);
+  EXPECT_EQ(a.legs, b.legs);
+  EXPECT_EQ(a.motor_radius, b.motor_radius);
+  EXPECT_EQ(a.prop_radius, b.prop_radius);
+  EXPECT_EQ(a.max_thrust, b.max_thrust);
+  EXPECT_EQ(a.foot_z, b.foot_z);
+  EXPECT_DOUBLE_EQ(a.total_mass(), b.total_mass());
+  EXPECT_TRUE(a.centre_of_mass().isApprox(b.centre_of_mass()));
+  EXPECT_TRUE(a.inertia_about_com().isApprox(b.inertia_about_com()));
+  std::string why;
+  EXPECT_TRUE(b.validate(&why)) << why;
+}
+
 TEST(Airframe, MassCentreAndInertiaFromTheParts) {
   const auto a = tw::Airframe::f450();
   EXPECT_NEAR(a.total_mass(), 1.50, 1e-12);

@@ -24,7 +24,7 @@
 namespace touchdown::mission {
 
 struct DroneOptions {
-  twin::Airframe airframe = twin::Airframe::f450();
+  twin::Airframe airframe = twin::Airframe::quad180();
   twin::ControllerParams controller{};
   double step = 0.002;            ///< physics and control step [s], (0, 0.01]
   double drag_linear = 0.05;      ///< N per m/s of airspeed

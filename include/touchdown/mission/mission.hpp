@@ -107,7 +107,7 @@ struct MissionSample {
   double pad_yaw = 0;
   Eigen::Vector3d relative = Eigen::Vector3d::Zero();  ///< the drone in the pad frame (truth)
   double pose_error = -1;  ///< the last Ok measurement's error [m]; < 0: none yet
-  double tracking_error = 0;  ///< |setpoint − true position| [m]
+  double tracking_error = 0;  ///< |the guidance's reference − true position| (pad frame) [m]
 };
 
 struct MissionResult {
@@ -120,9 +120,11 @@ struct MissionResult {
   /// Relative to the pad at the first foot contact [m/s] (NaN: none).
   Eigen::Vector3d touchdown_velocity = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   std::array<double, 5> time_in_state{};  ///< [s] per MissionState
-  double max_tracking_error = 0;  ///< |setpoint − true position| in tracking and landing [m]
-  /// The largest per-axis world speed and acceleration in landing, and the
-  /// planner's limits they are held to.
+  /// |reference − true position| (the guidance's pad-frame reference) in
+  /// landing before touchdown [m].
+  double max_tracking_error = 0;
+  /// The largest per-axis world speed and acceleration in landing before
+  /// touchdown, and the planner's limits they are held to.
   double max_axis_speed = 0, max_axis_acceleration = 0, v_limit = 0, a_limit = 0;
   int replans = 0, replan_failures = 0;
   double replan_median_ms = 0;

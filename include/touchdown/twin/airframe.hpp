@@ -65,6 +65,9 @@ struct Airframe {
 
   /// The default airframe (a DJI F450; the numbers of data/airframes/f450.yaml).
   static Airframe f450();
+  /// A 180 mm quadrotor with 4-inch propellers and a short landing gear:
+  /// the landing mission's drone (the numbers of data/airframes/quad180.yaml).
+  static Airframe quad180();
 
   /// Least max-thrust-to-weight ratio validate() accepts (hover plus
   /// control margin).

@@ -1,0 +1,261 @@
+// The mission file (mission_io.hpp; docs/formats.md, "Landing mission").
+#include "touchdown/mission/mission_io.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <functional>
+#include <utility>
+
+#include "core/io_util.hpp"
+#include "core/yaml_util.hpp"
+#include "plan/planner_yaml.hpp"
+#include "touchdown/core/error.hpp"
+#include "touchdown/core/units.hpp"
+
+namespace touchdown::mission {
+namespace {
+
+using touchdown::detail::YamlReader;
+
+// One key of a section: how to read it.
+struct Field {
+  const char* key;
+  std::function<void(const YamlReader&, const YAML::Node&, const std::string&)> read;
+};
+
+Field num(const char* key, double& target) {
+  return {key, [&target](const YamlReader& r, const YAML::Node& n, const std::string& k) { target = r.number(n, k); }};
+}
+Field deg(const char* key, double& target_rad) {
+  return {key, [&target_rad](const YamlReader& r, const YAML::Node& n, const std::string& k) {
+            target_rad = deg_to_rad(r.number(n, k));
+          }};
+}
+Field integer(const char* key, int& target) {
+  return {key, [&target](const YamlReader& r, const YAML::Node& n, const std::string& k) { target = r.integer(n, k); }};
+}
+Field flag(const char* key, bool& target) {
+  return {key, [&target](const YamlReader& r, const YAML::Node& n, const std::string& k) {
+            const std::string t = r.text(n, k);
+            if (t == "true") {
+              target = true;
+            } else if (t == "false") {
+              target = false;
+            } else {
+              r.fail(n, k, "expected true or false, got '" + t + "'");
+            }
+          }};
+}
+Field vec3(const char* key, Eigen::Vector3d& target) {
+  return {key, [&target](const YamlReader& r, const YAML::Node& n, const std::string& k) {
+            const auto v = r.vec3(n, k);
+            target = {v[0], v[1], v[2]};
+          }};
+}
+Field vec2(const char* key, Eigen::Vector2d& target) {
+  return {key, [&target](const YamlReader& r, const YAML::Node& n, const std::string& k) {
+            const auto v = r.numbers(n, k);
+            if (v.size() != 2) r.fail(n, k, "expected 2 numbers, got " + std::to_string(v.size()));
+            target = {v[0], v[1]};
+          }};
+}
+template <NamedEnum E>
+Field named(const char* key, E& target) {
+  return {key, [&target](const YamlReader& r, const YAML::Node& n, const std::string& k) {
+            try {
+              target = from_string<E>(r.text(n, k));
+            } catch (const InvalidArgument& e) {
+              r.fail(n, k, e.what());
+            }
+          }};
+}
+// A subsection read by its own fields.
+Field section(const char* key, std::function<void(const YamlReader&, const YAML::Node&, const std::string&)> read) {
+  return {key, std::move(read)};
+}
+
+// Reads the fields of `map` (a mapping; every key must be one of them).
+void read_fields(const YamlReader& r, const YAML::Node& map, const std::string& prefix,
+                 const std::vector<Field>& fields) {
+  if (!map.IsMap()) r.fail(map, prefix.empty() ? "<document>" : prefix.substr(0, prefix.size() - 1), "expected a mapping");
+  for (const auto& kv : map) {
+    if (!kv.first.IsScalar()) r.fail(kv.first, prefix + "<key>", "a key must be a plain name");
+    const std::string k = kv.first.Scalar();
+    const auto it = std::find_if(fields.begin(), fields.end(), [&](const Field& f) { return k == f.key; });
+    if (it == fields.end()) {
+      std::string known;
+      for (const Field& f : fields) known += (known.empty() ? "" : ", ") + std::string(f.key);
+      r.fail(kv.first, prefix + k, "unknown key (expected " + known + ")");
+    }
+    it->read(r, kv.second, prefix + k);
+  }
+}
+
+// The line of a dotted key path in the document (for the messages of
+// validate(), which know the key but not the line); -1 when absent.
+int line_of(const YAML::Node& root, const std::string& path) {
+  YAML::Node node = root;
+  std::size_t start = 0;
+  while (start <= path.size()) {
+    const std::size_t dot = path.find('.', start);
+    const std::string part = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    if (!node.IsMap() || !node[part]) return -1;
+    node = node[part];
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  return node.Mark().line >= 0 ? node.Mark().line + 1 : -1;
+}
+
+void read_mission(const YamlReader& r, const YAML::Node& root, const std::filesystem::path& base, MissionFile& file) {
+  MissionOptions& o = file.options;
+  VehicleOptions& v = o.vehicle;
+  DroneOptions& d = o.drone;
+  twin::ControllerParams& c = d.controller;
+  StateMachineOptions& m = o.machine;
+  GuidanceOptions& g = o.guidance;
+  PerceptionModelOptions& p = o.perception_model;
+  const std::vector<Field> controller = {
+      num("xy_p", c.xy_p),           num("xy_vel_p", c.xy_vel_p),
+      num("xy_vel_i", c.xy_vel_i),   num("xy_vel_d", c.xy_vel_d),
+      num("xy_vel_max", c.xy_vel_max), num("z_p", c.z_p),
+      num("z_vel_p", c.z_vel_p),     num("z_vel_i", c.z_vel_i),
+      num("z_vel_max_up", c.z_vel_max_up), num("z_vel_max_down", c.z_vel_max_down),
+      num("tilt_max_air_deg", c.tilt_max_air_deg), num("vel_deriv_lp_hz", c.vel_deriv_lp_hz),
+      num("roll_p", c.roll_p),       num("pitch_p", c.pitch_p),
+      num("yaw_p", c.yaw_p),         num("yaw_rate_max_deg", c.yaw_rate_max_deg),
+      num("roll_pitch_rate_max_deg", c.roll_pitch_rate_max_deg), num("rate_p_roll_pitch", c.rate_p_roll_pitch),
+      num("rate_p_yaw", c.rate_p_yaw)};
+  const std::vector<Field> top = {
+      section("vehicle",
+              [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
+                read_fields(rr, n, k + ".",
+                            {named("path", v.path), num("speed", v.speed), num("radius", v.radius),
+                             flag("counter_clockwise", v.counter_clockwise),
+                             num("max_acceleration", v.max_acceleration), num("max_wheel_speed", v.max_wheel_speed),
+                             num("track_width", v.track_width), num("drive_time_constant", v.drive_time_constant),
+                             num("lookahead", v.lookahead), flag("start_at_speed", v.start_at_speed),
+                             num("random_speed_sigma", v.random_speed_sigma),
+                             num("random_change_time", v.random_change_time), vec3("pad_position", v.pad_position)});
+              }),
+      section("pad",
+              [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
+                read_fields(rr, n, k + ".", {vec2("size", o.pad.size), num("thickness", o.pad.thickness)});
+              }),
+      section("drone",
+              [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
+                read_fields(
+                    rr, n, k + ".",
+                    {{"airframe",
+                      [&](const YamlReader& r2, const YAML::Node& a, const std::string& ak) {
+                        const std::filesystem::path path = base / r2.text(a, ak);
+                        try {
+                          d.airframe = twin::load_airframe(path);
+                        } catch (const Error& e) {
+                          r2.fail(a, ak, e.what());
+                        }
+                        file.airframe = path;
+                      }},
+                     num("step", d.step), num("drag_linear", d.drag_linear), num("drag_quadratic", d.drag_quadratic),
+                     num("contact_stiffness", d.contact_stiffness), num("contact_damping", d.contact_damping),
+                     num("pad_friction", d.pad_friction), num("ground_friction", d.ground_friction),
+                     vec3("start", o.drone_start), num("imu_accel_sigma", o.imu_accel_sigma),
+                     section("controller", [&](const YamlReader& r2, const YAML::Node& cn, const std::string& ck) {
+                       read_fields(r2, cn, ck + ".", controller);
+                     })});
+              }),
+      section("state_machine",
+              [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
+                read_fields(rr, n, k + ".",
+                            {vec3("rendezvous_point", m.rendezvous_point), num("rendezvous_radius", m.rendezvous_radius),
+                             integer("lock_frames", m.lock_frames), num("lock_max_gap", m.lock_max_gap),
+                             num("rendezvous_timeout", m.rendezvous_timeout), num("stable_error", m.stable_error),
+                             num("stable_speed", m.stable_speed), num("stable_time", m.stable_time),
+                             num("pose_timeout", m.pose_timeout), integer("max_plan_failures", m.max_plan_failures),
+                             num("max_vehicle_acceleration", m.max_vehicle_acceleration),
+                             deg("max_vehicle_yaw_rate_deg", m.max_vehicle_yaw_rate),
+                             num("min_height_without_plan", m.min_height_without_plan),
+                             num("shutdown_radius", m.shutdown_radius), num("shutdown_height", m.shutdown_height),
+                             num("contact_height", m.contact_height), num("contact_speed", m.contact_speed),
+                             num("contact_time", m.contact_time),
+                             integer("max_landing_attempts", m.max_landing_attempts)});
+              }),
+      section("guidance",
+              [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
+                read_fields(rr, n, k + ".",
+                            {vec3("tracking_point", g.tracking_point), num("replan_period", g.replan_period),
+                             num("replan_stop", g.replan_stop), num("replan_reset_distance", g.replan_reset_distance),
+                             num("terminal_height", g.terminal_height), num("terminal_speed", g.terminal_speed),
+                             num("terminal_centre_tolerance", g.terminal_centre_tolerance),
+                             num("terminal_acceleration", g.terminal_acceleration),
+                             num("pad_integral_gain", g.pad_integral_gain),
+                             num("pad_integral_limit", g.pad_integral_limit),
+                             section("planner", [&](const YamlReader& r2, const YAML::Node& pn, const std::string& pk) {
+                               std::vector<Field> keys;
+                               for (const char* key : plan::io::kPlannerKeys) keys.push_back({key, [](auto&&...) {}});
+                               read_fields(r2, pn, pk + ".", keys);  // unknown keys
+                               plan::io::read_planner(r2, pn, pk + ".", false, g.planner, file.warnings);
+                             })});
+              }),
+      section("perception",
+              [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
+                read_fields(rr, n, k + ".",
+                            {named("mode", o.perception), num("rate_hz", p.rate_hz), num("latency", p.latency),
+                             num("sigma_a", p.sigma_a), num("sigma_b", p.sigma_b), num("bias_sigma", p.bias_sigma),
+                             num("dropout", p.dropout), num("min_range", p.min_range), num("max_range", p.max_range),
+                             num("fov_margin", p.fov_margin)});
+              }),
+      section("wind",
+              [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
+                read_fields(rr, n, k + ".",
+                            {vec3("mean", o.wind.mean), num("gust_sigma", o.wind.gust_sigma),
+                             num("gust_time", o.wind.gust_time)});
+              }),
+      section("link",
+              [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
+                read_fields(rr, n, k + ".",
+                            {num("latency", o.link.latency), num("dropout", o.link.dropout),
+                             num("setpoint_timeout", o.link.setpoint_timeout)});
+              }),
+      section("fix",
+              [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
+                read_fields(rr, n, k + ".",
+                            {num("rate_hz", o.fix.rate_hz), num("sigma", o.fix.sigma),
+                             num("correlation_time", o.fix.correlation_time)});
+              }),
+      num("ground_rate_hz", o.ground_rate_hz),
+      num("timeout", o.timeout)};
+  read_fields(r, root, "", top);
+}
+
+}  // namespace
+
+MissionFile parse_mission(std::string_view yaml_text, std::string_view source, const std::filesystem::path& base) {
+  const YAML::Node root = touchdown::detail::load_yaml(yaml_text, source);
+  const YamlReader reader{source};
+  MissionFile file;
+  try {
+    if (root.IsNull()) reader.fail(root, "<document>", "empty mission file");
+    read_mission(reader, root, base, file);
+  } catch (const YAML::Exception& e) {
+    throw ParseError(std::string(source) + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  std::string why;
+  if (!file.options.validate(&why)) {
+    // "key: what" → "source:line: key: what" where the key is in the file.
+    const std::string yaw_rate = "state_machine.max_vehicle_yaw_rate:";
+    if (why.rfind(yaw_rate, 0) == 0) why = "state_machine.max_vehicle_yaw_rate_deg: must be positive [deg/s]";
+    const std::string key = why.substr(0, why.find(':'));
+    const int line = line_of(root, key);
+    throw ParseError(std::string(source) + (line > 0 ? ":" + std::to_string(line) : "") + ": " + why);
+  }
+  return file;
+}
+
+MissionFile load_mission(const std::filesystem::path& path) {
+  const std::string text = touchdown::detail::read_text_file(path);
+  const std::filesystem::path base = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+  return parse_mission(text, path.string(), base);
+}
+
+}  // namespace touchdown::mission
