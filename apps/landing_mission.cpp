@@ -303,10 +303,14 @@ int main(int argc, char** argv) {
   app.add_option("--threads", a.threads, "threads (0: all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
   CLI::Option* perception = td::app::add_enum_option(app, "--perception", a.perception, "perception in the loop (default: the mission file's)");
   app.add_flag("--json", a.json, "one JSON object on stdout");
-  app.add_option("--plot", a.plot_dir, "write positions/velocities/errors/top_view SVGs of run 0 to this directory");
-  app.add_option("--log", a.log_path, "write run 0's trace (50 Hz) as CSV")->check(td::app::output_extension(".csv"));
+  app.add_option("--plot", a.plot_dir, "write positions/velocities/errors/top_view SVGs of run 0 to this directory")
+      ->default_str("off");
+  app.add_option("--log", a.log_path, "write run 0's trace (50 Hz) as CSV")
+      ->check(td::app::output_extension(".csv"))
+      ->default_str("off");
   app.add_option("--video", a.video_path, "render mode: the vehicle camera's view of run 0 (MP4)")
-      ->check(td::app::output_extension(".mp4"));
+      ->check(td::app::output_extension(".mp4"))
+      ->default_str("off");
   CLI::App* envelope = app.add_subcommand("envelope", "success rate over vehicle speed x wind");
   envelope->add_option("mission", a.mission_path, "MISSION.yaml")->check(CLI::ExistingFile);
   envelope->add_option("--speeds", a.speeds, "vehicle speeds lo hi step [m/s]")
@@ -316,7 +320,9 @@ int main(int argc, char** argv) {
   envelope->add_option("--runs", a.runs, "missions per cell")->check(CLI::Range(1, 100000))->capture_default_str();
   td::app::add_seed_option(*envelope, "--seed", a.seed, "seed");
   envelope->add_option("--threads", a.threads, "threads (0: all cores)")->check(CLI::Range(0, 1024));
-  envelope->add_option("--plot", a.envelope_plot, "write the envelope as SVG")->check(td::app::output_extension(".svg"));
+  envelope->add_option("--plot", a.envelope_plot, "write the envelope as SVG")
+      ->check(td::app::output_extension(".svg"))
+      ->default_str("off");
   envelope->add_flag("--json", a.json, "one JSON object on stdout");
 
   return td::app::run(app, argc, argv, [&]() -> int {

@@ -1,0 +1,193 @@
+// The closed loop: a straight-line vehicle with perfect perception lands
+// within 2 cm; results are bit-identical for any thread count and change
+// with the seed; the guidance's frame algebra against rigid-body answers;
+// the perception model's statistics; options the drone cannot fly refused.
+#include "touchdown/mission/mission.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "touchdown/core/error.hpp"
+
+namespace tdm = touchdown::mission;
+
+namespace {
+
+// Nothing random, nothing late: the drone sees itself exactly.
+tdm::MissionOptions perfect(tdm::VehiclePath path) {
+  tdm::MissionOptions o;
+  o.vehicle.path = path;
+  o.perception_model.sigma_a = o.perception_model.sigma_b = o.perception_model.bias_sigma = 0;
+  o.perception_model.dropout = 0;
+  o.perception_model.latency = 0;
+  o.link.latency = 0;
+  o.link.dropout = 0;
+  o.fix.sigma = 0;
+  o.imu_accel_sigma = 0;
+  return o;
+}
+
+void expect_same(const tdm::MissionResult& a, const tdm::MissionResult& b) {
+  EXPECT_EQ(a.outcome, b.outcome);
+  EXPECT_EQ(a.message, b.message);
+  EXPECT_EQ(a.duration, b.duration);
+  EXPECT_TRUE(a.touchdown_error == b.touchdown_error || (std::isnan(a.touchdown_error) && std::isnan(b.touchdown_error)));
+  EXPECT_EQ(a.max_tracking_error, b.max_tracking_error);
+  EXPECT_EQ(a.replans, b.replans);
+  EXPECT_EQ(a.pose_ok, b.pose_ok);
+  ASSERT_EQ(a.transitions.size(), b.transitions.size());
+  for (std::size_t i = 0; i < a.transitions.size(); ++i) {
+    EXPECT_EQ(a.transitions[i].t, b.transitions[i].t);
+    EXPECT_EQ(a.transitions[i].reason, b.transitions[i].reason);
+  }
+}
+
+}  // namespace
+
+TEST(Mission, StraightLinePerfectPerceptionLandsWithinTwoCentimetres) {
+  const tdm::MissionResult r = tdm::run_mission(perfect(tdm::VehiclePath::Line), 1);
+  ASSERT_EQ(r.outcome, tdm::MissionOutcome::Landed) << r.message;
+  EXPECT_LT(r.touchdown_error, 0.02);
+  EXPECT_LT(r.touchdown_speed(), 0.5);
+  // Through every state once, in order.
+  ASSERT_EQ(r.transitions.size(), 4u);
+  EXPECT_EQ(r.transitions.back().to, tdm::MissionState::Shutdown);
+  EXPECT_EQ(r.landing_attempts, 0);
+  // The planned flight stays within the planner's world-frame limits (5 %).
+  EXPECT_LE(r.max_axis_speed, 1.05 * r.v_limit);
+  EXPECT_LE(r.max_axis_acceleration, 1.05 * r.a_limit);
+  EXPECT_GT(r.replans, 5);
+}
+
+TEST(Mission, SameSeedSameBitsForAnyThreadCount) {
+  tdm::MissionOptions o;  // the default (noisy) circle mission
+  const auto one = tdm::run_missions(o, 4, 9, 1);
+  const auto two = tdm::run_missions(o, 4, 9, 2);
+  ASSERT_EQ(one.size(), two.size());
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    SCOPED_TRACE(i);
+    expect_same(one[i], two[i]);
+    // Run i alone is run i of the batch.
+    expect_same(one[i], tdm::run_mission(o, 9, i));
+  }
+  // Another seed: other missions.
+  const auto other = tdm::run_missions(o, 1, 10, 1);
+  EXPECT_NE(other[0].duration, one[0].duration);
+}
+
+TEST(Mission, RecordedTraceFollowsTheRun) {
+  const tdm::MissionResult r = tdm::run_mission(tdm::MissionOptions{}, 3, 0, true);
+  ASSERT_FALSE(r.trace.empty());
+  EXPECT_NEAR(r.trace.back().t, r.duration, 0.03);
+  // 50 Hz samples, pad at its height, the state sequence as the log says.
+  EXPECT_NEAR(r.trace[1].t - r.trace[0].t, 0.02, 1e-9);
+  EXPECT_NEAR(r.trace[10].pad.z(), tdm::MissionOptions{}.vehicle.pad_position.z(), 1e-9);
+  EXPECT_EQ(r.trace.back().state, r.transitions.empty() ? tdm::MissionState::Searching : r.transitions.back().to);
+}
+
+TEST(Mission, OptionsTheDroneCannotFlyAreRefusedByKey) {
+  const auto refused = [](tdm::MissionOptions o, const std::string& key) {
+    std::string why;
+    EXPECT_FALSE(o.validate(&why)) << key;
+    EXPECT_EQ(why.rfind(key, 0), 0u) << why;
+    EXPECT_THROW((void)tdm::run_mission(o, 1), touchdown::InvalidArgument);
+  };
+  tdm::MissionOptions o;
+  o.vehicle.speed = 5.4;  // the wheels allow it; the drone's 3 m/s per axis do not
+  o.vehicle.max_wheel_speed = 8;
+  refused(o, "vehicle.speed");
+  o = {};
+  o.machine.rendezvous_point = {2.5, 0, 1.5};  // in front of the vehicle: behind the camera
+  refused(o, "state_machine.rendezvous_point");
+  o = {};
+  o.guidance.tracking_point = {-1.2, 0, 5};  // above the field of view
+  refused(o, "guidance.tracking_point");
+  o = {};
+  o.link.dropout = 1;
+  refused(o, "link.dropout");
+  std::string why;
+  EXPECT_TRUE(tdm::MissionOptions{}.validate(&why)) << why;
+}
+
+TEST(Guidance, PadFrameStatesAgreeWithRigidBodyMotion) {
+  // A pad at 2 m/s turning at 0.25 rad/s: a point fixed in its frame moves
+  // at v + ω × r and accelerates at a + ω × (ω × r) (here a = ω × v).
+  tdm::PadState pad;
+  pad.T_world_pad.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pad.T_world_pad.translation() = Eigen::Vector3d(3, -1, 0.4);
+  const double w = 0.25;
+  pad.velocity = pad.T_world_pad.linear() * Eigen::Vector3d(2, 0, 0);
+  pad.acceleration = Eigen::Vector3d(0, 0, w).cross(pad.velocity);
+  pad.yaw_rate = w;
+  touchdown::plan::KinematicState fixed;
+  fixed.p = Eigen::Vector3d(-1.2, 0.3, 1.0);
+  const auto world = tdm::pad_to_world(pad, fixed);
+  const Eigen::Vector3d r = pad.T_world_pad.linear() * fixed.p, omega(0, 0, w);
+  EXPECT_TRUE(world.v.isApprox(pad.velocity + omega.cross(r), 1e-12));
+  EXPECT_TRUE(world.a.isApprox(pad.acceleration + omega.cross(omega.cross(r)), 1e-12));
+  // And back.
+  touchdown::plan::KinematicState moving{fixed.p, {0.1, -0.2, 0.3}, {0.5, 0.1, -0.2}};
+  const auto back = tdm::world_to_pad(pad, tdm::pad_to_world(pad, moving));
+  EXPECT_TRUE(back.p.isApprox(moving.p, 1e-12));
+  EXPECT_TRUE(back.v.isApprox(moving.v, 1e-12));
+  EXPECT_TRUE(back.a.isApprox(moving.a, 1e-12));
+}
+
+TEST(Guidance, LandingPlanEndsAtTheTerminalPointGoingDown) {
+  const tdm::GuidanceOptions o;
+  tdm::Guidance g(o, 0.06);
+  tdm::PadState pad;
+  pad.velocity = Eigen::Vector3d(2, 0, 0);
+  const tdm::StateMachineOptions machine;
+  touchdown::plan::KinematicState at_tracking;
+  at_tracking.p = o.tracking_point;
+  // Tracking holds the tracking point, moving with the pad.
+  const auto hold = g.update(0, tdm::MissionState::Tracking, true, pad, at_tracking, {}, machine);
+  EXPECT_TRUE(hold.setpoint.position.isApprox(o.tracking_point, 1e-12));
+  EXPECT_TRUE(hold.setpoint.velocity.isApprox(pad.velocity, 1e-12));
+  // Landing: the first plan from there, ending at the terminal point.
+  const auto out = g.update(0.02, tdm::MissionState::Landing, true, pad, at_tracking, {}, machine);
+  ASSERT_EQ(out.replan, tdm::ReplanOutcome::Ok) << g.plan().message;
+  const auto& traj = g.plan().trajectory;
+  EXPECT_TRUE(traj.evaluate(0).isApprox(o.tracking_point, 1e-6));
+  EXPECT_TRUE(traj.evaluate(traj.total_duration()).isApprox(g.terminal_point(), 1e-6));
+  EXPECT_NEAR(traj.evaluate(traj.total_duration(), 1).z(), -o.terminal_speed, 1e-6);
+  // A replan 0.11 s later at the remaining durations keeps the end time.
+  const double end = g.plan_start() + traj.total_duration();
+  touchdown::plan::KinematicState on_plan{traj.evaluate(0.11), traj.evaluate(0.11, 1), traj.evaluate(0.11, 2)};
+  const auto again = g.update(0.13, tdm::MissionState::Landing, false, pad, on_plan, {}, machine);
+  ASSERT_EQ(again.replan, tdm::ReplanOutcome::Ok);
+  EXPECT_NEAR(g.plan_start() + g.plan().trajectory.total_duration(), end, 1e-9);
+}
+
+TEST(PerceptionModel, NoiseGrowsWithRangeAsModelled) {
+  tdm::MissionOptions mo;
+  tdm::PerceptionModelOptions o = mo.perception_options();
+  o.bias_sigma = 0;
+  o.dropout = 0.1;
+  tdm::PerceptionModel m(o, 5);
+  EXPECT_TRUE(m.visible(mo.machine.rendezvous_point));
+  EXPECT_FALSE(m.visible({2.0, 0, 1}));   // ahead of the camera, which looks back
+  EXPECT_FALSE(m.visible({-9.0, 0, 2}));  // beyond max_range
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(-0.3, 0, 0.3), Eigen::Vector3d(-2.5, 0, 1.5)}) {
+    tdm::PerceptionTruth truth;
+    truth.p_pad_com = p;
+    const double r = (p - o.camera.T_pad_camera.translation()).norm();
+    const double sigma = o.sigma_a + o.sigma_b * r * r;
+    double sum2 = 0;
+    int ok = 0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+      truth.t = i / 30.0;
+      const auto meas = m.capture(truth);
+      if (!meas.ok) continue;
+      ++ok;
+      EXPECT_DOUBLE_EQ(meas.sigma, sigma);
+      sum2 += (meas.p_pad - p).squaredNorm();
+    }
+    EXPECT_NEAR(static_cast<double>(ok) / n, 1 - o.dropout, 0.01);
+    EXPECT_NEAR(std::sqrt(sum2 / (3.0 * ok)), sigma, 0.02 * sigma);
+  }
+}
