@@ -92,6 +92,7 @@ bool GuidanceOptions::validate(std::string* why) const {
   if (!(pad_integral_gain >= 0) || !std::isfinite(pad_integral_gain)) {
     return invalid(why, "guidance.pad_integral_gain: must be >= 0 [1/s]");
   }
+  if (!positive(pad_integral_window)) return invalid(why, "guidance.pad_integral_window: must be positive [m]");
   if (!(pad_integral_limit >= 0) || !std::isfinite(pad_integral_limit)) {
     return invalid(why, "guidance.pad_integral_limit: must be >= 0 [m]");
   }
@@ -183,12 +184,17 @@ GuidanceOutput Guidance::update(double t, MissionState state, bool entered, cons
   GuidanceOutput out = compute(t, state, entered, pad, estimate, fix, machine);
   // The pad-frame integral: what the drone's world-frame loops cannot
   // remove in a turning frame (drag and wind against a setpoint whose error
-  // turns with the pad) is taken out here, horizontally, while the tracker
-  // drives the estimate (tracking and landing).
+  // turns with the pad) is taken out here, horizontally, in every flying
+  // state (the drag does not change with the state; the estimate rests on
+  // the fix before the tracker locks).
   const double h = std::clamp(t - last_update_, 0.0, 0.1);
   last_update_ = t;
-  if (state == MissionState::Tracking || state == MissionState::Landing) {
-    offset_ += options_.pad_integral_gain * h * (out.reference.p - estimate.p).head<2>();
+  if (state != MissionState::Shutdown) {
+    // Conditional integration (anti-windup): only near the reference, where
+    // the error is the steady one, not a transient (a hold point's jump, the
+    // approach).
+    const Eigen::Vector2d error = (out.reference.p - estimate.p).head<2>();
+    if (error.norm() < options_.pad_integral_window) offset_ += options_.pad_integral_gain * h * error;
     if (offset_.norm() > options_.pad_integral_limit) offset_ *= options_.pad_integral_limit / offset_.norm();
     plan::KinematicState shifted = out.reference;
     shifted.p.head<2>() += offset_;

@@ -190,6 +190,7 @@ void read_mission(const YamlReader& r, const YAML::Node& root, const std::filesy
                              num("terminal_acceleration", g.terminal_acceleration),
                              num("pad_integral_gain", g.pad_integral_gain),
                              num("pad_integral_limit", g.pad_integral_limit),
+                             num("pad_integral_window", g.pad_integral_window),
                              section("planner", [&](const YamlReader& r2, const YAML::Node& pn, const std::string& pk) {
                                std::vector<Field> keys;
                                for (const char* key : plan::io::kPlannerKeys) keys.push_back({key, [](auto&&...) {}});
@@ -202,7 +203,7 @@ void read_mission(const YamlReader& r, const YAML::Node& root, const std::filesy
                 read_fields(rr, n, k + ".",
                             {named("mode", o.perception), num("rate_hz", p.rate_hz), num("latency", p.latency),
                              num("sigma_a", p.sigma_a), num("sigma_b", p.sigma_b), num("bias_sigma", p.bias_sigma),
-                             num("dropout", p.dropout), num("min_range", p.min_range), num("max_range", p.max_range),
+                             num("dropout", p.dropout), num("dropout_b", p.dropout_b), num("min_range", p.min_range), num("max_range", p.max_range),
                              num("fov_margin", p.fov_margin)});
               }),
       section("wind",

@@ -19,6 +19,10 @@ bool PerceptionModelOptions::validate(std::string* why) const {
   if (!non_negative(sigma_b)) return invalid(why, "perception.sigma_b: must be >= 0 [m/m^2]");
   if (!non_negative(bias_sigma)) return invalid(why, "perception.bias_sigma: must be >= 0 [m]");
   if (!(dropout >= 0 && dropout < 1)) return invalid(why, "perception.dropout: must be in [0, 1)");
+  if (!non_negative(dropout_b)) return invalid(why, "perception.dropout_b: must be >= 0 [1/m^2]");
+  if (!(dropout + dropout_b * max_range * max_range < 1)) {
+    return invalid(why, "perception.dropout_b: dropout + dropout_b * max_range^2 must be below 1");
+  }
   if (!non_negative(min_range)) return invalid(why, "perception.min_range: must be >= 0 [m]");
   if (!(max_range > min_range) || !std::isfinite(max_range)) {
     return invalid(why, "perception.max_range: must be finite and above min_range [m]");
@@ -56,8 +60,8 @@ PoseMeasurement PerceptionModel::capture(const PerceptionTruth& truth) {
   // does not shift the next frames' noise.
   const Eigen::Vector3d n(rng_.normal(), rng_.normal(), rng_.normal());
   const double drop = rng_.uniform();
-  if (!visible(truth.p_pad_com) || drop < options_.dropout) return m;
   const double r = (truth.p_pad_com - options_.camera.T_pad_camera.translation()).norm();
+  if (!visible(truth.p_pad_com) || drop < options_.dropout + options_.dropout_b * r * r) return m;
   m.sigma = options_.sigma_a + options_.sigma_b * r * r;
   m.p_pad = truth.p_pad_com + bias_ + m.sigma * n;
   m.ok = true;

@@ -20,7 +20,7 @@ tdm::MissionOptions perfect(tdm::VehiclePath path) {
   tdm::MissionOptions o;
   o.vehicle.path = path;
   o.perception_model.sigma_a = o.perception_model.sigma_b = o.perception_model.bias_sigma = 0;
-  o.perception_model.dropout = 0;
+  o.perception_model.dropout = o.perception_model.dropout_b = 0;
   o.perception_model.latency = 0;
   o.link.latency = 0;
   o.link.dropout = 0;
@@ -167,6 +167,7 @@ TEST(PerceptionModel, NoiseGrowsWithRangeAsModelled) {
   tdm::PerceptionModelOptions o = mo.perception_options();
   o.bias_sigma = 0;
   o.dropout = 0.1;
+  o.dropout_b = 0;
   tdm::PerceptionModel m(o, 5);
   EXPECT_TRUE(m.visible(mo.machine.rendezvous_point));
   EXPECT_FALSE(m.visible({2.0, 0, 1}));   // ahead of the camera, which looks back

@@ -68,10 +68,11 @@ struct GuidanceOptions {
   /// to the pad centre horizontally (else it holds the height).
   double terminal_centre_tolerance = 0.05;
   double terminal_acceleration = 1.0;  ///< [m/s²] of the terminal descent rate's changes
-  /// The pad-frame integral on the horizontal position (tracking and
-  /// landing): gain [1/s] and limit [m] of the offset it adds to the setpoint.
+  /// The pad-frame integral on the horizontal position (every flying
+  /// state): gain [1/s] and limit [m] of the offset it adds to the setpoint.
   double pad_integral_gain = 0.6;
   double pad_integral_limit = 0.5;
+  double pad_integral_window = 0.6;  ///< [m] integrates only while the error is below this
 
   /// The bundled planner set-up: order 7, 2 segments, 3 m/s and 4 m/s²
   /// per world axis, and the corridor of a camera 0.5 m ahead of the pad

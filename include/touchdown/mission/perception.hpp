@@ -71,11 +71,16 @@ struct PerceptionModelOptions {
   double rate_hz = 30;        ///< camera frames per second, > 0
   double latency = 0.04;      ///< capture → estimate at the ground station [s], ≥ 0
   /// Per-axis σ of the position: sigma_a + sigma_b · r² at range r from the
-  /// camera [m], [m/m²] (a depth-camera-and-LED error grows with r²).
-  double sigma_a = 0.002;
-  double sigma_b = 0.004;
-  double bias_sigma = 0.005;  ///< per-mission constant bias, σ per axis [m]
-  double dropout = 0.03;      ///< probability that a visible frame has no pose, [0, 1)
+  /// camera [m], [m/m²] (a depth-camera-and-LED error grows with r²). The
+  /// defaults are the fit to led_pose (attitude prior) on the independent
+  /// renderer's sequences (tests/bench/mission_perception_fit.py).
+  double sigma_a = 0.0004;
+  double sigma_b = 0.0003;
+  double bias_sigma = 0.0003;  ///< per-mission constant bias, σ per axis [m]
+  /// Probability that a visible frame has no pose: dropout + dropout_b · r²,
+  /// below 1.
+  double dropout = 0.0;
+  double dropout_b = 0.0069;  ///< [1/m²]
   double min_range = 0.3;     ///< [m] closer: no pose (the LEDs blur and leave the image)
   double max_range = 4.0;     ///< [m] farther: no pose
   /// The camera (pad frame) and its field of view; the drone's centre must
