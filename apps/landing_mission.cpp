@@ -73,8 +73,8 @@ nlohmann::json run_json(const tdm::MissionResult& r, int index) {
   j["replan_failures"] = r.replan_failures;
   j["pose_frames"] = r.pose_frames;
   j["pose_ok"] = r.pose_ok;
-  j["pose_error_median_m"] = round3(r.pose_error_median);
-  j["pose_error_max_m"] = round3(r.pose_error_max);
+  j["pose_error_median_m"] = std::round(r.pose_error_median * 1e5) / 1e5;
+  j["pose_error_max_m"] = std::round(r.pose_error_max * 1e5) / 1e5;
   j["landing_attempts"] = r.landing_attempts;
   nlohmann::json log = nlohmann::json::array();
   for (const auto& t : r.transitions) {
@@ -150,8 +150,8 @@ void print_summary(const Args& a, const tdm::MissionOptions& o, const Summary& s
               fixed(s.speed_median, 2).c_str(), fixed(s.speed_p95, 2).c_str(), fixed(s.speed_max, 2).c_str());
   std::printf("  in landing: largest axis speed %.2f m/s (limit %.2f), acceleration %.2f m/s^2 (limit %.2f)\n",
               s.axis_speed_max, s.v_limit, s.axis_accel_max, s.a_limit);
-  std::printf("  max tracking error %.2f m; replans %s ms median; pose error %s m median\n", s.tracking_max,
-              fixed(s.replan_ms_median, 3).c_str(), fixed(s.pose_error_median, 3).c_str());
+  std::printf("  max tracking error %.2f m; replans %s ms median; pose error %s mm median\n", s.tracking_max,
+              fixed(s.replan_ms_median, 3).c_str(), fixed(1e3 * s.pose_error_median, 1).c_str());
   std::printf("  mission %s s median (landing phase %s s); %.2f s wall\n", fixed(s.duration_median, 1).c_str(),
               fixed(s.landing_time_median, 1).c_str(), wall);
 }
@@ -339,9 +339,6 @@ int main(int argc, char** argv) {
     td::app::print_warnings(app.get_name(), file.warnings);
     if (perception->count() == 0) a.perception = file.options.perception;
     file.options.perception = a.perception;
-    if (a.perception == tdm::PerceptionMode::Render) {
-      throw td::InvalidArgument("--perception render: the LED tracker in the loop is not built yet (issue 34); use model");
-    }
     if (!a.video_path.empty()) throw td::InvalidArgument("--video: needs --perception render");
     Recorded recorded;
     stage_recorded(a, recorded);

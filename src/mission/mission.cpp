@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <iterator>
 #include <cmath>
 #include <deque>
 #include <mutex>
@@ -21,52 +22,107 @@ bool probability(double x) { return x >= 0 && x < 1; }
 
 // The drone's position estimate: per axis a Kalman filter on [p, v] driven
 // by the accelerometer, corrected by position measurements that arrive
-// late (the innovation against the estimate at the capture time, kept in
-// a short history; the gain from the present covariance — the "delayed
-// measurement" shortcut of PX4's EKF2 output predictor).
+// late. A delayed measurement is fused exactly: the filter goes back to its
+// state at the capture time, takes the measurement there and replays the
+// accelerometer samples since (a second of them is kept). An innovation
+// beyond gate_sigma standard deviations is refused; after max_refused in a
+// row the filter restarts at the measurement (EKF2's reset on a rejected
+// external position).
 class DroneEstimator {
  public:
   DroneEstimator(const Eigen::Vector3d& p, const Eigen::Vector3d& v, double sigma_p, double accel_sigma, double dt)
-      : p_(p), v_(v), accel_var_(accel_sigma * accel_sigma), dt_(dt) {
-    for (int i = 0; i < 3; ++i) P_[i] = Eigen::Matrix2d{{sigma_p * sigma_p, 0}, {0, 0.04}};
+      : accel_var_(accel_sigma * accel_sigma), dt_(dt) {
+    now_.p = p;
+    now_.v = v;
+    for (auto& P : now_.P) P = Eigen::Matrix2d{{sigma_p * sigma_p, 0}, {0, 0.04}};
   }
+  // One step: the state at t (before this step's accelerometer sample `a`
+  // moves it to t + dt) is stored, then propagated.
   void predict(double t, const Eigen::Vector3d& a) {
-    const double dt = dt_;
-    p_ += v_ * dt + 0.5 * a * dt * dt;
-    v_ += a * dt;
-    const Eigen::Matrix2d F{{1, dt}, {0, 1}};
-    const Eigen::Vector2d G(0.5 * dt * dt, dt);
-    for (auto& P : P_) P = F * P * F.transpose() + G * G.transpose() * accel_var_ + Eigen::Matrix2d{{1e-9, 0}, {0, 1e-7}};
-    history_.push_back({t, p_});
-    while (history_.size() > 2 && history_.front().first < t - 1.0) history_.pop_front();
+    now_.t = t;
+    now_.a = a;
+    history_.push_back(now_);
+    while (history_.size() > 2 && history_.front().t < t - 1.0) history_.pop_front();
+    propagate(now_, a);
+    now_.t = t + dt_;
   }
   void correct(double t_capture, const Eigen::Vector3d& z, double sigma) {
-    Eigen::Vector3d then = p_;
-    for (auto it = history_.rbegin(); it != history_.rend(); ++it) {
-      if (it->first <= t_capture) {
-        then = it->second;
-        break;
-      }
+    // The stored state at the capture time (the newest at or before it).
+    auto it = history_.end();
+    while (it != history_.begin() && std::prev(it)->t > t_capture) --it;
+    if (it == history_.begin()) {
+      update(now_, z, sigma);  // older than the history: as if now
+      return;
     }
-    const double r = std::max(sigma * sigma, 1e-8);
-    for (int i = 0; i < 3; ++i) {
-      Eigen::Matrix2d& P = P_[i];
-      const double innovation = z[i] - then[i];
-      const double s = P(0, 0) + r;
-      const Eigen::Vector2d k = P.col(0) / s;
-      p_[i] += k[0] * innovation;
-      v_[i] += k[1] * innovation;
-      P -= k * P.row(0);
+    --it;
+    Sample s = *it;
+    if (!update(s, z, sigma)) return;
+    // Replay the accelerometer samples from there on, rewriting the history.
+    for (auto k = it; k != history_.end(); ++k) {
+      const Eigen::Vector3d a = k->a;
+      const double t = k->t;
+      *k = s;
+      k->a = a;
+      k->t = t;
+      propagate(s, a);
+      s.t = t + dt_;
     }
+    now_.p = s.p;
+    now_.v = s.v;
+    now_.P = s.P;
   }
-  [[nodiscard]] const Eigen::Vector3d& p() const { return p_; }
-  [[nodiscard]] const Eigen::Vector3d& v() const { return v_; }
+  [[nodiscard]] const Eigen::Vector3d& p() const { return now_.p; }
+  [[nodiscard]] const Eigen::Vector3d& v() const { return now_.v; }
 
  private:
-  Eigen::Vector3d p_, v_;
-  std::array<Eigen::Matrix2d, 3> P_;
+  static constexpr double kGateSigma = 5;
+  static constexpr int kMaxRefused = 5;
+  struct Sample {
+    double t = 0;
+    Eigen::Vector3d a = Eigen::Vector3d::Zero();  // the accelerometer sample taken at t
+    Eigen::Vector3d p = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
+    std::array<Eigen::Matrix2d, 3> P{};
+  };
+  void propagate(Sample& s, const Eigen::Vector3d& a) const {
+    const double dt = dt_;
+    s.p += s.v * dt + 0.5 * a * dt * dt;
+    s.v += a * dt;
+    const Eigen::Matrix2d F{{1, dt}, {0, 1}};
+    const Eigen::Vector2d G(0.5 * dt * dt, dt);
+    for (auto& P : s.P) P = F * P * F.transpose() + G * G.transpose() * accel_var_ + Eigen::Matrix2d{{1e-9, 0}, {0, 1e-7}};
+  }
+  // The update of `s`; false when the gate refused it.
+  bool update(Sample& s, const Eigen::Vector3d& z, double sigma) {
+    const double r = std::max(sigma * sigma, 1e-8);
+    bool inside = true;
+    for (int i = 0; i < 3; ++i) {
+      const double innovation = z[i] - s.p[i];
+      inside = inside && innovation * innovation <= kGateSigma * kGateSigma * (s.P[i](0, 0) + r);
+    }
+    if (!inside && ++refused_ < kMaxRefused) return false;
+    if (!inside) {  // the filter lost it: restart at the measurement
+      for (int i = 0; i < 3; ++i) s.P[i] = Eigen::Matrix2d{{r, 0}, {0, s.P[i](1, 1)}};
+      s.p = z;
+      refused_ = 0;
+      return true;
+    }
+    refused_ = 0;
+    for (int i = 0; i < 3; ++i) {
+      Eigen::Matrix2d& P = s.P[i];
+      const double innovation = z[i] - s.p[i];
+      const double k_den = P(0, 0) + r;
+      const Eigen::Vector2d k = P.col(0) / k_den;
+      s.p[i] += k[0] * innovation;
+      s.v[i] += k[1] * innovation;
+      P -= k * P.row(0);
+    }
+    return true;
+  }
+
   double accel_var_, dt_;
-  std::deque<std::pair<double, Eigen::Vector3d>> history_;
+  Sample now_;
+  std::deque<Sample> history_;
+  int refused_ = 0;
 };
 
 // A message in flight over the link.
@@ -101,6 +157,13 @@ double nutation_between(const Eigen::Matrix3d& R_a, const Eigen::Matrix3d& R_b) 
 
 }  // namespace
 
+std::unique_ptr<Perception> make_default_perception(const MissionOptions& o, std::uint64_t seed) {
+  const PerceptionModelOptions model = o.perception_options();
+  if (o.perception == PerceptionMode::Model) return std::make_unique<PerceptionModel>(model, seed);
+  return std::make_unique<RenderPerception>(o.render, model.camera.T_pad_camera, o.drone.airframe.centre_of_mass(),
+                                            model.rate_hz, model.latency, seed);
+}
+
 PerceptionModelOptions MissionOptions::perception_options() const {
   PerceptionModelOptions o = perception_model;
   if (guidance.planner.corridor && guidance.planner.corridor->camera) o.camera = *guidance.planner.corridor->camera;
@@ -112,6 +175,7 @@ bool MissionOptions::validate(std::string* why) const {
   std::string w;
   if (!machine.validate(&w)) return invalid(why, "state_machine." + w);
   if (!perception_options().validate(why)) return false;
+  if (perception == PerceptionMode::Render && !render.validate(why)) return false;
   if (!(pad.size.allFinite() && pad.size.minCoeff() > 0)) return invalid(why, "pad.size: must be positive [m]");
   if (!(positive(pad.thickness))) return invalid(why, "pad.thickness: must be positive [m]");
   if (!wind.mean.allFinite()) return invalid(why, "wind.mean: must be finite [m/s]");
@@ -163,8 +227,7 @@ MissionResult run_mission(const MissionOptions& options, std::uint64_t seed, std
   const std::uint64_t stream = 8 * run;
   GroundVehicle vehicle(o.vehicle, Rng(seed, stream).next());
   std::unique_ptr<Perception> perception = make_perception ? make_perception(o, Rng(seed, stream + 1).next())
-                                                           : std::make_unique<PerceptionModel>(o.perception_options(),
-                                                                                               Rng(seed, stream + 1).next());
+                                                           : make_default_perception(o, Rng(seed, stream + 1).next());
   Rng wind_rng(seed, stream + 2), link_rng(seed, stream + 3), fix_rng(seed, stream + 4), imu_rng(seed, stream + 5);
   DroneSimulation drone(o.drone, o.pad);
   StateMachine machine(o.machine);
@@ -251,6 +314,7 @@ MissionResult run_mission(const MissionOptions& options, std::uint64_t seed, std
       pt.T_pad_body = T_pad_body;
       pt.p_pad_com = rel_truth.p;
       pt.g_body = truth.R.transpose() * -Eigen::Vector3d::UnitZ();
+      pt.state = state;
       frames.push_back({perception->capture(pt), rel_truth.p, pad.T_world_pad});
     }
     // The external fix (its error wanders as a Gauss–Markov process).

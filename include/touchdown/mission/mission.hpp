@@ -27,6 +27,7 @@
 #include "touchdown/mission/drone.hpp"
 #include "touchdown/mission/guidance.hpp"
 #include "touchdown/mission/perception.hpp"
+#include "touchdown/mission/perception_render.hpp"
 #include "touchdown/mission/state_machine.hpp"
 #include "touchdown/mission/vehicle.hpp"
 
@@ -66,6 +67,9 @@ struct MissionOptions {
   GuidanceOptions guidance;
   PerceptionMode perception = PerceptionMode::Model;
   PerceptionModelOptions perception_model;  ///< its camera is the guidance corridor's
+  /// The `render` mode's camera intrinsics, constellation, renderer and
+  /// tracker (its pose in the pad frame, rate and latency are the model's).
+  RenderPerceptionOptions render;
   WindOptions wind;
   LinkOptions link;
   FixOptions fix;
@@ -137,9 +141,12 @@ struct MissionResult {
   [[nodiscard]] double touchdown_speed() const { return touchdown_velocity.norm(); }
 };
 
-/// Perception factory for the `render` mode (mission_render.hpp supplies
-/// one); empty: the model.
+/// A perception of one's own (or a RenderPerception with a frame callback
+/// for a video); empty: the mode `options.perception` names.
 using PerceptionFactory = std::function<std::unique_ptr<Perception>(const MissionOptions&, std::uint64_t seed)>;
+
+/// The perception `options.perception` names, seeded.
+std::unique_ptr<Perception> make_default_perception(const MissionOptions& options, std::uint64_t seed);
 
 /// One mission. Throws InvalidArgument for invalid options.
 MissionResult run_mission(const MissionOptions& options, std::uint64_t seed, std::uint64_t run = 0,

@@ -21,6 +21,7 @@
 
 #include "touchdown/core/enum_names.hpp"
 #include "touchdown/core/random.hpp"
+#include "touchdown/mission/state_machine.hpp"
 #include "touchdown/plan/corridor.hpp"
 
 namespace touchdown::mission {
@@ -56,6 +57,7 @@ struct PerceptionTruth {
   /// The drone's gravity direction in its body frame from its IMU (unit,
   /// down), for trackers that take an attitude prior.
   Eigen::Vector3d g_body = -Eigen::Vector3d::UnitZ();
+  MissionState state = MissionState::Searching;  ///< for overlays (a video)
 };
 
 class Perception {
