@@ -9,13 +9,17 @@
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <opencv2/imgproc.hpp>
+#include <optional>
 #include <sstream>
 
 #include "app_common.hpp"
+#include "video.hpp"
 #include "core/format.hpp"
 #include "touchdown/mission/mission.hpp"
 #include "touchdown/mission/mission_io.hpp"
 #include "touchdown/mission/mission_plot.hpp"
+#include "touchdown/mission/perception_render.hpp"
 
 namespace {
 
@@ -195,13 +199,39 @@ std::string trace_csv(const tdm::MissionResult& r) {
 // leaves nothing), written from run 0 flown again with its trace recorded.
 struct Recorded {
   td::StagedOutputs staged;
-  std::filesystem::path log;
+  std::filesystem::path log, video;
   std::vector<std::pair<std::string, std::filesystem::path>> plots;
 };
+
+// One video frame: the camera image with the tracker's blobs (yellow
+// circles), the constellation at the estimated pose (green crosses) and a
+// status line.
+cv::Mat overlay(const tdm::PerceptionFrame& f) {
+  const td::BgrImage& c = *f.colour;
+  cv::Mat img = cv::Mat(c.height, c.width, CV_8UC3, const_cast<std::uint8_t*>(c.pixels.data())).clone();
+  for (const auto& b : *f.blobs) {
+    cv::circle(img, cv::Point2d(b.uv_px.x(), b.uv_px.y()), 9, cv::Scalar(0, 220, 255), 1, cv::LINE_AA);
+  }
+  for (const Eigen::Vector2d& p : f.reprojected) {
+    const cv::Point2d q(p.x(), p.y());
+    cv::line(img, q - cv::Point2d(6, 0), q + cv::Point2d(6, 0), cv::Scalar(0, 255, 0), 1, cv::LINE_AA);
+    cv::line(img, q - cv::Point2d(0, 6), q + cv::Point2d(0, 6), cv::Scalar(0, 255, 0), 1, cv::LINE_AA);
+  }
+  const auto& e = *f.estimate;
+  std::string line = "t " + format_fixed(f.t, 2) + " s   " + std::string(tdm::to_string(f.state)) + "   pose: " +
+                     std::string(td::pose::to_string(e.status));
+  if (e.ok()) {
+    line += " (" + std::to_string(e.points) + " LEDs, sigma " + format_fixed(1e3 * e.sigma_position_m, 1) + " mm)";
+  }
+  cv::rectangle(img, cv::Rect(0, 0, img.cols, 30), cv::Scalar(0, 0, 0), cv::FILLED);
+  cv::putText(img, line, cv::Point(8, 21), cv::FONT_HERSHEY_SIMPLEX, 0.65, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+  return img;
+}
 
 void stage_recorded(const Args& a, Recorded& out) {
   if (!a.plot_dir.empty()) std::filesystem::create_directories(a.plot_dir);
   if (!a.log_path.empty()) out.log = out.staged.add(a.log_path, "--log");
+  if (!a.video_path.empty()) out.video = out.staged.add(a.video_path, "--video");
   if (!a.plot_dir.empty()) {
     for (const char* name : {"positions.svg", "velocities.svg", "errors.svg", "top_view.svg"}) {
       out.plots.emplace_back(name, out.staged.add(std::filesystem::path(a.plot_dir) / name, "--plot"));
@@ -210,8 +240,24 @@ void stage_recorded(const Args& a, Recorded& out) {
 }
 
 void write_recorded(const Args& a, const tdm::MissionOptions& o, Recorded& out) {
-  if (out.log.empty() && out.plots.empty()) return;
-  const tdm::MissionResult r = tdm::run_mission(o, a.seed, 0, true);
+  if (out.log.empty() && out.plots.empty() && out.video.empty()) return;
+  std::optional<td::app::VideoFile> video;
+  tdm::PerceptionFactory factory;
+  if (!out.video.empty()) {
+    // Run 0 again with a render perception that hands each frame to the video.
+    factory = [&](const tdm::MissionOptions& mo, std::uint64_t seed) {
+      const tdm::PerceptionModelOptions m = mo.perception_options();
+      auto p = std::make_unique<tdm::RenderPerception>(mo.render, m.camera.T_pad_camera,
+                                                       mo.drone.airframe.centre_of_mass(), m.rate_hz, m.latency, seed);
+      p->on_frame([&, fps = m.rate_hz, w = mo.render.camera.width, h = mo.render.camera.height](const tdm::PerceptionFrame& f) {
+        if (!video) video.emplace(out.video, a.video_path, fps, w, h);
+        video->write(overlay(f));
+      });
+      return p;
+    };
+  }
+  const tdm::MissionResult r = tdm::run_mission(o, a.seed, 0, true, factory);
+  if (video) video->finish();
   const std::string title = source_name(a) + ", run 0, seed " + std::to_string(a.seed) + " (" +
                             std::string(tdm::to_string(r.outcome)) + ")";
   for (const auto& [name, tmp] : out.plots) {
@@ -339,7 +385,9 @@ int main(int argc, char** argv) {
     td::app::print_warnings(app.get_name(), file.warnings);
     if (perception->count() == 0) a.perception = file.options.perception;
     file.options.perception = a.perception;
-    if (!a.video_path.empty()) throw td::InvalidArgument("--video: needs --perception render");
+    if (!a.video_path.empty() && a.perception != tdm::PerceptionMode::Render) {
+      throw td::InvalidArgument("--video: needs --perception render (the camera's frames are rendered only then)");
+    }
     Recorded recorded;
     stage_recorded(a, recorded);
     const auto t0 = std::chrono::steady_clock::now();

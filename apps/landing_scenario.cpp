@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "app_common.hpp"
+#include "video.hpp"
 #include "touchdown/core/atomic_file.hpp"
 #include "touchdown/scenario/campaign.hpp"
 #include "touchdown/scenario/run.hpp"
@@ -133,22 +134,7 @@ void banner(cv::Mat& img, const ts::ScenarioResult& r) {
               cv::FONT_HERSHEY_SIMPLEX, 0.7, cv::Scalar(255, 255, 255), 2);
 }
 
-/// Writes frames to `tmp`, the staged temporary of `path` (.mp4 or .avi:
-/// the temporary has the same extension, which picks the codec).
-class Video {
- public:
-  Video(const fs::path& tmp, const std::string& path, double fps, int w, int h) {
-    const int fourcc = tmp.extension() == ".avi" ? cv::VideoWriter::fourcc('M', 'J', 'P', 'G')
-                                                 : cv::VideoWriter::fourcc('m', 'p', '4', 'v');
-    if (!writer_.open(tmp.string(), fourcc, fps, cv::Size(w, h)))
-      throw td::IoError(path + ": cannot open a video writer (" + tmp.extension().string() + ")");
-  }
-  void write(const cv::Mat& img) { writer_.write(img); }
-  void finish() { writer_.release(); }
-
- private:
-  cv::VideoWriter writer_;
-};
+using Video = td::app::VideoFile;
 
 std::string percent(int n, int of) { return format_fixed(of > 0 ? 100.0 * n / of : 0.0, 1) + " %"; }
 

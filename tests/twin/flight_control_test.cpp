@@ -119,3 +119,67 @@ TEST(LandController, TiltLimitAndRestoringTorques) {
   yawed.R_world_body = touchdown::rotation_from_rpy(0.0, 0.0, 0.3);
   EXPECT_LT(level.update(yawed, {0.0, 0.0}, 0.0, 0.7, true).torque.z(), 0.0);
 }
+
+TEST(LandController, LandModeIsTheSetpointCaseOfOneCascade) {
+  // The twin's land mode and a Setpoint with the landing point's x, y, no z
+  // and the land speed down are the same arithmetic (one implementation):
+  // bit-identical outputs over a run of states.
+  tw::ControllerParams p;
+  const auto af = tw::Airframe::f450();
+  tw::LandController a(p, af.total_mass(), af.inertia_about_com(), 0.002);
+  tw::LandController b(p, af.total_mass(), af.inertia_about_com(), 0.002);
+  tw::Setpoint sp;
+  sp.position = Eigen::Vector3d(0.3, -0.2, std::nan(""));
+  sp.velocity = Eigen::Vector3d(0, 0, -0.7);
+  sp.yaw = 0.4;
+  sp.land = true;
+  for (int k = 0; k < 50; ++k) {
+    tw::VehicleState s;
+    s.p_world = {0.01 * k, -0.02 * k, 1 - 0.01 * k};
+    s.v_world = {0.1, -0.05 * std::sin(k), -0.6};
+    s.R_world_body = touchdown::rotation_from_rpy(0.01 * k, -0.02, 0.3);
+    s.w_body = {0.1, 0.0, -0.05};
+    const auto u = a.update(s, {0.3, -0.2}, 0.4, 0.7, k > 40);
+    const auto v = b.update(s, sp, k > 40);
+    EXPECT_EQ(u.thrust, v.thrust);
+    EXPECT_EQ(u.torque, v.torque);
+    EXPECT_EQ(u.thrust_vector, v.thrust_vector);
+  }
+}
+
+TEST(LandController, PositionModeAddsTheFeedForwardAndKeepsItsLimits) {
+  tw::ControllerParams p;
+  const auto af = tw::Airframe::f450();
+  const double m = af.total_mass();
+  // At the setpoint, at rest: the thrust vector is m (a_ff + g).
+  tw::LandController c(p, m, af.inertia_about_com(), 0.002);
+  tw::VehicleState s;
+  s.p_world = {1, 2, 3};
+  tw::Setpoint sp;
+  sp.position = s.p_world;
+  sp.acceleration = {1.0, -0.5, 0.2};
+  const auto u = c.update(s, sp, false);
+  EXPECT_TRUE(u.thrust_vector.isApprox(m * (sp.acceleration + Eigen::Vector3d(0, 0, tw::kStandardGravity)), 1e-12))
+      << u.thrust_vector.transpose();
+  // A feed-forward beyond MPC_XY_VEL_MAX: the velocity setpoint is capped
+  // (the acceleration asks for at most xy_vel_p · xy_vel_max), and the tilt
+  // for MPC_TILTMAX_AIR, not the land mode's.
+  tw::LandController d(p, m, af.inertia_about_com(), 0.002);
+  tw::Setpoint fast;
+  fast.position = s.p_world;
+  fast.velocity = {50, 0, 0};
+  const auto f = d.update(s, fast, false);
+  const double tilt = std::atan2(f.thrust_vector.head<2>().norm(), f.thrust_vector.z());
+  EXPECT_NEAR(tilt, touchdown::deg_to_rad(p.tilt_max_air_deg), 1e-9);
+  tw::LandController e(p, m, af.inertia_about_com(), 0.002);
+  tw::Setpoint slow = fast;
+  slow.velocity = {0.5, 0, 0};  // within every limit: a_x = xy_vel_p · 0.5 (+ the first step's integral)
+  const auto g = e.update(s, slow, false);
+  EXPECT_NEAR(g.thrust_vector.x() / m, p.xy_vel_p * 0.5 + p.xy_vel_i * 0.5 * 0.002, 1e-9);
+  // A climb beyond MPC_Z_VEL_MAX_UP is capped there.
+  tw::LandController h(p, m, af.inertia_about_com(), 0.002);
+  tw::Setpoint up;
+  up.position = Eigen::Vector3d(1, 2, 100);
+  const auto v = h.update(s, up, false);
+  EXPECT_NEAR(v.vz_setpoint, p.z_vel_max_up, 1e-12);
+}
