@@ -285,6 +285,7 @@ int run_envelope(const Args& a) {
   std::filesystem::path plot;
   if (!a.envelope_plot.empty()) plot = staged.add(a.envelope_plot, "--plot");
   std::vector<tdm::EnvelopeCell> cells;
+  std::vector<std::pair<double, std::string>> refused;  // speed, why
   const auto speeds = range_of(a.speeds), winds = range_of(a.winds);
   td::app::ProgressBar bar;
   const bool draw = td::app::ProgressBar::on_terminal();
@@ -294,17 +295,26 @@ int run_envelope(const Args& a) {
     for (const double speed : speeds) {
       tdm::MissionOptions o = file.options;
       o.vehicle.speed = std::max(speed, 1e-3);  // 0: a vehicle standing still
+      // The vehicle is what the sweep varies: its wheels may go as fast as
+      // the speed needs; the drone's limits stay the file's.
+      const double outer = o.vehicle.speed * (1 + 0.5 * o.vehicle.track_width / o.vehicle.radius) + 0.1;
+      o.vehicle.max_wheel_speed = std::max(o.vehicle.max_wheel_speed, outer);
       o.wind.mean = Eigen::Vector3d(wind, 0, 0);
       o.wind.gust_sigma = 0.25 * wind;
       std::string why;
-      tdm::EnvelopeCell cell{speed, wind, a.runs, 0};
+      tdm::EnvelopeCell cell{speed, wind, a.runs, 0, true};
       if (o.validate(&why)) {
         const auto results = tdm::run_missions(o, a.runs, a.seed, a.threads, {}, [&](int, int) {
           if (draw) bar.draw(++done, total);
         });
         cell.landed = static_cast<int>(std::count_if(results.begin(), results.end(), [](const auto& r) { return r.landed(); }));
+        cell.crashed = static_cast<int>(std::count_if(results.begin(), results.end(), [](const auto& r) {
+          return r.outcome == tdm::MissionOutcome::Crashed;
+        }));
       } else {
-        done += static_cast<std::size_t>(a.runs);  // beyond what the options allow: 0 %
+        done += static_cast<std::size_t>(a.runs);  // beyond what the drone's options allow: not flown
+        cell.valid = false;
+        refused.emplace_back(speed, why);
       }
       cells.push_back(cell);
     }
@@ -317,8 +327,13 @@ int run_envelope(const Args& a) {
   if (a.json) {
     nlohmann::json j = nlohmann::json::array();
     for (const auto& c : cells) {
-      j.push_back({{"speed_mps", c.speed}, {"wind_mps", c.wind}, {"runs", c.runs}, {"landed", c.landed},
-                   {"success_rate", td::app::round3(c.success())}});
+      if (c.valid) {
+        j.push_back({{"speed_mps", c.speed}, {"wind_mps", c.wind}, {"runs", c.runs}, {"landed", c.landed},
+                     {"crashed", c.crashed}, {"success_rate", td::app::round3(c.success())}});
+      } else {
+        j.push_back({{"speed_mps", c.speed}, {"wind_mps", c.wind}, {"runs", 0}, {"landed", 0}, {"crashed", 0},
+                     {"success_rate", nullptr}});
+      }
     }
     std::cout << nlohmann::json{{"mission", source_name(a)}, {"seed", a.seed}, {"cells", j}}.dump() << "\n";
     return td::app::kExitOk;
@@ -326,12 +341,25 @@ int run_envelope(const Args& a) {
   std::printf("%s: share landed over vehicle speed x wind, %d runs per cell (gusts 25 %% of the wind)\n",
               source_name(a).c_str(), a.runs);
   std::printf("%10s", "wind \\ v");
-  for (const double s : speeds) std::printf(" %6.2f", s);
+  for (const double s : speeds) std::printf(" %6.2f ", s);
   std::printf("\n");
   for (std::size_t j = winds.size(); j-- > 0;) {
     std::printf("%6.2f m/s", winds[j]);
-    for (std::size_t i = 0; i < speeds.size(); ++i) std::printf(" %5.0f%%", 100 * cells[j * speeds.size() + i].success());
+    for (std::size_t i = 0; i < speeds.size(); ++i) {
+      const auto& c = cells[j * speeds.size() + i];
+      if (c.valid) {
+        std::printf(" %5.0f%%%s", 100 * c.success(), c.crashed > 0 ? "*" : " ");
+      } else {
+        std::printf(" %6s ", "n/a");
+      }
+    }
     std::printf("\n");
+  }
+  std::printf("  * some missions of the cell crashed (--json has the counts); the rest aborted or timed out\n");
+  double last = -1;
+  for (const auto& [speed, why] : refused) {
+    if (speed != last) std::printf("  n/a at %.2f m/s: %s\n", speed, why.c_str());
+    last = speed;
   }
   return td::app::kExitOk;
 }

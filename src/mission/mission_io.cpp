@@ -118,6 +118,7 @@ void read_mission(const YamlReader& r, const YAML::Node& root, const std::filesy
   const std::vector<Field> controller = {
       num("xy_p", c.xy_p),           num("xy_vel_p", c.xy_vel_p),
       num("xy_vel_i", c.xy_vel_i),   num("xy_vel_d", c.xy_vel_d),
+      num("xy_vel_int_max_acc", c.xy_vel_int_max_acc),
       num("xy_vel_max", c.xy_vel_max), num("z_p", c.z_p),
       num("z_vel_p", c.z_vel_p),     num("z_vel_i", c.z_vel_i),
       num("z_vel_max_up", c.z_vel_max_up), num("z_vel_max_down", c.z_vel_max_down),

@@ -232,9 +232,17 @@ std::string plot_envelope(const std::vector<EnvelopeCell>& cells, const std::str
     const int red = s < 0.5 ? 215 : static_cast<int>(215 - (s - 0.5) * 2 * 170);
     const int green = s < 0.5 ? static_cast<int>(60 + s * 2 * 150) : 190;
     const double x = L + i * cw, y = T + H - (j + 1) * ch;
+    if (!c.valid) {
+      svg.rect(x, y, cw, ch, " fill='#dddddd' stroke='white'");
+      svg.text(x + cw / 2, y + ch / 2 + 4, "n/a", " text-anchor='middle' font-size='12' fill='#666'");
+      continue;
+    }
     svg.rect(x, y, cw, ch, " fill='" + detail::rgb_colour(red, green, 60) + "' stroke='white'");
-    svg.text(x + cw / 2, y + ch / 2 + 4, detail::format_trimmed(100 * s, 0) + " %",
+    svg.text(x + cw / 2, y + ch / 2 + (c.crashed > 0 ? 0 : 4), detail::format_trimmed(100 * s, 0) + " %",
              " text-anchor='middle' font-size='12'");
+    if (c.crashed > 0) {
+      svg.text(x + cw / 2, y + ch / 2 + 14, std::to_string(c.crashed) + " crashed", " text-anchor='middle' font-size='10'");
+    }
   }
   svg.rect(L, T, W, H, " fill='none' stroke='black'");
   for (std::size_t i = 0; i < speeds.size(); ++i) {
@@ -248,7 +256,10 @@ std::string plot_envelope(const std::vector<EnvelopeCell>& cells, const std::str
   svg.text(L + W / 2, T + H + 40, "vehicle speed [m/s]", " text-anchor='middle'");
   svg.text(24, T + H / 2, "wind [m/s]", " text-anchor='middle' transform='rotate(-90 24 " +
                                             detail::format_trimmed(T + H / 2, 1) + ")'");
-  svg.text(L + W + 14, T + 14, "share landed");
+  svg.text(L + W + 14, T + 14, "share landed;");
+  svg.text(L + W + 14, T + 30, "the rest aborted");
+  svg.text(L + W + 14, T + 46, "or timed out unless");
+  svg.text(L + W + 14, T + 62, "a crash is named");
   return svg.finish();
 }
 

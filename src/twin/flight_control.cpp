@@ -74,7 +74,11 @@ LandController::Output LandController::update(const VehicleState& s, const Setpo
   const Eigen::Vector3d& accel = accel_lp_;
   const Eigen::Vector2d e_xy = v_sp - v.head<2>();
   vel_int_ += e_xy * dt;
-  vel_int_ = vel_int_.cwiseMax(-2.0).cwiseMin(2.0);
+  // The integral's clamp: ±2 m/s·s in land mode (the twin's landings); the
+  // acceleration it may hold outside it is xy_vel_int_max_acc (a steady
+  // wind's drag must fit).
+  const double int_max = sp.land ? 2.0 : cp.xy_vel_int_max_acc / std::max(cp.xy_vel_i, 1e-9);
+  vel_int_ = vel_int_.cwiseMax(-int_max).cwiseMin(int_max);
   Eigen::Vector2d a_xy = cp.xy_vel_p * e_xy + cp.xy_vel_i * vel_int_ - cp.xy_vel_d * accel.head<2>();
   const double e_z = vz_sp - v.z();
   vz_int_ = std::clamp(vz_int_ + e_z * dt, -3.0, 3.0);

@@ -26,9 +26,12 @@ std::string plot_top_view(const MissionResult& result, const std::string& title)
 struct EnvelopeCell {
   double speed = 0, wind = 0;
   int runs = 0, landed = 0;
+  int crashed = 0;    ///< of the runs (the others that did not land aborted or timed out)
+  bool valid = true;  ///< false: the options refuse this speed (not flown; shown as n/a)
   [[nodiscard]] double success() const { return runs > 0 ? static_cast<double>(landed) / runs : 0.0; }
 };
-/// The success rate over vehicle speed × wind as a coloured grid.
+/// The success rate over vehicle speed × wind as a coloured grid (each
+/// cell also names its crashes).
 std::string plot_envelope(const std::vector<EnvelopeCell>& cells, const std::string& title);
 
 }  // namespace touchdown::mission
