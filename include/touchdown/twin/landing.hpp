@@ -37,7 +37,7 @@ struct ControllerParams {
   double roll_pitch_rate_max_deg = 220.0;  ///< MC_ROLLRATE_MAX, MC_PITCHRATE_MAX [deg/s]
   /// Largest acceleration the horizontal velocity integral may hold [m/s²]
   /// (PX4 bounds it by the thrust's margin; a steady wind's drag must fit).
-  double xy_vel_int_max_acc = 2.0;
+  double xy_vel_int_max_acc = 0.8;
   double vel_deriv_lp_hz = 5.0;     ///< MPC_VELD_LP: low-pass of the velocity derivative [Hz]
   double roll_p = 6.5;              ///< MC_ROLL_P [1/s]
   double pitch_p = 6.5;             ///< MC_PITCH_P [1/s]
