@@ -355,7 +355,11 @@ int run_envelope(const Args& a) {
     }
     std::printf("\n");
   }
-  std::printf("  * some missions of the cell crashed (--json has the counts); the rest aborted or timed out\n");
+  if (std::any_of(cells.begin(), cells.end(), [](const auto& c) { return c.crashed > 0; })) {
+    std::printf("  * some missions of the cell crashed (--json has the counts); the rest aborted or timed out\n");
+  } else {
+    std::printf("  no mission crashed: the others aborted or timed out\n");
+  }
   double last = -1;
   for (const auto& [speed, why] : refused) {
     if (speed != last) std::printf("  n/a at %.2f m/s: %s\n", speed, why.c_str());
@@ -435,6 +439,7 @@ int main(int argc, char** argv) {
                                   {"seed", a.seed},
                                   {"perception", std::string(tdm::to_string(a.perception))},
                                   {"summary", summary_json(s)},
+                                  {"seconds", std::round(wall * 1e3) / 1e3},
                                   {"missions", runs}}
                        .dump()
                 << "\n";
