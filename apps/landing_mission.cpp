@@ -14,12 +14,12 @@
 #include <sstream>
 
 #include "app_common.hpp"
-#include "video.hpp"
 #include "core/format.hpp"
 #include "touchdown/mission/mission.hpp"
 #include "touchdown/mission/mission_io.hpp"
 #include "touchdown/mission/mission_plot.hpp"
 #include "touchdown/mission/perception_render.hpp"
+#include "video.hpp"
 
 namespace {
 
@@ -63,11 +63,14 @@ nlohmann::json run_json(const tdm::MissionResult& r, int index) {
   j["outcome"] = std::string(tdm::to_string(r.outcome));
   j["message"] = r.message;
   j["duration_s"] = round3(r.duration);
-  j["touchdown_error_m"] = std::isfinite(r.touchdown_error) ? nlohmann::json(round3(r.touchdown_error)) : nlohmann::json();
-  j["touchdown_speed_mps"] = r.touchdown_velocity.allFinite() ? nlohmann::json(round3(r.touchdown_speed())) : nlohmann::json();
+  j["touchdown_error_m"] =
+      std::isfinite(r.touchdown_error) ? nlohmann::json(round3(r.touchdown_error)) : nlohmann::json();
+  j["touchdown_speed_mps"] =
+      r.touchdown_velocity.allFinite() ? nlohmann::json(round3(r.touchdown_speed())) : nlohmann::json();
   nlohmann::json states;
   for (int s = 0; s < 5; ++s) {
-    states[std::string(tdm::to_string(static_cast<tdm::MissionState>(s)))] = round3(r.time_in_state[static_cast<std::size_t>(s)]);
+    states[std::string(tdm::to_string(static_cast<tdm::MissionState>(s)))] =
+        round3(r.time_in_state[static_cast<std::size_t>(s)]);
   }
   j["time_in_state_s"] = states;
   j["max_tracking_error_m"] = round3(r.max_tracking_error);
@@ -115,9 +118,15 @@ Summary summarise(const std::vector<tdm::MissionResult>& results) {
         dur.push_back(r.duration);
         landing.push_back(r.time_in_state[static_cast<std::size_t>(tdm::MissionState::Landing)]);
         break;
-      case tdm::MissionOutcome::Crashed: ++s.crashed; break;
-      case tdm::MissionOutcome::Aborted: ++s.aborted; break;
-      case tdm::MissionOutcome::Timeout: ++s.timeout; break;
+      case tdm::MissionOutcome::Crashed:
+        ++s.crashed;
+        break;
+      case tdm::MissionOutcome::Aborted:
+        ++s.aborted;
+        break;
+      case tdm::MissionOutcome::Timeout:
+        ++s.timeout;
+        break;
     }
     s.tracking_max = std::max(s.tracking_max, r.max_tracking_error);
     s.axis_speed_max = std::max(s.axis_speed_max, r.max_axis_speed);
@@ -163,20 +172,21 @@ void print_summary(const Args& a, const tdm::MissionOptions& o, const Summary& s
 nlohmann::json summary_json(const Summary& s) {
   using td::app::round3;
   const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(round3(v)) : nlohmann::json(); };
-  return {{"runs", s.runs},
-          {"landed", s.landed},
-          {"crashed", s.crashed},
-          {"aborted", s.aborted},
-          {"timeout", s.timeout},
-          {"success_rate", round3(s.success())},
-          {"touchdown_error_m", {{"median", num(s.error_median)}, {"p95", num(s.error_p95)}, {"max", num(s.error_max)}}},
-          {"touchdown_speed_mps", {{"median", num(s.speed_median)}, {"p95", num(s.speed_p95)}, {"max", num(s.speed_max)}}},
-          {"max_axis_speed_mps", round3(s.axis_speed_max)},
-          {"v_limit_mps", round3(s.v_limit)},
-          {"max_axis_acceleration_mps2", round3(s.axis_accel_max)},
-          {"a_limit_mps2", round3(s.a_limit)},
-          {"max_tracking_error_m", round3(s.tracking_max)},
-          {"replan_ms_median", num(s.replan_ms_median)}};
+  return {
+      {"runs", s.runs},
+      {"landed", s.landed},
+      {"crashed", s.crashed},
+      {"aborted", s.aborted},
+      {"timeout", s.timeout},
+      {"success_rate", round3(s.success())},
+      {"touchdown_error_m", {{"median", num(s.error_median)}, {"p95", num(s.error_p95)}, {"max", num(s.error_max)}}},
+      {"touchdown_speed_mps", {{"median", num(s.speed_median)}, {"p95", num(s.speed_p95)}, {"max", num(s.speed_max)}}},
+      {"max_axis_speed_mps", round3(s.axis_speed_max)},
+      {"v_limit_mps", round3(s.v_limit)},
+      {"max_axis_acceleration_mps2", round3(s.axis_accel_max)},
+      {"a_limit_mps2", round3(s.a_limit)},
+      {"max_tracking_error_m", round3(s.tracking_max)},
+      {"replan_ms_median", num(s.replan_ms_median)}};
 }
 
 std::string trace_csv(const tdm::MissionResult& r) {
@@ -218,8 +228,8 @@ cv::Mat overlay(const tdm::PerceptionFrame& f) {
     cv::line(img, q - cv::Point2d(0, 6), q + cv::Point2d(0, 6), cv::Scalar(0, 255, 0), 1, cv::LINE_AA);
   }
   const auto& e = *f.estimate;
-  std::string line = "t " + format_fixed(f.t, 2) + " s   " + std::string(tdm::to_string(f.state)) + "   pose: " +
-                     std::string(td::pose::to_string(e.status));
+  std::string line = "t " + format_fixed(f.t, 2) + " s   " + std::string(tdm::to_string(f.state)) +
+                     "   pose: " + std::string(td::pose::to_string(e.status));
   if (e.ok()) {
     line += " (" + std::to_string(e.points) + " LEDs, sigma " + format_fixed(1e3 * e.sigma_position_m, 1) + " mm)";
   }
@@ -249,17 +259,18 @@ void write_recorded(const Args& a, const tdm::MissionOptions& o, Recorded& out) 
       const tdm::PerceptionModelOptions m = mo.perception_options();
       auto p = std::make_unique<tdm::RenderPerception>(mo.render, m.camera.T_pad_camera,
                                                        mo.drone.airframe.centre_of_mass(), m.rate_hz, m.latency, seed);
-      p->on_frame([&, fps = m.rate_hz, w = mo.render.camera.width, h = mo.render.camera.height](const tdm::PerceptionFrame& f) {
-        if (!video) video.emplace(out.video, a.video_path, fps, w, h);
-        video->write(overlay(f));
-      });
+      p->on_frame(
+          [&, fps = m.rate_hz, w = mo.render.camera.width, h = mo.render.camera.height](const tdm::PerceptionFrame& f) {
+            if (!video) video.emplace(out.video, a.video_path, fps, w, h);
+            video->write(overlay(f));
+          });
       return p;
     };
   }
   const tdm::MissionResult r = tdm::run_mission(o, a.seed, 0, true, factory);
   if (video) video->finish();
-  const std::string title = source_name(a) + ", run 0, seed " + std::to_string(a.seed) + " (" +
-                            std::string(tdm::to_string(r.outcome)) + ")";
+  const std::string title =
+      source_name(a) + ", run 0, seed " + std::to_string(a.seed) + " (" + std::string(tdm::to_string(r.outcome)) + ")";
   for (const auto& [name, tmp] : out.plots) {
     const std::string svg = name == "positions.svg"    ? tdm::plot_positions(r, title)
                             : name == "velocities.svg" ? tdm::plot_velocities(r, title)
@@ -307,10 +318,10 @@ int run_envelope(const Args& a) {
         const auto results = tdm::run_missions(o, a.runs, a.seed, a.threads, {}, [&](int, int) {
           if (draw) bar.draw(++done, total);
         });
-        cell.landed = static_cast<int>(std::count_if(results.begin(), results.end(), [](const auto& r) { return r.landed(); }));
-        cell.crashed = static_cast<int>(std::count_if(results.begin(), results.end(), [](const auto& r) {
-          return r.outcome == tdm::MissionOutcome::Crashed;
-        }));
+        cell.landed =
+            static_cast<int>(std::count_if(results.begin(), results.end(), [](const auto& r) { return r.landed(); }));
+        cell.crashed = static_cast<int>(std::count_if(
+            results.begin(), results.end(), [](const auto& r) { return r.outcome == tdm::MissionOutcome::Crashed; }));
       } else {
         done += static_cast<std::size_t>(a.runs);  // beyond what the drone's options allow: not flown
         cell.valid = false;
@@ -321,17 +332,26 @@ int run_envelope(const Args& a) {
   }
   bar.close();
   if (!plot.empty()) {
-    td::app::write_text(plot, tdm::plot_envelope(cells, source_name(a) + ", " + std::to_string(a.runs) + " runs per cell"), "--plot");
+    td::app::write_text(
+        plot, tdm::plot_envelope(cells, source_name(a) + ", " + std::to_string(a.runs) + " runs per cell"), "--plot");
   }
   staged.commit();
   if (a.json) {
     nlohmann::json j = nlohmann::json::array();
     for (const auto& c : cells) {
       if (c.valid) {
-        j.push_back({{"speed_mps", c.speed}, {"wind_mps", c.wind}, {"runs", c.runs}, {"landed", c.landed},
-                     {"crashed", c.crashed}, {"success_rate", td::app::round3(c.success())}});
+        j.push_back({{"speed_mps", c.speed},
+                     {"wind_mps", c.wind},
+                     {"runs", c.runs},
+                     {"landed", c.landed},
+                     {"crashed", c.crashed},
+                     {"success_rate", td::app::round3(c.success())}});
       } else {
-        j.push_back({{"speed_mps", c.speed}, {"wind_mps", c.wind}, {"runs", 0}, {"landed", 0}, {"crashed", 0},
+        j.push_back({{"speed_mps", c.speed},
+                     {"wind_mps", c.wind},
+                     {"runs", 0},
+                     {"landed", 0},
+                     {"crashed", 0},
                      {"success_rate", nullptr}});
       }
     }
@@ -379,7 +399,8 @@ int main(int argc, char** argv) {
   app.add_option("--runs", a.runs, "missions")->check(CLI::Range(1, 1000000))->capture_default_str();
   td::app::add_seed_option(app, "--seed", a.seed, "seed of the first mission (run i: (seed, i))");
   app.add_option("--threads", a.threads, "threads (0: all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
-  CLI::Option* perception = td::app::add_enum_option(app, "--perception", a.perception, "perception in the loop (default: the mission file's)");
+  CLI::Option* perception = td::app::add_enum_option(app, "--perception", a.perception,
+                                                     "perception in the loop (default: the mission file's)");
   app.add_flag("--json", a.json, "one JSON object on stdout");
   app.add_option("--plot", a.plot_dir, "write positions/velocities/errors/top_view SVGs of run 0 to this directory")
       ->default_str("off");
@@ -392,9 +413,15 @@ int main(int argc, char** argv) {
   CLI::App* envelope = app.add_subcommand("envelope", "success rate over vehicle speed x wind");
   envelope->add_option("mission", a.mission_path, "MISSION.yaml")->check(CLI::ExistingFile);
   envelope->add_option("--speeds", a.speeds, "vehicle speeds lo hi step [m/s]")
-      ->delimiter(':')->expected(3)->check(td::app::number_in(0, 50))->capture_default_str();
+      ->delimiter(':')
+      ->expected(3)
+      ->check(td::app::number_in(0, 50))
+      ->capture_default_str();
   envelope->add_option("--winds", a.winds, "mean winds lo hi step [m/s]")
-      ->delimiter(':')->expected(3)->check(td::app::number_in(0, 50))->capture_default_str();
+      ->delimiter(':')
+      ->expected(3)
+      ->check(td::app::number_in(0, 50))
+      ->capture_default_str();
   envelope->add_option("--runs", a.runs, "missions per cell")->check(CLI::Range(1, 100000))->capture_default_str();
   td::app::add_seed_option(*envelope, "--seed", a.seed, "seed");
   envelope->add_option("--threads", a.threads, "threads (0: all cores)")->check(CLI::Range(0, 1024));

@@ -21,13 +21,13 @@
 #include <vector>
 
 #include "app_common.hpp"
-#include "video.hpp"
 #include "touchdown/core/atomic_file.hpp"
 #include "touchdown/scenario/campaign.hpp"
 #include "touchdown/scenario/run.hpp"
 #include "touchdown/scenario/scenario.hpp"
 #include "touchdown/search/dqn.hpp"
 #include "touchdown/search/object_policy.hpp"
+#include "video.hpp"
 
 namespace {
 

@@ -264,7 +264,8 @@ void DroneSimulation::step(const twin::Setpoint& setpoint, const Eigen::Vector3d
   const double dt = m.options.step;
   const DroneState s = m.read();
   if (armed) {
-    const twin::LandController::Output u = m.controller.update({p_estimate, v_estimate, s.R, s.w_body}, setpoint, false);
+    const twin::LandController::Output u =
+        m.controller.update({p_estimate, v_estimate, s.R, s.w_body}, setpoint, false);
     const Eigen::VectorXd cmd = m.mixer.mix(u.thrust, u.torque);
     m.motor += (cmd - m.motor) * m.motor_alpha;
   } else {

@@ -87,7 +87,8 @@ bool GuidanceOptions::validate(std::string* why) const {
   if (!positive(replan_reset_distance)) return invalid(why, "guidance.replan_reset_distance: must be positive [m]");
   if (!positive(terminal_height)) return invalid(why, "guidance.terminal_height: must be positive [m]");
   if (!positive(terminal_speed)) return invalid(why, "guidance.terminal_speed: must be positive [m/s]");
-  if (!positive(terminal_centre_tolerance)) return invalid(why, "guidance.terminal_centre_tolerance: must be positive [m]");
+  if (!positive(terminal_centre_tolerance))
+    return invalid(why, "guidance.terminal_centre_tolerance: must be positive [m]");
   if (!positive(terminal_acceleration)) return invalid(why, "guidance.terminal_acceleration: must be positive [m/s^2]");
   if (!(pad_integral_gain >= 0) || !std::isfinite(pad_integral_gain)) {
     return invalid(why, "guidance.pad_integral_gain: must be >= 0 [1/s]");
@@ -107,9 +108,7 @@ Guidance::Guidance(GuidanceOptions options, double landed_com_height)
   if (!positive(landed_com_height_)) throw InvalidArgument("guidance: landed centre-of-mass height must be positive");
 }
 
-Eigen::Vector3d Guidance::terminal_point() const {
-  return {0, 0, landed_com_height_ + options_.terminal_height};
-}
+Eigen::Vector3d Guidance::terminal_point() const { return {0, 0, landed_com_height_ + options_.terminal_height}; }
 
 GuidanceOutput Guidance::hold(const PadState& pad, const Eigen::Vector3d& point) const {
   GuidanceOutput out;
@@ -135,7 +134,8 @@ ReplanOutcome Guidance::replan(double t, const PadState& pad, const plan::Kinema
   plan::PlanResult next;
   const auto solve = [&](const plan::PlannerOptions& o, const std::vector<plan::Polytope>& polytopes) {
     try {
-      return polytopes.empty() ? plan::plan(from, goal, motion, o) : plan::plan_in_corridor(from, goal, motion, o, polytopes);
+      return polytopes.empty() ? plan::plan(from, goal, motion, o)
+                               : plan::plan_in_corridor(from, goal, motion, o, polytopes);
     } catch (const InvalidArgument& e) {  // a start outside the corridor it builds
       plan::PlanResult r;
       r.status = plan::PlanStatus::NoCorridor;
@@ -248,8 +248,8 @@ GuidanceOutput Guidance::compute(double t, MissionState state, bool entered, con
     terminal_last_t_ = t;
     const bool centred = estimate.p.head<2>().norm() <= options_.terminal_centre_tolerance;
     const double target = centred ? options_.terminal_speed : 0.0;
-    terminal_rate_ += std::clamp(target - terminal_rate_, -options_.terminal_acceleration * h,
-                                 options_.terminal_acceleration * h);
+    terminal_rate_ +=
+        std::clamp(target - terminal_rate_, -options_.terminal_acceleration * h, options_.terminal_acceleration * h);
     terminal_z_ = std::max(terminal_z_ - terminal_rate_ * h, landed_com_height_ - 0.1);
     out = hold(pad, Eigen::Vector3d(0, 0, terminal_z_));
     out.reference.v = Eigen::Vector3d(0, 0, -terminal_rate_);
@@ -288,7 +288,8 @@ GuidanceOutput Guidance::compute(double t, MissionState state, bool entered, con
     return h;
   }
   const double tau = std::min(t - plan_t0_, plan_.trajectory.total_duration());
-  out.reference = {plan_.trajectory.evaluate(tau), plan_.trajectory.evaluate(tau, 1), plan_.trajectory.evaluate(tau, 2)};
+  out.reference = {plan_.trajectory.evaluate(tau), plan_.trajectory.evaluate(tau, 1),
+                   plan_.trajectory.evaluate(tau, 2)};
   const plan::KinematicState w = pad_to_world(pad, out.reference);
   const GuidanceOutput h = hold(pad, out.reference.p);
   out.setpoint = h.setpoint;

@@ -5,9 +5,9 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <iterator>
 #include <cmath>
 #include <deque>
+#include <iterator>
 #include <mutex>
 #include <numbers>
 
@@ -89,7 +89,8 @@ class DroneEstimator {
     s.v += a * dt;
     const Eigen::Matrix2d F{{1, dt}, {0, 1}};
     const Eigen::Vector2d G(0.5 * dt * dt, dt);
-    for (auto& P : s.P) P = F * P * F.transpose() + G * G.transpose() * accel_var_ + Eigen::Matrix2d{{1e-9, 0}, {0, 1e-7}};
+    for (auto& P : s.P)
+      P = F * P * F.transpose() + G * G.transpose() * accel_var_ + Eigen::Matrix2d{{1e-9, 0}, {0, 1e-7}};
   }
   // The update of `s`; false when the gate refused it.
   bool update(Sample& s, const Eigen::Vector3d& z, double sigma) {
@@ -200,8 +201,9 @@ bool MissionOptions::validate(std::string* why) const {
   // and the controller's.
   const double turn = vehicle.path == VehiclePath::Line ? 0.0 : 1.0 / vehicle.radius;
   const double offset = std::max(machine.rendezvous_point.head<2>().norm(), guidance.tracking_point.head<2>().norm());
-  const double top_speed = (vehicle.speed + (vehicle.path == VehiclePath::Random ? 2 * vehicle.random_speed_sigma : 0)) *
-                           (1 + turn * offset);
+  const double top_speed =
+      (vehicle.speed + (vehicle.path == VehiclePath::Random ? 2 * vehicle.random_speed_sigma : 0)) *
+      (1 + turn * offset);
   if (top_speed > guidance.planner.v_max * std::sqrt(2.0) || top_speed > drone.controller.xy_vel_max) {
     return invalid(why, "vehicle.speed: the drone would need " + std::to_string(top_speed) +
                             " m/s to follow, beyond guidance.planner.v_max per axis or the controller's xy_vel_max");
@@ -271,7 +273,7 @@ MissionResult run_mission(const MissionOptions& options, std::uint64_t seed, std
     Eigen::Isometry3d T_world_pad;
   };
   std::deque<Frame> frames;
-  std::deque<InFlight<PositionFix>> to_drone_fixes;      // ground station → drone
+  std::deque<InFlight<PositionFix>> to_drone_fixes;  // ground station → drone
   std::deque<InFlight<TimedSetpoint>> to_drone_setpoints;
   TimedSetpoint active;  // what the drone flies
   active.setpoint.position = drone.state().p;
@@ -516,8 +518,7 @@ std::vector<MissionResult> run_missions(const MissionOptions& options, int runs,
   std::mutex mutex;
   int done = 0;
   auto body = [&](int i) {
-    results[static_cast<std::size_t>(i)] =
-        run_mission(options, seed, static_cast<std::uint64_t>(i), false, perception);
+    results[static_cast<std::size_t>(i)] = run_mission(options, seed, static_cast<std::uint64_t>(i), false, perception);
     if (progress) {
       const std::lock_guard lock(mutex);
       progress(++done, runs);

@@ -77,7 +77,8 @@ Field section(const char* key, std::function<void(const YamlReader&, const YAML:
 // Reads the fields of `map` (a mapping; every key must be one of them).
 void read_fields(const YamlReader& r, const YAML::Node& map, const std::string& prefix,
                  const std::vector<Field>& fields) {
-  if (!map.IsMap()) r.fail(map, prefix.empty() ? "<document>" : prefix.substr(0, prefix.size() - 1), "expected a mapping");
+  if (!map.IsMap())
+    r.fail(map, prefix.empty() ? "<document>" : prefix.substr(0, prefix.size() - 1), "expected a mapping");
   for (const auto& kv : map) {
     if (!kv.first.IsScalar()) r.fail(kv.first, prefix + "<key>", "a key must be a plain name");
     const std::string k = kv.first.Scalar();
@@ -115,29 +116,37 @@ void read_mission(const YamlReader& r, const YAML::Node& root, const std::filesy
   StateMachineOptions& m = o.machine;
   GuidanceOptions& g = o.guidance;
   PerceptionModelOptions& p = o.perception_model;
-  const std::vector<Field> controller = {
-      num("xy_p", c.xy_p),           num("xy_vel_p", c.xy_vel_p),
-      num("xy_vel_i", c.xy_vel_i),   num("xy_vel_d", c.xy_vel_d),
-      num("xy_vel_int_max_acc", c.xy_vel_int_max_acc),
-      num("xy_vel_max", c.xy_vel_max), num("z_p", c.z_p),
-      num("z_vel_p", c.z_vel_p),     num("z_vel_i", c.z_vel_i),
-      num("z_vel_max_up", c.z_vel_max_up), num("z_vel_max_down", c.z_vel_max_down),
-      num("tilt_max_air_deg", c.tilt_max_air_deg), num("vel_deriv_lp_hz", c.vel_deriv_lp_hz),
-      num("roll_p", c.roll_p),       num("pitch_p", c.pitch_p),
-      num("yaw_p", c.yaw_p),         num("yaw_rate_max_deg", c.yaw_rate_max_deg),
-      num("roll_pitch_rate_max_deg", c.roll_pitch_rate_max_deg), num("rate_p_roll_pitch", c.rate_p_roll_pitch),
-      num("rate_p_yaw", c.rate_p_yaw)};
+  const std::vector<Field> controller = {num("xy_p", c.xy_p),
+                                         num("xy_vel_p", c.xy_vel_p),
+                                         num("xy_vel_i", c.xy_vel_i),
+                                         num("xy_vel_d", c.xy_vel_d),
+                                         num("xy_vel_int_max_acc", c.xy_vel_int_max_acc),
+                                         num("xy_vel_max", c.xy_vel_max),
+                                         num("z_p", c.z_p),
+                                         num("z_vel_p", c.z_vel_p),
+                                         num("z_vel_i", c.z_vel_i),
+                                         num("z_vel_max_up", c.z_vel_max_up),
+                                         num("z_vel_max_down", c.z_vel_max_down),
+                                         num("tilt_max_air_deg", c.tilt_max_air_deg),
+                                         num("vel_deriv_lp_hz", c.vel_deriv_lp_hz),
+                                         num("roll_p", c.roll_p),
+                                         num("pitch_p", c.pitch_p),
+                                         num("yaw_p", c.yaw_p),
+                                         num("yaw_rate_max_deg", c.yaw_rate_max_deg),
+                                         num("roll_pitch_rate_max_deg", c.roll_pitch_rate_max_deg),
+                                         num("rate_p_roll_pitch", c.rate_p_roll_pitch),
+                                         num("rate_p_yaw", c.rate_p_yaw)};
   const std::vector<Field> top = {
       section("vehicle",
               [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
-                read_fields(rr, n, k + ".",
-                            {named("path", v.path), num("speed", v.speed), num("radius", v.radius),
-                             flag("counter_clockwise", v.counter_clockwise),
-                             num("max_acceleration", v.max_acceleration), num("max_wheel_speed", v.max_wheel_speed),
-                             num("track_width", v.track_width), num("drive_time_constant", v.drive_time_constant),
-                             num("lookahead", v.lookahead), flag("start_at_speed", v.start_at_speed),
-                             num("random_speed_sigma", v.random_speed_sigma),
-                             num("random_change_time", v.random_change_time), vec3("pad_position", v.pad_position)});
+                read_fields(
+                    rr, n, k + ".",
+                    {named("path", v.path), num("speed", v.speed), num("radius", v.radius),
+                     flag("counter_clockwise", v.counter_clockwise), num("max_acceleration", v.max_acceleration),
+                     num("max_wheel_speed", v.max_wheel_speed), num("track_width", v.track_width),
+                     num("drive_time_constant", v.drive_time_constant), num("lookahead", v.lookahead),
+                     flag("start_at_speed", v.start_at_speed), num("random_speed_sigma", v.random_speed_sigma),
+                     num("random_change_time", v.random_change_time), vec3("pad_position", v.pad_position)});
               }),
       section("pad",
               [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
@@ -157,55 +166,60 @@ void read_mission(const YamlReader& r, const YAML::Node& root, const std::filesy
                         }
                         file.airframe = path;
                       }},
-                     num("step", d.step), num("drag_linear", d.drag_linear), num("drag_quadratic", d.drag_quadratic),
-                     num("contact_stiffness", d.contact_stiffness), num("contact_damping", d.contact_damping),
-                     num("pad_friction", d.pad_friction), num("ground_friction", d.ground_friction),
-                     vec3("start", o.drone_start), num("imu_accel_sigma", o.imu_accel_sigma),
+                     num("step", d.step),
+                     num("drag_linear", d.drag_linear),
+                     num("drag_quadratic", d.drag_quadratic),
+                     num("contact_stiffness", d.contact_stiffness),
+                     num("contact_damping", d.contact_damping),
+                     num("pad_friction", d.pad_friction),
+                     num("ground_friction", d.ground_friction),
+                     vec3("start", o.drone_start),
+                     num("imu_accel_sigma", o.imu_accel_sigma),
                      section("controller", [&](const YamlReader& r2, const YAML::Node& cn, const std::string& ck) {
                        read_fields(r2, cn, ck + ".", controller);
                      })});
               }),
       section("state_machine",
               [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
-                read_fields(rr, n, k + ".",
-                            {vec3("rendezvous_point", m.rendezvous_point), num("rendezvous_radius", m.rendezvous_radius),
-                             integer("lock_frames", m.lock_frames), num("lock_max_gap", m.lock_max_gap),
-                             num("rendezvous_timeout", m.rendezvous_timeout), num("stable_error", m.stable_error),
-                             num("stable_speed", m.stable_speed), num("stable_time", m.stable_time),
-                             num("pose_timeout", m.pose_timeout), integer("max_plan_failures", m.max_plan_failures),
-                             num("max_vehicle_acceleration", m.max_vehicle_acceleration),
-                             deg("max_vehicle_yaw_rate_deg", m.max_vehicle_yaw_rate),
-                             num("min_height_without_plan", m.min_height_without_plan),
-                             num("shutdown_radius", m.shutdown_radius), num("shutdown_height", m.shutdown_height),
-                             num("contact_height", m.contact_height), num("contact_speed", m.contact_speed),
-                             num("contact_time", m.contact_time),
-                             integer("max_landing_attempts", m.max_landing_attempts)});
+                read_fields(
+                    rr, n, k + ".",
+                    {vec3("rendezvous_point", m.rendezvous_point), num("rendezvous_radius", m.rendezvous_radius),
+                     integer("lock_frames", m.lock_frames), num("lock_max_gap", m.lock_max_gap),
+                     num("rendezvous_timeout", m.rendezvous_timeout), num("stable_error", m.stable_error),
+                     num("stable_speed", m.stable_speed), num("stable_time", m.stable_time),
+                     num("pose_timeout", m.pose_timeout), integer("max_plan_failures", m.max_plan_failures),
+                     num("max_vehicle_acceleration", m.max_vehicle_acceleration),
+                     deg("max_vehicle_yaw_rate_deg", m.max_vehicle_yaw_rate),
+                     num("min_height_without_plan", m.min_height_without_plan),
+                     num("shutdown_radius", m.shutdown_radius), num("shutdown_height", m.shutdown_height),
+                     num("contact_height", m.contact_height), num("contact_speed", m.contact_speed),
+                     num("contact_time", m.contact_time), integer("max_landing_attempts", m.max_landing_attempts)});
               }),
       section("guidance",
               [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
-                read_fields(rr, n, k + ".",
-                            {vec3("tracking_point", g.tracking_point), num("replan_period", g.replan_period),
-                             num("replan_stop", g.replan_stop), num("replan_reset_distance", g.replan_reset_distance),
-                             num("terminal_height", g.terminal_height), num("terminal_speed", g.terminal_speed),
-                             num("terminal_centre_tolerance", g.terminal_centre_tolerance),
-                             num("terminal_acceleration", g.terminal_acceleration),
-                             num("pad_integral_gain", g.pad_integral_gain),
-                             num("pad_integral_limit", g.pad_integral_limit),
-                             num("pad_integral_window", g.pad_integral_window),
-                             section("planner", [&](const YamlReader& r2, const YAML::Node& pn, const std::string& pk) {
-                               std::vector<Field> keys;
-                               for (const char* key : plan::io::kPlannerKeys) keys.push_back({key, [](auto&&...) {}});
-                               read_fields(r2, pn, pk + ".", keys);  // unknown keys
-                               plan::io::read_planner(r2, pn, pk + ".", false, g.planner, file.warnings);
-                             })});
+                read_fields(
+                    rr, n, k + ".",
+                    {vec3("tracking_point", g.tracking_point), num("replan_period", g.replan_period),
+                     num("replan_stop", g.replan_stop), num("replan_reset_distance", g.replan_reset_distance),
+                     num("terminal_height", g.terminal_height), num("terminal_speed", g.terminal_speed),
+                     num("terminal_centre_tolerance", g.terminal_centre_tolerance),
+                     num("terminal_acceleration", g.terminal_acceleration),
+                     num("pad_integral_gain", g.pad_integral_gain), num("pad_integral_limit", g.pad_integral_limit),
+                     num("pad_integral_window", g.pad_integral_window),
+                     section("planner", [&](const YamlReader& r2, const YAML::Node& pn, const std::string& pk) {
+                       std::vector<Field> keys;
+                       for (const char* key : plan::io::kPlannerKeys) keys.push_back({key, [](auto&&...) {}});
+                       read_fields(r2, pn, pk + ".", keys);  // unknown keys
+                       plan::io::read_planner(r2, pn, pk + ".", false, g.planner, file.warnings);
+                     })});
               }),
       section("perception",
               [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
                 read_fields(rr, n, k + ".",
                             {named("mode", o.perception), num("rate_hz", p.rate_hz), num("latency", p.latency),
                              num("sigma_a", p.sigma_a), num("sigma_b", p.sigma_b), num("bias_sigma", p.bias_sigma),
-                             num("dropout", p.dropout), num("dropout_b", p.dropout_b), num("min_range", p.min_range), num("max_range", p.max_range),
-                             num("fov_margin", p.fov_margin)});
+                             num("dropout", p.dropout), num("dropout_b", p.dropout_b), num("min_range", p.min_range),
+                             num("max_range", p.max_range), num("fov_margin", p.fov_margin)});
               }),
       section("wind",
               [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {

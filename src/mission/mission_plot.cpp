@@ -23,7 +23,8 @@ constexpr std::array<const char*, 4> kSeries{"#1f5fbf", "#2ca02c", "#d62728", "#
 constexpr std::array<const char*, 5> kStates{"#bbbbbb", "#9467bd", "#17becf", "#ff7f0e", "#2c2c2c"};
 
 std::string stroke(const char* colour, double width = 1.4, const char* dash = nullptr) {
-  std::string s = std::string(" fill='none' stroke='") + colour + "' stroke-width='" + detail::format_trimmed(width, 1) + "'";
+  std::string s =
+      std::string(" fill='none' stroke='") + colour + "' stroke-width='" + detail::format_trimmed(width, 1) + "'";
   if (dash) s += std::string(" stroke-dasharray='") + dash + "'";
   return s;
 }
@@ -74,7 +75,11 @@ std::string three_panels(const MissionResult& r, const std::string& title, const
       hi += 1;
     }
     const double top = 40 + axis * 220.0;
-    PlotFrame f{70, top, 760, top + 180, fit_axis(0, t_end, 8, axis == 2 ? "t [s]" : ""),
+    PlotFrame f{70,
+                top,
+                760,
+                top + 180,
+                fit_axis(0, t_end, 8, axis == 2 ? "t [s]" : ""),
                 fit_axis(lo, hi, 4, std::string(axis_names[axis]) + " " + unit)};
     svg.axes(f);
     mark_states(svg, f, r, axis == 0);
@@ -171,7 +176,11 @@ std::string plot_top_view(const MissionResult& r, const std::string& title) {
   // Equal scales on both axes.
   const double span = std::max({x_hi - x_lo, y_hi - y_lo, 1.0}) * 1.05;
   const double cx = 0.5 * (x_lo + x_hi), cy = 0.5 * (y_lo + y_hi);
-  PlotFrame f{70, 40, 610, 580, fit_axis(cx - span / 2, cx + span / 2, 6, "x [m]"),
+  PlotFrame f{70,
+              40,
+              610,
+              580,
+              fit_axis(cx - span / 2, cx + span / 2, 6, "x [m]"),
               fit_axis(cy - span / 2, cy + span / 2, 6, "y [m]")};
   // fit_axis widens each to whole ticks: equalise the spans again.
   const double sx = f.x.hi - f.x.lo, sy = f.y.hi - f.y.lo;
@@ -203,11 +212,15 @@ std::string plot_top_view(const MissionResult& r, const std::string& title) {
   legend.entry("pad", [&](double x, double y) { svg.line(x - 8, y, x + 8, y, stroke(kSeries[3], 2)); });
   legend.entry("start", [&](double x, double y) { svg.square(x, y, 5, " fill='white' stroke='black'"); });
   for (std::size_t s = 1; s < kStates.size(); ++s) {
-    legend.entry("→ " + std::string(to_string(static_cast<MissionState>(s))),
-                 [&](double x, double y) { svg.circle(x, y, 5, std::string(" fill='") + kStates[s] + "' stroke='black'"); });
+    legend.entry("→ " + std::string(to_string(static_cast<MissionState>(s))), [&](double x, double y) {
+      svg.circle(x, y, 5, std::string(" fill='") + kStates[s] + "' stroke='black'");
+    });
   }
-  svg.text(70, 650, std::string("outcome: ") + std::string(to_string(r.outcome)) +
-                        (std::isfinite(r.touchdown_error) ? ", " + detail::format_trimmed(r.touchdown_error * 100, 1) + " cm from the pad centre" : ""));
+  svg.text(70, 650,
+           std::string("outcome: ") + std::string(to_string(r.outcome)) +
+               (std::isfinite(r.touchdown_error)
+                    ? ", " + detail::format_trimmed(r.touchdown_error * 100, 1) + " cm from the pad centre"
+                    : ""));
   return svg.finish();
 }
 
@@ -241,7 +254,8 @@ std::string plot_envelope(const std::vector<EnvelopeCell>& cells, const std::str
     svg.text(x + cw / 2, y + ch / 2 + (c.crashed > 0 ? 0 : 4), detail::format_trimmed(100 * s, 0) + " %",
              " text-anchor='middle' font-size='12'");
     if (c.crashed > 0) {
-      svg.text(x + cw / 2, y + ch / 2 + 14, std::to_string(c.crashed) + " crashed", " text-anchor='middle' font-size='10'");
+      svg.text(x + cw / 2, y + ch / 2 + 14, std::to_string(c.crashed) + " crashed",
+               " text-anchor='middle' font-size='10'");
     }
   }
   svg.rect(L, T, W, H, " fill='none' stroke='black'");
@@ -254,8 +268,8 @@ std::string plot_envelope(const std::vector<EnvelopeCell>& cells, const std::str
              " text-anchor='end'");
   }
   svg.text(L + W / 2, T + H + 40, "vehicle speed [m/s]", " text-anchor='middle'");
-  svg.text(24, T + H / 2, "wind [m/s]", " text-anchor='middle' transform='rotate(-90 24 " +
-                                            detail::format_trimmed(T + H / 2, 1) + ")'");
+  svg.text(24, T + H / 2, "wind [m/s]",
+           " text-anchor='middle' transform='rotate(-90 24 " + detail::format_trimmed(T + H / 2, 1) + ")'");
   svg.text(L + W + 14, T + 14, "share landed;");
   svg.text(L + W + 14, T + 30, "the rest aborted");
   svg.text(L + W + 14, T + 46, "or timed out unless");

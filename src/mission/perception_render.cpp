@@ -65,8 +65,7 @@ bool RenderPerceptionOptions::validate(std::string* why) const {
 }
 
 RenderPerception::RenderPerception(RenderPerceptionOptions options, const Eigen::Isometry3d& T_pad_camera,
-                                   const Eigen::Vector3d& com_body, double rate_hz, double latency,
-                                   std::uint64_t seed)
+                                   const Eigen::Vector3d& com_body, double rate_hz, double latency, std::uint64_t seed)
     : options_(std::move(options)),
       T_pad_camera_(T_pad_camera),
       com_body_(com_body),

@@ -111,11 +111,10 @@ StateMachineOutput StateMachine::step(const StateMachineInputs& in) {
       break;
     case MissionState::Tracking: {
       if (pose_lost) return go(MissionState::Rendezvous, TransitionReason::PoseLost, in.t);
-      const bool stable = in.tracking_error <= o.stable_error &&
-                          (in.p_estimate - in.tracking_point).norm() <= o.stable_error &&
-                          in.v_estimate.norm() <= o.stable_speed &&
-                          in.vehicle_acceleration <= o.max_vehicle_acceleration &&
-                          std::abs(in.vehicle_yaw_rate) <= o.max_vehicle_yaw_rate;
+      const bool stable =
+          in.tracking_error <= o.stable_error && (in.p_estimate - in.tracking_point).norm() <= o.stable_error &&
+          in.v_estimate.norm() <= o.stable_speed && in.vehicle_acceleration <= o.max_vehicle_acceleration &&
+          std::abs(in.vehicle_yaw_rate) <= o.max_vehicle_yaw_rate;
       if (!stable) {
         stable_since_ = -1;
       } else if (stable_since_ < 0) {

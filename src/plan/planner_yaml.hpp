@@ -13,8 +13,8 @@
 namespace touchdown::plan::io {
 
 /// The planner keys that read_planner() reads.
-inline constexpr const char* kPlannerKeys[] = {"limits", "order", "segments", "durations", "time", "corridor",
-                                               "obstacles"};
+inline constexpr const char* kPlannerKeys[] = {"limits", "order",    "segments", "durations",
+                                               "time",   "corridor", "obstacles"};
 
 /// Reads the planner keys present in `map` into `options` (the others keep
 /// their values); `at` prefixes every key in messages ("" or "section.").

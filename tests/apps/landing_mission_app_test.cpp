@@ -86,8 +86,9 @@ TEST(LandingMissionApp, BadInputIsOneLineAndExitTwo) {
   TempDir dir;
   const auto bad = dir / "bad.yaml";
   const std::string airframe = (std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/airframes/quad180.yaml").string();
-  td::test::write_text(bad, td::test::replace(td::test::replace(td::test::read_text(bundled()), "  radius: 8.0 ", "  radius: -1 "),
-                                              "../airframes/quad180.yaml", airframe));
+  td::test::write_text(
+      bad, td::test::replace(td::test::replace(td::test::read_text(bundled()), "  radius: 8.0 ", "  radius: -1 "),
+                             "../airframes/quad180.yaml", airframe));
   const auto log = dir / "out.csv";
   AppRun r = run(bad.string() + " --log " + log.string(), dir);
   EXPECT_EQ(r.code, 2);

@@ -45,7 +45,9 @@ void fly(tdm::DroneSimulation& d, const tw::Setpoint& sp, double seconds, bool a
 }
 
 // A pad far away (below the ground) when the test does not need one.
-void pad_away(tdm::DroneSimulation& d) { d.set_pad(at({100, 100, -10}), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()); }
+void pad_away(tdm::DroneSimulation& d) {
+  d.set_pad(at({100, 100, -10}), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+}
 
 }  // namespace
 

@@ -33,7 +33,8 @@ void expect_same(const tdm::MissionResult& a, const tdm::MissionResult& b) {
   EXPECT_EQ(a.outcome, b.outcome);
   EXPECT_EQ(a.message, b.message);
   EXPECT_EQ(a.duration, b.duration);
-  EXPECT_TRUE(a.touchdown_error == b.touchdown_error || (std::isnan(a.touchdown_error) && std::isnan(b.touchdown_error)));
+  EXPECT_TRUE(a.touchdown_error == b.touchdown_error ||
+              (std::isnan(a.touchdown_error) && std::isnan(b.touchdown_error)));
   EXPECT_EQ(a.max_tracking_error, b.max_tracking_error);
   EXPECT_EQ(a.replans, b.replans);
   EXPECT_EQ(a.pose_ok, b.pose_ok);

@@ -14,7 +14,9 @@ namespace tdm = touchdown::mission;
 
 namespace {
 
-std::filesystem::path data(const std::string& rel) { return std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data" / rel; }
+std::filesystem::path data(const std::string& rel) {
+  return std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data" / rel;
+}
 
 // An approach from the tracking point down to the pad at 30 Hz, level, in
 // the pad frame: what the vehicle's camera watches while landing.

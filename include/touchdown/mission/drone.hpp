@@ -26,9 +26,9 @@ namespace touchdown::mission {
 struct DroneOptions {
   twin::Airframe airframe = twin::Airframe::quad180();
   twin::ControllerParams controller{};
-  double step = 0.002;            ///< physics and control step [s], (0, 0.01]
-  double drag_linear = 0.05;      ///< N per m/s of airspeed
-  double drag_quadratic = 0.01;   ///< N per (m/s)² of airspeed
+  double step = 0.002;               ///< physics and control step [s], (0, 0.01]
+  double drag_linear = 0.05;         ///< N per m/s of airspeed
+  double drag_quadratic = 0.01;      ///< N per (m/s)² of airspeed
   double contact_stiffness = 1.0e4;  ///< N/m per contact
   double contact_damping = 150.0;    ///< N s/m per contact
   double pad_friction = 0.8;         ///< Coulomb μ on the pad

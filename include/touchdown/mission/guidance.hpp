@@ -58,8 +58,8 @@ struct GuidanceOptions {
   plan::PlannerOptions planner = default_planner();
   Eigen::Vector3d tracking_point{-1.2, 0.0, 1.0};  ///< pad frame [m] (centre of mass)
   double replan_period = 0.1;                      ///< [s], (0, 1]: 10 Hz
-  double replan_stop = 0.5;  ///< [s] no replans once the plan has less than this left
-  double replan_reset_distance = 0.15;             ///< [m] estimate vs reference beyond which a replan starts from the estimate
+  double replan_stop = 0.5;                        ///< [s] no replans once the plan has less than this left
+  double replan_reset_distance = 0.15;  ///< [m] estimate vs reference beyond which a replan starts from the estimate
   /// The terminal point: this far above the landed centre-of-mass height
   /// [m], > 0; the plan's goal (at rest relative to the pad).
   double terminal_height = 0.25;
@@ -83,12 +83,12 @@ struct GuidanceOptions {
 };
 
 struct GuidanceOutput {
-  twin::Setpoint setpoint;                 ///< world frame
-  plan::KinematicState reference;          ///< the same, relative to the pad
+  twin::Setpoint setpoint;         ///< world frame
+  plan::KinematicState reference;  ///< the same, relative to the pad
   ReplanOutcome replan = ReplanOutcome::None;
-  bool have_plan = false;                  ///< landing: a plan (or the terminal rule) is being flown
-  bool terminal = false;                   ///< the terminal rule is flying
-  double replan_ms = 0;                    ///< wall time of this step's replan
+  bool have_plan = false;  ///< landing: a plan (or the terminal rule) is being flown
+  bool terminal = false;   ///< the terminal rule is flying
+  double replan_ms = 0;    ///< wall time of this step's replan
 };
 
 class Guidance {

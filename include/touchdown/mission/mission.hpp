@@ -54,8 +54,8 @@ struct LinkOptions {
 /// both, or the vehicle's odometry and the drone's flow sensor): the
 /// drone's position relative to the pad with a slowly wandering error.
 struct FixOptions {
-  double rate_hz = 5;          ///< > 0
-  double sigma = 0.3;          ///< per horizontal axis [m] (vertical the same)
+  double rate_hz = 5;            ///< > 0
+  double sigma = 0.3;            ///< per horizontal axis [m] (vertical the same)
   double correlation_time = 20;  ///< of the error [s], > 0
 };
 
@@ -76,9 +76,9 @@ struct MissionOptions {
   /// The drone's start: hovering here relative to the vehicle's start
   /// (vehicle frame = world at t = 0) [m].
   Eigen::Vector3d drone_start{-6.0, -3.0, 3.0};
-  double ground_rate_hz = 50;  ///< state machine, guidance and setpoints [Hz]
+  double ground_rate_hz = 50;    ///< state machine, guidance and setpoints [Hz]
   double imu_accel_sigma = 0.1;  ///< accelerometer noise per sample [m/s²]
-  double timeout = 90;         ///< mission time limit [s]
+  double timeout = 90;           ///< mission time limit [s]
   /// False (with "key: problem", the key as in MISSION.yaml) for an invalid
   /// value, including a vehicle the drone's limits cannot follow and a
   /// camera that cannot see the rendezvous or tracking point.
@@ -104,14 +104,14 @@ inline std::string_view to_string(MissionOutcome o) { return enum_name(o); }
 struct MissionSample {
   double t = 0;
   MissionState state = MissionState::Searching;
-  Eigen::Vector3d drone = Eigen::Vector3d::Zero(), drone_v = Eigen::Vector3d::Zero();  ///< true centre of mass
+  Eigen::Vector3d drone = Eigen::Vector3d::Zero(), drone_v = Eigen::Vector3d::Zero();        ///< true centre of mass
   Eigen::Vector3d estimate = Eigen::Vector3d::Zero(), estimate_v = Eigen::Vector3d::Zero();  ///< the drone's own
   Eigen::Vector3d setpoint = Eigen::Vector3d::Zero(), setpoint_v = Eigen::Vector3d::Zero();  ///< as the drone flies it
   Eigen::Vector3d pad = Eigen::Vector3d::Zero(), pad_v = Eigen::Vector3d::Zero();
   double pad_yaw = 0;
   Eigen::Vector3d relative = Eigen::Vector3d::Zero();  ///< the drone in the pad frame (truth)
-  double pose_error = -1;  ///< the last Ok measurement's error [m]; < 0: none yet
-  double tracking_error = 0;  ///< |the guidance's reference − true position| (pad frame) [m]
+  double pose_error = -1;                              ///< the last Ok measurement's error [m]; < 0: none yet
+  double tracking_error = 0;                           ///< |the guidance's reference − true position| (pad frame) [m]
 };
 
 struct MissionResult {
@@ -132,7 +132,7 @@ struct MissionResult {
   double max_axis_speed = 0, max_axis_acceleration = 0, v_limit = 0, a_limit = 0;
   int replans = 0, replan_failures = 0;
   double replan_median_ms = 0;
-  int pose_frames = 0, pose_ok = 0;  ///< camera frames with the drone in view, of them with a pose
+  int pose_frames = 0, pose_ok = 0;                  ///< camera frames with the drone in view, of them with a pose
   double pose_error_median = 0, pose_error_max = 0;  ///< [m] of the Ok ones
   int landing_attempts = 0;
   std::vector<Transition> transitions;
@@ -149,8 +149,8 @@ using PerceptionFactory = std::function<std::unique_ptr<Perception>(const Missio
 std::unique_ptr<Perception> make_default_perception(const MissionOptions& options, std::uint64_t seed);
 
 /// One mission. Throws InvalidArgument for invalid options.
-MissionResult run_mission(const MissionOptions& options, std::uint64_t seed, std::uint64_t run = 0,
-                          bool record = false, const PerceptionFactory& perception = {});
+MissionResult run_mission(const MissionOptions& options, std::uint64_t seed, std::uint64_t run = 0, bool record = false,
+                          const PerceptionFactory& perception = {});
 
 /// `runs` missions (run i seeded by (seed, i)) on `threads` threads (0:
 /// all cores); `progress` (any thread, serialised) after each.

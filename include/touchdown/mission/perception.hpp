@@ -70,8 +70,8 @@ class Perception {
 };
 
 struct PerceptionModelOptions {
-  double rate_hz = 30;        ///< camera frames per second, > 0
-  double latency = 0.04;      ///< capture → estimate at the ground station [s], ≥ 0
+  double rate_hz = 30;    ///< camera frames per second, > 0
+  double latency = 0.04;  ///< capture → estimate at the ground station [s], ≥ 0
   /// Per-axis σ of the position: sigma_a + sigma_b · r² at range r from the
   /// camera [m], [m/m²] (a depth-camera-and-LED error grows with r²). The
   /// defaults are the fit to led_pose (attitude prior) on the independent

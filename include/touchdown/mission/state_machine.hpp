@@ -78,13 +78,13 @@ struct StateMachineOptions {
   Eigen::Vector3d rendezvous_point{-2.5, 0.0, 1.5};  ///< pad frame [m], behind and above the pad
   double rendezvous_radius = 0.5;                    ///< [m] "arrived" on the fix
   int lock_frames = 10;                              ///< consecutive Ok pose frames that lock the tracker, ≥ 1
-  double lock_max_gap = 0.2;     ///< [s] Ok frames further apart than this are not consecutive
-  double rendezvous_timeout = 20;  ///< [s] in rendezvous without a lock → searching
-  double stable_error = 0.15;      ///< [m] tracking error (setpoint − estimate) that counts as stable
-  double stable_speed = 0.4;       ///< [m/s] relative speed to the tracking point that counts as stable
-  double stable_time = 1.5;        ///< [s] both stable this long → landing
-  double pose_timeout = 0.5;       ///< [s] no Ok pose this long in tracking or landing → rendezvous
-  int max_plan_failures = 5;       ///< consecutive failed replans in landing → tracking, ≥ 1
+  double lock_max_gap = 0.2;                         ///< [s] Ok frames further apart than this are not consecutive
+  double rendezvous_timeout = 20;                    ///< [s] in rendezvous without a lock → searching
+  double stable_error = 0.15;             ///< [m] tracking error (setpoint − estimate) that counts as stable
+  double stable_speed = 0.4;              ///< [m/s] relative speed to the tracking point that counts as stable
+  double stable_time = 1.5;               ///< [s] both stable this long → landing
+  double pose_timeout = 0.5;              ///< [s] no Ok pose this long in tracking or landing → rendezvous
+  int max_plan_failures = 5;              ///< consecutive failed replans in landing → tracking, ≥ 1
   double max_vehicle_acceleration = 4.0;  ///< [m/s²] above it in landing → tracking
   double max_vehicle_yaw_rate = 1.2;      ///< [rad/s] above it in landing → tracking
   double min_height_without_plan = 0.6;   ///< [m] above the pad: lower in landing needs a valid plan
@@ -97,7 +97,7 @@ struct StateMachineOptions {
   double contact_height = 0.08;
   double contact_speed = 0.1;
   double contact_time = 0.2;
-  int max_landing_attempts = 3;           ///< aborted landings before giving up, ≥ 1
+  int max_landing_attempts = 3;  ///< aborted landings before giving up, ≥ 1
   /// False (with "key: problem" in *why) for an invalid value.
   [[nodiscard]] bool validate(std::string* why) const;
 };
@@ -117,9 +117,9 @@ struct StateMachineInputs {
   double height = 0;
   double tracking_error = 0;  ///< [m] |setpoint − estimate|
   ReplanOutcome replan = ReplanOutcome::None;
-  bool have_plan = false;             ///< the guidance holds a valid plan
-  double vehicle_acceleration = 0;    ///< [m/s²] magnitude, from the vehicle's odometry
-  double vehicle_yaw_rate = 0;        ///< [rad/s]
+  bool have_plan = false;                                    ///< the guidance holds a valid plan
+  double vehicle_acceleration = 0;                           ///< [m/s²] magnitude, from the vehicle's odometry
+  double vehicle_yaw_rate = 0;                               ///< [rad/s]
   Eigen::Vector3d tracking_point = Eigen::Vector3d::Zero();  ///< where tracking holds the drone (pad frame)
 };
 
@@ -153,12 +153,12 @@ class StateMachine {
 
   StateMachineOptions options_;
   MissionState state_ = MissionState::Searching;
-  double entered_ = 0;            ///< time the state was entered
-  bool started_ = false;          ///< entered_ set from the first step
-  int ok_run_ = 0;                ///< consecutive Ok frames
-  double last_ok_ = -1e300;       ///< time of the last Ok frame
-  double stable_since_ = -1;      ///< < 0: not stable
-  double stalled_since_ = -1;     ///< < 0: no contact felt
+  double entered_ = 0;         ///< time the state was entered
+  bool started_ = false;       ///< entered_ set from the first step
+  int ok_run_ = 0;             ///< consecutive Ok frames
+  double last_ok_ = -1e300;    ///< time of the last Ok frame
+  double stable_since_ = -1;   ///< < 0: not stable
+  double stalled_since_ = -1;  ///< < 0: no contact felt
   int plan_failures_ = 0;
   int attempts_ = 0;
   bool gave_up_ = false;

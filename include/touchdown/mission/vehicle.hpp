@@ -38,10 +38,10 @@ inline std::string_view to_string(VehiclePath p) { return enum_name(p); }
 
 struct VehicleOptions {
   VehiclePath path = VehiclePath::Circle;
-  double speed = 2.0;   ///< commanded speed [m/s], > 0 (random: the mean)
-  double radius = 8.0;  ///< circle radius, figure-eight lobe radius, random drive's tightest turn [m]
-  bool counter_clockwise = true;  ///< the circle's (and the figure-eight's first lobe's) sense
-  double max_acceleration = 1.5;  ///< longitudinal [m/s²]
+  double speed = 2.0;                  ///< commanded speed [m/s], > 0 (random: the mean)
+  double radius = 8.0;                 ///< circle radius, figure-eight lobe radius, random drive's tightest turn [m]
+  bool counter_clockwise = true;       ///< the circle's (and the figure-eight's first lobe's) sense
+  double max_acceleration = 1.5;       ///< longitudinal [m/s²]
   double max_wheel_speed = 2.7 * 2.0;  ///< per side [m/s] (Scout Mini: ~20 km/h)
   double track_width = 0.49;           ///< between the wheel centres [m]
   double drive_time_constant = 0.15;   ///< wheel drives' first-order lag [s]
@@ -97,10 +97,10 @@ class GroundVehicle {
   VehicleOptions options_;
   VehicleState state_;
   Rng rng_;
-  double s_ = 0;               ///< arc length of the closest path point (monotone search)
-  double random_speed_ = 0;    ///< random drive's current speed target
+  double s_ = 0;             ///< arc length of the closest path point (monotone search)
+  double random_speed_ = 0;  ///< random drive's current speed target
   double random_curvature_ = 0;
-  double speed_command_ = 0;   ///< the ramped speed command [m/s]
+  double speed_command_ = 0;  ///< the ramped speed command [m/s]
 };
 
 }  // namespace touchdown::mission

@@ -21,19 +21,19 @@ namespace touchdown::twin {
 /// Controller gains and limits; each default mirrors the PX4 (v1.14)
 /// parameter named beside it.
 struct ControllerParams {
-  double xy_p = 0.95;               ///< MPC_XY_P [1/s]
-  double xy_vel_p = 1.8;            ///< MPC_XY_VEL_P_ACC [1/s]
-  double xy_vel_i = 0.4;            ///< MPC_XY_VEL_I_ACC [1/s²]
-  double xy_vel_d = 0.2;            ///< MPC_XY_VEL_D_ACC
-  double xy_vel_max = 12.0;         ///< MPC_XY_VEL_MAX [m/s]
-  double z_vel_p = 4.0;             ///< MPC_Z_VEL_P_ACC [1/s]
-  double z_vel_i = 2.0;             ///< MPC_Z_VEL_I_ACC [1/s²]
-  double tilt_max_deg = 12.0;       ///< MPC_TILTMAX_LND (the tilt limit of land mode)
+  double xy_p = 0.95;          ///< MPC_XY_P [1/s]
+  double xy_vel_p = 1.8;       ///< MPC_XY_VEL_P_ACC [1/s]
+  double xy_vel_i = 0.4;       ///< MPC_XY_VEL_I_ACC [1/s²]
+  double xy_vel_d = 0.2;       ///< MPC_XY_VEL_D_ACC
+  double xy_vel_max = 12.0;    ///< MPC_XY_VEL_MAX [m/s]
+  double z_vel_p = 4.0;        ///< MPC_Z_VEL_P_ACC [1/s]
+  double z_vel_i = 2.0;        ///< MPC_Z_VEL_I_ACC [1/s²]
+  double tilt_max_deg = 12.0;  ///< MPC_TILTMAX_LND (the tilt limit of land mode)
   // Outside land mode (flight_control.hpp, Setpoint::land false):
-  double z_p = 1.0;                  ///< MPC_Z_P [1/s]
-  double z_vel_max_up = 3.0;         ///< MPC_Z_VEL_MAX_UP [m/s]
-  double z_vel_max_down = 1.5;       ///< MPC_Z_VEL_MAX_DN [m/s]
-  double tilt_max_air_deg = 45.0;    ///< MPC_TILTMAX_AIR
+  double z_p = 1.0;                        ///< MPC_Z_P [1/s]
+  double z_vel_max_up = 3.0;               ///< MPC_Z_VEL_MAX_UP [m/s]
+  double z_vel_max_down = 1.5;             ///< MPC_Z_VEL_MAX_DN [m/s]
+  double tilt_max_air_deg = 45.0;          ///< MPC_TILTMAX_AIR
   double roll_pitch_rate_max_deg = 220.0;  ///< MC_ROLLRATE_MAX, MC_PITCHRATE_MAX [deg/s]
   /// Largest acceleration the horizontal velocity integral may hold [m/s²]
   /// (PX4 bounds it by the thrust's margin; a steady wind's drag must fit).
