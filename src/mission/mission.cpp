@@ -219,293 +219,330 @@ bool MissionOptions::validate(std::string* why) const {
   return true;
 }
 
-MissionResult run_mission(const MissionOptions& options, std::uint64_t seed, std::uint64_t run, bool record,
-                          const PerceptionFactory& make_perception) {
-  std::string why;
-  if (!options.validate(&why)) throw InvalidArgument(why);
-  const MissionOptions& o = options;
-  MissionResult res;
-  // One random stream per purpose, from (seed, run).
-  const std::uint64_t stream = 8 * run;
-  GroundVehicle vehicle(o.vehicle, Rng(seed, stream).next());
-  std::unique_ptr<Perception> perception = make_perception ? make_perception(o, Rng(seed, stream + 1).next())
-                                                           : make_default_perception(o, Rng(seed, stream + 1).next());
-  Rng wind_rng(seed, stream + 2), link_rng(seed, stream + 3), fix_rng(seed, stream + 4), imu_rng(seed, stream + 5);
-  DroneSimulation drone(o.drone, o.pad);
-  StateMachine machine(o.machine);
-  const twin::Airframe& af = o.drone.airframe;
-  const double landed_com_height = af.centre_of_mass().z() - af.ground_z();
-  Guidance guidance(o.guidance, landed_com_height);
-  const double dt = o.drone.step;
-  const long ground_every = std::max(1L, std::lround(1.0 / (o.ground_rate_hz * dt)));
-  const long frame_every = std::max(1L, std::lround(1.0 / (perception->rate_hz() * dt)));
-  const long fix_every = std::max(1L, std::lround(1.0 / (o.fix.rate_hz * dt)));
-  const long sample_every = std::max(1L, std::lround(0.02 / dt));
-  const long max_steps = static_cast<long>(std::ceil(o.timeout / dt));
+namespace {
 
-  // The pad's state from the vehicle's (its acceleration by differences).
-  PadState pad;
-  Eigen::Vector3d last_pad_v = vehicle.pad_velocity();
-  auto read_pad = [&]() {
-    pad.T_world_pad = vehicle.T_world_pad();
-    pad.velocity = vehicle.pad_velocity();
-    pad.acceleration = (pad.velocity - last_pad_v) / dt;
-    pad.yaw_rate = vehicle.state().yaw_rate;
-  };
-  read_pad();
-  pad.acceleration = Eigen::Vector3d::Zero();
-  drone.set_pad(pad.T_world_pad, pad.velocity, vehicle.pad_angular_velocity());
-  Eigen::Isometry3d T_start = Eigen::Isometry3d::Identity();
-  T_start.translation() = o.drone_start - af.centre_of_mass();
-  drone.place(T_start, Eigen::Vector3d::Zero(), true);
-  // Errors of the fix (Gauss–Markov per axis) and the wind's gusts.
-  Eigen::Vector3d fix_error(fix_rng.normal(), fix_rng.normal(), fix_rng.normal());
-  fix_error *= o.fix.sigma;
-  Eigen::Vector3d gust(wind_rng.normal(), wind_rng.normal(), 0.5 * wind_rng.normal());
-  gust *= o.wind.gust_sigma;
-  DroneEstimator estimator(drone.state().p + fix_error, Eigen::Vector3d::Zero(), std::max(o.fix.sigma, 0.05),
-                           std::max(o.imu_accel_sigma, 0.05), dt);
+// One mission in flight: the loop of mission.hpp at the physics step, its
+// parts one method each (camera frames, the fix, the ground station, the
+// drone, the bookkeeping, the end).
+class Flight {
+ public:
+  Flight(const MissionOptions& o, std::uint64_t seed, std::uint64_t run, bool record, const PerceptionFactory& make)
+      : o_(o),
+        record_(record),
+        vehicle_(o.vehicle, Rng(seed, 8 * run).next()),
+        perception_(make ? make(o, Rng(seed, 8 * run + 1).next())
+                         : make_default_perception(o, Rng(seed, 8 * run + 1).next())),
+        wind_rng_(seed, 8 * run + 2),
+        link_rng_(seed, 8 * run + 3),
+        fix_rng_(seed, 8 * run + 4),
+        imu_rng_(seed, 8 * run + 5),
+        drone_(o.drone, o.pad),
+        machine_(o.machine),
+        landed_com_height_(o.drone.airframe.centre_of_mass().z() - o.drone.airframe.ground_z()),
+        guidance_(o.guidance, landed_com_height_),
+        dt_(o.drone.step),
+        ground_every_(every(1.0 / o.ground_rate_hz)),
+        frame_every_(every(1.0 / perception_->rate_hz())),
+        fix_every_(every(1.0 / o.fix.rate_hz)),
+        sample_every_(every(0.02)),
+        estimator_(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 1, 1, o.drone.step) {
+    last_pad_v_ = vehicle_.pad_velocity();
+    read_pad();
+    pad_.acceleration = Eigen::Vector3d::Zero();
+    drone_.set_pad(pad_.T_world_pad, pad_.velocity, vehicle_.pad_angular_velocity());
+    Eigen::Isometry3d T_start = Eigen::Isometry3d::Identity();
+    T_start.translation() = o.drone_start - o.drone.airframe.centre_of_mass();
+    drone_.place(T_start, Eigen::Vector3d::Zero(), true);
+    // Errors of the fix (Gauss–Markov per axis) and the wind's gusts.
+    fix_error_ = Eigen::Vector3d(fix_rng_.normal(), fix_rng_.normal(), fix_rng_.normal()) * o.fix.sigma;
+    gust_ = Eigen::Vector3d(wind_rng_.normal(), wind_rng_.normal(), 0.5 * wind_rng_.normal()) * o.wind.gust_sigma;
+    estimator_ = DroneEstimator(drone_.state().p + fix_error_, Eigen::Vector3d::Zero(), std::max(o.fix.sigma, 0.05),
+                                std::max(o.imu_accel_sigma, 0.05), dt_);
+    active_.setpoint.position = drone_.state().p;
+    p_fix_pad_ = world_to_pad(pad_, {drone_.state().p + fix_error_, {}, {}}).p;
+    res_.v_limit = o.guidance.planner.v_max;
+    res_.a_limit = o.guidance.planner.a_max;
+  }
 
-  // Perception → ground station: each frame with the truth and the pad's pose at its capture.
+  MissionResult fly() {
+    const long max_steps = static_cast<long>(std::ceil(o_.timeout / dt_));
+    long step = 0;
+    for (; step < max_steps && !done_; ++step) this->step(step);
+    if (!done_) {
+      res_.duration = static_cast<double>(step) * dt_;
+      res_.message = "no landing within the timeout";
+    }
+    res_.landing_attempts = machine_.landing_attempts();
+    res_.replan_median_ms = median_of(replan_ms_);
+    if (!pose_errors_.empty()) {
+      res_.pose_error_max = *std::max_element(pose_errors_.begin(), pose_errors_.end());
+      res_.pose_error_median = median_of(std::move(pose_errors_));
+    }
+    return std::move(res_);
+  }
+
+ private:
+  // Perception → ground station: a frame with the truth and the pad's pose
+  // at its capture.
   struct Frame {
     PoseMeasurement m;
     Eigen::Vector3d truth;
     Eigen::Isometry3d T_world_pad;
   };
-  std::deque<Frame> frames;
-  std::deque<InFlight<PositionFix>> to_drone_fixes;  // ground station → drone
-  std::deque<InFlight<TimedSetpoint>> to_drone_setpoints;
-  TimedSetpoint active;  // what the drone flies
-  active.setpoint.position = drone.state().p;
-  bool armed = true, received_setpoint = false;
-  Eigen::Vector3d p_fix_pad = world_to_pad(pad, {drone.state().p + fix_error, {}, {}}).p;
-  GuidanceOutput guide;
-  bool entered = true;
-  MissionState state = MissionState::Searching;
-  std::vector<double> replan_ms, pose_errors;
-  double last_pose_error = -1;
-  bool touched = false;
-  double rest_timer = 0, shutdown_time = -1;
-  const auto& planner = o.guidance.planner;
-  res.v_limit = planner.v_max;
-  res.a_limit = planner.a_max;
 
-  auto crash = [&](const std::string& message, double t) {
-    res.outcome = MissionOutcome::Crashed;
-    res.message = message;
-    res.duration = t;
-  };
+  [[nodiscard]] long every(double period) const { return std::max(1L, std::lround(period / o_.drone.step)); }
 
-  long step = 0;
-  bool done = false;
-  for (; step < max_steps && !done; ++step) {
-    const double t = static_cast<double>(step) * dt;
-    const DroneState truth = drone.state();
-    if (!truth.p.allFinite() || !truth.v.allFinite() || truth.v.norm() > 50) {
-      crash("unstable: non-finite or runaway state", t);
-      break;
+  // The pad's state from the vehicle's (its acceleration by differences).
+  void read_pad() {
+    pad_.T_world_pad = vehicle_.T_world_pad();
+    pad_.velocity = vehicle_.pad_velocity();
+    pad_.acceleration = (pad_.velocity - last_pad_v_) / dt_;
+    pad_.yaw_rate = vehicle_.state().yaw_rate;
+  }
+
+  void end(MissionOutcome outcome, const std::string& message, double t) {
+    res_.outcome = outcome;
+    res_.message = message;
+    res_.duration = t;
+    done_ = true;
+  }
+
+  void step(long step) {
+    const double t = static_cast<double>(step) * dt_;
+    truth_ = drone_.state();
+    if (!truth_.p.allFinite() || !truth_.v.allFinite() || truth_.v.norm() > 50) {
+      end(MissionOutcome::Crashed, "unstable: non-finite or runaway state", t);
+      return;
     }
-    plan::KinematicState truth_world{truth.p, truth.v, truth.a};
-    const plan::KinematicState rel_truth = world_to_pad(pad, truth_world);
-    const Eigen::Isometry3d T_pad_body = pad.T_world_pad.inverse() * drone.T_world_body();
+    rel_truth_ = world_to_pad(pad_, {truth_.p, truth_.v, truth_.a});
+    if (step % frame_every_ == 0) capture(t);
+    if (step % fix_every_ == 0) update_fix(t);
+    if (step % ground_every_ == 0 && !ground_station(t)) return;
+    const twin::Setpoint flown = fly_drone(t);
+    keep_books(t, step, flown);
+    check_end(t);
+  }
 
-    // The camera's frames.
-    if (step % frame_every == 0) {
-      PerceptionTruth pt;
-      pt.t = t;
-      pt.T_pad_body = T_pad_body;
-      pt.p_pad_com = rel_truth.p;
-      pt.g_body = truth.R.transpose() * -Eigen::Vector3d::UnitZ();
-      pt.state = state;
-      frames.push_back({perception->capture(pt), rel_truth.p, pad.T_world_pad});
+  // The camera's frame.
+  void capture(double t) {
+    PerceptionTruth pt;
+    pt.t = t;
+    pt.T_pad_body = pad_.T_world_pad.inverse() * drone_.T_world_body();
+    pt.p_pad_com = rel_truth_.p;
+    pt.g_body = truth_.R.transpose() * -Eigen::Vector3d::UnitZ();
+    pt.state = state_;
+    frames_.push_back({perception_->capture(pt), rel_truth_.p, pad_.T_world_pad});
+  }
+
+  // The external fix (its error wanders as a Gauss–Markov process), sent
+  // to the drone before the tracker locks.
+  void update_fix(double t) {
+    const double fdt = static_cast<double>(fix_every_) * dt_;
+    const double a = std::exp(-fdt / o_.fix.correlation_time), b = std::sqrt(1 - a * a);
+    for (int i = 0; i < 3; ++i) fix_error_[i] = a * fix_error_[i] + b * o_.fix.sigma * fix_rng_.normal();
+    p_fix_pad_ = rel_truth_.p + fix_error_;
+    if ((state_ == MissionState::Searching || state_ == MissionState::Rendezvous) &&
+        link_rng_.uniform() >= o_.link.dropout) {
+      to_drone_fixes_.push_back(
+          {t + o_.link.latency, {t, pad_.T_world_pad * p_fix_pad_, std::max(o_.fix.sigma, 0.01)}});
     }
-    // The external fix (its error wanders as a Gauss–Markov process).
-    if (step % fix_every == 0) {
-      const double fdt = static_cast<double>(fix_every) * dt;
-      const double a = std::exp(-fdt / o.fix.correlation_time), b = std::sqrt(1 - a * a);
-      for (int i = 0; i < 3; ++i) fix_error[i] = a * fix_error[i] + b * o.fix.sigma * fix_rng.normal();
-      p_fix_pad = rel_truth.p + fix_error;
-      if (state == MissionState::Searching || state == MissionState::Rendezvous) {
-        if (link_rng.uniform() >= o.link.dropout) {
-          to_drone_fixes.push_back({t + o.link.latency, {t, pad.T_world_pad * p_fix_pad, std::max(o.fix.sigma, 0.01)}});
-        }
+  }
+
+  // The pose frames that arrived: counted, their errors kept, sent on to
+  // the drone. Sets the state machine's pose inputs.
+  void receive_frames(double t, StateMachineInputs& in) {
+    while (!frames_.empty() && frames_.front().m.t_available <= t) {
+      const auto [m, at_capture, T_pad_then] = frames_.front();
+      frames_.pop_front();
+      in.new_pose = true;
+      in.pose_ok = in.pose_ok || m.ok;
+      const bool counted = state_ == MissionState::Tracking || state_ == MissionState::Landing;
+      res_.pose_frames += counted ? 1 : 0;
+      if (!m.ok) continue;
+      last_pose_error_ = (m.p_pad - at_capture).norm();
+      pose_errors_.push_back(last_pose_error_);
+      res_.pose_ok += counted ? 1 : 0;
+      if (link_rng_.uniform() >= o_.link.dropout && state_ != MissionState::Searching) {
+        to_drone_fixes_.push_back({t + o_.link.latency, {m.t_capture, T_pad_then * m.p_pad, m.sigma}});
       }
     }
+  }
 
-    // The ground station.
-    if (step % ground_every == 0) {
-      StateMachineInputs in;
-      in.t = t;
-      in.p_fix = p_fix_pad;
-      while (!frames.empty() && frames.front().m.t_available <= t) {
-        const auto [m, at_capture, T_pad_then] = frames.front();
-        frames.pop_front();
-        in.new_pose = true;
-        in.pose_ok = in.pose_ok || m.ok;
-        const bool counted = state == MissionState::Tracking || state == MissionState::Landing;
-        res.pose_frames += counted ? 1 : 0;
-        if (m.ok) {
-          last_pose_error = (m.p_pad - at_capture).norm();
-          pose_errors.push_back(last_pose_error);
-          res.pose_ok += counted ? 1 : 0;
-          if (link_rng.uniform() >= o.link.dropout && state != MissionState::Searching) {
-            to_drone_fixes.push_back({t + o.link.latency, {m.t_capture, T_pad_then * m.p_pad, m.sigma}});
-          }
-        }
-      }
-      const plan::KinematicState est_rel = world_to_pad(pad, {estimator.p(), estimator.v(), Eigen::Vector3d::Zero()});
-      in.p_estimate = est_rel.p;
-      in.v_estimate = est_rel.v;
-      in.height = est_rel.p.z() - landed_com_height;
-      in.tracking_error = (guide.reference.p - est_rel.p).norm();
-      in.replan = guide.replan;
-      in.have_plan = guide.have_plan;
-      in.vehicle_acceleration = pad.acceleration.head<2>().norm();
-      in.vehicle_yaw_rate = vehicle.state().yaw_rate;
-      in.tracking_point = o.guidance.tracking_point;
-      if (state == MissionState::Tracking) in.tracking_error = (o.guidance.tracking_point - est_rel.p).norm();
-      const StateMachineOutput sm = machine.step(in);
-      if (sm.transitioned) res.transitions.push_back(sm.transition);
-      entered = sm.transitioned;
-      state = sm.state;
-      if (sm.gave_up) {
-        res.outcome = MissionOutcome::Aborted;
-        res.message = "gave up after " + std::to_string(machine.landing_attempts()) + " aborted landings";
-        res.duration = t;
-        break;
-      }
-      guide = guidance.update(t, state, entered, pad, est_rel, p_fix_pad, o.machine);
-      if (guide.replan != ReplanOutcome::None) {
-        ++res.replans;
-        res.replan_failures += guide.replan == ReplanOutcome::Failed ? 1 : 0;
-        replan_ms.push_back(guide.replan_ms);
-      }
-      TimedSetpoint msg{t, guide.setpoint, sm.motors_off};
-      if (sm.motors_off && shutdown_time < 0) shutdown_time = t;
-      if (link_rng.uniform() >= o.link.dropout) to_drone_setpoints.push_back({t + o.link.latency, msg});
+  // The ground station: state machine, guidance, a setpoint over the link.
+  // False when the mission ends here (the machine gave up).
+  bool ground_station(double t) {
+    StateMachineInputs in;
+    in.t = t;
+    in.p_fix = p_fix_pad_;
+    receive_frames(t, in);
+    const plan::KinematicState est = world_to_pad(pad_, {estimator_.p(), estimator_.v(), Eigen::Vector3d::Zero()});
+    in.p_estimate = est.p;
+    in.v_estimate = est.v;
+    in.height = est.p.z() - landed_com_height_;
+    in.tracking_error = (guide_.reference.p - est.p).norm();
+    in.replan = guide_.replan;
+    in.have_plan = guide_.have_plan;
+    in.vehicle_acceleration = pad_.acceleration.head<2>().norm();
+    in.vehicle_yaw_rate = vehicle_.state().yaw_rate;
+    in.tracking_point = o_.guidance.tracking_point;
+    if (state_ == MissionState::Tracking) in.tracking_error = (o_.guidance.tracking_point - est.p).norm();
+    const StateMachineOutput sm = machine_.step(in);
+    if (sm.transitioned) res_.transitions.push_back(sm.transition);
+    state_ = sm.state;
+    if (sm.gave_up) {
+      end(MissionOutcome::Aborted, "gave up after " + std::to_string(machine_.landing_attempts()) + " aborted landings",
+          t);
+      return false;
     }
+    guide_ = guidance_.update(t, state_, sm.transitioned, pad_, est, p_fix_pad_, o_.machine);
+    if (guide_.replan != ReplanOutcome::None) {
+      ++res_.replans;
+      res_.replan_failures += guide_.replan == ReplanOutcome::Failed ? 1 : 0;
+      replan_ms_.push_back(guide_.replan_ms);
+    }
+    if (sm.motors_off && shutdown_time_ < 0) shutdown_time_ = t;
+    if (link_rng_.uniform() >= o_.link.dropout) {
+      to_drone_setpoints_.push_back({t + o_.link.latency, {t, guide_.setpoint, sm.motors_off}});
+    }
+    return true;
+  }
 
-    // The drone: what reached it, its estimator, its controller.
-    while (!to_drone_setpoints.empty() && to_drone_setpoints.front().arrives <= t) {
-      active = to_drone_setpoints.front().payload;
-      to_drone_setpoints.pop_front();
-      received_setpoint = true;
-      if (active.motors_off) armed = false;
+  // The drone: what reached it over the link, its estimator, its
+  // controller, the wind, one physics step (with the vehicle's). The
+  // setpoint it flew.
+  twin::Setpoint fly_drone(double t) {
+    while (!to_drone_setpoints_.empty() && to_drone_setpoints_.front().arrives <= t) {
+      active_ = to_drone_setpoints_.front().payload;
+      to_drone_setpoints_.pop_front();
+      received_setpoint_ = true;
+      if (active_.motors_off) armed_ = false;
     }
-    while (!to_drone_fixes.empty() && to_drone_fixes.front().arrives <= t) {
-      const PositionFix& f = to_drone_fixes.front().payload;
-      estimator.correct(f.t_capture, f.p_world, f.sigma);
-      to_drone_fixes.pop_front();
+    while (!to_drone_fixes_.empty() && to_drone_fixes_.front().arrives <= t) {
+      const PositionFix& f = to_drone_fixes_.front().payload;
+      estimator_.correct(f.t_capture, f.p_world, f.sigma);
+      to_drone_fixes_.pop_front();
     }
-    twin::Setpoint flown = active.setpoint;
-    if (received_setpoint) {
+    twin::Setpoint flown = active_.setpoint;
+    if (received_setpoint_) {
       // Timestamped setpoints, extrapolated to now (up to the timeout; then
       // hold where the extrapolation ended).
-      const double age = std::min(t - active.sent, o.link.setpoint_timeout);
-      if (flown.position.allFinite()) {
-        flown.position += flown.velocity * age + 0.5 * flown.acceleration * age * age;
-      }
+      const double age = std::min(t - active_.sent, o_.link.setpoint_timeout);
+      if (flown.position.allFinite()) flown.position += flown.velocity * age + 0.5 * flown.acceleration * age * age;
       flown.velocity += flown.acceleration * age;
-      if (t - active.sent > o.link.setpoint_timeout) {
+      if (t - active_.sent > o_.link.setpoint_timeout) {
         flown.velocity.setZero();
         flown.acceleration.setZero();
       }
     }
-    // Wind: the mean plus gusts.
-    const double ga = std::exp(-dt / o.wind.gust_time), gb = std::sqrt(1 - ga * ga);
+    const double ga = std::exp(-dt_ / o_.wind.gust_time), gb = std::sqrt(1 - ga * ga);
     for (int i = 0; i < 3; ++i) {
-      gust[i] = ga * gust[i] + gb * o.wind.gust_sigma * (i == 2 ? 0.5 : 1.0) * wind_rng.normal();
+      gust_[i] = ga * gust_[i] + gb * o_.wind.gust_sigma * (i == 2 ? 0.5 : 1.0) * wind_rng_.normal();
     }
-    const Eigen::Vector3d accel_measured =
-        truth.a + o.imu_accel_sigma * Eigen::Vector3d(imu_rng.normal(), imu_rng.normal(), imu_rng.normal());
-    estimator.predict(t, accel_measured);
-    vehicle.step(dt);
-    last_pad_v = pad.velocity;
+    const Eigen::Vector3d accel =
+        truth_.a + o_.imu_accel_sigma * Eigen::Vector3d(imu_rng_.normal(), imu_rng_.normal(), imu_rng_.normal());
+    estimator_.predict(t, accel);
+    vehicle_.step(dt_);
+    last_pad_v_ = pad_.velocity;
     read_pad();
-    drone.set_pad(pad.T_world_pad, pad.velocity, vehicle.pad_angular_velocity());
-    drone.step(flown, estimator.p(), estimator.v(), armed, o.wind.mean + gust);
+    drone_.set_pad(pad_.T_world_pad, pad_.velocity, vehicle_.pad_angular_velocity());
+    drone_.step(flown, estimator_.p(), estimator_.v(), armed_, o_.wind.mean + gust_);
+    return flown;
+  }
 
-    // Bookkeeping.
-    res.time_in_state[static_cast<std::size_t>(state)] += dt;
+  void keep_books(double t, long step, const twin::Setpoint& flown) {
+    res_.time_in_state[static_cast<std::size_t>(state_)] += dt_;
     // Tracking error: the guidance's reference (pad frame, without the
     // pad-frame integral's offset) against where the drone is.
-    const double tracking_error = (guide.reference.p - rel_truth.p).norm();
-    if (state == MissionState::Landing && !touched) {
-      res.max_tracking_error = std::max(res.max_tracking_error, tracking_error);
-      res.max_axis_speed = std::max(res.max_axis_speed, truth.v.cwiseAbs().maxCoeff());
-      res.max_axis_acceleration = std::max(res.max_axis_acceleration, truth.a.cwiseAbs().maxCoeff());
+    const double tracking_error = (guide_.reference.p - rel_truth_.p).norm();
+    if (state_ == MissionState::Landing && !touched_) {
+      res_.max_tracking_error = std::max(res_.max_tracking_error, tracking_error);
+      res_.max_axis_speed = std::max(res_.max_axis_speed, truth_.v.cwiseAbs().maxCoeff());
+      res_.max_axis_acceleration = std::max(res_.max_axis_acceleration, truth_.a.cwiseAbs().maxCoeff());
     }
-    if (record && step % sample_every == 0) {
-      MissionSample s;
-      s.t = t;
-      s.state = state;
-      s.drone = truth.p;
-      s.drone_v = truth.v;
-      s.estimate = estimator.p();
-      s.estimate_v = estimator.v();
-      s.setpoint = flown.position;
-      s.setpoint_v = flown.velocity;
-      s.pad = pad.T_world_pad.translation();
-      s.pad_v = pad.velocity;
-      s.pad_yaw = std::atan2(pad.T_world_pad.linear()(1, 0), pad.T_world_pad.linear()(0, 0));
-      s.relative = rel_truth.p;
-      s.pose_error = last_pose_error;
-      s.tracking_error = tracking_error;
-      res.trace.push_back(s);
-    }
+    if (!record_ || step % sample_every_ != 0) return;
+    MissionSample s;
+    s.t = t;
+    s.state = state_;
+    s.drone = truth_.p;
+    s.drone_v = truth_.v;
+    s.estimate = estimator_.p();
+    s.estimate_v = estimator_.v();
+    s.setpoint = flown.position;
+    s.setpoint_v = flown.velocity;
+    s.pad = pad_.T_world_pad.translation();
+    s.pad_v = pad_.velocity;
+    s.pad_yaw = std::atan2(pad_.T_world_pad.linear()(1, 0), pad_.T_world_pad.linear()(0, 0));
+    s.relative = rel_truth_.p;
+    s.pose_error = last_pose_error_;
+    s.tracking_error = tracking_error;
+    res_.trace.push_back(s);
+  }
 
-    // Contacts and the end of the mission.
-    const ContactState& c = drone.contacts();
-    if (c.on_ground) {
-      crash("touched the ground", t);
-      break;
+  // Contacts and the end of the mission: a crash as soon as it happens;
+  // after shutdown, the verdict once the drone rests on the pad (or 3 s on).
+  void check_end(double t) {
+    const ContactState& c = drone_.contacts();
+    if (c.on_ground) return end(MissionOutcome::Crashed, "touched the ground", t);
+    if (c.strike_on_pad) return end(MissionOutcome::Crashed, "struck the pad with a propeller, an arm or the body", t);
+    const DroneState now = drone_.state();
+    if (c.support_on_pad && !touched_) {
+      touched_ = true;
+      res_.touchdown_velocity = world_to_pad(pad_, {now.p, now.v, {}}).v;
     }
-    if (c.strike_on_pad) {
-      crash("struck the pad with a propeller, an arm or the body", t);
-      break;
-    }
-    if (c.support_on_pad && !touched) {
-      touched = true;
-      res.touchdown_velocity = world_to_pad(pad, {drone.state().p, drone.state().v, {}}).v;
-    }
-    if (!armed) {
-      const DroneState now = drone.state();
-      const Eigen::Vector3d rel_v = world_to_pad(pad, {now.p, now.v, {}}).v;
-      rest_timer = rel_v.norm() < 0.05 ? rest_timer + dt : 0;
-      const bool settled = rest_timer >= 0.3;
-      if (settled || t - shutdown_time > 3.0) {
-        const Eigen::Isometry3d T = pad.T_world_pad.inverse() * drone.T_world_body();
-        const Eigen::Vector2d half = 0.5 * o.pad.size;
-        const bool inside = std::abs(T.translation().x()) <= half.x() && std::abs(T.translation().y()) <= half.y();
-        const double tilt = nutation_between(pad.T_world_pad.linear(), drone.T_world_body().linear());
-        res.duration = t;
-        res.touchdown_error = T.translation().head<2>().norm();
-        if (!settled) {
-          crash("still moving on the pad 3 s after shutdown", t);
-        } else if (!c.support_on_pad) {
-          crash("came to rest without its feet on the pad", t);
-        } else if (!inside) {
-          crash("came to rest off the pad's area", t);
-        } else if (tilt > 0.35) {
-          crash("tipped over on the pad", t);
-        } else {
-          res.outcome = MissionOutcome::Landed;
-        }
-        done = true;
-      }
-    }
+    if (armed_) return;
+    const Eigen::Vector3d rel_v = world_to_pad(pad_, {now.p, now.v, {}}).v;
+    rest_timer_ = rel_v.norm() < 0.05 ? rest_timer_ + dt_ : 0;
+    const bool settled = rest_timer_ >= 0.3;
+    if (!settled && t - shutdown_time_ <= 3.0) return;
+    const Eigen::Isometry3d T = pad_.T_world_pad.inverse() * drone_.T_world_body();
+    const Eigen::Vector2d half = 0.5 * o_.pad.size;
+    const bool inside = std::abs(T.translation().x()) <= half.x() && std::abs(T.translation().y()) <= half.y();
+    const double tilt = nutation_between(pad_.T_world_pad.linear(), drone_.T_world_body().linear());
+    res_.touchdown_error = T.translation().head<2>().norm();
+    if (!settled) return end(MissionOutcome::Crashed, "still moving on the pad 3 s after shutdown", t);
+    if (!c.support_on_pad) return end(MissionOutcome::Crashed, "came to rest without its feet on the pad", t);
+    if (!inside) return end(MissionOutcome::Crashed, "came to rest off the pad's area", t);
+    if (tilt > 0.35) return end(MissionOutcome::Crashed, "tipped over on the pad", t);
+    end(MissionOutcome::Landed, "", t);
   }
-  if (!done && res.message.empty() && res.outcome == MissionOutcome::Timeout) {
-    res.duration = static_cast<double>(step) * dt;
-    res.message = "no landing within the timeout";
-  }
-  res.landing_attempts = machine.landing_attempts();
-  res.replan_median_ms = median_of(replan_ms);
-  if (!pose_errors.empty()) {
-    res.pose_error_max = *std::max_element(pose_errors.begin(), pose_errors.end());
-    res.pose_error_median = median_of(std::move(pose_errors));
-  }
-  return res;
+
+  const MissionOptions& o_;
+  const bool record_;
+  MissionResult res_;
+  GroundVehicle vehicle_;
+  std::unique_ptr<Perception> perception_;
+  Rng wind_rng_, link_rng_, fix_rng_, imu_rng_;
+  DroneSimulation drone_;
+  StateMachine machine_;
+  const double landed_com_height_;
+  Guidance guidance_;
+  const double dt_;
+  const long ground_every_, frame_every_, fix_every_, sample_every_;
+  DroneEstimator estimator_;
+  PadState pad_;
+  Eigen::Vector3d last_pad_v_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d fix_error_ = Eigen::Vector3d::Zero(), gust_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d p_fix_pad_ = Eigen::Vector3d::Zero();
+  DroneState truth_;
+  plan::KinematicState rel_truth_;
+  std::deque<Frame> frames_;
+  std::deque<InFlight<PositionFix>> to_drone_fixes_;
+  std::deque<InFlight<TimedSetpoint>> to_drone_setpoints_;
+  TimedSetpoint active_;  // what the drone flies
+  bool armed_ = true, received_setpoint_ = false, touched_ = false, done_ = false;
+  GuidanceOutput guide_;
+  MissionState state_ = MissionState::Searching;
+  std::vector<double> replan_ms_, pose_errors_;
+  double last_pose_error_ = -1, rest_timer_ = 0, shutdown_time_ = -1;
+};
+
+}  // namespace
+
+MissionResult run_mission(const MissionOptions& options, std::uint64_t seed, std::uint64_t run, bool record,
+                          const PerceptionFactory& make_perception) {
+  std::string why;
+  if (!options.validate(&why)) throw InvalidArgument(why);
+  return Flight(options, seed, run, record, make_perception).fly();
 }
 
 std::vector<MissionResult> run_missions(const MissionOptions& options, int runs, std::uint64_t seed, int threads,
