@@ -131,7 +131,6 @@ ReplanOutcome Guidance::replan(double t, const PadState& pad, const plan::Kinema
   plan::KinematicState goal;
   goal.p = terminal_point();
   goal.v = Eigen::Vector3d(0, 0, -options_.terminal_speed);  // hands over to the terminal rule without a step
-  plan::PlanResult next;
   const auto solve = [&](const plan::PlannerOptions& o, const std::vector<plan::Polytope>& polytopes) {
     try {
       return polytopes.empty() ? plan::plan(from, goal, motion, o)
@@ -143,39 +142,62 @@ ReplanOutcome Guidance::replan(double t, const PadState& pad, const plan::Kinema
       return r;
     }
   };
-  if (!fresh && plan_.ok() && plan_.segment_polytopes.size() == static_cast<std::size_t>(options_.planner.segments)) {
-    // The start in the first polytope it lies in; both segments there when
-    // the rear part is behind it.
-    std::vector<plan::Polytope> polytopes = plan_.segment_polytopes;
-    if (!polytopes.front().contains(from.p, 1e-9) && polytopes.back().contains(from.p, 1e-9)) {
-      for (auto& p : polytopes) p = plan_.segment_polytopes.back();
+  const auto take = [&](const plan::PiecewiseBezier& trajectory) {
+    trajectory_ = trajectory;  // same sizes: the curve's storage is reused
+    have_plan_ = true;
+    plan_t0_ = t;
+    return ReplanOutcome::Ok;
+  };
+  const std::size_t segments = static_cast<std::size_t>(options_.planner.segments);
+  if (!fresh && have_plan_ && polytopes_.size() == segments && replanner_) {
+    // The start in the first polytope it lies in; both segments in the
+    // touchdown part when the rear part is behind it.
+    plan::Replanner* r = nullptr;
+    if (polytopes_.front().contains(from.p, 1e-9)) {
+      r = replanner_.get();
+    } else if (polytopes_.back().contains(from.p, 1e-9)) {
+      if (!replanner_low_) {
+        replanner_low_ = std::make_unique<plan::Replanner>(
+            options_.planner, std::vector<plan::Polytope>(segments, polytopes_.back()));
+      }
+      r = replanner_low_.get();
     }
-    if (polytopes.front().contains(from.p, 1e-9)) {
-      plan::PlannerOptions o = options_.planner;
-      const double elapsed = t - plan_t0_;
+    if (r != nullptr) {
       // What is left of each segment, keeping the plan's end time: a
       // segment shorter than the shortest allowed borrows from the next.
+      const double elapsed = t - plan_t0_;
       const double shortest = 0.5 * options_.planner.time.min;
       double end = 0, borrowed = 0;
-      for (int k = 0; k < plan_.trajectory.segments(); ++k) {
-        end += plan_.trajectory.duration(k);
-        const double left = std::clamp(end - elapsed, 0.0, plan_.trajectory.duration(k)) - borrowed;
-        o.durations.push_back(std::max(shortest, left));
-        borrowed = o.durations.back() - left;
+      for (std::size_t k = 0; k < segments; ++k) {
+        const double T = trajectory_.duration(static_cast<int>(k));
+        end += T;
+        const double left = std::clamp(end - elapsed, 0.0, T) - borrowed;
+        durations_[k] = std::max(shortest, left);
+        borrowed = durations_[k] - left;
       }
-      next = solve(o, polytopes);
-      if (!next.ok()) {
-        o.durations.clear();
-        next = solve(o, polytopes);
-      }
-      if (next.ok()) next.segment_polytopes = polytopes;
+      if (r->plan(from, goal, motion, durations_) == plan::PlanStatus::Ok) return take(r->trajectory());
+      // Those durations fail: a new time allocation in the same polytopes.
+      plan::PlannerOptions o = options_.planner;
+      const plan::PlanResult next = solve(o, r->segment_polytopes());
+      if (next.ok()) return take(next.trajectory);
     }
   }
-  if (!next.ok()) next = solve(options_.planner, {});  // a new corridor and allocation
-  if (!next.ok()) return ReplanOutcome::Failed;
-  plan_ = std::move(next);
-  plan_t0_ = t;
-  return ReplanOutcome::Ok;
+  // A new corridor and time allocation (the landing's first plan, or the
+  // start has left the corridor): its polytopes are kept for the replans.
+  plan::PlanResult next = solve(options_.planner, {});
+  if (!next.ok()) {
+    message_ = next.message;
+    return ReplanOutcome::Failed;
+  }
+  polytopes_ = next.segment_polytopes;
+  replanner_ = std::make_unique<plan::Replanner>(options_.planner, polytopes_);
+  replanner_low_.reset();
+  // Size the replanner's work space now, with the plan just found (this
+  // plan allocates anyway): the replans that follow do not.
+  durations_.assign(segments, 0.0);
+  for (std::size_t k = 0; k < segments; ++k) durations_[k] = next.trajectory.duration(static_cast<int>(k));
+  (void)replanner_->plan(from, goal, motion, durations_);
+  return take(next.trajectory);
 }
 
 GuidanceOutput Guidance::update(double t, MissionState state, bool entered, const PadState& pad,
@@ -228,13 +250,13 @@ GuidanceOutput Guidance::compute(double t, MissionState state, bool entered, con
   GuidanceOutput out;
   if (entered) {
     terminal_ = false;
-    plan_ = {};
+    have_plan_ = false;
     next_replan_ = t;
   }
   const Eigen::Vector3d top = terminal_point();
   // Below the terminal point (by the plan's end or the estimate): the
   // terminal rule, straight down over the pad centre.
-  if (!terminal_ && plan_.ok() && t - plan_t0_ >= plan_.trajectory.total_duration()) {
+  if (!terminal_ && have_plan_ && t - plan_t0_ >= trajectory_.total_duration()) {
     terminal_ = true;
     terminal_last_t_ = t;
     terminal_z_ = top.z();
@@ -264,32 +286,30 @@ GuidanceOutput Guidance::compute(double t, MissionState state, bool entered, con
   // The last `replan_stop` seconds of a plan are flown as planned (a
   // replan there would only shrink the segments below what the corridor
   // and the limits allow).
-  const bool closing = plan_.ok() && plan_t0_ + plan_.trajectory.total_duration() - t < options_.replan_stop;
+  const bool closing = have_plan_ && plan_t0_ + trajectory_.total_duration() - t < options_.replan_stop;
   if (t >= next_replan_ && !closing) {
     next_replan_ = t + options_.replan_period;
     // From the plan's reference now, or the estimate when they drifted apart.
     plan::KinematicState from = estimate;
-    bool fresh = !plan_.ok();
-    if (plan_.ok()) {
+    const bool fresh = !have_plan_;
+    if (have_plan_) {
       const double tau = t - plan_t0_;
-      const plan::KinematicState ref{plan_.trajectory.evaluate(tau), plan_.trajectory.evaluate(tau, 1),
-                                     plan_.trajectory.evaluate(tau, 2)};
+      const plan::KinematicState ref{trajectory_.evaluate(tau), trajectory_.evaluate(tau, 1), trajectory_.evaluate(tau, 2)};
       if ((ref.p - estimate.p).norm() <= options_.replan_reset_distance) from = ref;
     }
     const auto t0 = std::chrono::steady_clock::now();
     out.replan = replan(t, pad, from, fresh);
     out.replan_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   }
-  if (!plan_.ok()) {
+  if (!have_plan_) {
     // No plan yet: hold where the landing began (the tracking point).
     GuidanceOutput h = hold(pad, options_.tracking_point);
     h.replan = out.replan;
     h.replan_ms = out.replan_ms;
     return h;
   }
-  const double tau = std::min(t - plan_t0_, plan_.trajectory.total_duration());
-  out.reference = {plan_.trajectory.evaluate(tau), plan_.trajectory.evaluate(tau, 1),
-                   plan_.trajectory.evaluate(tau, 2)};
+  const double tau = std::min(t - plan_t0_, trajectory_.total_duration());
+  out.reference = {trajectory_.evaluate(tau), trajectory_.evaluate(tau, 1), trajectory_.evaluate(tau, 2)};
   const plan::KinematicState w = pad_to_world(pad, out.reference);
   const GuidanceOutput h = hold(pad, out.reference.p);
   out.setpoint = h.setpoint;

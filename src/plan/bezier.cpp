@@ -97,6 +97,22 @@ PiecewiseBezier::PiecewiseBezier(int order, std::vector<double> durations, std::
               std::to_string(control_points_.size()));
 }
 
+void PiecewiseBezier::assign(int order, std::span<const double> durations,
+                             std::span<const Eigen::Vector3d> control_points) {
+  // Checked as the constructor does, the messages built only on failure.
+  const bool durations_ok = std::all_of(durations.begin(), durations.end(),
+                                        [](double d) { return std::isfinite(d) && d > 0; });
+  if (order < 1 || order > kMaxOrder || durations.empty() || !durations_ok ||
+      control_points.size() != durations.size() * static_cast<std::size_t>(order + 1)) {
+    *this = PiecewiseBezier(order, std::vector<double>(durations.begin(), durations.end()),
+                            std::vector<Eigen::Vector3d>(control_points.begin(), control_points.end()));
+    return;
+  }
+  order_ = order;
+  durations_.assign(durations.begin(), durations.end());
+  control_points_.assign(control_points.begin(), control_points.end());
+}
+
 double PiecewiseBezier::total_duration() const {
   double t = 0;
   for (const double d : durations_) t += d;

@@ -62,7 +62,16 @@ class QpBuilder {
             const PlannerOptions& options, const std::vector<Polytope>& polytopes)
       : start_(start), goal_(goal), pad_(pad), o_(options), polytopes_(polytopes), t_(options.order) {}
 
+  // A new start, goal and pad motion (the Replanner's next plan).
+  void set(const KinematicState& start, const KinematicState& goal, const PadMotion& pad) {
+    start_ = start;
+    goal_ = goal;
+    pad_ = pad;
+  }
+
   int variables() const { return o_.segments * (o_.order + 1) * 3; }
+  // ∫ ‖d³p/dt³‖² dt of a unit-duration segment is cᵀ jerk() c per axis.
+  const Eigen::MatrixXd& jerk() const { return t_.jerk; }
   static int index(int order, int segment, int point, int axis) { return (segment * (order + 1) + point) * 3 + axis; }
 
   // The rows of the inequalities (and, with equalities = true, of the
@@ -162,15 +171,18 @@ class QpBuilder {
         }
       }
     }
-    // Hessian and gradient, per axis.
-    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(F, F);
-    Eigen::MatrixXd g = Eigen::MatrixXd::Zero(F, 3);
+    // Hessian and gradient, per axis (in work space kept between calls:
+    // a replan of the same size does not allocate).
+    Eigen::MatrixXd& H = H_;
+    Eigen::MatrixXd& g = g_;
+    H.setZero(F, F);
+    g.setZero(F, 3);
     for (int k = 0; k < s; ++k) {
       const double scale = 2 / std::pow(T[static_cast<std::size_t>(k)], 5);
       const auto Ck = r.C.middleRows(k * (n + 1), n + 1);
-      const Eigen::MatrixXd QC = scale * t_.jerk * Ck;
-      H.noalias() += Ck.transpose() * QC;
-      g.noalias() += QC.transpose() * r.c0.middleRows(k * (n + 1), n + 1);
+      QC_.noalias() = scale * t_.jerk * Ck;
+      H.noalias() += Ck.transpose() * QC_;
+      g.noalias() += QC_.transpose() * r.c0.middleRows(k * (n + 1), n + 1);
     }
     r.P.setZero(3 * F, 3 * F);
     r.q.resize(3 * F);
@@ -311,15 +323,21 @@ class QpBuilder {
       // elevated to order n, inside the octagon inscribed in ‖u_xy‖ ≤ limit.
       // Per elevated control point i: u_i = Σ_m (Cx(i,m) c_m + Cj(i,m) J c_m)
       // + constant, J(x, y) = (−y, x).
-      const Eigen::MatrixXd Hv = t_.E1 * t_.D[1] / Tk;  // (n+1) × (n+1)
-      Eigen::MatrixXd Cx, Cj;
+      Eigen::MatrixXd& Hv = Hv_;  // (n+1) × (n+1); work space kept between calls
+      Eigen::MatrixXd& Cx = Cx_;
+      Eigen::MatrixXd& Cj = Cj_;
+      Hv.noalias() = t_.E1 * t_.D[1];
+      Hv /= Tk;
       Eigen::Vector2d constant;
       if (j == 1) {
         Cx = Hv;
-        Cj = w * Eigen::MatrixXd::Identity(n + 1, n + 1);
+        Cj.setIdentity(n + 1, n + 1);
+        Cj *= w;
         constant = vb_xy;
       } else {
-        Cx = t_.E2 * t_.D[2] / (Tk * Tk) - w * w * Eigen::MatrixXd::Identity(n + 1, n + 1);
+        Cx.noalias() = t_.E2 * t_.D[2];
+        Cx /= Tk * Tk;
+        Cx.diagonal().array() -= w * w;
         Cj = 2 * w * Hv;
         constant = w * Eigen::Vector2d(-vb_xy.y(), vb_xy.x());
       }
@@ -347,6 +365,7 @@ class QpBuilder {
   OrderTables t_;
   mutable std::vector<Term> terms_;
   mutable std::vector<Row> rows_eq_, rows_in_;
+  mutable Eigen::MatrixXd H_, g_, QC_, Hv_, Cx_, Cj_;  // reduce() and add_limits() work space
 };
 
 // Solves the reduced QP of a set of durations (QpBuilder::reduce) and maps
@@ -369,6 +388,18 @@ class ReducedRunner {
     return status_;
   }
   int iterations() const { return iterations_; }
+  // The control points of the last solution, one per entry (no allocation
+  // when `out` has the size already).
+  void control_points_into(std::vector<Eigen::Vector3d>& out) const {
+    const auto M = r_.C.rows();
+    out.resize(static_cast<std::size_t>(M));
+    for (Eigen::Index m = 0; m < M; ++m) {
+      for (int a = 0; a < 3; ++a) {
+        out[static_cast<std::size_t>(m)](a) =
+            r_.c0(m, a) + (r_.F > 0 ? r_.C.row(m).dot(y_.segment(a * r_.F, r_.F)) : 0.0);
+      }
+    }
+  }
   // Control points (segment, point, axis) of the last solution.
   Eigen::VectorXd control_points() const {
     const auto M = r_.C.rows();
@@ -723,5 +754,76 @@ PlanResult plan_in_corridor(const KinematicState& start, const KinematicState& g
   result.objective = result.cost + options.time.rho * sum;
   return result;
 }
+
+struct Replanner::Impl {
+  Impl(PlannerOptions o, std::vector<Polytope> p)
+      : options(std::move(o)), polytopes(std::move(p)), builder({}, {}, {}, options, polytopes), runner(builder) {}
+  PlannerOptions options;
+  std::vector<Polytope> polytopes;
+  QpBuilder builder;
+  ReducedRunner runner;
+  std::vector<double> T;
+  std::vector<Eigen::Vector3d> control_points;
+  PiecewiseBezier trajectory;
+  double cost = 0;
+};
+
+Replanner::Replanner(PlannerOptions options, std::vector<Polytope> segment_polytopes) {
+  options.durations.clear();
+  options.export_qp = false;
+  options.progress = nullptr;
+  std::string why;
+  if (!options.validate(&why)) throw InvalidArgument(why);
+  if (!segment_polytopes.empty() && static_cast<int>(segment_polytopes.size()) != options.segments) {
+    throw InvalidArgument("corridor: need one polytope per segment (" + std::to_string(options.segments) + "), got " +
+                          std::to_string(segment_polytopes.size()));
+  }
+  impl_ = std::make_unique<Impl>(std::move(options), std::move(segment_polytopes));
+  impl_->T.resize(static_cast<std::size_t>(impl_->options.segments));
+}
+
+Replanner::~Replanner() = default;
+Replanner::Replanner(Replanner&&) noexcept = default;
+Replanner& Replanner::operator=(Replanner&&) noexcept = default;
+
+PlanStatus Replanner::plan(const KinematicState& start, const KinematicState& goal, const PadMotion& pad,
+                           std::span<const double> durations) {
+  Impl& m = *impl_;
+  if (durations.size() != m.T.size() || !finite(start) || !finite(goal) || !pad.velocity.allFinite() ||
+      !std::isfinite(pad.yaw_rate) || !std::isfinite(pad.yaw)) {
+    return PlanStatus::Infeasible;
+  }
+  for (std::size_t k = 0; k < durations.size(); ++k) {
+    if (!(durations[k] >= kMinSegmentDuration && durations[k] <= kMaxSegmentDuration)) return PlanStatus::Infeasible;
+    m.T[k] = durations[k];
+  }
+  if (!m.polytopes.empty() &&
+      (!m.polytopes.front().contains(start.p, 1e-9) || !m.polytopes.back().contains(goal.p, 1e-9))) {
+    return PlanStatus::NoCorridor;
+  }
+  m.builder.set(start, goal, pad);
+  if (m.runner.solve(m.T, false) != QpStatus::Optimal) return PlanStatus::Infeasible;
+  m.runner.control_points_into(m.control_points);
+  m.trajectory.assign(m.options.order, m.T, m.control_points);
+  // The jerk cost, Σ_k cᵀ Q(1) c / T_k⁵ (PiecewiseBezier::jerk_cost()
+  // builds Q per segment, which allocates).
+  const int n = m.options.order;
+  const Eigen::MatrixXd& Q = m.builder.jerk();
+  m.cost = 0;
+  for (std::size_t k = 0; k < m.T.size(); ++k) {
+    const Eigen::Vector3d* c = m.control_points.data() + k * static_cast<std::size_t>(n + 1);
+    double segment = 0;
+    for (int i = 0; i <= n; ++i) {
+      for (int j = 0; j <= n; ++j) segment += Q(i, j) * c[i].dot(c[j]);
+    }
+    m.cost += segment / std::pow(m.T[k], 5);
+  }
+  return PlanStatus::Ok;
+}
+
+const PiecewiseBezier& Replanner::trajectory() const { return impl_->trajectory; }
+double Replanner::cost() const { return impl_->cost; }
+int Replanner::iterations() const { return impl_->runner.iterations(); }
+const std::vector<Polytope>& Replanner::segment_polytopes() const { return impl_->polytopes; }
 
 }  // namespace touchdown::plan

@@ -150,8 +150,8 @@ TEST(Guidance, LandingPlanEndsAtTheTerminalPointGoingDown) {
   EXPECT_TRUE(hold.setpoint.velocity.isApprox(pad.velocity, 1e-12));
   // Landing: the first plan from there, ending at the terminal point.
   const auto out = g.update(0.02, tdm::MissionState::Landing, true, pad, at_tracking, {}, machine);
-  ASSERT_EQ(out.replan, tdm::ReplanOutcome::Ok) << g.plan().message;
-  const auto& traj = g.plan().trajectory;
+  ASSERT_EQ(out.replan, tdm::ReplanOutcome::Ok) << g.message();
+  const auto& traj = g.trajectory();
   EXPECT_TRUE(traj.evaluate(0).isApprox(o.tracking_point, 1e-6));
   EXPECT_TRUE(traj.evaluate(traj.total_duration()).isApprox(g.terminal_point(), 1e-6));
   EXPECT_NEAR(traj.evaluate(traj.total_duration(), 1).z(), -o.terminal_speed, 1e-6);
@@ -160,7 +160,7 @@ TEST(Guidance, LandingPlanEndsAtTheTerminalPointGoingDown) {
   touchdown::plan::KinematicState on_plan{traj.evaluate(0.11), traj.evaluate(0.11, 1), traj.evaluate(0.11, 2)};
   const auto again = g.update(0.13, tdm::MissionState::Landing, false, pad, on_plan, {}, machine);
   ASSERT_EQ(again.replan, tdm::ReplanOutcome::Ok);
-  EXPECT_NEAR(g.plan_start() + g.plan().trajectory.total_duration(), end, 1e-9);
+  EXPECT_NEAR(g.plan_start() + g.trajectory().total_duration(), end, 1e-9);
 }
 
 TEST(PerceptionModel, NoiseGrowsWithRangeAsModelled) {

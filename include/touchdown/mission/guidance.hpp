@@ -25,11 +25,14 @@
 ///
 /// The pad frame is x forward, y left, z up, origin at the pad centre on its
 /// surface; it moves with the vehicle, turning about the world z. Thread-
-/// safety: one instance per mission. A replan allocates (the planner's work
-/// space; a planner object that keeps it is the next step).
+/// safety: one instance per mission. Allocation: the landing's first plan
+/// (corridor, time allocation) allocates; the replans at the remaining
+/// durations do not (plan::Replanner keeps its work space).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "touchdown/mission/state_machine.hpp"
 #include "touchdown/plan/planner.hpp"
@@ -106,9 +109,13 @@ class Guidance {
                         const StateMachineOptions& machine);
 
   [[nodiscard]] const GuidanceOptions& options() const { return options_; }
-  /// The plan being flown (pad frame, from plan_start()).
-  [[nodiscard]] const plan::PlanResult& plan() const { return plan_; }
+  /// The plan being flown (pad frame, from plan_start()); valid when
+  /// has_plan().
+  [[nodiscard]] const plan::PiecewiseBezier& trajectory() const { return trajectory_; }
+  [[nodiscard]] bool has_plan() const { return have_plan_; }
   [[nodiscard]] double plan_start() const { return plan_t0_; }
+  /// Why the last replan that failed failed.
+  [[nodiscard]] const std::string& message() const { return message_; }
   /// The terminal point, pad frame.
   [[nodiscard]] Eigen::Vector3d terminal_point() const;
 
@@ -121,8 +128,15 @@ class Guidance {
 
   GuidanceOptions options_;
   double landed_com_height_;
-  plan::PlanResult plan_;
+  plan::PiecewiseBezier trajectory_;
+  bool have_plan_ = false;
   double plan_t0_ = 0;
+  std::vector<plan::Polytope> polytopes_;  ///< the landing's corridor, one polytope per segment
+  /// Replans at the remaining durations, in the corridor and with both
+  /// segments in its touchdown part (the start past the rear part).
+  std::unique_ptr<plan::Replanner> replanner_, replanner_low_;
+  std::vector<double> durations_;
+  std::string message_;
   double next_replan_ = 0;
   bool terminal_ = false;
   double terminal_last_t_ = 0, terminal_z_ = 0, terminal_rate_ = 0;

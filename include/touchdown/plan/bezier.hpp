@@ -51,6 +51,10 @@ class PiecewiseBezier {
   /// InvalidArgument for order < 1, a duration ≤ 0 or not finite, or a
   /// count that does not match.
   PiecewiseBezier(int order, std::vector<double> durations, std::vector<Eigen::Vector3d> control_points);
+  /// The same, into this curve's storage: no allocation when the counts
+  /// are those it already holds (a replanning loop). Throws as the
+  /// constructor; the curve is unchanged then.
+  void assign(int order, std::span<const double> durations, std::span<const Eigen::Vector3d> control_points);
 
   [[nodiscard]] int order() const { return order_; }
   [[nodiscard]] int segments() const { return static_cast<int>(durations_.size()); }

@@ -37,7 +37,9 @@
 #include <Eigen/Core>
 #include <array>
 #include <functional>
+#include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -201,6 +203,42 @@ PlanResult plan(const KinematicState& start, const std::optional<KinematicState>
 /// plans (a replan cycle, a grid over durations). The goal is explicit.
 PlanResult plan_in_corridor(const KinematicState& start, const KinematicState& goal, const PadMotion& pad,
                             const PlannerOptions& options, const std::vector<Polytope>& segment_polytopes);
+
+/// Replanning at given segment durations inside corridor polytopes kept for
+/// the whole landing (a guidance loop's replans): the QP's rows, its
+/// reduction, the solver and the curve live in work space kept between
+/// calls, so a replan of the same size does not allocate (tested). The
+/// plan is the one plan_in_corridor() gives at the same durations.
+/// Not thread-safe: one per landing.
+class Replanner {
+ public:
+  /// Throws InvalidArgument for invalid options or a polytope count other
+  /// than the segments (empty: unconstrained space). The options'
+  /// durations, export_qp and progress are not used.
+  Replanner(PlannerOptions options, std::vector<Polytope> segment_polytopes);
+  ~Replanner();
+  Replanner(Replanner&&) noexcept;
+  Replanner& operator=(Replanner&&) noexcept;
+  Replanner(const Replanner&) = delete;
+  Replanner& operator=(const Replanner&) = delete;
+
+  /// Plans from `start` to `goal` at `durations` (one per segment, each in
+  /// [kMinSegmentDuration, kMaxSegmentDuration]). Ok: trajectory() holds
+  /// it; NoCorridor: the start or goal is outside its polytope; Infeasible:
+  /// the QP is (or an input is not finite, or a count is wrong). No
+  /// diagnosis: a caller who needs one runs plan_in_corridor().
+  PlanStatus plan(const KinematicState& start, const KinematicState& goal, const PadMotion& pad,
+                  std::span<const double> durations);
+  /// The last Ok plan.
+  [[nodiscard]] const PiecewiseBezier& trajectory() const;
+  [[nodiscard]] double cost() const;  ///< its jerk cost [m²/s⁵]
+  [[nodiscard]] int iterations() const;
+  [[nodiscard]] const std::vector<Polytope>& segment_polytopes() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 /// The default goal for these options (see plan()).
 KinematicState default_goal(const PlannerOptions& options);
