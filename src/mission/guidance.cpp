@@ -157,8 +157,8 @@ ReplanOutcome Guidance::replan(double t, const PadState& pad, const plan::Kinema
       r = replanner_.get();
     } else if (polytopes_.back().contains(from.p, 1e-9)) {
       if (!replanner_low_) {
-        replanner_low_ = std::make_unique<plan::Replanner>(
-            options_.planner, std::vector<plan::Polytope>(segments, polytopes_.back()));
+        replanner_low_ = std::make_unique<plan::Replanner>(options_.planner,
+                                                           std::vector<plan::Polytope>(segments, polytopes_.back()));
       }
       r = replanner_low_.get();
     }
@@ -294,7 +294,8 @@ GuidanceOutput Guidance::compute(double t, MissionState state, bool entered, con
     const bool fresh = !have_plan_;
     if (have_plan_) {
       const double tau = t - plan_t0_;
-      const plan::KinematicState ref{trajectory_.evaluate(tau), trajectory_.evaluate(tau, 1), trajectory_.evaluate(tau, 2)};
+      const plan::KinematicState ref{trajectory_.evaluate(tau), trajectory_.evaluate(tau, 1),
+                                     trajectory_.evaluate(tau, 2)};
       if ((ref.p - estimate.p).norm() <= options_.replan_reset_distance) from = ref;
     }
     const auto t0 = std::chrono::steady_clock::now();

@@ -100,8 +100,8 @@ PiecewiseBezier::PiecewiseBezier(int order, std::vector<double> durations, std::
 void PiecewiseBezier::assign(int order, std::span<const double> durations,
                              std::span<const Eigen::Vector3d> control_points) {
   // Checked as the constructor does, the messages built only on failure.
-  const bool durations_ok = std::all_of(durations.begin(), durations.end(),
-                                        [](double d) { return std::isfinite(d) && d > 0; });
+  const bool durations_ok =
+      std::all_of(durations.begin(), durations.end(), [](double d) { return std::isfinite(d) && d > 0; });
   if (order < 1 || order > kMaxOrder || durations.empty() || !durations_ok ||
       control_points.size() != durations.size() * static_cast<std::size_t>(order + 1)) {
     *this = PiecewiseBezier(order, std::vector<double>(durations.begin(), durations.end()),
