@@ -329,7 +329,11 @@ class Flight {
     pt.t = t;
     pt.T_pad_body = pad_.T_world_pad.inverse() * drone_.T_world_body();
     pt.p_pad_com = rel_truth_.p;
-    pt.g_body = truth_.R.transpose() * -Eigen::Vector3d::UnitZ();
+    // The drone's attitude telemetry (its IMU's gravity direction) reaches
+    // the ground station over the link: the one from link.latency ago.
+    attitude_.emplace_back(t, truth_.R.transpose() * -Eigen::Vector3d::UnitZ());
+    while (attitude_.size() > 1 && attitude_[1].first <= t - o_.link.latency) attitude_.pop_front();
+    pt.g_body = attitude_.front().second;
     pt.state = state_;
     frames_.push_back({perception_->capture(pt), rel_truth_.p, pad_.T_world_pad});
   }
@@ -526,6 +530,7 @@ class Flight {
   DroneState truth_;
   plan::KinematicState rel_truth_;
   std::deque<Frame> frames_;
+  std::deque<std::pair<double, Eigen::Vector3d>> attitude_;  // the drone's gravity direction, by time
   std::deque<InFlight<PositionFix>> to_drone_fixes_;
   std::deque<InFlight<TimedSetpoint>> to_drone_setpoints_;
   TimedSetpoint active_;  // what the drone flies

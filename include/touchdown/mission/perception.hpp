@@ -55,7 +55,8 @@ struct PerceptionTruth {
   Eigen::Isometry3d T_pad_body = Eigen::Isometry3d::Identity();  ///< the drone's body frame in the pad frame
   Eigen::Vector3d p_pad_com = Eigen::Vector3d::Zero();           ///< its centre of mass, pad frame
   /// The drone's gravity direction in its body frame from its IMU (unit,
-  /// down), for trackers that take an attitude prior.
+  /// down), for trackers that take an attitude prior: as the ground station
+  /// has it, link.latency old (the render perception adds the IMU's noise).
   Eigen::Vector3d g_body = -Eigen::Vector3d::UnitZ();
   MissionState state = MissionState::Searching;  ///< for overlays (a video)
 };
