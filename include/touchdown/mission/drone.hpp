@@ -10,8 +10,9 @@
 ///
 /// Frames: world z up; the drone's body frame as in the airframe YAML; its
 /// state is reported at the centre of mass. Thread-safety: one instance per
-/// mission (each owns its ODE world). No allocation in step() once the
-/// first contacts have been seen.
+/// mission (each owns its ODE world). Allocation: step() allocates the
+/// mixer's motor vector (twin::Mixer::mix returns an Eigen::VectorXd, as in
+/// the twin's landings) and ODE its contact joints.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <memory>
