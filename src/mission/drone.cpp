@@ -11,31 +11,18 @@
 #include <vector>
 
 #include "../twin/ode_util.hpp"
+#include "checks.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::mission {
 namespace {
 
+using detail::positive;
+using twin::detail::rotation_of;
+using twin::detail::to_ode;
+using twin::detail::vec_of;
+
 enum class Part { Foot, Leg, Arm, Propeller, Body };
-
-bool positive(double x) { return x > 0 && std::isfinite(x); }
-
-Eigen::Vector3d vec_of(const dReal* v) { return {v[0], v[1], v[2]}; }
-
-void to_ode(const Eigen::Matrix3d& M, dMatrix3 R) {
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) R[i * 4 + j] = M(i, j);
-    R[i * 4 + 3] = 0;
-  }
-}
-
-Eigen::Matrix3d rotation_of(dBodyID b) {
-  const dReal* r = dBodyGetRotation(b);
-  Eigen::Matrix3d R;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) R(i, j) = r[i * 4 + j];
-  return R;
-}
 
 // A rotation taking z onto `axis` (for capsules and cylinders, whose ODE
 // axis is their local z).
@@ -73,20 +60,9 @@ struct DroneSimulation::Impl {
         mixer(af, com),
         controller(options.controller, af.total_mass(), af.inertia_about_com(), options.step),
         motor_alpha(1.0 - std::exp(-options.step / af.motor_time_constant)) {
-    twin::detail::ensure_ode();
-    world = dWorldCreate();
-    threading = dThreadingAllocateSelfThreadedImplementation();
-    dWorldSetStepThreadingImplementation(world, dThreadingImplementationGetFunctions(threading), threading);
-    dWorldSetGravity(world, 0, 0, -twin::kStandardGravity);
-    dWorldSetContactSurfaceLayer(world, 0.0005);
-    dWorldSetContactMaxCorrectingVel(world, 1.0);
-    dWorldSetAutoDisableFlag(world, 0);
+    world = twin::detail::create_world(&threading);
     contact_group = dJointGroupCreate(0);
-    body = dBodyCreate(world);
-    dMass m;
-    const Eigen::Matrix3d I = af.inertia_about_com();
-    dMassSetParameters(&m, af.total_mass(), 0, 0, 0, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
-    dBodySetMass(body, &m);
+    body = twin::detail::create_airframe_body(world, af);
     twin::detail::soft_params(options.step, options.contact_stiffness, options.contact_damping, erp, cfm);
     // The airframe's collision parts, offset from the centre of mass.
     auto attach = [&](dGeomID g, const Eigen::Vector3d& centre, const Eigen::Matrix3d& R, Part kind) {

@@ -6,13 +6,14 @@
 #include <cmath>
 #include <numbers>
 
+#include "checks.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/units.hpp"
 
 namespace touchdown::mission {
 namespace {
 
-bool positive(double x) { return x > 0 && std::isfinite(x); }
+using detail::positive;
 
 plan::PadMotion motion_of(const PadState& pad) {
   plan::PadMotion m;

@@ -11,14 +11,15 @@
 #include <mutex>
 #include <numbers>
 
+#include "checks.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 
 namespace touchdown::mission {
 namespace {
 
-bool positive(double x) { return x > 0 && std::isfinite(x); }
-bool probability(double x) { return x >= 0 && x < 1; }
+using detail::positive;
+using detail::probability;
 
 // The drone's position estimate: per axis a Kalman filter on [p, v] driven
 // by the accelerometer, corrected by position measurements that arrive

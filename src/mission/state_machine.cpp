@@ -3,12 +3,13 @@
 
 #include <cmath>
 
+#include "checks.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::mission {
 namespace {
 
-bool positive(double x) { return x > 0 && std::isfinite(x); }
+using detail::positive;
 
 }  // namespace
 

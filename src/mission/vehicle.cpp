@@ -6,14 +6,15 @@
 #include <cmath>
 #include <numbers>
 
+#include "checks.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::mission {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using detail::positive;
 
-bool positive(double x) { return x > 0 && std::isfinite(x); }
+constexpr double kPi = std::numbers::pi;
 
 double wrap_pi(double a) { return std::remainder(a, 2 * kPi); }
 

@@ -23,18 +23,9 @@
 namespace touchdown::twin {
 namespace {
 
-using detail::ensure_ode;
+using detail::rotation_of;
 using detail::soft_params;
-
-Eigen::Matrix3d rotation_of(dBodyID b) {
-  const dReal* r = dBodyGetRotation(b);  // 3x4 row-major
-  Eigen::Matrix3d R;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) R(i, j) = r[i * 4 + j];
-  return R;
-}
-
-Eigen::Vector3d vec_of(const dReal* v) { return {v[0], v[1], v[2]}; }
+using detail::vec_of;
 
 double nutation_of(const Eigen::Matrix3d& R) { return std::acos(std::clamp(R(2, 2), -1.0, 1.0)); }
 
@@ -45,23 +36,10 @@ class Run {
  public:
   Run(const LandingSimulator& sim, double friction)
       : sim_(sim), af_(sim.airframe()), opt_(sim.options()), com_(af_.centre_of_mass()), mixer_(af_, com_) {
-    ensure_ode();
-    world_ = dWorldCreate();
-    // Each world gets its own (single-threaded) stepping implementation: the
-    // library-wide default one is shared and must not step two worlds at once.
-    threading_ = dThreadingAllocateSelfThreadedImplementation();
-    dWorldSetStepThreadingImplementation(world_, dThreadingImplementationGetFunctions(threading_), threading_);
-    dWorldSetGravity(world_, 0, 0, -kStandardGravity);
+    world_ = detail::create_world(&threading_);
     dWorldSetQuickStepNumIterations(world_, opt_.solver_iterations);
-    dWorldSetContactSurfaceLayer(world_, 0.0005);
-    dWorldSetContactMaxCorrectingVel(world_, 1.0);
-    dWorldSetAutoDisableFlag(world_, 0);
     contacts_group_ = dJointGroupCreate(0);
-    body_ = dBodyCreate(world_);
-    dMass m;
-    const Eigen::Matrix3d I = af_.inertia_about_com();
-    dMassSetParameters(&m, af_.total_mass(), 0, 0, 0, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
-    dBodySetMass(body_, &m);
+    body_ = detail::create_airframe_body(world_, af_);
     friction_ = friction;
     soft_params(opt_.step, opt_.contact_stiffness, opt_.contact_damping, erp_, cfm_);
     const std::size_t n = af_.motor_count();
@@ -103,11 +81,7 @@ class Run {
     const Eigen::Vector3d p = T_world_body * com_;
     dBodySetPosition(body_, p.x(), p.y(), p.z());
     dMatrix3 R;
-    const Eigen::Matrix3d M = T_world_body.linear();
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) R[i * 4 + j] = M(i, j);
-      R[i * 4 + 3] = 0;
-    }
+    detail::to_ode(T_world_body.linear(), R);
     dBodySetRotation(body_, R);
     dBodySetLinearVel(body_, 0, 0, 0);
     dBodySetAngularVel(body_, 0, 0, 0);

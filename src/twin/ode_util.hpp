@@ -1,10 +1,14 @@
 #pragma once
-// ODE set-up shared by the twin's landings and the mission's drone
-// (internal; include only from sources that link ODE).
+// ODE set-up and conversions shared by the twin's landings and the
+// mission's drone (internal; include only from sources that link ODE).
 #include <ode/ode.h>
 
+#include <Eigen/Core>
 #include <cstdarg>
 #include <mutex>
+
+#include "touchdown/twin/airframe.hpp"
+#include "touchdown/twin/flight_control.hpp"
 
 namespace touchdown::twin::detail {
 
@@ -27,6 +31,51 @@ inline void ensure_ode() {
 inline void soft_params(double h, double kp, double kd, double& erp, double& cfm) {
   erp = h * kp / (h * kp + kd);
   cfm = 1.0 / (h * kp + kd);
+}
+
+inline Eigen::Vector3d vec_of(const dReal* v) { return {v[0], v[1], v[2]}; }
+
+// A body's rotation (ODE: 3x4 row-major).
+inline Eigen::Matrix3d rotation_of(dBodyID b) {
+  const dReal* r = dBodyGetRotation(b);
+  Eigen::Matrix3d R;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) R(i, j) = r[i * 4 + j];
+  return R;
+}
+
+// A rotation as ODE's 3x4 row-major matrix.
+inline void to_ode(const Eigen::Matrix3d& M, dMatrix3 R) {
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) R[i * 4 + j] = M(i, j);
+    R[i * 4 + 3] = 0;
+  }
+}
+
+// A world for one airframe: its own single-threaded stepping (the
+// library-wide default one is shared and must not step two worlds at once),
+// standard gravity, the contact settings of the twin, no auto-disable.
+// Free with dWorldDestroy and dThreadingFreeImplementation(*threading).
+inline dWorldID create_world(dThreadingImplementationID* threading) {
+  ensure_ode();
+  dWorldID world = dWorldCreate();
+  *threading = dThreadingAllocateSelfThreadedImplementation();
+  dWorldSetStepThreadingImplementation(world, dThreadingImplementationGetFunctions(*threading), *threading);
+  dWorldSetGravity(world, 0, 0, -kStandardGravity);
+  dWorldSetContactSurfaceLayer(world, 0.0005);
+  dWorldSetContactMaxCorrectingVel(world, 1.0);
+  dWorldSetAutoDisableFlag(world, 0);
+  return world;
+}
+
+// The airframe's rigid body (its mass and inertia about its centre of mass).
+inline dBodyID create_airframe_body(dWorldID world, const Airframe& af) {
+  dBodyID body = dBodyCreate(world);
+  dMass m;
+  const Eigen::Matrix3d I = af.inertia_about_com();
+  dMassSetParameters(&m, af.total_mass(), 0, 0, 0, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
+  dBodySetMass(body, &m);
+  return body;
 }
 
 }  // namespace touchdown::twin::detail
