@@ -154,7 +154,7 @@ class Run {
     const double motor_alpha;
     LandController controller;
     LandDetector detector;
-    double still_timer = 0;
+    double still_timer = 0, rest_timer = 0;
     bool touched = false;
     const double terrain_floor;
     // This step's contacts, each with the part it is on and, for a foot or
@@ -331,18 +331,16 @@ class Run {
     }
   }
 
-  // End of run: still for still_time after disarm (true: settled), or the
-  // timeout marked on the last step.
+  // End of run: after disarm still for still_time or at rest for rest_time
+  // (true: settled), or the timeout marked on the last step.
   bool run_ended(Flight& f, long step) {
-    const Eigen::Vector3d v1 = vec_of(dBodyGetLinearVel(body_)), w1 = vec_of(dBodyGetAngularVel(body_));
-    if (f.detector.landed() && v1.norm() < opt_.still_linear && w1.norm() < opt_.still_angular) {
-      f.still_timer += f.dt;
-      if (f.still_timer >= opt_.still_time) {
-        f.res.status = RunStatus::Settled;
-        return true;
-      }
-    } else {
-      f.still_timer = 0;
+    const double v1 = vec_of(dBodyGetLinearVel(body_)).norm(), w1 = vec_of(dBodyGetAngularVel(body_)).norm();
+    const bool landed = f.detector.landed();
+    f.still_timer = landed && v1 < opt_.still_linear && w1 < opt_.still_angular ? f.still_timer + f.dt : 0.0;
+    f.rest_timer = landed && v1 < opt_.rest_linear && w1 < opt_.rest_angular ? f.rest_timer + f.dt : 0.0;
+    if (f.still_timer >= opt_.still_time || f.rest_timer >= opt_.rest_time) {
+      f.res.status = RunStatus::Settled;
+      return true;
     }
     if (step + 1 == f.max_steps) {
       f.res.status = RunStatus::Timeout;
@@ -425,6 +423,9 @@ bool SimulationOptions::validate(std::string* why) const {
   if (!(still_angular > 0) || !std::isfinite(still_angular)) {
     return invalid(why, "still_angular: must be positive [rad/s]");
   }
+  if (!(rest_time >= 0) || !std::isfinite(rest_time)) return invalid(why, "rest_time: must be >= 0 s");
+  if (!(rest_linear > 0) || !std::isfinite(rest_linear)) return invalid(why, "rest_linear: must be positive [m/s]");
+  if (!(rest_angular > 0) || !std::isfinite(rest_angular)) return invalid(why, "rest_angular: must be positive [rad/s]");
   if (!(contact_stiffness > 0) || !std::isfinite(contact_stiffness)) {
     return invalid(why, "contact_stiffness: must be positive [N/m]");
   }

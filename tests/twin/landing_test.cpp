@@ -82,6 +82,22 @@ TEST(Landing, HalvingTheTimeStepChangesTheNutationLittle) {
   EXPECT_LT(std::abs(a.nutation - b.nutation), 0.01);
 }
 
+TEST(Landing, EndingAtRestChangesTheFinalStateByLessThanItsBound) {
+  // A run that ends once at rest (the default) against the same run held
+  // for the whole still_time: the nutation differs by less than
+  // rest_angular * still_time, and the early end saves simulated time.
+  const auto slope = touchdown::test::incline_terrain(8 * kRadPerDeg);
+  tw::SimulationOptions early, whole;
+  whole.rest_time = whole.still_time + 1;
+  for (double h : {0.0, 1.0}) {
+    const auto a = land(slope, h, 0.06, early), b = land(slope, h, 0.06, whole);
+    ASSERT_EQ(a.status, tw::RunStatus::Settled);
+    ASSERT_EQ(b.status, tw::RunStatus::Settled);
+    EXPECT_LT(a.steps, b.steps);
+    EXPECT_LT(std::abs(a.nutation - b.nutation), early.rest_angular * early.still_time) << h;
+  }
+}
+
 TEST(Landing, SteepSlopeTipsTheTwinOver) {
   // 35° is beyond the F450's 28° tip-over angle: it tips, strikes or tumbles
   // off the mapped terrain (an invalid run), never a clean landing.
@@ -178,6 +194,9 @@ TEST(SimulationOptions, ValidateNamesTheField) {
       {"step:", [](O& o) { o.step = 0.02; }},
       {"timeout:", [](O& o) { o.timeout = 0; }},
       {"still_time:", [](O& o) { o.still_time = -1; }},
+      {"rest_time:", [](O& o) { o.rest_time = -1; }},
+      {"rest_linear:", [](O& o) { o.rest_linear = 0; }},
+      {"rest_angular:", [](O& o) { o.rest_angular = std::nan(""); }},
       {"contact_stiffness:", [](O& o) { o.contact_stiffness = 0; }},
       {"contact_damping:", [](O& o) { o.contact_damping = -1; }},
       {"solver_iterations:", [](O& o) { o.solver_iterations = 0; }},
