@@ -21,12 +21,6 @@ void push_unique(std::vector<Contact>& out, std::size_t first, const Contact& c)
   out.push_back(c);
 }
 
-Eigen::Vector3d face_normal(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  const Eigen::Vector3d n = (b - a).cross(c - a);
-  const double len = n.norm();
-  return len > 0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::UnitZ();
-}
-
 // Closest points of segments p1-q1 and p2-q2 (Ericson, Real-Time Collision
 // Detection, sec. 5.1.9); returns the squared distance.
 double closest_segment_segment(const Eigen::Vector3d& p1, const Eigen::Vector3d& q1, const Eigen::Vector3d& p2,
@@ -168,7 +162,7 @@ void collide_convex(const TerrainModel& terrain, const Shape& shape, const Eigen
     Tri tri{{terrain.vertex(t, 0), terrain.vertex(t, 1), terrain.vertex(t, 2)}};
     // Cheap separation test before MPR: the shape's extent along the
     // triangle's normal must reach the triangle's plane.
-    const Eigen::Vector3d n = face_normal(tri.v[0], tri.v[1], tri.v[2]);
+    const Eigen::Vector3d& n = terrain.normal(t);
     if (std::abs(n.dot(shape.c - tri.v[0])) > extent_along(shape, n) || separated(shape, tri)) continue;
     ccd_real_t depth;
     ccd_vec3_t dir, pos;
@@ -254,7 +248,7 @@ void collide_sphere(const TerrainModel& terrain, const Eigen::Vector3d& centre, 
   terrain.triangles_overlapping(Eigen::AlignedBox3d(centre - r, centre + r), scratch.triangles);
   const std::size_t first = out.size();
   for (std::uint32_t t : scratch.triangles) {
-    const Eigen::Vector3d a = terrain.vertex(t, 0), b = terrain.vertex(t, 1), c = terrain.vertex(t, 2);
+    const Eigen::Vector3d &a = terrain.vertex(t, 0), &b = terrain.vertex(t, 1), &c = terrain.vertex(t, 2);
     const Eigen::Vector3d q = closest_point_on_triangle(centre, a, b, c);
     const Eigen::Vector3d delta = centre - q;
     const double d2 = delta.squaredNorm();
@@ -262,7 +256,7 @@ void collide_sphere(const TerrainModel& terrain, const Eigen::Vector3d& centre, 
     const double dist = std::sqrt(d2);
     Contact ct;
     ct.position = q;
-    ct.normal = dist > 1e-9 ? Eigen::Vector3d(delta / dist) : face_normal(a, b, c);
+    ct.normal = dist > 1e-9 ? Eigen::Vector3d(delta / dist) : terrain.normal(t);
     ct.depth = radius - dist;
     push_unique(out, first, ct);
   }
@@ -277,8 +271,8 @@ void collide_capsule(const TerrainModel& terrain, const Eigen::Vector3d& a, cons
   terrain.triangles_overlapping(box, scratch.triangles);
   const std::size_t first = out.size();
   for (std::uint32_t t : scratch.triangles) {
-    const Eigen::Vector3d v0 = terrain.vertex(t, 0), v1 = terrain.vertex(t, 1), v2 = terrain.vertex(t, 2);
-    const Eigen::Vector3d n = face_normal(v0, v1, v2);
+    const Eigen::Vector3d &v0 = terrain.vertex(t, 0), &v1 = terrain.vertex(t, 1), &v2 = terrain.vertex(t, 2);
+    const Eigen::Vector3d& n = terrain.normal(t);
     // The segment's closest point, plus both end caps so that a capsule
     // lying on one large triangle rests on two points.
     Eigen::Vector3d ps, pt;
@@ -340,8 +334,8 @@ void collide_box(const TerrainModel& terrain, const Eigen::Vector3d& centre, con
     Contact best;
     best.depth = std::numeric_limits<double>::infinity();
     for (std::uint32_t t : scratch.triangles) {
-      const Eigen::Vector3d a = terrain.vertex(t, 0), b = terrain.vertex(t, 1), c = terrain.vertex(t, 2);
-      const Eigen::Vector3d n = face_normal(a, b, c);
+      const Eigen::Vector3d &a = terrain.vertex(t, 0), &b = terrain.vertex(t, 1), &c = terrain.vertex(t, 2);
+      const Eigen::Vector3d& n = terrain.normal(t);
       const double d = (corner - a).dot(n);
       if (d >= 0 || -d > max_depth || -d >= best.depth) continue;
       const Eigen::Vector3d on_plane = corner - d * n;
@@ -389,7 +383,7 @@ void collide_box(const TerrainModel& terrain, const Eigen::Vector3d& centre, con
   auto& vn = scratch.vertex_normals;
   vn.clear();
   for (std::uint32_t t : scratch.triangles) {
-    const Eigen::Vector3d a = terrain.vertex(t, 0), b = terrain.vertex(t, 1), c = terrain.vertex(t, 2);
+    const Eigen::Vector3d &a = terrain.vertex(t, 0), &b = terrain.vertex(t, 1), &c = terrain.vertex(t, 2);
     const Eigen::Vector3d n = (b - a).cross(c - a);  // area-weighted
     for (int k = 0; k < 3; ++k) vn.emplace_back(terrain.vertex_index(t, k), n);
   }

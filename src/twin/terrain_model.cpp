@@ -35,6 +35,14 @@ TerrainModel::TerrainModel(TriangleMesh mesh, UnknownCells unknown)
   }
   bounds_ = bounds_of(mesh_);
   const std::size_t n = mesh_.triangles.size();
+  geometry_.resize(n);
+  for (std::size_t t = 0; t < n; ++t) {
+    TriangleGeometry& g = geometry_[t];
+    for (std::size_t k = 0; k < 3; ++k) g.v[k] = mesh_.vertices[mesh_.triangles[t][k]].cast<double>();
+    const Eigen::Vector3d normal = (g.v[1] - g.v[0]).cross(g.v[2] - g.v[0]);
+    const double len = normal.norm();
+    g.n = len > 0 ? Eigen::Vector3d(normal / len) : Eigen::Vector3d::UnitZ();
+  }
   tri_box_.resize(n);
   double edge_sum = 0;
   for (std::size_t t = 0; t < n; ++t) {
@@ -80,6 +88,15 @@ TerrainModel::TerrainModel(TriangleMesh mesh, UnknownCells unknown)
         cell_max_z_[c] = std::max(cell_max_z_[c], tri_box_[t].max().z());
       }
   }
+  bx_ = (nx_ + kBlock - 1) / kBlock;
+  by_ = (ny_ + kBlock - 1) / kBlock;
+  block_max_z_.assign(static_cast<std::size_t>(bx_) * by_, -std::numeric_limits<float>::infinity());
+  for (int j = 0; j < ny_; ++j) {
+    for (int i = 0; i < nx_; ++i) {
+      float& b = block_max_z_[static_cast<std::size_t>(j / kBlock) * bx_ + i / kBlock];
+      b = std::max(b, cell_max_z_[static_cast<std::size_t>(j) * nx_ + i]);
+    }
+  }
   // Highest triangles first in each bucket: a query stops at the first one
   // entirely below it (the terrain solid's bottom is never visited).
   for (std::size_t c = 0; c < cells; ++c) {
@@ -99,9 +116,26 @@ double TerrainModel::max_z_near(const Eigen::AlignedBox3d& box) const {
   const int i1 = std::clamp(static_cast<int>((box.max().x() - x0_) / cell_), 0, nx_ - 1);
   const int j0 = std::clamp(static_cast<int>((box.min().y() - y0_) / cell_), 0, ny_ - 1);
   const int j1 = std::clamp(static_cast<int>((box.max().y() - y0_) / cell_), 0, ny_ - 1);
+  // Whole blocks inside the range from the block maxima, the buckets of
+  // the blocks it only partly covers one by one: the same maximum as a
+  // walk over every bucket.
   float z = -std::numeric_limits<float>::infinity();
-  for (int j = j0; j <= j1; ++j)
-    for (int i = i0; i <= i1; ++i) z = std::max(z, cell_max_z_[static_cast<std::size_t>(j) * nx_ + i]);
+  for (int bj = j0 / kBlock; bj <= j1 / kBlock; ++bj) {
+    const int cj0 = std::max(j0, bj * kBlock), cj1 = std::min(j1, bj * kBlock + kBlock - 1);
+    for (int bi = i0 / kBlock; bi <= i1 / kBlock; ++bi) {
+      const int ci0 = std::max(i0, bi * kBlock), ci1 = std::min(i1, bi * kBlock + kBlock - 1);
+      const float block = block_max_z_[static_cast<std::size_t>(bj) * bx_ + bi];
+      if (block <= z) continue;
+      const bool whole = cj1 - cj0 + 1 == std::min(kBlock, ny_ - bj * kBlock) &&
+                         ci1 - ci0 + 1 == std::min(kBlock, nx_ - bi * kBlock);
+      if (whole) {
+        z = block;
+        continue;
+      }
+      for (int j = cj0; j <= cj1; ++j)
+        for (int i = ci0; i <= ci1; ++i) z = std::max(z, cell_max_z_[static_cast<std::size_t>(j) * nx_ + i]);
+    }
+  }
   return z;
 }
 

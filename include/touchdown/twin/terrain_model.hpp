@@ -72,9 +72,12 @@ class TerrainModel {
     return mesh_.triangles[tri][static_cast<std::size_t>(k)];
   }
   /// Triangle vertices as doubles.
-  [[nodiscard]] Eigen::Vector3d vertex(std::uint32_t tri, int k) const {
-    return mesh_.vertices[mesh_.triangles[tri][static_cast<std::size_t>(k)]].cast<double>();
+  [[nodiscard]] const Eigen::Vector3d& vertex(std::uint32_t tri, int k) const {
+    return geometry_[tri].v[static_cast<std::size_t>(k)];
   }
+  /// Unit normal of triangle `tri` ((v1 - v0) × (v2 - v0), normalised; +z
+  /// for a degenerate triangle).
+  [[nodiscard]] const Eigen::Vector3d& normal(std::uint32_t tri) const { return geometry_[tri].n; }
 
  private:
   TriangleMesh mesh_;
@@ -87,6 +90,18 @@ class TerrainModel {
   std::vector<Eigen::AlignedBox3f> tri_box_;
   std::vector<float> cell_max_z_;             // per bucket: highest point of its triangles
   std::vector<std::array<int, 2>> tri_cell_;  // first bucket of each triangle
+  // Per triangle, computed once: its vertices as doubles and its unit
+  // normal (contact generation reads them for every candidate every step).
+  struct TriangleGeometry {
+    std::array<Eigen::Vector3d, 3> v;
+    Eigen::Vector3d n;
+  };
+  std::vector<TriangleGeometry> geometry_;
+  // max_z_near's second level: the highest point of each block of
+  // kBlock x kBlock buckets.
+  static constexpr int kBlock = 8;
+  int bx_ = 1, by_ = 1;
+  std::vector<float> block_max_z_;
 };
 
 /// A terrain file as read: a mesh (.stl, .obj, .ply with faces) or a point
