@@ -84,7 +84,7 @@ TerrainModel::TerrainModel(TriangleMesh mesh, UnknownCells unknown)
     for (int j = j0; j <= j1; ++j)
       for (int i = i0; i <= i1; ++i) {
         const std::size_t c = static_cast<std::size_t>(j) * nx_ + i;
-        items_[count[c]++] = static_cast<std::uint32_t>(t);
+        items_[count[c]++] = {tri_box_[t], static_cast<std::uint32_t>(t)};
         cell_max_z_[c] = std::max(cell_max_z_[c], tri_box_[t].max().z());
       }
   }
@@ -100,9 +100,9 @@ TerrainModel::TerrainModel(TriangleMesh mesh, UnknownCells unknown)
   // Highest triangles first in each bucket: a query stops at the first one
   // entirely below it (the terrain solid's bottom is never visited).
   for (std::size_t c = 0; c < cells; ++c) {
-    std::sort(items_.begin() + start_[c], items_.begin() + start_[c + 1], [&](std::uint32_t a, std::uint32_t b) {
-      const float za = tri_box_[a].max().z(), zb = tri_box_[b].max().z();
-      return za > zb || (za == zb && a < b);
+    std::sort(items_.begin() + start_[c], items_.begin() + start_[c + 1], [](const Item& a, const Item& b) {
+      const float za = a.box.max().z(), zb = b.box.max().z();
+      return za > zb || (za == zb && a.triangle < b.triangle);
     });
   }
 }
@@ -154,9 +154,10 @@ void TerrainModel::triangles_overlapping(const Eigen::AlignedBox3d& box, std::ve
       const std::size_t c = static_cast<std::size_t>(j) * nx_ + i;
       if (cell_max_z_[c] < fb.min().z()) continue;
       for (std::uint32_t s = start_[c]; s < start_[c + 1]; ++s) {
-        const std::uint32_t t = items_[s];
-        if (tri_box_[t].max().z() < fb.min().z()) break;  // sorted: the rest are lower
-        if (!tri_box_[t].intersects(fb)) continue;
+        const Item& item = items_[s];
+        if (item.box.max().z() < fb.min().z()) break;  // sorted: the rest are lower
+        if (!item.box.intersects(fb)) continue;
+        const std::uint32_t t = item.triangle;
         // A triangle listed in several buckets is reported once: from the
         // first bucket of the query that it occupies.
         const auto& cell0 = tri_cell_[t];

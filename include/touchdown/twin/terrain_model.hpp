@@ -86,7 +86,13 @@ class TerrainModel {
   double x0_ = 0, y0_ = 0, cell_ = 1;
   int nx_ = 1, ny_ = 1;
   std::vector<std::uint32_t> start_;  // per cell offsets into items_
-  std::vector<std::uint32_t> items_;  // triangle indices
+  // A triangle in a bucket, with its bounding box (kept beside the index so
+  // that a query reads each bucket in one sweep).
+  struct Item {
+    Eigen::AlignedBox3f box;
+    std::uint32_t triangle;
+  };
+  std::vector<Item> items_;
   std::vector<Eigen::AlignedBox3f> tri_box_;
   std::vector<float> cell_max_z_;             // per bucket: highest point of its triangles
   std::vector<std::array<int, 2>> tri_cell_;  // first bucket of each triangle
