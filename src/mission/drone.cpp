@@ -242,7 +242,7 @@ void DroneSimulation::step(const twin::Setpoint& setpoint, const Eigen::Vector3d
   if (armed) {
     const twin::LandController::Output u =
         m.controller.update({p_estimate, v_estimate, s.R, s.w_body}, setpoint, false);
-    const Eigen::VectorXd cmd = m.mixer.mix(u.thrust, u.torque);
+    const Eigen::VectorXd& cmd = m.mixer.mix_in_place(u.thrust, u.torque);
     m.motor += (cmd - m.motor) * m.motor_alpha;
   } else {
     m.controller.idle(v_estimate);

@@ -425,8 +425,10 @@ void collide_box(const TerrainModel& terrain, const Eigen::Vector3d& centre, con
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (const Contact& c : found) centroid += c.position;
   centroid /= static_cast<double>(found.size());
-  std::vector<double> gap(found.size(), std::numeric_limits<double>::infinity());
-  std::vector<bool> taken(found.size(), false);
+  std::vector<double>& gap = scratch.gap;
+  std::vector<bool>& taken = scratch.taken;
+  gap.assign(found.size(), std::numeric_limits<double>::infinity());
+  taken.assign(found.size(), false);
   double deepest_taken = 0;
   auto take = [&](std::size_t i) {
     taken[i] = true;

@@ -38,6 +38,8 @@ struct Scratch {
   std::vector<std::uint32_t> triangles;
   std::vector<std::pair<std::uint32_t, Eigen::Vector3d>> vertex_normals;
   std::vector<Contact> contacts;
+  std::vector<double> gap;  // collide_box's farthest-point sampling
+  std::vector<bool> taken;
 };
 
 /// World-frame primitives → contacts appended to `out`.

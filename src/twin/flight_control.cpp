@@ -176,18 +176,29 @@ Mixer::Mixer(const Airframe& af, const Eigen::Vector3d& com)
 }
 
 Eigen::VectorXd Mixer::mix(double thrust, const Eigen::Vector3d& torque) const {
+  Eigen::VectorXd f_thrust, f_torque, f;
+  mix(thrust, torque, f_thrust, f_torque, f);
+  return f;
+}
+
+const Eigen::VectorXd& Mixer::mix_in_place(double thrust, const Eigen::Vector3d& torque) {
+  mix(thrust, torque, f_thrust_, f_torque_, f_);
+  return f_;
+}
+
+void Mixer::mix(double thrust, const Eigen::Vector3d& torque, Eigen::VectorXd& f_thrust, Eigen::VectorXd& f_torque,
+                Eigen::VectorXd& f) const {
   thrust = std::min(thrust, max_thrust_ * static_cast<double>(motors()));
-  const Eigen::VectorXd f_thrust = pseudo_inverse_ * Eigen::Vector4d(thrust, 0, 0, 0);
-  const Eigen::VectorXd f_torque = pseudo_inverse_ * Eigen::Vector4d(0, torque.x(), torque.y(), torque.z());
+  f_thrust.noalias() = pseudo_inverse_ * Eigen::Vector4d(thrust, 0, 0, 0);
+  f_torque.noalias() = pseudo_inverse_ * Eigen::Vector4d(0, torque.x(), torque.y(), torque.z());
   double scale = 1.0;
   for (Eigen::Index i = 0; i < f_thrust.size(); ++i) {
     const double ft = f_thrust[i], fq = f_torque[i];
     if (fq < 0 && ft + scale * fq < 0) scale = std::max(0.0, -ft / fq);
     if (fq > 0 && ft + scale * fq > max_thrust_) scale = std::max(0.0, (max_thrust_ - ft) / fq);
   }
-  Eigen::VectorXd f = f_thrust + scale * f_torque;
+  f.noalias() = f_thrust + scale * f_torque;
   for (Eigen::Index i = 0; i < f.size(); ++i) f[i] = std::clamp(f[i], 0.0, max_thrust_);
-  return f;
 }
 
 }  // namespace touchdown::twin

@@ -200,7 +200,7 @@ class Run {
           f.controller.update({s.p, s.v, s.R, w}, lc.landing_point, lc.heading, lc.land_speed,
                               f.detector.stage() >= LandDetector::GroundContact);
       if (f.detector.update(u.thrust, s.v.z(), u.vz_setpoint, w.norm())) f.controller.reset_velocity_integrator();
-      const Eigen::VectorXd thrust = mixer_.mix(f.detector.limit_thrust(u.thrust), u.torque);
+      const Eigen::VectorXd& thrust = mixer_.mix_in_place(f.detector.limit_thrust(u.thrust), u.torque);
       for (std::size_t i = 0; i < motor_.size(); ++i) {
         const double cmd = f.detector.landed() ? 0.0 : thrust[static_cast<Eigen::Index>(i)];
         motor_[i] += (cmd - motor_[i]) * f.motor_alpha;
@@ -425,7 +425,8 @@ bool SimulationOptions::validate(std::string* why) const {
   }
   if (!(rest_time >= 0) || !std::isfinite(rest_time)) return invalid(why, "rest_time: must be >= 0 s");
   if (!(rest_linear > 0) || !std::isfinite(rest_linear)) return invalid(why, "rest_linear: must be positive [m/s]");
-  if (!(rest_angular > 0) || !std::isfinite(rest_angular)) return invalid(why, "rest_angular: must be positive [rad/s]");
+  if (!(rest_angular > 0) || !std::isfinite(rest_angular))
+    return invalid(why, "rest_angular: must be positive [rad/s]");
   if (!(contact_stiffness > 0) || !std::isfinite(contact_stiffness)) {
     return invalid(why, "contact_stiffness: must be positive [N/m]");
   }

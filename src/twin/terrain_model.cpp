@@ -126,8 +126,8 @@ double TerrainModel::max_z_near(const Eigen::AlignedBox3d& box) const {
       const int ci0 = std::max(i0, bi * kBlock), ci1 = std::min(i1, bi * kBlock + kBlock - 1);
       const float block = block_max_z_[static_cast<std::size_t>(bj) * bx_ + bi];
       if (block <= z) continue;
-      const bool whole = cj1 - cj0 + 1 == std::min(kBlock, ny_ - bj * kBlock) &&
-                         ci1 - ci0 + 1 == std::min(kBlock, nx_ - bi * kBlock);
+      const bool whole =
+          cj1 - cj0 + 1 == std::min(kBlock, ny_ - bj * kBlock) && ci1 - ci0 + 1 == std::min(kBlock, nx_ - bi * kBlock);
       if (whole) {
         z = block;
         continue;

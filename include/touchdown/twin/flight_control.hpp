@@ -129,13 +129,22 @@ class Mixer {
   Mixer(const Airframe& airframe, const Eigen::Vector3d& centre_of_mass);
   /// Motor thrusts [N] for `thrust` [N] and `torque` [N m].
   [[nodiscard]] Eigen::VectorXd mix(double thrust, const Eigen::Vector3d& torque) const;
+  /// The same thrusts in the mixer's own buffer, valid until the next call:
+  /// no heap allocation after the first call (the twin's step loops). Not
+  /// for one mixer shared between threads.
+  const Eigen::VectorXd& mix_in_place(double thrust, const Eigen::Vector3d& torque);
   /// [T; τ] of motor thrusts `f` (the allocation A f).
   [[nodiscard]] Eigen::Vector4d wrench(const Eigen::VectorXd& f) const { return allocation_ * f; }
   [[nodiscard]] std::size_t motors() const { return static_cast<std::size_t>(allocation_.cols()); }
 
  private:
+  // mix() into caller-owned vectors.
+  void mix(double thrust, const Eigen::Vector3d& torque, Eigen::VectorXd& f_thrust, Eigen::VectorXd& f_torque,
+           Eigen::VectorXd& f) const;
+
   Eigen::MatrixXd allocation_, pseudo_inverse_;
   double max_thrust_;
+  Eigen::VectorXd f_thrust_, f_torque_, f_;  // mix_in_place's buffers
 };
 
 }  // namespace touchdown::twin

@@ -58,20 +58,20 @@ struct ControllerParams {
 
 /// Physics settings of a run.
 struct SimulationOptions {
-  double step = 0.002;               ///< s (the step-halving test in tests/twin justifies 2 ms)
-  double timeout = 15.0;             ///< s of simulated time
-  double still_time = 0.5;           ///< s still (after disarm) that ends a run
-  double still_linear = 0.01;        ///< m/s
-  double still_angular = 0.02;       ///< rad/s
+  double step = 0.002;          ///< s (the step-halving test in tests/twin justifies 2 ms)
+  double timeout = 15.0;        ///< s of simulated time
+  double still_time = 0.5;      ///< s still (after disarm) that ends a run
+  double still_linear = 0.01;   ///< m/s
+  double still_angular = 0.02;  ///< rad/s
   /// A run also ends (settled) once the twin has been at rest after disarm
   /// for rest_time: below rest_linear and rest_angular, tighter than the
   /// still_* speeds. What the rest of still_time could still add is then
   /// below rest_angular · still_time (0.5 mrad; measured over the bundled
   /// terrains: final nutations within 0.45 mrad of running the whole
   /// still_time, docs/benchmarks.md). rest_time > still_time turns it off.
-  double rest_time = 0.05;      ///< s
-  double rest_linear = 0.001;   ///< m/s
-  double rest_angular = 0.001;  ///< rad/s
+  double rest_time = 0.05;           ///< s
+  double rest_linear = 0.001;        ///< m/s
+  double rest_angular = 0.001;       ///< rad/s
   double contact_stiffness = 2.0e4;  ///< N/m per contact (ODE ERP/CFM from stiffness and damping)
   double contact_damping = 300.0;    ///< N s/m per contact
   int solver_iterations = 20;        ///< ODE QuickStep iterations
