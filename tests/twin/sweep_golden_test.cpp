@@ -110,7 +110,7 @@ void check(const std::string& name, const tw::SweepResult& r) {
   std::cout << name << ": largest change of S " << moved << " rad (heading " << where << ")\n";
 }
 
-tw::SweepResult bundled(const std::string& terrain, double x = 0.0) {
+tw::SweepResult bundled(const std::string& terrain, double x = 0.0, const std::string& airframe = "") {
   const std::string base = std::string(TOUCHDOWN_SOURCE_DIR) + "/data/terrains/" + terrain;
   const auto e = td::terrain::load_extrinsics(base + ".extrinsics.yaml");
   td::terrain::TerrainOptions cloud;
@@ -119,7 +119,10 @@ tw::SweepResult bundled(const std::string& terrain, double x = 0.0) {
   tw::SweepOptions o;  // the app's defaults: 20 headings x 10 runs, seed 1
   o.landing_point = Eigen::Vector2d(x, 0.0);
   o.threads = 2;
-  return tw::run_sweep(tw::Airframe::f450(), tw::load_terrain_model(base + ".pcd", cloud), o);
+  const tw::Airframe af =
+      airframe.empty() ? tw::Airframe::f450()
+                       : tw::load_airframe(std::string(TOUCHDOWN_SOURCE_DIR) + "/data/airframes/" + airframe + ".yaml");
+  return tw::run_sweep(af, tw::load_terrain_model(base + ".pcd", cloud), o);
 }
 
 tw::SweepResult small(const std::shared_ptr<const tw::TerrainModel>& terrain, int headings, int runs) {
@@ -142,6 +145,10 @@ TEST(SweepGolden, SlopeGentle) { check("slope_gentle", bundled("slope_gentle"));
 TEST(SweepGolden, SlopeSteep) { check("slope_steep", bundled("slope_steep")); }
 TEST(SweepGolden, Step) { check("step", bundled("step")); }
 TEST(SweepGolden, StepDemo) { check("step_demo", bundled("step", 0.12)); }
+// The airframe without landing gear, which lands on its body box (the box
+// contacts' path).
+TEST(SweepGolden, GearlessFlat) { check("gearless_flat", bundled("flat", 0.0, "gearless_quad")); }
+TEST(SweepGolden, GearlessStepDemo) { check("gearless_step_demo", bundled("step", 0.12, "gearless_quad")); }
 
 // The analytic terrains of tests/twin/sweep_test.cpp, at their sizes there.
 TEST(SweepGolden, TestTerrains) {
