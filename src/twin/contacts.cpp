@@ -57,17 +57,20 @@ double closest_segment_segment(const Eigen::Vector3d& p1, const Eigen::Vector3d&
 
 // ---- libccd adapters (support and centre functions of convex shapes) ----
 
+// A terrain triangle: its vertices where the terrain model keeps them.
 struct Tri {
-  Eigen::Vector3d v[3];
+  const Eigen::Vector3d* v[3];
 };
 struct DiskShape {
   Eigen::Vector3d c, n;
   double r, h;
+  double reach;  // radius of the sphere about c holding the disk: hypot(r, h)
 };
 struct BoxShape {
   Eigen::Vector3d c;
   Eigen::Matrix3d axes;  // columns
   Eigen::Vector3d half;
+  double reach;  // |half|
 };
 
 Eigen::Vector3d to_eigen(const ccd_vec3_t* v) { return {v->v[0], v->v[1], v->v[2]}; }
@@ -82,13 +85,13 @@ void tri_support(const void* obj, const ccd_vec3_t* dir, ccd_vec3_t* out) {
   const Eigen::Vector3d d = to_eigen(dir);
   int best = 0;
   for (int k = 1; k < 3; ++k) {
-    if (t->v[k].dot(d) > t->v[best].dot(d)) best = k;
+    if (t->v[k]->dot(d) > t->v[best]->dot(d)) best = k;
   }
-  to_ccd(t->v[best], out);
+  to_ccd(*t->v[best], out);
 }
 void tri_center(const void* obj, ccd_vec3_t* out) {
   const auto* t = static_cast<const Tri*>(obj);
-  to_ccd((t->v[0] + t->v[1] + t->v[2]) / 3.0, out);
+  to_ccd((*t->v[0] + *t->v[1] + *t->v[2]) / 3.0, out);
 }
 void disk_support(const void* obj, const ccd_vec3_t* dir, ccd_vec3_t* out) {
   const auto* s = static_cast<const DiskShape*>(obj);
@@ -118,22 +121,22 @@ void box_center(const void* obj, ccd_vec3_t* out) { to_ccd(static_cast<const Box
 // are the same as without the tests.
 constexpr double kSeparationMargin = 1e-5;
 bool separated_on_axis(const Tri& t, const Eigen::Vector3d& axis, double centre, double half) {
-  const double a = t.v[0].dot(axis), b = t.v[1].dot(axis), c = t.v[2].dot(axis);
+  const double a = t.v[0]->dot(axis), b = t.v[1]->dot(axis), c = t.v[2]->dot(axis);
   return std::min({a, b, c}) > centre + half + kSeparationMargin ||
          std::max({a, b, c}) < centre - half - kSeparationMargin;
 }
 bool beyond_reach(const Tri& t, const Eigen::Vector3d& centre, double reach) {
   const double r = reach + kSeparationMargin;
-  return (closest_point_on_triangle(centre, t.v[0], t.v[1], t.v[2]) - centre).squaredNorm() > r * r;
+  return (closest_point_on_triangle(centre, *t.v[0], *t.v[1], *t.v[2]) - centre).squaredNorm() > r * r;
 }
 bool separated(const DiskShape& s, const Tri& t) {
-  return separated_on_axis(t, s.n, s.n.dot(s.c), s.h) || beyond_reach(t, s.c, std::hypot(s.r, s.h));
+  return separated_on_axis(t, s.n, s.n.dot(s.c), s.h) || beyond_reach(t, s.c, s.reach);
 }
 bool separated(const BoxShape& s, const Tri& t) {
   for (int k = 0; k < 3; ++k) {
     if (separated_on_axis(t, s.axes.col(k), s.axes.col(k).dot(s.c), s.half[k])) return true;
   }
-  return beyond_reach(t, s.c, s.half.norm());
+  return beyond_reach(t, s.c, s.reach);
 }
 
 double extent_along(const DiskShape& s, const Eigen::Vector3d& n) {
@@ -159,11 +162,11 @@ void collide_convex(const TerrainModel& terrain, const Shape& shape, const Eigen
   ccd.max_iterations = 100;
   ccd.mpr_tolerance = 1e-6;
   for (std::uint32_t t : scratch.triangles) {
-    Tri tri{{terrain.vertex(t, 0), terrain.vertex(t, 1), terrain.vertex(t, 2)}};
+    const Tri tri{{&terrain.vertex(t, 0), &terrain.vertex(t, 1), &terrain.vertex(t, 2)}};
     // Cheap separation test before MPR: the shape's extent along the
     // triangle's normal must reach the triangle's plane.
     const Eigen::Vector3d& n = terrain.normal(t);
-    if (std::abs(n.dot(shape.c - tri.v[0])) > extent_along(shape, n) || separated(shape, tri)) continue;
+    if (std::abs(n.dot(shape.c - *tri.v[0])) > extent_along(shape, n) || separated(shape, tri)) continue;
     ccd_real_t depth;
     ccd_vec3_t dir, pos;
     if (ccdMPRPenetration(&shape, &tri, &ccd, &depth, &dir, &pos) != 0) continue;
@@ -302,7 +305,7 @@ void collide_capsule(const TerrainModel& terrain, const Eigen::Vector3d& a, cons
 
 void collide_disk(const TerrainModel& terrain, const Eigen::Vector3d& centre, const Eigen::Vector3d& axis,
                   double radius, double half_thickness, Scratch& scratch, std::vector<Contact>& out) {
-  const DiskShape s{centre, axis.normalized(), radius, half_thickness};
+  const DiskShape s{centre, axis.normalized(), radius, half_thickness, std::hypot(radius, half_thickness)};
   // AABB of a disk: radius·sqrt(1 - n_i²) + h·|n_i| per axis.
   const Eigen::Array3d n2 = s.n.array().square();
   const Eigen::Vector3d ext = (radius * (1.0 - n2).max(0.0).sqrt() + half_thickness * s.n.array().abs()).matrix();
@@ -311,7 +314,7 @@ void collide_disk(const TerrainModel& terrain, const Eigen::Vector3d& centre, co
 
 void collide_box(const TerrainModel& terrain, const Eigen::Vector3d& centre, const Eigen::Matrix3d& axes,
                  const Eigen::Vector3d& half_extents, Scratch& scratch, std::vector<Contact>& out) {
-  const BoxShape s{centre, axes, half_extents};
+  const BoxShape s{centre, axes, half_extents, half_extents.norm()};
   const Eigen::Vector3d ext = axes.cwiseAbs() * half_extents;
   const Eigen::AlignedBox3d aabb(centre - ext, centre + ext);
   // One MPR point per triangle does not hold a box resting on a face: the
