@@ -9,7 +9,7 @@
 #include "counting_new.hpp"
 
 #if !defined(__SANITIZE_ADDRESS__)
-extern "C" void* __libc_malloc(std::size_t);  // glibc's own malloc
+extern "C" void* __libc_malloc(std::size_t);  // NOLINT(readability-identifier-naming): glibc's own malloc
 namespace {
 std::atomic<long> g_mallocs{0};
 }
