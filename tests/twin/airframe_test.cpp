@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "sweep_golden.hpp"
 #include "test_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/units.hpp"
@@ -134,6 +135,7 @@ landing_gear: {mass: 0.35, top_z: -0.03, foot_z: -0.22, leg_radius: 0.008, foot_
   o.runs = 1;
   const auto r = tw::run_sweep(a, td::test::flat_terrain(), o);
   ASSERT_TRUE(r.ok());
+  td::test::check_golden("airframe_test_coaxial_flat", r);
   for (const auto& h : r.headings) {
     EXPECT_EQ(h.invalid_runs, 0) << h.invalid_reason;
     EXPECT_LT(h.score, 0.05);

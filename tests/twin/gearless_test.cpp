@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <string>
 
+#include "sweep_golden.hpp"
 #include "test_util.hpp"
 #include "touchdown/core/units.hpp"
 #include "touchdown/twin/airframe.hpp"
@@ -157,6 +158,7 @@ TEST(Gearless, SweepOnLevelGroundIsSafeAndOverAStepEdgeIsNot) {
   o.seed = 3;
   const auto flat = tw::run_sweep(a, touchdown::test::flat_terrain(0.0), o);
   ASSERT_TRUE(flat.ok()) << flat.message;
+  touchdown::test::check_golden("gearless_test_flat", flat);
   for (const auto& h : flat.headings) {
     EXPECT_EQ(h.invalid_runs, 0) << h.yaw;
     EXPECT_LT(h.score, 0.05) << h.yaw;
@@ -168,6 +170,7 @@ TEST(Gearless, SweepOnLevelGroundIsSafeAndOverAStepEdgeIsNot) {
   o.landing_point = {0.0, 0.0};
   const auto edge = tw::run_sweep(a, step, o);
   ASSERT_TRUE(edge.ok()) << edge.message;
+  touchdown::test::check_golden("gearless_test_step_edge", edge);
   const bool any_tilted = std::any_of(edge.headings.begin(), edge.headings.end(),
                                       [](const tw::HeadingScore& h) { return h.score > 0.2 || h.invalid_runs > 0; });
   EXPECT_TRUE(any_tilted);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "sweep_golden.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/units.hpp"
 #include "twin_test_util.hpp"
@@ -39,6 +40,7 @@ TEST(Sweep, SameSeedSameResultForOneAndTwoThreads) {
     EXPECT_EQ(a.runs[k].result.steps, b.runs[k].result.steps) << k;
   }
   EXPECT_EQ(a.best, b.best);
+  td::test::check_golden("sweep_test_incline6_4x3", a);
   o.seed = 2;
   const auto c = tw::run_sweep(tw::Airframe::f450(), slope, o);
   EXPECT_NE(a.runs[0].result.nutation, c.runs[0].result.nutation);
@@ -47,6 +49,7 @@ TEST(Sweep, SameSeedSameResultForOneAndTwoThreads) {
 TEST(Sweep, HeadingsAndScoresFollowTheMethod) {
   const auto flat = td::test::flat_terrain(0.0);
   const auto r = tw::run_sweep(tw::Airframe::f450(), flat, small(6, 2));
+  td::test::check_golden("sweep_test_flat_6x2", r);
   ASSERT_EQ(r.headings.size(), 6u);
   for (int j = 0; j < 6; ++j) {
     const auto& h = r.headings[static_cast<std::size_t>(j)];
@@ -67,6 +70,7 @@ TEST(Sweep, HeadingsAndScoresFollowTheMethod) {
 TEST(Sweep, SteepSlopeHasNoSafeHeading) {
   const auto steep = td::test::incline_terrain(32 * kRadPerDeg);
   const auto r = tw::run_sweep(tw::Airframe::f450(), steep, small(4, 2));
+  td::test::check_golden("sweep_test_incline32_4x2", r);
   EXPECT_FALSE(r.safe);
   for (const auto& h : r.headings) EXPECT_FALSE(h.safe);
 }
@@ -78,6 +82,7 @@ TEST(Sweep, StepOnlyTheAlignedHeadingClears) {
   const auto step = td::test::analytic_terrain([](double x, double) { return x > -0.12 ? 0.1 : 0.0; }, 1.0, 0.01);
   auto o = small(4, 2);
   const auto r = tw::run_sweep(tw::Airframe::f450(), step, o);
+  td::test::check_golden("sweep_test_ledge_4x2", r);
   ASSERT_TRUE(r.safe);
   EXPECT_NEAR(r.headings[static_cast<std::size_t>(r.best)].yaw, 90 * kRadPerDeg, 1e-9);
   EXPECT_LT(r.headings[2].score, 0.02);
@@ -123,6 +128,8 @@ TEST(Search, MovesOffAStepEdgeToASafePoint) {
   o.perturbation.sigma_xy = 0;
   const auto plain = tw::run_sweep(tw::Airframe::f450(), step, o);
   const auto s = tw::search_landing_point(tw::Airframe::f450(), step, o, 0.3, 0.3);
+  td::test::check_golden("sweep_test_step15_plain", plain);
+  td::test::check_golden("sweep_test_step15_search", s);
   ASSERT_GE(s.best, 0);
   const auto& best = s.candidates[static_cast<std::size_t>(s.best)];
   EXPECT_TRUE(best.safe);
@@ -146,6 +153,7 @@ TEST(Search, TotalsCoverEveryPointFlown) {
   const auto o = small(3, 2);
   const auto s = tw::search_landing_point(tw::Airframe::f450(), td::test::flat_terrain(), o, radius, spacing);
   ASSERT_TRUE(s.ok()) << s.message;
+  td::test::check_golden("sweep_test_flat_search_lowest", s);
   EXPECT_EQ(s.candidates.size(), 13u);
   EXPECT_EQ(s.points_flown, grid_points);  // flat and covered everywhere: every point is flown
   EXPECT_EQ(s.landings, static_cast<std::size_t>(grid_points * o.headings * o.runs));
@@ -159,6 +167,7 @@ TEST(Search, TotalsCoverEveryPointFlown) {
   const auto near = tw::search_landing_point(tw::Airframe::f450(), td::test::flat_terrain(), o, radius, spacing,
                                              tw::SearchPreference::Nearest);
   ASSERT_TRUE(near.ok()) << near.message;
+  td::test::check_golden("sweep_test_flat_search_nearest", near);
   const auto evaluated = std::count_if(near.candidates.begin(), near.candidates.end(),
                                        [](const tw::SearchCandidate& c) { return c.evaluated; });
   EXPECT_EQ(evaluated, 1);
@@ -170,6 +179,7 @@ TEST(Sweep, InclineScoresItsAngleAtEveryHeadingWithPerturbations) {
   const double alpha = 10 * kRadPerDeg;
   const auto slope = td::test::incline_terrain(alpha);
   const auto r = tw::run_sweep(tw::Airframe::f450(), slope, small(5, 2));
+  td::test::check_golden("sweep_test_incline_perturbed_5x2", r);
   for (const auto& h : r.headings) {
     EXPECT_NEAR(h.score, alpha, 0.02) << h.yaw;
     EXPECT_TRUE(h.safe);
@@ -203,6 +213,7 @@ TEST(Sweep, UnsafeReasonsAreTheMostSevereAndTheSummaryCountsThem) {
   const auto slope = td::test::incline_terrain(10 * kRadPerDeg);
   auto o = small(2, 1);
   auto r = tw::run_sweep(tw::Airframe::f450(), slope, o);
+  td::test::check_golden("sweep_test_incline10_2x1", r);
   ASSERT_TRUE(r.safe);
   EXPECT_EQ(tw::unsafe_summary(r), "");
   for (const auto& h : r.headings) EXPECT_EQ(h.reason, tw::UnsafeReason::None);
@@ -213,6 +224,8 @@ TEST(Sweep, UnsafeReasonsAreTheMostSevereAndTheSummaryCountsThem) {
   for (const auto metric : {tw::SafetyMetric::Full, tw::SafetyMetric::Seed}) {
     o.metric = metric;
     r = tw::run_sweep(tw::Airframe::f450(), steep, o);
+    td::test::check_golden(
+        std::string("sweep_test_incline32_patch_") + (metric == tw::SafetyMetric::Full ? "full" : "seed"), r);
     EXPECT_FALSE(r.safe);
     // The paper's metric ignores tip-overs as such: S is above the threshold.
     const auto scored_reason =

@@ -14,6 +14,7 @@
 #include <random>
 
 #include "../test_util.hpp"
+#include "sweep_golden.hpp"
 #include "touchdown/core/cloud_io.hpp"
 #include "touchdown/terrain/filters.hpp"
 #include "touchdown/terrain/height_map.hpp"
@@ -113,6 +114,7 @@ TEST(UnknownTerrain, HeadingsOverUnobservedTerrainAreUnsafeWithThatReason) {
   const auto clear =
       tw::run_sweep(tw::Airframe::f450(), model_of(flat_with_hole(0.75, 0, 0.3, tt::UnknownFill::Block)), o);
   ASSERT_TRUE(clear.ok()) << clear.message;
+  td::test::check_golden("unknown_test_hole_clear", clear);
   EXPECT_TRUE(clear.safe);
   for (const auto& h : clear.headings) EXPECT_FALSE(h.unobserved);
   // Now the unknown square starts 0.25 m east: a prop disk overlaps it at
@@ -121,6 +123,7 @@ TEST(UnknownTerrain, HeadingsOverUnobservedTerrainAreUnsafeWithThatReason) {
   const auto over =
       tw::run_sweep(tw::Airframe::f450(), model_of(flat_with_hole(0.55, 0, 0.3, tt::UnknownFill::Block)), o);
   ASSERT_TRUE(over.ok()) << over.message;
+  td::test::check_golden("unknown_test_hole_over", over);
   EXPECT_FALSE(over.safe);
   for (const auto& h : over.headings) {
     EXPECT_TRUE(h.unobserved) << h.yaw;
@@ -334,6 +337,7 @@ TEST(UnknownTerrainRealScan, BareTableSafeMugAndShadowUnsafeOffScanError) {
   o.landing_point = s.bare;
   const auto bare = tw::run_sweep(af, s.terrain, o);
   ASSERT_TRUE(bare.ok()) << bare.message;
+  td::test::check_golden("unknown_test_table_bare", bare);
   EXPECT_TRUE(bare.safe) << tw::unsafe_summary(bare);
   for (const auto& h : bare.headings) {
     EXPECT_TRUE(h.safe) << h.yaw << " " << tw::to_string(h.reason);
@@ -343,6 +347,7 @@ TEST(UnknownTerrainRealScan, BareTableSafeMugAndShadowUnsafeOffScanError) {
     o.landing_point = p;
     const auto r = tw::run_sweep(af, s.terrain, o);
     ASSERT_TRUE(r.ok()) << r.message;  // an answer, not an error
+    td::test::check_golden(p == s.mug ? "unknown_test_table_mug" : "unknown_test_table_shadow", r);
     EXPECT_FALSE(r.safe);
     for (const auto& h : r.headings) EXPECT_EQ(h.reason, tw::UnsafeReason::UnobservedTerrain) << h.yaw;
     EXPECT_NE(tw::unsafe_summary(r).find("8 headings: unobserved terrain"), std::string::npos);
@@ -362,6 +367,7 @@ TEST(UnknownTerrainRealScan, SearchFindsTheNearestPointClearOfUnknownTerrain) {
   o.landing_point = s.bare - Eigen::Vector2d(0.2, 0.0);
   const auto r = tw::search_landing_point(tw::Airframe::f450(), s.terrain, o, 0.3, 0.1, tw::SearchPreference::Nearest);
   ASSERT_TRUE(r.ok()) << r.message;
+  td::test::check_golden("unknown_test_table_search_nearest", r);
   ASSERT_FALSE(r.candidates.empty());
   EXPECT_FALSE(r.candidates[0].safe);  // the requested point itself
   EXPECT_TRUE(r.candidates[0].unobserved);
@@ -391,6 +397,7 @@ TEST(UnknownTerrainRealScan, SearchFindsTheNearestPointClearOfUnknownTerrain) {
   // Preferring the lowest S flies every candidate and may go farther, but
   // never to a point over unobserved terrain.
   const auto low = tw::search_landing_point(tw::Airframe::f450(), s.terrain, o, 0.3, 0.1);
+  td::test::check_golden("unknown_test_table_search_lowest", low);
   ASSERT_GE(low.best, 0);
   const auto& lb = low.candidates[static_cast<std::size_t>(low.best)];
   EXPECT_TRUE(lb.safe);

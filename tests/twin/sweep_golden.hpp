@@ -1,0 +1,138 @@
+#pragma once
+// The sweep's decisions, frozen (issue 35): tests/twin/golden/sweep_decisions.txt
+// holds, for every sweep and landing-point search the twin's tests and the
+// golden test run, the verdict and reason per heading (per candidate point
+// for a search) and the choice, recorded from the code before the twin was
+// made faster (3ff8bad). check_golden() fails on any changed verdict,
+// reason or choice and prints how far each S moved, without failing on it.
+//
+//   TOUCHDOWN_GOLDEN_WRITE=1 build/tests/twin_golden_tests   (and twin_tests)
+//
+// records instead of comparing (run the binaries one at a time; only when a
+// change is meant to alter decisions, and say why in docs/benchmarks.md).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "touchdown/twin/sweep.hpp"
+
+namespace touchdown::test {
+
+inline std::string golden_path() {
+  return std::string(TOUCHDOWN_SOURCE_DIR) + "/tests/twin/golden/sweep_decisions.txt";
+}
+
+// A decision as one word: "safe", or the reason with '_' for spaces.
+inline std::string golden_word(std::string_view phrase) {
+  std::string r(phrase);
+  for (char& c : r) c = c == ' ' ? '_' : c;
+  return r;
+}
+
+struct GoldenDecisions {
+  int choice = -1;                    ///< chosen heading (sweep) or candidate point (search)
+  std::vector<std::string> verdicts;  ///< per heading or candidate
+  std::vector<double> scores;         ///< S [rad] per heading or candidate (NaN: none)
+};
+
+inline GoldenDecisions golden_of(const twin::SweepResult& r) {
+  GoldenDecisions d;
+  d.choice = r.best;
+  for (const auto& h : r.headings) {
+    d.verdicts.push_back(h.safe ? "safe" : golden_word(twin::to_string(h.reason)));
+    d.scores.push_back(h.score);
+  }
+  return d;
+}
+
+inline GoldenDecisions golden_of(const twin::SearchResult& r) {
+  GoldenDecisions d;
+  d.choice = r.best;
+  for (const auto& c : r.candidates) {
+    d.verdicts.push_back(!c.covered     ? "not_covered"
+                         : !c.evaluated ? "not_flown"
+                         : c.unobserved ? "unobserved"
+                         : c.safe       ? "safe"
+                                        : "unsafe");
+    d.scores.push_back(c.score);
+  }
+  return d;
+}
+
+// "name choice n  verdict:score ..." (scores to 1e-6 rad).
+inline std::string golden_line(const std::string& name, const GoldenDecisions& d) {
+  std::ostringstream s;
+  s << name << ' ' << d.choice << ' ' << d.verdicts.size();
+  for (std::size_t k = 0; k < d.verdicts.size(); ++k) {
+    s << ' ' << d.verdicts[k] << ':' << std::fixed << std::setprecision(6) << d.scores[k];
+  }
+  return s.str();
+}
+
+inline GoldenDecisions parse_golden_line(const std::string& line) {
+  std::istringstream s(line);
+  std::string name;
+  std::size_t n = 0;
+  GoldenDecisions d;
+  s >> name >> d.choice >> n;
+  for (std::size_t k = 0; k < n; ++k) {
+    std::string item;
+    s >> item;
+    const auto colon = item.rfind(':');
+    d.verdicts.push_back(item.substr(0, colon));
+    d.scores.push_back(std::stod(item.substr(colon + 1)));
+  }
+  return d;
+}
+
+inline std::map<std::string, std::string> read_golden() {
+  std::map<std::string, std::string> lines;
+  std::ifstream in(golden_path());
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    lines[line.substr(0, line.find(' '))] = line;
+  }
+  return lines;
+}
+
+// Compares (or, with TOUCHDOWN_GOLDEN_WRITE set, records) one case.
+template <class Result>
+void check_golden(const std::string& name, const Result& r) {
+  const GoldenDecisions is = golden_of(r);
+  if (std::getenv("TOUCHDOWN_GOLDEN_WRITE") != nullptr) {
+    auto lines = read_golden();
+    lines[name] = golden_line(name, is);
+    std::ofstream out(golden_path());
+    out << "# case choice count  verdict:S[rad] per heading or candidate (tests/twin/sweep_golden.hpp)\n";
+    for (const auto& [key, line] : lines) out << line << '\n';
+    std::cout << "recorded " << name << " in " << golden_path() << '\n';
+    return;
+  }
+  const auto lines = read_golden();
+  const auto it = lines.find(name);
+  ASSERT_TRUE(it != lines.end()) << name << " is not in " << golden_path();
+  const GoldenDecisions was = parse_golden_line(it->second);
+  ASSERT_EQ(was.verdicts.size(), is.verdicts.size()) << name;
+  double moved = 0;
+  std::size_t where = 0;
+  for (std::size_t k = 0; k < is.verdicts.size(); ++k) {
+    EXPECT_EQ(was.verdicts[k], is.verdicts[k]) << name << ": heading or candidate " << k;
+    const double change = std::abs(was.scores[k] - is.scores[k]);
+    if (std::isfinite(change) && change > moved) {
+      moved = change;
+      where = k;
+    }
+  }
+  EXPECT_EQ(was.choice, is.choice) << name << ": the chosen heading or point";
+  std::cout << name << ": largest change of S " << moved << " rad (index " << where << ")\n";
+}
+
+}  // namespace touchdown::test
