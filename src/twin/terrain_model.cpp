@@ -43,12 +43,12 @@ TerrainModel::TerrainModel(TriangleMesh mesh, UnknownCells unknown)
     const double len = normal.norm();
     g.n = len > 0 ? Eigen::Vector3d(normal / len) : Eigen::Vector3d::UnitZ();
   }
-  tri_box_.resize(n);
+  std::vector<Eigen::AlignedBox3f> tri_box(n);  // construction only: the buckets keep their own copies
   double edge_sum = 0;
   for (std::size_t t = 0; t < n; ++t) {
     Eigen::AlignedBox3f b;
     for (int k = 0; k < 3; ++k) b.extend(mesh_.vertices[mesh_.triangles[t][static_cast<std::size_t>(k)]]);
-    tri_box_[t] = b;
+    tri_box[t] = b;
     edge_sum += std::max(b.sizes().x(), b.sizes().y());
   }
   // Buckets about twice the typical triangle extent, and not too many.
@@ -69,7 +69,7 @@ TerrainModel::TerrainModel(TriangleMesh mesh, UnknownCells unknown)
   tri_cell_.resize(n);
   for (std::size_t t = 0; t < n; ++t) {
     int i0, i1, j0, j1;
-    range(tri_box_[t], i0, i1, j0, j1);
+    range(tri_box[t], i0, i1, j0, j1);
     tri_cell_[t] = {i0, j0};
     for (int j = j0; j <= j1; ++j)
       for (int i = i0; i <= i1; ++i) ++count[static_cast<std::size_t>(j) * nx_ + i + 1];
@@ -80,12 +80,12 @@ TerrainModel::TerrainModel(TriangleMesh mesh, UnknownCells unknown)
   cell_max_z_.assign(cells, -std::numeric_limits<float>::infinity());
   for (std::size_t t = 0; t < n; ++t) {
     int i0, i1, j0, j1;
-    range(tri_box_[t], i0, i1, j0, j1);
+    range(tri_box[t], i0, i1, j0, j1);
     for (int j = j0; j <= j1; ++j)
       for (int i = i0; i <= i1; ++i) {
         const std::size_t c = static_cast<std::size_t>(j) * nx_ + i;
-        items_[count[c]++] = {tri_box_[t], static_cast<std::uint32_t>(t)};
-        cell_max_z_[c] = std::max(cell_max_z_[c], tri_box_[t].max().z());
+        items_[count[c]++] = {tri_box[t], static_cast<std::uint32_t>(t)};
+        cell_max_z_[c] = std::max(cell_max_z_[c], tri_box[t].max().z());
       }
   }
   bx_ = (nx_ + kBlock - 1) / kBlock;

@@ -10,9 +10,9 @@
 ///
 /// Frames: world z up; the drone's body frame as in the airframe YAML; its
 /// state is reported at the centre of mass. Thread-safety: one instance per
-/// mission (each owns its ODE world). Allocation: step() allocates the
-/// mixer's motor vector (twin::Mixer::mix returns an Eigen::VectorXd, as in
-/// the twin's landings) and ODE its contact joints.
+/// mission (each owns its ODE world). Allocation: step() mixes into the
+/// mixer's own buffer (twin::Mixer::mix_in_place, as the twin's landings
+/// do); ODE creates its contact joints in its joint group.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <memory>

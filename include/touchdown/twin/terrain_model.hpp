@@ -31,8 +31,8 @@ struct UnknownCells {
 };
 
 /// Immutable after construction; every const member is safe to call from
-/// many threads at once. Memory: the mesh plus about 200 bytes per triangle
-/// (double vertices and normal, bounding box, bucket entries).
+/// many threads at once. Memory: the mesh plus about 160 bytes per triangle
+/// (double vertices and normal, bucket entries with the triangle's box).
 class TerrainModel {
  public:
   /// Throws touchdown::InvalidArgument for a mesh without triangles or an
@@ -94,7 +94,6 @@ class TerrainModel {
     std::uint32_t triangle;
   };
   std::vector<Item> items_;
-  std::vector<Eigen::AlignedBox3f> tri_box_;
   std::vector<float> cell_max_z_;             // per bucket: highest point of its triangles
   std::vector<std::array<int, 2>> tri_cell_;  // first bucket of each triangle
   // Per triangle, computed once: its vertices as doubles and its unit
