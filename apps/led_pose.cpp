@@ -214,8 +214,8 @@ void add_sequence_options(CLI::App& app, Args& a) {
                  "frame (docs/formats.md); the LED tracker uses it as a prior");
   app.add_option("--max-sigma", a.max_sigma,
                  "POSITION_M,ROTATION_RAD: report a pose whose 1-sigma exceeds either as 'too uncertain' "
-                 "(default: 0.03,0.03; a larger limit reports more far frames and risks wrong ones, "
-                 "docs/benchmarks.md)")
+                 "(default: 0.03,0.03 for a fit that does not explain its whole frame, none for a tracked fit "
+                 "that does; docs/benchmarks.md)")
       ->delimiter(',')
       ->expected(2)
       ->allow_extra_args(false)  // `--max-sigma 0.05,0.05 SEQ` leaves SEQ to the positional
@@ -552,8 +552,10 @@ void set_up_estimator(Estimator& est, const Args& a, const tp::CameraModel& came
     to.use_depth = !a.no_depth;
     to.fuse_frames = a.fuse;
     if (a.max_sigma.size() == 2) {
-      to.correspondence.max_sigma_position_m = to.correspondence.attitude_max_sigma_position_m = a.max_sigma[0];
-      to.correspondence.max_sigma_rotation_rad = to.correspondence.attitude_max_sigma_rotation_rad = a.max_sigma[1];
+      to.correspondence.max_sigma_position_m = to.correspondence.attitude_max_sigma_position_m =
+          to.complete_max_sigma_position_m = a.max_sigma[0];
+      to.correspondence.max_sigma_rotation_rad = to.correspondence.attitude_max_sigma_rotation_rad =
+          to.complete_max_sigma_rotation_rad = a.max_sigma[1];
     }
     est.tracker.emplace(camera, k, to);
   } else {

@@ -53,6 +53,14 @@ bool TrackerOptions::validate(std::string* why) const {
   if (!(min_detection_sigma_px > 0 && min_detection_sigma_px <= correspondence.detection_sigma_px)) {
     return fail("min_detection_sigma_px: must be in (0, correspondence.detection_sigma_px]");
   }
+  if (!(complete_fit_significance >= 0 && complete_fit_significance < 1)) {
+    return fail("complete_fit_significance: must be in [0, 1) (0 = off)");
+  }
+  if (!(complete_fit_border_px >= 0) || !std::isfinite(complete_fit_border_px)) {
+    return fail("complete_fit_border_px: must be >= 0 and finite");
+  }
+  if (!(complete_max_sigma_position_m > 0)) return fail("complete_max_sigma_position_m: must be positive");
+  if (!(complete_max_sigma_rotation_rad > 0)) return fail("complete_max_sigma_rotation_rad: must be positive");
   return true;
 }
 
@@ -294,7 +302,10 @@ struct LedTracker::Impl {
     // its own: a track on the wrong branch fuses into a confident wrong pose
     // (measured: 14 frames wrong beyond 3 σ with --fuse on the independent
     // renderer's sequences when only the fused σ was tested).
-    const std::pair<double, double> limits = co.sigma_limits(attitude.active());
+    const std::pair<double, double> limits =
+        !fresh && explains_frame(fit, points)
+            ? std::pair{options.complete_max_sigma_position_m, options.complete_max_sigma_rotation_rad}
+            : co.sigma_limits(attitude.active());
     const std::pair<double, double> tested = {std::max(sigma.first, own.first), std::max(sigma.second, own.second)};
     auto beyond = [&](double f) { return tested.first > f * limits.first || tested.second > f * limits.second; };
     last_nearly_precise = !beyond(options.few_point_prediction_sigma_factor);
@@ -314,6 +325,33 @@ struct LedTracker::Impl {
     estimate.rms_px = fit.rms_px;
     estimate.points = points;
     estimate.covariance = covariance;
+  }
+
+  // The fit explains its whole frame (TrackerOptions::complete_fit_significance):
+  // the pool vouches, enough LEDs, none on a split blob, every LED in view
+  // matched, residuals at the pooled noise.
+  bool explains_frame(const PoseRefinement& fit, int points) {
+    const double alpha = options.complete_fit_significance;
+    const int n = static_cast<int>(constellation.leds.size());
+    if (!(alpha > 0) || !pool_vouches() || points < std::min(options.correspondence.search_min_leds, n)) return false;
+    const double k = fit.degrees_of_freedom;
+    if (!(k > 0) || fit.noise_variance * k / noise_floor() > detail::chi2_quantile(k, 1 - alpha)) return false;
+    const Eigen::Vector3d camera_body = detail::camera_in_body(fit.T_camera_body);
+    const double border = options.complete_fit_border_px;
+    for (std::size_t i = 0; i < constellation.leds.size(); ++i) {
+      if (led_to_blob[i] >= 0) {
+        if (work[static_cast<std::size_t>(led_to_blob[i])].split) return false;
+        continue;
+      }
+      const Led& led = constellation.leds[i];
+      const Eigen::Vector3d q = fit.T_camera_body * led.p_body;
+      if (!(q.z() > 1e-6) || !led.emits_toward(camera_body, emission_margin)) continue;
+      const Eigen::Vector2d uv = camera.project(q);
+      const bool inside = uv.x() >= border && uv.y() >= border && uv.x() <= camera.width - 1 - border &&
+                          uv.y() <= camera.height - 1 - border;
+      if (inside) return false;  // an LED in view without a blob of its own
+    }
+    return true;
   }
 
   // A matched blob that an unmatched LED's reprojection also falls in is

@@ -11,14 +11,16 @@
 //
 //   pose_robustness [--configs N=20] [--frames N=90] [--seed S=1000]
 //                   [--profile clean|harsh=harsh] [--no-depth] [--fuse]
-//                   [--max-sigma X] [--max-wrong-ok N] [--min-success R]
+//                   [--max-sigma X] [--max-wrong-ok N] [--max-dangerous N]
+//                   [--min-success R]
 //                   [--calibration] [--centroids] [--floor-px X=0.1]
 //                   [--attitude SIGMA_DEG]
 //
 // --attitude gives the tracker the drone's attitude as a prior each frame
 // (LedTracker::track with an AttitudePrior): gravity fixed in the camera
 // frame, both directions with SIGMA_DEG of noise per axis, as the IMUs would
-// measure them; --max-sigma then sets the limits with the prior too.
+// measure them; --max-sigma then sets the limits with the prior too, and
+// for fits that explain their frame (TrackerOptions::complete_max_sigma_*).
 // --calibration prints the reported sigma against the true error by sigma
 // bin; --centroids the matched, un-merged blobs' centre error by blob area.
 // It also counts the frames with >= 4 un-merged LEDs whose pose could pass
@@ -27,9 +29,12 @@
 // the others have no pose to report under the gate however good the
 // detector.
 //
-// With --max-wrong-ok / --min-success it is a check (ctest): exit 1 when the
-// suite has more wrong-ok frames or a lower success over all frames with >= 4
-// un-merged LEDs. Deterministic: the same arguments give the same counts.
+// With --max-wrong-ok / --max-dangerous / --min-success it is a check
+// (ctest): exit 1 when the suite has more wrong-ok frames, more dangerous
+// ones (wrong-ok and beyond 3 sigma of their own: the wrong pose its sigma
+// does not warn about, issue 33) or a lower success over all frames with
+// >= 4 un-merged LEDs. Deterministic: the same arguments give the same
+// counts.
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -66,6 +71,7 @@ struct Args {
   double attitude_deg = -1;  // > 0: an attitude prior with this noise [deg]
   double floor_px = 0.1;     // detection noise of the feasibility bound [px]
   long max_wrong_ok = -1;    // < 0: no check
+  long max_dangerous = -1;   // < 0: no check (wrong-ok and beyond 3 sigma)
   double min_success = -1;   // < 0: no check
 };
 
@@ -117,6 +123,8 @@ Args parse(int argc, char** argv) {
       a.floor_px = std::atof(v);
     } else if (k == "--max-wrong-ok") {
       a.max_wrong_ok = std::atol(v);
+    } else if (k == "--max-dangerous") {
+      a.max_dangerous = std::atol(v);
     } else if (k == "--min-success") {
       a.min_success = std::atof(v);
     } else {
@@ -239,11 +247,12 @@ int main(int argc, char** argv) {
     options.correspondence.max_sigma_position_m = options.correspondence.max_sigma_rotation_rad = args.max_sigma;
     options.correspondence.attitude_max_sigma_position_m = args.max_sigma;
     options.correspondence.attitude_max_sigma_rotation_rad = args.max_sigma;
+    options.complete_max_sigma_position_m = options.complete_max_sigma_rotation_rad = args.max_sigma;
   }
   tp::RenderOptions render = tp::apply_profile({}, args.profile);
   render.render_marker = false;
   const tp::CameraModel camera;
-  long total = 0, ok = 0, wrong = 0, usable = 0, ok_usable = 0, possible = 0, ok_possible = 0;
+  long total = 0, ok = 0, wrong = 0, dangerous = 0, usable = 0, ok_usable = 0, possible = 0, ok_possible = 0;
   std::map<std::string, long> failures;           // why frames with >= 4 un-merged LEDs have no pose
   std::map<std::string, long> possible_failures;  // ... those of them that could pass the gate
   std::vector<Calib> calib;
@@ -307,13 +316,17 @@ int main(int argc, char** argv) {
         if (args.calibration) calib.push_back({e.sigma_rotation_rad, rotation, e.sigma_position_m, position});
         if (position > 0.1 || rotation > 0.1) {
           ++wrong;
+          // Dangerous (issue 33): wrong and beyond 3 σ of its own, a wrong
+          // pose the σ does not warn about.
+          const bool beyond_sigma = position > 3 * e.sigma_position_m || rotation > 3 * e.sigma_rotation_rad;
+          dangerous += beyond_sigma;
           if (++config_wrong <= 3) {
             std::printf(
                 "  WRONG config %d %s frame %zu: %.3f m %.3f rad, sigma %.3f m %.3f rad, rms %.2f px, %d LEDs, %d "
-                "blobs, %d visible, %d un-merged%s\n",
+                "blobs, %d visible, %d un-merged%s%s\n",
                 c, std::string(tp::to_string(kind)).c_str(), i, position, rotation, e.sigma_position_m,
                 e.sigma_rotation_rad, e.rms_px, e.points, e.blobs, visible, clear,
-                e.reinitialised ? ", new search" : "");
+                e.reinitialised ? ", new search" : "", beyond_sigma ? ", DANGEROUS (beyond 3 sigma)" : "");
           }
         }
       }
@@ -326,9 +339,9 @@ int main(int argc, char** argv) {
   const double success = usable ? static_cast<double>(ok_usable) / static_cast<double>(usable) : 1.0;
   std::printf(
       "total (%s, %s): %ld frames, %ld ok; %ld with >= 4 LEDs visible and un-merged, of them ok %.4f; "
-      "wrong-ok %ld (%.3f %% of ok)\n",
+      "wrong-ok %ld (%.3f %% of ok), of them beyond 3 sigma (dangerous) %ld\n",
       std::string(tp::to_string(args.profile)).c_str(), args.use_depth ? "depth" : "no depth", total, ok, usable,
-      success, wrong, ok ? 100.0 * static_cast<double>(wrong) / static_cast<double>(ok) : 0.0);
+      success, wrong, ok ? 100.0 * static_cast<double>(wrong) / static_cast<double>(ok) : 0.0, dangerous);
   for (const auto& [why, n] : failures) std::printf("  no pose with >= 4 un-merged LEDs: %-28s %ld\n", why.c_str(), n);
   std::printf(
       "of those, %ld could pass the uncertainty gate (Cramer-Rao bound at %.2f px from the un-merged LEDs), of them "
@@ -340,6 +353,10 @@ int main(int argc, char** argv) {
   bool pass = true;
   if (args.max_wrong_ok >= 0 && wrong > args.max_wrong_ok) {
     std::printf("FAIL: %ld wrong-ok frames > %ld\n", wrong, args.max_wrong_ok);
+    pass = false;
+  }
+  if (args.max_dangerous >= 0 && dangerous > args.max_dangerous) {
+    std::printf("FAIL: %ld dangerous frames > %ld\n", dangerous, args.max_dangerous);
     pass = false;
   }
   if (args.min_success >= 0 && success < args.min_success) {
