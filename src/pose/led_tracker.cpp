@@ -334,8 +334,20 @@ struct LedTracker::Impl {
     const double alpha = options.complete_fit_significance;
     const int n = static_cast<int>(constellation.leds.size());
     if (!(alpha > 0) || !pool_vouches() || points < std::min(options.correspondence.search_min_leds, n)) return false;
-    const double k = fit.degrees_of_freedom;
-    if (!(k > 0) || fit.noise_variance * k / noise_floor() > detail::chi2_quantile(k, 1 - alpha)) return false;
+    // The reprojection χ², each residual in its blob's own variance: the
+    // pooled noise plus the crowding bias the covariance carries.
+    detail::MatchedSet set;
+    detail::gather(constellation, work, led_to_blob, options.correspondence, set);
+    const double k = 2.0 * static_cast<double>(set.n) - 6.0;
+    if (!(k > 0)) return false;
+    const double floor = noise_floor();
+    double chi2 = 0;
+    for (std::size_t i = 0; i < set.n; ++i) {
+      Eigen::Vector2d r;
+      if (!reprojection_residual(pin, fit.T_camera_body, set.p[i], set.uv[i], r, nullptr)) return false;
+      chi2 += r.squaredNorm() / (floor + set.bias[i]);
+    }
+    if (chi2 > detail::chi2_quantile(k, 1 - alpha)) return false;
     const Eigen::Vector3d camera_body = detail::camera_in_body(fit.T_camera_body);
     const double border = options.complete_fit_border_px;
     for (std::size_t i = 0; i < constellation.leds.size(); ++i) {

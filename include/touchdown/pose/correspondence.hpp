@@ -134,7 +134,9 @@ struct CorrespondenceOptions {
   /// to 0.932 but 226 frames are wrong beyond 3 σ (4- and 6-LED boards at
   /// 2–3 m); 0.03 and 0.04 give none. First set from a scan on our own
   /// renderer ("Data it was not tuned to"). With fuse_frames the frame's
-  /// own σ must pass as well as the fused one.
+  /// own σ must pass as well as the fused one. The tracker does not hold a
+  /// tracked fit that explains its whole frame to these limits
+  /// (TrackerOptions::complete_fit_significance).
   double max_sigma_position_m = 0.03;
   double max_sigma_rotation_rad = 0.03;
   /// The limits when an attitude prior is given (LedTracker::track with an
