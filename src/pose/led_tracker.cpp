@@ -92,6 +92,9 @@ struct LedTracker::Impl {
   // LED + 1 per depth + 2 for the attitude − 6. Fixed size: tracking a frame
   // does not allocate.
   std::array<double, 3 * kMaxLeds> noise_bound_factor{};
+  // χ²_k(1 − complete_fit_significance) by k = 2n − 6 (explains_frame; 0 =
+  // not computed yet).
+  std::array<double, 2 * kMaxLeds> complete_chi2_bound{};
   std::size_t noise_next = 0;
   bool tracking = false;
   bool have_velocity = false;
@@ -103,6 +106,9 @@ struct LedTracker::Impl {
   // × the limits: a tracked fit on fewer points than the search accepts
   // may rest on its prediction (try_track()).
   bool last_nearly_precise = false;
+  // Tracked fits settled since the last search's (0: this track's pose
+  // came from the search).
+  int tracked_since_search = 0;
   Eigen::Isometry3d last_pose = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d previous_pose = Eigen::Isometry3d::Identity();
   detail::OptimalMatcher matcher;
@@ -302,14 +308,23 @@ struct LedTracker::Impl {
     // its own: a track on the wrong branch fuses into a confident wrong pose
     // (measured: 14 frames wrong beyond 3 σ with --fuse on the independent
     // renderer's sequences when only the fused σ was tested).
+    // A fit that explains its frame is held to complete_max_sigma_* only
+    // (explains_frame) — from the second tracked frame after a search on:
+    // the first is matched from the search's own pose.
+    tracked_since_search = fresh ? 0 : tracked_since_search + 1;
+    const std::pair<double, double> regular = co.sigma_limits(attitude.active());
     const std::pair<double, double> limits =
-        !fresh && explains_frame(fit, points)
+        tracked_since_search >= 2 && explains_frame(fit, points)
             ? std::pair{options.complete_max_sigma_position_m, options.complete_max_sigma_rotation_rad}
-            : co.sigma_limits(attitude.active());
+            : regular;
     const std::pair<double, double> tested = {std::max(sigma.first, own.first), std::max(sigma.second, own.second)};
-    auto beyond = [&](double f) { return tested.first > f * limits.first || tested.second > f * limits.second; };
-    last_nearly_precise = !beyond(options.few_point_prediction_sigma_factor);
-    if (unconfirmed || beyond(1.0)) {
+    auto beyond = [&](double f, const std::pair<double, double>& l) {
+      return tested.first > f * l.first || tested.second > f * l.second;
+    };
+    // A prediction for a fit on few points comes from a fit near the
+    // regular limits, whether or not this one was held to them.
+    last_nearly_precise = !beyond(options.few_point_prediction_sigma_factor, regular);
+    if (unconfirmed || beyond(1.0, limits)) {
       // The figures that were tested (a fused frame rejected on its own σ
       // shows that σ, not the smaller fused one).
       std::tie(estimate.sigma_position_m, estimate.sigma_rotation_rad) = tested;
@@ -347,7 +362,9 @@ struct LedTracker::Impl {
       if (!reprojection_residual(pin, fit.T_camera_body, set.p[i], set.uv[i], r, nullptr)) return false;
       chi2 += r.squaredNorm() / (floor + set.bias[i]);
     }
-    if (chi2 > detail::chi2_quantile(k, 1 - alpha)) return false;
+    double& bound = complete_chi2_bound.at(static_cast<std::size_t>(k));
+    if (!(bound > 0)) bound = detail::chi2_quantile(k, 1 - alpha);
+    if (chi2 > bound) return false;
     const Eigen::Vector3d camera_body = detail::camera_in_body(fit.T_camera_body);
     const double border = options.complete_fit_border_px;
     for (std::size_t i = 0; i < constellation.leds.size(); ++i) {
@@ -505,6 +522,7 @@ struct LedTracker::Impl {
     have_velocity = false;
     previous_ok = false;
     last_nearly_precise = false;
+    tracked_since_search = 0;
     led_to_blob.fill(-1);
   }
 

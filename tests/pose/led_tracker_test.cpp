@@ -1400,8 +1400,10 @@ TEST(LedTracker, BadAttitudePriorIsRejected) {
 // - the rule off: no Ok frame beyond the limits;
 // - LED 2's blob missing from frame 20 on (in view, unmatched): none beyond
 //   the limits from there;
-// - LED 2's blob 3 px off in frames 25, 30 and 35 (a flash beside it, 10×
-//   the noise): those frames not beyond the limits.
+// - LED 2's blob moved 3 px in frames 25, 30 and 35 (10× the noise: a
+//   wrong blob in the fit): those frames not beyond the limits.
+// In the variants, each frame the rendered run reported beyond the limits
+// is `Uncertain` (held back with its σ, the track kept), not lost.
 TEST(LedTracker, AFitThatExplainsItsFrameIsNotHeldToTheSigmaLimits) {
   const auto k = tp::front_board_constellation();
   const tp::CameraModel camera = d435();
@@ -1451,10 +1453,12 @@ TEST(LedTracker, AFitThatExplainsItsFrameIsNotHeldToTheSigmaLimits) {
     const auto out = run(v);
     for (int f = v == Variant::RuleOff ? 0 : 20; f < 40; ++f) {
       if (v == Variant::Displaced && (f % 5 != 0 || f < 25)) continue;
-      EXPECT_FALSE(beyond_limits(out[static_cast<std::size_t>(f)]))
-          << "variant " << static_cast<int>(v) << ", frame " << f << ": sigma "
-          << out[static_cast<std::size_t>(f)].sigma_position_m << ", "
-          << out[static_cast<std::size_t>(f)].sigma_rotation_rad;
+      const tp::PoseEstimate& e = out[static_cast<std::size_t>(f)];
+      EXPECT_FALSE(beyond_limits(e)) << "variant " << static_cast<int>(v) << ", frame " << f << ": sigma "
+                                     << e.sigma_position_m << ", " << e.sigma_rotation_rad;
+      if (beyond_limits(rendered[static_cast<std::size_t>(f)])) {
+        EXPECT_EQ(e.status, tp::PoseStatus::Uncertain) << "variant " << static_cast<int>(v) << ", frame " << f;
+      }
     }
   }
   std::printf("complete fits beyond the limits: %d (%d from frame 20)\n", lifted, lifted_late);

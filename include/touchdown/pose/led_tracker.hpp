@@ -154,9 +154,9 @@ struct TrackerOptions {
   /// its whole frame is held to the complete_max_sigma_* limits (none by
   /// default) instead of correspondence.sigma_limits, which stay as the
   /// safety net for every other fit. It explains the frame when
-  /// - it is tracked (matched against a prediction of an earlier frame, not
-  ///   a fresh search) and the noise pool vouches (the camera's noise is
-  ///   measured, noise_pool_min_fits);
+  /// - it is tracked, from the second tracked frame after a search on (the
+  ///   first is matched from the search's own pose), and the noise pool
+  ///   vouches (the camera's noise is measured, noise_pool_min_fits);
   /// - it rests on at least min(correspondence.search_min_leds, LEDs) LEDs
   ///   and none of its blobs was split from a larger one;
   /// - every LED the fit puts in front of the camera, shining toward it
@@ -164,18 +164,23 @@ struct TrackerOptions {
   ///   complete_fit_border_px inside the image has a blob of its own — an
   ///   LED in view without one is a merged pair, a drop-out or a wrong
   ///   assignment, none of which the σ covers;
-  /// - its residuals are the camera's noise: σ̂² · dof / (pooled floor) is
-  ///   within the χ²_dof quantile at 1 − complete_fit_significance (a
-  ///   wrong blob in the fit reprojects at many times the noise).
+  /// - its reprojections are the camera's noise: Σ |rᵢ|² / (pooled floor +
+  ///   blob i's crowding bias variance) is within the χ² quantile with
+  ///   2n − 6 degrees of freedom at 1 − complete_fit_significance (a wrong
+  ///   blob in the fit reprojects at many times the noise; depths and the
+  ///   attitude prior, which add degrees of freedom, are left out: the test
+  ///   is the stricter for it).
+  /// A fit held to these limits still gives the next frame's few-point
+  /// rules (few_point_prediction_sigma_factor) only a prediction within
+  /// the regular limits.
   /// Measured (docs/benchmarks.md, "LED pose: a fit that explains its
   /// frame"): the independent renderer's 14 400 frames gain 0.8 % (single)
   /// and 0.5 % (attitude) with no wrong frame; on our own renderer the
   /// fits that lifting the limits let through wrong carried a wrong blob, a
   /// merged pair or a fresh search's pose — the rules above; what is left
-  /// there is 1 frame in 25 600 at 3.06 σ (a true σ's tail). The χ² is of
-  /// the reprojections, each in its blob's variance (the pooled noise plus
-  /// the crowding bias). complete_fit_significance = 0 turns it off (every
-  /// fit within correspondence.sigma_limits).
+  /// there is 1 frame in 25 600 at 3.06 σ (a true σ's tail).
+  /// complete_fit_significance = 0 turns it off (every fit within
+  /// correspondence.sigma_limits).
   double complete_fit_significance = 1e-3;
   double complete_fit_border_px = 5;
   double complete_max_sigma_position_m = std::numeric_limits<double>::infinity();
