@@ -116,7 +116,7 @@ int greedy_match(const PinholeCamera& cam, const Constellation& k, std::span<con
   for (std::size_t l = 0; l < k.leds.size(); ++l) {
     blob_of_led[l] = -1;
     const Eigen::Vector3d q = T * k.leds[l].p_body;
-    if (!(q.z() > 1e-6) || !k.leds[l].emits_toward(camera_body, emission_margin)) continue;
+    if (!faces_camera(k.leds[l], q, camera_body, emission_margin)) continue;
     const Eigen::Vector2d uv = cam.project(q);
     double best = gate2;
     int arg = -1;
@@ -202,7 +202,7 @@ int OptimalMatcher::match(const PinholeCamera& cam, const Constellation& k, std:
   const Eigen::Vector3d camera_body = camera_in_body(T);
   for (std::size_t l = 0; l < n; ++l) {
     const Eigen::Vector3d q = T * k.leds[l].p_body;
-    const bool front = q.z() > 1e-6 && k.leds[l].emits_toward(camera_body, emission_margin);
+    const bool front = faces_camera(k.leds[l], q, camera_body, emission_margin);
     const Eigen::Vector2d uv = front ? cam.project(q) : Eigen::Vector2d::Zero();
     for (std::size_t b = 0; b < cols; ++b) {
       double c = big;

@@ -44,6 +44,13 @@ struct MatchedSet {
 // The camera centre in the body frame.
 Eigen::Vector3d camera_in_body(const Eigen::Isometry3d& T_camera_body);
 
+// An LED at `q` (camera frame) is in front of the camera and shines toward
+// it (`camera_body`: camera_in_body) within `emission_margin` [rad] of its cone.
+inline bool faces_camera(const Led& led, const Eigen::Vector3d& q, const Eigen::Vector3d& camera_body,
+                         double emission_margin) {
+  return q.z() > 1e-6 && led.emits_toward(camera_body, emission_margin);
+}
+
 // True if every LED with a blob in `blob_of_led` shines toward the camera
 // at `T_camera_body`, within `emission_margin` [rad] of its cone.
 bool matched_leds_face_camera(const Constellation& constellation, const std::array<int, kMaxLeds>& blob_of_led,

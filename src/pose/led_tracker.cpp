@@ -106,8 +106,8 @@ struct LedTracker::Impl {
   // × the limits: a tracked fit on fewer points than the search accepts
   // may rest on its prediction (try_track()).
   bool last_nearly_precise = false;
-  // Tracked fits settled since the last search's (0: this track's pose
-  // came from the search).
+  // Tracked fits settled since the last search's, counted up to 2 (0: this
+  // track's pose came from the search).
   int tracked_since_search = 0;
   Eigen::Isometry3d last_pose = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d previous_pose = Eigen::Isometry3d::Identity();
@@ -311,7 +311,7 @@ struct LedTracker::Impl {
     // A fit that explains its frame is held to complete_max_sigma_* only
     // (explains_frame) — from the second tracked frame after a search on:
     // the first is matched from the search's own pose.
-    tracked_since_search = fresh ? 0 : tracked_since_search + 1;
+    tracked_since_search = fresh ? 0 : std::min(tracked_since_search + 1, 2);  // only "2 or more" counts
     const std::pair<double, double> regular = co.sigma_limits(attitude.active());
     const std::pair<double, double> limits =
         tracked_since_search >= 2 && explains_frame(fit, points)
@@ -366,7 +366,6 @@ struct LedTracker::Impl {
     if (!(bound > 0)) bound = detail::chi2_quantile(k, 1 - alpha);
     if (chi2 > bound) return false;
     const Eigen::Vector3d camera_body = detail::camera_in_body(fit.T_camera_body);
-    const double border = options.complete_fit_border_px;
     for (std::size_t i = 0; i < constellation.leds.size(); ++i) {
       if (led_to_blob[i] >= 0) {
         if (work[static_cast<std::size_t>(led_to_blob[i])].split) return false;
@@ -374,11 +373,9 @@ struct LedTracker::Impl {
       }
       const Led& led = constellation.leds[i];
       const Eigen::Vector3d q = fit.T_camera_body * led.p_body;
-      if (!(q.z() > 1e-6) || !led.emits_toward(camera_body, emission_margin)) continue;
-      const Eigen::Vector2d uv = camera.project(q);
-      const bool inside = uv.x() >= border && uv.y() >= border && uv.x() <= camera.width - 1 - border &&
-                          uv.y() <= camera.height - 1 - border;
-      if (inside) return false;  // an LED in view without a blob of its own
+      if (!detail::faces_camera(led, q, camera_body, emission_margin)) continue;
+      // An LED in view without a blob of its own.
+      if (camera.in_image(camera.project(q), options.complete_fit_border_px)) return false;
     }
     return true;
   }
@@ -411,7 +408,7 @@ struct LedTracker::Impl {
         if (j == i || led_to_blob[j] >= 0) continue;
         const Led& other = constellation.leds[j];
         const Eigen::Vector3d q = fit.T_camera_body * other.p_body;
-        if (!(q.z() > 1e-6) || !other.emits_toward(camera_body, emission_margin)) continue;
+        if (!detail::faces_camera(other, q, camera_body, emission_margin)) continue;
         if ((pin.project(q) - b.uv_undistorted).norm() > radius) continue;
         led_to_blob[i] = -1;
         --matched;

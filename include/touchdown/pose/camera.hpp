@@ -41,6 +41,11 @@ struct CameraModel {
   [[nodiscard]] bool has_distortion() const;
   /// Pixel of a camera-frame point, through the distortion model.
   [[nodiscard]] Eigen::Vector2d project(const Eigen::Vector3d& p_camera) const;
+  /// Pixel `uv` lies at least `margin` [px] inside the image (pixel centres
+  /// 0 … width − 1, 0 … height − 1).
+  [[nodiscard]] bool in_image(const Eigen::Vector2d& uv, double margin = 0) const {
+    return uv.x() >= margin && uv.y() >= margin && uv.x() <= width - 1 - margin && uv.y() <= height - 1 - margin;
+  }
   /// Undistorted (pinhole) pixel of a distorted pixel; inverts the
   /// distortion by fixed-point iteration (as OpenCV's undistortPoints).
   [[nodiscard]] Eigen::Vector2d undistort(const Eigen::Vector2d& uv_distorted) const;

@@ -283,9 +283,7 @@ struct SyntheticCamera::Impl {
     return r;
   }
 
-  [[nodiscard]] bool in_image(const Eigen::Vector2d& uv) const {
-    return uv.x() >= 0 && uv.y() >= 0 && uv.x() <= camera.width - 1 && uv.y() <= camera.height - 1;
-  }
+  [[nodiscard]] bool in_image(const Eigen::Vector2d& uv) const { return camera.in_image(uv); }
 
   /// Per-LED properties fixed per seed, and the frame's drop-outs.
   struct LedExtras {

@@ -21,10 +21,7 @@ bool fits(const CameraModel& camera, const Constellation& k, const Eigen::Isomet
     const Eigen::Vector3d p = T * led.p_body;
     if (p.z() < 0.05) return false;
     const Eigen::Vector2d uv = camera.project(p);
-    if (!(uv.x() >= margin && uv.y() >= margin && uv.x() <= camera.width - 1 - margin &&
-          uv.y() <= camera.height - 1 - margin)) {
-      return false;
-    }
+    if (!camera.in_image(uv, margin)) return false;
   }
   return true;
 }
