@@ -119,7 +119,7 @@ double depth_misfit(const Constellation& k, std::span<const Blob> blobs, const s
   std::array<double, kMaxLeds> r{}, s{}, sorted{};
   std::size_t n = 0;
   for (std::size_t l = 0; l < k.leds.size(); ++l) {
-    if (blob_of_led[l] < 0) continue;
+    if (blob_of_led[l] < 0 || partner_of(k, blob_of_led, l) >= 0) continue;  // a merged spot's depth is neither's
     const Blob& b = blobs[static_cast<std::size_t>(blob_of_led[l])];
     if (!b.has_point) continue;
     const double z = (T * k.leds[l].p_body).z();

@@ -19,6 +19,15 @@ constexpr int kMinPoseLeds = 4;  // EPnP and a redundant fit
 // fewer again), all with no wrong-ok.
 constexpr double kMergedAreaRatio = 2;
 
+// The other LED on LED l's blob (a merged spot), or −1.
+int partner_of(const Constellation& k, const std::array<int, kMaxLeds>& blob_of_led, std::size_t l) {
+  if (blob_of_led[l] < 0) return -1;
+  for (std::size_t j = 0; j < k.leds.size(); ++j) {
+    if (j != l && blob_of_led[j] == blob_of_led[l]) return static_cast<int>(j);
+  }
+  return -1;
+}
+
 void gather(const Constellation& k, std::span<const Blob> blobs, const std::array<int, kMaxLeds>& blob_of_led,
             MatchedSet& s, double depth_sigma_k, double pixel_sigma) {
   s.n = 0;
@@ -29,36 +38,52 @@ void gather(const Constellation& k, std::span<const Blob> blobs, const std::arra
   // far larger than the other matched LEDs' (an LED and its reflection or
   // a neighbour joined without a dip between them: the centre lies between
   // the sources), then split ones (their centres pulled by up to a pixel by
-  // the neighbour they were split from).
+  // the neighbour they were split from). A blob two LEDs share is a merge
+  // the tracker found: left out first (the tracker tests it against the
+  // fit: explains_frame), kept only when the others are too few for a
+  // pose, as one point at the LEDs' midpoint (merged_bias); each of its
+  // LEDs counts half its area in the median.
+  std::array<int, kMaxLeds> partner{};
   std::array<double, kMaxLeds> areas{};
   std::size_t n_areas = 0;
   for (std::size_t l = 0; l < k.leds.size(); ++l) {
-    if (blob_of_led[l] >= 0) areas[n_areas++] = blobs[static_cast<std::size_t>(blob_of_led[l])].area;
+    partner[l] = partner_of(k, blob_of_led, l);
+    if (blob_of_led[l] >= 0) {
+      areas[n_areas++] = blobs[static_cast<std::size_t>(blob_of_led[l])].area / (partner[l] >= 0 ? 2.0 : 1.0);
+    }
   }
   const auto mid = areas.begin() + static_cast<std::ptrdiff_t>(n_areas / 2);
   std::nth_element(areas.begin(), mid, areas.begin() + static_cast<std::ptrdiff_t>(n_areas));
   const double oversized = n_areas > 0 ? kMergedAreaRatio * *mid : kInf;
-  int joined = 0, split = 0;
+  int joined = 0, split = 0, merged = 0, points = 0;
   for (std::size_t l = 0; l < k.leds.size(); ++l) {
-    if (blob_of_led[l] < 0) continue;
+    if (blob_of_led[l] < 0 || (partner[l] >= 0 && partner[l] < static_cast<int>(l))) continue;
     const Blob& b = blobs[static_cast<std::size_t>(blob_of_led[l])];
-    joined += b.area > oversized;
-    split += b.area <= oversized && b.split;
+    merged += partner[l] >= 0;
+    const bool is_joined = partner[l] < 0 && b.area > oversized;
+    joined += is_joined;
+    split += !is_joined && partner[l] < 0 && b.split;
+    ++points;
   }
-  const int matched = static_cast<int>(n_areas);
-  const bool skip_joined = matched - joined >= kMinPoseLeds;
-  const bool skip_split = skip_joined && matched - joined - split >= kMinPoseLeds;
+  const bool skip_merged = points - merged >= kMinPoseLeds;
+  const int rest = points - merged * static_cast<int>(skip_merged);
+  const bool skip_joined = rest - joined >= kMinPoseLeds;
+  const bool skip_split = skip_joined && rest - joined - split >= kMinPoseLeds;
   for (std::size_t l = 0; l < k.leds.size(); ++l) {
-    if (blob_of_led[l] < 0) continue;
+    const int other = partner[l];
+    if (blob_of_led[l] < 0 || (other >= 0 && other < static_cast<int>(l))) continue;
     const Blob& b = blobs[static_cast<std::size_t>(blob_of_led[l])];
-    if ((skip_joined && b.area > oversized) || (skip_split && b.split)) continue;
-    s.p[s.n] = k.leds[l].p_body;
+    if (other >= 0 ? skip_merged : (skip_joined && b.area > oversized) || (skip_split && b.split)) continue;
+    s.merged[s.n] = other >= 0;
+    s.p[s.n] = other >= 0 ? (0.5 * (k.leds[l].p_body + k.leds[static_cast<std::size_t>(other)].p_body)).eval()
+                          : k.leds[l].p_body;
     s.uv[s.n] = b.uv_undistorted;
     s.blob[s.n] = blob_of_led[l];
     s.bias[s.n] = 0;
     s.z[s.n] = std::numeric_limits<double>::quiet_NaN();
     s.sigma[s.n] = 1;
-    if (depth_sigma_k >= 0 && b.has_point) {
+    // A merged blob's depth is of neither LED (nor surely of their midpoint).
+    if (depth_sigma_k >= 0 && b.has_point && other < 0) {
       const double z = b.p_camera.z();
       s.z[s.n] = z;
       s.sigma[s.n] = depth_sigma_k * z * z + 0.002;
@@ -87,7 +112,9 @@ void gather(const Constellation& k, std::span<const Blob> blobs, const std::arra
             const CorrespondenceOptions& o, MatchedSet& s) {
   gather(k, blobs, blob_of_led, s, o.fuse_depth ? o.depth_sigma_k : -1.0, o.detection_sigma_px);
   for (std::size_t i = 0; i < s.n; ++i) {
-    s.bias[i] = blob_bias_variance(blobs[static_cast<std::size_t>(s.blob[i])], blobs, o);
+    const Blob& b = blobs[static_cast<std::size_t>(s.blob[i])];
+    s.bias[i] = blob_bias_variance(b, blobs, o);
+    if (s.merged[i]) s.bias[i] += std::pow(o.merged_bias * std::max(1.0, std::sqrt(b.area / std::numbers::pi)), 2);
     s.has_bias |= s.bias[i] > 0;
   }
 }

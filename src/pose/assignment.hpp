@@ -24,6 +24,7 @@ struct MatchedSet {
   std::array<double, kMaxLeds> sigma;  // its 1-σ [m]
   std::array<int, kMaxLeds> blob;      // the blob's index
   std::array<double, kMaxLeds> bias;   // the blob centre's own error variance [px²] (blob_bias_variance)
+  std::array<bool, kMaxLeds> merged;   // two LEDs' merged spot: p is their midpoint
   std::size_t n = 0;
   bool has_bias = false;     // some bias[i] > 0
   std::size_t depths = 0;    // points with a measured depth
@@ -61,14 +62,20 @@ bool matched_leds_face_camera(const Constellation& constellation, const std::arr
 // other blob of `blobs` and b's split flag.
 double blob_bias_variance(const Blob& b, std::span<const Blob> blobs, const CorrespondenceOptions& o);
 
-// Fills `s` with the LEDs that have a blob in `blob_of_led` (−1: none).
+// The other LED whose blob in `blob_of_led` is LED l's (their spots
+// merged), or −1.
+int partner_of(const Constellation& constellation, const std::array<int, kMaxLeds>& blob_of_led, std::size_t l);
+
+// Fills `s` with the LEDs that have a blob in `blob_of_led` (−1: none); two
+// LEDs on one blob (merged spots) give one point at their midpoint.
 // The matched set for a pose fit under `o` (depths fused when o.fuse_depth,
 // each blob's blob_bias_variance).
 void gather(const Constellation& constellation, std::span<const Blob> blobs,
             const std::array<int, kMaxLeds>& blob_of_led, const CorrespondenceOptions& o, MatchedSet& s);
 
 // Depths come from the blobs' 3-D points (Blob::has_point) with 1-σ
-// depth_sigma_k·z² + 2 mm; depth_sigma_k < 0 gathers no depths.
+// depth_sigma_k·z² + 2 mm; depth_sigma_k < 0 gathers no depths. A merged
+// spot is a point only while fewer than 4 other points remain.
 void gather(const Constellation& constellation, std::span<const Blob> blobs,
             const std::array<int, kMaxLeds>& blob_of_led, MatchedSet& s, double depth_sigma_k = -1,
             double pixel_sigma = 0.2);

@@ -314,7 +314,7 @@ struct LedTracker::Impl {
     tracked_since_search = fresh ? 0 : std::min(tracked_since_search + 1, 2);  // only "2 or more" counts
     const std::pair<double, double> regular = co.sigma_limits(attitude.active());
     const std::pair<double, double> limits =
-        tracked_since_search >= 2 && explains_frame(fit, points)
+        tracked_since_search >= 2 && explains_frame(fit)
             ? std::pair{options.complete_max_sigma_position_m, options.complete_max_sigma_rotation_rad}
             : regular;
     const std::pair<double, double> tested = {std::max(sigma.first, own.first), std::max(sigma.second, own.second)};
@@ -343,18 +343,18 @@ struct LedTracker::Impl {
   }
 
   // The fit explains its whole frame (TrackerOptions::complete_fit_significance):
-  // the pool vouches, enough LEDs, none on a split blob, every LED in view
-  // matched, residuals at the pooled noise.
-  bool explains_frame(const PoseRefinement& fit, int points) {
+  // the pool vouches, enough LEDs (a merged spot counts once), none on a
+  // split blob, every LED in view matched (alone or in a merged spot),
+  // residuals at the pooled noise.
+  bool explains_frame(const PoseRefinement& fit) {
     const double alpha = options.complete_fit_significance;
     const int n = static_cast<int>(constellation.leds.size());
-    if (!(alpha > 0) || !pool_vouches() || points < std::min(options.correspondence.search_min_leds, n)) return false;
+    if (!(alpha > 0) || !pool_vouches()) return false;
     // The reprojection χ², each residual in its blob's own variance: the
     // pooled noise plus the crowding bias the covariance carries.
+    const CorrespondenceOptions& co = options.correspondence;
     detail::MatchedSet set;
-    detail::gather(constellation, work, led_to_blob, options.correspondence, set);
-    const double k = 2.0 * static_cast<double>(set.n) - 6.0;
-    if (!(k > 0)) return false;
+    detail::gather(constellation, work, led_to_blob, co, set);
     const double floor = noise_floor();
     double chi2 = 0;
     for (std::size_t i = 0; i < set.n; ++i) {
@@ -362,6 +362,27 @@ struct LedTracker::Impl {
       if (!reprojection_residual(pin, fit.T_camera_body, set.p[i], set.uv[i], r, nullptr)) return false;
       chi2 += r.squaredNorm() / (floor + set.bias[i]);
     }
+    // A merged spot the fit left out: its centre against the LEDs'
+    // midpoint, in its merged_bias (two more degrees of freedom each).
+    int outside = 0;
+    for (std::size_t l = 0; l < constellation.leds.size(); ++l) {
+      const int j = detail::partner_of(constellation, led_to_blob, l);
+      const int b = led_to_blob[l];
+      if (j <= static_cast<int>(l) || std::find(set.blob.begin(), set.blob.begin() + static_cast<std::ptrdiff_t>(set.n), b) !=
+                                           set.blob.begin() + static_cast<std::ptrdiff_t>(set.n)) {
+        continue;
+      }
+      const Blob& blob = work[static_cast<std::size_t>(b)];
+      const Eigen::Vector3d mid = 0.5 * (constellation.leds[l].p_body + constellation.leds[static_cast<std::size_t>(j)].p_body);
+      Eigen::Vector2d r;
+      if (!reprojection_residual(pin, fit.T_camera_body, mid, blob.uv_undistorted, r, nullptr)) return false;
+      const double radius = std::max(1.0, std::sqrt(blob.area / std::numbers::pi));
+      chi2 += r.squaredNorm() / (floor + detail::blob_bias_variance(blob, work, co) + std::pow(co.merged_bias * radius, 2));
+      ++outside;
+    }
+    if (static_cast<int>(set.n) + outside < std::min(options.correspondence.search_min_leds, n)) return false;
+    const double k = 2.0 * static_cast<double>(set.n + outside) - 6.0;
+    if (!(k > 0)) return false;
     double& bound = complete_chi2_bound.at(static_cast<std::size_t>(k));
     if (!(bound > 0)) bound = detail::chi2_quantile(k, 1 - alpha);
     if (chi2 > bound) return false;
@@ -374,58 +395,72 @@ struct LedTracker::Impl {
       const Led& led = constellation.leds[i];
       const Eigen::Vector3d q = fit.T_camera_body * led.p_body;
       if (!detail::faces_camera(led, q, camera_body, emission_margin)) continue;
-      // An LED in view without a blob of its own.
+      // An LED in view without a blob.
       if (camera.in_image(camera.project(q), options.complete_fit_border_px)) return false;
     }
     return true;
   }
 
+  // A blob no LED holds lies within `d` [px] of `uv`: an LED projected
+  // there may have a spot of its own (unmatched: its colour read wrong),
+  // not a share of a merged one.
+  [[nodiscard]] bool spot_of_its_own(const Eigen::Vector2d& uv, double d) const {
+    for (std::size_t b = 0; b < work.size(); ++b) {
+      if ((work[b].uv_undistorted - uv).norm() >= d) continue;
+      if (std::find(led_to_blob.begin(), led_to_blob.begin() + static_cast<std::ptrdiff_t>(constellation.leds.size()),
+                    static_cast<int>(b)) == led_to_blob.begin() + static_cast<std::ptrdiff_t>(constellation.leds.size())) {
+        return true;
+      }
+    }
+    return false;
+  }
+
   // A matched blob that an unmatched LED's reprojection also falls in is
   // the two LEDs merged (seen at range or grazing: their spots touch): its
-  // centre lies between them and belongs to neither, so its LED leaves the
-  // fit (the joined-blob rule in gather() needs the area to show it; two
-  // small spots merged are often not twice a single one). "Falls in":
+  // centre lies between them and belongs to neither. Both LEDs are then
+  // assigned to it (detail::gather: a known merge, left out of the fit
+  // while 4 other points remain, else one point at their midpoint with
+  // merged_bias; explains_frame tests the midpoint against it) — the
+  // joined-blob rule in gather() needs the area to show a merge, and two
+  // small spots merged are often not twice a single one. "Falls in":
   // within 1.5 × the blob's radius √(area/π) (+ shared_blob_margin_px), as
   // the fit, pulled onto the blob by its LED, puts the other LED up to the
-  // spots' separation away (two touching spots: 1.4 merged radii). Only
-  // while the fit keeps correspondence.search_min_leds points: a merged
-  // blob inflates the fit's residuals and so its sigma, and a 4-point fit
-  // without it cannot show its other blobs' errors (2 degrees of freedom
-  // without depth; seen: 0.11 rad wrong at 3 m, a split fragment 1 px off).
-  // Refits (and refills `set`) if any left; returns true then.
-  bool drop_shared_blobs(PoseRefinement& fit, detail::MatchedSet& set) {
+  // spots' separation away (two touching spots: 1.4 merged radii) — and
+  // no unheld blob lies nearer the other LED (spot_of_its_own). A blob
+  // holds at most two LEDs. Refits (and refills `set`) if any merged;
+  // returns true then.
+  bool merge_shared_blobs(PoseRefinement& fit, detail::MatchedSet& set) {
     const CorrespondenceOptions& co = options.correspondence;
     const Eigen::Vector3d camera_body = detail::camera_in_body(fit.T_camera_body);
-    int matched = 0;
-    for (std::size_t i = 0; i < constellation.leds.size(); ++i) matched += led_to_blob[i] >= 0;
     const std::array<int, kMaxLeds> before = led_to_blob;
-    bool dropped = false;
-    for (std::size_t i = 0; i < constellation.leds.size() && matched > co.min_leds; ++i) {
-      if (led_to_blob[i] < 0) continue;
-      const Blob& b = work[static_cast<std::size_t>(led_to_blob[i])];
+    bool merged = false;
+    for (std::size_t i = 0; i < constellation.leds.size(); ++i) {
+      if (before[i] < 0 || detail::partner_of(constellation, led_to_blob, i) >= 0) continue;
+      const Blob& b = work[static_cast<std::size_t>(before[i])];
       const double radius = 1.5 * std::sqrt(b.area / std::numbers::pi) + options.shared_blob_margin_px;
       for (std::size_t j = 0; j < constellation.leds.size(); ++j) {
         if (j == i || led_to_blob[j] >= 0) continue;
         const Led& other = constellation.leds[j];
         const Eigen::Vector3d q = fit.T_camera_body * other.p_body;
         if (!detail::faces_camera(other, q, camera_body, emission_margin)) continue;
-        if ((pin.project(q) - b.uv_undistorted).norm() > radius) continue;
-        led_to_blob[i] = -1;
-        --matched;
-        dropped = true;
+        const Eigen::Vector2d uv = pin.project(q);
+        const double d = (uv - b.uv_undistorted).norm();
+        if (d > radius || spot_of_its_own(uv, d)) continue;
+        led_to_blob[j] = before[i];
+        merged = true;
         break;
       }
     }
-    if (!dropped) return false;
+    if (!merged) return false;
     detail::gather(constellation, work, led_to_blob, co, set);
-    if (set.n < static_cast<std::size_t>(co.search_min_leds)) {
+    const PoseRefinement refit = refine_pose_gauss_newton(pin, set.points(), set.pixels(), fit.T_camera_body, co.refine,
+                                                          set.depth(), attitude, set.biases());
+    if (!refit.ok()) {
       led_to_blob = before;
       detail::gather(constellation, work, led_to_blob, co, set);
       return false;
     }
-    const PoseRefinement refit = refine_pose_gauss_newton(pin, set.points(), set.pixels(), fit.T_camera_body, co.refine,
-                                                          set.depth(), attitude, set.biases());
-    if (refit.ok()) fit = refit;
+    fit = refit;
     return true;
   }
 
@@ -433,8 +468,9 @@ struct LedTracker::Impl {
   // LED's prediction): the fit reprojects far worse than the track's pooled
   // noise (TrackerOptions::outlier_rms_factor), and without one of its
   // blobs it would reproject at least twice better — that blob leaves the
-  // fit (the one whose removal fits best), while search_min_leds remain (as
-  // for a shared blob: fewer points hide a wrong one's pull).
+  // fit (the one whose removal fits best; a merged blob with both its
+  // LEDs), while search_min_leds remain (fewer points hide a wrong one's
+  // pull).
   bool drop_outlier(PoseRefinement& fit, detail::MatchedSet& set) {
     const CorrespondenceOptions& co = options.correspondence;
     if (options.outlier_rms_factor <= 0 || !pool_vouches() || set.n <= static_cast<std::size_t>(co.search_min_leds) ||
@@ -445,9 +481,9 @@ struct LedTracker::Impl {
     PoseRefinement best = fit;
     std::size_t best_led = kMaxLeds;
     for (std::size_t l = 0; l < constellation.leds.size(); ++l) {
-      if (before[l] < 0) continue;
+      if (before[l] < 0 || detail::partner_of(constellation, before, l) > static_cast<int>(l)) continue;
       led_to_blob = before;
-      led_to_blob[l] = -1;
+      leave_blob(before[l]);
       detail::gather(constellation, work, led_to_blob, co, set);
       const PoseRefinement refit = refine_pose_gauss_newton(pin, set.points(), set.pixels(), fit.T_camera_body,
                                                             co.refine, set.depth(), attitude, set.biases());
@@ -459,11 +495,18 @@ struct LedTracker::Impl {
     led_to_blob = before;
     const bool dropped = best_led < kMaxLeds && best.rms_px < 0.5 * fit.rms_px;
     if (dropped) {
-      led_to_blob[best_led] = -1;
+      leave_blob(before[best_led]);
       fit = best;
     }
     detail::gather(constellation, work, led_to_blob, co, set);
     return dropped;
+  }
+
+  // The LEDs on blob b (two if merged) leave the fit.
+  void leave_blob(int b) {
+    for (std::size_t l = 0; l < constellation.leds.size(); ++l) {
+      if (led_to_blob[l] == b) led_to_blob[l] = -1;
+    }
   }
 
   // The pool holds enough tracked fits to stand for this camera's noise.
@@ -572,7 +615,7 @@ struct LedTracker::Impl {
                                    set.depth(), attitude, set.biases());
       if (f2.ok()) fit = f2;
     }
-    if (options.shared_blob_margin_px >= 0) drop_shared_blobs(fit, set);
+    if (options.shared_blob_margin_px >= 0) merge_shared_blobs(fit, set);
     drop_outlier(fit, set);
     if (fit.rms_px > options.reinit_rms_px) return false;
     // Four LEDs of a larger constellation leave two residual degrees of
@@ -652,7 +695,7 @@ struct LedTracker::Impl {
     PoseRefinement fit = c.fit;
     int matched = c.matched;
     detail::MatchedSet set;
-    if (options.shared_blob_margin_px >= 0 && drop_shared_blobs(fit, set)) {
+    if (options.shared_blob_margin_px >= 0 && merge_shared_blobs(fit, set)) {
       const PoseStatus verdict = detail::vet_fit(pin, constellation, shape, work, led_to_blob, fit, nullptr,
                                                  options.correspondence.accept_rms_px, judging_options(), attitude);
       if (verdict != PoseStatus::Ok && verdict != PoseStatus::Uncertain) {

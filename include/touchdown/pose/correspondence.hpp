@@ -91,6 +91,14 @@ struct CorrespondenceOptions {
   /// A blob split from a larger one (Blob::split; its neighbour's glow
   /// pulls it by up to a pixel) has a bias of at least split_bias · r.
   double split_bias = 0.25;
+  /// One blob that holds two LEDs' spots (the tracker assigns both LEDs to
+  /// it: their spots touch at range or grazing) is fitted as the two LEDs'
+  /// midpoint, with a bias of merged_bias · r (r of the merged blob): its
+  /// centre is the spots' brightness-weighted mean, and the two LEDs'
+  /// brightness differs (emission angle, halo), so the mean lies off the
+  /// midpoint along the line between them (docs/benchmarks.md, "LED pose:
+  /// a merged spot").
+  double merged_bias = 0.3;
   /// A branch whose Σ squared reprojection error exceeds the other's by more
   /// than this × detection_sigma_px² is ruled out (χ², 3σ = 9).
   double branch_chi2 = 9.0;

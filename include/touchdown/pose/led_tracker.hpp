@@ -141,9 +141,11 @@ struct TrackerOptions {
   /// 3.7 σ̂²). 0 = off (the point estimate).
   double unpooled_noise_confidence = 0.95;
   /// A matched blob within 1.5 × its radius √(area/π) + this [px] of an
-  /// unmatched, facing LED's reprojection is the two LEDs merged and leaves
-  /// the fit, as long as the fit keeps correspondence.search_min_leds
-  /// points. < 0 = off.
+  /// unmatched, facing LED's reprojection (and no unmatched blob nearer to
+  /// it) is the two LEDs' spots merged: both LEDs hold it (led_to_blob()),
+  /// it leaves the fit while 4 other points remain (else it is one point
+  /// at the LEDs' midpoint, CorrespondenceOptions::merged_bias), and a fit
+  /// that explains its frame must reproject that midpoint onto it. < 0 = off.
   double shared_blob_margin_px = 0.5;
   /// [px] the pooled floor's lower bound: about the best a centroid of an
   /// 8-bit spot can do; the pool's median is what counts above it (docs/benchmarks.md,
@@ -229,6 +231,8 @@ class LedTracker {
   [[nodiscard]] const PoseEstimate& last() const;
   /// The blobs of the last frame after gating (indices used by led_to_blob()).
   [[nodiscard]] const std::vector<Blob>& blobs() const;
+  /// Each LED's blob in blobs() (−1: none); two LEDs whose spots merged hold
+  /// the same blob.
   [[nodiscard]] const std::array<int, kMaxLeds>& led_to_blob() const;
 
  private:
