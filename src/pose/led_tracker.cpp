@@ -365,19 +365,19 @@ struct LedTracker::Impl {
     // A merged spot the fit left out: its centre against the LEDs'
     // midpoint, in its merged_bias (two more degrees of freedom each).
     int outside = 0;
+    const auto fitted_end = set.blob.begin() + static_cast<std::ptrdiff_t>(set.n);
     for (std::size_t l = 0; l < constellation.leds.size(); ++l) {
       const int j = detail::partner_of(constellation, led_to_blob, l);
       const int b = led_to_blob[l];
-      if (j <= static_cast<int>(l) || std::find(set.blob.begin(), set.blob.begin() + static_cast<std::ptrdiff_t>(set.n), b) !=
-                                           set.blob.begin() + static_cast<std::ptrdiff_t>(set.n)) {
-        continue;
-      }
+      if (j <= static_cast<int>(l) || std::find(set.blob.begin(), fitted_end, b) != fitted_end) continue;
       const Blob& blob = work[static_cast<std::size_t>(b)];
-      const Eigen::Vector3d mid = 0.5 * (constellation.leds[l].p_body + constellation.leds[static_cast<std::size_t>(j)].p_body);
+      const Eigen::Vector3d mid =
+          0.5 * (constellation.leds[l].p_body + constellation.leds[static_cast<std::size_t>(j)].p_body);
       Eigen::Vector2d r;
       if (!reprojection_residual(pin, fit.T_camera_body, mid, blob.uv_undistorted, r, nullptr)) return false;
       const double radius = std::max(1.0, std::sqrt(blob.area / std::numbers::pi));
-      chi2 += r.squaredNorm() / (floor + detail::blob_bias_variance(blob, work, co) + std::pow(co.merged_bias * radius, 2));
+      chi2 +=
+          r.squaredNorm() / (floor + detail::blob_bias_variance(blob, work, co) + std::pow(co.merged_bias * radius, 2));
       ++outside;
     }
     if (static_cast<int>(set.n) + outside < std::min(options.correspondence.search_min_leds, n)) return false;
@@ -405,30 +405,16 @@ struct LedTracker::Impl {
   // there may have a spot of its own (unmatched: its colour read wrong),
   // not a share of a merged one.
   [[nodiscard]] bool spot_of_its_own(const Eigen::Vector2d& uv, double d) const {
+    const auto held_end = led_to_blob.begin() + static_cast<std::ptrdiff_t>(constellation.leds.size());
     for (std::size_t b = 0; b < work.size(); ++b) {
-      if ((work[b].uv_undistorted - uv).norm() >= d) continue;
-      if (std::find(led_to_blob.begin(), led_to_blob.begin() + static_cast<std::ptrdiff_t>(constellation.leds.size()),
-                    static_cast<int>(b)) == led_to_blob.begin() + static_cast<std::ptrdiff_t>(constellation.leds.size())) {
+      if ((work[b].uv_undistorted - uv).norm() < d &&
+          std::find(led_to_blob.begin(), held_end, static_cast<int>(b)) == held_end) {
         return true;
       }
     }
     return false;
   }
 
-  // A matched blob that an unmatched LED's reprojection also falls in is
-  // the two LEDs merged (seen at range or grazing: their spots touch): its
-  // centre lies between them and belongs to neither. Both LEDs are then
-  // assigned to it (detail::gather: a known merge, left out of the fit
-  // while 4 other points remain, else one point at their midpoint with
-  // merged_bias; explains_frame tests the midpoint against it) — the
-  // joined-blob rule in gather() needs the area to show a merge, and two
-  // small spots merged are often not twice a single one. "Falls in":
-  // within 1.5 × the blob's radius √(area/π) (+ shared_blob_margin_px), as
-  // the fit, pulled onto the blob by its LED, puts the other LED up to the
-  // spots' separation away (two touching spots: 1.4 merged radii) — and
-  // no unheld blob lies nearer the other LED (spot_of_its_own). A blob
-  // holds at most two LEDs. Refits (and refills `set`) if any merged;
-  // returns true then.
   bool merge_shared_blobs(PoseRefinement& fit, detail::MatchedSet& set) {
     const CorrespondenceOptions& co = options.correspondence;
     const Eigen::Vector3d camera_body = detail::camera_in_body(fit.T_camera_body);

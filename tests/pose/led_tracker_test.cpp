@@ -501,7 +501,7 @@ TEST(LedTracker, BlobTwoLedsShareIsMergedAndStaysOutOfTheFit) {
       ++ok;
       worst = std::max(worst, rotation_error(e.T_camera_body, T));
       if (margin < 0) continue;
-      EXPECT_EQ(e.points, 5) << f;  // the merged blob is out of the fit
+      EXPECT_EQ(e.points, 5) << f;                       // the merged blob is out of the fit
       for (std::size_t l = 0; l < k.leds.size(); ++l) {  // and held by the two LEDs merged in it
         const int b = tracker.led_to_blob()[l];
         EXPECT_GE(b, 0) << f << " LED " << l;
@@ -1462,4 +1462,83 @@ TEST(LedTracker, AFitThatExplainsItsFrameIsNotHeldToTheSigmaLimits) {
     }
   }
   std::printf("complete fits beyond the limits: %d (%d from frame 20)\n", lifted, lifted_late);
+}
+
+// Two LEDs' spots merged into one blob (far, or seen grazing): both LEDs
+// hold the blob, it stays out of the fit, and a fit that explains its frame
+// must put the LEDs' midpoint on it — then the far frames are reported with
+// their σ (each within 3 σ); a spot too far from the other LED is no
+// merge, and lifts no frame past the limits.
+TEST(LedTracker, AMergedSpotIsExplainedByItsTwoLedsMidpoint) {
+  const auto k = tp::front_board_constellation();
+  const tp::CameraModel camera = d435();
+  const auto cam = camera.pinhole();
+  touchdown::Rng pose_rng(53);
+  const Eigen::Isometry3d far = front_toward_camera(pose_rng, 3.6);
+  auto pose = [&](int f) {
+    Eigen::Isometry3d T = far;
+    const double s = f / 39.0;
+    T.translation() = far.translation() * s + Eigen::Vector3d(0.02, -0.01, 1.0) * (1 - s);
+    return T;
+  };
+  // The two LEDs nearest each other in the image at the far end.
+  std::size_t a = 0, b = 1;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < k.leds.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      const double d = (cam.project(far * k.leds[i].p_body) - cam.project(far * k.leds[j].p_body)).norm();
+      if (d < nearest) {
+        nearest = d;
+        a = j;
+        b = i;
+      }
+    }
+  }
+  auto run = [&](double across_radii) {
+    tp::LedTracker tracker(camera, k, tp::TrackerOptions{});
+    touchdown::Rng rng(59);
+    std::vector<tp::PoseEstimate> out;
+    int held_by_both = 0;
+    for (int f = 0; f < 40; ++f) {
+      auto blobs = blobs_of(k, cam, pose(f), rng, 0.1);
+      if (f >= 20) {  // one spot holding both: each LED 0.6 radii from its centre (at the midpoint)
+        tp::Blob& m = blobs[a];
+        const Eigen::Vector2d d = blobs[b].uv_undistorted - m.uv_undistorted;
+        const double r = std::max(2.0, 0.5 * d.norm() / 0.6);
+        m.uv_undistorted += 0.5 * d + across_radii * r * Eigen::Vector2d(-d.y(), d.x()).normalized();
+        m.uv_px = m.uv_undistorted;
+        m.area = M_PI * r * r;
+        blobs.erase(blobs.begin() + static_cast<std::ptrdiff_t>(b));
+      }
+      out.push_back(tracker.track_blobs(blobs));
+      const auto& l2b = tracker.led_to_blob();
+      held_by_both += f >= 20 && l2b[a] >= 0 && l2b[a] == l2b[b];
+    }
+    return std::pair{out, held_by_both};
+  };
+  auto beyond_limits = [](const tp::PoseEstimate& e) {
+    return e.ok() && (e.sigma_position_m > 0.03 || e.sigma_rotation_rad > 0.03);
+  };
+  const auto [merged, held] = run(0.0);
+  EXPECT_GE(held, 15);  // the tracker assigns both LEDs to the merged spot
+  int lifted = 0;
+  for (int f = 20; f < 40; ++f) {
+    const tp::PoseEstimate& e = merged[static_cast<std::size_t>(f)];
+    if (!e.ok()) continue;
+    const Eigen::Isometry3d T = pose(f);
+    const double dp = (e.T_camera_body.translation() - T.translation()).norm();
+    const double dr = rotation_error(e.T_camera_body, T);
+    EXPECT_TRUE(dp <= 3 * e.sigma_position_m && dr <= 3 * e.sigma_rotation_rad)
+        << f << ": " << dp << " m, " << dr << " rad off, sigma " << e.sigma_position_m << ", " << e.sigma_rotation_rad;
+    lifted += beyond_limits(e);
+  }
+  EXPECT_GE(lifted, 5);  // the far frames, reported with their σ
+  // 3 radii across the line between the LEDs: too far from the other LED
+  // to be its share — that LED is in view without a blob.
+  const auto [far_off, held_far] = run(3.0);
+  EXPECT_EQ(held_far, 0);
+  for (int f = 20; f < 40; ++f) {
+    EXPECT_FALSE(beyond_limits(far_off[static_cast<std::size_t>(f)])) << "3 radii off, frame " << f;
+  }
+  std::printf("merged spot: held by both LEDs in %d frames, %d far frames beyond the limits\n", held, lifted);
 }

@@ -165,7 +165,8 @@ PoseBenchmarkResult run_pose_benchmark(const PoseBenchmarkOptions& o) {
           std::vector<cv::Point2d> img;
           for (std::size_t l = 0; l < k.leds.size(); ++l) {
             const int b = tracker.led_to_blob()[l];
-            if (b < 0 || std::count(tracker.led_to_blob().begin(), tracker.led_to_blob().end(), b) > 1) continue;
+            const auto held = tracker.led_to_blob().begin() + static_cast<std::ptrdiff_t>(k.leds.size());
+            if (b < 0 || std::count(tracker.led_to_blob().begin(), held, b) > 1) continue;  // a merged spot
             p.push_back(k.leds[l].p_body);
             uv.push_back(tracker.blobs()[static_cast<std::size_t>(b)].uv_undistorted);
             obj.emplace_back(p.back().x(), p.back().y(), p.back().z());
