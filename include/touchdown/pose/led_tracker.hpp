@@ -159,12 +159,14 @@ struct TrackerOptions {
   /// - it is tracked, from the second tracked frame after a search on (the
   ///   first is matched from the search's own pose), and the noise pool
   ///   vouches (the camera's noise is measured, noise_pool_min_fits);
-  /// - it rests on at least min(correspondence.search_min_leds, LEDs) LEDs
-  ///   and none of its blobs was split from a larger one;
+  /// - it rests on at least min(correspondence.search_min_leds, LEDs)
+  ///   points (a merged spot, shared_blob_margin_px, counts as one) and
+  ///   none of its blobs was split from a larger one;
   /// - every LED the fit puts in front of the camera, shining toward it
   ///   (emission cone + correspondence.emission_margin_deg) and at least
-  ///   complete_fit_border_px inside the image has a blob of its own — an
-  ///   LED in view without one is a merged pair, a drop-out or a wrong
+  ///   complete_fit_border_px inside the image has a blob, its own or a
+  ///   merged spot's whose centre the two LEDs' midpoint explains — an LED
+  ///   in view without one is a drop-out, an unmodelled merge or a wrong
   ///   assignment, none of which the σ covers;
   /// - its reprojections are the camera's noise: Σ |rᵢ|² / (pooled floor +
   ///   blob i's crowding bias variance) is within the χ² quantile with
