@@ -343,8 +343,9 @@ struct LedTracker::Impl {
   }
 
   // The fit explains its whole frame (TrackerOptions::complete_fit_significance):
-  // the pool vouches, enough LEDs (a merged spot counts once), none on a
-  // split blob, every LED in view matched (alone or in a merged spot),
+  // the pool vouches, enough points in the fit (a merged spot outside it
+  // does not count), none on a split blob, every LED in view matched (alone
+  // or in a merged spot whose centre the LEDs' midpoint explains),
   // residuals at the pooled noise.
   bool explains_frame(const PoseRefinement& fit) {
     const double alpha = options.complete_fit_significance;
@@ -355,6 +356,10 @@ struct LedTracker::Impl {
     const CorrespondenceOptions& co = options.correspondence;
     detail::MatchedSet set;
     detail::gather(constellation, work, led_to_blob, co, set);
+    // A merged spot outside the fit is checked below, but the fit itself
+    // must rest on enough points: the spot's midpoint is a loose constraint
+    // (merged_bias), and a 4-point fit has two redundant measurements only.
+    if (static_cast<int>(set.n) < std::min(co.search_min_leds, n)) return false;
     const double floor = noise_floor();
     double chi2 = 0;
     for (std::size_t i = 0; i < set.n; ++i) {
@@ -380,7 +385,6 @@ struct LedTracker::Impl {
           r.squaredNorm() / (floor + detail::blob_bias_variance(blob, work, co) + std::pow(co.merged_bias * radius, 2));
       ++outside;
     }
-    if (static_cast<int>(set.n) + outside < std::min(options.correspondence.search_min_leds, n)) return false;
     const double k = 2.0 * static_cast<double>(set.n + outside) - 6.0;
     if (!(k > 0)) return false;
     double& bound = complete_chi2_bound.at(static_cast<std::size_t>(k));

@@ -1466,11 +1466,15 @@ TEST(LedTracker, AFitThatExplainsItsFrameIsNotHeldToTheSigmaLimits) {
 
 // Two LEDs' spots merged into one blob (far, or seen grazing): both LEDs
 // hold the blob, it stays out of the fit, and a fit that explains its frame
-// must put the LEDs' midpoint on it — then the far frames are reported with
-// their σ (each within 3 σ); a spot too far from the other LED is no
-// merge, and lifts no frame past the limits.
+// must put the LEDs' midpoint on it — then the far frames of a 7-LED board
+// (five points in the fit) are reported with their σ (each within 3 σ).
+// The 6-LED board's fit keeps four points: not enough to explain a frame
+// (the midpoint is a loose check), so no frame is lifted past the limits;
+// nor where the spot lies too far from the other LED to be a merge.
 TEST(LedTracker, AMergedSpotIsExplainedByItsTwoLedsMidpoint) {
-  const auto k = tp::front_board_constellation();
+  const auto six = tp::front_board_constellation();
+  auto k = six;
+  k.leds.push_back({Eigen::Vector3d(0.13, 0.0, -0.03), tp::LedColor::Green});  // a seventh, mid-board
   const tp::CameraModel camera = d435();
   const auto cam = camera.pinhole();
   touchdown::Rng pose_rng(53);
@@ -1481,10 +1485,10 @@ TEST(LedTracker, AMergedSpotIsExplainedByItsTwoLedsMidpoint) {
     T.translation() = far.translation() * s + Eigen::Vector3d(0.02, -0.01, 1.0) * (1 - s);
     return T;
   };
-  // The two LEDs nearest each other in the image at the far end.
+  // The two LEDs of the six nearest each other in the image at the far end.
   std::size_t a = 0, b = 1;
   double nearest = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < k.leds.size(); ++i) {
+  for (std::size_t i = 0; i < six.leds.size(); ++i) {
     for (std::size_t j = 0; j < i; ++j) {
       const double d = (cam.project(far * k.leds[i].p_body) - cam.project(far * k.leds[j].p_body)).norm();
       if (d < nearest) {
@@ -1494,13 +1498,13 @@ TEST(LedTracker, AMergedSpotIsExplainedByItsTwoLedsMidpoint) {
       }
     }
   }
-  auto run = [&](double across_radii) {
-    tp::LedTracker tracker(camera, k, tp::TrackerOptions{});
+  auto run = [&](const tp::Constellation& board, double across_radii) {
+    tp::LedTracker tracker(camera, board, tp::TrackerOptions{});
     touchdown::Rng rng(59);
     std::vector<tp::PoseEstimate> out;
     int held_by_both = 0;
     for (int f = 0; f < 40; ++f) {
-      auto blobs = blobs_of(k, cam, pose(f), rng, 0.1);
+      auto blobs = blobs_of(board, cam, pose(f), rng, 0.1);
       if (f >= 20) {  // one spot holding both: each LED 0.6 radii from its centre (at the midpoint)
         tp::Blob& m = blobs[a];
         const Eigen::Vector2d d = blobs[b].uv_undistorted - m.uv_undistorted;
@@ -1519,7 +1523,7 @@ TEST(LedTracker, AMergedSpotIsExplainedByItsTwoLedsMidpoint) {
   auto beyond_limits = [](const tp::PoseEstimate& e) {
     return e.ok() && (e.sigma_position_m > 0.03 || e.sigma_rotation_rad > 0.03);
   };
-  const auto [merged, held] = run(0.0);
+  const auto [merged, held] = run(k, 0.0);
   EXPECT_GE(held, 15);  // the tracker assigns both LEDs to the merged spot
   int lifted = 0;
   for (int f = 20; f < 40; ++f) {
@@ -1535,10 +1539,13 @@ TEST(LedTracker, AMergedSpotIsExplainedByItsTwoLedsMidpoint) {
   EXPECT_GE(lifted, 5);  // the far frames, reported with their σ
   // 3 radii across the line between the LEDs: too far from the other LED
   // to be its share — that LED is in view without a blob.
-  const auto [far_off, held_far] = run(3.0);
+  const auto [far_off, held_far] = run(k, 3.0);
   EXPECT_EQ(held_far, 0);
+  const auto [four, held_four] = run(six, 0.0);
+  EXPECT_GE(held_four, 15);
   for (int f = 20; f < 40; ++f) {
     EXPECT_FALSE(beyond_limits(far_off[static_cast<std::size_t>(f)])) << "3 radii off, frame " << f;
+    EXPECT_FALSE(beyond_limits(four[static_cast<std::size_t>(f)])) << "six LEDs, frame " << f;
   }
   std::printf("merged spot: held by both LEDs in %d frames, %d far frames beyond the limits\n", held, lifted);
 }

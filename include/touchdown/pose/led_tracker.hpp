@@ -160,8 +160,8 @@ struct TrackerOptions {
   ///   first is matched from the search's own pose), and the noise pool
   ///   vouches (the camera's noise is measured, noise_pool_min_fits);
   /// - it rests on at least min(correspondence.search_min_leds, LEDs)
-  ///   points (a merged spot, shared_blob_margin_px, counts as one) and
-  ///   none of its blobs was split from a larger one;
+  ///   points (a merged spot left out of it, shared_blob_margin_px, does
+  ///   not count) and none of its blobs was split from a larger one;
   /// - every LED the fit puts in front of the camera, shining toward it
   ///   (emission cone + correspondence.emission_margin_deg) and at least
   ///   complete_fit_border_px inside the image has a blob, its own or a
