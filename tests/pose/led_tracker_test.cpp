@@ -1390,6 +1390,17 @@ TEST(LedTracker, BadAttitudePriorIsRejected) {
   EXPECT_THROW(tracker.track_blobs(blobs, prior), touchdown::InvalidArgument);
 }
 
+namespace {
+// Frame f of 40 of a board receding from 1 m in front of the camera to
+// `far` (same attitude throughout).
+Eigen::Isometry3d receding_to(const Eigen::Isometry3d& far, int f) {
+  Eigen::Isometry3d T = far;
+  const double s = f / 39.0;
+  T.translation() = far.translation() * s + Eigen::Vector3d(0.02, -0.01, 1.0) * (1 - s);
+  return T;
+}
+}  // namespace
+
 // "Ok means unimodal" (issue 33, item 1): a tracked fit that explains its
 // whole frame — every LED in view on a blob of its own, residuals at the
 // track's pooled noise — is reported with the σ it has, beyond the 0.03
@@ -1410,12 +1421,7 @@ TEST(LedTracker, AFitThatExplainsItsFrameIsNotHeldToTheSigmaLimits) {
   const auto cam = camera.pinhole();
   touchdown::Rng pose_rng(53);
   const Eigen::Isometry3d far = front_toward_camera(pose_rng, 3.6);
-  auto pose = [&](int f) {
-    Eigen::Isometry3d T = far;
-    const double s = f / 39.0;
-    T.translation() = far.translation() * s + Eigen::Vector3d(0.02, -0.01, 1.0) * (1 - s);
-    return T;
-  };
+  auto pose = [&](int f) { return receding_to(far, f); };
   enum class Variant { AsRendered, RuleOff, Missing, Displaced };
   auto run = [&](Variant v) {
     tp::TrackerOptions o;
@@ -1479,12 +1485,7 @@ TEST(LedTracker, AMergedSpotIsExplainedByItsTwoLedsMidpoint) {
   const auto cam = camera.pinhole();
   touchdown::Rng pose_rng(53);
   const Eigen::Isometry3d far = front_toward_camera(pose_rng, 3.6);
-  auto pose = [&](int f) {
-    Eigen::Isometry3d T = far;
-    const double s = f / 39.0;
-    T.translation() = far.translation() * s + Eigen::Vector3d(0.02, -0.01, 1.0) * (1 - s);
-    return T;
-  };
+  auto pose = [&](int f) { return receding_to(far, f); };
   // The two LEDs of the six nearest each other in the image at the far end.
   std::size_t a = 0, b = 1;
   double nearest = std::numeric_limits<double>::infinity();
