@@ -93,7 +93,8 @@ void gather(const Constellation& k, std::span<const Blob> blobs, const std::arra
   }
 }
 
-double blob_bias_variance(const Blob& b, std::span<const Blob> blobs, const CorrespondenceOptions& o) {
+double blob_bias_variance(const Blob& b, std::span<const Blob> blobs, const CorrespondenceOptions& o,
+                          double noise_variance) {
   const double r = std::max(1.0, std::sqrt(b.area / std::numbers::pi));
   double nearest2 = kInf;
   for (const Blob& other : blobs) {
@@ -105,15 +106,21 @@ double blob_bias_variance(const Blob& b, std::span<const Blob> blobs, const Corr
   const double f = q >= o.crowded_radii ? 0.0 : std::pow(std::min(1.0, (o.crowded_radii - q) / half), 2);
   double sigma = o.crowded_bias_px * f;
   if (b.split) sigma = std::max(sigma, o.split_bias * r);
-  return sigma * sigma;
+  const double small = o.small_blob_sigma_px3 / std::max(1.0, b.area);
+  return sigma * sigma + std::max(0.0, small * small - noise_variance);
 }
 
 void gather(const Constellation& k, std::span<const Blob> blobs, const std::array<int, kMaxLeds>& blob_of_led,
             const CorrespondenceOptions& o, MatchedSet& s) {
+  gather(k, blobs, blob_of_led, o, s, o.detection_sigma_px * o.detection_sigma_px);
+}
+
+void gather(const Constellation& k, std::span<const Blob> blobs, const std::array<int, kMaxLeds>& blob_of_led,
+            const CorrespondenceOptions& o, MatchedSet& s, double noise_variance) {
   gather(k, blobs, blob_of_led, s, o.fuse_depth ? o.depth_sigma_k : -1.0, o.detection_sigma_px);
   for (std::size_t i = 0; i < s.n; ++i) {
     const Blob& b = blobs[static_cast<std::size_t>(s.blob[i])];
-    s.bias[i] = blob_bias_variance(b, blobs, o);
+    s.bias[i] = blob_bias_variance(b, blobs, o, noise_variance);
     if (s.merged[i]) s.bias[i] += std::pow(o.merged_bias * std::max(1.0, std::sqrt(b.area / std::numbers::pi)), 2);
     s.has_bias |= s.bias[i] > 0;
   }

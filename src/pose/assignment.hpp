@@ -59,8 +59,11 @@ bool matched_leds_face_camera(const Constellation& constellation, const std::arr
 
 // The variance [px²] of blob b's centre error of its own under o's
 // crowding model (CorrespondenceOptions::crowded_bias_px): from the nearest
-// other blob of `blobs` and b's split flag.
-double blob_bias_variance(const Blob& b, std::span<const Blob> blobs, const CorrespondenceOptions& o);
+// other blob of `blobs` and b's split flag; plus a small spot's error above
+// `noise_variance`, the pixel noise the fit is judged by
+// (CorrespondenceOptions::small_blob_sigma_px3).
+double blob_bias_variance(const Blob& b, std::span<const Blob> blobs, const CorrespondenceOptions& o,
+                          double noise_variance);
 
 // The other LED whose blob in `blob_of_led` is LED l's (their spots
 // merged), or −1.
@@ -69,9 +72,13 @@ int partner_of(const Constellation& constellation, const std::array<int, kMaxLed
 // Fills `s` with the LEDs that have a blob in `blob_of_led` (−1: none); two
 // LEDs on one blob (merged spots) give one point at their midpoint.
 // The matched set for a pose fit under `o` (depths fused when o.fuse_depth,
-// each blob's blob_bias_variance).
+// each blob's blob_bias_variance above `noise_variance` [px²]; without it,
+// above o.detection_sigma_px²).
 void gather(const Constellation& constellation, std::span<const Blob> blobs,
             const std::array<int, kMaxLeds>& blob_of_led, const CorrespondenceOptions& o, MatchedSet& s);
+void gather(const Constellation& constellation, std::span<const Blob> blobs,
+            const std::array<int, kMaxLeds>& blob_of_led, const CorrespondenceOptions& o, MatchedSet& s,
+            double noise_variance);
 
 // Depths come from the blobs' 3-D points (Blob::has_point) with 1-σ
 // depth_sigma_k·z² + 2 mm; depth_sigma_k < 0 gathers no depths. A merged

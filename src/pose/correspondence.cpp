@@ -44,6 +44,9 @@ bool CorrespondenceOptions::validate(std::string* why) const {
   }
   if (!(split_bias >= 0) || !std::isfinite(split_bias)) return fail("split_bias: must be >= 0");
   if (!(merged_bias > 0) || !std::isfinite(merged_bias)) return fail("merged_bias: must be positive");
+  if (!(small_blob_sigma_px3 >= 0) || !std::isfinite(small_blob_sigma_px3)) {
+    return fail("small_blob_sigma_px3: must be >= 0 (0 = off)");
+  }
   if (!(branch_chi2 > 0) || !std::isfinite(branch_chi2)) return fail("branch_chi2: must be positive");
   if (!(depth_sigma_k >= 0) || !std::isfinite(depth_sigma_k)) return fail("depth_sigma_k: must be >= 0");
   if (!(max_sigma_position_m > 0)) return fail("max_sigma_position_m: must be positive");

@@ -355,7 +355,7 @@ struct LedTracker::Impl {
     // pooled noise plus the crowding bias the covariance carries.
     const CorrespondenceOptions& co = options.correspondence;
     detail::MatchedSet set;
-    detail::gather(constellation, work, led_to_blob, co, set);
+    gather_matched(set);
     // A merged spot outside the fit is checked below, but the fit itself
     // must rest on enough points: the spot's midpoint is a loose constraint
     // (merged_bias), and a 4-point fit has two redundant measurements only.
@@ -381,8 +381,8 @@ struct LedTracker::Impl {
       Eigen::Vector2d r;
       if (!reprojection_residual(pin, fit.T_camera_body, mid, blob.uv_undistorted, r, nullptr)) return false;
       const double radius = std::max(1.0, std::sqrt(blob.area / std::numbers::pi));
-      chi2 +=
-          r.squaredNorm() / (floor + detail::blob_bias_variance(blob, work, co) + std::pow(co.merged_bias * radius, 2));
+      chi2 += r.squaredNorm() /
+              (floor + detail::blob_bias_variance(blob, work, co, floor) + std::pow(co.merged_bias * radius, 2));
       ++outside;
     }
     const double k = 2.0 * static_cast<double>(set.n + outside) - 6.0;
@@ -442,12 +442,12 @@ struct LedTracker::Impl {
       }
     }
     if (!merged) return false;
-    detail::gather(constellation, work, led_to_blob, co, set);
+    gather_matched(set);
     const PoseRefinement refit = refine_pose_gauss_newton(pin, set.points(), set.pixels(), fit.T_camera_body, co.refine,
                                                           set.depth(), attitude, set.biases());
     if (!refit.ok()) {
       led_to_blob = before;
-      detail::gather(constellation, work, led_to_blob, co, set);
+      gather_matched(set);
       return false;
     }
     fit = refit;
@@ -474,7 +474,7 @@ struct LedTracker::Impl {
       if (before[l] < 0 || detail::partner_of(constellation, before, l) > static_cast<int>(l)) continue;
       led_to_blob = before;
       leave_blob(before[l]);
-      detail::gather(constellation, work, led_to_blob, co, set);
+      gather_matched(set);
       const PoseRefinement refit = refine_pose_gauss_newton(pin, set.points(), set.pixels(), fit.T_camera_body,
                                                             co.refine, set.depth(), attitude, set.biases());
       if (refit.ok() && refit.rms_px < best.rms_px) {
@@ -488,7 +488,7 @@ struct LedTracker::Impl {
       leave_blob(before[best_led]);
       fit = best;
     }
-    detail::gather(constellation, work, led_to_blob, co, set);
+    gather_matched(set);
     return dropped;
   }
 
@@ -515,6 +515,13 @@ struct LedTracker::Impl {
     double& f = noise_bound_factor.at(static_cast<std::size_t>(std::lround(k)));
     if (!(f > 0)) f = k / detail::chi2_quantile(k, 1 - c);
     return fit.noise_variance * f;
+  }
+
+  // The LEDs led_to_blob holds, gathered for a fit; a small blob's own
+  // error is its excess over the noise floor
+  // (CorrespondenceOptions::small_blob_sigma_px3).
+  void gather_matched(detail::MatchedSet& set) {
+    detail::gather(constellation, work, led_to_blob, options.correspondence, set, noise_floor());
   }
 
   // The detection-noise variance floor (TrackerOptions::noise_pool_frames).
@@ -588,7 +595,7 @@ struct LedTracker::Impl {
     const int explainable = static_cast<int>(std::min(constellation.leds.size(), work.size()));
     if (matched < explainable - 2) return false;
     detail::MatchedSet set;
-    detail::gather(constellation, work, led_to_blob, options.correspondence, set);
+    gather_matched(set);
     PoseRefinement fit = refine_pose_gauss_newton(pin, set.points(), set.pixels(), T, options.correspondence.refine,
                                                   set.depth(), attitude, set.biases());
     if (!fit.ok() || fit.rms_px > options.reinit_rms_px) return false;
@@ -599,7 +606,7 @@ struct LedTracker::Impl {
                             emission_margin, again);
     if (matched >= need && again != led_to_blob) {
       led_to_blob = again;
-      detail::gather(constellation, work, led_to_blob, options.correspondence, set);
+      gather_matched(set);
       const PoseRefinement f2 =
           refine_pose_gauss_newton(pin, set.points(), set.pixels(), fit.T_camera_body, options.correspondence.refine,
                                    set.depth(), attitude, set.biases());

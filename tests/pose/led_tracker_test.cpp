@@ -290,6 +290,7 @@ TEST(Correspondence, BlobFarLargerThanTheOthersStaysOutOfTheFit) {
 // carries it per matched point, and no bias span when every one is 0.
 TEST(Correspondence, CrowdedAndSplitBlobsCarryTheirOwnError) {
   const tp::CorrespondenceOptions o;
+  const double noise = o.detection_sigma_px * o.detection_sigma_px;
   const double r = 3.0;
   auto blob_at = [&](double u) {
     tp::Blob b;
@@ -299,7 +300,7 @@ TEST(Correspondence, CrowdedAndSplitBlobsCarryTheirOwnError) {
   };
   auto variance_with_neighbour_at = [&](double radii) {
     const std::vector<tp::Blob> blobs{blob_at(100), blob_at(100 + radii * r)};
-    return tp::detail::blob_bias_variance(blobs[0], blobs, o);
+    return tp::detail::blob_bias_variance(blobs[0], blobs, o, noise);
   };
   EXPECT_EQ(variance_with_neighbour_at(8.5), 0.0);
   EXPECT_EQ(variance_with_neighbour_at(o.crowded_radii), 0.0);
@@ -307,13 +308,13 @@ TEST(Correspondence, CrowdedAndSplitBlobsCarryTheirOwnError) {
   EXPECT_NEAR(variance_with_neighbour_at(4.0), std::pow(o.crowded_bias_px, 2), 1e-15);
   EXPECT_NEAR(variance_with_neighbour_at(2.0), std::pow(o.crowded_bias_px, 2), 1e-15);
   std::vector<tp::Blob> lone{blob_at(100)};
-  EXPECT_EQ(tp::detail::blob_bias_variance(lone[0], lone, o), 0.0);
+  EXPECT_EQ(tp::detail::blob_bias_variance(lone[0], lone, o, noise), 0.0);
   lone[0].split = true;
-  EXPECT_NEAR(tp::detail::blob_bias_variance(lone[0], lone, o), std::pow(o.split_bias * r, 2), 1e-15);
+  EXPECT_NEAR(tp::detail::blob_bias_variance(lone[0], lone, o, noise), std::pow(o.split_bias * r, 2), 1e-15);
   tp::CorrespondenceOptions off = o;
   off.crowded_bias_px = 0;
   const std::vector<tp::Blob> pair{blob_at(100), blob_at(100 + 3 * r)};
-  EXPECT_EQ(tp::detail::blob_bias_variance(pair[0], pair, off), 0.0);
+  EXPECT_EQ(tp::detail::blob_bias_variance(pair[0], pair, off, noise), 0.0);
 
   // gather(): per matched point, in the set's order.
   const auto k = f450();
@@ -332,11 +333,58 @@ TEST(Correspondence, CrowdedAndSplitBlobsCarryTheirOwnError) {
   tp::detail::gather(k, blobs, assignment, o, set);
   ASSERT_EQ(set.biases().size(), set.n);
   for (std::size_t i = 0; i < set.n; ++i) {
-    const double expected = tp::detail::blob_bias_variance(blobs[static_cast<std::size_t>(set.blob[i])], blobs, o);
+    const double expected =
+        tp::detail::blob_bias_variance(blobs[static_cast<std::size_t>(set.blob[i])], blobs, o, noise);
     EXPECT_EQ(set.biases()[i], expected) << i;
     if (set.blob[i] == 1) {
       EXPECT_GT(expected, 0.0);
     }
+  }
+}
+
+// A small spot's centre error (CorrespondenceOptions::small_blob_sigma_px3):
+// (k / area)² above the noise the fit is judged by, nothing below it, and
+// gather() carries it for the noise it is given. The oracle is the
+// formula; the figures are chosen so that each branch changes the answer.
+TEST(Correspondence, ASmallBlobCarriesItsErrorAboveTheNoiseFloor) {
+  const tp::CorrespondenceOptions o;
+  tp::Blob b;
+  b.area = 10;
+  const std::vector<tp::Blob> lone{b};
+  const double k = o.small_blob_sigma_px3;
+  ASSERT_GT(k, 0.0);
+  const double own = std::pow(k / b.area, 2);
+  EXPECT_NEAR(tp::detail::blob_bias_variance(lone[0], lone, o, 1e-4), own - 1e-4, 1e-15);
+  EXPECT_NEAR(tp::detail::blob_bias_variance(lone[0], lone, o, 0.0), own, 1e-15);
+  EXPECT_EQ(tp::detail::blob_bias_variance(lone[0], lone, o, own), 0.0);   // the floor has caught up
+  EXPECT_EQ(tp::detail::blob_bias_variance(lone[0], lone, o, 0.04), 0.0);  // the default 0.2 px
+  tp::Blob large = b;
+  large.area = 100;  // ten times the area: a hundredth of the variance
+  const std::vector<tp::Blob> big{large};
+  EXPECT_NEAR(tp::detail::blob_bias_variance(big[0], big, o, 0.0), own / 100, 1e-15);
+  tp::CorrespondenceOptions off = o;
+  off.small_blob_sigma_px3 = 0;
+  EXPECT_EQ(tp::detail::blob_bias_variance(lone[0], lone, off, 0.0), 0.0);
+  off.small_blob_sigma_px3 = -1;
+  EXPECT_FALSE(off.validate(nullptr));
+
+  // gather(): the noise given, else detection_sigma_px².
+  const auto kon = f450();
+  const auto cam = d435().pinhole();
+  touchdown::Rng rng(37);
+  const Eigen::Isometry3d T = front_toward_camera(rng, 1.0);
+  auto blobs = blobs_of(kon, cam, T, rng, 0.0);
+  for (auto& blob : blobs) blob.area = 10;
+  std::array<int, tp::kMaxLeds> assignment{};
+  assignment.fill(-1);
+  for (std::size_t l = 0; l < kon.leds.size(); ++l) assignment[l] = static_cast<int>(l);
+  tp::detail::MatchedSet set;
+  tp::detail::gather(kon, blobs, assignment, o, set);
+  EXPECT_TRUE(set.biases().empty());  // 0.2 px covers a 10-px spot
+  tp::detail::gather(kon, blobs, assignment, o, set, 1e-4);
+  ASSERT_EQ(set.biases().size(), set.n);
+  for (std::size_t i = 0; i < set.n; ++i) {
+    EXPECT_NEAR(set.biases()[i], own - 1e-4, 1e-15) << i;
   }
 }
 

@@ -99,6 +99,18 @@ struct CorrespondenceOptions {
   /// midpoint along the line between them (docs/benchmarks.md, "LED pose:
   /// a merged spot").
   double merged_bias = 0.3;
+  /// A small spot's centre is less sure than a large one's (pixel sampling
+  /// of a spot a few pixels wide, the threshold's edge): its error is about
+  /// small_blob_sigma_px3 / area [px] per axis, area in px. Where that
+  /// exceeds the pixel noise the fit is judged by (the tracker's pooled
+  /// noise; detection_sigma_px without a pool), the excess variance is the
+  /// blob's own, like the crowding bias: (k/area)² − noise², when positive.
+  /// Only the excess, so that a pool that has caught up with a distant
+  /// board's small spots is not counted twice. Measured (docs/benchmarks.md,
+  /// "LED pose: a small spot's centre"): per-axis RMS of isolated centres
+  /// ≈ 0.28/area on the independent renderer, 0.16–0.33/area on ours
+  /// (clean/harsh); 0 = off.
+  double small_blob_sigma_px3 = 0.3;
   /// A branch whose Σ squared reprojection error exceeds the other's by more
   /// than this × detection_sigma_px² is ruled out (χ², 3σ = 9).
   double branch_chi2 = 9.0;
