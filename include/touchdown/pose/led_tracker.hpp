@@ -147,11 +147,14 @@ struct TrackerOptions {
   /// at the LEDs' midpoint, CorrespondenceOptions::merged_bias), and a fit
   /// that explains its frame must reproject that midpoint onto it. < 0 = off.
   double shared_blob_margin_px = 0.5;
-  /// [px] the pooled floor's lower bound: about the best a centroid of an
-  /// 8-bit spot can do; the pool's median is what counts above it (docs/benchmarks.md,
-  /// "LED pose: the sigma made true": 0.05 overstated the sigma of an
-  /// independent renderer's poses ~1.6x, NEES mean 2.1 instead of 6).
-  double min_detection_sigma_px = 0.01;
+  /// [px] the pooled floor's lower bound, just above the best a centroid
+  /// of an 8-bit spot does: large isolated spots' centres are 0.006 px off
+  /// per axis (robust σ, on the independent renderer and on our own); the
+  /// pool's median is what counts above it. 0.05 overstated the sigma of
+  /// an independent renderer's poses ~1.6x (NEES mean 2.1 instead of 6),
+  /// 0.01 that of near frames (NEES 3.2 at 0.4–1 m; docs/benchmarks.md,
+  /// "LED pose: a small spot's centre and a close neighbour").
+  double min_detection_sigma_px = 0.007;
   /// "Ok means unimodal" (issue 33, item 1): a tracked fit that explains
   /// its whole frame is held to the complete_max_sigma_* limits (none by
   /// default) instead of correspondence.sigma_limits, which stay as the
