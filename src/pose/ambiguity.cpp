@@ -183,7 +183,8 @@ bool distinct_poses(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, cons
 BranchDecision resolve_branches(const PinholeCamera& cam, const Constellation& k, const ConstellationShape& shape,
                                 std::span<const Blob> blobs, const std::array<int, kMaxLeds>& blob_of_led,
                                 const MatchedSet& set, const PoseRefinement& fit, const Eigen::Isometry3d* predicted,
-                                const CorrespondenceOptions& o, const AttitudeConstraint& attitude) {
+                                const CorrespondenceOptions& o, const AttitudeConstraint& attitude,
+                                bool prediction_vouched) {
   BranchDecision d;
   d.alternative =
       refine_pose_gauss_newton(cam, set.points(), set.pixels(), mirrored_branch(fit.T_camera_body, shape), o.refine);
@@ -248,13 +249,20 @@ BranchDecision resolve_branches(const PinholeCamera& cam, const Constellation& k
     d.verdict = BranchVerdict::Switch;
     return d;
   }
-  // 3. Temporal consistency with the tracked motion.
+  // 3. Temporal consistency with the tracked motion. A prediction not made
+  // from Ok poses (one from a too-uncertain fit) may sit on the wrong branch
+  // itself: it settles the branch only where the image and the depths do
+  // not lean the other way (own renderer, clean profile: a 5-LED board at
+  // 3.1 m after a too-uncertain 4-point frame, the image and the depths
+  // leaning toward the other branch at χ² 3.0 and 3.6 — the prediction's
+  // branch was 0.41 rad wrong, reported at σ_rot 0.031).
   if (predicted) {
     const double to_fit = rotation_angle(predicted->linear(), fit.T_camera_body.linear());
     const double to_alt = rotation_angle(predicted->linear(), d.alternative.T_camera_body.linear());
     const double margin = deg_to_rad(o.branch_track_deg);
-    if (to_fit + margin < to_alt) return d;
-    if (to_alt + margin < to_fit) {
+    const double lean = delta + depth_delta;  // > 0: toward fit
+    if (to_fit + margin < to_alt && (prediction_vouched || lean >= 0)) return d;
+    if (to_alt + margin < to_fit && (prediction_vouched || lean <= 0)) {
       d.verdict = BranchVerdict::Switch;
       return d;
     }
@@ -266,11 +274,12 @@ BranchDecision resolve_branches(const PinholeCamera& cam, const Constellation& k
 PoseStatus vet_fit(const PinholeCamera& cam, const Constellation& k, const ConstellationShape& shape,
                    std::span<const Blob> blobs, const std::array<int, kMaxLeds>& blob_of_led, PoseRefinement& fit,
                    const Eigen::Isometry3d* predicted, double max_rms_px, const CorrespondenceOptions& o,
-                   const AttitudeConstraint& attitude) {
+                   const AttitudeConstraint& attitude, bool prediction_vouched) {
   if (shape.symmetric) return PoseStatus::Ambiguous;
   MatchedSet set;
   gather(k, blobs, blob_of_led, set);
-  const BranchDecision d = resolve_branches(cam, k, shape, blobs, blob_of_led, set, fit, predicted, o, attitude);
+  const BranchDecision d =
+      resolve_branches(cam, k, shape, blobs, blob_of_led, set, fit, predicted, o, attitude, prediction_vouched);
   if (d.verdict == BranchVerdict::Ambiguous) return PoseStatus::Ambiguous;
   if (d.verdict == BranchVerdict::Switch) {
     // The other branch, refined as the fit was (with the measured depths).

@@ -90,12 +90,15 @@ struct BranchDecision {
 };
 
 // Compares `fit` (refined on the matched set) with its mirrored branch.
-// `predicted` (may be null) is the tracker's prediction for this frame.
+// `predicted` (may be null) is the tracker's prediction for this frame;
+// unless `prediction_vouched` (made from Ok poses), it settles the branch
+// only where the image and the depths do not lean the other way.
 BranchDecision resolve_branches(const PinholeCamera& camera, const Constellation& constellation,
                                 const ConstellationShape& shape, std::span<const Blob> blobs,
                                 const std::array<int, kMaxLeds>& blob_of_led, const MatchedSet& set,
                                 const PoseRefinement& fit, const Eigen::Isometry3d* predicted,
-                                const CorrespondenceOptions& options, const AttitudeConstraint& attitude = {});
+                                const CorrespondenceOptions& options, const AttitudeConstraint& attitude = {},
+                                bool prediction_vouched = true);
 
 // The full search with the constellation's shape precomputed (the tracker
 // keeps it; find_correspondences computes it per call).
@@ -110,11 +113,12 @@ Correspondence find_correspondences(const PinholeCamera& camera, const Constella
 // Ambiguous; the mirrored branch replaces `fit` when the evidence says so,
 // or makes it Ambiguous when nothing settles it; a (switched) fit over
 // `max_rms_px` is ReprojectionTooLarge; one over the sigma limits
-// Uncertain. `predicted` (may be null) is the tracker's prediction.
+// Uncertain. `predicted` (may be null) is the tracker's prediction
+// (`prediction_vouched`: resolve_branches).
 PoseStatus vet_fit(const PinholeCamera& camera, const Constellation& constellation, const ConstellationShape& shape,
                    std::span<const Blob> blobs, const std::array<int, kMaxLeds>& blob_of_led, PoseRefinement& fit,
                    const Eigen::Isometry3d* predicted, double max_rms_px, const CorrespondenceOptions& options,
-                   const AttitudeConstraint& attitude = {});
+                   const AttitudeConstraint& attitude = {}, bool prediction_vouched = true);
 
 // True if two poses differ by more than the options' distinctness
 // thresholds (branch_distinct_m, branch_distinct_deg).

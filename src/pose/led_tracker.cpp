@@ -95,6 +95,8 @@ struct LedTracker::Impl {
   // χ²_k(1 − complete_fit_significance) by k = 2n − 6 (explains_frame; 0 =
   // not computed yet).
   std::array<double, 2 * kMaxLeds> complete_chi2_bound{};
+  // The median of χ²_k / k by k (pool_noise), computed on first use.
+  std::array<double, 3 * kMaxLeds> chi2_median_fraction{};
   std::size_t noise_next = 0;
   bool tracking = false;
   bool have_velocity = false;
@@ -276,7 +278,8 @@ struct LedTracker::Impl {
   void settle(const PoseRefinement& fit, int points, bool fresh) {
     const CorrespondenceOptions& co = options.correspondence;
     Matrix6d covariance = fit.covariance_for(std::max(judged_noise(fit), noise_floor()));
-    if (!fresh && fit.degrees_of_freedom > 0) pool_noise(fit.noise_variance);  // 3 LEDs: no estimate
+    if (!fresh && fit.degrees_of_freedom > 0)
+      pool_noise(fit.noise_variance, fit.degrees_of_freedom);  // 3 LEDs: no estimate
     Eigen::Isometry3d T = fit.T_camera_body;
     std::pair<double, double> sigma = pose_sigmas(covariance, T);
     const std::pair<double, double> own = sigma;  // the frame's own: the limit holds for it too
@@ -533,12 +536,20 @@ struct LedTracker::Impl {
     const auto mid = noise_sorted.begin() + n / 2;
     std::nth_element(noise_sorted.begin(), mid, noise_sorted.end());
     const double lo = options.min_detection_sigma_px;
-    return std::max(1.25 * *mid, lo * lo);
+    return std::max(*mid, lo * lo);
   }
 
-  void pool_noise(double variance) {
+  // A fit's σ̂² on k degrees of freedom enters the pool over the median of
+  // χ²_k / k, so that the pool's median estimates the noise variance
+  // whatever the fits' k (χ²_6 / 6 has its median at 0.89 of its mean,
+  // χ²_14 / 14 at 0.95; a fixed 1.25 overstated it by 11–30 %).
+  void pool_noise(double variance, double k) {
     const auto cap = static_cast<std::size_t>(options.noise_pool_frames);
-    if (cap == 0 || !std::isfinite(variance)) return;
+    if (cap == 0 || !std::isfinite(variance) || !(k > 0)) return;
+    // k is a whole number below the array's size (2n + depths + 2 − 6, n ≤ kMaxLeds).
+    double& median = chi2_median_fraction.at(static_cast<std::size_t>(std::lround(k)));
+    if (!(median > 0)) median = detail::chi2_quantile(k, 0.5) / k;
+    variance /= median;
     if (noise_pool.size() < cap) {
       noise_pool.push_back(variance);
     } else {
@@ -649,9 +660,10 @@ struct LedTracker::Impl {
         std::min(options.correspondence.search_min_leds, static_cast<int>(constellation.leds.size()));
     if (static_cast<int>(set.n) < search_min && !last_nearly_precise) return false;
     // The search's rule (ambiguity.hpp), with the prediction to settle the
-    // mirrored branch; anything but Ok ends the track.
+    // mirrored branch (weighed by whether Ok poses vouch for it); anything
+    // but Ok ends the track.
     const PoseStatus verdict = detail::vet_fit(pin, constellation, shape, work, led_to_blob, fit, &T,
-                                               options.reinit_rms_px, judging_options(), attitude);
+                                               options.reinit_rms_px, judging_options(), attitude, vouched);
     // Uncertain on its own may still be Ok fused with the earlier frames.
     if (verdict != PoseStatus::Ok && verdict != PoseStatus::Uncertain) return false;
     // On fewer LEDs the prediction is the only check: the fit the branch

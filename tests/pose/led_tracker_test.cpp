@@ -828,6 +828,54 @@ TEST(Ambiguity, ReprojectionAndDepthDisagreeingAddUp) {
   EXPECT_GE(contradicted, 10);
 }
 
+// A prediction settles a branch the image leaves open — but one not made
+// from Ok poses (after a too-uncertain frame) only where the image does not
+// lean the other way. Blobs at the mirrored branch's exact projections, the
+// fit refined on the true pose's branch: the image leans toward the other
+// branch by a χ² of 4 (under branch_chi2, 9). Vouched, the prediction keeps
+// the fit; unvouched, it cannot (Ambiguous), but it may switch to the
+// branch the image leans toward; no prediction: Ambiguous.
+TEST(Ambiguity, AnUnvouchedPredictionDoesNotOverruleALeaningImage) {
+  using tp::detail::BranchVerdict;
+  const auto k = quasi_planar_board();
+  const auto cam = d435().pinhole();
+  const auto shape = tp::detail::ConstellationShape::of(k);
+  touchdown::Rng rng(61);
+  int cases = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const Eigen::Isometry3d T = board_seen_from_below(rng, 1.5, 3.0);
+    const Eigen::Isometry3d mirrored = tp::detail::mirrored_branch(T, shape);
+    if (!tp::detail::distinct_poses(T, mirrored, tp::CorrespondenceOptions{})) continue;
+    const auto blobs = blobs_of(k, cam, mirrored, rng, 0.0);
+    std::array<int, tp::kMaxLeds> assignment{};
+    assignment.fill(-1);
+    for (std::size_t l = 0; l < k.leds.size(); ++l) assignment[l] = static_cast<int>(l);
+    tp::CorrespondenceOptions o;
+    o.detection_sigma_measured = true;
+    tp::detail::MatchedSet set;
+    tp::detail::gather(k, blobs, assignment, o, set);
+    const auto fit = tp::refine_pose_gauss_newton(cam, set.points(), set.pixels(), T);
+    if (!fit.ok() || !tp::detail::distinct_poses(fit.T_camera_body, mirrored, o)) continue;  // slid onto the other
+    const double excess = static_cast<double>(set.n) * fit.rms_px * fit.rms_px;  // the alternative fits exactly
+    if (!(excess > 1e-12)) continue;
+    o.detection_sigma_px = std::sqrt(excess / 4);  // the image leans toward the other branch at χ² 4
+    auto verdict = [&](const Eigen::Isometry3d* predicted, bool vouched) {
+      return tp::detail::resolve_branches(cam, k, shape, blobs, assignment, set, fit, predicted, o, {}, vouched);
+    };
+    const auto none = verdict(nullptr, true);
+    if (!none.alternative.ok() || none.alternative.rms_px > 0.1 * fit.rms_px) continue;  // not the exact branch
+    ++cases;
+    EXPECT_EQ(none.verdict, BranchVerdict::Ambiguous) << trial;
+    const Eigen::Isometry3d on_fit = fit.T_camera_body;
+    const Eigen::Isometry3d on_other = none.alternative.T_camera_body;
+    EXPECT_EQ(verdict(&on_fit, true).verdict, BranchVerdict::Keep) << trial;
+    EXPECT_EQ(verdict(&on_fit, false).verdict, BranchVerdict::Ambiguous) << trial;
+    EXPECT_EQ(verdict(&on_other, false).verdict, BranchVerdict::Switch) << trial;
+    EXPECT_EQ(verdict(&on_other, true).verdict, BranchVerdict::Switch) << trial;
+  }
+  EXPECT_GE(cases, 10);
+}
+
 // The mirrored branch of a planar board seen from afar reprojects almost
 // as well as the truth and is a different pose (the weak-perspective flip).
 TEST(Ambiguity, MirroredBranchIsTheOtherPlanarSolution) {
@@ -1547,8 +1595,10 @@ TEST(LedTracker, AMergedSpotIsExplainedByItsTwoLedsMidpoint) {
       }
     }
   }
-  auto run = [&](const tp::Constellation& board, double across_radii) {
-    tp::LedTracker tracker(camera, board, tp::TrackerOptions{});
+  auto run = [&](const tp::Constellation& board, double across_radii, bool explain = true) {
+    tp::TrackerOptions o;
+    if (!explain) o.complete_fit_significance = 0;  // every frame held to the limits
+    tp::LedTracker tracker(camera, board, o);
     touchdown::Rng rng(59);
     std::vector<tp::PoseEstimate> out;
     int held_by_both = 0;
@@ -1573,19 +1623,23 @@ TEST(LedTracker, AMergedSpotIsExplainedByItsTwoLedsMidpoint) {
     return e.ok() && (e.sigma_position_m > 0.03 || e.sigma_rotation_rad > 0.03);
   };
   const auto [merged, held] = run(k, 0.0);
+  const auto [limited, held_limited] = run(k, 0.0, false);
   EXPECT_GE(held, 15);  // the tracker assigns both LEDs to the merged spot
-  int lifted = 0;
+  int lifted = 0;       // frames Ok only because the fit explains them (its merged spot too)
   for (int f = 20; f < 40; ++f) {
     const tp::PoseEstimate& e = merged[static_cast<std::size_t>(f)];
     if (!e.ok()) continue;
+    lifted += !limited[static_cast<std::size_t>(f)].ok();
     const Eigen::Isometry3d T = pose(f);
     const double dp = (e.T_camera_body.translation() - T.translation()).norm();
     const double dr = rotation_error(e.T_camera_body, T);
     EXPECT_TRUE(dp <= 3 * e.sigma_position_m && dr <= 3 * e.sigma_rotation_rad)
         << f << ": " << dp << " m, " << dr << " rad off, sigma " << e.sigma_position_m << ", " << e.sigma_rotation_rad;
-    lifted += beyond_limits(e);
   }
-  EXPECT_GE(lifted, 5);  // the far frames, reported with their σ
+  // The far frames, reported with their σ: 3 of them (deterministic; 6
+  // with the pool's fixed factor 1.25 before 2026-11-28, whose larger σ
+  // put more frames past the limits; the drop code before the merge: 0).
+  EXPECT_GE(lifted, 3);
   // 3 radii across the line between the LEDs: too far from the other LED
   // to be its share — that LED is in view without a blob.
   const auto [far_off, held_far] = run(k, 3.0);
@@ -1596,5 +1650,5 @@ TEST(LedTracker, AMergedSpotIsExplainedByItsTwoLedsMidpoint) {
     EXPECT_FALSE(beyond_limits(far_off[static_cast<std::size_t>(f)])) << "3 radii off, frame " << f;
     EXPECT_FALSE(beyond_limits(four[static_cast<std::size_t>(f)])) << "six LEDs, frame " << f;
   }
-  std::printf("merged spot: held by both LEDs in %d frames, %d far frames beyond the limits\n", held, lifted);
+  std::printf("merged spot: held by both LEDs in %d frames, %d far frames Ok only as explained\n", held, lifted);
 }

@@ -114,9 +114,11 @@ struct TrackerOptions {
   /// own residual σ̂² = cost / dof and a floor. Until the pool holds
   /// noise_pool_min_fits tracked fits the floor is
   /// correspondence.detection_sigma_px; then it is the noise scale measured
-  /// on this camera: 1.25 × the median σ̂² of the last noise_pool_frames
-  /// tracked fits (1.25 covers the median's bias below the mean of a χ²
-  /// with few degrees of freedom), at least min_detection_sigma_px² — and
+  /// on this camera: the median of the last noise_pool_frames tracked
+  /// fits' σ̂², each over the median of χ²_k / k for its k degrees of
+  /// freedom (0.89 for k = 6: a χ²'s median lies below its mean; a fixed
+  /// 1.25 before 2026-11-28 overstated it by 11–30 %), at least
+  /// min_detection_sigma_px² — and
   /// above detection_sigma_px² when the camera is noisier than that default
   /// (before issue 33 the pool was capped there, and a 0.5 px camera's σ
   /// then came from single frames' σ̂²). One frame's σ̂² rests
