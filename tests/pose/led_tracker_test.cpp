@@ -50,6 +50,14 @@ std::vector<tp::Blob> blobs_of(const tp::Constellation& k, const tp::PinholeCame
   return out;
 }
 
+// LED l on blob l (blobs_of's order), every LED of k; −1 beyond them.
+std::array<int, tp::kMaxLeds> each_led_on_its_blob(const tp::Constellation& k) {
+  std::array<int, tp::kMaxLeds> assignment{};
+  assignment.fill(-1);
+  for (std::size_t l = 0; l < k.leds.size(); ++l) assignment[l] = static_cast<int>(l);
+  return assignment;
+}
+
 // Blobs that also carry the depth a stereo camera measures at them.
 void add_depth(std::vector<tp::Blob>& blobs, const tp::Constellation& k, const tp::PinholeCamera& cam,
                const Eigen::Isometry3d& T, touchdown::Rng& rng) {
@@ -322,9 +330,7 @@ TEST(Correspondence, CrowdedAndSplitBlobsCarryTheirOwnError) {
   touchdown::Rng rng(36);
   const Eigen::Isometry3d T = front_toward_camera(rng, 1.0);
   auto blobs = blobs_of(k, cam, T, rng, 0.0);
-  std::array<int, tp::kMaxLeds> assignment{};
-  assignment.fill(-1);
-  for (std::size_t l = 0; l < k.leds.size(); ++l) assignment[l] = static_cast<int>(l);
+  const std::array<int, tp::kMaxLeds> assignment = each_led_on_its_blob(k);
   tp::detail::MatchedSet set;
   tp::detail::gather(k, blobs, assignment, off, set);
   EXPECT_TRUE(set.biases().empty());
@@ -375,9 +381,7 @@ TEST(Correspondence, ASmallBlobCarriesItsErrorAboveTheNoiseFloor) {
   const Eigen::Isometry3d T = front_toward_camera(rng, 1.0);
   auto blobs = blobs_of(kon, cam, T, rng, 0.0);
   for (auto& blob : blobs) blob.area = 10;
-  std::array<int, tp::kMaxLeds> assignment{};
-  assignment.fill(-1);
-  for (std::size_t l = 0; l < kon.leds.size(); ++l) assignment[l] = static_cast<int>(l);
+  const std::array<int, tp::kMaxLeds> assignment = each_led_on_its_blob(kon);
   tp::detail::MatchedSet set;
   tp::detail::gather(kon, blobs, assignment, o, set);
   EXPECT_TRUE(set.biases().empty());  // 0.2 px covers a 10-px spot
@@ -748,9 +752,7 @@ TEST(Ambiguity, MeasuredNoiseSettlesWhatTheDefaultFloorCannot) {
   for (int trial = 0; trial < 60; ++trial) {
     const Eigen::Isometry3d T = board_seen_from_below(rng, 1.5, 3.0);
     const auto blobs = blobs_of(k, cam, T, rng, 0.03);
-    std::array<int, tp::kMaxLeds> assignment{};
-    assignment.fill(-1);
-    for (std::size_t l = 0; l < k.leds.size(); ++l) assignment[l] = static_cast<int>(l);
+    const std::array<int, tp::kMaxLeds> assignment = each_led_on_its_blob(k);
     tp::detail::MatchedSet set;
     tp::detail::gather(k, blobs, assignment, by_default, set);
     const auto fit = tp::refine_pose_gauss_newton(cam, set.points(), set.pixels(), T);
@@ -784,9 +786,7 @@ TEST(Ambiguity, ReprojectionAndDepthDisagreeingAddUp) {
   for (int trial = 0; trial < 40; ++trial) {
     const Eigen::Isometry3d T = board_seen_from_below(rng, 0.8, 1.6);
     auto blobs = blobs_of(k, cam, T, rng, 0.0);
-    std::array<int, tp::kMaxLeds> assignment{};
-    assignment.fill(-1);
-    for (std::size_t l = 0; l < k.leds.size(); ++l) assignment[l] = static_cast<int>(l);
+    const std::array<int, tp::kMaxLeds> assignment = each_led_on_its_blob(k);
     tp::CorrespondenceOptions o;
     o.detection_sigma_measured = true;
     tp::detail::MatchedSet set;
@@ -847,9 +847,7 @@ TEST(Ambiguity, AnUnvouchedPredictionDoesNotOverruleALeaningImage) {
     const Eigen::Isometry3d mirrored = tp::detail::mirrored_branch(T, shape);
     if (!tp::detail::distinct_poses(T, mirrored, tp::CorrespondenceOptions{})) continue;
     const auto blobs = blobs_of(k, cam, mirrored, rng, 0.0);
-    std::array<int, tp::kMaxLeds> assignment{};
-    assignment.fill(-1);
-    for (std::size_t l = 0; l < k.leds.size(); ++l) assignment[l] = static_cast<int>(l);
+    const std::array<int, tp::kMaxLeds> assignment = each_led_on_its_blob(k);
     tp::CorrespondenceOptions o;
     o.detection_sigma_measured = true;
     tp::detail::MatchedSet set;
