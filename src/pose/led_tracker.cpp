@@ -355,7 +355,7 @@ struct LedTracker::Impl {
     const int n = static_cast<int>(constellation.leds.size());
     if (!(alpha > 0) || !pool_vouches()) return false;
     // The reprojection χ², each residual in its blob's own variance: the
-    // pooled noise plus the crowding bias the covariance carries.
+    // pooled noise plus the blob's own bias the covariance carries (crowding, small spot).
     const CorrespondenceOptions& co = options.correspondence;
     detail::MatchedSet set;
     gather_matched(set);

@@ -174,7 +174,7 @@ struct TrackerOptions {
   ///   in view without one is a drop-out, an unmodelled merge or a wrong
   ///   assignment, none of which the σ covers;
   /// - its reprojections are the camera's noise: Σ |rᵢ|² / (pooled floor +
-  ///   blob i's crowding bias variance) is within the χ² quantile with
+  ///   blob i's own bias variance: crowding, small spot) is within the χ² quantile with
   ///   2n − 6 degrees of freedom at 1 − complete_fit_significance (a wrong
   ///   blob in the fit reprojects at many times the noise; depths and the
   ///   attitude prior, which add degrees of freedom, are left out: the test
