@@ -347,9 +347,9 @@ struct LedTracker::Impl {
 
   // The fit explains its whole frame (TrackerOptions::complete_fit_significance):
   // the pool vouches, enough points in the fit (a merged spot outside it
-  // does not count), none on a split blob, every LED in view matched (alone
-  // or in a merged spot whose centre the LEDs' midpoint explains),
-  // residuals at the pooled noise.
+  // does not count), every LED in view matched (alone, in a merged spot
+  // whose centre the LEDs' midpoint explains, or on a split blob whose
+  // centre its reprojection explains), residuals at the pooled noise.
   bool explains_frame(const PoseRefinement& fit) {
     const double alpha = options.complete_fit_significance;
     const int n = static_cast<int>(constellation.leds.size());
@@ -388,23 +388,69 @@ struct LedTracker::Impl {
               (floor + detail::blob_bias_variance(blob, work, co, floor) + std::pow(co.merged_bias * radius, 2));
       ++outside;
     }
+    // A split blob the fit left out (gather: while enough whole blobs
+    // remain): its LED's reprojection against the blob's centre, in the
+    // blob's own variance (split_bias · r at least; two more degrees of
+    // freedom each). A split blob inside the fit is in the χ² above.
+    for (std::size_t l = 0; l < constellation.leds.size(); ++l) {
+      const int b = led_to_blob[l];
+      if (b < 0 || !work[static_cast<std::size_t>(b)].split || detail::partner_of(constellation, led_to_blob, l) >= 0 ||
+          std::find(set.blob.begin(), fitted_end, b) != fitted_end) {
+        continue;
+      }
+      const Blob& blob = work[static_cast<std::size_t>(b)];
+      Eigen::Vector2d r;
+      if (!reprojection_residual(pin, fit.T_camera_body, constellation.leds[l].p_body, blob.uv_undistorted, r,
+                                 nullptr)) {
+        return false;
+      }
+      chi2 += r.squaredNorm() / (floor + detail::blob_bias_variance(blob, work, co, floor));
+      ++outside;
+    }
+    // Every LED the fit puts in view (in front, shining toward the camera,
+    // complete_fit_border_px inside the image) has a blob. One without (a
+    // drop-out, an unmodelled merge, a wrong assignment: none of which the
+    // σ covers) fails the frame — unless a blob no LED holds lies at its
+    // reprojection: its colour misread (at 3 m a green spot between a red
+    // and a blue one 3–5 px away is lit by both and reads white). That blob
+    // then counts as the LED's: its residual within its own 2-dof bound,
+    // and in the χ² (two more degrees of freedom), each blob for one LED.
+    const Eigen::Vector3d camera_body = detail::camera_in_body(fit.T_camera_body);
+    const auto held_end = led_to_blob.begin() + static_cast<std::ptrdiff_t>(n);
+    std::array<int, kMaxLeds> claimed{};
+    std::size_t n_claimed = 0;
+    for (std::size_t i = 0; i < constellation.leds.size(); ++i) {
+      if (led_to_blob[i] >= 0) continue;
+      const Led& led = constellation.leds[i];
+      const Eigen::Vector3d q = fit.T_camera_body * led.p_body;
+      if (!detail::faces_camera(led, q, camera_body, emission_margin) ||
+          !camera.in_image(camera.project(q), options.complete_fit_border_px)) {
+        continue;
+      }
+      const Eigen::Vector2d uv = pin.project(q);
+      int nearest = -1;
+      double nearest2 = std::numeric_limits<double>::infinity();
+      for (std::size_t b = 0; b < work.size(); ++b) {
+        const double d2 = (work[b].uv_undistorted - uv).squaredNorm();
+        if (d2 < nearest2 && std::find(led_to_blob.begin(), held_end, static_cast<int>(b)) == held_end) {
+          nearest = static_cast<int>(b);
+          nearest2 = d2;
+        }
+      }
+      const auto claimed_end = claimed.begin() + static_cast<std::ptrdiff_t>(n_claimed);
+      if (nearest < 0 || std::find(claimed.begin(), claimed_end, nearest) != claimed_end) return false;
+      const double e2 =
+          nearest2 / (floor + detail::blob_bias_variance(work[static_cast<std::size_t>(nearest)], work, co, floor));
+      if (!(e2 <= -2.0 * std::log(alpha))) return false;  // χ²₂(1 − α)
+      claimed[n_claimed++] = nearest;
+      chi2 += e2;
+      ++outside;
+    }
     const double k = 2.0 * static_cast<double>(set.n + outside) - 6.0;
     if (!(k > 0)) return false;
     double& bound = complete_chi2_bound.at(static_cast<std::size_t>(k));
     if (!(bound > 0)) bound = detail::chi2_quantile(k, 1 - alpha);
     if (chi2 > bound) return false;
-    const Eigen::Vector3d camera_body = detail::camera_in_body(fit.T_camera_body);
-    for (std::size_t i = 0; i < constellation.leds.size(); ++i) {
-      if (led_to_blob[i] >= 0) {
-        if (work[static_cast<std::size_t>(led_to_blob[i])].split) return false;
-        continue;
-      }
-      const Led& led = constellation.leds[i];
-      const Eigen::Vector3d q = fit.T_camera_body * led.p_body;
-      if (!detail::faces_camera(led, q, camera_body, emission_margin)) continue;
-      // An LED in view without a blob.
-      if (camera.in_image(camera.project(q), options.complete_fit_border_px)) return false;
-    }
     return true;
   }
 

@@ -166,16 +166,21 @@ struct TrackerOptions {
   ///   vouches (the camera's noise is measured, noise_pool_min_fits);
   /// - it rests on at least min(correspondence.search_min_leds, LEDs)
   ///   points (a merged spot left out of it, shared_blob_margin_px, does
-  ///   not count) and none of its blobs was split from a larger one;
+  ///   not count);
   /// - every LED the fit puts in front of the camera, shining toward it
   ///   (emission cone + correspondence.emission_margin_deg) and at least
-  ///   complete_fit_border_px inside the image has a blob, its own or a
-  ///   merged spot's whose centre the two LEDs' midpoint explains — an LED
-  ///   in view without one is a drop-out, an unmodelled merge or a wrong
-  ///   assignment, none of which the σ covers;
+  ///   complete_fit_border_px inside the image has a blob: its own (a
+  ///   split one the fit left out is tested at the LED's reprojection in
+  ///   its split_bias variance), a merged spot's whose centre the two
+  ///   LEDs' midpoint explains, or one no LED holds at its reprojection
+  ///   (its colour misread: a spot lit by two neighbours of other colours
+  ///   reads white), within its own χ²₂ bound — an LED in view without
+  ///   one is a drop-out, an unmodelled merge or a wrong assignment, none
+  ///   of which the σ covers;
   /// - its reprojections are the camera's noise: Σ |rᵢ|² / (pooled floor +
-  ///   blob i's own bias variance: crowding, small spot) is within the χ² quantile with
-  ///   2n − 6 degrees of freedom at 1 − complete_fit_significance (a wrong
+  ///   blob i's own bias variance: crowding, split, small spot), over the
+  ///   fit and the blobs above, is within the χ² quantile with
+  ///   2m − 6 degrees of freedom (m points) at 1 − complete_fit_significance (a wrong
   ///   blob in the fit reprojects at many times the noise; depths and the
   ///   attitude prior, which add degrees of freedom, are left out: the test
   ///   is the stricter for it).
