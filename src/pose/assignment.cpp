@@ -106,8 +106,11 @@ double blob_bias_variance(const Blob& b, std::span<const Blob> blobs, const Corr
   const double f = q >= o.crowded_radii ? 0.0 : std::pow(std::min(1.0, (o.crowded_radii - q) / half), 2);
   double sigma = o.crowded_bias_px * f;
   if (b.split) sigma = std::max(sigma, o.split_bias * r);
+  // The spot's own centre error (small_blob_sigma_px3, large_blob_sigma_px):
+  // its excess over the noise the fit is judged by.
   const double small = o.small_blob_sigma_px3 / std::max(1.0, b.area);
-  return sigma * sigma + std::max(0.0, small * small - noise_variance);
+  const double large = o.large_blob_sigma_px * std::sqrt(std::max(0.0, b.area));
+  return sigma * sigma + std::max(0.0, small * small + large * large - noise_variance);
 }
 
 void gather(const Constellation& k, std::span<const Blob> blobs, const std::array<int, kMaxLeds>& blob_of_led,

@@ -47,6 +47,9 @@ bool CorrespondenceOptions::validate(std::string* why) const {
   if (!(small_blob_sigma_px3 >= 0) || !std::isfinite(small_blob_sigma_px3)) {
     return fail("small_blob_sigma_px3: must be >= 0 (0 = off)");
   }
+  if (!(large_blob_sigma_px >= 0) || !std::isfinite(large_blob_sigma_px)) {
+    return fail("large_blob_sigma_px: must be >= 0 (0 = off)");
+  }
   if (!(branch_chi2 > 0) || !std::isfinite(branch_chi2)) return fail("branch_chi2: must be positive");
   if (!(depth_sigma_k >= 0) || !std::isfinite(depth_sigma_k)) return fail("depth_sigma_k: must be >= 0");
   if (!(max_sigma_position_m > 0)) return fail("max_sigma_position_m: must be positive");

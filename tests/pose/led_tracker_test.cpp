@@ -353,7 +353,8 @@ TEST(Correspondence, CrowdedAndSplitBlobsCarryTheirOwnError) {
 // gather() carries it for the noise it is given. The oracle is the
 // formula; the figures are chosen so that each branch changes the answer.
 TEST(Correspondence, ASmallBlobCarriesItsErrorAboveTheNoiseFloor) {
-  const tp::CorrespondenceOptions o;
+  tp::CorrespondenceOptions o;
+  o.large_blob_sigma_px = 0;  // the small-spot term alone (the large one: the next test)
   tp::Blob b;
   b.area = 10;
   const std::vector<tp::Blob> lone{b};
@@ -390,6 +391,38 @@ TEST(Correspondence, ASmallBlobCarriesItsErrorAboveTheNoiseFloor) {
   for (std::size_t i = 0; i < set.n; ++i) {
     EXPECT_NEAR(set.biases()[i], own - 1e-4, 1e-15) << i;
   }
+}
+
+// A large spot's own error grows as large_blob_sigma_px · √area, added in
+// variance to the small-spot term; the blob carries its excess over the
+// noise floor: nothing at the default 0.007 px floor up to ~200 px, about
+// 0.008 px at 450 px.
+TEST(Correspondence, ALargeBlobCarriesItsErrorAboveTheNoiseFloor) {
+  const tp::CorrespondenceOptions o;
+  const double kl = o.large_blob_sigma_px, ks = o.small_blob_sigma_px3;
+  ASSERT_GT(kl, 0.0);
+  auto lone_variance = [&](double area, double floor, const tp::CorrespondenceOptions& opt) {
+    tp::Blob b;
+    b.area = area;
+    const std::vector<tp::Blob> lone{b};
+    return tp::detail::blob_bias_variance(lone[0], lone, opt, floor);
+  };
+  const double floor = 0.007 * 0.007;
+  for (const double area : {100.0, 450.0, 2000.0}) {
+    const double own = std::pow(ks / area, 2) + kl * kl * area;
+    EXPECT_NEAR(lone_variance(area, 0.0, o), own, 1e-15) << area;
+    EXPECT_NEAR(lone_variance(area, floor, o), std::max(0.0, own - floor), 1e-15) << area;
+  }
+  EXPECT_EQ(lone_variance(150, floor, o), 0.0);  // within the camera's floor
+  EXPECT_GT(lone_variance(450, floor, o), 0.0);
+  EXPECT_GT(lone_variance(2000, floor, o), 3 * lone_variance(450, floor, o));  // growing with the spot
+  tp::CorrespondenceOptions off = o;
+  off.large_blob_sigma_px = 0;
+  EXPECT_EQ(lone_variance(450, floor, off), 0.0);
+  off.large_blob_sigma_px = -1;
+  std::string why;
+  EXPECT_FALSE(off.validate(&why));
+  EXPECT_NE(why.find("large_blob_sigma_px"), std::string::npos) << why;
 }
 
 // The P3P pre-test drops hypotheses whose fourth LED is far from where the

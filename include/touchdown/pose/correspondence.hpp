@@ -111,6 +111,17 @@ struct CorrespondenceOptions {
   /// ≈ 0.28/area on the independent renderer, 0.16–0.33/area on ours
   /// (clean/harsh); 0 = off.
   double small_blob_sigma_px3 = 0.3;
+  /// A large spot's centre is less sure again: its core clips (a flat top
+  /// whose edge alone places it) and its halo spreads the sensor noise over
+  /// a wider ring — per-axis error ≈ large_blob_sigma_px · √area [px],
+  /// added in variance to the small-spot term and counted like it (the
+  /// excess over the noise the fit is judged by). Measured
+  /// (docs/benchmarks.md, "LED pose: a split or misread blob, a large
+  /// spot"): robust σ of isolated centres 0.0065 px at 100–250 px, 0.010
+  /// at 250–300, 0.012–0.013 at 300–700 on the independent renderer at
+  /// 0.4–0.6 m (our renderer's spots stay below 250 px); 0.0005 fits it at
+  /// 150–400 px. 0 = off.
+  double large_blob_sigma_px = 0.0005;
   /// A branch whose Σ squared reprojection error exceeds the other's by more
   /// than this × detection_sigma_px² is ruled out (χ², 3σ = 9).
   double branch_chi2 = 9.0;
