@@ -87,6 +87,9 @@ struct LedTracker::Impl {
   std::vector<Blob> detected, work;
   PoseEstimate estimate;
   std::array<int, kMaxLeds> led_to_blob{};
+  // The blob drop_outlier took out of this frame's fit (−1: none): not an
+  // LED's misread spot for explains_frame.
+  int outlier_blob = -1;
   std::vector<double> noise_pool, noise_sorted;  // tracked fits' σ̂² (ring), scratch
   // k / χ²_k(1 − c) by k (judged_noise; 0 = not computed yet): k ≤ 2 per
   // LED + 1 per depth + 2 for the attitude − 6. Fixed size: tracking a frame
@@ -348,14 +351,17 @@ struct LedTracker::Impl {
   // The fit explains its whole frame (TrackerOptions::complete_fit_significance):
   // the pool vouches, enough points in the fit (a merged spot outside it
   // does not count), every LED in view matched (alone, in a merged spot
-  // whose centre the LEDs' midpoint explains, or on a split blob whose
-  // centre its reprojection explains), residuals at the pooled noise.
+  // whose centre the LEDs' midpoint explains, on a split blob left out of
+  // the fit or on a misread one whose centre its reprojection explains),
+  // residuals at the pooled noise.
   bool explains_frame(const PoseRefinement& fit) {
     const double alpha = options.complete_fit_significance;
     const int n = static_cast<int>(constellation.leds.size());
     if (!(alpha > 0) || !pool_vouches()) return false;
+    const double chi2_2_bound = -2.0 * std::log(alpha);  // χ²₂(1 − α): one blob outside the fit
     // The reprojection χ², each residual in its blob's own variance: the
-    // pooled noise plus the blob's own bias the covariance carries (crowding, small spot).
+    // pooled noise plus the blob's own bias the covariance carries
+    // (crowding, split, small and large spot).
     const CorrespondenceOptions& co = options.correspondence;
     detail::MatchedSet set;
     gather_matched(set);
@@ -390,8 +396,9 @@ struct LedTracker::Impl {
     }
     // A split blob the fit left out (gather: while enough whole blobs
     // remain): its LED's reprojection against the blob's centre, in the
-    // blob's own variance (split_bias · r at least; two more degrees of
-    // freedom each). A split blob inside the fit is in the χ² above.
+    // blob's own variance (split_bias · r at least), within its own χ²₂
+    // bound (two more degrees of freedom each). A split blob inside the fit
+    // is in the χ² above.
     for (std::size_t l = 0; l < constellation.leds.size(); ++l) {
       const int b = led_to_blob[l];
       if (b < 0 || !work[static_cast<std::size_t>(b)].split || detail::partner_of(constellation, led_to_blob, l) >= 0 ||
@@ -404,17 +411,22 @@ struct LedTracker::Impl {
                                  nullptr)) {
         return false;
       }
-      chi2 += r.squaredNorm() / (floor + detail::blob_bias_variance(blob, work, co, floor));
+      const double e2 = r.squaredNorm() / (floor + detail::blob_bias_variance(blob, work, co, floor));
+      if (!(e2 <= chi2_2_bound)) return false;
+      chi2 += e2;
       ++outside;
     }
     // Every LED the fit puts in view (in front, shining toward the camera,
     // complete_fit_border_px inside the image) has a blob. One without (a
     // drop-out, an unmodelled merge, a wrong assignment: none of which the
-    // σ covers) fails the frame — unless a blob no LED holds lies at its
-    // reprojection: its colour misread (at 3 m a green spot between a red
-    // and a blue one 3–5 px away is lit by both and reads white). That blob
-    // then counts as the LED's: its residual within its own 2-dof bound,
-    // and in the χ² (two more degrees of freedom), each blob for one LED.
+    // σ covers) fails the frame — unless a blob no LED holds, read White or
+    // Unknown, lies at its reprojection: its colour misread (at 3 m a green
+    // spot between a red and a blue one 3–5 px away is lit by both and
+    // reads white). A blob of another colour is not taken (the matcher
+    // refused it: it may be another source), nor the blob drop_outlier
+    // took out of this fit. That blob then counts as the LED's: its
+    // residual within its own χ²₂ bound, and in the χ² (two more degrees
+    // of freedom), each blob for one LED.
     const Eigen::Vector3d camera_body = detail::camera_in_body(fit.T_camera_body);
     const auto held_end = led_to_blob.begin() + static_cast<std::ptrdiff_t>(n);
     std::array<int, kMaxLeds> claimed{};
@@ -432,7 +444,9 @@ struct LedTracker::Impl {
       double nearest2 = std::numeric_limits<double>::infinity();
       for (std::size_t b = 0; b < work.size(); ++b) {
         const double d2 = (work[b].uv_undistorted - uv).squaredNorm();
-        if (d2 < nearest2 && std::find(led_to_blob.begin(), held_end, static_cast<int>(b)) == held_end) {
+        const bool misread = work[b].color == LedColor::White || work[b].color == LedColor::Unknown;
+        if (d2 < nearest2 && misread && static_cast<int>(b) != outlier_blob &&
+            std::find(led_to_blob.begin(), held_end, static_cast<int>(b)) == held_end) {
           nearest = static_cast<int>(b);
           nearest2 = d2;
         }
@@ -441,7 +455,7 @@ struct LedTracker::Impl {
       if (nearest < 0 || std::find(claimed.begin(), claimed_end, nearest) != claimed_end) return false;
       const double e2 =
           nearest2 / (floor + detail::blob_bias_variance(work[static_cast<std::size_t>(nearest)], work, co, floor));
-      if (!(e2 <= -2.0 * std::log(alpha))) return false;  // χ²₂(1 − α)
+      if (!(e2 <= chi2_2_bound)) return false;
       claimed[n_claimed++] = nearest;
       chi2 += e2;
       ++outside;
@@ -534,6 +548,7 @@ struct LedTracker::Impl {
     led_to_blob = before;
     const bool dropped = best_led < kMaxLeds && best.rms_px < 0.5 * fit.rms_px;
     if (dropped) {
+      outlier_blob = before[best_led];
       leave_blob(before[best_led]);
       fit = best;
     }
@@ -722,6 +737,7 @@ struct LedTracker::Impl {
 
   const PoseEstimate& run(std::span<const Blob> blobs) {
     work.assign(blobs.begin(), blobs.end());
+    outlier_blob = -1;
     estimate.reinitialised = false;
     if (!options.use_depth) {
       for (auto& b : work) b.has_point = false;

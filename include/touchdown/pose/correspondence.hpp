@@ -117,10 +117,13 @@ struct CorrespondenceOptions {
   /// added in variance to the small-spot term and counted like it (the
   /// excess over the noise the fit is judged by). Measured
   /// (docs/benchmarks.md, "LED pose: a split or misread blob, a large
-  /// spot"): robust σ of isolated centres 0.0065 px at 100–250 px, 0.010
-  /// at 250–300, 0.012–0.013 at 300–700 on the independent renderer at
-  /// 0.4–0.6 m (our renderer's spots stay below 250 px); 0.0005 fits it at
-  /// 150–400 px. 0 = off.
+  /// spot"): robust σ of isolated centres 0.0064–0.0069 px at 50–200 px,
+  /// 0.008 at 200–250, 0.010–0.013 at 250–700 on the independent renderer
+  /// at 0.4–0.6 m (our renderer's spots stay below 250 px). 0.0005 matches
+  /// it up to ~250 px and underpredicts above (0.0087 px at 300, 0.0100 at
+  /// 400, total with a 0.007 px floor): 0.0006 fits there but put the
+  /// benchmark's attitude-mode NEES at 0.4–1 m under its lower bound. 0 =
+  /// off.
   double large_blob_sigma_px = 0.0005;
   /// A branch whose Σ squared reprojection error exceeds the other's by more
   /// than this × detection_sigma_px² is ruled out (χ², 3σ = 9).
