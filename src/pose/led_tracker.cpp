@@ -376,43 +376,30 @@ struct LedTracker::Impl {
       if (!reprojection_residual(pin, fit.T_camera_body, set.p[i], set.uv[i], r, nullptr)) return false;
       chi2 += r.squaredNorm() / (floor + set.bias[i]);
     }
-    // A merged spot the fit left out: its centre against the LEDs'
-    // midpoint, in its merged_bias (two more degrees of freedom each).
+    // A blob the fit left out, in its own variance (two more degrees of
+    // freedom each): a merged spot's centre against its LEDs' midpoint,
+    // merged_bias added; a split blob's (gather: out while enough whole
+    // blobs remain) against its LED's reprojection, split_bias · r at
+    // least, within its own χ²₂ bound. A blob inside the fit is in the χ²
+    // above; a joined one left out (oversized, not split) is not tested.
     int outside = 0;
     const auto fitted_end = set.blob.begin() + static_cast<std::ptrdiff_t>(set.n);
     for (std::size_t l = 0; l < constellation.leds.size(); ++l) {
+      const int b = led_to_blob[l];
+      if (b < 0 || std::find(set.blob.begin(), fitted_end, b) != fitted_end) continue;
       const int j = detail::partner_of(constellation, led_to_blob, l);
-      const int b = led_to_blob[l];
-      if (j <= static_cast<int>(l) || std::find(set.blob.begin(), fitted_end, b) != fitted_end) continue;
       const Blob& blob = work[static_cast<std::size_t>(b)];
-      const Eigen::Vector3d mid =
-          0.5 * (constellation.leds[l].p_body + constellation.leds[static_cast<std::size_t>(j)].p_body);
-      Eigen::Vector2d r;
-      if (!reprojection_residual(pin, fit.T_camera_body, mid, blob.uv_undistorted, r, nullptr)) return false;
-      const double radius = std::max(1.0, std::sqrt(blob.area / std::numbers::pi));
-      chi2 += r.squaredNorm() /
-              (floor + detail::blob_bias_variance(blob, work, co, floor) + std::pow(co.merged_bias * radius, 2));
-      ++outside;
-    }
-    // A split blob the fit left out (gather: while enough whole blobs
-    // remain): its LED's reprojection against the blob's centre, in the
-    // blob's own variance (split_bias · r at least), within its own χ²₂
-    // bound (two more degrees of freedom each). A split blob inside the fit
-    // is in the χ² above.
-    for (std::size_t l = 0; l < constellation.leds.size(); ++l) {
-      const int b = led_to_blob[l];
-      if (b < 0 || !work[static_cast<std::size_t>(b)].split || detail::partner_of(constellation, led_to_blob, l) >= 0 ||
-          std::find(set.blob.begin(), fitted_end, b) != fitted_end) {
-        continue;
+      if (j >= 0 ? j < static_cast<int>(l) : !blob.split) continue;  // a pair once, at its first LED
+      double variance = floor + detail::blob_bias_variance(blob, work, co, floor);
+      Eigen::Vector3d p = constellation.leds[l].p_body;
+      if (j >= 0) {
+        p = 0.5 * (p + constellation.leds[static_cast<std::size_t>(j)].p_body);
+        variance += std::pow(co.merged_bias * std::max(1.0, std::sqrt(blob.area / std::numbers::pi)), 2);
       }
-      const Blob& blob = work[static_cast<std::size_t>(b)];
       Eigen::Vector2d r;
-      if (!reprojection_residual(pin, fit.T_camera_body, constellation.leds[l].p_body, blob.uv_undistorted, r,
-                                 nullptr)) {
-        return false;
-      }
-      const double e2 = r.squaredNorm() / (floor + detail::blob_bias_variance(blob, work, co, floor));
-      if (!(e2 <= chi2_2_bound)) return false;
+      if (!reprojection_residual(pin, fit.T_camera_body, p, blob.uv_undistorted, r, nullptr)) return false;
+      const double e2 = r.squaredNorm() / variance;
+      if (j < 0 && !(e2 <= chi2_2_bound)) return false;
       chi2 += e2;
       ++outside;
     }
@@ -428,7 +415,6 @@ struct LedTracker::Impl {
     // residual within its own χ²₂ bound, and in the χ² (two more degrees
     // of freedom), each blob for one LED.
     const Eigen::Vector3d camera_body = detail::camera_in_body(fit.T_camera_body);
-    const auto held_end = led_to_blob.begin() + static_cast<std::ptrdiff_t>(n);
     std::array<int, kMaxLeds> claimed{};
     std::size_t n_claimed = 0;
     for (std::size_t i = 0; i < constellation.leds.size(); ++i) {
@@ -445,8 +431,7 @@ struct LedTracker::Impl {
       for (std::size_t b = 0; b < work.size(); ++b) {
         const double d2 = (work[b].uv_undistorted - uv).squaredNorm();
         const bool misread = work[b].color == LedColor::White || work[b].color == LedColor::Unknown;
-        if (d2 < nearest2 && misread && static_cast<int>(b) != outlier_blob &&
-            std::find(led_to_blob.begin(), held_end, static_cast<int>(b)) == held_end) {
+        if (d2 < nearest2 && misread && static_cast<int>(b) != outlier_blob && !held(b)) {
           nearest = static_cast<int>(b);
           nearest2 = d2;
         }
@@ -468,16 +453,18 @@ struct LedTracker::Impl {
     return true;
   }
 
+  // Some LED holds blob b.
+  [[nodiscard]] bool held(std::size_t b) const {
+    const auto held_end = led_to_blob.begin() + static_cast<std::ptrdiff_t>(constellation.leds.size());
+    return std::find(led_to_blob.begin(), held_end, static_cast<int>(b)) != held_end;
+  }
+
   // A blob no LED holds lies within `d` [px] of `uv`: an LED projected
   // there may have a spot of its own (unmatched: its colour read wrong),
   // not a share of a merged one.
   [[nodiscard]] bool spot_of_its_own(const Eigen::Vector2d& uv, double d) const {
-    const auto held_end = led_to_blob.begin() + static_cast<std::ptrdiff_t>(constellation.leds.size());
     for (std::size_t b = 0; b < work.size(); ++b) {
-      if ((work[b].uv_undistorted - uv).norm() < d &&
-          std::find(led_to_blob.begin(), held_end, static_cast<int>(b)) == held_end) {
-        return true;
-      }
+      if ((work[b].uv_undistorted - uv).norm() < d && !held(b)) return true;
     }
     return false;
   }

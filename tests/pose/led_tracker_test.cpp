@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <numeric>
+#include <string>
 #include <vector>
 
 #include "pose/ambiguity.hpp"
@@ -1520,6 +1521,21 @@ TEST(LedTracker, BadAttitudePriorIsRejected) {
 namespace {
 // Frame f of 40 of a board receding from 1 m in front of the camera to
 // `far` (same attitude throughout).
+// Ok beyond the default 0.03 σ limits: only a fit that explains its
+// frame is reported there (TrackerOptions::complete_fit_significance).
+bool beyond_sigma_limits(const tp::PoseEstimate& e) {
+  return e.ok() && (e.sigma_position_m > 0.03 || e.sigma_rotation_rad > 0.03);
+}
+
+// Pose e within 3 × its own σ of the truth T, in position and in rotation.
+void expect_within_3_sigma(const tp::PoseEstimate& e, const Eigen::Isometry3d& T, const std::string& where) {
+  const double dp = (e.T_camera_body.translation() - T.translation()).norm();
+  const double dr = rotation_error(e.T_camera_body, T);
+  EXPECT_TRUE(dp <= 3 * e.sigma_position_m && dr <= 3 * e.sigma_rotation_rad)
+      << where << ": " << dp << " m, " << dr << " rad off, sigma " << e.sigma_position_m << ", "
+      << e.sigma_rotation_rad;
+}
+
 Eigen::Isometry3d receding_to(const Eigen::Isometry3d& far, int f) {
   Eigen::Isometry3d T = far;
   const double s = f / 39.0;
@@ -1564,32 +1580,25 @@ TEST(LedTracker, AFitThatExplainsItsFrameIsNotHeldToTheSigmaLimits) {
     }
     return out;
   };
-  auto beyond_limits = [](const tp::PoseEstimate& e) {
-    return e.ok() && (e.sigma_position_m > 0.03 || e.sigma_rotation_rad > 0.03);
-  };
   const auto rendered = run(Variant::AsRendered);
   int lifted = 0, lifted_late = 0;
   for (int f = 0; f < 40; ++f) {
     const tp::PoseEstimate& e = rendered[static_cast<std::size_t>(f)];
     if (!e.ok()) continue;
-    const Eigen::Isometry3d T = pose(f);
-    const double dp = (e.T_camera_body.translation() - T.translation()).norm();
-    const double dr = rotation_error(e.T_camera_body, T);
-    EXPECT_TRUE(dp <= 3 * e.sigma_position_m && dr <= 3 * e.sigma_rotation_rad)
-        << f << ": " << dp << " m, " << dr << " rad off, sigma " << e.sigma_position_m << ", " << e.sigma_rotation_rad;
-    lifted += beyond_limits(e);
-    lifted_late += f >= 20 && beyond_limits(e);
+    expect_within_3_sigma(e, pose(f), "frame " + std::to_string(f));
+    lifted += beyond_sigma_limits(e);
+    lifted_late += f >= 20 && beyond_sigma_limits(e);
   }
   EXPECT_GE(lifted_late, 5);  // the far frames, reported with their σ
-  for (const int f : {25, 30, 35}) EXPECT_TRUE(beyond_limits(rendered[static_cast<std::size_t>(f)])) << f;
+  for (const int f : {25, 30, 35}) EXPECT_TRUE(beyond_sigma_limits(rendered[static_cast<std::size_t>(f)])) << f;
   for (const Variant v : {Variant::RuleOff, Variant::Missing, Variant::Displaced}) {
     const auto out = run(v);
     for (int f = v == Variant::RuleOff ? 0 : 20; f < 40; ++f) {
       if (v == Variant::Displaced && (f % 5 != 0 || f < 25)) continue;
       const tp::PoseEstimate& e = out[static_cast<std::size_t>(f)];
-      EXPECT_FALSE(beyond_limits(e)) << "variant " << static_cast<int>(v) << ", frame " << f << ": sigma "
-                                     << e.sigma_position_m << ", " << e.sigma_rotation_rad;
-      if (beyond_limits(rendered[static_cast<std::size_t>(f)])) {
+      EXPECT_FALSE(beyond_sigma_limits(e)) << "variant " << static_cast<int>(v) << ", frame " << f << ": sigma "
+                                           << e.sigma_position_m << ", " << e.sigma_rotation_rad;
+      if (beyond_sigma_limits(rendered[static_cast<std::size_t>(f)])) {
         EXPECT_EQ(e.status, tp::PoseStatus::Uncertain) << "variant " << static_cast<int>(v) << ", frame " << f;
       }
     }
@@ -1641,30 +1650,23 @@ TEST(LedTracker, AnLedOnAMisreadOrSplitBlobIsExplainedAtItsReprojection) {
     }
     return out;
   };
-  auto beyond_limits = [](const tp::PoseEstimate& e) {
-    return e.ok() && (e.sigma_position_m > 0.03 || e.sigma_rotation_rad > 0.03);
-  };
   for (const Blob2 kind : {Blob2::White, Blob2::Split}) {
     const auto at = run(kind, 0.0);
     const auto off = run(kind, 3.0);
     int lifted = 0;
     for (int f = 20; f < 40; ++f) {
       const tp::PoseEstimate& e = at[static_cast<std::size_t>(f)];
-      EXPECT_FALSE(beyond_limits(off[static_cast<std::size_t>(f)])) << static_cast<int>(kind) << ", frame " << f;
+      EXPECT_FALSE(beyond_sigma_limits(off[static_cast<std::size_t>(f)])) << static_cast<int>(kind) << ", frame " << f;
       if (!e.ok()) continue;
-      lifted += beyond_limits(e);
-      const Eigen::Isometry3d T = pose(f);
-      const double dp = (e.T_camera_body.translation() - T.translation()).norm();
-      const double dr = rotation_error(e.T_camera_body, T);
-      EXPECT_TRUE(dp <= 3 * e.sigma_position_m && dr <= 3 * e.sigma_rotation_rad)
-          << static_cast<int>(kind) << ", frame " << f << ": " << dp << " m, " << dr << " rad off, sigma "
-          << e.sigma_position_m << ", " << e.sigma_rotation_rad;
+      lifted += beyond_sigma_limits(e);
+      expect_within_3_sigma(e, pose(f), std::to_string(static_cast<int>(kind)) + ", frame " + std::to_string(f));
     }
     std::printf("LED 2 %s: %d frames beyond the limits\n", kind == Blob2::Split ? "split" : "read white", lifted);
     EXPECT_GE(lifted, 15) << static_cast<int>(kind);
   }
   const auto blue = run(Blob2::Blue, 0.0);
-  for (int f = 20; f < 40; ++f) EXPECT_FALSE(beyond_limits(blue[static_cast<std::size_t>(f)])) << "blue, frame " << f;
+  for (int f = 20; f < 40; ++f)
+    EXPECT_FALSE(beyond_sigma_limits(blue[static_cast<std::size_t>(f)])) << "blue, frame " << f;
 }
 
 // Two LEDs' spots merged into one blob (far, or seen grazing): both LEDs
@@ -1720,9 +1722,6 @@ TEST(LedTracker, AMergedSpotIsExplainedByItsTwoLedsMidpoint) {
     }
     return std::pair{out, held_by_both};
   };
-  auto beyond_limits = [](const tp::PoseEstimate& e) {
-    return e.ok() && (e.sigma_position_m > 0.03 || e.sigma_rotation_rad > 0.03);
-  };
   const auto [merged, held] = run(k, 0.0);
   const auto [limited, held_limited] = run(k, 0.0, false);
   EXPECT_GE(held, 15);  // the tracker assigns both LEDs to the merged spot
@@ -1731,11 +1730,7 @@ TEST(LedTracker, AMergedSpotIsExplainedByItsTwoLedsMidpoint) {
     const tp::PoseEstimate& e = merged[static_cast<std::size_t>(f)];
     if (!e.ok()) continue;
     lifted += !limited[static_cast<std::size_t>(f)].ok();
-    const Eigen::Isometry3d T = pose(f);
-    const double dp = (e.T_camera_body.translation() - T.translation()).norm();
-    const double dr = rotation_error(e.T_camera_body, T);
-    EXPECT_TRUE(dp <= 3 * e.sigma_position_m && dr <= 3 * e.sigma_rotation_rad)
-        << f << ": " << dp << " m, " << dr << " rad off, sigma " << e.sigma_position_m << ", " << e.sigma_rotation_rad;
+    expect_within_3_sigma(e, pose(f), "frame " + std::to_string(f));
   }
   // The far frames, reported with their σ: 3 of them (deterministic; 6
   // with the pool's fixed factor 1.25 before 2026-11-28, whose larger σ
@@ -1748,8 +1743,8 @@ TEST(LedTracker, AMergedSpotIsExplainedByItsTwoLedsMidpoint) {
   const auto [four, held_four] = run(six, 0.0);
   EXPECT_GE(held_four, 15);
   for (int f = 20; f < 40; ++f) {
-    EXPECT_FALSE(beyond_limits(far_off[static_cast<std::size_t>(f)])) << "3 radii off, frame " << f;
-    EXPECT_FALSE(beyond_limits(four[static_cast<std::size_t>(f)])) << "six LEDs, frame " << f;
+    EXPECT_FALSE(beyond_sigma_limits(far_off[static_cast<std::size_t>(f)])) << "3 radii off, frame " << f;
+    EXPECT_FALSE(beyond_sigma_limits(four[static_cast<std::size_t>(f)])) << "six LEDs, frame " << f;
   }
   std::printf("merged spot: held by both LEDs in %d frames, %d far frames Ok only as explained\n", held, lifted);
 }
