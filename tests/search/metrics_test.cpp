@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "test_util.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace {
@@ -43,15 +44,16 @@ std::vector<ts::EvaluationRecord> hand_made_results() {
       make(6, Violation::TypeIII, {0, 1}, {{-1, 0, 0}, {0, 0, 0}}),
       make(7, Violation::None, {0.4, 0.4}, {{0, 0, 1}}),
   };
-  // Through the file, as the app reads it.
-  const auto path = std::filesystem::temp_directory_path() / "touchdown_metrics_test.jsonl";
+  // Through the file, as the app reads it; a directory of the calling
+  // test's own (ctest runs the tests that call this in parallel: one fixed
+  // /tmp name let one test remove the file another was reading).
+  const touchdown::test::TempDir dir;
+  const auto path = dir / "results.jsonl";
   {
     std::ofstream out(path, std::ios::binary);
     for (const auto& r : written) out << ts::record_line(r) << '\n';
   }
-  auto records = ts::load_records(path);
-  std::filesystem::remove(path);
-  return records;
+  return ts::load_records(path);
 }
 
 TEST(Metrics, HandMadeResultsFile) {
@@ -80,6 +82,7 @@ TEST(Metrics, HandMadeResultsFile) {
 
 TEST(Metrics, NotFoundAndDegenerateCases) {
   auto records = hand_made_results();
+  ASSERT_EQ(records.size(), 8u);
   records.resize(6);  // no Type III yet
   const ts::SearchMetrics m = ts::compute_metrics(records, 2);
   EXPECT_FALSE(m.rounds_all_types.has_value());
@@ -99,6 +102,7 @@ TEST(Metrics, NotFoundAndDegenerateCases) {
 
 TEST(Metrics, RefusesMisuse) {
   auto records = hand_made_results();
+  ASSERT_EQ(records.size(), 8u);
   EXPECT_THROW((void)ts::compute_metrics(records, 0), touchdown::InvalidArgument);
   auto reordered = records;
   std::swap(reordered[0], reordered[1]);
