@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "test_util.hpp"
+
 namespace {
 
 namespace tdd = touchdown::detail;
@@ -227,10 +229,10 @@ TEST(SvgPlot, AWholeFigureIsWellFormed) {
 
   // An independent parser, where installed.
   if (std::system("xmllint --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "xmllint not installed";
-  const auto path = std::filesystem::temp_directory_path() / "touchdown_svg_plot_test.svg";
+  const touchdown::test::TempDir dir;  // its own directory: ctest -j runs tests side by side
+  const auto path = dir / "plot.svg";
   std::ofstream(path) << s;
   EXPECT_EQ(std::system(("xmllint --noout " + path.string()).c_str()), 0);
-  std::filesystem::remove(path);
 }
 
 TEST(SvgPlot, TheCheckerCatchesBrokenDocuments) {

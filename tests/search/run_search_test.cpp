@@ -43,8 +43,8 @@ TEST(LocalEvaluator, SameResultsFileForOneAndTwoThreads) {
   o.seed = 3;
   o.base.time_limit = 10;
   o.weights_id = "test";
-  const fs::path root = fs::temp_directory_path() / "td_run_search_threads";
-  fs::remove_all(root);
+  const test::TempDir dir;  // its own directory: ctest -j runs tests side by side
+  const fs::path& root = dir.path();
   EvaluatorOptions one = small_camera(1), two = small_camera(2);
   one.policy = two.policy = some_network();
   LocalEvaluator e1(one), e2(two);
@@ -62,7 +62,6 @@ TEST(LocalEvaluator, SameResultsFileForOneAndTwoThreads) {
   EXPECT_EQ(single.dtl, r1.records[3].evaluation.dtl);
   EXPECT_EQ(single.reward_sum, r1.records[3].evaluation.reward_sum);
   EXPECT_EQ(single.cells, r1.records[3].evaluation.cells);
-  fs::remove_all(root);
 }
 
 // A box over the marker hides it (Type II); light fog, rain, a far tree and
