@@ -24,7 +24,26 @@
 #include "touchdown/core/mesh.hpp"
 #include "touchdown/core/point_cloud.hpp"
 
+/// Skips a long closed-loop test when the suite runs at reduced size
+/// (touchdown::test::reduced_size()).
+#define TD_FULL_SIZE_ONLY()                                                                      \
+  if (::touchdown::test::reduced_size())                                                         \
+  GTEST_SKIP() << "TOUCHDOWN_TEST_SIZE=reduced: a long closed loop, run in full by the Release " \
+                  "tests"
+
 namespace touchdown::test {
+
+/// True when the suite runs at reduced size: scripts/test.sh sets
+/// TOUCHDOWN_TEST_SIZE=reduced for the sanitizer tree's run, where a long
+/// closed loop (a golden sweep of 200 landings, a search campaign and its
+/// replays) costs 5-15x its Release time. Such a test is then skipped with
+/// TD_FULL_SIZE_ONLY(), saying so, and runs in full in the Release tests;
+/// every other case runs under the sanitizers as it is
+/// (docs/architecture.md, "What runs where").
+inline bool reduced_size() {
+  const char* size = std::getenv("TOUCHDOWN_TEST_SIZE");
+  return size != nullptr && std::string_view(size) == "reduced";
+}
 
 /// A fresh empty directory under the build tree, removed at destruction.
 class TempDir {

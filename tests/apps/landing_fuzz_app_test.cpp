@@ -111,6 +111,7 @@ TEST(LandingFuzzApp, TwoMpiRanksWriteTheSameResultsAsOneProcess) {
 // still). The README's campaign (30 s limit, seed 1), whose DQN-driven
 // person walks into the drone.
 TEST(LandingFuzzApp, AnRlagaCampaignReplaysWithItsWeights) {
+  TD_FULL_SIZE_ONLY();  // 8 closed-loop scenarios, then 16 replays: ~90 s under ASan
   TempDir dir;
   td::scenario::Scenario base;
   base.time_limit = 30;
