@@ -9,10 +9,10 @@
 
 #include <string>
 
+#include "test_util.hpp"
 #include "touchdown/core/units.hpp"
 #include "touchdown/terrain/extrinsics.hpp"
 #include "touchdown/twin/sweep.hpp"
-#include "test_util.hpp"
 #include "twin_test_util.hpp"
 
 namespace td = touchdown;
