@@ -9,8 +9,18 @@
 # Prints each finding with its file and line; exits 1 when there is one, 2
 # when clang-tidy is missing or could not parse a file (no verdict).
 #
+# A cache of clean results (issue 59). After a run without a finding, each
+# unit's key is stored: a SHA-256 of clang-tidy's version, .clang-tidy, the
+# unit's command and the content of every file it reads (the source and each
+# header of Ninja's dependency log, those of its precompiled header too). A
+# later run skips a unit whose key is stored, so CI re-checks only what a
+# change can reach; a tree without Ninja's log, or an empty cache, checks
+# everything. Findings are never cached.
+#
 #   scripts/tidy.sh [BUILD_DIR]    # default: build (configured when missing)
 #   JOBS=4 scripts/tidy.sh         # parallel clang-tidy processes (default 2)
+#   TOUCHDOWN_TIDY_CACHE=DIR       # the cache (default ~/.cache/touchdown/tidy;
+#                                  # "off": check every unit, store nothing)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -28,15 +38,69 @@ build=$(cd "$build" && pwd)
 # includes). GCC-only warning flags (-Wno-restrict) are not findings either.
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-python3 - "$build/compile_commands.json" "$work/compile_commands.json" <<'PY'
-import json, re, sys
-entries = json.load(open(sys.argv[1]))
+cache=${TOUCHDOWN_TIDY_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/touchdown/tidy}
+python3 - "$root" "$build" "$work" "$cache" "$(clang-tidy --version)" <<'PY'
+import hashlib, json, os, re, subprocess, sys
+root, build, work, cache, version = sys.argv[1:]
+# Keys do not depend on where the clone is: its path reads as @ROOT@ in
+# commands, paths and generated files (unity sources name the tests by path).
+here = lambda text: text.replace(root, "@ROOT@")
+entries = json.load(open(os.path.join(build, "compile_commands.json")))
+# Ninja's dependency log: object -> every file its compile read.
+deps, current = {}, None
+if os.path.exists(os.path.join(build, ".ninja_deps")) and cache != "off":
+    log = subprocess.run(["ninja", "-C", build, "-t", "deps"], capture_output=True, text=True).stdout
+    for line in log.splitlines():
+        if line and not line[0].isspace():
+            current = deps.setdefault(line.split(":")[0], [])
+        elif line.strip() and current is not None:
+            current.append(line.strip())
+digests = {}
+def digest(path):
+    if path not in digests:
+        try:
+            data = open(path, "rb").read().replace(root.encode(), b"@ROOT@")
+            digests[path] = hashlib.sha256(data).hexdigest()
+        except OSError:
+            digests[path] = "missing"
+    return digests[path]
+common = version + digest(os.path.join(root, ".clang-tidy"))
+todo, keys = [], []
 for e in entries:
-    e["command"] = re.sub(r" -include \S+cmake_pch\.hxx| -Winvalid-pch", "", e["command"])
-json.dump([e for e in entries if not e["file"].endswith("_pch_host.cpp")], open(sys.argv[2], "w"))
+    if e["file"].endswith("_pch_host.cpp"):
+        continue
+    command = e["command"]
+    pch = re.search(r" -include (\S+cmake_pch\.hxx)", command)
+    e["command"] = re.sub(r" -include \S+cmake_pch\.hxx| -Winvalid-pch", "", command)
+    out = re.search(r" -o (\S+)", command)
+    files = deps.get(out.group(1)) if out else None
+    if pch and files is not None:
+        gch = os.path.relpath(pch.group(1) + ".gch", build)
+        files = files + deps[gch] if gch in deps else None
+    if not files:
+        todo.append(e)  # no dependency record: always checked
+        continue
+    h = hashlib.sha256(here(common + e["command"] + e["file"]).encode())
+    for f in sorted(set(files)):
+        h.update(here(f + digest(f if os.path.isabs(f) else os.path.join(build, f))).encode())
+    key = h.hexdigest()
+    stored = os.path.join(cache, key[:2], key)
+    if os.path.exists(stored):
+        os.utime(stored)  # last met now: kept by the 60-day pruning
+    else:
+        todo.append(e)
+        keys.append(key)
+json.dump(todo, open(os.path.join(work, "compile_commands.json"), "w"))
+open(os.path.join(work, "keys"), "w").write("".join(k + "\n" for k in keys))
+open(os.path.join(work, "counts"), "w").write(f"{len(entries) - sum(e['file'].endswith('_pch_host.cpp') for e in entries)} {len(todo)}\n")
 PY
 status=0
-run-clang-tidy -p "$work" -j "$jobs" -quiet -extra-arg=-Wno-unknown-warning-option >"$work/log" 2>&1 || status=$?
+read -r units todo <"$work/counts"
+if [ "$todo" -gt 0 ]; then
+  run-clang-tidy -p "$work" -j "$jobs" -quiet -extra-arg=-Wno-unknown-warning-option >"$work/log" 2>&1 || status=$?
+else
+  : >"$work/log"
+fi
 sed 's/\x1b\[[0-9;]*m//g' "$work/log" >"$work/plain"
 findings=$(grep -E "^$root/.*: (warning|error): .*\[(readability-[a-z-]+)" "$work/plain" |
   sed -E "s|^$root/||; s/ \[readability-([a-z-]+).*\]$/ [\1]/" | sort -u || true)
@@ -55,5 +119,12 @@ if [ "$status" != 0 ]; then
   echo "scripts/tidy.sh: run-clang-tidy failed (exit $status)" >&2
   exit 2
 fi
-units=$(python3 -c 'import json, sys; print(len(json.load(open(sys.argv[1]))))' "$work/compile_commands.json")
-echo "scripts/tidy.sh: $units translation units, no findings" >&2
+# Clean: store the keys of the units just checked.
+if [ "$cache" != off ] && [ -s "$work/keys" ]; then
+  while read -r key; do
+    mkdir -p "$cache/${key:0:2}" && : >"$cache/${key:0:2}/$key"
+  done <"$work/keys"
+  # Keys of units no run has met for 60 days go.
+  find "$cache" -type f -mtime +60 -delete 2>/dev/null || true
+fi
+echo "scripts/tidy.sh: $units translation units, $todo checked ($((units - todo)) unchanged since a clean run: $cache), no findings" >&2
