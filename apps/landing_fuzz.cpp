@@ -20,6 +20,7 @@
 #include "app_common.hpp"
 #include "core/io_util.hpp"
 #include "touchdown/core/atomic_file.hpp"
+#include "touchdown/search/causes.hpp"
 #include "touchdown/search/compare.hpp"
 #include "touchdown/search/dqn.hpp"
 #include "touchdown/search/metrics.hpp"
@@ -88,6 +89,8 @@ Json metrics_json(const tsr::SearchMetrics& m) {
   j["type_i"] = m.type_i;
   j["type_ii"] = m.type_ii;
   j["type_iii"] = m.type_iii;
+  j["off_marker"] = m.off_marker;
+  j["unfair"] = m.unfair;
   j["top_10"] = m.top_k ? Json(*m.top_k) : Json(nullptr);
   j["rounds_all_types"] = m.rounds_all_types ? Json(*m.rounds_all_types) : Json(nullptr);
   j["parameter_distance"] = round3(m.parameter_distance);
@@ -95,11 +98,20 @@ Json metrics_json(const tsr::SearchMetrics& m) {
   return j;
 }
 
-void print_metrics(const tsr::SearchMetrics& m) {
+// Raw (the source's definition) and, when the records carry their facts,
+// fair (issue 52: a Type II whose target was never observable long enough
+// is not the system's doing).
+void print_metrics(const tsr::SearchMetrics& m, const std::optional<tsr::SearchMetrics>& fair = std::nullopt) {
   std::cout << "evaluated          " << m.evaluated << " scenarios\n"
             << "violations         " << m.violations << " (" << percent(m.violation_percent) << "): type I " << m.type_i
-            << ", type II " << m.type_ii << ", type III " << m.type_iii << "\n"
-            << "top-10             " << optional_count(m.top_k) << " (scenarios evaluated until the 10th violation)\n"
+            << ", type II " << m.type_ii << ", type III " << m.type_iii << ", off-marker " << m.off_marker << "\n";
+  if (fair && fair->facts_recorded) {
+    std::cout << "fair violations    " << fair->violations << " (" << percent(fair->violation_percent) << "): type II "
+              << fair->type_ii << "; " << m.unfair << " unfair (target never observable long enough)\n";
+  } else if (fair) {
+    std::cout << "fair violations    n/a (results written before the observability oracle)\n";
+  }
+  std::cout << "top-10             " << optional_count(m.top_k) << " (scenarios evaluated until the 10th violation)\n"
             << "all three types    " << optional_count(m.rounds_all_types) << " (scenarios evaluated until found)\n"
             << "parameter distance " << format_fixed(m.parameter_distance, 3)
             << " (mean pairwise, normalised genes of the violations)\n"
@@ -166,6 +178,14 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
       ->default_str("built-in");
   cmd->add_flag("--source-chromosome", a.source_chromosome,
                 "the source's chromosome: no static-object and distractor genes");
+  cmd->add_flag("--fair-fitness", a.search.fair_fitness,
+                "unfair violations (the target never observable long enough) score as no violation");
+  cmd->add_flag("--diversity", a.search.diversity,
+                "distinct defects: a spread seed pool, repeated causes score less, near-duplicates are not run");
+  cmd->add_option("--min-distance", a.search.min_distance,
+                  "--diversity: a child nearer than this (normalised genes) to a scenario run is mutated again")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   cmd->add_flag("--json", a.json, "the metrics as one JSON object on stdout");
   return cmd;
 }
@@ -252,6 +272,7 @@ int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
     j["seed"] = a.search.seed;
     j["resumed"] = r.resumed;
     j["metrics"] = metrics_json(r.metrics);
+    j["fair_metrics"] = metrics_json(tsr::compute_metrics(r.records, 10, tsr::Count::Fair));
     j["wall_s"] = round3(r.wall_s);
     j["evaluation_s"] = round3(r.evaluation_s);
     j["search_s"] = round3(r.search_s());
@@ -259,7 +280,7 @@ int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
   } else {
     std::cout << "campaign           " << tsr::to_string(a.search.method) << " on " << a.search.system << ", map "
               << ts::to_string(a.map) << ", seed " << a.search.seed << " -> " << a.out << "\n";
-    print_metrics(r.metrics);
+    print_metrics(r.metrics, tsr::compute_metrics(r.records, 10, tsr::Count::Fair));
     std::cout << "time               " << format_fixed(r.wall_s, 1) << " s wall on " << mpi.size() << " x "
               << a.common.threads << " threads" << (r.resumed > 0 ? " (" + std::to_string(r.resumed) + " resumed)" : "")
               << "; the search's own work " << format_fixed(r.search_s(), 2) << " s ("
@@ -337,6 +358,8 @@ CLI::App* add_metrics_command(CLI::App& app, MetricsArgs& a) {
 int metrics_command(const MetricsArgs& a) {
   const tsr::ResultsDirectory d = tsr::load_results_directory(a.dir);
   const tsr::SearchMetrics m = tsr::compute_metrics(d.records);
+  const tsr::SearchMetrics fair = tsr::compute_metrics(d.records, 10, tsr::Count::Fair);
+  const std::vector<tsr::CauseCount> causes = tsr::count_causes(a.dir);
   const Json campaign = Json::parse(d.campaign_json);
   if (a.json) {
     Json j;
@@ -347,13 +370,69 @@ int metrics_command(const MetricsArgs& a) {
                      {"budget", campaign.value("budget", 0)},
                      {"seed", campaign.value("seed", 0)}};
     j["metrics"] = metrics_json(m);
+    j["fair_metrics"] = fair.facts_recorded ? metrics_json(fair) : Json(nullptr);
+    j["distinct_fair_causes"] = fair.facts_recorded ? Json(tsr::distinct_fair_causes(causes)) : Json(nullptr);
     std::cout << j.dump(2) << "\n";
   } else {
     std::cout << "campaign           " << campaign.value("method", "") << " on " << campaign.value("system", "")
               << ", map " << campaign.value("map", "") << ", seed " << campaign.value("seed", 0) << ", "
               << d.records.size() << " of " << campaign.value("budget", 0) << " scenarios\n";
-    print_metrics(m);
+    print_metrics(m, fair);
+    if (fair.facts_recorded) {
+      std::cout << "distinct causes    " << tsr::distinct_fair_causes(causes) << " fair, "
+                << causes.size() - static_cast<std::size_t>(tsr::distinct_fair_causes(causes))
+                << " unfair (landing_fuzz causes " << a.dir << ")\n";
+    }
   }
+  return kExitOk;
+}
+
+// ---- causes ----------------------------------------------------------------------------
+
+struct CausesArgs {
+  std::string dir;
+  bool json = false;
+};
+
+CLI::App* add_causes_command(CLI::App& app, CausesArgs& a) {
+  auto* cmd = app.add_subcommand("causes", "the distinct causes of a results directory's violations, with counts");
+  cmd->add_option("RESULT_DIR", a.dir, "results directory of a campaign")->required();
+  cmd->add_flag("--json", a.json, "the causes as one JSON object on stdout");
+  return cmd;
+}
+
+int causes_command(const CausesArgs& a) {
+  const std::vector<tsr::CauseCount> causes = tsr::count_causes(a.dir);
+  if (a.json) {
+    Json rows = Json::array();
+    for (const tsr::CauseCount& c : causes) {
+      rows.push_back({{"cause", c.cause},
+                      {"fair", c.fair},
+                      {"count", c.count},
+                      {"first_index", c.first_index},
+                      {"scenario", c.scenario}});
+    }
+    Json j;
+    j["directory"] = a.dir;
+    j["distinct_fair_causes"] = tsr::distinct_fair_causes(causes);
+    j["causes"] = std::move(rows);
+    std::cout << j.dump(2) << "\n";
+    return kExitOk;
+  }
+  const int fair = tsr::distinct_fair_causes(causes);
+  std::cout << a.dir << ": " << count_noun(fair, "distinct fair cause") << ", "
+            << count_noun(static_cast<int>(causes.size()) - fair, "unfair one") << "\n";
+  std::size_t width = 5;
+  for (const tsr::CauseCount& c : causes) width = std::max(width, c.cause.size());
+  for (const tsr::CauseCount& c : causes) {
+    std::string count = std::to_string(c.count);
+    count.insert(0, count.size() < 4 ? 4 - count.size() : 0, ' ');
+    std::string cause = c.cause;
+    cause.append(width - cause.size(), ' ');
+    std::cout << count << "  " << cause << "  e.g. " << (fs::path(a.dir) / c.scenario).string() << "\n";
+  }
+  if (!causes.empty())
+    std::cout << "replay one: landing_scenario run " << (fs::path(a.dir) / causes.front().scenario).string() << "\n";
   return kExitOk;
 }
 
@@ -371,8 +450,17 @@ struct CompareArgs {
 CLI::App* add_compare_command(CLI::App& app, CompareArgs& a) {
   auto* cmd = app.add_subcommand(
       "compare", "the source's Table 2: every method on every map over seeds 1..N (resumable campaigns in --out)");
-  cmd->add_option("--methods", a.methods, "methods")
-      ->check(one_of<tsr::Method>())
+  cmd->add_option("--methods", a.methods,
+                  "methods; a method with '+diversity' runs with the diversity option (e.g. rlaga+diversity)")
+      ->check(CLI::Validator(
+          [](std::string& m) -> std::string {
+            std::string base = m.substr(0, m.find('+'));
+            const std::string extra = m.substr(base.size());
+            if (!extra.empty() && extra != "+diversity") return "unknown option '" + extra + "' (only +diversity)";
+            if (base == "random" && !extra.empty()) return "random has no +diversity";
+            return one_of<tsr::Method>()(base);
+          },
+          "METHOD[+diversity]"))
       ->capture_default_str()
       ->delimiter(',');
   cmd->add_option("--maps", a.maps, "maps")->check(one_of<ts::MapKind>())->capture_default_str()->delimiter(',');
@@ -423,7 +511,8 @@ int compare_command(const CompareArgs& a) {
   for (int k = 1; k <= a.seeds; ++k) {
     for (tsr::CompareCell& cell : cells) {
       tsr::SearchOptions o;
-      o.method = td::from_string<tsr::Method>(cell.method);
+      o.method = td::from_string<tsr::Method>(cell.method.substr(0, cell.method.find('+')));
+      o.diversity = cell.method.find("+diversity") != std::string::npos;
       o.system = a.common.system;
       o.budget = a.budget;
       o.ga.population = a.population;
@@ -449,6 +538,9 @@ int compare_command(const CompareArgs& a) {
       if (line) line->close();
       keep_weights(policy, dir);
       cell.per_seed.push_back(r.metrics);
+      cell.per_seed_fair.push_back(tsr::compute_metrics(r.records, 10, tsr::Count::Fair));
+      cell.fair_causes.push_back(
+          cell.per_seed_fair.back().facts_recorded ? tsr::distinct_fair_causes(tsr::count_causes(dir)) : -1);
       cell.cumulative.push_back(tsr::cumulative_violations(r.records));
       ++done;
     }
@@ -466,7 +558,13 @@ int compare_command(const CompareArgs& a) {
     Json rows = Json::array();
     for (const auto& c : cells) {
       Json per_seed = Json::array();
-      for (const auto& m : c.per_seed) per_seed.push_back(metrics_json(m));
+      for (std::size_t k = 0; k < c.per_seed.size(); ++k) {
+        Json seed = metrics_json(c.per_seed[k]);
+        const bool facts = c.per_seed_fair[k].facts_recorded;
+        seed["fair"] = facts ? metrics_json(c.per_seed_fair[k]) : Json(nullptr);
+        seed["distinct_fair_causes"] = facts ? Json(c.fair_causes[k]) : Json(nullptr);
+        per_seed.push_back(std::move(seed));
+      }
       rows.push_back({{"method", c.method}, {"map", c.map}, {"per_seed", per_seed}});
     }
     j["rows"] = std::move(rows);
@@ -610,10 +708,12 @@ int main(int argc, char** argv) {
   MetricsArgs metrics_args;
   CompareArgs compare_args;
   ShrinkArgs shrink_args;
+  CausesArgs causes_args;
   auto* campaign_cmd = add_campaign_command(app, campaign_args);
   auto* train_cmd = add_train_command(app, train_args);
   auto* metrics_cmd = add_metrics_command(app, metrics_args);
   auto* compare_cmd = add_compare_command(app, compare_args);
+  auto* causes_cmd = add_causes_command(app, causes_args);
   add_shrink_command(app, shrink_args);
   const int code = run(app, argc, argv, [&]() -> int {
     if (*campaign_cmd) return campaign_command(campaign_args, mpi);
@@ -621,6 +721,7 @@ int main(int argc, char** argv) {
     if (*train_cmd) return train_command(train_args);
     if (*metrics_cmd) return metrics_command(metrics_args);
     if (*compare_cmd) return compare_command(compare_args);
+    if (*causes_cmd) return causes_command(causes_args);
     return shrink_command(shrink_args);
   });
   // An error on one rank that the others may not see (rank 0's results

@@ -65,6 +65,34 @@ Json result_json(const std::string& scenario_path, std::string_view system, cons
     j["descent"]["target"] = vec_json(r.descent_target);
   }
   j["false_detection"] = r.false_detection;
+  const auto truth_json = [](const ts::DetectionTruth& d) {
+    return Json{{"t", round3(d.t)},
+                {"object", d.object},
+                {"label", ts::to_string(d.label)},
+                {"id", d.id},
+                {"ground", vec_json(d.ground)}};
+  };
+  j["trigger"] = r.has_trigger ? truth_json(r.trigger) : Json(nullptr);
+  j["last_accepted"] = r.has_last_accepted ? truth_json(r.last_accepted) : Json(nullptr);
+  Json occluders = Json::array();
+  for (const auto& o : r.occluders) {
+    occluders.push_back({{"object", o.object},
+                         {"first_t", round3(o.first_t)},
+                         {"last_t", round3(o.last_t)},
+                         {"frames", o.frames},
+                         {"frames_descending", o.frames_descending}});
+  }
+  j["occluders"] = std::move(occluders);
+  const ts::Observability& ob = r.observability;
+  j["observability"] = ob.measured ? Json{{"sighting_time", round3(ob.sighting_time)},
+                                          {"observable_s", round3(ob.observable_s)},
+                                          {"longest_s", round3(ob.longest_s)},
+                                          {"probe_observable_s", round3(ob.probe_observable_s)},
+                                          {"probe_longest_s", round3(ob.probe_longest_s)},
+                                          {"probe_failure", ts::to_string(ob.probe_failure)},
+                                          {"probe_contrast", round3(ob.probe_contrast)},
+                                          {"long_enough", ob.observable_long_enough()}}
+                                   : Json(nullptr);
   Json frames = Json::array();
   for (const auto& f : r.frames) {
     frames.push_back({{"t", round3(f.t)},
@@ -72,12 +100,15 @@ Json result_json(const std::string& scenario_path, std::string_view system, cons
                       {"marker_area_truth_px", round3(f.marker_area_truth_px)},
                       {"detections", f.detections},
                       {"accepted", f.accepted},
-                      {"false_accepted", f.false_accepted}});
+                      {"false_accepted", f.false_accepted},
+                      {"sight", ts::to_string(f.view.sight)},
+                      {"contrast", round3(f.view.contrast)}});
   }
   j["frames"] = std::move(frames);
   j["timing"] = {{"render_s", round3(r.timing.render_s)},
                  {"system_s", round3(r.timing.system_s)},
                  {"physics_s", round3(r.timing.physics_s)},
+                 {"oracle_s", round3(r.timing.oracle_s)},
                  {"total_s", round3(r.timing.total_s)}};
   return j;
 }
@@ -176,11 +207,14 @@ Json campaign_json(const ts::CampaignResult& c, const std::string& source, const
   j["type_i"] = s.type_i;
   j["type_ii"] = s.type_ii;
   j["type_iii"] = s.type_iii;
+  j["off_marker"] = s.off_marker;
+  j["unfair_type_ii"] = s.unfair_type_ii;
   j["flight_s"] = round3(s.flight_s);
   j["wall_s"] = round3(s.wall_s);
   j["timing"] = {{"render_s", round3(s.timing.render_s)},
                  {"system_s", round3(s.timing.system_s)},
                  {"physics_s", round3(s.timing.physics_s)},
+                 {"oracle_s", round3(s.timing.oracle_s)},
                  {"total_s", round3(s.timing.total_s)}};
   return j;
 }
@@ -193,7 +227,8 @@ void print_campaign(const ts::CampaignResult& c, const std::string& source, cons
     dtl.push_back(e.outcome.dtl);
     ttl.push_back(e.outcome.ttl);
   }
-  const double other = s.timing.total_s - s.timing.render_s - s.timing.system_s - s.timing.physics_s;
+  const double other =
+      s.timing.total_s - s.timing.render_s - s.timing.system_s - s.timing.physics_s - s.timing.oracle_s;
   const auto share = [&](double v) {
     return format_fixed(s.timing.total_s > 0 ? 100 * v / s.timing.total_s : 0.0, 0) + " %";
   };
@@ -201,8 +236,8 @@ void print_campaign(const ts::CampaignResult& c, const std::string& source, cons
             << "system     " << o.system << (o.mls.detection_roi ? "" : " (whole-frame detection)") << "\n"
             << "violations " << s.violations << "/" << s.scenarios << " (" << percent(s.violations, s.scenarios)
             << "): type I " << s.type_i << " (" << percent(s.type_i, s.scenarios) << "), type II " << s.type_ii << " ("
-            << percent(s.type_ii, s.scenarios) << "), type III " << s.type_iii << " ("
-            << percent(s.type_iii, s.scenarios) << ")\n"
+            << percent(s.type_ii, s.scenarios) << "; " << s.unfair_type_ii << " unfair), type III " << s.type_iii
+            << " (" << percent(s.type_iii, s.scenarios) << "), off-marker " << s.off_marker << "\n"
             << "landed     " << dtl.size() << ": median DTL " << format_fixed(median(dtl), 2) << " m, median TTL "
             << format_fixed(median(ttl), 1) << " s\n"
             << "time       " << format_fixed(s.wall_s, 1) << " s wall on " << o.threads << " threads for "
@@ -210,7 +245,8 @@ void print_campaign(const ts::CampaignResult& c, const std::string& source, cons
             << format_fixed(s.wall_s > 0 ? s.flight_s / s.wall_s : 0.0, 0) << "x real time); per scenario "
             << format_fixed(s.scenarios > 0 ? s.timing.total_s / s.scenarios : 0.0, 2) << " s: render "
             << share(s.timing.render_s) << ", system " << share(s.timing.system_s) << ", physics "
-            << share(s.timing.physics_s) << ", other " << share(other) << "\n";
+            << share(s.timing.physics_s) << ", oracle " << share(s.timing.oracle_s) << ", other " << share(other)
+            << "\n";
 }
 
 // ---- run: one scenario ----------------------------------------------------------------
@@ -326,10 +362,16 @@ void print_run(const RunArgs& a, const ts::Scenario& scenario, std::string_view 
             << "system     " << system << "\n"
             << "outcome    " << (r.violation() ? "VIOLATION" : "ok") << ": " << r.message << "\n"
             << "DTL        " << format_fixed(r.dtl, 2) << " m   TTL " << format_fixed(r.ttl, 1) << " s\n"
-            << "frames     " << r.frames.size() << "   steps " << r.trajectory.size() << "\n"
-            << "time       " << format_fixed(r.timing.total_s, 3) << " s (render " << format_fixed(r.timing.render_s, 3)
+            << "frames     " << r.frames.size() << "   steps " << r.trajectory.size() << "\n";
+  const ts::Observability& o = r.observability;
+  if (o.measured) {
+    std::cout << "target     observable " << format_fixed(o.observable_s, 1) << " s (longest "
+              << format_fixed(o.longest_s, 1) << " s) in its camera, " << format_fixed(o.probe_observable_s, 1)
+              << " s (longest " << format_fixed(o.probe_longest_s, 1) << " s) from the probe above it\n";
+  }
+  std::cout << "time       " << format_fixed(r.timing.total_s, 3) << " s (render " << format_fixed(r.timing.render_s, 3)
             << ", system " << format_fixed(r.timing.system_s, 3) << ", physics " << format_fixed(r.timing.physics_s, 3)
-            << ")\n";
+            << ", oracle " << format_fixed(r.timing.oracle_s, 3) << ")\n";
 }
 
 int run_command(RunArgs& a) {

@@ -97,7 +97,7 @@ ctest --test-dir build -j"$jobs" --output-on-failure
 # two share the 2 cores instead of leaving one idle for the README's
 # length); its report follows tidy's.
 if [ "${SKIP_TIDY:-0}" != "1" ]; then
-  step "README and docs/cli.md examples (scripts/readme_check.py) + naming checks (clang-tidy), side by side"
+  step "README check + clang-tidy, side by side"
   scripts/readme_check.py --bin build/apps >build/readme_check.log 2>&1 &
   readme_pid=$!
   tidy_status=0

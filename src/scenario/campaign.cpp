@@ -92,10 +92,13 @@ CampaignResult run_campaign(const std::vector<Scenario>& scenarios, const Campai
     s.type_i += e.status == Violation::TypeI ? 1 : 0;
     s.type_ii += e.status == Violation::TypeII ? 1 : 0;
     s.type_iii += e.status == Violation::TypeIII ? 1 : 0;
+    s.off_marker += e.status == Violation::OffMarker ? 1 : 0;
+    s.unfair_type_ii += e.status == Violation::TypeII && !e.observability.observable_long_enough() ? 1 : 0;
     s.flight_s += e.flight_s;
     s.timing.render_s += e.timing.render_s;
     s.timing.system_s += e.timing.system_s;
     s.timing.physics_s += e.timing.physics_s;
+    s.timing.oracle_s += e.timing.oracle_s;
     s.timing.total_s += e.timing.total_s;
   }
   s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

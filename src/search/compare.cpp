@@ -43,6 +43,28 @@ std::string found_column(const CompareCell& c, std::optional<int> SearchMetrics:
   return text;
 }
 
+// Over the fair counts (issue 52): "n/a" when a seed's results carry no
+// facts (written before issue 52) or the cell has none.
+std::string fair_column(const CompareCell& c, const std::function<double(const SearchMetrics&)>& get, int decimals) {
+  if (c.per_seed_fair.empty() || c.per_seed_fair.size() != c.per_seed.size()) return "n/a";
+  std::vector<double> v;
+  for (const SearchMetrics& m : c.per_seed_fair) {
+    if (!m.facts_recorded) return "n/a";
+    v.push_back(get(m));
+  }
+  return mean_sd_text(v, decimals);
+}
+
+std::string causes_column(const CompareCell& c) {
+  if (c.fair_causes.empty() || c.fair_causes.size() != c.per_seed.size()) return "n/a";
+  std::vector<double> v;
+  for (int n : c.fair_causes) {
+    if (n < 0) return "n/a";
+    v.push_back(n);
+  }
+  return mean_sd_text(v, 1);
+}
+
 // Characters, not bytes: "±" is two bytes of UTF-8.
 std::size_t display_width(const std::string& s) {
   return static_cast<std::size_t>(
@@ -95,7 +117,8 @@ MeanSd mean_sd(const std::vector<double>& v) {
 std::string compare_table(const std::vector<CompareCell>& cells, int k) {
   std::vector<std::vector<std::string>> rows;
   rows.push_back({"method", "map", "violations [%]", "Top-" + std::to_string(k), "rounds to all types",
-                  "parameter distance", "3-D coverage [cells]", "Type I", "Type II", "Type III"});
+                  "parameter distance", "3-D coverage [cells]", "Type I", "Type II", "Type III", "off-marker",
+                  "fair violations [%]", "fair Type II", "distinct fair causes"});
   for (const CompareCell& c : cells) {
     rows.push_back({c.method, c.map,
                     column(
@@ -110,7 +133,14 @@ std::string compare_table(const std::vector<CompareCell>& cells, int k) {
                     column(
                         c, [](const SearchMetrics& m) { return double(m.type_ii); }, 1),
                     column(
-                        c, [](const SearchMetrics& m) { return double(m.type_iii); }, 1)});
+                        c, [](const SearchMetrics& m) { return double(m.type_iii); }, 1),
+                    column(
+                        c, [](const SearchMetrics& m) { return double(m.off_marker); }, 1),
+                    fair_column(
+                        c, [](const SearchMetrics& m) { return m.violation_percent; }, 1),
+                    fair_column(
+                        c, [](const SearchMetrics& m) { return double(m.type_ii); }, 1),
+                    causes_column(c)});
   }
   std::vector<std::size_t> width(rows.front().size(), 0);
   for (const auto& row : rows) {

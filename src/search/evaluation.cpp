@@ -28,6 +28,28 @@ Evaluation evaluate_result(const scenario::ScenarioResult& result, double time_l
   }
   std::sort(e.cells.begin(), e.cells.end());
   e.cells.erase(std::unique(e.cells.begin(), e.cells.end()), e.cells.end());
+
+  Facts& f = e.facts;
+  f.recorded = true;
+  const scenario::Observability& o = result.observability;
+  f.fair = result.status != scenario::Violation::TypeII || o.observable_long_enough();
+  f.sighting_time = o.sighting_time;
+  f.observable_s = o.observable_s;
+  f.longest_s = o.longest_s;
+  f.probe_observable_s = o.probe_observable_s;
+  f.probe_longest_s = o.probe_longest_s;
+  f.probe_failure = std::string(scenario::to_string(o.probe_failure));
+  f.probe_contrast = o.probe_contrast;
+  f.descent_started = result.descent_started;
+  f.descent_time = result.descent_time;
+  f.descent_target = {result.descent_target.x(), result.descent_target.y()};
+  if (result.has_trigger) f.trigger = result.trigger.object, f.trigger_t = result.trigger.t;
+  if (result.has_last_accepted) f.last_accepted = result.last_accepted.object;
+  f.false_detection = result.false_detection;
+  for (const scenario::OccluderRecord& r : result.occluders) {
+    f.occluders.push_back({r.object, r.first_t, r.last_t, r.frames, r.frames_descending});
+  }
+  if (result.collided) f.collided_with = result.collision.what, f.collision_phase = result.collision_phase;
   return e;
 }
 

@@ -1,6 +1,7 @@
 // The search metrics of RLaGA §4.3 (metrics.hpp).
 #include "touchdown/search/metrics.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <set>
@@ -35,10 +36,12 @@ double parameter_distance(const std::vector<const EvaluationRecord*>& violating)
 
 }  // namespace
 
-SearchMetrics compute_metrics(const std::vector<EvaluationRecord>& records, int k) {
+SearchMetrics compute_metrics(const std::vector<EvaluationRecord>& records, int k, Count count) {
   if (k < 1) throw InvalidArgument("compute_metrics: k: must be at least 1, got " + std::to_string(k));
   SearchMetrics m;
   m.evaluated = static_cast<int>(records.size());
+  m.facts_recorded = std::all_of(records.begin(), records.end(),
+                                 [](const EvaluationRecord& r) { return r.evaluation.facts.recorded; });
   std::vector<const EvaluationRecord*> violating;
   std::set<std::array<int, 3>> cells;
   for (std::size_t i = 0; i < records.size(); ++i) {
@@ -49,6 +52,10 @@ SearchMetrics compute_metrics(const std::vector<EvaluationRecord>& records, int 
     }
     const scenario::Violation v = r.evaluation.violation;
     if (v == scenario::Violation::None) continue;
+    if (!r.evaluation.fair_violation()) {
+      ++m.unfair;
+      if (count == Count::Fair) continue;
+    }
     if (!violating.empty() && r.genes.size() != violating.front()->genes.size()) {
       throw InvalidArgument("compute_metrics: record " + std::to_string(i) + " has " + std::to_string(r.genes.size()) +
                             " genes, record " + std::to_string(violating.front()->index) + " has " +
@@ -59,6 +66,7 @@ SearchMetrics compute_metrics(const std::vector<EvaluationRecord>& records, int 
     if (v == scenario::Violation::TypeI) ++m.type_i;
     if (v == scenario::Violation::TypeII) ++m.type_ii;
     if (v == scenario::Violation::TypeIII) ++m.type_iii;
+    if (v == scenario::Violation::OffMarker) ++m.off_marker;
     // Top-K and rounds count scenarios evaluated, this one included.
     if (m.violations == k) m.top_k = static_cast<int>(i) + 1;
     if (!m.rounds_all_types && m.type_i > 0 && m.type_ii > 0 && m.type_iii > 0) {
@@ -72,12 +80,12 @@ SearchMetrics compute_metrics(const std::vector<EvaluationRecord>& records, int 
   return m;
 }
 
-std::vector<int> cumulative_violations(const std::vector<EvaluationRecord>& records) {
+std::vector<int> cumulative_violations(const std::vector<EvaluationRecord>& records, Count count) {
   std::vector<int> out;
   out.reserve(records.size());
   int n = 0;
   for (const EvaluationRecord& r : records) {
-    if (r.evaluation.violation_found()) ++n;
+    if (count == Count::Fair ? r.evaluation.fair_violation() : r.evaluation.violation_found()) ++n;
     out.push_back(n);
   }
   return out;

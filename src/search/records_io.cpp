@@ -36,6 +36,56 @@ void put_string(std::string& out, const std::string& s) {
   out += json(s).dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
+void put_key_double(std::string& out, std::string_view key, double v) {
+  out += ",\"";
+  out += key;
+  out += "\":";
+  put_double(out, v, "evaluation.facts." + std::string(key));
+}
+
+void put_key_string(std::string& out, std::string_view key, const std::string& v) {
+  out += ",\"";
+  out += key;
+  out += "\":";
+  put_string(out, v);
+}
+
+void append_facts(std::string& out, const Facts& f) {
+  out += f.fair ? "{\"fair\":true" : "{\"fair\":false";
+  put_key_double(out, "sighting_time", f.sighting_time);
+  put_key_double(out, "observable_s", f.observable_s);
+  put_key_double(out, "longest_s", f.longest_s);
+  put_key_double(out, "probe_observable_s", f.probe_observable_s);
+  put_key_double(out, "probe_longest_s", f.probe_longest_s);
+  put_key_string(out, "probe_failure", f.probe_failure);
+  put_key_double(out, "probe_contrast", f.probe_contrast);
+  out += f.descent_started ? ",\"descent_started\":true" : ",\"descent_started\":false";
+  put_key_double(out, "descent_time", f.descent_time);
+  out += ",\"descent_target\":[";
+  put_double(out, f.descent_target[0], "evaluation.facts.descent_target");
+  out += ',';
+  put_double(out, f.descent_target[1], "evaluation.facts.descent_target");
+  out += ']';
+  put_key_string(out, "trigger", f.trigger);
+  put_key_double(out, "trigger_t", f.trigger_t);
+  put_key_string(out, "last_accepted", f.last_accepted);
+  out += f.false_detection ? ",\"false_detection\":true" : ",\"false_detection\":false";
+  out += ",\"occluders\":[";
+  for (std::size_t i = 0; i < f.occluders.size(); ++i) {
+    const OccluderFact& o = f.occluders[i];
+    out += i > 0 ? ",{\"object\":" : "{\"object\":";
+    put_string(out, o.object);
+    put_key_double(out, "first_t", o.first_t);
+    put_key_double(out, "last_t", o.last_t);
+    out += ",\"frames\":" + std::to_string(o.frames) + ",\"frames_descending\":" + std::to_string(o.frames_descending) +
+           '}';
+  }
+  out += ']';
+  put_key_string(out, "collided_with", f.collided_with);
+  put_key_string(out, "collision_phase", f.collision_phase);
+  out += '}';
+}
+
 void append_evaluation(std::string& out, const Evaluation& e) {
   out += "{\"violation\":\"";
   out += scenario::to_string(e.violation);
@@ -60,7 +110,12 @@ void append_evaluation(std::string& out, const Evaluation& e) {
     const auto& c = e.cells[i];
     out += '[' + std::to_string(c[0]) + ',' + std::to_string(c[1]) + ',' + std::to_string(c[2]) + ']';
   }
-  out += "]}";
+  out += ']';
+  if (e.facts.recorded) {
+    out += ",\"facts\":";
+    append_facts(out, e.facts);
+  }
+  out += '}';
 }
 
 // ---------------------------------------------------------------- parse --
@@ -177,6 +232,60 @@ class ObjectReader {
   std::size_t used_ = 0;
 };
 
+Facts read_facts(const json& object, const std::string& where, const std::string& prefix) {
+  ObjectReader r(object, where, prefix);
+  Facts f;
+  f.recorded = true;
+  f.fair = r.boolean("fair");
+  f.sighting_time = r.number("sighting_time", 0);
+  f.observable_s = r.number("observable_s", 0);
+  f.longest_s = r.number("longest_s", 0);
+  f.probe_observable_s = r.number("probe_observable_s", 0);
+  f.probe_longest_s = r.number("probe_longest_s", 0);
+  f.probe_failure = r.string("probe_failure");
+  try {
+    (void)from_string<scenario::Sight>(f.probe_failure);
+  } catch (const InvalidArgument& err) {
+    r.fail("probe_failure", err.what());
+  }
+  f.probe_contrast = r.number("probe_contrast", 0);
+  f.descent_started = r.boolean("descent_started");
+  f.descent_time = r.number("descent_time", 0);
+  const json& target = r.array("descent_target");
+  if (target.size() != 2 || !target[0].is_number() || !target[1].is_number())
+    r.fail("descent_target", "expected [x, y] in metres");
+  for (std::size_t k = 0; k < 2; ++k) {
+    f.descent_target[k] = target[k].get<double>();
+    if (!std::isfinite(f.descent_target[k])) r.fail("descent_target", "not finite");
+  }
+  f.trigger = r.string("trigger");
+  f.trigger_t = r.number("trigger_t", 0);
+  f.last_accepted = r.string("last_accepted");
+  f.false_detection = r.boolean("false_detection");
+  const json& occluders = r.array("occluders");
+  for (std::size_t i = 0; i < occluders.size(); ++i) {
+    const std::string key = "occluders[" + std::to_string(i) + "]";
+    if (!occluders[i].is_object()) r.fail(key, "expected an object");
+    ObjectReader o(occluders[i], where, prefix + key + ".");
+    OccluderFact fact;
+    fact.object = o.string("object");
+    if (fact.object.empty()) o.fail("object", "empty");
+    fact.first_t = o.number("first_t", 0);
+    fact.last_t = o.number("last_t", fact.first_t);
+    fact.frames = o.integer("frames", 1);
+    fact.frames_descending = o.integer("frames_descending", 0);
+    if (fact.frames_descending > fact.frames) o.fail("frames_descending", "more than frames");
+    o.no_other_keys({"object", "first_t", "last_t", "frames", "frames_descending"});
+    f.occluders.push_back(std::move(fact));
+  }
+  f.collided_with = r.string("collided_with");
+  f.collision_phase = r.string("collision_phase");
+  r.no_other_keys({"fair", "sighting_time", "observable_s", "longest_s", "probe_observable_s", "probe_longest_s",
+                   "probe_failure", "probe_contrast", "descent_started", "descent_time", "descent_target", "trigger",
+                   "trigger_t", "last_accepted", "false_detection", "occluders", "collided_with", "collision_phase"});
+  return f;
+}
+
 Evaluation read_evaluation(const json& object, const std::string& where, const std::string& prefix) {
   ObjectReader r(object, where, prefix);
   Evaluation e;
@@ -207,8 +316,13 @@ Evaluation read_evaluation(const json& object, const std::string& where, const s
     if (!e.cells.empty() && !(e.cells.back() < cell)) r.fail(key, "cells must be sorted and unique");
     e.cells.push_back(cell);
   }
+  if (object.contains("facts")) {
+    const json& f = r.at("facts");
+    if (!f.is_object()) r.fail("facts", "expected an object, got " + std::string(f.type_name()));
+    e.facts = read_facts(f, where, prefix + "facts.");
+  }
   r.no_other_keys({"violation", "message", "dtl", "ttl", "time_limit", "landed", "collided", "reward_sum", "frames",
-                   "flight_s", "cells"});
+                   "flight_s", "cells", "facts"});
   return e;
 }
 

@@ -7,7 +7,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <fstream>
+#include <limits>
+#include <map>
 #include <optional>
 #include <set>
 
@@ -16,6 +19,7 @@
 #include "touchdown/core/atomic_file.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
+#include "touchdown/search/causes.hpp"
 #include "touchdown/search/object_policy.hpp"
 #include "touchdown/search/pareto.hpp"
 
@@ -57,6 +61,8 @@ bool SearchOptions::validate(std::string* why) const {
   if (!base.validate(&w)) return invalid(why, "base." + w);
   if (!(violation_radius > 0)) return invalid(why, "violation_radius: must be > 0");
   if (system.empty()) return invalid(why, "system: empty");
+  if (diversity && method == Method::Random) return invalid(why, "diversity: needs a GA method, not random");
+  if (!(min_distance >= 0 && min_distance <= 1)) return invalid(why, "min_distance: must be in [0, 1]");
   return true;
 }
 
@@ -106,6 +112,10 @@ namespace {
 // Rng(seed, g); the d-th drawn chromosome (seed pool, random method) comes
 // from Rng(seed, kDrawStream + d). None depends on how the runs are spread.
 constexpr std::uint64_t kDrawStream = std::uint64_t{1} << 40;
+// The diversity option's seed pool: candidates of its own stream, so that it
+// is never random sampling's first draws.
+constexpr std::uint64_t kDiverseStream = std::uint64_t{1} << 41;
+constexpr int kDiverseCandidates = 8;  // candidates per pool member (maximin over them)
 
 std::uint64_t draw_seed(std::uint64_t seed, int d) {
   Rng rng(seed, kDrawStream + static_cast<std::uint64_t>(d));
@@ -118,11 +128,28 @@ std::string scenario_file(int index) {
   return "scenarios/" + n + ".yaml";
 }
 
-double fitness_of(Method method, const Evaluation& e, double radius) {
-  return method == Method::Rlaga ? fitness_eq6(e, radius) : fitness_eq1(e, radius);
+// An unfair violation (the oracle: the target was never observable long
+// enough) scores as no violation with fair_fitness: 0, below any run.
+bool scores_nothing(const SearchOptions& o, const Evaluation& e) {
+  return (o.fair_fitness || o.diversity) && e.violation_found() && !e.fair_violation();
 }
 
-std::array<double, 2> objectives_of(const Evaluation& e) { return {e.dtl, e.ttl}; }
+// eq. 7's distance between two normalised chromosomes (÷ sqrt(dimension)).
+double gene_distance(const std::vector<double>& a, const std::vector<double>& b) {
+  double d2 = 0;
+  for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) d2 += (a[i] - b[i]) * (a[i] - b[i]);
+  return a.empty() ? 0.0 : std::sqrt(d2 / static_cast<double>(a.size()));
+}
+
+double fitness_of(const SearchOptions& o, const Evaluation& e) {
+  if (scores_nothing(o, e)) return 0.0;
+  return o.method == Method::Rlaga ? fitness_eq6(e, o.violation_radius) : fitness_eq1(e, o.violation_radius);
+}
+
+std::array<double, 2> objectives_of(const SearchOptions& o, const Evaluation& e) {
+  if (scores_nothing(o, e)) return {0.0, 0.0};
+  return {e.dtl, e.ttl};
+}
 
 // The results directory as the campaign writes it: results.jsonl in index
 // order (a finished run waits for its predecessors), scenario files before
@@ -176,6 +203,9 @@ class Directory {
   [[nodiscard]] bool scenarios_complete() const {
     return std::all_of(existing_.begin(), existing_.end(),
                        [this](const EvaluationRecord& r) { return has_scenario(r.index); });
+  }
+  [[nodiscard]] scenario::Scenario read_scenario(int index) const {
+    return scenario::load_scenario(dir_ / scenario_file(index));
   }
   void write_scenario(int index, const scenario::Scenario& s) const {
     write_file_atomically(dir_ / scenario_file(index), [&](const fs::path& tmp) { write(tmp, scenario::to_yaml(s)); });
@@ -240,12 +270,19 @@ class Campaign {
                               " scenarios were evaluated, results.jsonl has " + std::to_string(dir_.existing().size()));
       }
       for (const auto& r : records_) count(r, true);
+      if (o_.diversity) {
+        for (const auto& r : records_) {
+          if (r.evaluation.fair_violation())
+            ++cause_counts_[violation_cause(r.evaluation, dir_.read_scenario(r.index))];
+        }
+      }
     }
     for (; evaluated_ < o_.budget; ++generation) {
       progress_state_.generation = generation;
       const int n = std::min(o_.ga.population, o_.budget - evaluated_);
-      std::vector<Chromosome> batch =
-          (o_.method == Method::Random || generation == 0) ? draws(n) : offspring(generation, n);
+      std::vector<Chromosome> batch = o_.method == Method::Random ? draws(n)
+                                      : generation == 0           ? (o_.diversity ? spread_draws(n) : draws(n))
+                                                                  : offspring(generation, n);
       const std::vector<Individual> evaluated = evaluate(batch, generation);
       if (o_.method != Method::Random) select(evaluated);
       detail::PoolState s;
@@ -274,6 +311,32 @@ class Campaign {
     return out;
   }
 
+  // The diversity option's seed pool: kDiverseCandidates × n draws of its own
+  // stream, of which n are picked greedily farthest from those already
+  // picked (maximin in normalised gene space: a space-filling pool).
+  std::vector<Chromosome> spread_draws(int n) const {
+    std::vector<Chromosome> candidates;
+    std::vector<std::vector<double>> genes;
+    for (int d = 0; d < kDiverseCandidates * n; ++d) {
+      Rng rng(o_.seed, kDiverseStream + static_cast<std::uint64_t>(evaluated_ + d));
+      candidates.push_back(canonical(layout_.draw(rng.next() >> 11)));
+      genes.push_back(layout_.normalised(candidates.back()));
+    }
+    std::vector<Chromosome> out{candidates.front()};
+    std::vector<double> nearest(candidates.size(), std::numeric_limits<double>::infinity());
+    std::size_t last = 0;
+    while (static_cast<int>(out.size()) < n) {
+      std::size_t best = 0;
+      for (std::size_t i = 0; i < candidates.size(); ++i) {
+        nearest[i] = std::min(nearest[i], gene_distance(genes[i], genes[last]));
+        if (nearest[i] > nearest[best]) best = i;
+      }
+      out.push_back(candidates[best]);
+      last = best;
+    }
+    return out;
+  }
+
   // Algorithm 1 (and NSGA-II's loop): parents by tournament from the pool,
   // adjacent pairs cross over, each child mutates; a child equal to a pool
   // member or to an earlier child is mutated again (a scenario already run
@@ -285,7 +348,7 @@ class Campaign {
     if (o_.method == Method::ManyObjectiveGa) {
       std::vector<std::array<double, 2>> objectives;
       for (const auto& p : pool_)
-        objectives.push_back(objectives_of(records_[static_cast<std::size_t>(p.index)].evaluation));
+        objectives.push_back(objectives_of(o_, records_[static_cast<std::size_t>(p.index)].evaluation));
       parents = crowded_tournament(pareto_ranking(objectives), parents_needed, rng);
     } else {
       std::vector<double> fitness;
@@ -302,6 +365,19 @@ class Campaign {
     children.resize(static_cast<std::size_t>(n));
     std::set<Chromosome> seen(pool_chromosomes.begin(), pool_chromosomes.end());
     const bool diverse = o_.method != Method::ManyObjectiveGa;
+    // With the diversity option a child nearer than min_distance to a
+    // scenario already run (or an earlier child) counts as seen too.
+    std::vector<std::vector<double>> ran;
+    if (o_.diversity) {
+      for (const EvaluationRecord& r : records_) ran.push_back(r.genes);
+    }
+    const auto too_near = [&](const Chromosome& c) {
+      if (seen.count(c) > 0) return true;
+      if (!o_.diversity) return false;
+      const std::vector<double> g = layout_.normalised(c);
+      return std::any_of(ran.begin(), ran.end(),
+                         [&](const std::vector<double>& r) { return gene_distance(g, r) < o_.min_distance; });
+    };
     for (Chromosome& c : children) {
       if (diverse) {
         (void)mutate(layout_, c, pool_chromosomes, o_.ga, rng);
@@ -309,7 +385,7 @@ class Campaign {
         (void)mutate_uniform(layout_, c, o_.ga.mutation_threshold, rng);
       }
       c = canonical(c);
-      for (int attempt = 0; attempt < 20 && seen.count(c) > 0; ++attempt) {
+      for (int attempt = 0; attempt < 20 && too_near(c); ++attempt) {
         if (diverse) {
           mutate_gene(layout_, c, rng.next() % layout_.genes().size(), pool_chromosomes, o_.ga.mutation_candidates,
                       rng);
@@ -319,6 +395,7 @@ class Campaign {
         c = canonical(c);
       }
       seen.insert(c);
+      if (o_.diversity) ran.push_back(layout_.normalised(c));
     }
     return children;
   }
@@ -331,7 +408,9 @@ class Campaign {
     std::vector<scenario::Scenario> scenarios;
     std::vector<std::size_t> pending;  // batch positions to run
     std::vector<std::optional<EvaluationRecord>> done(batch.size());
-    std::vector<EvaluationRecord> waiting;  // the records of `pending`, without their evaluation
+    std::vector<EvaluationRecord> waiting;    // the records of `pending`, without their evaluation
+    std::vector<scenario::Scenario> decoded;  // every batch member's scenario (the causes need it)
+    for (std::size_t k = 0; k < batch.size(); ++k) decoded.push_back(layout_.decode(batch[k]));
     for (std::size_t k = 0; k < batch.size(); ++k) {
       const int index = first + static_cast<int>(k);
       EvaluationRecord r;
@@ -347,12 +426,11 @@ class Campaign {
                                 " (the directory was changed by hand?)");
         }
         done[k] = old;
-        if (!dir_.has_scenario(index)) dir_.write_scenario(index, layout_.decode(batch[k]));
+        if (!dir_.has_scenario(index)) dir_.write_scenario(index, decoded[k]);
         continue;
       }
-      scenario::Scenario s = layout_.decode(batch[k]);
-      dir_.write_scenario(index, s);
-      scenarios.push_back(std::move(s));
+      dir_.write_scenario(index, decoded[k]);
+      scenarios.push_back(decoded[k]);
       pending.push_back(k);
       waiting.push_back(std::move(r));
     }
@@ -361,6 +439,14 @@ class Campaign {
       for (; next < batch.size() && done[next]; ++next) {
         if (first + static_cast<int>(next) >= static_cast<int>(records_.size())) {
           const bool resumed = static_cast<std::size_t>(first) + next < dir_.existing().size();
+          // Novelty, in index order (the same for any completion order): a
+          // fair violation whose cause was found n times before scores its
+          // fitness / (1 + n).
+          if (o_.diversity && done[next]->evaluation.fair_violation()) {
+            int& n = cause_counts_[violation_cause(done[next]->evaluation, decoded[next])];
+            if (!resumed) done[next]->fitness /= 1 + n;
+            ++n;
+          }
           if (!resumed) dir_.append(*done[next]);
           records_.push_back(*done[next]);
           count(*done[next], resumed);
@@ -374,7 +460,7 @@ class Campaign {
       (void)evaluator_.evaluate(scenarios, [&](std::size_t i, const Evaluation& e) {
         EvaluationRecord r = waiting[i];
         r.evaluation = e;
-        r.fitness = fitness_of(o_.method, e, o_.violation_radius);
+        r.fitness = fitness_of(o_, e);
         done[pending[i]] = std::move(r);
         flush();
       });
@@ -398,7 +484,7 @@ class Campaign {
     if (o_.method == Method::ManyObjectiveGa) {
       std::vector<std::array<double, 2>> objectives;
       for (const auto& a : all)
-        objectives.push_back(objectives_of(records_[static_cast<std::size_t>(a.index)].evaluation));
+        objectives.push_back(objectives_of(o_, records_[static_cast<std::size_t>(a.index)].evaluation));
       keep = nsga2_survivors(objectives, n);
     } else {
       std::vector<double> fitness;
@@ -420,6 +506,7 @@ class Campaign {
   std::vector<EvaluationRecord> records_;
   int evaluated_ = 0;
   double evaluation_s_ = 0;
+  std::map<std::string, int> cause_counts_;  // the diversity option's: fair causes found so far
 };
 
 }  // namespace

@@ -25,6 +25,7 @@ TEST(ScenarioEnumNames, EveryEnumeratorRoundTripsThroughItsName) {
   td::test::expect_names_round_trip<ts::ObjectAction>();
   td::test::expect_names_round_trip<ts::Solid::Shape>();
   td::test::expect_names_round_trip<ts::Label>();
+  td::test::expect_names_round_trip<ts::Sight>();
   td::test::expect_names_round_trip<ts::detail::MlsPhase>();
 }
 
@@ -35,6 +36,8 @@ TEST(ScenarioEnumNames, NamesAreTheFilesAndOutputsSpellings) {
   // The paper's roman numerals, as the JSON "type" and the campaign CSV print them.
   EXPECT_EQ(ts::to_string(ts::Violation::None), "none");
   EXPECT_EQ(ts::to_string(ts::Violation::TypeIII), "III");
+  EXPECT_EQ(ts::to_string(ts::Violation::OffMarker), "off-marker");
+  EXPECT_EQ(ts::to_string(ts::Sight::LowContrast), "low-contrast");
   EXPECT_EQ(ts::detail::to_string(ts::detail::MlsPhase::Approach), "approach");
 }
 
@@ -50,5 +53,5 @@ TEST(ScenarioEnumNames, MaskValuesAreTheLabelsNumbers) {
 TEST(ScenarioEnumNames, ABadNameListsTheAcceptedNames) {
   td::test::expect_bad_name<ts::MapKind>("moon", "expected one of ground, lawn; got 'moon'");
   td::test::expect_bad_name<ts::StaticKind>("lamp", "expected one of box, chair, pole, tree; got 'lamp'");
-  td::test::expect_bad_name<ts::Violation>("type_i", "expected one of none, I, II, III; got 'type_i'");
+  td::test::expect_bad_name<ts::Violation>("type_i", "expected one of none, I, II, III, off-marker; got 'type_i'");
 }

@@ -53,11 +53,19 @@ ts::SearchMetrics metrics(double percent, std::optional<int> top, std::optional<
 }
 
 std::vector<ts::CompareCell> hand_made_cells() {
-  ts::CompareCell a{"rlaga", "ground", {}, {}};
+  ts::CompareCell a;
+  a.method = "rlaga";
+  a.map = "ground";
   a.per_seed = {metrics(10, 100, 200, 0.5, 10, 10, 10, 10), metrics(20, 50, std::nullopt, 0.6, 20, 20, 20, 20),
                 metrics(30, 150, 260, 0.7, 30, 30, 30, 30)};
+  // The fair figures (issue 52): 10/15/20 % and 5/10/15 fair Type II; 2, 3, 4 causes.
+  a.per_seed_fair = {metrics(10, 100, 200, 0.5, 10, 10, 5, 10), metrics(15, 50, std::nullopt, 0.6, 20, 20, 10, 20),
+                     metrics(20, 150, 260, 0.7, 30, 30, 15, 30)};
+  a.fair_causes = {2, 3, 4};
   a.cumulative = {{0, 1, 1, 2, 3}, {1, 1, 2, 2, 2}, {0, 0, 1, 2, 4}};
-  ts::CompareCell b{"random", "lawn", {}, {}};
+  ts::CompareCell b;  // without facts: the fair columns say n/a
+  b.method = "random";
+  b.map = "lawn";
   b.per_seed = {metrics(5, std::nullopt, std::nullopt, 0.25, 3, 15, 0, 0)};
   b.cumulative = {{0, 0, 0, 1, 1}};
   return {a, b};
@@ -67,18 +75,24 @@ TEST(Compare, TableGolden) {
   // rlaga: violations 20 ± 10; Top-10 100 ± 50; rounds over the two seeds
   // that found all types: 230 ± sqrt(1800) = 42.4; distance 0.6 ± 0.1.
   // random: one seed, sd 0; Top-10 and rounds never reached.
+  // The fair columns: 15 ± 5 %, 10 ± 5 fair Type II, 3 ± 1 causes; n/a for
+  // the cell without facts.
   const std::string expected =
       "method  map     violations [%]  Top-10     rounds to all types   parameter distance  3-D coverage [cells]  "
-      "Type I       Type II      Type III\n"
+      "Type I       Type II      Type III     off-marker  fair violations [%]  fair Type II  distinct fair causes\n"
       "rlaga   ground  20.0 ± 10.0     100 ± 50   230 ± 42 (2/3 found)  0.600 ± 0.100       20 ± 10               "
-      "20.0 ± 10.0  20.0 ± 10.0  20.0 ± 10.0\n"
+      "20.0 ± 10.0  20.0 ± 10.0  20.0 ± 10.0  0.0 ± 0.0   15.0 ± 5.0           10.0 ± 5.0    3.0 ± 1.0\n"
       "random  lawn    5.0 ± 0.0       not found  not found             0.250 ± 0.000       3 ± 0                 "
-      "15.0 ± 0.0   0.0 ± 0.0    0.0 ± 0.0\n";
+      "15.0 ± 0.0   0.0 ± 0.0    0.0 ± 0.0    0.0 ± 0.0   n/a                  n/a           n/a\n";
   EXPECT_EQ(ts::compare_table(hand_made_cells()), expected);
   EXPECT_EQ(
       ts::compare_table({}, 5),
       "method  map  violations [%]  Top-5  rounds to all types  parameter distance  3-D coverage [cells]  Type I  "
-      "Type II  Type III\n");
+      "Type II  Type III  off-marker  fair violations [%]  fair Type II  distinct fair causes\n");
+  // A seed whose results carry no facts makes the cell's fair figures n/a.
+  auto cells = hand_made_cells();
+  cells[0].per_seed_fair[1].facts_recorded = false;
+  EXPECT_EQ(count(ts::compare_table(cells), "n/a"), 5u) << ts::compare_table(cells);
 }
 
 void expect_well_formed(const std::string& svg, const std::string& name) {

@@ -61,9 +61,11 @@ struct CampaignSummary {
   int scenarios = 0;
   int violations = 0;
   int type_i = 0, type_ii = 0, type_iii = 0;
-  double flight_s = 0;  ///< simulated, summed
-  Timing timing;        ///< summed over scenarios (CPU-side, per thread)
-  double wall_s = 0;    ///< of the whole campaign
+  int off_marker = 0;      ///< landed off the marker after a true detection (or none)
+  int unfair_type_ii = 0;  ///< of type_ii: the target never observable long enough (oracle.hpp)
+  double flight_s = 0;     ///< simulated, summed
+  Timing timing;           ///< summed over scenarios (CPU-side, per thread)
+  double wall_s = 0;       ///< of the whole campaign
   [[nodiscard]] double violation_rate() const { return scenarios > 0 ? double(violations) / scenarios : 0.0; }
 };
 

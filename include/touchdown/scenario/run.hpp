@@ -4,15 +4,27 @@
 /// and its outcome with the RLaGA paper's violation semantics:
 /// violation = a collision with any object, or a final landing position more
 /// than 1.5 m from the marker centre (including no landing within the time
-/// limit). Classified automatically (the paper did it by hand from videos):
-///   Type I    landed at a false-positive location (a detection elsewhere
-///             triggered the descent);
-///   Type II   no landing: the marker was never (or not long enough) detected;
-///   Type III  collision.
+/// limit). Classified automatically from the world's truth (the paper did it
+/// by hand from videos; issue 52 made the types what the paper defines):
+///   Type I      landed off the marker because the descent was committed on
+///               a detection that was not the target (a look-alike, a wrong
+///               id, a pattern, an object, the ground): the mask under the
+///               detection that triggered it says so;
+///   off-marker  landed off the marker after a true detection (drift, a
+///               blind descent, the estimate off), or without any detection:
+///               a violation, not a false positive;
+///   Type II     no landing within the time limit; fair or not by the
+///               observability oracle (oracle.hpp): was the target
+///               observable long enough for any system to have landed?
+///   Type III    collision.
+/// Every run records what its class rests on: the detection that triggered
+/// the descent and what it was really on, the descent target, the objects
+/// that hid the target and when, the object collided with and the phase.
 #include <Eigen/Core>
 #include <array>
 #include <chrono>
 #include <functional>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,15 +32,17 @@
 #include "touchdown/core/enum_names.hpp"
 #include "touchdown/scenario/camera.hpp"
 #include "touchdown/scenario/landing_system.hpp"
+#include "touchdown/scenario/oracle.hpp"
 #include "touchdown/scenario/world.hpp"
 
 namespace touchdown::scenario {
 
 enum class Violation {
   None,
-  TypeI,    ///< landed > radius from the marker: a false detection led it there
-  TypeII,   ///< did not land in time
-  TypeIII,  ///< collision
+  TypeI,      ///< landed > radius from the marker: a false detection led it there
+  TypeII,     ///< did not land in time
+  TypeIII,    ///< collision
+  OffMarker,  ///< landed > radius from the marker after a true detection (or none)
 };
 
 }  // namespace touchdown::scenario
@@ -37,7 +51,7 @@ enum class Violation {
 // messages): the paper's roman numerals.
 template <>
 struct touchdown::EnumNames<touchdown::scenario::Violation> {
-  static constexpr std::array<std::string_view, 4> names{"none", "I", "II", "III"};
+  static constexpr std::array<std::string_view, 5> names{"none", "I", "II", "III", "off-marker"};
 };
 
 namespace touchdown::scenario {
@@ -48,6 +62,10 @@ struct RunOptions {
   CameraOptions camera;
   FlightOptions flight;
   double violation_radius = 1.5;  ///< [m]
+  /// The observability oracle's thresholds and probe (oracle.hpp);
+  /// sighting_time should be the system's own (the reference systems':
+  /// MlsOptions::seen_time).
+  OracleOptions oracle;
   /// Called for every camera frame after the system has seen it (video,
   /// inspection). May be empty.
   std::function<void(const CameraFrame&, const SystemOutput&, const DroneState&)> on_frame;
@@ -66,7 +84,8 @@ struct TrajectorySample {
   std::string phase;  ///< the landing system's phase at this step
 };
 
-/// Per camera frame: the eq. 5 reward inputs and what the system detected.
+/// Per camera frame: the eq. 5 reward inputs, what the system detected and
+/// the oracle's view of the target.
 struct FrameRecord {
   double t = 0;
   double marker_area_visible_px = 0;
@@ -74,12 +93,36 @@ struct FrameRecord {
   int detections = 0;      ///< markers the system reported
   int accepted = 0;        ///< of which counted as the target
   int false_accepted = 0;  ///< accepted, but not on the true marker (mask)
+  TargetView view;         ///< the oracle's (Sight::OutOfView when it is off)
+};
+
+/// What a detection really was: the label of the mask under its centre, and
+/// the scenario object there ("distractors[1] (lookalike)", "static_objects[0]
+/// (box)", "marker", "ground", "sky").
+struct DetectionTruth {
+  double t = 0;
+  Label label = Label::Ground;
+  std::string object;
+  int id = -1;                                       ///< the id the system read
+  Eigen::Vector2d ground = Eigen::Vector2d::Zero();  ///< the world point under its centre [m]
+  [[nodiscard]] bool on_target() const { return label == Label::Marker; }
+};
+
+/// An object that hid part of the target from the run's camera: frames in
+/// which the target was in view but partly hidden and the object stood on a
+/// line of sight to it.
+struct OccluderRecord {
+  std::string object;  ///< "static_objects[2] (tree)", "dynamic_objects[0] (person)"
+  double first_t = 0, last_t = 0;
+  int frames = 0;
+  int frames_descending = 0;  ///< of them, after the descent started
 };
 
 struct Timing {
   double render_s = 0;
   double system_s = 0;   ///< detection and decision
   double physics_s = 0;  ///< flight, objects, collisions
+  double oracle_s = 0;   ///< the observability oracle: its probe frames, the frames' views, the records
   double total_s = 0;
 };
 
@@ -99,8 +142,20 @@ struct ScenarioOutcome {
   double descent_time = 0;
   Eigen::Vector2d descent_target = Eigen::Vector2d::Zero();
   bool false_detection = false;  ///< some accepted detection was not on the true marker
-  double flight_s = 0;           ///< simulated time flown [s]
-  int frame_count = 0;           ///< camera frames the system was given
+  /// The accepted detection of the last frame before the descent started
+  /// (the one the system committed on; the largest when several); none
+  /// when no descent started or nothing was accepted before it.
+  bool has_trigger = false;
+  DetectionTruth trigger;
+  /// The last accepted detection of the run (what a landing without a
+  /// reported descent followed).
+  bool has_last_accepted = false;
+  DetectionTruth last_accepted;
+  std::vector<OccluderRecord> occluders;
+  std::string collision_phase;  ///< the system's phase when it collided
+  Observability observability;  ///< the oracle's summary (measured = false when off)
+  double flight_s = 0;          ///< simulated time flown [s]
+  int frame_count = 0;          ///< camera frames the system was given
   Timing timing;
 
   [[nodiscard]] bool violation() const { return status != Violation::None; }
@@ -108,9 +163,16 @@ struct ScenarioOutcome {
 };
 
 /// A run's outcome and its per-step records.
+/// One probe frame of the oracle: its time and what it saw.
+struct ProbeRecord {
+  double t = 0;
+  TargetView view;
+};
+
 struct ScenarioResult : ScenarioOutcome {
   std::vector<TrajectorySample> trajectory;  ///< every physics step
   std::vector<FrameRecord> frames;           ///< every camera frame
+  std::vector<ProbeRecord> probe;            ///< the oracle's probe frames
 };
 
 /// What run_scenario() gives a system's reset() for `scenario`: the camera,
@@ -164,6 +226,19 @@ class ScenarioRun {
   SystemInput last_input_;
   SystemOutput last_output_;
   ScenarioResult result_;
+  // The observability oracle: the target's code, the probe's camera and frame.
+  std::unique_ptr<TargetOracle> oracle_;
+  std::unique_ptr<Renderer> probe_renderer_;
+  CameraOptions probe_camera_;
+  CameraFrame probe_frame_;
+  SceneState probe_scene_;
+  double next_probe_ = 0;
+  int probe_index_ = 0;
+
+  void record_frame(const SystemOutput& out, const DroneState& state);
+  void probe(double t);
+  DetectionTruth detection_truth(const Detection& d, double t) const;
+  void record_occluders(FrameRecord& rec, double t);
 };
 
 /// Runs `system` in `scenario` until it lands, collides or the time limit.

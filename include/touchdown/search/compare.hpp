@@ -15,7 +15,9 @@ namespace touchdown::search {
 /// One method on one map, over seeds.
 struct CompareCell {
   std::string method, map;
-  std::vector<SearchMetrics> per_seed;
+  std::vector<SearchMetrics> per_seed;       ///< Count::All (the source's)
+  std::vector<SearchMetrics> per_seed_fair;  ///< Count::Fair; empty: not computed
+  std::vector<int> fair_causes;              ///< per seed: distinct fair causes; -1: no facts recorded
   std::vector<std::vector<int>> cumulative;  ///< per seed: cumulative_violations
 };
 
@@ -30,7 +32,9 @@ MeanSd mean_sd(const std::vector<double>& v);
 /// The source's Table 2 layout as aligned text, a header line and one row
 /// per cell (method and map), in the order given; columns: violations [%],
 /// Top-K, rounds to all types, parameter distance (eq. 7), 3-D coverage
-/// [cells], Types I, II and III (counts). Each entry is "mean ± sd" over the
+/// [cells], Types I, II and III and off-marker landings (counts), then the
+/// fair figures of issue 52: fair violations [%], fair Type II (count) and
+/// distinct fair causes ("n/a" for results without facts). Each entry is "mean ± sd" over the
 /// cell's seeds. Top-K and rounds to all types, which some seeds may not
 /// reach: over the seeds that reached it, followed by "(2/3 found)" when
 /// not all did, and "not found" when none did. Decimals: violations 1,

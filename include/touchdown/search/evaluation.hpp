@@ -26,6 +26,42 @@ inline double frame_reward(double area_truth_px, double area_visible_px) {
   return area_truth_px / area_visible_px;
 }
 
+/// An object that hid part of the target from the run's camera
+/// (scenario::OccluderRecord).
+struct OccluderFact {
+  std::string object;  ///< "static_objects[2] (tree)"
+  double first_t = 0, last_t = 0;
+  int frames = 0, frames_descending = 0;
+};
+
+/// What a run's classification rests on (issue 52), from the world's truth:
+/// the oracle's observability, the detection the descent was committed on,
+/// the occluders of the target, the collision. Results written before issue
+/// 52 have none (recorded = false), and read as such.
+struct Facts {
+  bool recorded = false;
+  /// The violation is the system's doing: every violation but a Type II in
+  /// a run whose target was never observable long enough (oracle.hpp).
+  bool fair = true;
+  double sighting_time = 0;                            ///< [s] the oracle's "long enough"
+  double observable_s = 0, longest_s = 0;              ///< the run's camera [s]
+  double probe_observable_s = 0, probe_longest_s = 0;  ///< the probe above the marker [s]
+  std::string probe_failure = "observable";            ///< the probe's most frequent scenario::Sight
+  double probe_contrast = 0;                           ///< its median contrast [grey levels]
+  bool descent_started = false;
+  double descent_time = 0;
+  std::array<double, 2> descent_target{0, 0};  ///< [m]
+  /// The detection the descent was committed on (its object: "marker",
+  /// "distractors[0] (lookalike)", "ground", ...); empty: none.
+  std::string trigger;
+  double trigger_t = 0;
+  std::string last_accepted;     ///< the run's last accepted detection's object; empty: none
+  bool false_detection = false;  ///< some accepted detection was not on the target
+  std::vector<OccluderFact> occluders;
+  std::string collided_with;  ///< the collision's object ("static_objects[1] (pole)"); empty: none
+  std::string collision_phase;
+};
+
 struct Evaluation {
   scenario::Violation violation = scenario::Violation::None;
   std::string message;     ///< the run's one-line outcome
@@ -39,8 +75,12 @@ struct Evaluation {
   double flight_s = 0;    ///< simulated time [s]
   /// Cells floor(p / kCoverageCell) visited by the drone, sorted, unique.
   std::vector<std::array<int, 3>> cells;
+  Facts facts;
 
   [[nodiscard]] bool violation_found() const { return violation != scenario::Violation::None; }
+  /// A violation the system is to blame for (Facts::fair); a result without
+  /// facts (before issue 52) counts every violation.
+  [[nodiscard]] bool fair_violation() const { return violation_found() && (!facts.recorded || facts.fair); }
 };
 
 /// The search's view of a finished run: its outcome, eq. 5 summed over its

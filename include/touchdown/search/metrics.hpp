@@ -11,10 +11,22 @@
 
 namespace touchdown::search {
 
+/// Which violations the metrics count: every one (the source's
+/// definition, Table 2's comparison) or only the fair ones (Facts::fair:
+/// not a Type II whose target was never observable long enough).
+enum class Count { All, Fair };
+
 struct SearchMetrics {
   int evaluated = 0;   ///< scenarios evaluated (records)
-  int violations = 0;  ///< of them, with a violation of any type
+  int violations = 0;  ///< of them, with a violation of any type (counted)
   int type_i = 0, type_ii = 0, type_iii = 0;
+  int off_marker = 0;  ///< landed off the marker after a true detection (or none)
+  /// Violations the oracle found unfair: with Count::All counted in the
+  /// figures above, with Count::Fair left out of them.
+  int unfair = 0;
+  /// Every record carries its facts (results written since issue 52);
+  /// false: fairness unknown, every violation counted as fair.
+  bool facts_recorded = true;
   double violation_percent = 0;  ///< 100 × violations / evaluated; 0 when nothing was evaluated
   /// Scenarios evaluated until the K-th violation, that one included (a
   /// count, 1-based); nullopt: fewer than K violations.
@@ -37,10 +49,12 @@ struct SearchMetrics {
 /// Every metric over `records`, which must be in index order (record i has
 /// index i) with genes of one length among the violating ones
 /// (InvalidArgument otherwise, as for k < 1). `k`: Top-K's K.
-SearchMetrics compute_metrics(const std::vector<EvaluationRecord>& records, int k = 10);
+/// `count`: every violation or the fair ones only (Top-K, rounds, distance
+/// and coverage then over the fair ones too).
+SearchMetrics compute_metrics(const std::vector<EvaluationRecord>& records, int k = 10, Count count = Count::All);
 
 /// Violations found after each evaluation: element i counts the violating
-/// records among records[0..i].
-std::vector<int> cumulative_violations(const std::vector<EvaluationRecord>& records);
+/// (`count`) records among records[0..i].
+std::vector<int> cumulative_violations(const std::vector<EvaluationRecord>& records, Count count = Count::All);
 
 }  // namespace touchdown::search

@@ -65,8 +65,9 @@ LoadedRecords load_records_tolerant(const std::filesystem::path& results_jsonl);
 
 /// The Evaluation alone as one JSON object, no newline: keys violation,
 /// message, dtl, ttl, time_limit, landed, collided, reward_sum, frames,
-/// flight_s, cells, in that order. InvalidArgument when a double is not
-/// finite.
+/// flight_s, cells, in that order, then facts when recorded (issue 52;
+/// docs/formats.md lists its keys; a reader takes a record without it, as
+/// written before). InvalidArgument when a double is not finite.
 std::string evaluation_json(const Evaluation& e);
 
 /// Parses evaluation_json's text. ParseError "source: key: what".

@@ -112,6 +112,19 @@ struct SearchOptions {
   /// Text identifying the DQN weights (rlaga; recorded in campaign.json so
   /// that --resume refuses other weights). Empty for the other methods.
   std::string weights_id;
+  /// Unfair violations (a Type II whose target the oracle never found
+  /// observable long enough, Facts::fair) score as no violation: fitness 0,
+  /// objectives (0, 0). Recorded in campaign.json when set.
+  bool fair_fitness = false;
+  /// Distinct defects instead of near-duplicates (issue 52): the seed pool is
+  /// spread (maximin over 8 × population draws of its own stream, never
+  /// random sampling's pool); a fair violation whose cause (causes.hpp) was
+  /// found n times before scores its fitness / (1 + n), unfair ones 0 (as
+  /// fair_fitness); a child nearer than min_distance (eq. 7's normalised
+  /// distance) to a scenario already run is mutated again, as an exact
+  /// duplicate is. GA methods only. Recorded in campaign.json when set.
+  bool diversity = false;
+  double min_distance = 0.05;
 
   [[nodiscard]] bool validate(std::string* why) const;
   /// Generations the budget allows: ceil(budget / population), the seed
