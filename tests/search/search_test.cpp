@@ -9,13 +9,17 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <thread>
 
 #include "test_util.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/search/causes.hpp"
+#include "touchdown/search/genetic.hpp"
 
 namespace touchdown::search {
 namespace {
@@ -46,12 +50,38 @@ Evaluation fake_evaluation(const scenario::Scenario& s) {
   return e;
 }
 
+// The same with the facts of issue 52: a run that would land, in a scene
+// with an odd seed, is an unfair Type II (its marker never observable), a collision is with the bird while
+// descending, a Type I was committed on the first distractor.
+Evaluation fake_with_facts(const scenario::Scenario& s) {
+  Evaluation e = fake_evaluation(s);
+  if (e.violation == scenario::Violation::None && s.seed % 2 == 1) {
+    e.violation = scenario::Violation::TypeII;
+    e.ttl = s.time_limit;
+  }
+  e.facts.recorded = true;
+  e.facts.sighting_time = 5;
+  const bool unseen = s.seed % 2 == 1;
+  e.facts.probe_longest_s = unseen ? 0 : 20;
+  e.facts.probe_failure = unseen ? "low-contrast" : "observable";
+  e.facts.fair = e.violation != scenario::Violation::TypeII || !unseen;
+  if (e.violation == scenario::Violation::TypeIII) {
+    e.facts.collided_with = "dynamic_objects[0] (bird)";
+    e.facts.collision_phase = "descend";
+  }
+  if (e.violation == scenario::Violation::TypeI) {
+    e.facts.trigger = "distractors[0] (" + std::string(scenario::to_string(s.distractors[0].kind)) + ")";
+  }
+  return e;
+}
+
 // Calls on_done in reverse order (as threads may finish), and throws after
 // `fail_after` evaluations (a killed campaign).
 class FakeEvaluator final : public Evaluator {
  public:
   int fail_after = -1;
   int evaluated = 0;
+  bool facts = false;                  // fake_with_facts instead of fake_evaluation
   std::chrono::milliseconds pause{0};  // per batch: a stand-in for the runs' time
   std::vector<Evaluation> evaluate(const std::vector<scenario::Scenario>& scenarios,
                                    const std::function<void(std::size_t, const Evaluation&)>& on_done) override {
@@ -59,7 +89,7 @@ class FakeEvaluator final : public Evaluator {
     std::this_thread::sleep_for(pause);
     for (std::size_t k = scenarios.size(); k-- > 0;) {
       if (fail_after >= 0 && evaluated >= fail_after) throw std::runtime_error("killed");
-      out[k] = fake_evaluation(scenarios[k]);
+      out[k] = facts ? fake_with_facts(scenarios[k]) : fake_evaluation(scenarios[k]);
       ++evaluated;
       if (on_done) on_done(k, out[k]);
     }
@@ -253,6 +283,135 @@ TEST_F(SearchDir, RefusesAnotherCampaignsDirectoryAndOverwritesNothing) {
   EXPECT_THROW(run_search(small(Method::DiverseGa), e, root_ / "empty", true), InvalidArgument);
 }
 
+SearchOptions diverse(Method m) {
+  SearchOptions o = small(m);
+  o.budget = 48;
+  o.diversity = true;
+  return o;
+}
+
+double distance(const std::vector<double>& a, const std::vector<double>& b) {
+  double d2 = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) d2 += (a[i] - b[i]) * (a[i] - b[i]);
+  return std::sqrt(d2 / static_cast<double>(a.size()));
+}
+
+double min_pairwise(const std::vector<EvaluationRecord>& r, std::size_t n) {
+  double best = 1e9;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = i + 1; j < n; ++j) best = std::min(best, distance(r[i].genes, r[j].genes));
+  }
+  return best;
+}
+
+TEST_F(SearchDir, DiversityIsDeterministicAndResumesToTheSameFile) {
+  FakeEvaluator a, b;
+  a.facts = b.facts = true;
+  (void)run_search(diverse(Method::Rlaga), a, root_ / "a", false);
+  (void)run_search(diverse(Method::Rlaga), b, root_ / "b", false);
+  const std::string whole = test::read_text(root_ / "a" / "results.jsonl");
+  EXPECT_EQ(whole, test::read_text(root_ / "b" / "results.jsonl"));
+  for (int kill : {4, 13, 31}) {
+    const fs::path dir = root_ / ("k" + std::to_string(kill));
+    FakeEvaluator killed;
+    killed.facts = true;
+    killed.fail_after = kill;
+    EXPECT_THROW(run_search(diverse(Method::Rlaga), killed, dir, false), std::runtime_error);
+    FakeEvaluator rest;
+    rest.facts = true;
+    (void)run_search(diverse(Method::Rlaga), rest, dir, true);
+    EXPECT_EQ(test::read_text(dir / "results.jsonl"), whole) << kill;
+  }
+  EXPECT_NE(test::read_text(root_ / "a" / "campaign.json").find("\"diversity\""), std::string::npos);
+}
+
+TEST_F(SearchDir, DiversitySpreadsItsSeedPoolAwayFromRandomSamplings) {
+  FakeEvaluator a, r;
+  a.facts = r.facts = true;
+  const SearchResult d = run_search(diverse(Method::DiverseGa), a, root_ / "d", false);
+  SearchOptions random_options = small(Method::Random);
+  random_options.budget = 48;
+  const SearchResult rnd = run_search(random_options, r, root_ / "r", false);
+  // Not random sampling's pool: none of its 6 members is one of random's first 48.
+  for (std::size_t i = 0; i < 6; ++i) {
+    for (const EvaluationRecord& x : rnd.records) EXPECT_NE(d.records[i].genes, x.genes) << i;
+  }
+  // Maximin over 48 candidates: its closest pair is farther apart than random's.
+  EXPECT_GT(min_pairwise(d.records, 6), min_pairwise(rnd.records, 6));
+}
+
+TEST_F(SearchDir, DiversityRunsNoScenarioNearOneAlreadyRun) {
+  FakeEvaluator e;
+  e.facts = true;
+  SearchOptions o = diverse(Method::DiverseGa);
+  o.min_distance = 0.05;
+  const SearchResult r = run_search(o, e, root_ / "d", false);
+  int near = 0;
+  for (std::size_t j = 6; j < r.records.size(); ++j) {
+    for (std::size_t i = 0; i < j; ++i) near += distance(r.records[i].genes, r.records[j].genes) < 0.05 ? 1 : 0;
+  }
+  EXPECT_EQ(near, 0);
+  // Without the option the GA re-runs near-copies of its pool.
+  FakeEvaluator plain;
+  const SearchResult p = run_search(small(Method::DiverseGa), plain, root_ / "p", false);
+  int plain_near = 0;
+  for (std::size_t j = 6; j < p.records.size(); ++j) {
+    for (std::size_t i = 0; i < j; ++i) plain_near += distance(p.records[i].genes, p.records[j].genes) < 0.05 ? 1 : 0;
+  }
+  EXPECT_GT(plain_near, 0);
+}
+
+TEST_F(SearchDir, DiversityScoresARepeatedCauseLess) {
+  FakeEvaluator e;
+  e.facts = true;
+  const SearchOptions o = diverse(Method::DiverseGa);
+  const SearchResult r = run_search(o, e, root_ / "d", false);
+  std::map<std::string, int> seen;
+  int repeats = 0, unfair = 0;
+  for (const EvaluationRecord& rec : r.records) {
+    const Evaluation& ev = rec.evaluation;
+    if (ev.violation_found() && !ev.fair_violation()) {
+      EXPECT_EQ(rec.fitness, 0.0) << rec.index;
+      ++unfair;
+      continue;
+    }
+    const double base = fitness_eq1(ev, o.violation_radius);
+    if (!ev.fair_violation()) {
+      EXPECT_EQ(rec.fitness, base) << rec.index;
+      continue;
+    }
+    const scenario::Scenario s = scenario::load_scenario(root_ / "d" / rec.scenario);
+    int& n = seen[violation_cause(ev, s)];
+    EXPECT_DOUBLE_EQ(rec.fitness, base / (1 + n)) << rec.index;
+    repeats += n > 0 ? 1 : 0;
+    ++n;
+  }
+  EXPECT_GT(repeats, 0) << "the fake world has few causes: some must repeat";
+  EXPECT_GT(seen.size(), 1u);
+  // (Unfair runs scoring 0 is checked where the fake world makes them:
+  // FairFitnessScoresUnfairViolationsAsNone; the same rule applies here.)
+  (void)unfair;
+}
+
+TEST_F(SearchDir, FairFitnessScoresUnfairViolationsAsNone) {
+  FakeEvaluator e;
+  e.facts = true;
+  SearchOptions o = small(Method::DiverseGa);
+  o.fair_fitness = true;
+  const SearchResult r = run_search(o, e, root_ / "f", false);
+  int unfair = 0;
+  for (const EvaluationRecord& rec : r.records) {
+    if (rec.evaluation.violation_found() && !rec.evaluation.fair_violation()) {
+      EXPECT_EQ(rec.fitness, 0.0);
+      ++unfair;
+    } else {
+      EXPECT_EQ(rec.fitness, fitness_eq1(rec.evaluation, o.violation_radius));
+    }
+  }
+  EXPECT_GT(unfair, 0);
+  EXPECT_NE(test::read_text(root_ / "f" / "campaign.json").find("\"fair_fitness\": true"), std::string::npos);
+}
+
 TEST(SearchOptions, BadOptionsAreRefusedNamingTheKey) {
   SearchOptions o;
   std::string why;
@@ -268,6 +427,15 @@ TEST(SearchOptions, BadOptionsAreRefusedNamingTheKey) {
   o.budget = 5;
   EXPECT_THROW(run_search(o, e, fs::temp_directory_path() / "td_search_never", false), InvalidArgument);
   EXPECT_FALSE(fs::exists(fs::temp_directory_path() / "td_search_never"));
+  SearchOptions d;
+  d.method = Method::Random;
+  d.diversity = true;
+  EXPECT_FALSE(d.validate(&why));
+  EXPECT_NE(why.find("diversity"), std::string::npos) << why;
+  d.method = Method::Rlaga;
+  d.min_distance = 2;
+  EXPECT_FALSE(d.validate(&why));
+  EXPECT_NE(why.find("min_distance"), std::string::npos) << why;
 }
 
 TEST(Method, NamesRoundTrip) {
