@@ -42,10 +42,10 @@ TargetOracle::TargetOracle(const Scenario& scenario, const OracleOptions& option
       render_detail::marker_cells(dict, info->bits, DistractorKind::WrongId, scenario.marker.id, 0, 0, 0);
   n_ = info->bits + 2;
   correctable_ = dict->maxCorrectionBits;
-  white_.resize(static_cast<std::size_t>(n_ * n_));
-  for (int r = 0; r < n_; ++r) {
-    for (int c = 0; c < n_; ++c)
-      white_[static_cast<std::size_t>(r * n_ + c)] = cells.at<std::uint8_t>(r + 1, c + 1) != 0;
+  const int m = n_ + 2;  // with the white margin
+  white_.resize(static_cast<std::size_t>(m * m));
+  for (int r = 0; r < m; ++r) {
+    for (int c = 0; c < m; ++c) white_[static_cast<std::size_t>(r * m + c)] = cells.at<std::uint8_t>(r, c) != 0;
   }
   centre_ = scenario.marker.position;
   cos_yaw_ = std::cos(deg_to_rad(scenario.marker.yaw_deg));
@@ -69,22 +69,23 @@ TargetView TargetOracle::observe(const CameraFrame& frame, const Eigen::Isometry
   const double f = camera.fx(), cx = 0.5 * (camera.width - 1), cy = 0.5 * (camera.height - 1);
   const Eigen::Isometry3d T_camera_world = T_world_camera.inverse();
   const Eigen::Vector2d ex(cos_yaw_, sin_yaw_), ey(-sin_yaw_, cos_yaw_);
-  const double h = 0.5 * size_;
-  // The bordered code's corners: top-left, top-right, bottom-right, bottom-left
-  // of the marker image (image top = local +y).
-  const std::array<Eigen::Vector2d, 4> corners{centre_ - h * ex + h * ey, centre_ + h * ex + h * ey,
-                                               centre_ + h * ex - h * ey, centre_ - h * ex - h * ey};
-  std::array<Eigen::Vector2d, 4> px;
+  const double h = 0.5 * size_, cell = size_ / n_, hm = h + cell;
+  // Corners, top-left, top-right, bottom-right, bottom-left of the marker
+  // image (image top = local +y): of the bordered code (px) and of the
+  // printed marker with its white margin, which must be in the image.
+  const auto corner = [&](double half, std::size_t i) -> Eigen::Vector2d {
+    const double sx = (i == 1 || i == 2) ? 1 : -1, sy = i < 2 ? 1 : -1;
+    return centre_ + sx * half * ex + sy * half * ey;
+  };
+  const auto pixel = [&](const Eigen::Vector2d& g, Eigen::Vector2d* out) {
+    const Eigen::Vector3d pc = T_camera_world * Eigen::Vector3d(g.x(), g.y(), 0);
+    if (pc.z() <= 1e-6) return false;
+    *out = Eigen::Vector2d(f * pc.x() / pc.z() + cx, f * pc.y() / pc.z() + cy);
+    return out->x() >= 1 && out->y() >= 1 && out->x() <= camera.width - 2 && out->y() <= camera.height - 2;
+  };
+  std::array<Eigen::Vector2d, 4> px, pm;
   bool inside = frame.width == camera.width && frame.height == camera.height;
-  for (std::size_t i = 0; i < 4 && inside; ++i) {
-    const Eigen::Vector3d pc = T_camera_world * Eigen::Vector3d(corners[i].x(), corners[i].y(), 0);
-    if (pc.z() <= 1e-6) {
-      inside = false;
-      break;
-    }
-    px[i] = Eigen::Vector2d(f * pc.x() / pc.z() + cx, f * pc.y() / pc.z() + cy);
-    inside = px[i].x() >= 1 && px[i].y() >= 1 && px[i].x() <= camera.width - 2 && px[i].y() <= camera.height - 2;
-  }
+  for (std::size_t i = 0; i < 4 && inside; ++i) inside = pixel(corner(hm, i), &pm[i]) && pixel(corner(h, i), &px[i]);
   if (!inside) return v;  // out of view
   v.side_px = (px[0] - px[3]).norm();
   for (std::size_t i = 0; i < 3; ++i) v.side_px = std::min(v.side_px, (px[i + 1] - px[i]).norm());
@@ -102,16 +103,19 @@ TargetView TargetOracle::observe(const CameraFrame& frame, const Eigen::Isometry
 
   // Sample the code's cells: ≤ ~4096 pixels of its bounding box, each
   // pixel's ray meeting the ground in a cell's middle 60 %.
-  double u0 = px[0].x(), u1 = u0, v0 = px[0].y(), v1 = v0;
-  for (const Eigen::Vector2d& p : px) {
+  // The bounding box of the marker with its margin.
+  double u0 = pm[0].x(), u1 = u0, v0 = pm[0].y(), v1 = v0;
+  for (const Eigen::Vector2d& p : pm) {
     u0 = std::min(u0, p.x()), u1 = std::max(u1, p.x()), v0 = std::min(v0, p.y()), v1 = std::max(v1, p.y());
   }
   const int x0 = static_cast<int>(std::floor(u0)), x1 = static_cast<int>(std::ceil(u1));
   const int y0 = static_cast<int>(std::floor(v0)), y1 = static_cast<int>(std::ceil(v1));
   const int stride = std::max(1, static_cast<int>(std::sqrt((x1 - x0 + 1.0) * (y1 - y0 + 1.0) / 4096.0)));
   const Eigen::Matrix3d R_wc = T_world_camera.linear();
-  const double cell = size_ / n_;
-  std::vector<CellStats> stats(static_cast<std::size_t>(n_ * n_));
+  // The grid includes the one-cell white margin (ArUco finds the border as
+  // a dark contour inside a light one: leaves or snow on the margin break it).
+  const int m = n_ + 2;
+  std::vector<CellStats> stats(static_cast<std::size_t>(m * m));
   int inside_px = 0, visible_px = 0;
   const std::uint8_t marker_label = mask_value(Label::Marker);
   for (int y = y0; y <= y1; y += stride) {
@@ -124,10 +128,10 @@ TargetView TargetOracle::observe(const CameraFrame& frame, const Eigen::Isometry
       if (ray.z() >= -1e-9) continue;
       const Eigen::Vector3d g = c + (-c.z() / ray.z()) * ray;
       const Eigen::Vector2d d = g.head<2>() - centre_;
-      const double lx = d.dot(ex) + h, ly = h - d.dot(ey);  // from the image's top-left
+      const double lx = d.dot(ex) + hm, ly = hm - d.dot(ey);  // from the margin's top-left
       const double fc = lx / cell, fr = ly / cell;
       const int col = static_cast<int>(std::floor(fc)), row = static_cast<int>(std::floor(fr));
-      if (col < 0 || row < 0 || col >= n_ || row >= n_) continue;
+      if (col < 0 || row < 0 || col >= m || row >= m) continue;
       ++inside_px;
       if (frame.mask[k] != marker_label) continue;
       ++visible_px;
@@ -135,7 +139,7 @@ TargetView TargetOracle::observe(const CameraFrame& frame, const Eigen::Isometry
       if (ax < 0.2 || ax > 0.8 || ay < 0.2 || ay > 0.8) continue;
       const std::uint8_t* p = frame.image.pixels.data() + 3 * k;
       const double grey = (p[0] + p[1] + p[2]) / 3.0;
-      CellStats& s = stats[static_cast<std::size_t>(row * n_ + col)];
+      CellStats& s = stats[static_cast<std::size_t>(row * m + col)];
       s.sum += grey, s.sum2 += grey * grey, ++s.n;
     }
   }
@@ -147,9 +151,11 @@ TargetView TargetOracle::observe(const CameraFrame& frame, const Eigen::Isometry
   // Contrast: the mean of the white cells' means minus that of the black.
   double white_sum = 0, black_sum = 0, within = 0;
   int whites = 0, blacks = 0, dof = 0;
+  const auto ring = [m](int r, int k) { return std::min(std::min(r, k), std::min(m - 1 - r, m - 1 - k)); };
   for (std::size_t i = 0; i < stats.size(); ++i) {
     const CellStats& s = stats[i];
-    if (s.n == 0) continue;
+    // The contrast is the bordered code's; the margin is only read.
+    if (s.n == 0 || ring(static_cast<int>(i) / m, static_cast<int>(i) % m) == 0) continue;
     const double mean = s.sum / s.n;
     (white_[i] ? white_sum : black_sum) += mean;
     (white_[i] ? whites : blacks) += 1;
@@ -158,22 +164,21 @@ TargetView TargetOracle::observe(const CameraFrame& frame, const Eigen::Isometry
   }
   if (whites == 0 || blacks == 0) {
     v.sight = Sight::Covered;  // nothing readable of one colour
-    v.misread_border = 4 * (n_ - 1);
+    v.misread_border = 4 * (m - 1) + 4 * (n_ - 1);
     return v;
   }
   v.contrast = white_sum / whites - black_sum / blacks;
   v.noise = dof > 0 ? std::sqrt(within / dof) : 0.0;
   const double mid = 0.5 * (white_sum / whites + black_sum / blacks);
   int unseen = 0;
-  for (int r = 0; r < n_; ++r) {
-    for (int col = 0; col < n_; ++col) {
-      const auto i = static_cast<std::size_t>(r * n_ + col);
+  for (int r = 0; r < m; ++r) {
+    for (int col = 0; col < m; ++col) {
+      const auto i = static_cast<std::size_t>(r * m + col);
       const CellStats& s = stats[i];
       unseen += s.n == 0;
       const bool misread = s.n == 0 || ((s.sum / s.n >= mid) != (white_[i] != 0));
       if (!misread) continue;
-      const bool border = r == 0 || col == 0 || r == n_ - 1 || col == n_ - 1;
-      ++(border ? v.misread_border : v.misread_code);
+      ++(ring(r, col) <= 1 ? v.misread_border : v.misread_code);
     }
   }
   if (v.contrast < options_.min_contrast) {

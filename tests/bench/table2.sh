@@ -15,12 +15,16 @@
 #   tests/bench/table2.sh save SYSTEM WORK      # WORK/SYSTEM -> docs/results/table2/SYSTEM
 #
 # SYSTEM: opencv-mls or mm-mls. BIN (default build/apps) holds landing_fuzz.
-# SEEDS (default 3) and BUDGET (default 300) as in the issue.
+# SEEDS (default 3) and BUDGET (default 300) as in the issue. Issue 52's
+# comparison of distinct causes keeps its campaigns apart:
+#   KEPT=docs/results/causes METHODS=rlaga,rlaga+diversity tests/bench/table2.sh run opencv-mls WORK
+# (KEPT: the kept tree, default docs/results/table2; METHODS and MAPS: as
+# landing_fuzz compare's, default all four methods on ground,lawn).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 root=$(pwd)
 usage() {
-  sed -n '13,18p' "$0" | sed 's/^# \{0,1\}//' >&2
+  sed -n '13,22p' "$0" | sed 's/^# \{0,1\}//' >&2
   exit 2
 }
 [ $# -eq 3 ] || usage
@@ -31,7 +35,7 @@ case "$system" in opencv-mls | mm-mls) ;; *)
   exit 2
   ;;
 esac
-kept="$root/docs/results/table2/$system"
+kept="$root/${KEPT:-docs/results/table2}/$system"
 bin=${BIN:-$root/build/apps}
 seeds=${SEEDS:-3}
 budget=${BUDGET:-300}
@@ -56,7 +60,8 @@ case "$action" in
   save) copy_campaigns "$work/$system" "$kept" ;;
   run)
     mkdir -p "$work"
-    "$bin/landing_fuzz" compare --system "$system" --maps ground,lawn --seeds "$seeds" --budget "$budget" \
+    "$bin/landing_fuzz" compare --system "$system" --maps "${MAPS:-ground,lawn}" --seeds "$seeds" --budget "$budget" \
+      --methods "${METHODS:-rlaga,diverse-ga,many-objective-ga,random}" \
       --out "$work/$system" --plot "$work/table2-$system.svg" | tee "$work/table2-$system.txt"
     ;;
   *) usage ;;

@@ -118,6 +118,25 @@ TEST(TargetOracle, ABorderCellPaintedWhiteIsCovered) {
   EXPECT_EQ(v.sight, Sight::Covered) << to_string(v.sight);
   EXPECT_EQ(v.misread_border, 1);
   EXPECT_EQ(v.misread_code, 0);
+
+  // A cell of the white margin (left of that one) painted leaf-dark: the
+  // border's contour is open there, covered too.
+  Shot margin = shoot(s, {0, 0, 10});
+  painted = 0;
+  for (int v2 = 0; v2 < camera.height; ++v2) {
+    for (int u = 0; u < camera.width; ++u) {
+      const double x = (cy - v2) * h / f, y = (cx - u) * h / f;
+      if (x > -0.5 && x < -0.5 + cell && y > 0.5 && y < 0.5 + cell) {
+        std::uint8_t* p = margin.frame.image.pixels.data() + 3 * (static_cast<std::size_t>(v2) * camera.width + u);
+        p[0] = p[1] = p[2] = 40;
+        ++painted;
+      }
+    }
+  }
+  ASSERT_GT(painted, 10);
+  const TargetView w = oracle.observe(margin.frame, T * camera.T_body_camera(), camera);
+  EXPECT_EQ(w.sight, Sight::Covered) << to_string(w.sight);
+  EXPECT_EQ(w.misread_border, 1);
 }
 
 TEST(TargetOracle, OutOfViewAndTooFar) {

@@ -8,8 +8,9 @@
 ///
 /// Per frame (TargetOracle::observe), in this order, the first test that
 /// fails names the frame's Sight:
-///   out-of-view   a corner of the black-bordered code outside the image
-///                 (or behind the camera);
+///   out-of-view   a corner of the printed marker (the black-bordered code
+///                 and its one-cell white margin) outside the image (or
+///                 behind the camera);
 ///   too-small     a cell narrower than min_cell_px (ArUco reads a cell
 ///                 from about 2 pixels up; 12 px for a 4×4 code's side, the
 ///                 reference systems' min_quality_px);
@@ -23,9 +24,11 @@
 ///                 light, glare, snow and rain), under min_contrast;
 ///   noisy         that contrast under min_snr times the pixels' noise (the
 ///                 spread within each cell: sensor noise, streaks, flakes);
-///   covered       a border cell, or more code cells than the dictionary
-///                 corrects, reading the wrong colour (ground snow or
-///                 leaves on it) or not seen at all;
+///   covered       a cell of the white margin or of the black border, or
+///                 more code cells than the dictionary corrects, reading
+///                 the wrong colour (ground snow or leaves on it) or not
+///                 seen at all (ArUco finds the border as a dark contour
+///                 inside a light one);
 ///   observable    none of these.
 /// Each cell is read as ArUco reads it: its pixels (the middle 60 % of the
 /// cell, the edges blur) averaged and compared with the mid-grey between
@@ -103,7 +106,7 @@ struct TargetView {
   double visible_fraction = 0;  ///< of the marker's area in the image, not hidden by objects
   double contrast = 0;          ///< mean grey of white cells − of black cells (cell means averaged)
   double noise = 0;             ///< pixel spread within a cell, pooled [grey levels]
-  int misread_border = 0;       ///< border cells reading white or not seen
+  int misread_border = 0;       ///< margin cells reading dark, border cells reading white, or not seen
   int misread_code = 0;         ///< code cells reading the wrong colour or not seen
   [[nodiscard]] bool observable() const { return sight == Sight::Observable; }
 };
@@ -128,7 +131,7 @@ class TargetOracle {
   Eigen::Vector2d centre_;
   double cos_yaw_ = 1, sin_yaw_ = 0, size_ = 1;
   int n_ = 6, correctable_ = 0;
-  std::vector<unsigned char> white_;  ///< n_ × n_, row 0 at the marker image's top
+  std::vector<unsigned char> white_;  ///< (n_ + 2)² with the white margin, row 0 at the marker image's top
 };
 
 /// The longest stretch of `ok` samples at times `t` (ascending), each
