@@ -76,7 +76,7 @@ TIMING_PATTERNS = [
     r"^\s*time:?\s+# s\b",  # terrain_mesh "time: 0.091 s", landing_scenario "time 0.904 s ..."
     r"# s wall\b",  # landing_scenario campaign wall time
     r"per scenario # s\b",  # landing_scenario campaign
-    r"\b(?:render|system|physics|other) #",  # landing_scenario time shares "(render 0.431, ..." / "render 47 %"
+    r"\b(?:render|system|physics|oracle|other) #",  # landing_scenario time shares "(render 0.431, ..." / "render 47 %"
     r'"(?:seconds|ms|us)": ?#',  # JSON/JSONL timing keys (terrain_mesh, led_pose, landing_plan)
     r"\bETA:? #",  # progress lines
     r"own work # s \(# %\)",  # landing_fuzz campaign: "the search's own work 0.05 s (1.31 %)"
