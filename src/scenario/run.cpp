@@ -149,6 +149,7 @@ ScenarioRun::ScenarioRun(const Scenario& scenario, LandingSystem& system, const 
     probe_scene_.T_world_body = T;
     result_.frames.reserve(static_cast<std::size_t>(time_limit_ * options.camera.rate_hz) + 2);
     result_.probe.reserve(static_cast<std::size_t>(time_limit_ * o.probe_rate_hz) + 2);
+    build_occluders();
   }
 }
 
@@ -349,6 +350,20 @@ DetectionTruth ScenarioRun::detection_truth(const Detection& d, double t) const 
   return truth;
 }
 
+/// Each object's name and the bounding spheres of its solids (static ones
+/// in the world, moving ones in their own frame), once per run.
+void ScenarioRun::build_occluders() {
+  auto add = [&](std::string name, const std::vector<Solid>& solids) {
+    occluder_names_.push_back(std::move(name));
+    auto& spheres = occluder_spheres_.emplace_back();
+    for (const Solid& s : solids) spheres.push_back(bounding_sphere(s));
+  };
+  for (std::size_t i = 0; i < scenario_.static_objects.size(); ++i)
+    add(object_name("static_objects", i, scenario_.static_objects[i]), object_solids(scenario_.static_objects[i]));
+  for (std::size_t i = 0; i < scenario_.dynamic_objects.size(); ++i)
+    add(object_name("dynamic_objects", i, scenario_.dynamic_objects[i]), object_solids(scenario_.dynamic_objects[i]));
+}
+
 /// When the target is in view but partly hidden, the objects on a line of
 /// sight from the camera to its centre or a corner (bounding spheres of
 /// their solids) are its occluders in this frame.
@@ -364,10 +379,9 @@ void ScenarioRun::record_occluders(FrameRecord& rec, double t) {
     targets[static_cast<std::size_t>(i) + 1] =
         Eigen::Vector3d(m.position.x() + cy * lx - sy * ly, m.position.y() + sy * lx + cy * ly, 0);
   }
-  auto hits = [&](const std::vector<Solid>& solids, const Eigen::Isometry3d* T) {
-    for (const Solid& s : solids) {
-      auto [c, radius] = bounding_sphere(s);
-      if (T) c = *T * c;
+  auto hits = [&](const std::vector<std::pair<Eigen::Vector3d, double>>& spheres, const Eigen::Isometry3d* T) {
+    for (const auto& [centre, radius] : spheres) {
+      const Eigen::Vector3d c = T ? Eigen::Vector3d(*T * centre) : centre;
       for (const Eigen::Vector3d& p : targets) {
         if (segment_near(cam, p, c, radius)) return true;
       }
@@ -375,25 +389,22 @@ void ScenarioRun::record_occluders(FrameRecord& rec, double t) {
     return false;
   };
   const bool descending = result_.descent_started;
-  auto note = [&](std::string name) {
+  auto note = [&](const std::string& name) {
     auto it = std::find_if(result_.occluders.begin(), result_.occluders.end(),
                            [&](const OccluderRecord& o) { return o.object == name; });
     if (it == result_.occluders.end()) {
-      result_.occluders.push_back({std::move(name), t, t, 0, 0});
+      result_.occluders.push_back({name, t, t, 0, 0});
       it = result_.occluders.end() - 1;
     }
     it->last_t = t;
     ++it->frames;
     it->frames_descending += descending ? 1 : 0;
   };
-  for (std::size_t i = 0; i < scenario_.static_objects.size(); ++i) {
-    if (hits(object_solids(scenario_.static_objects[i]), nullptr))
-      note(object_name("static_objects", i, scenario_.static_objects[i]));
-  }
+  const std::size_t statics = scenario_.static_objects.size();
   const std::vector<Eigen::Isometry3d>& poses = world_.dynamic_poses();
-  for (std::size_t i = 0; i < scenario_.dynamic_objects.size() && i < poses.size(); ++i) {
-    if (hits(object_solids(scenario_.dynamic_objects[i]), &poses[i]))
-      note(object_name("dynamic_objects", i, scenario_.dynamic_objects[i]));
+  for (std::size_t i = 0; i < occluder_spheres_.size(); ++i) {
+    const Eigen::Isometry3d* T = i < statics ? nullptr : &poses[i - statics];
+    if (hits(occluder_spheres_[i], T)) note(occluder_names_[i]);
   }
 }
 

@@ -27,6 +27,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "touchdown/core/enum_names.hpp"
@@ -234,10 +235,16 @@ class ScenarioRun {
   SceneState probe_scene_;
   double next_probe_ = 0;
   int probe_index_ = 0;
+  // The objects that may hide the target: names and bounding spheres of
+  // their solids (static in the world, dynamic in their own frame), in
+  // static_objects then dynamic_objects order.
+  std::vector<std::string> occluder_names_;
+  std::vector<std::vector<std::pair<Eigen::Vector3d, double>>> occluder_spheres_;
 
   void record_frame(const SystemOutput& out, const DroneState& state);
   void probe(double t);
   DetectionTruth detection_truth(const Detection& d, double t) const;
+  void build_occluders();
   void record_occluders(FrameRecord& rec, double t);
 };
 
