@@ -57,12 +57,18 @@ std::string weights_id(const std::string& text) {
 
 struct Common {
   std::string system = "opencv-mls";
+  std::string detector = "aruco";
   int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
 };
 
 void add_common(CLI::App& cmd, Common& c) {
   cmd.add_option("--system", c.system, "landing system under test")
       ->check(CLI::IsMember(ts::landing_system_names()))
+      ->capture_default_str();
+  cmd.add_option("--detector", c.detector,
+                 "the system's marker detector (learned-mls: always learned; the model: data/models/, or "
+                 "TOUCHDOWN_MODEL)")
+      ->check(CLI::IsMember(ts::marker_detector_names()))
       ->capture_default_str();
   cmd.add_option("--threads", c.threads, "worker threads (per MPI rank)")
       ->check(CLI::Range(1, 256))
@@ -72,10 +78,14 @@ void add_common(CLI::App& cmd, Common& c) {
 tsr::EvaluatorOptions evaluator_options(const Common& c, std::shared_ptr<const tsr::QNetwork> policy) {
   tsr::EvaluatorOptions o;
   o.system = c.system;
+  o.mls.detector.kind = c.detector;
   o.threads = c.threads;
   o.policy = std::move(policy);
   return o;
 }
+
+/// The detector a campaign runs (learned-mls: always the learned one).
+std::string detector_of(const Common& c) { return c.system == "learned-mls" ? "learned" : c.detector; }
 
 std::string percent(double v) { return format_fixed(v, 1) + " %"; }
 
@@ -220,6 +230,7 @@ class CampaignProgressLine {
 
 int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
   a.search.system = a.common.system;
+  a.search.detector = detector_of(a.common);
   a.search.base = a.base_path.empty() ? ts::Scenario{} : ts::load_scenario(a.base_path);
   a.search.base.map = a.map;
   if (a.source_chromosome) a.search.chromosome = tsr::ChromosomeOptions::source();
@@ -514,6 +525,7 @@ int compare_command(const CompareArgs& a) {
       o.method = td::from_string<tsr::Method>(cell.method.substr(0, cell.method.find('+')));
       o.diversity = cell.method.find("+diversity") != std::string::npos;
       o.system = a.common.system;
+      o.detector = detector_of(a.common);
       o.budget = a.budget;
       o.ga.population = a.population;
       o.seed = static_cast<std::uint64_t>(k);
@@ -629,6 +641,7 @@ int shrink_command(ShrinkArgs& a) {
     scenario = ts::load_scenario(source);
     base = ts::parse_scenario(campaign.at("base_scenario").dump(), a.input + "/campaign.json: base_scenario");
     a.common.system = campaign.value("system", a.common.system);
+    a.common.detector = campaign.value("detector", std::string("aruco"));
     const fs::path stored = fs::path(a.input) / kWeightsFile;
     if (!policy && fs::exists(stored)) policy = std::make_shared<const tsr::QNetwork>(tsr::load_weights(stored));
   } else {

@@ -2,12 +2,17 @@
 // scenario (docs/formats.md, "Landing scenarios") and reports the outcome
 // with the RLaGA paper's violation types; or writes a random valid scenario.
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <limits>
+#include <map>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -21,8 +26,12 @@
 #include <vector>
 
 #include "app_common.hpp"
+#include "core/svg_plot.hpp"
 #include "touchdown/core/atomic_file.hpp"
 #include "touchdown/scenario/campaign.hpp"
+#include "touchdown/scenario/dataset.hpp"
+#include "touchdown/scenario/detector_bench.hpp"
+#include "touchdown/scenario/marker_detector.hpp"
 #include "touchdown/scenario/run.hpp"
 #include "touchdown/scenario/scenario.hpp"
 #include "touchdown/search/dqn.hpp"
@@ -199,7 +208,7 @@ Json campaign_json(const ts::CampaignResult& c, const std::string& source, const
   Json j;
   j["scenarios"] = source;
   j["system"] = o.system;
-  j["detection_roi"] = o.mls.detection_roi;
+  j["detection_roi"] = o.mls.detector.roi;
   j["threads"] = o.threads;
   j["count"] = s.scenarios;
   j["violations"] = s.violations;
@@ -233,7 +242,10 @@ void print_campaign(const ts::CampaignResult& c, const std::string& source, cons
     return format_fixed(s.timing.total_s > 0 ? 100 * v / s.timing.total_s : 0.0, 0) + " %";
   };
   std::cout << "campaign   " << s.scenarios << " scenarios: " << source << "\n"
-            << "system     " << o.system << (o.mls.detection_roi ? "" : " (whole-frame detection)") << "\n"
+            << "system     " << o.system
+            << (o.mls.detector.kind != "aruco" && o.system != "learned-mls" ? " (" + o.mls.detector.kind + " detector)"
+                                                                            : "")
+            << (o.mls.detector.roi ? "" : " (whole-frame detection)") << "\n"
             << "violations " << s.violations << "/" << s.scenarios << " (" << percent(s.violations, s.scenarios)
             << "): type I " << s.type_i << " (" << percent(s.type_i, s.scenarios) << "), type II " << s.type_ii << " ("
             << percent(s.type_ii, s.scenarios) << "; " << s.unfair_type_ii << " unfair), type III " << s.type_iii
@@ -251,8 +263,18 @@ void print_campaign(const ts::CampaignResult& c, const std::string& source, cons
 
 // ---- run: one scenario ----------------------------------------------------------------
 
+/// The --detector option of run and campaign.
+void add_detector_option(CLI::App& cmd, std::string& kind) {
+  cmd.add_option("--detector", kind,
+                 "the system's marker detector (learned-mls: always learned; the model: data/models/, or "
+                 "TOUCHDOWN_MODEL)")
+      ->check(CLI::IsMember(ts::marker_detector_names()))
+      ->capture_default_str();
+}
+
 struct RunArgs {
   std::string scenario_path, system = "opencv-mls", video_path, log_path, snapshot_path, weights_path;
+  std::string detector = "aruco";
   bool json = false;
   double snapshot_t = -1;
   ts::RunOptions options;
@@ -264,6 +286,7 @@ CLI::App* add_run_command(CLI::App& app, RunArgs& a) {
   cmd->add_option("--system", a.system, "landing system under test")
       ->check(CLI::IsMember(ts::landing_system_names()))
       ->capture_default_str();
+  add_detector_option(*cmd, a.detector);
   cmd->add_option("--video", a.video_path, "write the camera view with detections and the outcome (.mp4 or .avi)")
       ->check([](const std::string& p) {
         const auto ext = fs::path(p).extension();
@@ -359,7 +382,8 @@ void write_images(const RunArgs& a, const ts::ScenarioResult& r, RunImages& imag
 
 void print_run(const RunArgs& a, const ts::Scenario& scenario, std::string_view system, const ts::ScenarioResult& r) {
   std::cout << "scenario   " << a.scenario_path << " (" << ts::to_string(scenario.map) << ")\n"
-            << "system     " << system << "\n"
+            << "system     " << system
+            << (a.detector != "aruco" && system != "learned-mls" ? " (" + a.detector + " detector)" : "") << "\n"
             << "outcome    " << (r.violation() ? "VIOLATION" : "ok") << ": " << r.message << "\n"
             << "DTL        " << format_fixed(r.dtl, 2) << " m   TTL " << format_fixed(r.ttl, 1) << " s\n"
             << "frames     " << r.frames.size() << "   steps " << r.trajectory.size() << "\n";
@@ -377,7 +401,9 @@ void print_run(const RunArgs& a, const ts::Scenario& scenario, std::string_view 
 int run_command(RunArgs& a) {
   const ts::Scenario scenario = ts::load_scenario(a.scenario_path);
   check_snapshot_time(a, scenario);
-  auto sut = ts::make_landing_system(a.system);
+  ts::MlsOptions mls;
+  mls.detector.kind = a.detector;
+  auto sut = ts::make_landing_system(a.system, mls);
   if (!a.weights_path.empty()) {
     a.options.external = tsr::ObjectPolicy(std::make_shared<const tsr::QNetwork>(tsr::load_weights(a.weights_path)));
   }
@@ -427,6 +453,21 @@ int run_command(RunArgs& a) {
 
 // ---- random: write a random scenario ----------------------------------------------------
 
+/// "DICT:ID" → dictionary and id (checked by DatasetOptions::validate).
+void parse_marker(const std::string& text, const std::string& option, std::string* dictionary, int* id) {
+  const auto colon = text.find(':');
+  std::size_t used = 0;
+  try {
+    if (colon == std::string::npos) throw std::invalid_argument("");
+    *id = std::stoi(text.substr(colon + 1), &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (colon == std::string::npos || used == 0 || colon + 1 + used != text.size())
+    throw td::InvalidArgument(option + " " + text + ": expected DICTIONARY:ID, e.g. 4X4_50:0");
+  *dictionary = text.substr(0, colon);
+}
+
 // The --map name that leaves the map to the random draw.
 const std::string kAnyMap = "any";
 
@@ -471,7 +512,7 @@ struct CampaignArgs {
   std::uint64_t first_seed = 1;
   int count = 100;
   std::optional<ts::MapKind> map;  // empty: any
-  std::string csv_path, weights_path;
+  std::string csv_path, weights_path, marker;
   bool json = false, whole_frame = false;
   ts::CampaignOptions campaign;
 };
@@ -493,6 +534,11 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
   cmd->add_option("--system", a.campaign.system, "landing system under test")
       ->check(CLI::IsMember(ts::landing_system_names()))
       ->capture_default_str();
+  add_detector_option(*cmd, a.campaign.mls.detector.kind);
+  cmd->add_option("--marker", a.marker,
+                  "the target of the random scenarios, DICTIONARY:ID (default: drawn; a learned detector needs "
+                  "its model's marker)")
+      ->excludes(files_opt);
   cmd->add_option("--threads", a.campaign.threads, "worker threads")->check(CLI::Range(1, 256))->capture_default_str();
   cmd->add_flag("--whole-frame-detection", a.whole_frame,
                 "detect in the whole frame every time (no tracking ROI), as the published baseline");
@@ -523,13 +569,19 @@ int campaign_command(CampaignArgs& a) {
                                 ": the seeds would pass 18446744073709551615 (2^64 - 1)");
     }
     scenarios = ts::random_scenarios(a.first_seed, a.count, a.map);
+    if (!a.marker.empty()) {
+      std::string dictionary;
+      int id = 0;
+      parse_marker(a.marker, "--marker", &dictionary, &id);
+      for (ts::Scenario& s : scenarios) ts::set_target(s, dictionary, id);
+    }
     for (int i = 0; i < a.count; ++i)
       names.push_back("seed " + std::to_string(a.first_seed + static_cast<std::uint64_t>(i)));
     source = "random, seeds " + std::to_string(a.first_seed) + ".." +
              std::to_string(a.first_seed + static_cast<std::uint64_t>(a.count) - 1) + ", map " +
              (a.map ? std::string(ts::to_string(*a.map)) : kAnyMap);
   }
-  a.campaign.mls.detection_roi = !a.whole_frame;
+  a.campaign.mls.detector.roi = !a.whole_frame;
   if (!a.weights_path.empty()) {
     // One network, shared read-only; one ObjectPolicy per run (it keeps the
     // run's held action), as the search's LocalEvaluator does.
@@ -568,6 +620,519 @@ int campaign_command(CampaignArgs& a) {
   return kExitOk;
 }
 
+// ---- dataset: detector training and test frames -----------------------------------------
+
+struct DatasetArgs {
+  std::string out;
+  int count = 1000;
+  std::string marker = "4X4_50:0";
+  int threads = 1;
+  ts::DatasetOptions options;
+};
+
+CLI::App* add_dataset_command(CLI::App& app, DatasetArgs& a) {
+  auto* cmd = app.add_subcommand(
+      "dataset",
+      "render labelled frames for training and testing marker detectors (docs/formats.md, Detector dataset)");
+  a.threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  cmd->add_option("--out", a.out, "directory to create (must not exist): images/ and labels.jsonl")->required();
+  cmd->add_option("--count", a.count, "frames")->check(CLI::Range(1, 10000000))->capture_default_str();
+  add_seed_option(*cmd, "--seed", a.options.seed, "dataset seed (frame i is drawn from (seed, i))");
+  cmd->add_option("--marker", a.marker, "the target marker, DICTIONARY:ID")->capture_default_str();
+  cmd->add_option("--max-tilt", a.options.max_tilt_deg, "largest camera tilt drawn [deg]")->capture_default_str();
+  cmd->add_option("--threads", a.threads, "worker threads")->check(CLI::Range(1, 256))->capture_default_str();
+  return cmd;
+}
+
+Json quad_json(const ts::QuadLabel& q) {
+  Json j;
+  j["in_view"] = q.in_view();
+  Json corners = Json::array();
+  if (q.in_front) {
+    for (const Eigen::Vector2d& c : q.corners) corners.push_back({round3(c.x()), round3(c.y())});
+  }
+  j["corners"] = corners;
+  j["box"] = {round3(q.box_min.x()), round3(q.box_min.y()), round3(q.box_max.x()), round3(q.box_max.y())};
+  j["inside_fraction"] = round3(q.inside_fraction);
+  j["visible_fraction"] = round3(q.visible_fraction);
+  return j;
+}
+
+Json dataset_frame_json(const ts::DatasetFrame& f, const std::string& image) {
+  Json j;
+  j["image"] = image;
+  j["index"] = f.index;
+  j["split"] = td::enum_name(f.split);
+  j["scenario_seed"] = f.scenario_seed;
+  j["map"] = ts::to_string(f.scenario.map);
+  j["weather"] = f.weather;
+  const ts::Weather& w = f.scenario.weather;
+  j["conditions"] = {{"fog", round3(w.fog)},
+                     {"rain", round3(w.rain)},
+                     {"snow", round3(w.snow)},
+                     {"dust", round3(w.dust)},
+                     {"leaves", round3(w.leaves)},
+                     {"ground_wetness", round3(w.ground_wetness)},
+                     {"ground_snow", round3(w.ground_snow)},
+                     {"ground_leaves", round3(w.ground_leaves)},
+                     {"ambient", round3(w.ambient)},
+                     {"sun_elevation_deg", round3(w.sun_elevation_deg)}};
+  j["phase"] = f.phase;
+  const Eigen::Vector3d c = f.T_world_camera.translation();
+  j["camera"] = {{"position", {round3(c.x()), round3(c.y()), round3(c.z())}},
+                 {"tilt_deg", round3(f.camera.tilt_deg)},
+                 {"hfov_deg", f.camera.hfov_deg},
+                 {"width", f.camera.width},
+                 {"height", f.camera.height}};
+  j["distance"] = round3(f.distance);
+  Json t = quad_json(f.target);
+  t["sight"] = ts::to_string(f.view.sight);
+  t["side_px"] = round3(f.view.side_px);
+  t["contrast"] = round3(f.view.contrast);
+  j["target"] = t;
+  Json d = Json::array();
+  for (const ts::DistractorLabel& x : f.distractors) {
+    Json q = quad_json(x.quad);
+    q["kind"] = ts::to_string(x.kind);
+    d.push_back(q);
+  }
+  j["distractors"] = d;
+  j["occluder"] = f.occluder;
+  return j;
+}
+
+int dataset_command(DatasetArgs& a) {
+  parse_marker(a.marker, "--marker", &a.options.dictionary, &a.options.marker_id);
+  std::string why;
+  if (!a.options.validate(&why)) throw td::InvalidArgument("--marker/--max-tilt: " + why);
+  const fs::path out(a.out);
+  if (fs::exists(out)) throw td::IoError("--out " + a.out + ": exists (a dataset goes into a new directory)");
+  const fs::path parent = fs::absolute(out).parent_path();
+  if (!fs::is_directory(parent)) throw td::IoError("--out " + a.out + ": " + parent.string() + " is not a directory");
+  // Written beside it, renamed when complete: an interrupted run leaves no dataset.
+  const fs::path tmp = parent / ("." + out.filename().string() + ".partial");
+  fs::remove_all(tmp);
+  fs::create_directories(tmp / "images");
+  cv::setNumThreads(1);
+  std::vector<std::string> lines(static_cast<std::size_t>(a.count));
+  std::array<int, 3> splits{};
+  std::atomic<int> next{0}, done{0};
+  std::mutex m;
+  std::exception_ptr error;
+  std::optional<ProgressBar> bar;
+  if (ProgressBar::on_terminal()) bar.emplace();
+  const auto work = [&] {
+    for (int i = next++; i < a.count; i = next++) {
+      try {
+        const ts::DatasetFrame f = ts::render_dataset_frame(a.options, i);
+        char name[32];
+        std::snprintf(name, sizeof name, "images/%06d.png", i);
+        const cv::Mat bgr(f.frame.height, f.frame.width, CV_8UC3,
+                          const_cast<std::uint8_t*>(f.frame.image.pixels.data()));
+        cv::Mat gray;
+        cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
+        if (!cv::imwrite((tmp / name).string(), gray, {cv::IMWRITE_PNG_COMPRESSION, 1}))
+          throw td::IoError("--out " + a.out + ": cannot write " + name);
+        lines[static_cast<std::size_t>(i)] = dataset_frame_json(f, name).dump();
+        std::lock_guard lock(m);
+        ++splits[static_cast<std::size_t>(f.split)];
+        ++done;
+        if (bar) bar->draw(static_cast<std::size_t>(done.load()), static_cast<std::size_t>(a.count));
+      } catch (...) {
+        std::lock_guard lock(m);
+        if (!error) error = std::current_exception();
+        next = a.count;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < a.threads; ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  if (bar) bar->close();
+  if (error) {
+    fs::remove_all(tmp);
+    std::rethrow_exception(error);
+  }
+  std::string text;
+  for (const std::string& l : lines) text += l + "\n";
+  write_text(tmp / "labels.jsonl", text, a.out + "/labels.jsonl");
+  Json meta;
+  meta["format"] = "touchdown-dataset/1";
+  meta["seed"] = a.options.seed;
+  meta["count"] = a.count;
+  meta["marker"] = {{"dictionary", a.options.dictionary}, {"id", a.options.marker_id}};
+  meta["camera"] = {{"width", a.options.camera.width},
+                    {"height", a.options.camera.height},
+                    {"hfov_deg", a.options.camera.hfov_deg},
+                    {"max_tilt_deg", a.options.max_tilt_deg}};
+  meta["splits"] = {{"train", splits[0]}, {"validation", splits[1]}, {"test", splits[2]}};
+  meta["images"] = "8-bit grey PNG, the systems' BGR frame converted as cv::cvtColor(COLOR_BGR2GRAY)";
+  write_text(tmp / "dataset.json", meta.dump(2) + "\n", a.out + "/dataset.json");
+  fs::rename(tmp, out);
+  std::cout << "dataset " << a.out << ": " << a.count << " frames (train " << splits[0] << ", validation " << splits[1]
+            << ", test " << splits[2] << "), marker " << a.options.dictionary << " id " << a.options.marker_id
+            << ", seed " << a.options.seed << "\n";
+  return kExitOk;
+}
+
+// ---- detect: a detector on image files -----------------------------------------------------
+
+struct DetectArgs {
+  std::vector<std::string> images;
+  std::string marker = "4X4_50:0";
+  bool json = false;
+  ts::DetectorOptions detector;
+};
+
+CLI::App* add_detect_command(CLI::App& app, DetectArgs& a) {
+  auto* cmd = app.add_subcommand("detect", "run a marker detector on image files (any size; PNG, JPEG, ...)");
+  cmd->add_option("IMAGE", a.images, "image files")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--detector", a.detector.kind, "aruco or learned")
+      ->check(CLI::IsMember(ts::marker_detector_names()))
+      ->capture_default_str();
+  cmd->add_option("--model", a.detector.model,
+                  "the learned detector's ONNX model (default: data/models/, TOUCHDOWN_MODEL)");
+  cmd->add_option("--marker", a.marker, "the marker looked for, DICTIONARY:ID (aruco reports every id of it)")
+      ->capture_default_str();
+  cmd->add_option("--min-confidence", a.detector.min_confidence, "learned: report detections from this confidence")
+      ->check(number_in(0, 1))
+      ->capture_default_str();
+  cmd->add_flag("--json", a.json, "one JSON object per image on stdout (JSON Lines)");
+  return cmd;
+}
+
+int detect_command(DetectArgs& a) {
+  std::string dictionary;
+  int id = 0;
+  parse_marker(a.marker, "--marker", &dictionary, &id);
+  a.detector.roi = false;  // separate images: nothing to track
+  cv::setNumThreads(1);
+  auto detector = ts::make_marker_detector(a.detector);
+  detector->reset(dictionary, id);
+  // Every image is read before any is reported: a bad file is one error, no partial output.
+  std::vector<cv::Mat> bgr;
+  for (const std::string& path : a.images) {
+    cv::Mat im = cv::imread(path, cv::IMREAD_COLOR);
+    if (im.empty()) throw td::IoError(path + ": not an image OpenCV can read");
+    bgr.push_back(im);
+  }
+  std::vector<ts::MarkerDetection> found;
+  for (std::size_t i = 0; i < bgr.size(); ++i) {
+    cv::Mat gray;
+    cv::cvtColor(bgr[i], gray, cv::COLOR_BGR2GRAY);
+    const ts::DetectorFrame frame{{bgr[i].data, bgr[i].cols, bgr[i].rows, static_cast<std::ptrdiff_t>(bgr[i].step)},
+                                  {gray.data, gray.cols, gray.rows, static_cast<std::ptrdiff_t>(gray.step)}};
+    const auto t0 = std::chrono::steady_clock::now();
+    detector->detect(frame, found);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (a.json) {
+      Json j;
+      j["image"] = a.images[i];
+      j["width"] = bgr[i].cols;
+      j["height"] = bgr[i].rows;
+      j["detector"] = detector->name();
+      j["ms"] = round3(ms);
+      Json list = Json::array();
+      for (const ts::MarkerDetection& d : found) {
+        Json x;
+        x["id"] = d.id;
+        x["confidence"] = round3(d.confidence);
+        x["box"] = {round3(d.box_min.x()), round3(d.box_min.y()), round3(d.box_max.x()), round3(d.box_max.y())};
+        if (d.has_corners) {
+          Json c = Json::array();
+          for (const Eigen::Vector2d& p : d.corners) c.push_back({round3(p.x()), round3(p.y())});
+          x["corners"] = c;
+          x["oriented"] = d.oriented;
+        }
+        list.push_back(x);
+      }
+      j["detections"] = list;
+      std::cout << j.dump() << "\n";
+      continue;
+    }
+    std::cout << a.images[i] << " (" << bgr[i].cols << "x" << bgr[i].rows << ", " << detector->name() << ", "
+              << format_fixed(ms, 1) << " ms): " << count_noun(static_cast<long long>(found.size()), "detection")
+              << "\n";
+    for (const ts::MarkerDetection& d : found) {
+      std::cout << "  id " << d.id << "  confidence " << format_fixed(d.confidence, 2) << "  box ["
+                << format_fixed(d.box_min.x(), 1) << ", " << format_fixed(d.box_min.y(), 1) << "] - ["
+                << format_fixed(d.box_max.x(), 1) << ", " << format_fixed(d.box_max.y(), 1) << "]";
+      if (d.has_corners) {
+        std::cout << "  corners";
+        for (const Eigen::Vector2d& p : d.corners)
+          std::cout << " (" << format_fixed(p.x(), 1) << ", " << format_fixed(p.y(), 1) << ")";
+      }
+      std::cout << "\n";
+    }
+  }
+  return kExitOk;
+}
+
+// ---- detect-bench: detectors on a labelled dataset --------------------------------------
+
+struct BenchArgs {
+  std::string dataset, split = "all", plot_path, detectors = "aruco,learned";
+  double threshold = 0.7;
+  int limit = 0;
+  bool json = false;
+  std::string model;
+};
+
+CLI::App* add_bench_command(CLI::App& app, BenchArgs& a) {
+  auto* cmd = app.add_subcommand(
+      "detect-bench", "precision, recall, AP@0.5 and time of marker detectors on a dataset (landing_scenario dataset)");
+  cmd->add_option("DATASET", a.dataset, "a dataset directory (dataset.json, labels.jsonl, images/)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  cmd->add_option("--detectors", a.detectors, "comma-separated: aruco, learned")->capture_default_str();
+  cmd->add_option("--model", a.model, "the learned detector's model (default: data/models/, TOUCHDOWN_MODEL)");
+  cmd->add_option("--split", a.split, "frames of this split only: train, validation, test or all")
+      ->check(CLI::IsMember({"all", "train", "validation", "test"}))
+      ->capture_default_str();
+  cmd->add_option("--threshold", a.threshold,
+                  "confidence from which a detection counts (recall, precision, false "
+                  "positives; AP uses every confidence)")
+      ->check(number_in(0, 1))
+      ->capture_default_str();
+  cmd->add_option("--limit", a.limit, "the first N frames only (0: all)")->check(CLI::Range(0, 10000000));
+  cmd->add_option("--plot", a.plot_path, "recall against distance, a line per detector and weather (SVG)")
+      ->check(output_extension(".svg"));
+  cmd->add_flag("--json", a.json, "the figures as one JSON object");
+  return cmd;
+}
+
+/// Recall against the distance band, one line per detector and weather kind
+/// with at least 10 targets in a band.
+std::string bench_plot(const std::vector<std::string>& names, const std::vector<std::vector<ts::BenchFrame>>& runs,
+                       const std::vector<ts::BenchLabel>& labels, double threshold, const std::string& title) {
+  const std::vector<std::string>& bands = ts::distance_bands();
+  std::vector<std::string> weathers;
+  for (const auto& l : labels) {
+    if (std::find(weathers.begin(), weathers.end(), l.weather) == weathers.end()) weathers.push_back(l.weather);
+  }
+  std::sort(weathers.begin(), weathers.end());
+  const std::array<const char*, 10> colours = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
+                                               "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
+  td::detail::SvgWriter svg(860, 440);
+  svg.title(title);
+  td::detail::PlotAxis x;
+  x.lo = -0.3;
+  x.hi = 4.3;
+  x.title = "camera to marker";
+  x.grid = false;
+  td::detail::PlotFrame f{70,  40, 600,
+                          390, x,  td::detail::fit_axis(0, 1, 5, "recall at confidence " + format_fixed(threshold, 2))};
+  svg.axes(f);
+  for (std::size_t b = 0; b < bands.size(); ++b)
+    svg.text(f.px(static_cast<double>(b)), f.bottom + 18, bands[b], " text-anchor='middle'");
+  td::detail::SvgLegend legend(svg, 615, 50, 17);
+  for (std::size_t d = 0; d < names.size(); ++d) {
+    const std::string dash = d == 0 ? "" : " stroke-dasharray='6 3'";
+    for (std::size_t w = 0; w < weathers.size(); ++w) {
+      std::vector<double> xs, ys;
+      for (std::size_t b = 0; b < bands.size(); ++b) {
+        int pos = 0, hit = 0;
+        for (std::size_t i = 0; i < labels.size(); ++i) {
+          if (labels[i].weather != weathers[w] || ts::distance_band(labels[i].distance) != bands[b]) continue;
+          if (runs[d][i].role != ts::TargetRole::Positive) continue;
+          ++pos;
+          for (const ts::Scored& sc : runs[d][i].detections) hit += sc.hit && sc.confidence >= threshold ? 1 : 0;
+        }
+        if (pos >= 10) {
+          xs.push_back(static_cast<double>(b));
+          ys.push_back(static_cast<double>(hit) / pos);
+        }
+      }
+      if (xs.empty()) continue;
+      const std::string colour = colours[w % colours.size()];
+      const std::string style = " fill='none' stroke='" + colour + "' stroke-width='1.8'" + dash;
+      svg.polyline(f.to_pixels(xs, ys), style);
+      for (const Eigen::Vector2d& p : f.to_pixels(xs, ys)) svg.circle(p.x(), p.y(), 2.5, " fill='" + colour + "'");
+      legend.entry(names[d] + ", " + weathers[w],
+                   [&](double cx, double cy) { svg.line(cx - 8, cy, cx + 8, cy, style); });
+    }
+  }
+  svg.text(615, 420, "solid: " + names.front() + (names.size() > 1 ? ", dashed: " + names[1] : ""));
+  return svg.finish();
+}
+
+/// The benchmark's figures (JSON) and its table (text): per group of frames
+/// — all, by weather, distance band, visible fraction, phase — each
+/// detector's recall, precision and AP@0.5; then false positives on frames
+/// without the target and the time per frame.
+Json bench_report(const BenchArgs& a, const std::vector<std::string>& names,
+                  const std::vector<std::vector<ts::BenchFrame>>& runs, const std::vector<ts::BenchLabel>& labels,
+                  const std::string& dictionary, int id, std::string* text) {
+  // Groups of frames: all, by weather, distance band, visible fraction, phase.
+  struct Group {
+    std::string name;
+    std::vector<std::size_t> frames;
+  };
+  std::vector<Group> groups{{"all", {}}};
+  std::map<std::string, std::vector<std::size_t>> by_weather, by_distance, by_visible, by_phase;
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    groups[0].frames.push_back(i);
+    by_weather["weather " + labels[i].weather].push_back(i);
+    by_phase["phase " + labels[i].phase].push_back(i);
+    by_distance["distance " + ts::distance_band(labels[i].distance)].push_back(i);
+    if (runs[0][i].role == ts::TargetRole::Positive)
+      by_visible["visible " + ts::visible_band(labels[i].visible_fraction)].push_back(i);
+  }
+  // Weather and phase by name; distance and visibility from near to far, whole to least.
+  for (auto& [k, v] : by_weather) groups.push_back({k, v});
+  for (const std::string& band : ts::distance_bands()) {
+    const std::string k = "distance " + band;
+    if (by_distance.count(k)) groups.push_back({k, by_distance[k]});
+  }
+  for (const std::string& band : ts::visible_bands()) {
+    const std::string k = "visible " + band;
+    if (by_visible.count(k)) groups.push_back({k, by_visible[k]});
+  }
+  for (auto& [k, v] : by_phase) groups.push_back({k, v});
+  Json out;
+  out["dataset"] = a.dataset;
+  out["frames"] = labels.size();
+  out["threshold"] = a.threshold;
+  out["marker"] = {{"dictionary", dictionary}, {"id", id}};
+  std::ostringstream table;
+  table << std::left << std::setw(26) << "group" << std::right << std::setw(7) << "frames" << std::setw(8) << "targets";
+  for (const std::string& n : names)
+    table << std::setw(16) << (n + " recall") << std::setw(11) << "precision" << std::setw(9) << "AP@0.5";
+  table << "\n";
+  for (const Group& g : groups) {
+    table << std::left << std::setw(26) << g.name << std::right << std::setw(7) << g.frames.size();
+    Json jg;
+    for (std::size_t d = 0; d < names.size(); ++d) {
+      std::vector<const ts::BenchFrame*> fr;
+      for (std::size_t i : g.frames) fr.push_back(&runs[d][i]);
+      const ts::BenchFigures b = ts::bench_figures(fr, a.threshold);
+      if (d == 0) table << std::setw(8) << b.positives;
+      table << std::setw(16) << (b.positives ? format_fixed(b.recall(), 3) : "-") << std::setw(11)
+            << format_fixed(b.precision(), 3) << std::setw(9)
+            << (std::isnan(b.ap50) ? std::string("-") : format_fixed(b.ap50, 3));
+      jg[names[d]] = {{"frames", b.frames},
+                      {"targets", b.positives},
+                      {"hits", b.hits},
+                      {"false_positives", b.false_positives},
+                      {"recall", round3(b.recall())},
+                      {"precision", round3(b.precision())},
+                      {"ap50", std::isnan(b.ap50) ? Json(nullptr) : Json(round3(b.ap50))}};
+    }
+    table << "\n";
+    out["groups"][g.name] = jg;
+  }
+  // False positives on frames without the target, and time per frame.
+  std::ostringstream tail;
+  for (std::size_t d = 0; d < names.size(); ++d) {
+    int none = 0, none_distract = 0, fp = 0, fp_distract = 0;
+    std::vector<double> ms;
+    for (std::size_t i = 0; i < labels.size(); ++i) {
+      ms.push_back(runs[d][i].ms);
+      if (runs[d][i].role != ts::TargetRole::None) continue;
+      int n = 0;
+      for (const ts::Scored& sc : runs[d][i].detections) n += sc.confidence >= a.threshold ? 1 : 0;
+      ++none, fp += n;
+      if (labels[i].distractors_in_view > 0) ++none_distract, fp_distract += n;
+    }
+    const double per_k = none ? 1000.0 * fp / none : 0.0;
+    const double per_k_d = none_distract ? 1000.0 * fp_distract / none_distract : 0.0;
+    const double med = median(ms);
+    tail << names[d] << ": " << format_fixed(per_k, 1) << " false positives per 1000 frames without the target ("
+         << none << " frames; " << format_fixed(per_k_d, 1) << " on the " << none_distract
+         << " with distractors in view), " << format_fixed(med, 2) << " ms per frame (median, one core)\n";
+    out["detectors"][names[d]] = {{"false_positives_per_1000", round3(per_k)},
+                                  {"frames_without_target", none},
+                                  {"false_positives_per_1000_with_distractors", round3(per_k_d)},
+                                  {"frames_with_distractors", none_distract},
+                                  {"ms_median", round3(med)}};
+  }
+  *text = "dataset " + a.dataset + " (" + std::to_string(labels.size()) + " frames, split " + a.split + "), marker " +
+          dictionary + " id " + std::to_string(id) + ", threshold " + format_fixed(a.threshold, 2) + "\n" +
+          table.str() + tail.str();
+  return out;
+}
+
+int bench_command(BenchArgs& a) {
+  td::StagedOutputs staged;
+  const fs::path plot_tmp = stage(staged, a.plot_path, "--plot");
+  const fs::path dir(a.dataset);
+  const fs::path meta_path = dir / "dataset.json";
+  Json meta;
+  try {
+    std::ifstream in(meta_path);
+    if (!in) throw td::IoError(meta_path.string() + ": cannot read (not a landing_scenario dataset)");
+    meta = Json::parse(in);
+  } catch (const Json::exception&) {
+    throw td::ParseError(meta_path.string() + ": not JSON");
+  }
+  std::string dictionary;
+  int id = 0;
+  try {
+    dictionary = meta.at("marker").at("dictionary").get<std::string>();
+    id = meta.at("marker").at("id").get<int>();
+  } catch (const Json::exception&) {
+    throw td::ParseError(meta_path.string() + ": marker.dictionary, marker.id: missing");
+  }
+  std::vector<ts::BenchLabel> labels = ts::read_bench_labels(dir / "labels.jsonl");
+  if (a.split != "all") std::erase_if(labels, [&](const ts::BenchLabel& l) { return l.split != a.split; });
+  if (a.limit > 0 && labels.size() > static_cast<std::size_t>(a.limit))
+    labels.resize(static_cast<std::size_t>(a.limit));
+  if (labels.empty()) throw td::InvalidArgument(a.dataset + ": no frames of split " + a.split);
+  std::vector<std::string> names;
+  std::stringstream list(a.detectors);
+  for (std::string n; std::getline(list, n, ',');) {
+    if (n != "aruco" && n != "learned") throw td::InvalidArgument("--detectors: unknown '" + n + "' (aruco, learned)");
+    names.push_back(n);
+  }
+  if (names.empty()) throw td::InvalidArgument("--detectors: none given");
+  cv::setNumThreads(1);  // one core per detector, as a companion computer's worker
+  std::vector<std::unique_ptr<ts::MarkerDetector>> detectors;
+  for (const std::string& n : names) {
+    ts::DetectorOptions o;
+    o.kind = n;
+    o.roi = false;
+    o.min_confidence = 0.05;
+    if (!a.model.empty()) o.model = a.model;
+    detectors.push_back(ts::make_marker_detector(o));
+    detectors.back()->reset(dictionary, id);
+  }
+  std::vector<std::vector<ts::BenchFrame>> runs(names.size());
+  std::optional<ProgressBar> bar;
+  if (ProgressBar::on_terminal()) bar.emplace();
+  std::vector<ts::MarkerDetection> found;
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    const fs::path image = dir / labels[i].image;
+    const cv::Mat gray = cv::imread(image.string(), cv::IMREAD_GRAYSCALE);
+    if (gray.empty()) throw td::IoError(image.string() + ": not an image OpenCV can read");
+    const ts::DetectorFrame frame{{}, {gray.data, gray.cols, gray.rows, static_cast<std::ptrdiff_t>(gray.step)}};
+    for (std::size_t d = 0; d < detectors.size(); ++d) {
+      detectors[d]->reset(dictionary, id);
+      const auto t0 = std::chrono::steady_clock::now();
+      detectors[d]->detect(frame, found);
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      runs[d].push_back(ts::score_frame(labels[i], found, id));
+      runs[d].back().ms = ms;
+    }
+    if (bar) bar->draw(i + 1, labels.size());
+  }
+  if (bar) bar->close();
+
+  std::string text;
+  const Json out = bench_report(a, names, runs, labels, dictionary, id, &text);
+  if (!a.plot_path.empty())
+    write_text(plot_tmp,
+               bench_plot(names, runs, labels, a.threshold, "Recall of the target against distance: " + a.dataset),
+               a.plot_path);
+  staged.commit();
+  if (a.json) {
+    std::cout << out.dump(2) << "\n";
+  } else {
+    std::cout << text;
+  }
+  return kExitOk;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -579,11 +1144,20 @@ int main(int argc, char** argv) {
   RunArgs run_args;
   RandomArgs random_args;
   CampaignArgs campaign_args;
+  DatasetArgs dataset_args;
+  DetectArgs detect_args;
+  BenchArgs bench_args;
   add_run_command(app, run_args);
+  auto* bench_cmd = add_bench_command(app, bench_args);
+  auto* detect_cmd = add_detect_command(app, detect_args);
+  auto* dataset_cmd = add_dataset_command(app, dataset_args);
   auto* random_cmd = add_random_command(app, random_args);
   auto* campaign_cmd = add_campaign_command(app, campaign_args);
   return run(app, argc, argv, [&]() -> int {
     if (*campaign_cmd) return campaign_command(campaign_args);
+    if (*dataset_cmd) return dataset_command(dataset_args);
+    if (*detect_cmd) return detect_command(detect_args);
+    if (*bench_cmd) return bench_command(bench_args);
     if (*random_cmd) return random_command(random_args);
     return run_command(run_args);
   });

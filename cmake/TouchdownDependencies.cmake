@@ -24,7 +24,7 @@ pkg_check_modules(CCD REQUIRED IMPORTED_TARGET ccd)
 find_package(TBB REQUIRED)
 # LED pose: OpenCV for image I/O, rendering and the ArUco baseline; Ceres
 # for the constellation bundle adjustment.
-find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs calib3d aruco videoio)
+find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs calib3d aruco videoio dnn)
 find_package(Ceres 2 REQUIRED)
 # Landing trajectory: NLopt for the time allocation (and SLSQP as the QP
 # solver's reference in tests and benchmarks).

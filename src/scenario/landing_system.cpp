@@ -30,8 +30,8 @@ bool validate_guidance(const MlsOptions& o, std::string* why) {
   if (!in_range(o.land_altitude, 0, 20)) return invalid(why, "land_altitude: must be in [0, 20] m");
   if (!in_range(o.centring_gain, 0.01, 10)) return invalid(why, "centring_gain: must be in [0.01, 10] 1/s");
   if (!in_range(o.search_radius, 0, 100)) return invalid(why, "search_radius: must be in [0, 100] m");
-  if (!in_range_int(o.full_frame_period, 1, 1000))
-    return invalid(why, "full_frame_period: must be in [1, 1000] frames");
+  if (!o.detector.validate(why)) return false;
+  if (!in_range(o.min_confidence, 0, 1)) return invalid(why, "min_confidence: must be in [0, 1]");
   if (!in_range(o.altitude_gain, 0.01, 10)) return invalid(why, "altitude_gain: must be in [0.01, 10] 1/s");
   if (!in_range(o.max_vertical_speed, 0.1, 10)) return invalid(why, "max_vertical_speed: must be in [0.1, 10] m/s");
   if (!in_range(o.approach_gain, 0.01, 10)) return invalid(why, "approach_gain: must be in [0.01, 10] 1/s");
@@ -111,11 +111,16 @@ bool MlsOptions::validate(std::string* why) const {
 std::unique_ptr<LandingSystem> make_landing_system(std::string_view name, const MlsOptions& options) {
   std::string why;
   if (!options.validate(&why)) throw InvalidArgument("landing system options: " + why);
-  if (name == "opencv-mls") return std::make_unique<detail::OpencvMls>(options);
+  if (name == "opencv-mls") return std::make_unique<detail::OpencvMls>(options, "opencv-mls");
+  if (name == "learned-mls") {
+    MlsOptions o = options;
+    o.detector.kind = "learned";
+    return std::make_unique<detail::OpencvMls>(o, "learned-mls");
+  }
   if (name == "mm-mls") return std::make_unique<detail::MmMls>(options);
-  throw InvalidArgument("landing system: unknown '" + std::string(name) + "' (known: opencv-mls, mm-mls)");
+  throw InvalidArgument("landing system: unknown '" + std::string(name) + "' (known: opencv-mls, learned-mls, mm-mls)");
 }
 
-std::vector<std::string> landing_system_names() { return {"opencv-mls", "mm-mls"}; }
+std::vector<std::string> landing_system_names() { return {"opencv-mls", "learned-mls", "mm-mls"}; }
 
 }  // namespace touchdown::scenario

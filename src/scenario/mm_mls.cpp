@@ -12,6 +12,7 @@ namespace touchdown::scenario::detail {
 
 void MmMls::reset(const SystemSetup& setup) {
   OpencvMls::reset(setup);
+  reader_.reset(setup.dictionary);
   map_.reset(setup.gps_target, options_);
   have_landing_ = false;
   have_plan_ = false;
@@ -25,9 +26,9 @@ bool MmMls::gated(const DroneState& s) const { return have_estimate_ && s.t - la
 
 // The code is read while it can still matter: not for a track that has
 // read exactly (it keeps its gate and stays exact).
-bool MmMls::reads_exactly(const cv::Mat& gray, const std::vector<cv::Point2f>& corners, const Detection& d,
-                          bool gated) {
-  return d.accepted && !(gated && track_exact_) && detector_->code_errors(gray, corners, setup_.marker_id) == 0;
+bool MmMls::reads_exactly(const cv::Mat& gray, const MarkerDetection& m, const Detection& d, bool gated) {
+  return d.accepted && m.has_corners && !(gated && track_exact_) &&
+         reader_.code_errors(gray, m.corners, setup_.marker_id, m.oriented) == 0;
 }
 
 // Every depth frame goes into the obstacle grid.

@@ -20,15 +20,13 @@ namespace touchdown::scenario::detail {
 
 class MmMls final : public OpencvMls {
  public:
-  using OpencvMls::OpencvMls;
+  explicit MmMls(const MlsOptions& options) : OpencvMls(options, "mm-mls") {}
 
-  [[nodiscard]] std::string_view name() const override { return "mm-mls"; }
   void reset(const SystemSetup& setup) override;
 
  private:
   [[nodiscard]] bool gated(const DroneState& s) const override;
-  bool reads_exactly(const cv::Mat& gray, const std::vector<cv::Point2f>& corners, const Detection& d,
-                     bool gated) override;
+  bool reads_exactly(const cv::Mat& gray, const MarkerDetection& m, const Detection& d, bool gated) override;
   void see_depth(const CameraFrame& f, const Eigen::Isometry3d& T_world_camera) override;
   void begin_descent(double t) override;
   void drop_descent() override;
@@ -43,6 +41,7 @@ class MmMls final : public OpencvMls {
   [[nodiscard]] bool plan_blocked(double t) const;
   void replan(const DroneState& s);
 
+  CodeReader reader_;
   ObstacleGrid map_;
   std::string_view mm_phase_ = "descend";
   bool have_landing_ = false;

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <numbers>
-#include <opencv2/aruco.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
@@ -29,15 +28,18 @@ bool ground_point(const Eigen::Isometry3d& T_world_camera, const Eigen::Matrix3d
 
 }  // namespace
 
+OpencvMls::OpencvMls(const MlsOptions& options, std::string_view name)
+    : options_(options), detector_(make_marker_detector(options.detector)), name_(name) {}
+
 void OpencvMls::reset(const SystemSetup& setup) {
   std::string why;
   if (!setup.camera.validate(&why)) throw InvalidArgument("landing system: camera: " + why);
   if (!in_range(setup.drone_radius, 0.01, 5))
     throw InvalidArgument("landing system: drone_radius: must be in [0.01, 5] m");
-  const auto* dict = pose::detail::find_aruco_dictionary(setup.dictionary);
-  if (!dict) throw InvalidArgument("landing system: dictionary: unknown " + setup.dictionary);
+  if (!pose::detail::find_aruco_dictionary(setup.dictionary))
+    throw InvalidArgument("landing system: dictionary: unknown " + setup.dictionary);
   setup_ = setup;
-  detector_.emplace(cv::aruco::getPredefinedDictionary(dict->id), options_.detection_roi, options_.full_frame_period);
+  detector_->reset(setup.dictionary, setup.marker_id);
   K_inv_ = setup.camera.K().inverse();
   T_body_camera_ = setup.camera.T_body_camera();
   tan_tilt_ = std::tan(deg_to_rad(setup.camera.tilt_deg));
@@ -143,8 +145,8 @@ SystemOutput OpencvMls::update(const SystemInput& in) {
 
 bool OpencvMls::gated(const DroneState& /*s*/) const { return false; }
 
-bool OpencvMls::reads_exactly(const cv::Mat& /*gray*/, const std::vector<cv::Point2f>& /*corners*/,
-                              const Detection& /*d*/, bool /*gated*/) {
+bool OpencvMls::reads_exactly(const cv::Mat& /*gray*/, const MarkerDetection& /*m*/, const Detection& /*d*/,
+                              bool /*gated*/) {
   return false;
 }
 
@@ -196,7 +198,9 @@ Eigen::Vector2d OpencvMls::hover_point(const Eigen::Vector2d& target, const Dron
 void OpencvMls::detect(const CameraFrame& f, const DroneState& s, SystemOutput& out) {
   const cv::Mat bgr(f.height, f.width, CV_8UC3, const_cast<std::uint8_t*>(f.image.pixels.data()));
   cv::cvtColor(bgr, gray_, cv::COLOR_BGR2GRAY);
-  detector_->detect(gray_, setup_.marker_id, corners_, ids_);
+  const DetectorFrame frame{f.image.view(),
+                            {gray_.data, gray_.cols, gray_.rows, static_cast<std::ptrdiff_t>(gray_.step)}};
+  detector_->detect(frame, found_);
   const Eigen::Isometry3d T_world_camera = s.T_world_body() * T_body_camera_;
   int best = -1;
   std::size_t best_index = 0;
@@ -209,21 +213,26 @@ void OpencvMls::detect(const CameraFrame& f, const DroneState& s, SystemOutput& 
   // follow a look-alike seen first) gives way to an exact reading of the
   // target outside the gate — the re-acquisition. opencv-mls does neither.
   const bool is_gated = gated(s);
-  for (std::size_t i = 0; i < ids_.size(); ++i) {
+  for (std::size_t i = 0; i < found_.size(); ++i) {
+    const MarkerDetection& m = found_[i];
     Detection d;
-    d.id = ids_[i];
-    double perimeter = 0;
-    for (int k = 0; k < 4; ++k) {
-      d.corners[static_cast<std::size_t>(k)] =
-          Eigen::Vector2d(corners_[i][static_cast<std::size_t>(k)].x, corners_[i][static_cast<std::size_t>(k)].y);
+    d.id = m.id;
+    d.confidence = m.confidence;
+    if (m.has_corners) {
+      d.corners = m.corners;
+    } else {
+      d.corners = {m.box_min, Eigen::Vector2d(m.box_max.x(), m.box_min.y()), m.box_max,
+                   Eigen::Vector2d(m.box_min.x(), m.box_max.y())};
     }
+    double perimeter = 0;
     for (int k = 0; k < 4; ++k)
       perimeter += (d.corners[static_cast<std::size_t>(k)] - d.corners[static_cast<std::size_t>((k + 1) % 4)]).norm();
     d.quality = perimeter / 4;  // mean side length [px]
     const Eigen::Vector2d centre = 0.25 * (d.corners[0] + d.corners[1] + d.corners[2] + d.corners[3]);
     const bool on_ground = ground_point(T_world_camera, K_inv_, centre, &d.ground);
-    d.accepted = d.id == setup_.marker_id && d.quality >= options_.min_quality_px && on_ground;
-    const bool exact = reads_exactly(gray_, corners_[i], d, is_gated);
+    d.accepted = d.id == setup_.marker_id && d.quality >= options_.min_quality_px &&
+                 d.confidence >= options_.min_confidence && on_ground;
+    const bool exact = reads_exactly(gray_, m, d, is_gated);
     bool reacquires = false;
     if (is_gated && d.accepted && (d.ground - estimate_).norm() > options_.track_gate)
       d.accepted = reacquires = exact && !track_exact_;
@@ -246,7 +255,7 @@ void OpencvMls::detect(const CameraFrame& f, const DroneState& s, SystemOutput& 
     out.detections.push_back(d);
   }
   see_depth(f, T_world_camera);
-  detector_->track(best < 0 ? nullptr : &corners_[best_index]);
+  detector_->track(best < 0 ? nullptr : &found_[best_index]);
   if (best < 0) return;
   const Detection& d = out.detections[static_cast<std::size_t>(best)];
   const bool new_track = seen_since_ < 0 || s.t - last_seen_ > options_.lost_timeout;

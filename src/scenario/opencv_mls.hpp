@@ -13,14 +13,15 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <memory>
 #include <opencv2/core.hpp>
-#include <optional>
 #include <string_view>
 #include <vector>
 
-#include "scenario/marker_detector.hpp"
+#include "scenario/aruco_detector.hpp"
 #include "touchdown/core/enum_names.hpp"
 #include "touchdown/scenario/landing_system.hpp"
+#include "touchdown/scenario/marker_detector.hpp"
 
 namespace touchdown::scenario::detail {
 
@@ -49,9 +50,11 @@ inline std::string_view to_string(MlsPhase phase) { return enum_name(phase); }
 
 class OpencvMls : public LandingSystem {
  public:
-  explicit OpencvMls(const MlsOptions& options) : options_(options) {}
+  /// `name`: "opencv-mls", or "learned-mls" for the same system on the
+  /// learned detector. Builds options.detector (throws for a missing model).
+  OpencvMls(const MlsOptions& options, std::string_view name);
 
-  [[nodiscard]] std::string_view name() const override { return "opencv-mls"; }
+  [[nodiscard]] std::string_view name() const override { return name_; }
   void reset(const SystemSetup& setup) override;
   SystemOutput update(const SystemInput& input) override;
 
@@ -65,8 +68,7 @@ class OpencvMls : public LandingSystem {
   [[nodiscard]] virtual bool gated(const DroneState& s) const;
   /// Whether an accepted detection reads the target's code exactly (no
   /// cell corrected). opencv-mls does not read codes: false.
-  virtual bool reads_exactly(const cv::Mat& gray, const std::vector<cv::Point2f>& corners, const Detection& d,
-                             bool gated);
+  virtual bool reads_exactly(const cv::Mat& gray, const MarkerDetection& m, const Detection& d, bool gated);
   /// Every frame after its detections (mm-mls maps the depth image).
   virtual void see_depth(const CameraFrame& f, const Eigen::Isometry3d& T_world_camera);
   /// The descent was committed at time t / abandoned for a re-acquired
@@ -91,7 +93,7 @@ class OpencvMls : public LandingSystem {
 
   MlsOptions options_;
   SystemSetup setup_;
-  std::optional<MarkerDetector> detector_;
+  std::unique_ptr<MarkerDetector> detector_;
   Eigen::Matrix3d K_inv_ = Eigen::Matrix3d::Identity();
   Phase phase_ = Phase::Approach;
   Eigen::Vector2d estimate_ = Eigen::Vector2d::Zero();
@@ -111,9 +113,9 @@ class OpencvMls : public LandingSystem {
   double search_start_ = 0;
   double search_angle_ = 0;
   double last_t_ = -1;
+  std::string_view name_;
   cv::Mat gray_;
-  std::vector<std::vector<cv::Point2f>> corners_;
-  std::vector<int> ids_;
+  std::vector<MarkerDetection> found_;
 };
 
 }  // namespace touchdown::scenario::detail

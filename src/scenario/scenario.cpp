@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -373,6 +374,45 @@ bool Scenario::validate(std::string* why) const {
   }
   if (c.failed()) return invalid(why, c.error);
   return true;
+}
+
+// ---- public: the target ---------------------------------------------------------------
+
+void set_target(Scenario& s, const std::string& dictionary, int id) {
+  const auto* dict = pose::detail::find_aruco_dictionary(dictionary);
+  if (!dict) throw InvalidArgument("marker: unknown dictionary " + dictionary);
+  if (id < 0 || id >= dict->codes)
+    throw InvalidArgument("marker: " + dictionary + " has ids 0.." + std::to_string(dict->codes - 1) + ", got " +
+                          std::to_string(id));
+  s.marker.dictionary = dictionary;
+  s.marker.id = id;
+  for (Distractor& d : s.distractors) {
+    if (d.kind != DistractorKind::WrongId) continue;
+    d.id %= dict->codes;
+    if (d.id == id) d.id = (d.id + 1) % dict->codes;
+  }
+}
+
+// ---- public: the dominant weather ----------------------------------------------------
+
+std::string dominant_weather(const Weather& w) {
+  const std::array<std::pair<double, const char*>, 9> levels{{
+      {w.fog / 0.1, "fog"},
+      {w.rain / 0.5, "rain"},
+      {w.snow / 0.5, "snowfall"},
+      {w.dust / 0.5, "dust"},
+      {w.leaves / 0.5, "falling leaves"},
+      {w.ground_wetness / 0.7, "wet ground"},
+      {w.ground_snow / 0.5, "ground snow"},
+      {w.ground_leaves / 0.5, "ground leaves"},
+      {(1 - w.ambient) / 0.5, "low light"},
+  }};
+  double best = 1;
+  const char* name = "clear";
+  for (const auto& [level, label] : levels) {
+    if (level >= best) best = level, name = label;
+  }
+  return name;
 }
 
 // ---- public: equality -----------------------------------------------------------------

@@ -14,26 +14,6 @@
 
 namespace touchdown::search {
 
-std::string dominant_weather(const scenario::Weather& w) {
-  const std::array<std::pair<double, const char*>, 9> levels{{
-      {w.fog / 0.1, "fog"},
-      {w.rain / 0.5, "rain"},
-      {w.snow / 0.5, "snowfall"},
-      {w.dust / 0.5, "dust"},
-      {w.leaves / 0.5, "falling leaves"},
-      {w.ground_wetness / 0.7, "wet ground"},
-      {w.ground_snow / 0.5, "ground snow"},
-      {w.ground_leaves / 0.5, "ground leaves"},
-      {(1 - w.ambient) / 0.5, "low light"},
-  }};
-  double best = 1;
-  const char* name = "clear";
-  for (const auto& [level, label] : levels) {
-    if (level >= best) best = level, name = label;
-  }
-  return name;
-}
-
 std::string object_kind(const std::string& object) {
   const auto open = object.rfind(" (");
   if (open == std::string::npos || object.back() != ')') return object;

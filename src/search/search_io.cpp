@@ -79,6 +79,7 @@ std::string campaign_config(const SearchOptions& o) {
   j["violation_radius"] = o.violation_radius;
   j["weights"] = o.weights_id;
   // Written only when set, so that campaigns from before it still resume.
+  if (o.detector != "aruco") j["detector"] = o.detector;
   if (o.fair_fitness) j["fair_fitness"] = true;
   if (o.diversity) j["diversity"] = {{"min_distance", o.min_distance}};
   j["base_scenario"] = Json::parse(scenario::to_json(o.base));

@@ -38,7 +38,7 @@ void run(benchmark::State& bs, bool roi) {
   cv::setNumThreads(1);
   const ts::Scenario s = landing_run_scenario();
   ts::MlsOptions mls;
-  mls.detection_roi = roi;
+  mls.detector.roi = roi;
   auto sut = ts::make_landing_system("opencv-mls", mls);
   ts::Timing sum;
   double flight = 0;

@@ -191,7 +191,7 @@ TEST(DetectionRoi, SameLandingFewerDetectionsOfTheDistractor) {
   s.seed = 11;
   s.distractors.push_back({DistractorKind::WrongId, 7, 1, 0.8, Eigen::Vector2d(0, 2.2), 20});
   MlsOptions roi, whole;
-  whole.detection_roi = false;
+  whole.detector.roi = false;
   auto a = make_landing_system("opencv-mls", roi);
   auto b = make_landing_system("opencv-mls", whole);
   const ScenarioResult ra = run_scenario(s, *a);

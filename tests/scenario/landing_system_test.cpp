@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "test_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/scenario/testing/landing_system_contract.hpp"
 
@@ -40,7 +41,12 @@ MlsBadValue mls_bad(const std::string& key, T MlsOptions::*field, T value, const
 std::vector<MlsBadValue> mls_bad_values() {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   return {
-      mls_bad("full_frame_period", &MlsOptions::full_frame_period, 0, "zero"),
+      {"detector_full_frame_period_zero", "detector.full_frame_period",
+       [](MlsOptions& o) { o.detector.full_frame_period = 0; }},
+      {"detector_unknown", "detector", [](MlsOptions& o) { o.detector.kind = "yolo"; }},
+      {"detector_min_confidence_nan", "detector.min_confidence",
+       [nan](MlsOptions& o) { o.detector.min_confidence = nan; }},
+      mls_bad("min_confidence", &MlsOptions::min_confidence, 1.5, "too_large"),
       mls_bad("altitude_gain", &MlsOptions::altitude_gain, nan, "nan"),
       mls_bad("altitude_gain", &MlsOptions::altitude_gain, 0.0, "zero"),
       mls_bad("max_vertical_speed", &MlsOptions::max_vertical_speed, nan, "nan"),
@@ -156,6 +162,31 @@ std::vector<contract::Factory> reference_systems() {
     f.make = [name] { return make_landing_system(name); };
     f.expected_name = name;
     out.push_back(f);
+  }
+  // mm-mls on the learned detector (the source's MM-MLS pairing).
+  contract::Factory f;
+  f.label = "mm-mls-learned";
+  f.make = [] {
+    MlsOptions o;
+    o.detector.kind = "learned";
+    return make_landing_system("mm-mls", o);
+  };
+  f.expected_name = "mm-mls";
+  out.push_back(f);
+  // The learned detector looks for its model's marker only (4X4_50 id 0):
+  // both runs of the script use it (the second still moves it and puts a
+  // box where the first one lay).
+  for (contract::Factory& x : out) {
+    if (x.label != "learned-mls" && x.label != "mm-mls-learned") continue;
+    x.script.scenario.marker.id = 0;
+    x.script.other.marker.id = 0;
+  }
+  // Under the sanitizers (TOUCHDOWN_TEST_SIZE=reduced) the network runs on
+  // a few frames only (learned_detector_test.cpp); the learned systems'
+  // closed loops run in the Release tests.
+  if (touchdown::test::reduced_size()) {
+    std::erase_if(out,
+                  [](const contract::Factory& x) { return x.label == "learned-mls" || x.label == "mm-mls-learned"; });
   }
   return out;
 }

@@ -9,8 +9,8 @@
 #include <opencv2/aruco.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "scenario/aruco_detector.hpp"
 #include "scenario/clear_scenario.hpp"
-#include "scenario/marker_detector.hpp"
 #include "touchdown/scenario/run.hpp"
 
 namespace touchdown::scenario {
@@ -257,23 +257,34 @@ cv::Mat code_view(const cv::aruco::Dictionary& dict, int id, const std::vector<c
 TEST(MarkerCode, CountsTheCellsThatDifferFromTheTargetsCode) {
   // Oracle: markers drawn by OpenCV, some with cells inverted; OpenCV's own
   // decoder (error correction) still reads them as the target id, and the
-  // code check counts exactly the inverted cells.
-  for (const auto& [name, id] : {std::pair{cv::aruco::DICT_6X6_50, 40}, std::pair{cv::aruco::DICT_5X5_50, 7}}) {
+  // code check counts exactly the inverted cells — from ArUco's oriented
+  // corners, and from the same corners in another rotation when told they
+  // are not oriented (a learned detector's).
+  for (const auto& [name, dict_name, id] :
+       {std::tuple{cv::aruco::DICT_6X6_50, "6X6_50", 40}, std::tuple{cv::aruco::DICT_5X5_50, "5X5_50", 7}}) {
     const cv::Ptr<cv::aruco::Dictionary> dict = cv::aruco::getPredefinedDictionary(name);
-    detail::MarkerDetector detector(dict, false);
+    detail::ArucoDetector detector(false, 10);
+    detector.reset(dict_name, id);
+    detail::CodeReader reader;
+    reader.reset(dict_name);
     std::vector<std::vector<cv::Point>> flips = {{}, {{2, 1}}};
     if (dict->maxCorrectionBits >= 4) flips.push_back({{2, 1}, {4, 3}});  // 6X6_50 corrects two at OpenCV's rate
     for (const auto& cells : flips) {
       const cv::Mat view = code_view(*dict, id, cells);
-      std::vector<std::vector<cv::Point2f>> corners;
-      std::vector<int> ids;
-      detector.detect(view, id, corners, ids);
-      ASSERT_EQ(ids.size(), 1u) << "dictionary " << name << ", " << cells.size() << " cells inverted";
-      ASSERT_EQ(ids[0], id);
-      EXPECT_EQ(detector.code_errors(view, corners[0], id), static_cast<int>(cells.size()))
+      std::vector<MarkerDetection> found;
+      detector.detect({{}, {view.data, view.cols, view.rows, static_cast<std::ptrdiff_t>(view.step)}}, found);
+      ASSERT_EQ(found.size(), 1u) << "dictionary " << name << ", " << cells.size() << " cells inverted";
+      ASSERT_EQ(found[0].id, id);
+      ASSERT_TRUE(found[0].has_corners && found[0].oriented);
+      EXPECT_DOUBLE_EQ(found[0].confidence, 1.0);
+      const auto& c = found[0].corners;
+      EXPECT_EQ(reader.code_errors(view, c, id, true), static_cast<int>(cells.size()))
           << "dictionary " << name << ", " << cells.size() << " cells inverted";
+      const std::array<Eigen::Vector2d, 4> turned{c[2], c[3], c[0], c[1]};
+      EXPECT_EQ(reader.code_errors(view, turned, id, false), static_cast<int>(cells.size()));
+      EXPECT_GT(reader.code_errors(view, turned, id, true), static_cast<int>(cells.size()));
       // Against another id's code: many cells differ.
-      EXPECT_GE(detector.code_errors(view, corners[0], id + 1), 3);
+      EXPECT_GE(reader.code_errors(view, c, id + 1, true), 3);
     }
   }
 }

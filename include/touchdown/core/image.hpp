@@ -18,6 +18,15 @@ struct BgrImageView {
   [[nodiscard]] const std::uint8_t* row(int y) const { return data + static_cast<std::ptrdiff_t>(y) * stride; }
 };
 
+/// 8-bit grey pixels, row-major; `stride` is the distance between rows in bytes.
+struct GrayImageView {
+  const std::uint8_t* data = nullptr;
+  int width = 0;
+  int height = 0;
+  std::ptrdiff_t stride = 0;
+  [[nodiscard]] const std::uint8_t* row(int y) const { return data + static_cast<std::ptrdiff_t>(y) * stride; }
+};
+
 /// 16-bit depth, row-major; `stride` in elements; 0 = no measurement.
 struct DepthImageView {
   const std::uint16_t* data = nullptr;

@@ -40,6 +40,7 @@
 #include <vector>
 
 #include "touchdown/scenario/camera.hpp"
+#include "touchdown/scenario/marker_detector.hpp"
 #include "touchdown/scenario/world.hpp"
 
 namespace touchdown::scenario {
@@ -60,6 +61,7 @@ struct Detection {
   int id = -1;
   std::array<Eigen::Vector2d, 4> corners;            ///< image pixels, ArUco corner order
   double quality = 0;                                ///< the system's own measure (opencv-mls: side length [px])
+  double confidence = 1;                             ///< the detector's, in [0, 1] (aruco: 1)
   bool accepted = false;                             ///< counted as a sighting of the target
   Eigen::Vector2d ground = Eigen::Vector2d::Zero();  ///< estimated marker centre on the ground [m]
 };
@@ -121,12 +123,13 @@ struct MlsOptions {
   double land_altitude = 1.5;   ///< below this the land command is given [m]
   double centring_gain = 0.8;   ///< horizontal velocity per metre of offset [1/s]
   double search_radius = 6;     ///< spiral search around the GPS target [m]
-  /// While the target is tracked, detect in a region around its last
-  /// position first (the whole frame when that misses it, and every
-  /// full_frame_period-th frame); false: the whole frame every time, as the
-  /// published baseline.
-  bool detection_roi = true;
-  int full_frame_period = 10;  ///< with detection_roi: the whole frame at least this often [frames]
+  /// The marker detector (marker_detector.hpp): ArUco by default, with
+  /// its tracking region (detector.roi false: the whole frame every time,
+  /// as the published baseline); learned-mls always uses the learned one.
+  DetectorOptions detector;
+  /// A detection counts as a sighting only at this confidence or above
+  /// (the source's TPHYoLo-MLS deployment: 0.70; ArUco's are all 1).
+  double min_confidence = 0.7;
 
   // Guidance of both systems.
   double altitude_gain = 1.0;          ///< vertical velocity per metre of altitude error [1/s]
@@ -210,7 +213,10 @@ struct MlsOptions {
   [[nodiscard]] bool validate(std::string* why) const;
 };
 
-/// "opencv-mls" or "mm-mls"; throws InvalidArgument for another name.
+/// "opencv-mls", "learned-mls" (opencv-mls on the learned detector,
+/// whatever options.detector.kind says: the source's TPHYoLo-MLS) or
+/// "mm-mls"; throws InvalidArgument for another name, invalid options or a
+/// learned model that cannot be loaded (naming the file).
 std::unique_ptr<LandingSystem> make_landing_system(std::string_view name, const MlsOptions& options = {});
 std::vector<std::string> landing_system_names();
 

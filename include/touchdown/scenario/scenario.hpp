@@ -181,6 +181,19 @@ std::string to_yaml(const Scenario& s);
 std::string to_json(const Scenario& s);
 bool operator==(const Scenario& a, const Scenario& b);
 
+/// Makes `dictionary` id `id` the scenario's target marker; wrong-id
+/// distractors keep an id of that dictionary other than `id`. Throws
+/// InvalidArgument for an unknown dictionary or an id not in it.
+void set_target(Scenario& s, const std::string& dictionary, int id);
+
+/// The scenario's most intense weather condition, each intensity scaled to 1
+/// at a level that visibly changes the camera's view (fog 0.1 /m, rain,
+/// snowfall, dust and falling leaves 0.5, wet ground 0.7, ground snow and
+/// ground leaves 0.5, low light ambient 0.5): "fog", "rain", "snowfall",
+/// "dust", "falling leaves", "wet ground", "ground snow", "ground leaves",
+/// "low light"; "clear" when none reaches 1.
+std::string dominant_weather(const Weather& w);
+
 /// A random valid scenario drawn from property_bounds(): same seed, same
 /// scenario. `map` fixes the map (else drawn).
 Scenario random_scenario(std::uint64_t seed);

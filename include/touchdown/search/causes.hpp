@@ -37,13 +37,8 @@
 
 namespace touchdown::search {
 
-/// The scenario's most intense weather condition, each intensity scaled to 1
-/// at a level that visibly changes the camera's view (fog 0.1 /m, rain,
-/// snowfall, dust and falling leaves 0.5, wet ground 0.7, ground snow and
-/// ground leaves 0.5, low light ambient 0.5): "fog", "rain", "snowfall",
-/// "dust", "falling leaves", "wet ground", "ground snow", "ground leaves",
-/// "low light"; "clear" when none reaches 1.
-std::string dominant_weather(const scenario::Weather& w);
+/// The scenario's dominant weather (scenario.hpp).
+using scenario::dominant_weather;
 
 /// The kind in an object's name: "static_objects[1] (pole)" → "pole"; the
 /// name itself when it has no parenthesis.

@@ -100,6 +100,7 @@ class LocalEvaluator final : public Evaluator {
 struct SearchOptions {
   Method method = Method::Rlaga;
   std::string system = "opencv-mls";  ///< recorded in campaign.json (the evaluator runs it)
+  std::string detector = "aruco";     ///< the system's marker detector, recorded likewise
   int budget = 300;                   ///< scenarios evaluated in all (≥ population)
   std::uint64_t seed = 1;
   GaOptions ga;  ///< population, thresholds, mutation candidates

@@ -1,0 +1,230 @@
+// The learned marker detector through OpenCV DNN (learned_detector.hpp).
+#include "scenario/learned_detector.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numeric>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "pose/sim/aruco_dictionary.hpp"
+#include "scenario/aruco_detector.hpp"
+#include "touchdown/core/error.hpp"
+
+namespace touchdown::scenario::detail {
+
+namespace {
+
+[[noreturn]] void model_error(const std::filesystem::path& path, const std::string& what) {
+  throw InvalidArgument("model " + path.string() + ": " + what);
+}
+
+}  // namespace
+
+std::filesystem::path manifest_path(const std::filesystem::path& model) {
+  std::filesystem::path p = model;
+  return p.replace_extension(".json");
+}
+
+ModelManifest read_model_manifest(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) model_error(path, "cannot read the manifest");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_model_manifest(text.str(), path);
+}
+
+ModelManifest parse_model_manifest(std::string_view text, const std::filesystem::path& path) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    model_error(path, std::string("not JSON (") + e.what() + ")");
+  }
+  ModelManifest m;
+  const auto get = [&](const char* group, const char* key, auto& value) {
+    const auto g = j.find(group);
+    if (g == j.end() || !g->is_object() || !g->contains(key))
+      model_error(path, std::string(group) + "." + key + ": missing");
+    try {
+      (*g)[key].get_to(value);
+    } catch (const nlohmann::json::exception&) {
+      model_error(path, std::string(group) + "." + key + ": wrong type");
+    }
+  };
+  if (!j.is_object() || j.value("format", "") != "touchdown-detector/1")
+    model_error(path, "format: expected \"touchdown-detector/1\"");
+  get("marker", "dictionary", m.dictionary);
+  get("marker", "id", m.marker_id);
+  get("input", "width", m.width);
+  get("input", "height", m.height);
+  get("input", "pad_value", m.pad_value);
+  get("output", "stride", m.stride);
+  get("output", "channels", m.channels);
+  get("output", "corner_scale", m.corner_scale);
+  const auto* dict = pose::detail::find_aruco_dictionary(m.dictionary);
+  if (!dict) model_error(path, "marker.dictionary: unknown " + m.dictionary);
+  if (m.marker_id < 0 || m.marker_id >= dict->codes) model_error(path, "marker.id: not in the dictionary");
+  if (m.stride < 1 || m.stride > 64) model_error(path, "output.stride: must be in [1, 64]");
+  if (m.width < m.stride || m.width > 4096 || m.width % m.stride != 0)
+    model_error(path, "input.width: must be a multiple of output.stride in [stride, 4096]");
+  if (m.height < m.stride || m.height > 4096 || m.height % m.stride != 0)
+    model_error(path, "input.height: must be a multiple of output.stride in [stride, 4096]");
+  if (m.channels != 11) model_error(path, "output.channels: must be 11");
+  if (!(std::isfinite(m.corner_scale) && m.corner_scale > 0)) model_error(path, "output.corner_scale: must be > 0");
+  if (!(std::isfinite(m.pad_value) && m.pad_value >= 0 && m.pad_value <= 1))
+    model_error(path, "input.pad_value: must be in [0, 1]");
+  return m;
+}
+
+Letterbox letterbox(int frame_width, int frame_height, int input_width, int input_height) {
+  Letterbox b;
+  b.scale = std::min(static_cast<double>(input_width) / frame_width, static_cast<double>(input_height) / frame_height);
+  b.width = std::clamp(static_cast<int>(std::lround(frame_width * b.scale)), 1, input_width);
+  b.height = std::clamp(static_cast<int>(std::lround(frame_height * b.scale)), 1, input_height);
+  b.offset = Eigen::Vector2d((input_width - b.width) / 2, (input_height - b.height) / 2);
+  return b;
+}
+
+double box_iou(const MarkerDetection& a, const MarkerDetection& b) {
+  const Eigen::Vector2d lo = a.box_min.cwiseMax(b.box_min);
+  const Eigen::Vector2d hi = a.box_max.cwiseMin(b.box_max);
+  const double inter = std::max(0.0, hi.x() - lo.x()) * std::max(0.0, hi.y() - lo.y());
+  const auto area = [](const MarkerDetection& d) {
+    return std::max(0.0, d.box_max.x() - d.box_min.x()) * std::max(0.0, d.box_max.y() - d.box_min.y());
+  };
+  const double uni = area(a) + area(b) - inter;
+  return uni > 0 ? inter / uni : 0.0;
+}
+
+std::vector<MarkerDetection> decode_heatmap(const float* out, int rows, int cols, const ModelManifest& m,
+                                            const Letterbox& box, double min_confidence, double nms_iou, int id) {
+  const std::size_t plane = static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols);
+  const auto at = [&](int c, int r, int q) {
+    return out[static_cast<std::size_t>(c) * plane + static_cast<std::size_t>(r) * static_cast<std::size_t>(cols) +
+               static_cast<std::size_t>(q)];
+  };
+  std::vector<MarkerDetection> candidates;
+  for (int r = 0; r < rows; ++r) {
+    for (int q = 0; q < cols; ++q) {
+      const float heat = at(0, r, q);
+      if (!(heat >= min_confidence)) continue;  // NaN too
+      bool peak = true;
+      for (int dr = -1; dr <= 1 && peak; ++dr) {
+        for (int dq = -1; dq <= 1; ++dq) {
+          const int rr = r + dr, qq = q + dq;
+          if ((dr || dq) && rr >= 0 && rr < rows && qq >= 0 && qq < cols && at(0, rr, qq) > heat) {
+            peak = false;
+            break;
+          }
+        }
+      }
+      if (!peak) continue;
+      MarkerDetection d;
+      d.id = id;
+      d.confidence = std::clamp(static_cast<double>(heat), 0.0, 1.0);
+      d.has_corners = true;
+      d.oriented = false;
+      const Eigen::Vector2d centre_in((q + static_cast<double>(at(1, r, q))) * m.stride,
+                                      (r + static_cast<double>(at(2, r, q))) * m.stride);
+      d.box_min = Eigen::Vector2d::Constant(1e300);
+      d.box_max = Eigen::Vector2d::Constant(-1e300);
+      bool finite = centre_in.allFinite();
+      for (std::size_t k = 0; k < 4; ++k) {
+        const int c = 3 + 2 * static_cast<int>(k);
+        const Eigen::Vector2d in =
+            centre_in + m.corner_scale * Eigen::Vector2d(at(c, r, q), at(c + 1, r, q)).cast<double>();
+        d.corners[k] = (in - box.offset) / box.scale;
+        finite = finite && d.corners[k].allFinite();
+        d.box_min = d.box_min.cwiseMin(d.corners[k]);
+        d.box_max = d.box_max.cwiseMax(d.corners[k]);
+      }
+      if (finite) candidates.push_back(d);
+    }
+  }
+  // Greedy NMS, highest confidence first; the stable sort keeps the cell
+  // order among equal confidences.
+  std::vector<std::size_t> order(candidates.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return candidates[a].confidence > candidates[b].confidence; });
+  std::vector<MarkerDetection> kept;
+  for (std::size_t i : order) {
+    const MarkerDetection& c = candidates[i];
+    if (std::none_of(kept.begin(), kept.end(), [&](const MarkerDetection& k) { return box_iou(k, c) > nms_iou; }))
+      kept.push_back(c);
+  }
+  return kept;
+}
+
+LearnedDetector::LearnedDetector(std::filesystem::path model, double min_confidence, double nms_iou)
+    : path_(std::move(model)), min_confidence_(min_confidence), nms_iou_(nms_iou) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path_, ec)) model_error(path_, "no such file");
+  manifest_ = read_model_manifest(manifest_path(path_));
+  try {
+    net_ = cv::dnn::readNetFromONNX(path_.string());
+  } catch (const cv::Exception& e) {
+    model_error(path_, "not a readable ONNX model (" + std::string(e.err) + ")");
+  }
+  if (net_.empty()) model_error(path_, "not a readable ONNX model");
+  net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+  net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+  // One blank frame: the output must be 1 × 11 × H/s × W/s.
+  const cv::Mat blank(manifest_.height, manifest_.width, CV_8UC1, cv::Scalar(0));
+  try {
+    forward(blank);
+  } catch (const cv::Exception& e) {
+    model_error(path_, "does not run on a " + std::to_string(manifest_.width) + "×" + std::to_string(manifest_.height) +
+                           " input (" + std::string(e.err) + ")");
+  }
+  const int rows = manifest_.height / manifest_.stride, cols = manifest_.width / manifest_.stride;
+  if (output_.dims != 4 || output_.size[0] != 1 || output_.size[1] != manifest_.channels || output_.size[2] != rows ||
+      output_.size[3] != cols) {
+    std::string shape;
+    for (int i = 0; i < output_.dims; ++i) shape += (i ? "×" : "") + std::to_string(output_.size[i]);
+    model_error(path_, "output shape " + shape + ", expected 1×" + std::to_string(manifest_.channels) + "×" +
+                           std::to_string(rows) + "×" + std::to_string(cols) + " (its manifest's)");
+  }
+}
+
+void LearnedDetector::reset(std::string_view dictionary, int marker_id) {
+  const auto* want = pose::detail::find_aruco_dictionary(dictionary);
+  const auto* have = pose::detail::find_aruco_dictionary(manifest_.dictionary);
+  if (!want || want != have || marker_id != manifest_.marker_id)
+    throw InvalidArgument("learned detector: model " + path_.string() + " detects " + manifest_.dictionary + " id " +
+                          std::to_string(manifest_.marker_id) + ", not " + std::string(dictionary) + " id " +
+                          std::to_string(marker_id) + " (train one for that marker: tools/train_detector.py)");
+}
+
+const cv::Mat& LearnedDetector::forward(const cv::Mat& gray) {
+  box_ = letterbox(gray.cols, gray.rows, manifest_.width, manifest_.height);
+  const auto pad = static_cast<float>(manifest_.pad_value);
+  input_.create(manifest_.height, manifest_.width, CV_32FC1);
+  input_.setTo(cv::Scalar(pad));
+  cv::Mat roi =
+      input_(cv::Rect(static_cast<int>(box_.offset.x()), static_cast<int>(box_.offset.y()), box_.width, box_.height));
+  if (box_.width == gray.cols && box_.height == gray.rows) {
+    gray.convertTo(roi, CV_32F, 1.0 / 255);
+  } else {
+    cv::Mat scaled;
+    cv::resize(gray, scaled, cv::Size(box_.width, box_.height), 0, 0,
+               box_.scale < 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
+    scaled.convertTo(roi, CV_32F, 1.0 / 255);
+  }
+  const int shape[4] = {1, 1, manifest_.height, manifest_.width};
+  blob_ = cv::Mat(4, shape, CV_32F, input_.data);
+  net_.setInput(blob_);
+  output_ = net_.forward();
+  return output_;
+}
+
+void LearnedDetector::detect(const DetectorFrame& frame, std::vector<MarkerDetection>& out) {
+  forward(as_mat(frame.gray));
+  out = decode_heatmap(output_.ptr<float>(), output_.size[2], output_.size[3], manifest_, box_, min_confidence_,
+                       nms_iou_, manifest_.marker_id);
+}
+
+}  // namespace touchdown::scenario::detail

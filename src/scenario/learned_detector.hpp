@@ -1,0 +1,93 @@
+#pragma once
+// The learned marker detector (touchdown/scenario/marker_detector.hpp): a
+// small one-stage centre-heatmap network (after CenterNet: Zhou, Wang and
+// Krähenbühl, "Objects as Points", 2019) trained by tools/train_detector.py
+// on the test world's frames and run through OpenCV's DNN module. Private
+// to the scenario module; the decoding is exposed for its tests.
+//
+// The model file is ONNX; its manifest (the same name with .json) says
+// which marker it detects and how its input and output are laid out
+// (docs/formats.md, "Detector model"):
+//   input   1 × 1 × H × W grey levels / 255 (the frame letterboxed to W × H);
+//   output  1 × 11 × H/s × W/s: channel 0 the centre heatmap (a sigmoid,
+//           in [0, 1]), 1–2 the centre's offset in its cell [cells], 3–10
+//           the four corners relative to the centre [corner_scale px of
+//           the network's input], clockwise from the one nearest the
+//           image's top-left.
+#include <filesystem>
+#include <opencv2/core.hpp>
+#include <opencv2/dnn.hpp>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "touchdown/scenario/marker_detector.hpp"
+
+namespace touchdown::scenario::detail {
+
+/// A model's manifest (the keys the detector needs).
+struct ModelManifest {
+  std::string dictionary;
+  int marker_id = 0;
+  int width = 0, height = 0;  ///< the network's input [px]
+  int stride = 0;             ///< input pixels per output cell
+  int channels = 0;           ///< output channels (11)
+  double corner_scale = 0;    ///< corner offsets' unit [input px]
+  double pad_value = 0;       ///< letterbox fill, grey level / 255
+};
+
+/// Reads and checks `path` (JSON); throws InvalidArgument naming the file
+/// and the key for a missing file, bad JSON or a missing/invalid key.
+ModelManifest read_model_manifest(const std::filesystem::path& path);
+/// The same from the manifest's text (`path` names it in errors).
+ModelManifest parse_model_manifest(std::string_view text, const std::filesystem::path& path);
+/// The manifest beside a model: the same path with ".json".
+std::filesystem::path manifest_path(const std::filesystem::path& model);
+
+/// How a frame of `width` × `height` maps into the network's input: scaled
+/// by `scale` and shifted by `offset` (letterboxing keeps the aspect ratio).
+struct Letterbox {
+  double scale = 1;
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();
+  int width = 0, height = 0;  ///< the scaled frame inside the input [px]
+};
+Letterbox letterbox(int frame_width, int frame_height, int input_width, int input_height);
+
+/// Decodes one output (channels × rows × cols floats, row-major per
+/// channel): every cell whose heat is at least `min_confidence` and not
+/// below any of its 8 neighbours is a candidate; corners and box in frame
+/// pixels through `box`; then greedy non-maximum suppression (highest
+/// confidence first, ties by cell order) drops any candidate whose box
+/// overlaps a kept one by more than `nms_iou` (intersection over union).
+std::vector<MarkerDetection> decode_heatmap(const float* out, int rows, int cols, const ModelManifest& m,
+                                            const Letterbox& box, double min_confidence, double nms_iou, int id);
+
+/// Intersection over union of two axis-aligned boxes (0 when either is empty).
+double box_iou(const MarkerDetection& a, const MarkerDetection& b);
+
+class LearnedDetector final : public MarkerDetector {
+ public:
+  /// Loads `model` and its manifest, and runs it once on a blank input to
+  /// check its output's shape; throws InvalidArgument naming the file for
+  /// a missing, truncated or wrong-shape model.
+  LearnedDetector(std::filesystem::path model, double min_confidence, double nms_iou);
+
+  [[nodiscard]] std::string_view name() const override { return "learned"; }
+  void reset(std::string_view dictionary, int marker_id) override;
+  void detect(const DetectorFrame& frame, std::vector<MarkerDetection>& out) override;
+
+  /// The network's raw output for a grey frame (for the PyTorch cross-check).
+  const cv::Mat& forward(const cv::Mat& gray);
+  [[nodiscard]] const ModelManifest& manifest() const { return manifest_; }
+
+ private:
+  std::filesystem::path path_;
+  ModelManifest manifest_;
+  double min_confidence_;
+  double nms_iou_;
+  cv::dnn::Net net_;
+  cv::Mat input_, blob_, output_;
+  Letterbox box_;
+};
+
+}  // namespace touchdown::scenario::detail

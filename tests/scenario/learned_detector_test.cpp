@@ -1,0 +1,296 @@
+// The learned marker detector (learned_detector.hpp): its decoding and
+// non-maximum suppression on hand-made network outputs, the letterbox, the
+// manifest's and the model file's errors, C++ (OpenCV DNN) against the
+// PyTorch outputs stored when the shipped model was trained, and
+// determinism across threads.
+#include "scenario/learned_detector.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "touchdown/core/error.hpp"
+#include "touchdown/scenario/marker_detector.hpp"
+
+namespace touchdown::scenario {
+namespace {
+
+namespace fs = std::filesystem;
+using detail::ModelManifest;
+
+const fs::path kModel = fs::path(TOUCHDOWN_SOURCE_DIR) / "data/models/marker-4x4_50-0.onnx";
+const fs::path kVectors = fs::path(TOUCHDOWN_SOURCE_DIR) / "tests/data/detector";
+
+ModelManifest manifest(int stride = 8, double corner_scale = 64) {
+  ModelManifest m;
+  m.dictionary = "4X4_50";
+  m.width = 64;
+  m.height = 48;
+  m.stride = stride;
+  m.channels = 11;
+  m.corner_scale = corner_scale;
+  return m;
+}
+
+/// A hand-made output of 11 x rows x cols, all zero.
+struct Output {
+  int rows, cols;
+  std::vector<float> v;
+  Output(int r, int c) : rows(r), cols(c), v(static_cast<std::size_t>(11 * r * c), 0.0f) {}
+  float& at(int ch, int r, int c) { return v[static_cast<std::size_t>((ch * rows + r) * cols + c)]; }
+  /// A peak at cell (r, c): heat, centre offset, and a square of half side
+  /// `half` [input px] about the centre (corners clockwise from top-left).
+  void peak(int r, int c, float heat, float ox, float oy, float half, float scale = 64) {
+    at(0, r, c) = heat;
+    at(1, r, c) = ox;
+    at(2, r, c) = oy;
+    const float d[4][2] = {{-half, -half}, {half, -half}, {half, half}, {-half, half}};
+    for (int k = 0; k < 4; ++k) {
+      at(3 + 2 * k, r, c) = d[k][0] / scale;
+      at(4 + 2 * k, r, c) = d[k][1] / scale;
+    }
+  }
+};
+
+TEST(LearnedDecode, APeakGivesItsCentreCornersAndConfidence) {
+  Output o(6, 8);
+  o.peak(2, 3, 0.9f, 0.5f, 0.25f, 16);
+  o.at(0, 2, 4) = 0.8f;  // a neighbour below the peak: not a detection
+  const auto d = detail::decode_heatmap(o.v.data(), 6, 8, manifest(), detail::letterbox(64, 48, 64, 48), 0.3, 0.45, 0);
+  ASSERT_EQ(d.size(), 1u);
+  // Centre ((3 + 0.5) x 8, (2 + 0.25) x 8) = (28, 18); corners ±16 px.
+  EXPECT_NEAR(d[0].centre().x(), 28.0, 1e-5);
+  EXPECT_NEAR(d[0].centre().y(), 18.0, 1e-5);
+  EXPECT_NEAR(d[0].corners[0].x(), 12.0, 1e-5);
+  EXPECT_NEAR(d[0].corners[0].y(), 2.0, 1e-5);
+  EXPECT_NEAR(d[0].corners[2].x(), 44.0, 1e-5);
+  EXPECT_NEAR(d[0].corners[2].y(), 34.0, 1e-5);
+  EXPECT_NEAR(d[0].box_max.x() - d[0].box_min.x(), 32.0, 1e-5);
+  EXPECT_NEAR(d[0].confidence, 0.9, 1e-6);
+  EXPECT_TRUE(d[0].has_corners);
+  EXPECT_FALSE(d[0].oriented);
+  EXPECT_EQ(d[0].id, 0);
+}
+
+TEST(LearnedDecode, ThresholdNaNAndNonMaximumSuppression) {
+  Output o(6, 8);
+  o.peak(2, 2, 0.9f, 0.5f, 0.5f, 20);   // A: box (0..40, 0..40)
+  o.peak(2, 4, 0.7f, 0.5f, 0.5f, 20);   // B: two cells right, box (16..56): IoU with A 0.43 < 0.45: kept
+  o.peak(4, 2, 0.75f, 0.0f, 0.5f, 18);  // C: box (-2..34, 18..54): IoU 748 / 2148 = 0.35 with A, kept
+  o.peak(0, 7, 0.2f, 0.5f, 0.5f, 4);    // below the threshold
+  o.at(0, 5, 7) = std::numeric_limits<float>::quiet_NaN();
+  const auto d = detail::decode_heatmap(o.v.data(), 6, 8, manifest(), detail::letterbox(64, 48, 64, 48), 0.3, 0.45, 0);
+  ASSERT_EQ(d.size(), 3u);
+  EXPECT_NEAR(d[0].confidence, 0.9, 1e-6);  // highest first
+  EXPECT_NEAR(d[1].confidence, 0.75, 1e-6);
+  EXPECT_NEAR(d[2].confidence, 0.7, 1e-6);
+  // A stricter overlap limit drops B (IoU 0.43 with A) and C (0.35).
+  const auto strict =
+      detail::decode_heatmap(o.v.data(), 6, 8, manifest(), detail::letterbox(64, 48, 64, 48), 0.3, 0.3, 0);
+  ASSERT_EQ(strict.size(), 1u);
+  EXPECT_NEAR(strict[0].confidence, 0.9, 1e-6);
+}
+
+TEST(LearnedDecode, BoxIouIsIntersectionOverUnion) {
+  MarkerDetection a, b;
+  a.box_min = {0, 0}, a.box_max = {40, 40};
+  b.box_min = {16, 0}, b.box_max = {56, 40};
+  EXPECT_NEAR(detail::box_iou(a, b), 24.0 * 40 / (2 * 1600 - 24.0 * 40), 1e-12);
+  b.box_min = {50, 50}, b.box_max = {60, 60};
+  EXPECT_EQ(detail::box_iou(a, b), 0.0);
+  EXPECT_NEAR(detail::box_iou(a, a), 1.0, 1e-12);
+  MarkerDetection empty;
+  EXPECT_EQ(detail::box_iou(empty, empty), 0.0);
+}
+
+TEST(LearnedDecode, LetterboxMapsDetectionsBackToTheFrame) {
+  // A 1280 x 960 frame into 640 x 480: scale 0.5, no padding.
+  auto b = detail::letterbox(1280, 960, 640, 480);
+  EXPECT_DOUBLE_EQ(b.scale, 0.5);
+  EXPECT_EQ(b.offset, Eigen::Vector2d(0, 0));
+  // A square 640 x 640 frame: scale 0.75 to 480 x 480, 80 px bars left and right.
+  b = detail::letterbox(640, 640, 640, 480);
+  EXPECT_DOUBLE_EQ(b.scale, 0.75);
+  EXPECT_EQ(b.width, 480);
+  EXPECT_EQ(b.height, 480);
+  EXPECT_EQ(b.offset, Eigen::Vector2d(80, 0));
+  // A peak at input (28, 18) is frame ((28 - 80) / 0.75, 18 / 0.75) there.
+  Output o(6, 8);
+  o.peak(2, 3, 0.9f, 0.5f, 0.25f, 16);
+  const auto d = detail::decode_heatmap(o.v.data(), 6, 8, manifest(), b, 0.3, 0.45, 0);
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_NEAR(d[0].centre().x(), (28.0 - 80) / 0.75, 1e-5);
+  EXPECT_NEAR(d[0].centre().y(), 18.0 / 0.75, 1e-5);
+}
+
+// ---- the model and its manifest: clear errors naming the file ----
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InvalidArgument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+class ModelFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ =
+        fs::temp_directory_path() / ("td_model_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+                                     "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  nlohmann::json shipped_manifest() const {
+    std::ifstream in(detail::manifest_path(kModel));
+    return nlohmann::json::parse(in);
+  }
+  fs::path write(const std::string& name, const std::string& text) const {
+    std::ofstream(dir_ / name, std::ios::binary) << text;
+    return dir_ / name;
+  }
+  fs::path dir_;
+};
+
+TEST_F(ModelFiles, AMissingModelNamesTheFile) {
+  const std::string e = error_of([&] { detail::LearnedDetector(dir_ / "none.onnx", 0.3, 0.45); });
+  EXPECT_NE(e.find("none.onnx"), std::string::npos) << e;
+  EXPECT_NE(e.find("no such file"), std::string::npos) << e;
+  DetectorOptions o;
+  o.kind = "learned";
+  o.model = dir_ / "none.onnx";
+  EXPECT_THROW(make_marker_detector(o), InvalidArgument);
+}
+
+TEST_F(ModelFiles, ATruncatedModelNamesTheFile) {
+  std::ifstream in(kModel, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 10000u);
+  const fs::path model = write("cut.onnx", bytes.substr(0, bytes.size() / 3));
+  write("cut.json", shipped_manifest().dump());
+  const std::string e = error_of([&] { detail::LearnedDetector(model, 0.3, 0.45); });
+  EXPECT_NE(e.find("cut.onnx"), std::string::npos) << e;
+}
+
+TEST_F(ModelFiles, AModelOfAnotherShapeThanItsManifestSaysIsRefused) {
+  fs::copy_file(kModel, dir_ / "m.onnx");
+  nlohmann::json j = shipped_manifest();
+  j["output"]["stride"] = 16;  // the network's output is 1/8 of its input
+  write("m.json", j.dump());
+  const std::string e = error_of([&] { detail::LearnedDetector(dir_ / "m.onnx", 0.3, 0.45); });
+  EXPECT_NE(e.find("m.onnx"), std::string::npos) << e;
+  EXPECT_NE(e.find("output shape"), std::string::npos) << e;
+}
+
+TEST_F(ModelFiles, ManifestErrorsNameTheFileAndKey) {
+  fs::copy_file(kModel, dir_ / "m.onnx");
+  const auto with = [&](const std::function<void(nlohmann::json&)>& change) {
+    nlohmann::json j = shipped_manifest();
+    change(j);
+    write("m.json", j.dump());
+    return error_of([&] { detail::LearnedDetector(dir_ / "m.onnx", 0.3, 0.45); });
+  };
+  std::string e = with([](nlohmann::json& j) { j["marker"].erase("id"); });
+  EXPECT_NE(e.find("m.json"), std::string::npos) << e;
+  EXPECT_NE(e.find("marker.id"), std::string::npos) << e;
+  e = with([](nlohmann::json& j) { j["output"]["channels"] = 12; });
+  EXPECT_NE(e.find("output.channels"), std::string::npos) << e;
+  e = with([](nlohmann::json& j) { j["input"]["width"] = "wide"; });
+  EXPECT_NE(e.find("input.width"), std::string::npos) << e;
+  e = with([](nlohmann::json& j) { j["format"] = "yolo"; });
+  EXPECT_NE(e.find("format"), std::string::npos) << e;
+  write("m.json", "{not json");
+  e = error_of([&] { detail::LearnedDetector(dir_ / "m.onnx", 0.3, 0.45); });
+  EXPECT_NE(e.find("not JSON"), std::string::npos) << e;
+  fs::remove(dir_ / "m.json");
+  e = error_of([&] { detail::LearnedDetector(dir_ / "m.onnx", 0.3, 0.45); });
+  EXPECT_NE(e.find("m.json"), std::string::npos) << e;
+}
+
+TEST(LearnedDetector, LooksOnlyForTheMarkerItWasTrainedOn) {
+  detail::LearnedDetector d(kModel, 0.3, 0.45);
+  const ModelManifest& m = d.manifest();
+  EXPECT_NO_THROW(d.reset(m.dictionary, m.marker_id));
+  const std::string e = error_of([&] { d.reset(m.dictionary, m.marker_id + 1); });
+  EXPECT_NE(e.find("marker-4x4_50-0.onnx"), std::string::npos) << e;
+  EXPECT_THROW(d.reset("6X6_50", m.marker_id), InvalidArgument);
+}
+
+// ---- C++ = PyTorch on stored frames ----
+
+TEST(LearnedDetector, OpenCvDnnGivesPyTorchsOutputsOnStoredFrames) {
+  std::ifstream in(kVectors / "vectors.json");
+  ASSERT_TRUE(in) << kVectors / "vectors.json";
+  const nlohmann::json index = nlohmann::json::parse(in);
+  ASSERT_GE(index.size(), 2u);
+  detail::LearnedDetector d(kModel, 0.3, 0.45);
+  for (const auto& v : index) {
+    const cv::Mat gray = cv::imread((kVectors / v.at("image").get<std::string>()).string(), cv::IMREAD_GRAYSCALE);
+    ASSERT_FALSE(gray.empty());
+    const cv::Mat& out = d.forward(gray);
+    std::ifstream bin(kVectors / v.at("output").get<std::string>(), std::ios::binary);
+    std::vector<float> expected(out.total());
+    bin.read(reinterpret_cast<char*>(expected.data()), static_cast<std::streamsize>(expected.size() * sizeof(float)));
+    ASSERT_EQ(bin.gcount(), static_cast<std::streamsize>(expected.size() * sizeof(float)));
+    const float* got = out.ptr<float>();
+    double worst = 0;
+    for (std::size_t i = 0; i < expected.size(); ++i)
+      worst = std::max(worst, std::abs(static_cast<double>(got[i]) - expected[i]));
+    EXPECT_LT(worst, 1e-4) << v.at("image");
+  }
+}
+
+TEST(LearnedDetector, TheSameFrameGivesTheSameDetectionsOnAnyThreadCount) {
+  const cv::Mat gray = cv::imread((kVectors / "with_target.png").string(), cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(gray.empty());
+  const DetectorFrame frame{{}, {gray.data, gray.cols, gray.rows, static_cast<std::ptrdiff_t>(gray.step)}};
+  const auto run = [&](int opencv_threads) {
+    cv::setNumThreads(opencv_threads);
+    detail::LearnedDetector d(kModel, 0.05, 0.45);
+    d.reset("4X4_50", 0);
+    std::vector<MarkerDetection> out;
+    d.detect(frame, out);
+    return out;
+  };
+  const int before = cv::getNumThreads();
+  const auto one = run(1);
+  const auto two = run(2);
+  cv::setNumThreads(before);
+  ASSERT_FALSE(one.empty()) << "the stored frame holds the target";
+  ASSERT_EQ(one.size(), two.size());
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    EXPECT_EQ(one[i].confidence, two[i].confidence);
+    EXPECT_EQ(one[i].corners, two[i].corners);
+  }
+  // Two detectors in two threads at once.
+  std::vector<MarkerDetection> a, b;
+  std::thread ta([&] {
+    detail::LearnedDetector d(kModel, 0.05, 0.45);
+    d.detect(frame, a);
+  });
+  std::thread tb([&] {
+    detail::LearnedDetector d(kModel, 0.05, 0.45);
+    d.detect(frame, b);
+  });
+  ta.join();
+  tb.join();
+  ASSERT_EQ(a.size(), one.size());
+  ASSERT_EQ(b.size(), one.size());
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    EXPECT_EQ(a[i].corners, one[i].corners);
+    EXPECT_EQ(b[i].corners, one[i].corners);
+  }
+}
+
+}  // namespace
+}  // namespace touchdown::scenario
