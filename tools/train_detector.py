@@ -293,6 +293,7 @@ def main():
     ap.add_argument("--vectors", help="directory for stored frames and PyTorch's outputs (C++ cross-check)")
     a = ap.parse_args()
 
+    os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
     meta_path = os.path.join(a.dataset, "dataset.json")
     if not os.path.isfile(meta_path):
         sys.exit(f"train_detector: {meta_path}: missing (not a landing_scenario dataset)")
