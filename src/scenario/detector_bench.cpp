@@ -145,8 +145,8 @@ BenchFigures bench_figures(const std::vector<const BenchFrame*>& frames, double 
 }
 
 const std::vector<std::string>& distance_bands() {
-  static const std::vector<std::string> bands{"0-3 m", "3-6 m", "6-10 m", "10-15 m", "15+ m"};
-  return bands;
+  static const std::vector<std::string> kBands{"0-3 m", "3-6 m", "6-10 m", "10-15 m", "15+ m"};
+  return kBands;
 }
 
 std::string distance_band(double d) {
@@ -155,8 +155,8 @@ std::string distance_band(double d) {
 }
 
 const std::vector<std::string>& visible_bands() {
-  static const std::vector<std::string> bands{"whole", "0.8-0.99", "0.6-0.8"};
-  return bands;
+  static const std::vector<std::string> kBands{"whole", "0.8-0.99", "0.6-0.8"};
+  return kBands;
 }
 
 std::string visible_band(double v) {

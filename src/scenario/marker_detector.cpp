@@ -29,6 +29,12 @@ bool DetectorOptions::validate(std::string* why) const {
 
 std::filesystem::path default_model_path() {
   if (const char* env = std::getenv("TOUCHDOWN_MODEL"); env && *env) return env;
+  // The source tree's (a build tree), else the installed copy (data/ is
+  // installed to share/touchdown); neither: the source tree's, which the
+  // detector's error then names.
+  std::error_code ec;
+  if (std::filesystem::exists(TOUCHDOWN_MODEL_PATH, ec)) return TOUCHDOWN_MODEL_PATH;
+  if (std::filesystem::exists(TOUCHDOWN_INSTALLED_MODEL_PATH, ec)) return TOUCHDOWN_INSTALLED_MODEL_PATH;
   return TOUCHDOWN_MODEL_PATH;
 }
 

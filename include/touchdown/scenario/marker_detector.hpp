@@ -76,8 +76,9 @@ struct DetectorOptions {
   [[nodiscard]] bool validate(std::string* why) const;
 };
 
-/// The learned model shipped with touchdown (data/models/, its manifest
-/// beside it); the environment variable TOUCHDOWN_MODEL overrides it.
+/// The learned model shipped with touchdown: data/models/ of the source
+/// tree, else of the installation (share/touchdown/models/); the
+/// environment variable TOUCHDOWN_MODEL overrides both.
 std::filesystem::path default_model_path();
 
 class MarkerDetector {
