@@ -54,7 +54,8 @@ ModelManifest parse_model_manifest(std::string_view text, const std::filesystem:
       model_error(path, std::string(group) + "." + key + ": wrong type");
     }
   };
-  if (!j.is_object() || j.value("format", "") != "touchdown-detector/1")
+  const auto format = j.is_object() ? j.find("format") : j.end();
+  if (!j.is_object() || format == j.end() || !format->is_string() || *format != "touchdown-detector/1")
     model_error(path, "format: expected \"touchdown-detector/1\"");
   get("marker", "dictionary", m.dictionary);
   get("marker", "id", m.marker_id);
