@@ -7,23 +7,12 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include "scenario/learned_detector.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::scenario {
 
-namespace {
-
-double box_iou(const Eigen::Vector2d& a0, const Eigen::Vector2d& a1, const Eigen::Vector2d& b0,
-               const Eigen::Vector2d& b1) {
-  const Eigen::Vector2d lo = a0.cwiseMax(b0), hi = a1.cwiseMin(b1);
-  const double inter = std::max(0.0, hi.x() - lo.x()) * std::max(0.0, hi.y() - lo.y());
-  const double area_a = std::max(0.0, a1.x() - a0.x()) * std::max(0.0, a1.y() - a0.y());
-  const double area_b = std::max(0.0, b1.x() - b0.x()) * std::max(0.0, b1.y() - b0.y());
-  const double uni = area_a + area_b - inter;
-  return uni > 0 ? inter / uni : 0.0;
-}
-
-}  // namespace
+using detail::box_iou;
 
 std::vector<BenchLabel> read_bench_labels(const std::filesystem::path& path) {
   std::ifstream in(path);

@@ -89,15 +89,19 @@ Letterbox letterbox(int frame_width, int frame_height, int input_width, int inpu
   return b;
 }
 
-double box_iou(const MarkerDetection& a, const MarkerDetection& b) {
-  const Eigen::Vector2d lo = a.box_min.cwiseMax(b.box_min);
-  const Eigen::Vector2d hi = a.box_max.cwiseMin(b.box_max);
+double box_iou(const Eigen::Vector2d& a_min, const Eigen::Vector2d& a_max, const Eigen::Vector2d& b_min,
+               const Eigen::Vector2d& b_max) {
+  const Eigen::Vector2d lo = a_min.cwiseMax(b_min), hi = a_max.cwiseMin(b_max);
   const double inter = std::max(0.0, hi.x() - lo.x()) * std::max(0.0, hi.y() - lo.y());
-  const auto area = [](const MarkerDetection& d) {
-    return std::max(0.0, d.box_max.x() - d.box_min.x()) * std::max(0.0, d.box_max.y() - d.box_min.y());
+  const auto area = [](const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
+    return std::max(0.0, to.x() - from.x()) * std::max(0.0, to.y() - from.y());
   };
-  const double uni = area(a) + area(b) - inter;
+  const double uni = area(a_min, a_max) + area(b_min, b_max) - inter;
   return uni > 0 ? inter / uni : 0.0;
+}
+
+double box_iou(const MarkerDetection& a, const MarkerDetection& b) {
+  return box_iou(a.box_min, a.box_max, b.box_min, b.box_max);
 }
 
 std::vector<MarkerDetection> decode_heatmap(const float* out, int rows, int cols, const ModelManifest& m,

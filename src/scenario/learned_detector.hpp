@@ -64,6 +64,9 @@ std::vector<MarkerDetection> decode_heatmap(const float* out, int rows, int cols
 
 /// Intersection over union of two axis-aligned boxes (0 when either is empty).
 double box_iou(const MarkerDetection& a, const MarkerDetection& b);
+/// The same for boxes given by their corners (min, max) [px].
+double box_iou(const Eigen::Vector2d& a_min, const Eigen::Vector2d& a_max, const Eigen::Vector2d& b_min,
+               const Eigen::Vector2d& b_max);
 
 class LearnedDetector final : public MarkerDetector {
  public:
