@@ -958,7 +958,8 @@ std::string bench_plot(const std::vector<std::string>& names, const std::vector<
 }
 
 /// The benchmark's figures (JSON) and its table (text): per group of frames
-/// — all, by weather, distance band, visible fraction, phase — each
+/// — all, by weather, distance band, visible fraction, phase, the oracle's
+/// sight, and clear weather with the target observable — each
 /// detector's recall, precision and AP@0.5; then false positives on frames
 /// without the target and the time per frame.
 Json bench_report(const BenchArgs& a, const std::vector<std::string>& names,
@@ -970,9 +971,13 @@ Json bench_report(const BenchArgs& a, const std::vector<std::string>& names,
     std::vector<std::size_t> frames;
   };
   std::vector<Group> groups{{"all", {}}};
-  std::map<std::string, std::vector<std::size_t>> by_weather, by_distance, by_visible, by_phase;
+  std::map<std::string, std::vector<std::size_t>> by_weather, by_distance, by_visible, by_phase, by_sight;
+  // The systems' working range: clear weather, the oracle reads the target.
+  Group working{"clear, observable", {}};
   for (std::size_t i = 0; i < labels.size(); ++i) {
     groups[0].frames.push_back(i);
+    if (!labels[i].sight.empty()) by_sight["sight " + labels[i].sight].push_back(i);
+    if (labels[i].weather == "clear" && labels[i].sight == "observable") working.frames.push_back(i);
     by_weather["weather " + labels[i].weather].push_back(i);
     by_phase["phase " + labels[i].phase].push_back(i);
     by_distance["distance " + ts::distance_band(labels[i].distance)].push_back(i);
@@ -990,6 +995,8 @@ Json bench_report(const BenchArgs& a, const std::vector<std::string>& names,
     if (by_visible.count(k)) groups.push_back({k, by_visible[k]});
   }
   for (auto& [k, v] : by_phase) groups.push_back({k, v});
+  for (auto& [k, v] : by_sight) groups.push_back({k, v});
+  if (!working.frames.empty()) groups.push_back(working);
   Json out;
   out["dataset"] = a.dataset;
   out["frames"] = labels.size();

@@ -40,8 +40,8 @@ if [ "$full" = 0 ]; then
   fuzz_seconds=0
 fi
 fuzzers=(fuzz_pcd fuzz_ply fuzz_xyz fuzz_extrinsics fuzz_ground_truth fuzz_attitude fuzz_camera fuzz_constellation
-  fuzz_airframe fuzz_plan_problem fuzz_mission fuzz_scenario fuzz_model_manifest fuzz_sequence_info fuzz_results_record
-  fuzz_dqn_weights)
+  fuzz_airframe fuzz_plan_problem fuzz_mission fuzz_scenario fuzz_model_manifest fuzz_bench_labels fuzz_sequence_info
+  fuzz_results_record fuzz_dqn_weights)
 
 scripts/setup-deps.sh
 

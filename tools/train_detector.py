@@ -38,7 +38,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from detector_model import CHANNELS, CORNER_SCALE, STRIDE, MarkerNet, export_onnx  # noqa: E402
 
 INPUT_W, INPUT_H = 640, 480
-CROP_W, CROP_H = 320, 256  # training crops (multiples of 32: the network's deepest stride)
+CROP_W, CROP_H = 256, 192  # training crops (multiples of 32: the network's deepest stride); --crop
 PAD_VALUE = 0.5
 
 
@@ -138,9 +138,10 @@ def make_targets(h, w, targets):
 
 # ---- augmentation --------------------------------------------------------------------------
 
-def augment(rng, image, target, role):
+def augment(rng, image, target, role, negatives=None):
     """A training crop of CROP_W x CROP_H: scale jitter, a crop (usually
-    around the target), a quarter turn, exposure, blur, noise, JPEG."""
+    around the target), a quarter turn, hard negatives pasted (half the
+    crops), exposure, blur, noise, JPEG."""
     k = int(rng.integers(0, 4))  # quarter turns (a turned marker is still the marker)
     ow, oh = (CROP_W, CROP_H) if k % 2 == 0 else (CROP_H, CROP_W)  # landscape after the turns
     s = rng.uniform(0.7, 1.3)
@@ -168,6 +169,11 @@ def augment(rng, image, target, role):
         width = out.shape[1]
     out = np.ascontiguousarray(out)
     assert out.shape == (CROP_H, CROP_W)
+    if negatives is not None and rng.random() < 0.5:
+        keep_out = None
+        if corners is not None:
+            keep_out = (corners.min(axis=0) - 4, corners.max(axis=0) + 4)
+        negatives.paste(rng, out, keep_out)
     img = out.astype(np.float32)
     gain, gamma = rng.uniform(0.6, 1.4), rng.uniform(0.7, 1.4)
     img = 255 * np.clip((img / 255) ** gamma * gain + rng.uniform(-0.1, 0.1), 0, 1)
@@ -183,6 +189,109 @@ def augment(rng, image, target, role):
     if corners is not None and role != "none":
         targets.append((sort_corners(corners), role))
     return img, targets
+
+
+# ---- hard negatives ------------------------------------------------------------------------
+# Things the world never renders but a camera meets, pasted into training
+# crops as background: calibration chessboards (v1 scored them up to 0.98),
+# markers of other dictionaries and ids, random bit grids, a black square
+# in a white ring with no code, and bars like print or windows. Model v1 on
+# real photographs showed why (docs/journal/2026-11-29-learned-detector-v1.md).
+
+ARUCO_DICTS = ("DICT_4X4_50", "DICT_5X5_100", "DICT_6X6_250", "DICT_7X7_50", "DICT_ARUCO_ORIGINAL",
+               "DICT_APRILTAG_16h5", "DICT_APRILTAG_36h11")
+
+
+class HardNegatives:
+    def __init__(self, marker):
+        self.dict_name = "DICT_" + marker["dictionary"]
+        self.target_id = int(marker["id"])
+        d = cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, self.dict_name))
+        self.bits = d.markerSize
+        cells = cv2.aruco.drawMarker(d, self.target_id, self.bits + 2)  # one pixel per cell
+        code = (cells[1:-1, 1:-1] > 127)
+        self.target_codes = [np.rot90(code, k).copy() for k in range(4)]
+        self.dicts = {n: cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, n)) for n in ARUCO_DICTS}
+
+    def _with_margin(self, cells, rng):
+        """A cell image (0/255) scaled up, with a white margin of 0-1.5 cells."""
+        n = cells.shape[0]
+        px = 8
+        img = cv2.resize(cells, (cells.shape[1] * px, n * px), interpolation=cv2.INTER_NEAREST)
+        m = int(rng.uniform(0, 1.5) * px)
+        return cv2.copyMakeBorder(img, m, m, m, m, cv2.BORDER_CONSTANT, value=255)
+
+    def patch(self, rng):
+        kind = rng.choice(["chessboard", "aruco", "grid", "ring", "bars"], p=[0.3, 0.3, 0.15, 0.1, 0.15])
+        if kind == "chessboard":
+            r, c = int(rng.integers(2, 10)), int(rng.integers(2, 10))
+            cells = (((np.arange(r)[:, None] + np.arange(c)[None, :]) % 2) * 255).astype(np.uint8)
+            return self._with_margin(cells, rng)
+        if kind == "aruco":
+            name = ARUCO_DICTS[int(rng.integers(0, len(ARUCO_DICTS)))]
+            d = self.dicts[name]
+            count = d.bytesList.shape[0]
+            while True:
+                i = int(rng.integers(0, count))
+                if not (name == self.dict_name and i == self.target_id):
+                    break
+            return self._with_margin(cv2.aruco.drawMarker(d, i, d.markerSize + 2), rng)
+        if kind == "grid":
+            n = int(rng.integers(3, 8))
+            while True:
+                code = rng.random((n, n)) < 0.5
+                if n != self.bits or not any((code == t).all() for t in self.target_codes):
+                    break
+            cells = np.zeros((n + 2, n + 2), np.uint8)
+            cells[1:-1, 1:-1] = code * 255
+            return self._with_margin(cells, rng)
+        if kind == "ring":
+            cells = np.zeros((6, 6), np.uint8)
+            if rng.random() < 0.5:
+                cells[2:4, 2:4] = 255 * (rng.random((2, 2)) < 0.5)
+            return self._with_margin(cells, rng)
+        h, w = int(rng.integers(24, 64)), int(rng.integers(24, 64))
+        img = np.full((h, w), 255, np.uint8)
+        for _ in range(int(rng.integers(2, 8))):
+            y, x = int(rng.integers(0, h)), int(rng.integers(0, w))
+            cv2.rectangle(img, (x, y), (x + int(rng.integers(2, w // 2)), y + int(rng.integers(2, h // 3))), 0, -1)
+        return img
+
+    def paste(self, rng, img, keep_out):
+        """Pastes 1-3 patches into `img` (uint8, in place) under a random
+        perspective, away from the box `keep_out` (lo, hi or None)."""
+        H, W = img.shape
+        for _ in range(int(rng.integers(1, 4))):
+            p = self.patch(rng)
+            side = rng.uniform(10, 110)
+            for _attempt in range(8):
+                cx, cy = rng.uniform(0, W), rng.uniform(0, H)
+                lo, hi = np.array([cx - side, cy - side]), np.array([cx + side, cy + side])
+                if keep_out is None or (hi < keep_out[0]).any() or (lo > keep_out[1]).any():
+                    break
+            else:
+                continue
+            ph, pw = p.shape
+            src = np.float32([[0, 0], [pw, 0], [pw, ph], [0, ph]])
+            a = rng.uniform(0, 2 * math.pi)
+            scale = side / max(pw, ph)
+            base = np.array([[-pw, -ph], [pw, -ph], [pw, ph], [-pw, ph]], float) * 0.5 * scale
+            rot = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+            dst = base @ rot.T * rng.uniform(0.6, 1.0, (4, 1)) ** 0.3 + [cx, cy]
+            dst += rng.normal(0, 0.06 * side, dst.shape)  # perspective
+            M = cv2.getPerspectiveTransform(src, dst.astype(np.float32))
+            warped = cv2.warpPerspective(p.astype(np.float32), M, (W, H), flags=cv2.INTER_AREA
+                                         if scale < 1 else cv2.INTER_LINEAR, borderValue=-1.0)
+            alpha = cv2.warpPerspective(np.ones_like(p, np.float32), M, (W, H), flags=cv2.INTER_LINEAR)
+            # Print contrast in the scene's light: black and white levels near the frame's own.
+            lo_v, hi_v = np.percentile(img, 5), np.percentile(img, 95)
+            black = rng.uniform(0, max(lo_v, 1) + 20)
+            white = rng.uniform(min(hi_v, 250) - 40, 255)
+            if white - black < 20:
+                white = min(255.0, black + 40)
+            shade = black + (np.clip(warped, 0, 255) / 255) * (white - black)
+            out = img.astype(np.float32) * (1 - alpha) + shade * alpha
+            img[:] = np.clip(out, 0, 255).astype(np.uint8)
 
 
 # ---- losses, decoding, metrics -------------------------------------------------------------
@@ -281,6 +390,7 @@ def evaluate(model, rows, images, threshold=0.7):
 # ---- main ----------------------------------------------------------------------------------
 
 def main():
+    global CROP_W, CROP_H
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("dataset", help="a landing_scenario dataset directory")
     ap.add_argument("--out", required=True, help="the ONNX model to write (its manifest goes beside it)")
@@ -290,9 +400,21 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--eval-every", type=int, default=1000)
+    ap.add_argument("--positive-fraction", type=float, default=0.5,
+                    help="share of each batch drawn from frames with a taught target")
+    ap.add_argument("--crop", default="256x192", help="training crop WxH (multiples of 32)")
+    ap.add_argument("--width", type=float, default=1.0, help="the network's channel multiplier")
+    ap.add_argument("--no-negatives", action="store_true", help="paste no hard negatives")
+    ap.add_argument("--preview", help="write a PNG of 32 training crops with their targets and stop")
     ap.add_argument("--vectors", help="directory for stored frames and PyTorch's outputs (C++ cross-check)")
     a = ap.parse_args()
 
+    try:
+        CROP_W, CROP_H = (int(v) for v in a.crop.lower().split("x"))
+    except ValueError:
+        sys.exit(f"train_detector: --crop {a.crop}: expected WxH")
+    if CROP_W % 32 or CROP_H % 32 or CROP_W <= 0 or CROP_H <= 0:
+        sys.exit(f"train_detector: --crop {a.crop}: both sides must be positive multiples of 32")
     os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
     meta_path = os.path.join(a.dataset, "dataset.json")
     if not os.path.isfile(meta_path):
@@ -309,17 +431,36 @@ def main():
     print(f"train: {len(train_rows)} frames ({roles.count('positive')} with the target), "
           f"validation: {len(val_rows)}; loaded in {time.time() - started:.0f} s", flush=True)
 
-    model = MarkerNet()
+    negatives = None if a.no_negatives else HardNegatives(meta["marker"])
+    positive_rows = np.array([i for i, r in enumerate(roles) if r == "positive"])
+
+    def draw_batch():
+        n_pos = int(round(a.batch * a.positive_fraction)) if len(positive_rows) else 0
+        idx = np.concatenate([rng.choice(positive_rows, n_pos), rng.integers(0, len(train_rows), a.batch - n_pos)])
+        return [augment(rng, train_images[i], train_rows[i]["target"], roles[i], negatives) for i in idx]
+
+    if a.preview:
+        tiles = []
+        for img, targets in draw_batch():
+            tile = cv2.cvtColor(img, cv2.COLOR_GRAY2BGR)
+            for corners, role in targets:
+                colour = (0, 200, 0) if role == "positive" else (0, 200, 255)
+                cv2.polylines(tile, [np.round(corners).astype(np.int32)], True, colour, 1)
+            tiles.append(tile)
+        rows_ = [np.hstack(tiles[i:i + 4]) for i in range(0, len(tiles) - len(tiles) % 4, 4)]
+        cv2.imwrite(a.preview, np.vstack(rows_))
+        print(f"wrote {a.preview}")
+        return
+
+    model = MarkerNet(a.width)
     params = sum(p.numel() for p in model.parameters())
     opt = torch.optim.AdamW(model.parameters(), lr=a.lr, weight_decay=1e-4)
     sched = torch.optim.lr_scheduler.OneCycleLR(opt, max_lr=a.lr, total_steps=a.steps, pct_start=0.05)
     history = []
     t0 = time.time()
     for step in range(1, a.steps + 1):
-        idx = rng.integers(0, len(train_rows), a.batch)
         xs, heats, weights, regs, masks = [], [], [], [], []
-        for i in idx:
-            img, targets = augment(rng, train_images[i], train_rows[i]["target"], roles[i])
+        for img, targets in draw_batch():
             h, wgt, reg, m = make_targets(CROP_H, CROP_W, targets)
             xs.append(img)
             heats.append(h), weights.append(wgt), regs.append(reg), masks.append(m)
@@ -363,11 +504,13 @@ def main():
                              "[corner_scale input px], clockwise from the one nearest the top-left"},
         "model": {"file": os.path.basename(a.out), "bytes": len(blob),
                   "sha256": hashlib.sha256(blob).hexdigest(), "parameters": params, "opset": 11,
-                  "architecture": "MarkerNet (tools/detector_model.py)"},
+                  "architecture": f"MarkerNet(width={a.width}) (tools/detector_model.py)"},
         "dataset": {"seed": meta["seed"], "count": meta["count"], "splits": meta["splits"],
                     "command": f"landing_scenario dataset --out DIR --count {meta['count']} --seed {meta['seed']} "
                                f"--marker {meta['marker']['dictionary']}:{meta['marker']['id']}"},
         "training": {"seed": a.seed, "steps": a.steps, "batch": a.batch, "lr": a.lr, "threads": a.threads,
+                     "positive_fraction": a.positive_fraction, "width": a.width,
+                     "hard_negatives": negatives is not None,
                      "crop": [CROP_W, CROP_H], "optimizer": "AdamW, one-cycle", "torch": torch.__version__,
                      "seconds": round(train_s), "command": " ".join(["tools/train_detector.py"] + sys.argv[1:])},
         "metrics": {"validation": history[-1], "history": history},

@@ -156,22 +156,25 @@ DatasetFrame render_dataset_frame(const DatasetOptions& options, int index) {
   out.camera = options.camera;
   out.camera.tilt_deg = r.uniform() < 0.2 ? r.uniform(0, options.max_tilt_deg) : 0;
   const double u = r.uniform();
-  double altitude = 10, reach = 0;
+  // Horizontal speeds follow the phase: cruise while searching and
+  // approaching, re-centring while descending (descent_speed 0.8 m/s,
+  // mm-mls's plan up to 1.75× that), creeping when about to land.
+  double altitude = 10, reach = 0, max_speed = 3;
   if (u < 0.35) {
     out.phase = "search", altitude = r.uniform(8, 12), reach = 12;
   } else if (u < 0.45) {
     out.phase = "approach", altitude = r.uniform(9, 13), reach = 25;
   } else if (u < 0.85) {
-    out.phase = "descent", altitude = r.uniform(1.5, 8), reach = 0.5 * altitude;
+    out.phase = "descent", altitude = r.uniform(1.5, 8), reach = 0.5 * altitude, max_speed = 1.5;
   } else {
-    out.phase = "land", altitude = r.uniform(0.6, 1.5), reach = 0.4;
+    out.phase = "land", altitude = r.uniform(0.6, 1.5), reach = 0.4, max_speed = 0.8;
   }
   const Eigen::Vector2d xy = s.marker.position + in_disc(r, reach);
   const double yaw = r.uniform(-180, 180);
   SceneState state;
   state.T_world_body =
       Eigen::Translation3d(xy.x(), xy.y(), altitude) * Eigen::AngleAxisd(deg_to_rad(yaw), Eigen::Vector3d::UnitZ());
-  const double speed = r.uniform(0, 3), heading = r.uniform(0, 2 * std::numbers::pi);
+  const double speed = r.uniform(0, max_speed), heading = r.uniform(0, 2 * std::numbers::pi);
   state.v_world = Eigen::Vector3d(speed * std::cos(heading), speed * std::sin(heading), 0);
   state.t = r.uniform(0, 40);
   state.frame_index = static_cast<int>(r.next() % 100000);

@@ -17,6 +17,10 @@ using detail::box_iou;
 std::vector<BenchLabel> read_bench_labels(const std::filesystem::path& path) {
   std::ifstream in(path);
   if (!in) throw IoError(path.string() + ": cannot read");
+  return parse_bench_labels(in, path);
+}
+
+std::vector<BenchLabel> parse_bench_labels(std::istream& in, const std::filesystem::path& path) {
   std::vector<BenchLabel> out;
   std::string line;
   int n = 0;
@@ -54,6 +58,7 @@ std::vector<BenchLabel> read_bench_labels(const std::filesystem::path& path) {
       l.box_max = Eigen::Vector2d(box.at(2).get<double>(), box.at(3).get<double>());
       l.inside_fraction = t.at("inside_fraction").get<double>();
       l.visible_fraction = t.at("visible_fraction").get<double>();
+      if (t.contains("sight")) l.sight = t.at("sight").get<std::string>();
       key = "distractors";
       for (const auto& d : j.at("distractors")) l.distractors_in_view += d.at("in_view").get<bool>() ? 1 : 0;
     } catch (const nlohmann::json::exception&) {

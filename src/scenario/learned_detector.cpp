@@ -199,9 +199,11 @@ void LearnedDetector::reset(std::string_view dictionary, int marker_id) {
   const auto* want = pose::detail::find_aruco_dictionary(dictionary);
   const auto* have = pose::detail::find_aruco_dictionary(manifest_.dictionary);
   if (!want || want != have || marker_id != manifest_.marker_id)
-    throw InvalidArgument("learned detector: model " + path_.string() + " detects " + manifest_.dictionary + " id " +
-                          std::to_string(manifest_.marker_id) + ", not " + std::string(dictionary) + " id " +
-                          std::to_string(marker_id) + " (train one for that marker: tools/train_detector.py)");
+    throw InvalidArgument(
+        "learned detector: model " + path_.string() + " detects " + manifest_.dictionary + " id " +
+        std::to_string(manifest_.marker_id) + ", not " + std::string(dictionary) + " id " + std::to_string(marker_id) +
+        ": give the scenarios its marker (landing_scenario campaign --marker " + manifest_.dictionary + ":" +
+        std::to_string(manifest_.marker_id) + ") or train a model for theirs (tools/train_detector.py)");
 }
 
 const cv::Mat& LearnedDetector::forward(const cv::Mat& gray) {

@@ -4,11 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 #include <string>
 
 #include "test_util.hpp"
@@ -285,4 +287,60 @@ TEST(LandingScenarioApp, ABadOutputPathLeavesNoOtherOutput) {
     EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
     EXPECT_TRUE(dir.files().empty()) << dir.files().front();
   }
+}
+
+// detect-bench against the labels it reads: the "all" group's targets are
+// the labels' taught targets counted here by the documented rule, every
+// group is a subset of the frames, the oracle's sight groups partition the
+// frames, and "clear, observable" is exactly those frames.
+TEST(LandingScenarioApp, DetectBenchGroupsAgreeWithTheLabels) {
+  TempDir dir;
+  const auto ds = dir / "ds";
+  ASSERT_EQ(scenario_app("dataset --out " + ds.string() + " --count 40 --seed 3 --threads 2", dir).code, 0);
+  const AppRun r = scenario_app("detect-bench " + ds.string() + " --detectors aruco --json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  int taught = 0, working = 0, with_sight = 0;
+  std::istringstream labels(td::test::read_text(ds / "labels.jsonl"));
+  std::string line;
+  while (std::getline(labels, line)) {
+    const nlohmann::json l = nlohmann::json::parse(line);
+    const auto& t = l.at("target");
+    if (l.at("weather") == "clear" && t.at("sight") == "observable") ++working;
+    ++with_sight;
+    if (!t.at("in_view").get<bool>() || t.at("corners").size() != 4) continue;
+    double side = 1e9;
+    for (std::size_t k = 0; k < 4; ++k) {
+      const auto& a = t.at("corners")[k];
+      const auto& b = t.at("corners")[(k + 1) % 4];
+      side =
+          std::min(side, std::hypot(a[0].get<double>() - b[0].get<double>(), a[1].get<double>() - b[1].get<double>()));
+    }
+    if (t.at("inside_fraction").get<double>() >= 0.85 && t.at("visible_fraction").get<double>() >= 0.6 && side >= 8)
+      ++taught;
+  }
+  const auto& groups = j.at("groups");
+  EXPECT_EQ(groups.at("all").at("aruco").at("frames").get<int>(), 40);
+  EXPECT_EQ(groups.at("all").at("aruco").at("targets").get<int>(), taught);
+  int sight_frames = 0;
+  for (const auto& [name, g] : groups.items()) {
+    EXPECT_LE(g.at("aruco").at("targets").get<int>(), g.at("aruco").at("frames").get<int>()) << name;
+    EXPECT_LE(g.at("aruco").at("hits").get<int>(), g.at("aruco").at("targets").get<int>()) << name;
+    if (name.rfind("sight ", 0) == 0) sight_frames += g.at("aruco").at("frames").get<int>();
+  }
+  EXPECT_EQ(sight_frames, with_sight);
+  if (working > 0) {
+    EXPECT_EQ(groups.at("clear, observable").at("aruco").at("frames").get<int>(), working);
+  } else {
+    EXPECT_FALSE(groups.contains("clear, observable"));
+  }
+  // A broken line is one line naming the file and the line, exit 2.
+  std::string text = td::test::read_text(ds / "labels.jsonl");
+  text.insert(text.find('\n') + 1, "{\"image\": 3}\n");
+  td::test::write_text(ds / "labels.jsonl", text);
+  const AppRun bad = scenario_app("detect-bench " + ds.string() + " --detectors aruco", dir);
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("labels.jsonl:2: image"), std::string::npos) << bad.err;
+  EXPECT_EQ(bad.err.find('\n'), bad.err.size() - 1) << "one line: " << bad.err;
+  EXPECT_TRUE(bad.out.empty()) << bad.out;
 }

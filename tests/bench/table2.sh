@@ -14,24 +14,28 @@
 #   tests/bench/table2.sh run SYSTEM WORK       # landing_fuzz compare (resumes), table + plot in WORK
 #   tests/bench/table2.sh save SYSTEM WORK      # WORK/SYSTEM -> docs/results/table2/SYSTEM
 #
-# SYSTEM: opencv-mls or mm-mls. BIN (default build/apps) holds landing_fuzz.
+# SYSTEM: opencv-mls, learned-mls, mm-mls, or mm-mls-learned (mm-mls on the
+# learned detector, the source's pairing). BIN (default build/apps) holds landing_fuzz.
 # SEEDS (default 3) and BUDGET (default 300) as in the issue. Issue 52's
 # comparison of distinct causes keeps its campaigns apart:
 #   KEPT=docs/results/causes METHODS=rlaga,rlaga+diversity tests/bench/table2.sh run opencv-mls WORK
 # (KEPT: the kept tree, default docs/results/table2; METHODS and MAPS: as
-# landing_fuzz compare's, default all four methods on ground,lawn).
+# landing_fuzz compare's, default all four methods on ground,lawn). The
+# source's Table 1 (issue 53) is rlaga alone on the three systems:
+#   KEPT=docs/results/table1 METHODS=rlaga tests/bench/table2.sh run learned-mls WORK
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 root=$(pwd)
 usage() {
-  sed -n '13,22p' "$0" | sed 's/^# \{0,1\}//' >&2
+  sed -n '13,26p' "$0" | sed 's/^# \{0,1\}//' >&2
   exit 2
 }
 [ $# -eq 3 ] || usage
 action=$1 system=$2 work=$3
 case "$action" in restore | save | run) ;; *) usage ;; esac
-case "$system" in opencv-mls | mm-mls) ;; *)
-  echo "table2.sh: unknown system '$system' (expected opencv-mls or mm-mls)" >&2
+detector=aruco
+case "$system" in opencv-mls | mm-mls) ;; learned-mls | mm-mls-learned) detector=learned ;; *)
+  echo "table2.sh: unknown system '$system' (expected opencv-mls, learned-mls, mm-mls or mm-mls-learned)" >&2
   exit 2
   ;;
 esac
@@ -60,7 +64,7 @@ case "$action" in
   save) copy_campaigns "$work/$system" "$kept" ;;
   run)
     mkdir -p "$work"
-    "$bin/landing_fuzz" compare --system "$system" --maps "${MAPS:-ground,lawn}" --seeds "$seeds" --budget "$budget" \
+    "$bin/landing_fuzz" compare --system "${system%-learned}" --detector "$detector" --maps "${MAPS:-ground,lawn}" --seeds "$seeds" --budget "$budget" \
       --methods "${METHODS:-rlaga,diverse-ga,many-objective-ga,random}" \
       --out "$work/$system" --plot "$work/table2-$system.svg" | tee "$work/table2-$system.txt"
     ;;

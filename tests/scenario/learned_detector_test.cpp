@@ -223,6 +223,8 @@ TEST(LearnedDetector, LooksOnlyForTheMarkerItWasTrainedOn) {
   EXPECT_NO_THROW(d.reset(m.dictionary, m.marker_id));
   const std::string e = error_of([&] { d.reset(m.dictionary, m.marker_id + 1); });
   EXPECT_NE(e.find("marker-4x4_50-0.onnx"), std::string::npos) << e;
+  // It says how to go on: the marker to give the scenarios, or training.
+  EXPECT_NE(e.find("--marker " + m.dictionary + ":" + std::to_string(m.marker_id)), std::string::npos) << e;
   EXPECT_THROW(d.reset("6X6_50", m.marker_id), InvalidArgument);
 }
 

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <filesystem>
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,7 @@ namespace touchdown::scenario {
 struct BenchLabel {
   std::string image;  ///< relative to the dataset directory
   std::string split, weather, phase;
+  std::string sight;  ///< the observability oracle's reading of the target ("" when the labels give none)
   double distance = 0;
   bool in_view = false;
   std::array<Eigen::Vector2d, 4> corners{Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(),
@@ -40,6 +42,8 @@ struct BenchLabel {
 /// The dataset's labels; throws ParseError naming "file:line: key" for a
 /// line that is not JSON or lacks a key, IoError for a missing file.
 std::vector<BenchLabel> read_bench_labels(const std::filesystem::path& labels_jsonl);
+/// The same from a stream; `path` names it in errors.
+std::vector<BenchLabel> parse_bench_labels(std::istream& in, const std::filesystem::path& path);
 
 enum class TargetRole { Positive, Ignored, None };
 TargetRole bench_role(const BenchLabel& label);
