@@ -73,15 +73,24 @@ class LearnedDetector final : public MarkerDetector {
   /// Loads `model` and its manifest, and runs it once on a blank input to
   /// check its output's shape; throws InvalidArgument naming the file for
   /// a missing, truncated or wrong-shape model.
-  LearnedDetector(std::filesystem::path model, double min_confidence, double nms_iou);
+  /// `roi`: while the target is tracked, run the network at full
+  /// resolution on a region around it first (the whole frame when that
+  /// finds nothing, and every `full_frame_period`-th frame), as the ArUco
+  /// detector does; false: the whole frame every time.
+  LearnedDetector(std::filesystem::path model, double min_confidence, double nms_iou, bool roi = false,
+                  int full_frame_period = 10);
 
   [[nodiscard]] std::string_view name() const override { return "learned"; }
   void reset(std::string_view dictionary, int marker_id) override;
   void detect(const DetectorFrame& frame, std::vector<MarkerDetection>& out) override;
+  void track(const MarkerDetection* accepted) override;
 
   /// The network's raw output for a grey frame (for the PyTorch cross-check).
   const cv::Mat& forward(const cv::Mat& gray);
   [[nodiscard]] const ModelManifest& manifest() const { return manifest_; }
+  /// The region the last detect() searched at the end: the whole frame's
+  /// rectangle, or the tracking region when that found the target.
+  [[nodiscard]] const cv::Rect& last_region() const { return last_region_; }
 
  private:
   std::filesystem::path path_;
@@ -91,6 +100,18 @@ class LearnedDetector final : public MarkerDetector {
   cv::dnn::Net net_;
   cv::Mat input_, blob_, output_;
   Letterbox box_;
+  bool use_roi_;
+  int full_frame_period_;
+  bool tracking_ = false;
+  Eigen::Vector2d last_min_ = Eigen::Vector2d::Zero(), last_max_ = Eigen::Vector2d::Zero();
+  int since_full_ = 0;
+  cv::Rect last_region_;
+
+  /// The network on `gray(region)` at 1:1 (region sides multiples of 32).
+  void forward_region(const cv::Mat& gray, const cv::Rect& region);
+  /// The region to search around the tracked box, or an empty one when
+  /// the whole frame should be searched.
+  [[nodiscard]] cv::Rect tracking_region(int frame_width, int frame_height) const;
 };
 
 }  // namespace touchdown::scenario::detail

@@ -43,7 +43,8 @@ std::unique_ptr<MarkerDetector> make_marker_detector(const DetectorOptions& opti
   if (!options.validate(&why)) throw InvalidArgument(why);
   if (options.kind == "aruco") return std::make_unique<detail::ArucoDetector>(options.roi, options.full_frame_period);
   return std::make_unique<detail::LearnedDetector>(options.model.empty() ? default_model_path() : options.model,
-                                                   options.min_confidence, options.nms_iou);
+                                                   options.min_confidence, options.nms_iou, options.roi,
+                                                   options.full_frame_period);
 }
 
 std::vector<std::string> marker_detector_names() { return {"aruco", "learned"}; }

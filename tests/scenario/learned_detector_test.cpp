@@ -294,5 +294,56 @@ TEST(LearnedDetector, TheSameFrameGivesTheSameDetectionsOnAnyThreadCount) {
   }
 }
 
+// The tracking region reads the marker as the whole frame does: a region
+// of sides that are multiples of 32 inside the frame, the same box within a
+// pixel and nearly the same confidence; the whole frame again every
+// full_frame_period-th frame, after reset(), and when tracking stops.
+TEST(LearnedDetector, ATrackingRegionFindsWhatTheWholeFrameFinds) {
+  const cv::Mat gray = cv::imread((kVectors / "with_target.png").string(), cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(gray.empty());
+  const DetectorFrame frame{{}, {gray.data, gray.cols, gray.rows, static_cast<std::ptrdiff_t>(gray.step)}};
+  const cv::Rect whole(0, 0, gray.cols, gray.rows);
+  detail::LearnedDetector d(kModel, 0.3, 0.45, true, 3);
+  d.reset("4X4_50", 0);
+  std::vector<MarkerDetection> full, region;
+  d.detect(frame, full);
+  ASSERT_EQ(d.last_region(), whole) << "nothing tracked yet";
+  ASSERT_FALSE(full.empty()) << "the stored frame holds the target";
+  d.track(&full.front());
+  d.detect(frame, region);
+  const cv::Rect r = d.last_region();
+  ASSERT_NE(r, whole) << "the tracked frame searches a region";
+  EXPECT_EQ(r.width % 32, 0);
+  EXPECT_EQ(r.height % 32, 0);
+  EXPECT_EQ(r & whole, r) << "inside the frame";
+  EXPECT_LE(2 * r.area(), whole.area());
+  ASSERT_FALSE(region.empty());
+  for (std::size_t k = 0; k < 4; ++k) EXPECT_LT((region.front().corners[k] - full.front().corners[k]).norm(), 1.0) << k;
+  EXPECT_NEAR(region.front().confidence, full.front().confidence, 0.02);
+  d.track(&region.front());
+  d.detect(frame, region);
+  EXPECT_NE(d.last_region(), whole);
+  d.track(&region.front());
+  d.detect(frame, region);
+  EXPECT_EQ(d.last_region(), whole) << "every 3rd frame is whole";
+  d.track(&region.front());
+  d.detect(frame, region);
+  EXPECT_NE(d.last_region(), whole);
+  d.track(nullptr);
+  d.detect(frame, region);
+  EXPECT_EQ(d.last_region(), whole) << "tracking stopped";
+  d.track(&region.front());
+  d.reset("4X4_50", 0);
+  d.detect(frame, region);
+  EXPECT_EQ(d.last_region(), whole) << "a new run";
+  // Without the option, never a region.
+  detail::LearnedDetector plain(kModel, 0.3, 0.45);
+  plain.reset("4X4_50", 0);
+  plain.detect(frame, region);
+  plain.track(&region.front());
+  plain.detect(frame, region);
+  EXPECT_EQ(plain.last_region(), whole);
+}
+
 }  // namespace
 }  // namespace touchdown::scenario

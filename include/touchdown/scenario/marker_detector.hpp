@@ -60,9 +60,10 @@ struct DetectorFrame {
 /// the apps: --detector, --model).
 struct DetectorOptions {
   std::string kind = "aruco";  ///< "aruco" or "learned"
-  /// aruco: while the target is tracked, search a region around it first
-  /// (and the whole frame when that misses, and every full_frame_period-th
-  /// frame); false: the whole frame every time.
+  /// While the target is tracked, search a region around it first (and
+  /// the whole frame when that misses, and every full_frame_period-th
+  /// frame; learned: only for frames of the network's input size, read at
+  /// 1:1); false: the whole frame every time.
   bool roi = true;
   int full_frame_period = 10;
   /// learned: the ONNX model; empty = default_model_path().
