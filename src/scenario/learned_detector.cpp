@@ -228,21 +228,27 @@ const cv::Mat& LearnedDetector::forward(const cv::Mat& gray) {
                box_.scale < 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
     scaled.convertTo(roi, CV_32F, 1.0 / 255);
   }
-  const int shape[4] = {1, 1, manifest_.height, manifest_.width};
+  return run_input();
+}
+
+const cv::Mat& LearnedDetector::run_input() {
+  const int shape[4] = {1, 1, input_.rows, input_.cols};
   blob_ = cv::Mat(4, shape, CV_32F, input_.data);
   net_.setInput(blob_);
   output_ = net_.forward();
   return output_;
 }
 
+std::vector<MarkerDetection> LearnedDetector::decode_output() const {
+  return decode_heatmap(output_.ptr<float>(), output_.size[2], output_.size[3], manifest_, box_, min_confidence_,
+                        nms_iou_, manifest_.marker_id);
+}
+
 void LearnedDetector::forward_region(const cv::Mat& gray, const cv::Rect& region) {
   box_ = Letterbox{1, Eigen::Vector2d(-region.x, -region.y), region.width, region.height};
   input_.create(region.height, region.width, CV_32FC1);
   gray(region).convertTo(input_, CV_32F, 1.0 / 255);
-  const int shape[4] = {1, 1, region.height, region.width};
-  blob_ = cv::Mat(4, shape, CV_32F, input_.data);
-  net_.setInput(blob_);
-  output_ = net_.forward();
+  run_input();
 }
 
 cv::Rect LearnedDetector::tracking_region(int frame_width, int frame_height) const {
@@ -276,8 +282,7 @@ void LearnedDetector::detect(const DetectorFrame& frame, std::vector<MarkerDetec
   const cv::Rect region = tracking_region(gray.cols, gray.rows);
   if (!region.empty()) {
     forward_region(gray, region);
-    out = decode_heatmap(output_.ptr<float>(), output_.size[2], output_.size[3], manifest_, box_, min_confidence_,
-                         nms_iou_, manifest_.marker_id);
+    out = decode_output();
     if (!out.empty()) {
       last_region_ = region;
       return;
@@ -286,8 +291,7 @@ void LearnedDetector::detect(const DetectorFrame& frame, std::vector<MarkerDetec
   since_full_ = 0;
   last_region_ = cv::Rect(0, 0, gray.cols, gray.rows);
   forward(gray);
-  out = decode_heatmap(output_.ptr<float>(), output_.size[2], output_.size[3], manifest_, box_, min_confidence_,
-                       nms_iou_, manifest_.marker_id);
+  out = decode_output();
 }
 
 void LearnedDetector::track(const MarkerDetection* accepted) {

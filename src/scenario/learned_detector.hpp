@@ -107,6 +107,10 @@ class LearnedDetector final : public MarkerDetector {
   int since_full_ = 0;
   cv::Rect last_region_;
 
+  /// The network on input_ (filled by forward or forward_region) into output_.
+  const cv::Mat& run_input();
+  /// output_ decoded through box_ (the last input's mapping to the frame).
+  [[nodiscard]] std::vector<MarkerDetection> decode_output() const;
   /// The network on `gray(region)` at 1:1 (region sides multiples of 32).
   void forward_region(const cv::Mat& gray, const cv::Rect& region);
   /// The region to search around the tracked box, or an empty one when
