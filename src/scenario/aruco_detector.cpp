@@ -25,41 +25,29 @@ cv::Ptr<cv::aruco::Dictionary> aruco_dictionary(std::string_view name) {
 
 ArucoDetector::ArucoDetector(bool roi, int full_frame_period)
     : parameters_(cv::aruco::DetectorParameters::create()),
-      use_roi_(roi),
-      full_frame_period_(std::max(1, full_frame_period)) {}
+      // The last box grown by its own size (at least 32 px) on every side:
+      // at 10 Hz the marker moves far less than that between frames.
+      region_(roi, full_frame_period, TrackingRegion::Shape{1.0, 32.0, 1, 16}) {}
 
 void ArucoDetector::reset(std::string_view dictionary, int marker_id) {
   dictionary_ = aruco_dictionary(dictionary);
   target_id_ = marker_id;
-  tracking_ = false;
-  since_full_ = 0;
+  region_.reset();
 }
 
 void ArucoDetector::full(const cv::Mat& gray) {
   corners_.clear();
   ids_.clear();
   cv::aruco::detectMarkers(gray, dictionary_, corners_, ids_, parameters_);
-  since_full_ = 0;
+  region_.searched_whole();
 }
 
 void ArucoDetector::detect(const DetectorFrame& frame, std::vector<MarkerDetection>& out) {
   if (!dictionary_) throw InvalidArgument("aruco detector: detect() before reset()");
   const cv::Mat gray = as_mat(frame.gray);
-  ++since_full_;
   [&] {
-    if (!use_roi_ || !tracking_ || since_full_ >= full_frame_period_) return full(gray);
-    // The last box grown by its own size (at least 32 px) on every side:
-    // at 10 Hz the marker moves far less than that between frames.
-    const float side = std::max(last_box_.width, last_box_.height);
-    const float grow = std::max(side, 32.0f);
-    const float x0 = std::max(0.0f, std::floor(last_box_.x - grow));
-    const float y0 = std::max(0.0f, std::floor(last_box_.y - grow));
-    const float x1 = std::min(static_cast<float>(gray.cols), std::ceil(last_box_.br().x + grow));
-    const float y1 = std::min(static_cast<float>(gray.rows), std::ceil(last_box_.br().y + grow));
-    const cv::Rect roi(static_cast<int>(x0), static_cast<int>(y0), static_cast<int>(x1 - x0),
-                       static_cast<int>(y1 - y0));
-    // A region most of the frame wide saves nothing.
-    if (roi.width < 16 || roi.height < 16 || roi.area() * 2 > gray.cols * gray.rows) return full(gray);
+    const cv::Rect roi = region_.next(gray.cols, gray.rows);
+    if (roi.empty()) return full(gray);
     corners_.clear();
     ids_.clear();
     cv::aruco::detectMarkers(gray(roi), dictionary_, corners_, ids_, parameters_);
@@ -87,17 +75,17 @@ void ArucoDetector::detect(const DetectorFrame& frame, std::vector<MarkerDetecti
 }
 
 void ArucoDetector::track(const MarkerDetection* accepted) {
-  tracking_ = accepted != nullptr;
-  if (!tracking_) return;
-  // The box of the corners, as cv::boundingRect gives for them.
-  std::vector<cv::Point2f> quad;
-  for (const Eigen::Vector2d& c : accepted->corners)
-    quad.emplace_back(static_cast<float>(c.x()), static_cast<float>(c.y()));
-  last_box_ = accepted->has_corners
-                  ? cv::Rect2f(cv::boundingRect(quad))
-                  : cv::Rect2f(static_cast<float>(accepted->box_min.x()), static_cast<float>(accepted->box_min.y()),
-                               static_cast<float>(accepted->box_max.x() - accepted->box_min.x()),
-                               static_cast<float>(accepted->box_max.y() - accepted->box_min.y()));
+  if (!accepted) return region_.track(nullptr, nullptr);
+  Eigen::Vector2d lo = accepted->box_min, hi = accepted->box_max;
+  if (accepted->has_corners) {  // the box of the corners, as cv::boundingRect gives for them
+    std::vector<cv::Point2f> quad;
+    for (const Eigen::Vector2d& c : accepted->corners)
+      quad.emplace_back(static_cast<float>(c.x()), static_cast<float>(c.y()));
+    const cv::Rect r = cv::boundingRect(quad);
+    lo = Eigen::Vector2d(r.x, r.y);
+    hi = Eigen::Vector2d(r.x + r.width, r.y + r.height);
+  }
+  region_.track(&lo, &hi);
 }
 
 // The marker's canonical image and its cells, as the ArUco detection

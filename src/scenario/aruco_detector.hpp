@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "scenario/tracking_region.hpp"
 #include "touchdown/scenario/marker_detector.hpp"
 
 namespace touchdown::scenario::detail {
@@ -40,12 +41,8 @@ class ArucoDetector final : public MarkerDetector {
 
   cv::Ptr<cv::aruco::Dictionary> dictionary_;
   cv::Ptr<cv::aruco::DetectorParameters> parameters_;
-  bool use_roi_;
-  int full_frame_period_;
+  TrackingRegion region_;
   int target_id_ = 0;
-  bool tracking_ = false;
-  cv::Rect2f last_box_;
-  int since_full_ = 0;
   std::vector<std::vector<cv::Point2f>> corners_;
   std::vector<int> ids_;
 };

@@ -169,8 +169,12 @@ LearnedDetector::LearnedDetector(std::filesystem::path model, double min_confide
     : path_(std::move(model)),
       min_confidence_(min_confidence),
       nms_iou_(nms_iou),
-      use_roi_(roi),
-      full_frame_period_(std::max(1, full_frame_period)) {
+      // The tracked box grown by 1.5 times its size (at least 48 px) on
+      // every side, then out to the 32-px grid of the network's deepest
+      // stride: a region on the whole frame's grid reads the marker as the
+      // whole frame does (off the grid, the stored frame's confidence fell
+      // from 0.72 to 0.59; on it, 0.726).
+      region_(roi, full_frame_period, TrackingRegion::Shape{1.5, 48.0, 32, 32}) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path_, ec)) model_error(path_, "no such file");
   manifest_ = read_model_manifest(manifest_path(path_));
@@ -209,8 +213,7 @@ void LearnedDetector::reset(std::string_view dictionary, int marker_id) {
         std::to_string(manifest_.marker_id) + ", not " + std::string(dictionary) + " id " + std::to_string(marker_id) +
         ": give the scenarios its marker (landing_scenario campaign --marker " + manifest_.dictionary + ":" +
         std::to_string(manifest_.marker_id) + ") or train a model for theirs (tools/train_detector.py)");
-  tracking_ = false;
-  since_full_ = 0;
+  region_.reset();
 }
 
 const cv::Mat& LearnedDetector::forward(const cv::Mat& gray) {
@@ -251,35 +254,12 @@ void LearnedDetector::forward_region(const cv::Mat& gray, const cv::Rect& region
   run_input();
 }
 
-cv::Rect LearnedDetector::tracking_region(int frame_width, int frame_height) const {
-  // Only at the network's own scale (no letterbox), so a region is read
-  // exactly as the whole frame would be.
-  if (!use_roi_ || !tracking_ || since_full_ >= full_frame_period_ || frame_width != manifest_.width ||
-      frame_height != manifest_.height)
-    return {};
-  // The tracked box grown by 1.5 times its size (at least 48 px) on every
-  // side, then out to the 32-px grid of the network's deepest stride: a
-  // region on the whole frame's grid reads the marker as the whole frame
-  // does (off the grid, the stored frame's confidence fell from 0.72 to
-  // 0.59; on it, 0.726), clipped to the frame.
-  constexpr int kGrid = 32;
-  const Eigen::Vector2d size = last_max_ - last_min_;
-  const double grow = std::max({1.5 * size.x(), 1.5 * size.y(), 48.0});
-  const auto cells = [](double v) { return std::clamp(v / kGrid, -1e6, 1e6); };  // no overflow in the casts
-  const auto down = [&](double v, int hi) { return std::clamp(kGrid * static_cast<int>(std::floor(cells(v))), 0, hi); };
-  const auto up = [&](double v, int hi) { return std::clamp(kGrid * static_cast<int>(std::ceil(cells(v))), 0, hi); };
-  const int x0 = down(last_min_.x() - grow, frame_width), x1 = up(last_max_.x() + grow, frame_width);
-  const int y0 = down(last_min_.y() - grow, frame_height), y1 = up(last_max_.y() + grow, frame_height);
-  const int w = x1 - x0, h = y1 - y0;
-  // A region of most of the frame saves nothing.
-  if (w < kGrid || h < kGrid || w % kGrid != 0 || h % kGrid != 0 || 2 * w * h > frame_width * frame_height) return {};
-  return {x0, y0, w, h};
-}
-
 void LearnedDetector::detect(const DetectorFrame& frame, std::vector<MarkerDetection>& out) {
   const cv::Mat gray = as_mat(frame.gray);
-  ++since_full_;
-  const cv::Rect region = tracking_region(gray.cols, gray.rows);
+  cv::Rect region = region_.next(gray.cols, gray.rows);
+  // Only at the network's own scale (no letterbox), so a region is read
+  // exactly as the whole frame would be.
+  if (gray.cols != manifest_.width || gray.rows != manifest_.height) region = {};
   if (!region.empty()) {
     forward_region(gray, region);
     out = decode_output();
@@ -288,17 +268,14 @@ void LearnedDetector::detect(const DetectorFrame& frame, std::vector<MarkerDetec
       return;
     }
   }
-  since_full_ = 0;
+  region_.searched_whole();
   last_region_ = cv::Rect(0, 0, gray.cols, gray.rows);
   forward(gray);
   out = decode_output();
 }
 
 void LearnedDetector::track(const MarkerDetection* accepted) {
-  tracking_ = accepted != nullptr && accepted->box_min.allFinite() && accepted->box_max.allFinite();
-  if (!tracking_) return;
-  last_min_ = accepted->box_min;
-  last_max_ = accepted->box_max;
+  region_.track(accepted ? &accepted->box_min : nullptr, accepted ? &accepted->box_max : nullptr);
 }
 
 }  // namespace touchdown::scenario::detail

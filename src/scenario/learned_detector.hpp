@@ -21,6 +21,7 @@
 #include <string_view>
 #include <vector>
 
+#include "scenario/tracking_region.hpp"
 #include "touchdown/scenario/marker_detector.hpp"
 
 namespace touchdown::scenario::detail {
@@ -100,11 +101,7 @@ class LearnedDetector final : public MarkerDetector {
   cv::dnn::Net net_;
   cv::Mat input_, blob_, output_;
   Letterbox box_;
-  bool use_roi_;
-  int full_frame_period_;
-  bool tracking_ = false;
-  Eigen::Vector2d last_min_ = Eigen::Vector2d::Zero(), last_max_ = Eigen::Vector2d::Zero();
-  int since_full_ = 0;
+  TrackingRegion region_;
   cv::Rect last_region_;
 
   /// The network on input_ (filled by forward or forward_region) into output_.
@@ -113,9 +110,6 @@ class LearnedDetector final : public MarkerDetector {
   [[nodiscard]] std::vector<MarkerDetection> decode_output() const;
   /// The network on `gray(region)` at 1:1 (region sides multiples of 32).
   void forward_region(const cv::Mat& gray, const cv::Rect& region);
-  /// The region to search around the tracked box, or an empty one when
-  /// the whole frame should be searched.
-  [[nodiscard]] cv::Rect tracking_region(int frame_width, int frame_height) const;
 };
 
 }  // namespace touchdown::scenario::detail

@@ -345,5 +345,49 @@ TEST(LearnedDetector, ATrackingRegionFindsWhatTheWholeFrameFinds) {
   EXPECT_EQ(plain.last_region(), whole);
 }
 
+// The region both detectors share (tracking_region.hpp), by hand: a box of
+// 20 x 10 px at (100, 200)-(120, 210) in a 640 x 480 frame.
+TEST(TrackingRegion, GrowsSnapsClipsAndFallsBackToTheWholeFrame) {
+  const Eigen::Vector2d lo(100, 200), hi(120, 210);
+  // ArUco's shape: grown by the longer side (20) but at least 32 px.
+  detail::TrackingRegion aruco(true, 10, {1.0, 32.0, 1, 16});
+  EXPECT_TRUE(aruco.next(640, 480).empty()) << "nothing tracked";
+  aruco.track(&lo, &hi);
+  EXPECT_EQ(aruco.next(640, 480), cv::Rect(68, 168, 84, 74));
+  // The learned detector's: grown by 1.5 x 20 = 30, at least 48, out to the
+  // 32-px grid: x 52 -> 32, 168 -> 192; y 152 -> 128, 258 -> 288.
+  detail::TrackingRegion learned(true, 10, {1.5, 48.0, 32, 32});
+  learned.track(&lo, &hi);
+  EXPECT_EQ(learned.next(640, 480), cv::Rect(32, 128, 160, 160));
+  // Clipped at the frame's edge: a box at the top-left corner.
+  const Eigen::Vector2d corner_lo(0, 0), corner_hi(10, 10);
+  learned.track(&corner_lo, &corner_hi);
+  EXPECT_EQ(learned.next(640, 480), cv::Rect(0, 0, 64, 64));
+  // Over half the frame saves nothing: a box of 300 x 200 px.
+  const Eigen::Vector2d big_lo(100, 100), big_hi(400, 300);
+  learned.track(&big_lo, &big_hi);
+  EXPECT_TRUE(learned.next(640, 480).empty());
+  // Every full_frame_period-th frame is whole, counted since the last whole search.
+  detail::TrackingRegion periodic(true, 3, {1.0, 32.0, 1, 16});
+  periodic.track(&lo, &hi);
+  EXPECT_FALSE(periodic.next(640, 480).empty());  // 1
+  EXPECT_FALSE(periodic.next(640, 480).empty());  // 2
+  EXPECT_TRUE(periodic.next(640, 480).empty());   // 3: whole
+  periodic.searched_whole();
+  EXPECT_FALSE(periodic.next(640, 480).empty());
+  // A lost target, a non-finite box, reset() and a disabled region: whole.
+  periodic.track(nullptr, nullptr);
+  EXPECT_TRUE(periodic.next(640, 480).empty());
+  const Eigen::Vector2d nan(std::numeric_limits<double>::quiet_NaN(), 0);
+  periodic.track(&nan, &hi);
+  EXPECT_TRUE(periodic.next(640, 480).empty());
+  periodic.track(&lo, &hi);
+  periodic.reset();
+  EXPECT_TRUE(periodic.next(640, 480).empty());
+  detail::TrackingRegion off(false, 3, {1.0, 32.0, 1, 16});
+  off.track(&lo, &hi);
+  EXPECT_TRUE(off.next(640, 480).empty());
+}
+
 }  // namespace
 }  // namespace touchdown::scenario
