@@ -43,9 +43,12 @@ class Residual(nn.Module):
 
 
 class MarkerNet(nn.Module):
-    def __init__(self, width=1.0):
+    def __init__(self, width=1.0, stem=(12, 24)):
+        """`width` multiplies every layer's channels; `stem` is the first two
+        layers' (strides 2 and 4) before it: model v3 widened them to
+        (16, 32) to keep a far marker's code cells (3-5 px) apart."""
         super().__init__()
-        c = [int(round(v * width)) for v in (12, 24, 32, 64, 96)]
+        c = [int(round(v * width)) for v in (*stem, 32, 64, 96)]
         self.stem = nn.Sequential(conv_bn(1, c[0], 3, 2), dw_sep(c[0], c[1], 2))  # stride 4
         self.s8 = nn.Sequential(dw_sep(c[1], c[2], 2), Residual(c[2]))
         self.s16 = nn.Sequential(dw_sep(c[2], c[3], 2), Residual(c[3]), Residual(c[3]))

@@ -31,6 +31,9 @@ import sys
 import cv2
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from detector_metrics import box_iou  # noqa: E402
+
 
 def marker_image(dictionary, marker_id, px_per_cell=16):
     d = cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, "DICT_" + dictionary))
@@ -61,13 +64,6 @@ def print_marker(rng, photo, marker, margin):
     photo[:] = np.clip(grey * (1 - alpha[..., None]) + shade[..., None] * alpha[..., None], 0, 255).astype(np.uint8)
     inner = np.float32([[margin, margin], [s - margin, margin], [s - margin, s - margin], [margin, s - margin]])
     return cv2.perspectiveTransform(inner[None], M)[0]
-
-
-def iou(a, b):
-    lo, hi = np.maximum(a[:2], b[:2]), np.minimum(a[2:], b[2:])
-    inter = max(0.0, hi[0] - lo[0]) * max(0.0, hi[1] - lo[1])
-    union = (a[2] - a[0]) * (a[3] - a[1]) + (b[2] - b[0]) * (b[3] - b[1]) - inter
-    return inter / union if union > 0 else 0.0
 
 
 def detect(binary, detector, images, out):
@@ -119,10 +115,10 @@ def main():
     for lab, res in zip(labels, found):
         gt = np.array(lab["box"])
         sure = confident(res)
-        hit = any(iou(np.array(d["box"]), gt) >= 0.5 for d in sure)
+        hit = any(box_iou(d["box"], gt) >= 0.5 for d in sure)
         hits += hit
         sides.append((float(np.min(gt[2:] - gt[:2])), hit))
-        if any(iou(np.array(d["box"]), gt) < 0.5 for d in sure):
+        if any(box_iou(d["box"], gt) < 0.5 for d in sure):
             wrong_copies.append(lab["photo"])
     small = [h for s, h in sides if s < 60]
     summary = {

@@ -35,6 +35,7 @@ import numpy as np
 import torch
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from detector_metrics import average_precision, box_iou  # noqa: E402
 from detector_model import CHANNELS, CORNER_SCALE, STRIDE, MarkerNet, export_onnx  # noqa: E402
 
 INPUT_W, INPUT_H = 640, 480
@@ -138,13 +139,34 @@ def make_targets(h, w, targets):
 
 # ---- augmentation --------------------------------------------------------------------------
 
-def augment(rng, image, target, role, negatives=None):
+def code_cell_px(row, cells):
+    """The smallest code cell [px] of the frame's marker-like squares (the
+    target and the distractors in view), or None: the size at which the
+    target and a look-alike still differ."""
+    sides = [min_side(m["corners"]) for m in [row["target"]] + row.get("distractors", [])
+             if m.get("in_view") and m.get("corners")]
+    return min(sides) / cells if sides else None
+
+
+def augment(rng, image, row, role, negatives=None, cells=6):
     """A training crop of CROP_W x CROP_H: scale jitter, a crop (usually
     around the target), a quarter turn, hard negatives pasted (half the
-    crops), exposure, blur, noise, JPEG."""
+    crops), exposure, blur, noise, JPEG.
+
+    Scale-aware (model v3): the shrink, blur and JPEG never take a code
+    cell of the frame's markers below what still tells the target from a
+    look-alike (3.5 px a cell, blur sigma <= cell / 4, JPEG only above 8 px
+    a cell). v2 blurred a far marker's code away and still taught "this is
+    the target" and, beside it, "that look-alike is not": it learned that a
+    far marker is a coin toss (0.5-0.6 for both, docs/journal)."""
+    target = row["target"]
+    cell = code_cell_px(row, cells)
     k = int(rng.integers(0, 4))  # quarter turns (a turned marker is still the marker)
     ow, oh = (CROP_W, CROP_H) if k % 2 == 0 else (CROP_H, CROP_W)  # landscape after the turns
-    s = rng.uniform(0.7, 1.3)
+    s_min = 0.7 if cell is None else min(1.0, max(0.7, 3.5 / cell))
+    s = rng.uniform(s_min, 1.3)
+    if cell is not None:
+        cell *= s
     sw, sh = ow / s, oh / s
     if role != "none" and rng.random() < 0.7:
         c = np.asarray(target["corners"], float).mean(axis=0)
@@ -177,12 +199,13 @@ def augment(rng, image, target, role, negatives=None):
     img = out.astype(np.float32)
     gain, gamma = rng.uniform(0.6, 1.4), rng.uniform(0.7, 1.4)
     img = 255 * np.clip((img / 255) ** gamma * gain + rng.uniform(-0.1, 0.1), 0, 1)
-    if rng.random() < 0.3:
-        img = cv2.GaussianBlur(img, (0, 0), rng.uniform(0.5, 1.6))
+    max_blur = 1.6 if cell is None else min(1.6, cell / 4)
+    if rng.random() < 0.3 and max_blur > 0.5:
+        img = cv2.GaussianBlur(img, (0, 0), rng.uniform(0.5, max_blur))
     if rng.random() < 0.5:
         img = img + rng.normal(0, rng.uniform(1, 10), img.shape)
     img = np.clip(img, 0, 255).astype(np.uint8)
-    if rng.random() < 0.3:
+    if rng.random() < 0.3 and (cell is None or cell >= 8):
         ok, enc = cv2.imencode(".jpg", img, [cv2.IMWRITE_JPEG_QUALITY, int(rng.integers(25, 90))])
         img = cv2.imdecode(enc, cv2.IMREAD_GRAYSCALE)
     targets = []
@@ -222,11 +245,18 @@ class HardNegatives:
         return cv2.copyMakeBorder(img, m, m, m, m, cv2.BORDER_CONSTANT, value=255)
 
     def patch(self, rng):
-        kind = rng.choice(["chessboard", "aruco", "grid", "ring", "bars"], p=[0.3, 0.3, 0.15, 0.1, 0.15])
+        kind = rng.choice(["board", "chessboard", "aruco", "grid", "ring", "bars"],
+                          p=[0.2, 0.15, 0.25, 0.15, 0.1, 0.15])
+        if kind == "board":
+            # A calibration board as photographed (model v3): 5-12 squares a
+            # side, large in the frame, often cut by the crop's edge.
+            r, c = int(rng.integers(5, 11)), int(rng.integers(6, 13))
+            cells = (((np.arange(r)[:, None] + np.arange(c)[None, :] + int(rng.integers(0, 2))) % 2) * 255)
+            return self._with_margin(cells.astype(np.uint8), rng), True
         if kind == "chessboard":
             r, c = int(rng.integers(2, 10)), int(rng.integers(2, 10))
             cells = (((np.arange(r)[:, None] + np.arange(c)[None, :]) % 2) * 255).astype(np.uint8)
-            return self._with_margin(cells, rng)
+            return self._with_margin(cells, rng), False
         if kind == "aruco":
             name = ARUCO_DICTS[int(rng.integers(0, len(ARUCO_DICTS)))]
             d = self.dicts[name]
@@ -235,7 +265,7 @@ class HardNegatives:
                 i = int(rng.integers(0, count))
                 if not (name == self.dict_name and i == self.target_id):
                     break
-            return self._with_margin(cv2.aruco.drawMarker(d, i, d.markerSize + 2), rng)
+            return self._with_margin(cv2.aruco.drawMarker(d, i, d.markerSize + 2), rng), False
         if kind == "grid":
             n = int(rng.integers(3, 8))
             while True:
@@ -244,26 +274,26 @@ class HardNegatives:
                     break
             cells = np.zeros((n + 2, n + 2), np.uint8)
             cells[1:-1, 1:-1] = code * 255
-            return self._with_margin(cells, rng)
+            return self._with_margin(cells, rng), False
         if kind == "ring":
             cells = np.zeros((6, 6), np.uint8)
             if rng.random() < 0.5:
                 cells[2:4, 2:4] = 255 * (rng.random((2, 2)) < 0.5)
-            return self._with_margin(cells, rng)
+            return self._with_margin(cells, rng), False
         h, w = int(rng.integers(24, 64)), int(rng.integers(24, 64))
         img = np.full((h, w), 255, np.uint8)
         for _ in range(int(rng.integers(2, 8))):
             y, x = int(rng.integers(0, h)), int(rng.integers(0, w))
             cv2.rectangle(img, (x, y), (x + int(rng.integers(2, w // 2)), y + int(rng.integers(2, h // 3))), 0, -1)
-        return img
+        return img, False
 
     def paste(self, rng, img, keep_out):
         """Pastes 1-3 patches into `img` (uint8, in place) under a random
         perspective, away from the box `keep_out` (lo, hi or None)."""
         H, W = img.shape
         for _ in range(int(rng.integers(1, 4))):
-            p = self.patch(rng)
-            side = rng.uniform(10, 110)
+            p, large = self.patch(rng)
+            side = rng.uniform(100, 420) if large else rng.uniform(10, 110)
             for _attempt in range(8):
                 cx, cy = rng.uniform(0, W), rng.uniform(0, H)
                 lo, hi = np.array([cx - side, cy - side]), np.array([cx + side, cy + side])
@@ -328,26 +358,7 @@ def decode(out, min_conf=0.05, nms_iou=0.45):
 
 
 def iou(a0, a1, b0, b1):
-    lo, hi = np.maximum(a0, b0), np.minimum(a1, b1)
-    inter = max(0.0, hi[0] - lo[0]) * max(0.0, hi[1] - lo[1])
-    union = np.prod(np.maximum(a1 - a0, 0)) + np.prod(np.maximum(b1 - b0, 0)) - inter
-    return inter / union if union > 0 else 0.0
-
-
-def average_precision(scored, positives):
-    """All-point interpolated AP (PASCAL VOC 2010+) from (score, is_tp)."""
-    if positives == 0:
-        return float("nan")
-    scored = sorted(scored, key=lambda s: -s[0])
-    tp = np.cumsum([s[1] for s in scored])
-    fp = np.cumsum([not s[1] for s in scored])
-    recall = tp / positives
-    precision = tp / np.maximum(tp + fp, 1)
-    r = np.concatenate([[0], recall, [recall[-1] if len(recall) else 0]])
-    p = np.concatenate([[1], precision, [0]])
-    for i in range(len(p) - 2, -1, -1):
-        p[i] = max(p[i], p[i + 1])
-    return float(np.sum((r[1:] - r[:-1]) * p[1:]))
+    return box_iou(np.concatenate([a0, a1]), np.concatenate([b0, b1]))
 
 
 def evaluate(model, rows, images, threshold=0.7):
@@ -355,6 +366,7 @@ def evaluate(model, rows, images, threshold=0.7):
     and cost nothing), and precision/recall at `threshold`."""
     model.eval()
     scored, positives, tp_at, fp_at = [], 0, 0, 0
+    far, far_at = 0, 0  # positives 10 m or more away (the search altitude), and those found at `threshold`
     with torch.no_grad():
         for i in range(0, len(rows), 16):
             x = torch.from_numpy(images[i:i + 16].astype(np.float32) / 255)[:, None]
@@ -366,6 +378,7 @@ def evaluate(model, rows, images, threshold=0.7):
                     b = r["target"]["box"]
                     gt = (np.array(b[:2]), np.array(b[2:]))
                 positives += role == "positive"
+                far += role == "positive" and r["distance"] >= 10
                 matched = False
                 for conf, lo, hi, _ in decode(out):
                     hit = gt is not None and iou(lo, hi, *gt) >= 0.5
@@ -377,11 +390,13 @@ def evaluate(model, rows, images, threshold=0.7):
                     if conf >= threshold:
                         tp_at += is_tp
                         fp_at += not is_tp
+                        far_at += is_tp and r["distance"] >= 10
     model.train()
     return {
         "ap50": round(average_precision(scored, positives), 4),
         "precision_at_0.7": round(tp_at / max(1, tp_at + fp_at), 4),
         "recall_at_0.7": round(tp_at / max(1, positives), 4),
+        "far_recall_at_0.7": round(far_at / max(1, far), 4),
         "positives": positives,
         "frames": len(rows),
     }
@@ -404,6 +419,8 @@ def main():
                     help="share of each batch drawn from frames with a taught target")
     ap.add_argument("--crop", default="256x192", help="training crop WxH (multiples of 32)")
     ap.add_argument("--width", type=float, default=1.0, help="the network's channel multiplier")
+    ap.add_argument("--stem", default="12,24", help="channels of the first two layers before --width "
+                    "(model v3: 16,32)")
     ap.add_argument("--no-negatives", action="store_true", help="paste no hard negatives")
     ap.add_argument("--preview", help="write a PNG of 32 training crops with their targets and stop")
     ap.add_argument("--vectors", help="directory for stored frames and PyTorch's outputs (C++ cross-check)")
@@ -432,12 +449,14 @@ def main():
           f"validation: {len(val_rows)}; loaded in {time.time() - started:.0f} s", flush=True)
 
     negatives = None if a.no_negatives else HardNegatives(meta["marker"])
+    marker_dict = cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, "DICT_" + meta["marker"]["dictionary"]))
+    cells = marker_dict.markerSize + 2  # code cells and the black border, a side
     positive_rows = np.array([i for i, r in enumerate(roles) if r == "positive"])
 
     def draw_batch():
         n_pos = int(round(a.batch * a.positive_fraction)) if len(positive_rows) else 0
         idx = np.concatenate([rng.choice(positive_rows, n_pos), rng.integers(0, len(train_rows), a.batch - n_pos)])
-        return [augment(rng, train_images[i], train_rows[i]["target"], roles[i], negatives) for i in idx]
+        return [augment(rng, train_images[i], train_rows[i], roles[i], negatives, cells) for i in idx]
 
     if a.preview:
         tiles = []
@@ -452,7 +471,12 @@ def main():
         print(f"wrote {a.preview}")
         return
 
-    model = MarkerNet(a.width)
+    try:
+        stem = tuple(int(v) for v in a.stem.split(","))
+        assert len(stem) == 2 and min(stem) > 0
+    except (ValueError, AssertionError):
+        sys.exit(f"train_detector: --stem {a.stem}: expected two positive channel counts, e.g. 16,32")
+    model = MarkerNet(a.width, stem)
     params = sum(p.numel() for p in model.parameters())
     opt = torch.optim.AdamW(model.parameters(), lr=a.lr, weight_decay=1e-4)
     sched = torch.optim.lr_scheduler.OneCycleLR(opt, max_lr=a.lr, total_steps=a.steps, pct_start=0.05)
@@ -504,12 +528,13 @@ def main():
                              "[corner_scale input px], clockwise from the one nearest the top-left"},
         "model": {"file": os.path.basename(a.out), "bytes": len(blob),
                   "sha256": hashlib.sha256(blob).hexdigest(), "parameters": params, "opset": 11,
-                  "architecture": f"MarkerNet(width={a.width}) (tools/detector_model.py)"},
+                  "architecture": f"MarkerNet(width={a.width}, stem={stem}) (tools/detector_model.py)"},
         "dataset": {"seed": meta["seed"], "count": meta["count"], "splits": meta["splits"],
                     "command": f"landing_scenario dataset --out DIR --count {meta['count']} --seed {meta['seed']} "
                                f"--marker {meta['marker']['dictionary']}:{meta['marker']['id']}"},
         "training": {"seed": a.seed, "steps": a.steps, "batch": a.batch, "lr": a.lr, "threads": a.threads,
-                     "positive_fraction": a.positive_fraction, "width": a.width,
+                     "positive_fraction": a.positive_fraction, "width": a.width, "stem": list(stem),
+                     "scale_aware_degradation": True,
                      "hard_negatives": negatives is not None,
                      "crop": [CROP_W, CROP_H], "optimizer": "AdamW, one-cycle", "torch": torch.__version__,
                      "seconds": round(train_s), "command": " ".join(["tools/train_detector.py"] + sys.argv[1:])},
