@@ -81,13 +81,19 @@ def export_onnx(model, path, height, width):
     1x1xHxW, output "out". The exporter's constant folding shares equal
     folded constants through Identity nodes, which OpenCV 4.6 cannot read:
     each becomes a copy of its initializer."""
-    import onnx
-    from onnx import numpy_helper
-
     model.eval()
     x = torch.zeros(1, 1, height, width)
     torch.onnx.export(model, x, path, opset_version=11, input_names=["image"], output_names=["out"],
                       do_constant_folding=True)
+    inline_identities(path)
+
+
+def inline_identities(path):
+    """Replaces each Identity node on an initializer by a copy of it (OpenCV
+    4.6 cannot read such nodes) and checks the model."""
+    import onnx
+    from onnx import numpy_helper
+
     m = onnx.load(path)
     inits = {i.name: i for i in m.graph.initializer}
     keep = []
@@ -101,3 +107,104 @@ def export_onnx(model, path, height, width):
     m.graph.node.extend(keep)
     onnx.checker.check_model(m)
     onnx.save(m, path)
+
+
+# ---- the second stage: a verifier on the corner-warped patch ------------------------------
+# The heat map at stride 8 finds a far marker but cannot read its 4 x 4 code
+# (4-7 px cells): it scores the target and a look-alike beside it alike
+# (docs/journal/2026-11-29-learned-detector-v3.md). The verifier reads each
+# proposal at the frame's own resolution: the frame warped through the
+# proposal's four corners (grown by one code cell of white margin) to a
+# PATCH x PATCH square, min-max normalised, and a small CNN that says
+# whether it is the target. src/scenario/learned_detector.cpp extracts the
+# patch with the same OpenCV calls (extract_patch), so a stored frame and
+# corners give the same patch in both, within float rounding.
+
+PATCH = 32
+MARGIN_CELLS = 1
+MIN_RANGE = 8.0  # grey levels: the normalisation never stretches less contrast than this
+
+
+def extract_patch(gray, corners, cells, patch=PATCH, margin=MARGIN_CELLS):
+    """The verifier's input for a proposal: `gray` (uint8 H x W), `corners`
+    (4 x 2 frame px, the code's black border, clockwise) -> float32 patch x
+    patch in [0, 1], or None when the proposal lies outside the frame.
+
+    Steps (the C++ twin, detail::extract_patch, follows them one for one):
+    the quad grown by the margin about its centre bounds a crop (1 px more
+    each side, clipped to the frame); when the code is more than twice the
+    patch's code size the crop is shrunk by area averaging first (no
+    aliasing); the crop is warped so the corners land on the patch's code
+    square; bilinear, border replicated; then (v - min) / max(max - min, 8)."""
+    import cv2
+    import numpy as np
+
+    c = np.asarray(corners, np.float64)
+    h, w = gray.shape
+    total = cells + 2 * margin
+    m = patch * margin / total
+    inner = patch - 2 * m
+    side = np.mean([np.linalg.norm(c[i] - c[(i + 1) % 4]) for i in range(4)])
+    if not np.isfinite(side) or side < 1:
+        return None
+    centre = c.mean(axis=0)
+    quad = centre + (c - centre) * (total / cells)
+    x0 = max(0, int(np.floor(quad[:, 0].min())) - 1)
+    y0 = max(0, int(np.floor(quad[:, 1].min())) - 1)
+    x1 = min(w, int(np.ceil(quad[:, 0].max())) + 2)
+    y1 = min(h, int(np.ceil(quad[:, 1].max())) + 2)
+    if x1 - x0 < 2 or y1 - y0 < 2:
+        return None
+    crop = gray[y0:y1, x0:x1]
+    c = c - [x0, y0]
+    r = 2 * inner / side
+    if r < 1:
+        cw, ch = x1 - x0, y1 - y0
+        nw, nh = max(2, int(round(cw * r))), max(2, int(round(ch * r)))
+        crop = cv2.resize(crop, (nw, nh), interpolation=cv2.INTER_AREA)
+        c = (c + 0.5) * [nw / cw, nh / ch] - 0.5
+    lo, hi = m - 0.5, patch - m - 0.5
+    dst = np.float32([[lo, lo], [hi, lo], [hi, hi], [lo, hi]])
+    M = cv2.getPerspectiveTransform(c.astype(np.float32), dst)
+    p = cv2.warpPerspective(crop, M, (patch, patch), flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    return normalise_patch(p)
+
+
+def normalise_patch(p):
+    import numpy as np
+
+    f = p.astype(np.float32)
+    lo, hi = float(f.min()), float(f.max())
+    return (f - np.float32(lo)) / np.float32(max(hi - lo, MIN_RANGE))
+
+
+class VerifierNet(nn.Module):
+    """Target or not, from a PATCH x PATCH corner-warped proposal: plain 3 x 3
+    convolutions to stride 8 (4 px a code cell -> a cell per feature at
+    the end), then two linear layers over the whole 4 x 4 map: where each
+    cell is matters (the code), so no global pooling."""
+
+    def __init__(self, width=1.0):
+        super().__init__()
+        c = [int(round(v * width)) for v in (16, 32, 64)]
+        self.features = nn.Sequential(
+            conv_bn(1, c[0]), conv_bn(c[0], c[1], s=2), conv_bn(c[1], c[1]),
+            conv_bn(c[1], c[2], s=2), conv_bn(c[2], c[2]), conv_bn(c[2], c[2], s=2))
+        self.classify = nn.Sequential(nn.Flatten(), nn.Linear(c[2] * (PATCH // 8) ** 2, 64), nn.ReLU(inplace=True),
+                                      nn.Linear(64, 1))
+
+    def raw(self, x):
+        return self.classify(self.features(x))[:, 0]
+
+    def forward(self, x):
+        return torch.sigmoid(self.classify(self.features(x)))
+
+
+def export_verifier_onnx(model, path):
+    """The verifier at opset 11: input "patch" 1 x 1 x PATCH x PATCH, output
+    "p" 1 x 1 (the probability that the patch is the target)."""
+    model.eval()
+    x = torch.zeros(1, 1, PATCH, PATCH)
+    torch.onnx.export(model, x, path, opset_version=11, input_names=["patch"], output_names=["p"],
+                      do_constant_folding=True)
+    inline_identities(path)

@@ -3,11 +3,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numeric>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
+#include <stdexcept>
 
 #include "pose/sim/aruco_dictionary.hpp"
 #include "scenario/aruco_detector.hpp"
@@ -55,8 +57,10 @@ ModelManifest parse_model_manifest(std::string_view text, const std::filesystem:
     }
   };
   const auto format = j.is_object() ? j.find("format") : j.end();
-  if (!j.is_object() || format == j.end() || !format->is_string() || *format != "touchdown-detector/1")
-    model_error(path, "format: expected \"touchdown-detector/1\"");
+  if (!j.is_object() || format == j.end() || !format->is_string() ||
+      (*format != "touchdown-detector/1" && *format != "touchdown-detector/2"))
+    model_error(path, "format: expected \"touchdown-detector/1\" or \"touchdown-detector/2\"");
+  const bool two_stage = *format == "touchdown-detector/2";
   get("marker", "dictionary", m.dictionary);
   get("marker", "id", m.marker_id);
   get("input", "width", m.width);
@@ -77,7 +81,94 @@ ModelManifest parse_model_manifest(std::string_view text, const std::filesystem:
   if (!(std::isfinite(m.corner_scale) && m.corner_scale > 0)) model_error(path, "output.corner_scale: must be > 0");
   if (!(std::isfinite(m.pad_value) && m.pad_value >= 0 && m.pad_value <= 1))
     model_error(path, "input.pad_value: must be in [0, 1]");
+  if (!two_stage) {
+    if (j.contains("verifier")) model_error(path, "verifier: only in format \"touchdown-detector/2\"");
+    return m;
+  }
+  VerifierManifest v;
+  std::string file;
+  get("verifier", "file", file);
+  get("verifier", "patch", v.patch);
+  get("verifier", "margin_cells", v.margin_cells);
+  get("verifier", "min_range", v.min_range);
+  get("verifier", "proposal_threshold", v.proposal_threshold);
+  get("verifier", "max_proposals", v.max_proposals);
+  // A bare file name beside the manifest: a manifest cannot point the
+  // detector at a file elsewhere.
+  if (file.empty() || std::filesystem::path(file).filename() != file || file == "." || file == "..")
+    model_error(path, "verifier.file: must be a file name beside the manifest");
+  v.file = path.parent_path() / file;
+  v.cells = dict->bits + 2;
+  if (v.patch < 8 || v.patch > 256) model_error(path, "verifier.patch: must be in [8, 256]");
+  if (v.margin_cells < 0 || v.margin_cells > 4) model_error(path, "verifier.margin_cells: must be in [0, 4]");
+  if (!(std::isfinite(v.min_range) && v.min_range >= 1 && v.min_range <= 255))
+    model_error(path, "verifier.min_range: must be in [1, 255]");
+  if (!(std::isfinite(v.proposal_threshold) && v.proposal_threshold > 0 && v.proposal_threshold <= 1))
+    model_error(path, "verifier.proposal_threshold: must be in (0, 1]");
+  if (v.max_proposals < 1 || v.max_proposals > 64) model_error(path, "verifier.max_proposals: must be in [1, 64]");
+  m.verifier = v;
   return m;
+}
+
+bool extract_patch(const cv::Mat& gray, const std::array<Eigen::Vector2d, 4>& corners, const VerifierManifest& v,
+                   cv::Mat& patch) {
+  TD_ASSERT(gray.type() == CV_8UC1);
+  const double total = v.cells + 2.0 * v.margin_cells;
+  const double m = v.patch * v.margin_cells / total, inner = v.patch - 2 * m;
+  double side = 0;
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  for (std::size_t i = 0; i < 4; ++i) {
+    side += (corners[i] - corners[(i + 1) % 4]).norm() / 4;
+    centre += corners[i] / 4;
+  }
+  if (!(std::isfinite(side) && side >= 1)) return false;
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(1e300), hi = Eigen::Vector2d::Constant(-1e300);
+  for (const auto& c : corners) {
+    const Eigen::Vector2d q = centre + (c - centre) * (total / v.cells);
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  // Far outside the frame (a wild corner regression): nothing to read.
+  if (!(lo.allFinite() && hi.allFinite()) || hi.x() < 0 || hi.y() < 0 || lo.x() > gray.cols || lo.y() > gray.rows)
+    return false;
+  const int x0 = std::max(0, static_cast<int>(std::floor(lo.x())) - 1);
+  const int y0 = std::max(0, static_cast<int>(std::floor(lo.y())) - 1);
+  const int x1 = std::min(gray.cols, static_cast<int>(std::ceil(hi.x())) + 2);
+  const int y1 = std::min(gray.rows, static_cast<int>(std::ceil(hi.y())) + 2);
+  if (x1 - x0 < 2 || y1 - y0 < 2) return false;
+  cv::Mat crop = gray(cv::Rect(x0, y0, x1 - x0, y1 - y0));
+  std::array<cv::Point2f, 4> src{};
+  Eigen::Vector2d scale(1, 1);
+  const double r = 2 * inner / side;
+  if (r < 1) {
+    const int nw = std::max(2, static_cast<int>(std::lround(crop.cols * r)));
+    const int nh = std::max(2, static_cast<int>(std::lround(crop.rows * r)));
+    scale = Eigen::Vector2d(static_cast<double>(nw) / crop.cols, static_cast<double>(nh) / crop.rows);
+    cv::Mat shrunk;
+    cv::resize(crop, shrunk, cv::Size(nw, nh), 0, 0, cv::INTER_AREA);
+    crop = shrunk;
+  }
+  for (std::size_t i = 0; i < 4; ++i) {
+    Eigen::Vector2d c = corners[i] - Eigen::Vector2d(x0, y0);
+    if (r < 1) c = (c.array() + 0.5).matrix().cwiseProduct(scale) - Eigen::Vector2d::Constant(0.5);
+    src[i] = cv::Point2f(static_cast<float>(c.x()), static_cast<float>(c.y()));
+  }
+  const auto a = static_cast<float>(m - 0.5), b = static_cast<float>(v.patch - m - 0.5);
+  const std::array<cv::Point2f, 4> dst{cv::Point2f(a, a), cv::Point2f(b, a), cv::Point2f(b, b), cv::Point2f(a, b)};
+  const cv::Mat M = cv::getPerspectiveTransform(src.data(), dst.data());
+  cv::Mat warped;
+  cv::warpPerspective(crop, warped, M, cv::Size(v.patch, v.patch), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  double vmin = 0, vmax = 0;
+  cv::minMaxLoc(warped, &vmin, &vmax);
+  // (v - lo) / stretch in float, as numpy computes it (tools/detector_model.py).
+  const auto lo_f = static_cast<float>(vmin), stretch = static_cast<float>(std::max(vmax - vmin, v.min_range));
+  patch.create(v.patch, v.patch, CV_32FC1);
+  for (int y = 0; y < v.patch; ++y) {
+    const auto* in = warped.ptr<std::uint8_t>(y);
+    auto* out = patch.ptr<float>(y);
+    for (int x = 0; x < v.patch; ++x) out[x] = (static_cast<float>(in[x]) - lo_f) / stretch;
+  }
+  return true;
 }
 
 Letterbox letterbox(int frame_width, int frame_height, int input_width, int input_height) {
@@ -202,6 +293,58 @@ LearnedDetector::LearnedDetector(std::filesystem::path model, double min_confide
     model_error(path_, "output shape " + shape + ", expected 1×" + std::to_string(manifest_.channels) + "×" +
                            std::to_string(rows) + "×" + std::to_string(cols) + " (its manifest's)");
   }
+  if (manifest_.verifier) load_verifier();
+}
+
+void LearnedDetector::load_verifier() {
+  const VerifierManifest& v = *manifest_.verifier;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(v.file, ec))
+    model_error(v.file, "no such file (the verifier its manifest names)");
+  try {
+    verifier_ = cv::dnn::readNetFromONNX(v.file.string());
+  } catch (const cv::Exception& e) {
+    model_error(v.file, "not a readable ONNX model (" + std::string(e.err) + ")");
+  }
+  if (verifier_.empty()) model_error(v.file, "not a readable ONNX model");
+  verifier_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+  verifier_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+  // One blank patch: the output must be one probability.
+  const cv::Mat blank(v.patch, v.patch, CV_32FC1, cv::Scalar(0));
+  double p = -1;
+  try {
+    p = verify_patch(blank);
+  } catch (const cv::Exception& e) {
+    model_error(v.file, "does not run on a " + std::to_string(v.patch) + "×" + std::to_string(v.patch) + " patch (" +
+                            std::string(e.err) + ")");
+  }
+  if (!(p >= 0 && p <= 1)) model_error(v.file, "its output is not one probability in [0, 1]");
+}
+
+double LearnedDetector::verify_patch(const cv::Mat& patch) {
+  if (verifier_.empty()) throw std::logic_error("LearnedDetector::verify_patch: the model has no verifier");
+  TD_ASSERT(patch.type() == CV_32FC1 && patch.isContinuous());
+  const int shape[4] = {1, 1, patch.rows, patch.cols};
+  patch_blob_ = patch.reshape(1, 4, shape);
+  verifier_.setInput(patch_blob_);
+  const cv::Mat p = verifier_.forward();
+  if (p.total() != 1) return -1;
+  return static_cast<double>(p.ptr<float>()[0]);
+}
+
+void LearnedDetector::verify(const cv::Mat& gray, std::vector<MarkerDetection>& out) {
+  if (verifier_.empty()) return;
+  const VerifierManifest& v = *manifest_.verifier;
+  // decode_heatmap sorted the proposals by heat (highest first).
+  if (out.size() > static_cast<std::size_t>(v.max_proposals)) out.resize(static_cast<std::size_t>(v.max_proposals));
+  for (MarkerDetection& d : out) {
+    d.confidence = extract_patch(gray, d.corners, v, patch_) ? std::clamp(verify_patch(patch_), 0.0, 1.0) : 0.0;
+  }
+  out.erase(std::remove_if(out.begin(), out.end(),
+                           [&](const MarkerDetection& d) { return !(d.confidence >= min_confidence_); }),
+            out.end());
+  std::stable_sort(out.begin(), out.end(),
+                   [](const MarkerDetection& a, const MarkerDetection& b) { return a.confidence > b.confidence; });
 }
 
 void LearnedDetector::reset(std::string_view dictionary, int marker_id) {
@@ -243,8 +386,11 @@ const cv::Mat& LearnedDetector::run_input() {
 }
 
 std::vector<MarkerDetection> LearnedDetector::decode_output() const {
-  return decode_heatmap(output_.ptr<float>(), output_.size[2], output_.size[3], manifest_, box_, min_confidence_,
-                        nms_iou_, manifest_.marker_id);
+  // Two stages: every peak above the proposal threshold is a candidate
+  // for the verifier, which sets the confidence.
+  const double threshold = manifest_.verifier ? manifest_.verifier->proposal_threshold : min_confidence_;
+  return decode_heatmap(output_.ptr<float>(), output_.size[2], output_.size[3], manifest_, box_, threshold, nms_iou_,
+                        manifest_.marker_id);
 }
 
 void LearnedDetector::forward_region(const cv::Mat& gray, const cv::Rect& region) {
@@ -263,6 +409,7 @@ void LearnedDetector::detect(const DetectorFrame& frame, std::vector<MarkerDetec
   if (!region.empty()) {
     forward_region(gray, region);
     out = decode_output();
+    verify(gray, out);
     if (!out.empty()) {
       last_region_ = region;
       return;
@@ -272,6 +419,7 @@ void LearnedDetector::detect(const DetectorFrame& frame, std::vector<MarkerDetec
   last_region_ = cv::Rect(0, 0, gray.cols, gray.rows);
   forward(gray);
   out = decode_output();
+  verify(gray, out);
 }
 
 void LearnedDetector::track(const MarkerDetection* accepted) {

@@ -14,9 +14,17 @@
 //           the four corners relative to the centre [corner_scale px of
 //           the network's input], clockwise from the one nearest the
 //           image's top-left.
+// Format 2 adds a second stage: the heat map proposes (peaks above the
+// manifest's proposal threshold, the highest few), and a verifier network
+// reads each proposal at the frame's own resolution — the frame warped
+// through its corners to a small patch (extract_patch) — and gives the
+// detection's confidence. The stride-8 heat map finds a marker 10 m away
+// but cannot read its code; the patch can (docs/architecture.md).
+#include <array>
 #include <filesystem>
 #include <opencv2/core.hpp>
 #include <opencv2/dnn.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,6 +33,20 @@
 #include "touchdown/scenario/marker_detector.hpp"
 
 namespace touchdown::scenario::detail {
+
+/// The second stage a "touchdown-detector/2" manifest names: a verifier
+/// that reads each proposal at the frame's own resolution (the frame
+/// warped through the proposal's corners to a patch × patch square) and
+/// gives the detection's confidence.
+struct VerifierManifest {
+  std::filesystem::path file;     ///< the verifier's ONNX file (beside the model)
+  int patch = 0;                  ///< its input side [px]
+  int margin_cells = 0;           ///< white margin around the code in the patch [cells]
+  int cells = 0;                  ///< the code's side with its black border [cells] (the dictionary's)
+  double min_range = 0;           ///< the normalisation's smallest stretch [grey levels]
+  double proposal_threshold = 0;  ///< the first stage's heat that makes a proposal
+  int max_proposals = 0;          ///< proposals verified per frame (highest heat first)
+};
 
 /// A model's manifest (the keys the detector needs).
 struct ModelManifest {
@@ -35,6 +57,8 @@ struct ModelManifest {
   int channels = 0;           ///< output channels (11)
   double corner_scale = 0;    ///< corner offsets' unit [input px]
   double pad_value = 0;       ///< letterbox fill, grey level / 255
+  /// format "touchdown-detector/2": the verifier (absent in /1 models).
+  std::optional<VerifierManifest> verifier;
 };
 
 /// Reads and checks `path` (JSON); throws InvalidArgument naming the file
@@ -63,6 +87,18 @@ Letterbox letterbox(int frame_width, int frame_height, int input_width, int inpu
 std::vector<MarkerDetection> decode_heatmap(const float* out, int rows, int cols, const ModelManifest& m,
                                             const Letterbox& box, double min_confidence, double nms_iou, int id);
 
+/// The verifier's input for a proposal (tools/detector_model.py,
+/// extract_patch, does the same with the same OpenCV calls): the
+/// corners' quad grown by the margin about its centre bounds a crop (1 px
+/// more each side, clipped to the frame); a code more than twice the
+/// patch's code size is shrunk by area averaging first; the crop is warped
+/// so the corners land on the patch's code square (bilinear, border
+/// replicated); then (v − min) / max(max − min, min_range). False (and
+/// `patch` untouched) when the proposal lies outside the frame or is
+/// degenerate. `patch` becomes CV_32FC1 of v.patch × v.patch.
+bool extract_patch(const cv::Mat& gray, const std::array<Eigen::Vector2d, 4>& corners, const VerifierManifest& v,
+                   cv::Mat& patch);
+
 /// Intersection over union of two axis-aligned boxes (0 when either is empty).
 double box_iou(const MarkerDetection& a, const MarkerDetection& b);
 /// The same for boxes given by their corners (min, max) [px].
@@ -88,6 +124,9 @@ class LearnedDetector final : public MarkerDetector {
 
   /// The network's raw output for a grey frame (for the PyTorch cross-check).
   const cv::Mat& forward(const cv::Mat& gray);
+  /// The verifier's probability for a patch (extract_patch's output; for
+  /// the PyTorch cross-check); throws std::logic_error for a /1 model.
+  double verify_patch(const cv::Mat& patch);
   [[nodiscard]] const ModelManifest& manifest() const { return manifest_; }
   /// The region the last detect() searched at the end: the whole frame's
   /// rectangle, or the tracking region when that found the target.
@@ -99,7 +138,9 @@ class LearnedDetector final : public MarkerDetector {
   double min_confidence_;
   double nms_iou_;
   cv::dnn::Net net_;
+  cv::dnn::Net verifier_;  ///< empty for a /1 model
   cv::Mat input_, blob_, output_;
+  cv::Mat patch_, patch_blob_;
   Letterbox box_;
   TrackingRegion region_;
   cv::Rect last_region_;
@@ -110,6 +151,12 @@ class LearnedDetector final : public MarkerDetector {
   [[nodiscard]] std::vector<MarkerDetection> decode_output() const;
   /// The network on `gray(region)` at 1:1 (region sides multiples of 32).
   void forward_region(const cv::Mat& gray, const cv::Rect& region);
+  /// Loads and checks the verifier the manifest names (constructor).
+  void load_verifier();
+  /// The first stage's proposals in `out` verified on `gray`: each of the
+  /// first max_proposals gets the verifier's probability as its
+  /// confidence; those below min_confidence and the rest are dropped.
+  void verify(const cv::Mat& gray, std::vector<MarkerDetection>& out);
 };
 
 }  // namespace touchdown::scenario::detail

@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -209,12 +211,42 @@ TEST_F(ModelFiles, ManifestErrorsNameTheFileAndKey) {
   EXPECT_NE(e.find("input.width"), std::string::npos) << e;
   e = with([](nlohmann::json& j) { j["format"] = "yolo"; });
   EXPECT_NE(e.find("format"), std::string::npos) << e;
+  // The second stage: its keys, and a file beside the manifest only.
+  e = with([](nlohmann::json& j) { j["verifier"].erase("patch"); });
+  EXPECT_NE(e.find("verifier.patch"), std::string::npos) << e;
+  e = with([](nlohmann::json& j) { j["verifier"]["file"] = "../elsewhere.onnx"; });
+  EXPECT_NE(e.find("verifier.file"), std::string::npos) << e;
+  e = with([](nlohmann::json& j) { j["verifier"]["max_proposals"] = 0; });
+  EXPECT_NE(e.find("verifier.max_proposals"), std::string::npos) << e;
+  e = with([](nlohmann::json& j) { j.erase("verifier"); });
+  EXPECT_NE(e.find("verifier.file: missing"), std::string::npos) << e;
+  e = with([](nlohmann::json& j) { j["format"] = "touchdown-detector/1"; });
+  EXPECT_NE(e.find("verifier: only in format"), std::string::npos) << e;
   write("m.json", "{not json");
   e = error_of([&] { detail::LearnedDetector(dir_ / "m.onnx", 0.3, 0.45); });
   EXPECT_NE(e.find("not JSON"), std::string::npos) << e;
   fs::remove(dir_ / "m.json");
   e = error_of([&] { detail::LearnedDetector(dir_ / "m.onnx", 0.3, 0.45); });
   EXPECT_NE(e.find("m.json"), std::string::npos) << e;
+}
+
+TEST_F(ModelFiles, AMissingOrBrokenVerifierNamesItsFile) {
+  fs::copy_file(kModel, dir_ / "m.onnx");
+  const nlohmann::json j = shipped_manifest();
+  write("m.json", j.dump());
+  const std::string file = j.at("verifier").at("file");
+  std::string e = error_of([&] { detail::LearnedDetector(dir_ / "m.onnx", 0.3, 0.45); });
+  EXPECT_NE(e.find(file), std::string::npos) << e;
+  EXPECT_NE(e.find("no such file"), std::string::npos) << e;
+  write(file, "not onnx at all");
+  e = error_of([&] { detail::LearnedDetector(dir_ / "m.onnx", 0.3, 0.45); });
+  EXPECT_NE(e.find(file), std::string::npos) << e;
+  // The first stage in the verifier's place: it runs on no 32 x 32 patch
+  // into one probability.
+  fs::remove(dir_ / file);
+  fs::copy_file(kModel, dir_ / file);
+  e = error_of([&] { detail::LearnedDetector(dir_ / "m.onnx", 0.3, 0.45); });
+  EXPECT_NE(e.find(file), std::string::npos) << e;
 }
 
 TEST(LearnedDetector, LooksOnlyForTheMarkerItWasTrainedOn) {
@@ -292,6 +324,117 @@ TEST(LearnedDetector, TheSameFrameGivesTheSameDetectionsOnAnyThreadCount) {
     EXPECT_EQ(a[i].corners, one[i].corners);
     EXPECT_EQ(b[i].corners, one[i].corners);
   }
+}
+
+// ---- the second stage: the verifier ----
+
+detail::VerifierManifest verifier_manifest() {
+  detail::VerifierManifest v;
+  v.patch = 32;
+  v.margin_cells = 1;
+  v.cells = 6;  // 4X4 and its black border
+  v.min_range = 8;
+  return v;
+}
+
+// A grey ramp I = 2x is linear, so bilinear sampling reproduces it exactly
+// (at half-pixel positions 2x is an odd integer: no rounding): a 24-px
+// square code through its corners lands on the patch's code square
+// [3.5, 27.5], so patch column u samples x = u + 96.5 and reads
+// 2u + 193, normalised (2u) / 62. The corners rolled by one (the code a
+// quarter turn round) put the ramp along the patch's rows, reversed.
+TEST(LearnedVerifier, APatchIsTheFrameWarpedThroughTheCorners) {
+  cv::Mat ramp(240, 320, CV_8UC1);
+  for (int y = 0; y < ramp.rows; ++y)
+    for (int x = 0; x < ramp.cols; ++x) ramp.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(std::min(255, 2 * x));
+  const detail::VerifierManifest v = verifier_manifest();
+  const std::array<Eigen::Vector2d, 4> square{Eigen::Vector2d(100, 100), Eigen::Vector2d(124, 100),
+                                              Eigen::Vector2d(124, 124), Eigen::Vector2d(100, 124)};
+  cv::Mat patch;
+  ASSERT_TRUE(detail::extract_patch(ramp, square, v, patch));
+  ASSERT_EQ(patch.type(), CV_32FC1);
+  ASSERT_EQ(patch.size(), cv::Size(32, 32));
+  double worst = 0;
+  for (int r = 0; r < 32; ++r)
+    for (int u = 0; u < 32; ++u) worst = std::max(worst, std::abs(patch.at<float>(r, u) - 2.0 * u / 62));
+  EXPECT_LT(worst, 1e-6);
+  const std::array<Eigen::Vector2d, 4> turned{square[1], square[2], square[3], square[0]};
+  ASSERT_TRUE(detail::extract_patch(ramp, turned, v, patch));
+  worst = 0;
+  for (int r = 0; r < 32; ++r)
+    for (int u = 0; u < 32; ++u) worst = std::max(worst, std::abs(patch.at<float>(r, u) - (62.0 - 2.0 * r) / 62));
+  EXPECT_LT(worst, 1e-6);
+  // A flat patch is not stretched to full contrast: (v - min) / 8 = 0.
+  const cv::Mat flat(240, 320, CV_8UC1, cv::Scalar(90));
+  ASSERT_TRUE(detail::extract_patch(flat, square, v, patch));
+  EXPECT_EQ(cv::countNonZero(patch), 0);
+  // Wholly outside the frame, or degenerate: nothing to verify.
+  std::array<Eigen::Vector2d, 4> away = square;
+  for (auto& c : away) c += Eigen::Vector2d(1000, 0);
+  EXPECT_FALSE(detail::extract_patch(ramp, away, v, patch));
+  const std::array<Eigen::Vector2d, 4> point{square[0], square[0], square[0], square[0]};
+  EXPECT_FALSE(detail::extract_patch(ramp, point, v, patch));
+  std::array<Eigen::Vector2d, 4> wild = square;
+  wild[2] = Eigen::Vector2d(std::numeric_limits<double>::quiet_NaN(), 0);
+  EXPECT_FALSE(detail::extract_patch(ramp, wild, v, patch));
+}
+
+// A large marker is shrunk by area averaging before the warp: a 4 x 4
+// checkerboard of 50-px cells read through its outer corners gives a
+// patch whose cell centres are black and white, not aliased grey.
+TEST(LearnedVerifier, ALargeCodeIsAveragedNotAliased) {
+  cv::Mat board(400, 400, CV_8UC1, cv::Scalar(255));
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j)
+      if ((i + j) % 2) board(cv::Rect(50 + 50 * j, 50 + 50 * i, 50, 50)).setTo(0);
+  const detail::VerifierManifest v = verifier_manifest();
+  const std::array<Eigen::Vector2d, 4> square{Eigen::Vector2d(49.5, 49.5), Eigen::Vector2d(349.5, 49.5),
+                                              Eigen::Vector2d(349.5, 349.5), Eigen::Vector2d(49.5, 349.5)};
+  cv::Mat patch;
+  ASSERT_TRUE(detail::extract_patch(board, square, v, patch));
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) {
+      const float centre = patch.at<float>(4 + 4 * i + 2, 4 + 4 * j + 2);  // 4 px a cell, one cell of margin
+      if ((i + j) % 2)
+        EXPECT_LT(centre, 0.1) << i << "," << j;
+      else
+        EXPECT_GT(centre, 0.9) << i << "," << j;
+    }
+  }
+}
+
+// C++ (extract_patch + OpenCV DNN) against the patch and probability that
+// tools/train_verifier.py stored: the same patch from the same frame and
+// corners, and the same probability, within 1e-4.
+TEST(LearnedVerifier, OpenCvGivesPyTorchsPatchesAndProbabilities) {
+  std::ifstream in(kVectors / "verifier_vectors.json");
+  ASSERT_TRUE(in) << kVectors / "verifier_vectors.json";
+  const nlohmann::json index = nlohmann::json::parse(in);
+  ASSERT_GE(index.size(), 2u);
+  detail::LearnedDetector d(kModel, 0.3, 0.45);
+  ASSERT_TRUE(d.manifest().verifier.has_value()) << "the shipped model has two stages";
+  const detail::VerifierManifest& v = *d.manifest().verifier;
+  int accepted = 0;
+  for (const auto& e : index) {
+    const cv::Mat gray = cv::imread((kVectors / e.at("image").get<std::string>()).string(), cv::IMREAD_GRAYSCALE);
+    ASSERT_FALSE(gray.empty());
+    std::array<Eigen::Vector2d, 4> corners;
+    for (std::size_t k = 0; k < 4; ++k) corners[k] = Eigen::Vector2d(e.at("corners")[k][0], e.at("corners")[k][1]);
+    cv::Mat patch;
+    ASSERT_TRUE(detail::extract_patch(gray, corners, v, patch));
+    std::ifstream bin(kVectors / e.at("patch").get<std::string>(), std::ios::binary);
+    std::vector<float> expected(patch.total());
+    bin.read(reinterpret_cast<char*>(expected.data()), static_cast<std::streamsize>(expected.size() * sizeof(float)));
+    ASSERT_EQ(bin.gcount(), static_cast<std::streamsize>(expected.size() * sizeof(float)));
+    double worst = 0;
+    for (std::size_t i = 0; i < expected.size(); ++i)
+      worst = std::max(worst, std::abs(static_cast<double>(patch.ptr<float>()[i]) - expected[i]));
+    EXPECT_LT(worst, 1e-4) << e.at("image");
+    const double p = d.verify_patch(patch);
+    EXPECT_NEAR(p, e.at("probability").get<double>(), 1e-4) << e.at("image");
+    accepted += p >= 0.7;
+  }
+  EXPECT_EQ(accepted, 1) << "the stored target is accepted, the stored distractor is not";
 }
 
 // The tracking region reads the marker as the whole frame does: a region
