@@ -902,8 +902,9 @@ CLI::App* add_bench_command(CLI::App& app, BenchArgs& a) {
   return cmd;
 }
 
-/// Recall against the distance band, one line per detector and weather kind
-/// with at least 10 targets in a band.
+/// Recall against the distance band, one panel per weather kind (small
+/// multiples: 20 lines in one frame could not be read), one line per
+/// detector; a band's point needs at least 10 targets.
 std::string bench_plot(const std::vector<std::string>& names, const std::vector<std::vector<ts::BenchFrame>>& runs,
                        const std::vector<ts::BenchLabel>& labels, double threshold, const std::string& title) {
   const std::vector<std::string>& bands = ts::distance_bands();
@@ -912,24 +913,39 @@ std::string bench_plot(const std::vector<std::string>& names, const std::vector<
     if (std::find(weathers.begin(), weathers.end(), l.weather) == weathers.end()) weathers.push_back(l.weather);
   }
   std::sort(weathers.begin(), weathers.end());
-  const std::array<const char*, 10> colours = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
-                                               "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
-  td::detail::SvgWriter svg(860, 440);
+  const std::array<const char*, 4> colours = {"#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd"};
+  const int columns = 5, rows = std::max(1, static_cast<int>((weathers.size() + columns - 1) / columns));
+  const double panel_w = 150, panel_h = 130, gap_x = 42, gap_y = 58, left = 62, top = 70;
+  td::detail::SvgWriter svg(static_cast<int>(left + columns * (panel_w + gap_x) + 10),
+                            static_cast<int>(top + rows * (panel_h + gap_y) + 10));
   svg.title(title);
-  td::detail::PlotAxis x;
-  x.lo = -0.3;
-  x.hi = 4.3;
-  x.title = "camera to marker";
-  x.grid = false;
-  td::detail::PlotFrame f{70,  40, 600,
-                          390, x,  td::detail::fit_axis(0, 1, 5, "recall at confidence " + format_fixed(threshold, 2))};
-  svg.axes(f);
-  for (std::size_t b = 0; b < bands.size(); ++b)
-    svg.text(f.px(static_cast<double>(b)), f.bottom + 18, bands[b], " text-anchor='middle'");
-  td::detail::SvgLegend legend(svg, 615, 50, 17);
+  // The legend above the panels: one swatch per detector.
   for (std::size_t d = 0; d < names.size(); ++d) {
-    const std::string dash = d == 0 ? "" : " stroke-dasharray='6 3'";
-    for (std::size_t w = 0; w < weathers.size(); ++w) {
+    const double lx = left + 170.0 * static_cast<double>(d);
+    const std::string style = std::string(" fill='none' stroke='") + colours[d % colours.size()] +
+                              "' stroke-width='2'" + (d == 0 ? "" : " stroke-dasharray='6 3'");
+    svg.line(lx, 42, lx + 24, 42, style);
+    svg.text(lx + 30, 46, names[d]);
+  }
+  for (std::size_t w = 0; w < weathers.size(); ++w) {
+    const int col = static_cast<int>(w) % columns, row = static_cast<int>(w) / columns;
+    td::detail::PlotAxis x;
+    x.lo = -0.4;
+    x.hi = static_cast<double>(bands.size()) - 0.6;
+    x.grid = false;
+    td::detail::PlotAxis y = td::detail::fit_axis(0, 1, 4, col == 0 ? "recall at " + format_fixed(threshold, 2) : "");
+    const double px0 = left + col * (panel_w + gap_x), py0 = top + row * (panel_h + gap_y);
+    const td::detail::PlotFrame f{px0, py0, px0 + panel_w, py0 + panel_h, x, y};
+    svg.axes(f);
+    svg.text(px0 + panel_w / 2, py0 - 6, weathers[w], " text-anchor='middle' font-weight='bold'");
+    for (std::size_t b = 0; b < bands.size(); ++b) {
+      std::string band = bands[b];  // "3-6 m" -> "3-6": the unit goes to the axis title
+      if (band.size() > 2 && band.ends_with(" m")) band.resize(band.size() - 2);
+      svg.text(f.px(static_cast<double>(b)), f.bottom + 14, band, " text-anchor='middle' font-size='10'");
+    }
+    if (row == rows - 1 || w + columns >= weathers.size())
+      svg.text(px0 + panel_w / 2, f.bottom + 30, "camera to marker [m]", " text-anchor='middle' font-size='10'");
+    for (std::size_t d = 0; d < names.size(); ++d) {
       std::vector<double> xs, ys;
       for (std::size_t b = 0; b < bands.size(); ++b) {
         int pos = 0, hit = 0;
@@ -945,15 +961,12 @@ std::string bench_plot(const std::vector<std::string>& names, const std::vector<
         }
       }
       if (xs.empty()) continue;
-      const std::string colour = colours[w % colours.size()];
-      const std::string style = " fill='none' stroke='" + colour + "' stroke-width='1.8'" + dash;
-      svg.polyline(f.to_pixels(xs, ys), style);
+      const std::string colour = colours[d % colours.size()];
+      svg.polyline(f.to_pixels(xs, ys), " fill='none' stroke='" + colour + "' stroke-width='1.8'" +
+                                            (d == 0 ? "" : " stroke-dasharray='6 3'"));
       for (const Eigen::Vector2d& p : f.to_pixels(xs, ys)) svg.circle(p.x(), p.y(), 2.5, " fill='" + colour + "'");
-      legend.entry(names[d] + ", " + weathers[w],
-                   [&](double cx, double cy) { svg.line(cx - 8, cy, cx + 8, cy, style); });
     }
   }
-  svg.text(615, 420, "solid: " + names.front() + (names.size() > 1 ? ", dashed: " + names[1] : ""));
   return svg.finish();
 }
 

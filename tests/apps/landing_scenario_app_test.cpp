@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -297,14 +298,17 @@ TEST(LandingScenarioApp, DetectBenchGroupsAgreeWithTheLabels) {
   TempDir dir;
   const auto ds = dir / "ds";
   ASSERT_EQ(scenario_app("dataset --out " + ds.string() + " --count 40 --seed 3 --threads 2", dir).code, 0);
-  const AppRun r = scenario_app("detect-bench " + ds.string() + " --detectors aruco --json", dir);
+  const AppRun r =
+      scenario_app("detect-bench " + ds.string() + " --detectors aruco --json --plot " + (dir / "b.svg").string(), dir);
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   int taught = 0, working = 0, with_sight = 0;
+  std::set<std::string> weathers;
   std::istringstream labels(td::test::read_text(ds / "labels.jsonl"));
   std::string line;
   while (std::getline(labels, line)) {
     const nlohmann::json l = nlohmann::json::parse(line);
+    weathers.insert(l.at("weather").get<std::string>());
     const auto& t = l.at("target");
     if (l.at("weather") == "clear" && t.at("sight") == "observable") ++working;
     ++with_sight;
@@ -334,6 +338,14 @@ TEST(LandingScenarioApp, DetectBenchGroupsAgreeWithTheLabels) {
   } else {
     EXPECT_FALSE(groups.contains("clear, observable"));
   }
+  // The plot: one panel (a bold title) per weather kind of the frames.
+  const std::string svg = td::test::read_text(dir / "b.svg");
+  std::size_t panels = 0;
+  for (std::size_t at = svg.find("font-weight='bold'"); at != std::string::npos;
+       at = svg.find("font-weight='bold'", at + 1))
+    ++panels;
+  EXPECT_EQ(panels, weathers.size());
+  for (const std::string& w : weathers) EXPECT_NE(svg.find(">" + w + "<"), std::string::npos) << w;
   // A broken line is one line naming the file and the line, exit 2.
   std::string text = td::test::read_text(ds / "labels.jsonl");
   text.insert(text.find('\n') + 1, "{\"image\": 3}\n");
