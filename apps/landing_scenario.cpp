@@ -896,7 +896,7 @@ CLI::App* add_bench_command(CLI::App& app, BenchArgs& a) {
       ->check(number_in(0, 1))
       ->capture_default_str();
   cmd->add_option("--limit", a.limit, "the first N frames only (0: all)")->check(CLI::Range(0, 10000000));
-  cmd->add_option("--plot", a.plot_path, "recall against distance, a line per detector and weather (SVG)")
+  cmd->add_option("--plot", a.plot_path, "recall against distance, a panel per weather kind, a line per detector (SVG)")
       ->check(output_extension(".svg"));
   cmd->add_flag("--json", a.json, "the figures as one JSON object");
   return cmd;
