@@ -136,6 +136,8 @@ def extract_patch(gray, corners, cells, patch=PATCH, margin=MARGIN_CELLS):
     patch's code size the crop is shrunk by area averaging first (no
     aliasing); the crop is warped so the corners land on the patch's code
     square; bilinear, border replicated; then (v - min) / max(max - min, 8)."""
+    import math
+
     import cv2
     import numpy as np
 
@@ -160,7 +162,9 @@ def extract_patch(gray, corners, cells, patch=PATCH, margin=MARGIN_CELLS):
     r = 2 * inner / side
     if r < 1:
         cw, ch = x1 - x0, y1 - y0
-        nw, nh = max(2, int(round(cw * r))), max(2, int(round(ch * r)))
+        # floor(x + 0.5): C++'s std::lround for these positive sizes (Python's
+        # round() takes halves to even).
+        nw, nh = max(2, int(math.floor(cw * r + 0.5))), max(2, int(math.floor(ch * r + 0.5)))
         crop = cv2.resize(crop, (nw, nh), interpolation=cv2.INTER_AREA)
         c = (c + 0.5) * [nw / cw, nh / ch] - 0.5
     lo, hi = m - 0.5, patch - m - 0.5
