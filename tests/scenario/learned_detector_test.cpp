@@ -262,6 +262,21 @@ TEST(LearnedDetector, LooksOnlyForTheMarkerItWasTrainedOn) {
 
 // ---- C++ = PyTorch on stored frames ----
 
+/// The largest |got - stored| over a float32 Mat and the raw little-endian
+/// float32 file PyTorch wrote; infinity when the file holds fewer values.
+double worst_difference(const fs::path& stored, const cv::Mat& got) {
+  std::ifstream bin(stored, std::ios::binary);
+  std::vector<float> expected(got.total());
+  bin.read(reinterpret_cast<char*>(expected.data()), static_cast<std::streamsize>(expected.size() * sizeof(float)));
+  if (bin.gcount() != static_cast<std::streamsize>(expected.size() * sizeof(float)))
+    return std::numeric_limits<double>::infinity();
+  const float* values = got.ptr<float>();
+  double worst = 0;
+  for (std::size_t i = 0; i < expected.size(); ++i)
+    worst = std::max(worst, std::abs(static_cast<double>(values[i]) - expected[i]));
+  return worst;
+}
+
 TEST(LearnedDetector, OpenCvDnnGivesPyTorchsOutputsOnStoredFrames) {
   std::ifstream in(kVectors / "vectors.json");
   ASSERT_TRUE(in) << kVectors / "vectors.json";
@@ -272,15 +287,7 @@ TEST(LearnedDetector, OpenCvDnnGivesPyTorchsOutputsOnStoredFrames) {
     const cv::Mat gray = cv::imread((kVectors / v.at("image").get<std::string>()).string(), cv::IMREAD_GRAYSCALE);
     ASSERT_FALSE(gray.empty());
     const cv::Mat& out = d.forward(gray);
-    std::ifstream bin(kVectors / v.at("output").get<std::string>(), std::ios::binary);
-    std::vector<float> expected(out.total());
-    bin.read(reinterpret_cast<char*>(expected.data()), static_cast<std::streamsize>(expected.size() * sizeof(float)));
-    ASSERT_EQ(bin.gcount(), static_cast<std::streamsize>(expected.size() * sizeof(float)));
-    const float* got = out.ptr<float>();
-    double worst = 0;
-    for (std::size_t i = 0; i < expected.size(); ++i)
-      worst = std::max(worst, std::abs(static_cast<double>(got[i]) - expected[i]));
-    EXPECT_LT(worst, 1e-4) << v.at("image");
+    EXPECT_LT(worst_difference(kVectors / v.at("output").get<std::string>(), out), 1e-4) << v.at("image");
   }
 }
 
@@ -422,14 +429,7 @@ TEST(LearnedVerifier, OpenCvGivesPyTorchsPatchesAndProbabilities) {
     for (std::size_t k = 0; k < 4; ++k) corners[k] = Eigen::Vector2d(e.at("corners")[k][0], e.at("corners")[k][1]);
     cv::Mat patch;
     ASSERT_TRUE(detail::extract_patch(gray, corners, v, patch));
-    std::ifstream bin(kVectors / e.at("patch").get<std::string>(), std::ios::binary);
-    std::vector<float> expected(patch.total());
-    bin.read(reinterpret_cast<char*>(expected.data()), static_cast<std::streamsize>(expected.size() * sizeof(float)));
-    ASSERT_EQ(bin.gcount(), static_cast<std::streamsize>(expected.size() * sizeof(float)));
-    double worst = 0;
-    for (std::size_t i = 0; i < expected.size(); ++i)
-      worst = std::max(worst, std::abs(static_cast<double>(patch.ptr<float>()[i]) - expected[i]));
-    EXPECT_LT(worst, 1e-4) << e.at("image");
+    EXPECT_LT(worst_difference(kVectors / e.at("patch").get<std::string>(), patch), 1e-4) << e.at("image");
     const double p = d.verify_patch(patch);
     EXPECT_NEAR(p, e.at("probability").get<double>(), 1e-4) << e.at("image");
     accepted += p >= 0.7;
