@@ -191,10 +191,15 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
   cmd->add_flag("--fair-fitness", a.search.fair_fitness,
                 "unfair violations (the target never observable long enough) score as no violation");
   cmd->add_flag("--diversity", a.search.diversity,
-                "distinct defects: a spread seed pool, repeated causes score less, near-duplicates are not run");
+                "distinct defects: a spread seed pool, repeated causes score less and fill at most --niche-capacity "
+                "places of the pool, near-duplicates are not run");
   cmd->add_option("--min-distance", a.search.min_distance,
                   "--diversity: a child nearer than this (normalised genes) to a scenario run is mutated again")
       ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--niche-capacity", a.search.niche_capacity,
+                  "--diversity: fair violations of one cause that keep their fitness in the pool (clearing)")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_flag("--json", a.json, "the metrics as one JSON object on stdout");
   return cmd;

@@ -88,12 +88,20 @@ void classify(ScenarioOutcome& r, const Eigen::Vector2d& marker, double time_lim
                    std::string(to_string(o.probe_failure)) + ")";
     }
   } else if (r.dtl > radius) {
-    // Off the marker. Type I only when the descent was committed on a
-    // detection that was not the target (the paper's definition), or on an
-    // estimate that false detections had pulled off it; after a true
-    // detection (or none) it is an off-marker landing.
+    // Off the marker. Type I only when a false detection took the drone
+    // there (the paper's definition): the descent was committed on a
+    // detection that was not the target, or on an estimate that false
+    // detections had pulled off it, or it was committed on the target and
+    // then re-aimed by a false detection (the last one the system accepted,
+    // after the descent began, with the landing nearer to it than to the
+    // marker). After a true detection (or none) it is an off-marker landing.
     const DetectionTruth* why = r.has_trigger ? &r.trigger : (r.has_last_accepted ? &r.last_accepted : nullptr);
     const bool aimed_off = r.descent_started && (r.descent_target - marker).norm() > radius;
+    const Eigen::Vector2d landing = r.final_position.head<2>();
+    const DetectionTruth& last = r.last_accepted;
+    const bool re_aimed = why && why->on_target() && !aimed_off && r.descent_started && r.has_last_accepted &&
+                          !last.on_target() && last.t >= r.descent_time &&
+                          (landing - last.ground).norm() < (landing - marker).norm();
     const std::string landed = "landed " + format_fixed(r.dtl, 2) + " m from the marker";
     if (why && (!why->on_target() || (aimed_off && r.false_detection))) {
       r.status = Violation::TypeI;
@@ -101,6 +109,11 @@ void classify(ScenarioOutcome& r, const Eigen::Vector2d& marker, double time_lim
                   (why->on_target() ? "an estimate pulled off by false detections"
                                     : "a detection of " + why->object + id_text(*why)) +
                   " at t = " + format_fixed(why->t, 1) + " s";
+    } else if (re_aimed) {
+      r.status = Violation::TypeI;
+      r.message = "Type I: " + landed + "; the descent was committed on the marker at t = " + format_fixed(why->t, 1) +
+                  " s, then re-aimed by a detection of " + last.object + id_text(last) +
+                  " at t = " + format_fixed(last.t, 1) + " s";
     } else {
       r.status = Violation::OffMarker;
       r.message = "off-marker: " + landed +

@@ -22,10 +22,14 @@ std::string object_kind(const std::string& object) {
 
 namespace {
 
-/// Type I: what the descent was committed on.
-std::string false_positive(const Facts& f, const scenario::Scenario& s) {
-  const std::string& on = !f.trigger.empty() ? f.trigger : f.last_accepted;
-  if (on.empty() || on == "marker") return "estimate pulled off by false detections";
+/// Whether the descent was aimed farther than the violation radius from the marker.
+bool aimed_off(const Facts& f, const scenario::Scenario& s) {
+  return f.descent_started &&
+         (Eigen::Vector2d(f.descent_target[0], f.descent_target[1]) - s.marker.position).norm() > 1.5;
+}
+
+/// The label of a false detection of `on` (an object's name, or "ground").
+std::string false_positive_on(const std::string& on, const scenario::Scenario& s) {
   const std::string kind = object_kind(on);
   if (kind == "lookalike") return "look-alike accepted";
   if (kind == "wrong_id") return "wrong id accepted";
@@ -33,6 +37,19 @@ std::string false_positive(const Facts& f, const scenario::Scenario& s) {
   if (kind == "ground")
     return s.weather.ground_wetness >= 0.5 ? "false positive on the ground (glare)" : "false positive on the ground";
   return "false positive on " + kind;
+}
+
+/// Type I: what the descent was committed on; one committed on the marker
+/// and re-aimed by the false detection it last accepted (run.cpp) is that
+/// detection's label "while descending".
+std::string false_positive(const Facts& f, const scenario::Scenario& s) {
+  const std::string& on = !f.trigger.empty() ? f.trigger : f.last_accepted;
+  if (on.empty() || on == "marker") {
+    if (!f.last_accepted.empty() && f.last_accepted != "marker" && !aimed_off(f, s))
+      return false_positive_on(f.last_accepted, s) + " while descending";
+    return "estimate pulled off by false detections";
+  }
+  return false_positive_on(on, s);
 }
 
 /// The occluder that hid the target longest while descending; "" if none.
@@ -108,9 +125,7 @@ std::string violation_cause(const Evaluation& e, const scenario::Scenario& s) {
       return false_positive(f, s);
     case scenario::Violation::OffMarker:
       if (f.trigger.empty() && f.last_accepted.empty()) return "blind landing (no detection)";
-      if (f.descent_started &&
-          (Eigen::Vector2d(f.descent_target[0], f.descent_target[1]) - s.marker.position).norm() > 1.5)
-        return "descent aimed off a true detection";
+      if (aimed_off(f, s)) return "descent aimed off a true detection";
       return "drift off the marker after a true detection";
     case scenario::Violation::TypeII:
       return f.fair ? no_landing(f, s) : unfair(f, s);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <string>
 
@@ -169,6 +170,22 @@ std::vector<std::size_t> best_indices(const std::vector<double>& fitness, std::s
                    [&](std::size_t a, std::size_t b) { return better(fitness[a], fitness[b]); });
   order.resize(std::min(n, order.size()));
   return order;
+}
+
+std::vector<double> clear_niches(const std::vector<double>& fitness, const std::vector<std::string>& niche,
+                                 int capacity, double cleared) {
+  if (capacity < 1) throw InvalidArgument("clear_niches: capacity " + std::to_string(capacity) + " < 1");
+  if (niche.size() != fitness.size()) {
+    throw InvalidArgument("clear_niches: " + std::to_string(niche.size()) + " niche labels for " +
+                          std::to_string(fitness.size()) + " fitnesses");
+  }
+  std::vector<double> out = fitness;
+  std::map<std::string, int> kept;  // per niche: members that kept their fitness so far
+  for (std::size_t i : best_indices(fitness, fitness.size())) {
+    if (niche[i].empty()) continue;
+    if (++kept[niche[i]] > capacity) out[i] = cleared;
+  }
+  return out;
 }
 
 }  // namespace touchdown::search

@@ -63,6 +63,10 @@ bool SearchOptions::validate(std::string* why) const {
   if (system.empty()) return invalid(why, "system: empty");
   if (diversity && method == Method::Random) return invalid(why, "diversity: needs a GA method, not random");
   if (!(min_distance >= 0 && min_distance <= 1)) return invalid(why, "min_distance: must be in [0, 1]");
+  if (niche_capacity < 1 || niche_capacity > ga.population) {
+    return invalid(why, "niche_capacity: " + std::to_string(niche_capacity) +
+                            " is outside [1, population = " + std::to_string(ga.population) + "]");
+  }
   return true;
 }
 
@@ -116,6 +120,7 @@ constexpr std::uint64_t kDrawStream = std::uint64_t{1} << 40;
 // is never random sampling's first draws.
 constexpr std::uint64_t kDiverseStream = std::uint64_t{1} << 41;
 constexpr int kDiverseCandidates = 8;  // candidates per pool member (maximin over them)
+constexpr double kCleared = 0.0;       // a cleared niche member's fitness: that of an unfair violation
 
 std::uint64_t draw_seed(std::uint64_t seed, int d) {
   Rng rng(seed, kDrawStream + static_cast<std::uint64_t>(d));
@@ -269,12 +274,14 @@ class Campaign {
         throw InvalidArgument("results directory: state.json says " + std::to_string(evaluated_) +
                               " scenarios were evaluated, results.jsonl has " + std::to_string(dir_.existing().size()));
       }
-      for (const auto& r : records_) count(r, true);
-      if (o_.diversity) {
-        for (const auto& r : records_) {
-          if (r.evaluation.fair_violation())
-            ++cause_counts_[violation_cause(r.evaluation, dir_.read_scenario(r.index))];
+      for (const auto& r : records_) {
+        count(r, true);
+        std::string cause;
+        if (o_.diversity && r.evaluation.fair_violation()) {
+          cause = violation_cause(r.evaluation, dir_.read_scenario(r.index));
+          ++cause_counts_[cause];
         }
+        causes_.push_back(std::move(cause));
       }
     }
     for (; evaluated_ < o_.budget; ++generation) {
@@ -351,8 +358,15 @@ class Campaign {
         objectives.push_back(objectives_of(o_, records_[static_cast<std::size_t>(p.index)].evaluation));
       parents = crowded_tournament(pareto_ranking(objectives), parents_needed, rng);
     } else {
+      // With the diversity option the tournaments see the pool's fitness
+      // after clearing, as its selection did.
       std::vector<double> fitness;
-      for (const auto& p : pool_) fitness.push_back(records_[static_cast<std::size_t>(p.index)].fitness);
+      std::vector<std::string> niche;
+      for (const auto& p : pool_) {
+        fitness.push_back(records_[static_cast<std::size_t>(p.index)].fitness);
+        niche.push_back(causes_[static_cast<std::size_t>(p.index)]);
+      }
+      if (o_.diversity) fitness = clear_niches(fitness, niche, o_.niche_capacity, kCleared);
       parents = tournament_select(fitness, parents_needed, rng);
     }
     std::vector<Chromosome> pool_chromosomes;
@@ -442,13 +456,16 @@ class Campaign {
           // Novelty, in index order (the same for any completion order): a
           // fair violation whose cause was found n times before scores its
           // fitness / (1 + n).
+          std::string cause;
           if (o_.diversity && done[next]->evaluation.fair_violation()) {
-            int& n = cause_counts_[violation_cause(done[next]->evaluation, decoded[next])];
+            cause = violation_cause(done[next]->evaluation, decoded[next]);
+            int& n = cause_counts_[cause];
             if (!resumed) done[next]->fitness /= 1 + n;
             ++n;
           }
           if (!resumed) dir_.append(*done[next]);
           records_.push_back(*done[next]);
+          causes_.push_back(std::move(cause));
           count(*done[next], resumed);
           if (progress_) progress_(progress_state_);
         }
@@ -476,20 +493,31 @@ class Campaign {
 
   // The next pool: generation 0 is the pool; after it, the best of pool and
   // offspring (elitist, (μ + λ)) by fitness, or NSGA-II's survivors.
+  // With the diversity option, survivors are chosen after clearing: of
+  // each cause's fair violations only the niche_capacity fittest keep their
+  // fitness (or objectives), the rest score 0 / (0, 0).
   void select(const std::vector<Individual>& offspring) {
     std::vector<Individual> all = pool_;
     all.insert(all.end(), offspring.begin(), offspring.end());
     const std::size_t n = std::min<std::size_t>(static_cast<std::size_t>(o_.ga.population), all.size());
+    std::vector<double> fitness;
+    std::vector<std::string> niche;
+    for (const auto& a : all) {
+      fitness.push_back(records_[static_cast<std::size_t>(a.index)].fitness);
+      niche.push_back(causes_[static_cast<std::size_t>(a.index)]);
+    }
+    const std::vector<double> kept = o_.diversity ? clear_niches(fitness, niche, o_.niche_capacity, kCleared) : fitness;
     std::vector<std::size_t> keep;
     if (o_.method == Method::ManyObjectiveGa) {
       std::vector<std::array<double, 2>> objectives;
-      for (const auto& a : all)
-        objectives.push_back(objectives_of(o_, records_[static_cast<std::size_t>(a.index)].evaluation));
+      for (std::size_t i = 0; i < all.size(); ++i) {
+        const bool cleared = kept[i] == kCleared && fitness[i] != kCleared;
+        objectives.push_back(cleared ? std::array<double, 2>{0.0, 0.0}
+                                     : objectives_of(o_, records_[static_cast<std::size_t>(all[i].index)].evaluation));
+      }
       keep = nsga2_survivors(objectives, n);
     } else {
-      std::vector<double> fitness;
-      for (const auto& a : all) fitness.push_back(records_[static_cast<std::size_t>(a.index)].fitness);
-      keep = best_indices(fitness, n);
+      keep = best_indices(kept, n);
     }
     std::vector<Individual> next;
     for (std::size_t k : keep) next.push_back(all[k]);
@@ -507,6 +535,7 @@ class Campaign {
   int evaluated_ = 0;
   double evaluation_s_ = 0;
   std::map<std::string, int> cause_counts_;  // the diversity option's: fair causes found so far
+  std::vector<std::string> causes_;          // per record: its fair violation's cause with diversity, else ""
 };
 
 }  // namespace

@@ -16,10 +16,14 @@ namespace {
 /// Flies to above `point` at 8 m, reports a detection of it in each frame
 /// once there (the corners of a 0.5 m square around it, projected), commits
 /// to a descent on it after 1 s, then lands with horizontal velocity `drift`.
-/// With report = false it reports nothing and lands all the same.
+/// With report = false it reports nothing and lands all the same. With
+/// re_aim(p), while landing it reports a detection of p in each frame
+/// instead (a false one when p is a distractor) and steers towards p, or by
+/// `drift` while drift is not zero (a detection it does not follow).
 class Scripted final : public LandingSystem {
  public:
   Scripted(Eigen::Vector2d point, Eigen::Vector2d drift, bool report) : point_(point), drift_(drift), report_(report) {}
+  void re_aim(Eigen::Vector2d p) { re_aim_ = p, has_re_aim_ = true; }
   std::string_view name() const override { return "scripted"; }
   void reset(const SystemSetup& setup) override {
     setup_ = setup;
@@ -34,6 +38,12 @@ class Scripted final : public LandingSystem {
       out.command.land = true;
       out.command.velocity_world << drift_, 0;
       out.phase = "land";
+      if (has_re_aim_) {
+        if (in.frame) out.detections.push_back(detection_of(re_aim_, s));
+        Eigen::Vector2d v = re_aim_ - s.position.head<2>();
+        if (v.norm() > 1.0) v /= v.norm();
+        if (drift_.isZero()) out.command.velocity_world << v, 0;
+      }
       return out;
     }
     out.phase = "approach";
@@ -72,17 +82,19 @@ class Scripted final : public LandingSystem {
 
   Eigen::Vector2d point_, drift_;
   bool report_;
+  Eigen::Vector2d re_aim_ = Eigen::Vector2d::Zero();
+  bool has_re_aim_ = false;
   SystemSetup setup_;
   double over_since_ = -1;
   bool descending_ = false;
 };
 
-Scenario with_lookalike() {
+Scenario with_lookalike(Eigen::Vector2d at = {6, 0}) {
   Scenario s = test::clear_scenario(60);
   Distractor fake;
   fake.kind = DistractorKind::Lookalike;
   fake.flipped_bits = 2;
-  fake.position = {6, 0};
+  fake.position = at;
   s.distractors = {fake};
   return s;
 }
@@ -116,6 +128,40 @@ TEST(ViolationTypes, ATrueDetectionThenDriftIsAnOffMarkerLanding) {
   EXPECT_NEAR((r.descent_target - s.marker.position).norm(), 0.0, 1e-12);
   EXPECT_NE(r.message.find("after a true detection"), std::string::npos) << r.message;
   EXPECT_EQ(to_string(r.status), "off-marker");
+}
+
+TEST(ViolationTypes, ADescentReAimedByALookalikeIsTypeI) {
+  // Committed on the marker, then (landing) it follows a look-alike 3 m off.
+  const Scenario s = with_lookalike({3, 0});
+  Scripted sut(s.marker.position, {0, 0}, true);
+  sut.re_aim(s.distractors[0].position);
+  const ScenarioResult r = run_scenario(s, sut);
+  ASSERT_TRUE(r.landed) << r.message;
+  EXPECT_NEAR((r.final_position.head<2>() - s.distractors[0].position).norm(), 0.0, 0.5) << r.message;
+  EXPECT_EQ(r.status, Violation::TypeI) << r.message;
+  ASSERT_TRUE(r.has_trigger);
+  EXPECT_TRUE(r.trigger.on_target());
+  EXPECT_NEAR((r.descent_target - s.marker.position).norm(), 0.0, 1e-12);
+  ASSERT_TRUE(r.has_last_accepted);
+  EXPECT_EQ(r.last_accepted.object, "distractors[0] (lookalike)");
+  EXPECT_GT(r.last_accepted.t, r.descent_time);
+  EXPECT_NE(r.message.find("committed on the marker"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("re-aimed by a detection of distractors[0] (lookalike)"), std::string::npos) << r.message;
+}
+
+TEST(ViolationTypes, AFalseDetectionNotFollowedLeavesADriftOffMarker) {
+  // The same false detection while landing, but the drone drifts the other
+  // way: it landed nearer the marker than the look-alike, not led by it.
+  const Scenario s = with_lookalike({3, 0});
+  Scripted sut(s.marker.position, {-0.6, 0.2}, true);
+  sut.re_aim(s.distractors[0].position);
+  const ScenarioResult r = run_scenario(s, sut);
+  ASSERT_TRUE(r.landed) << r.message;
+  EXPECT_GT(r.dtl, 1.5) << r.message;
+  ASSERT_TRUE(r.has_last_accepted);
+  EXPECT_FALSE(r.last_accepted.on_target());
+  EXPECT_EQ(r.status, Violation::OffMarker) << r.message;
+  EXPECT_NE(r.message.find("drifted"), std::string::npos) << r.message;
 }
 
 TEST(ViolationTypes, ALandingWithoutAnyDetectionIsBlindNotTypeI) {

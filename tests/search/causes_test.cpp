@@ -68,6 +68,16 @@ TEST(Causes, TypeINamesWhatWasTakenForTheTarget) {
   e.facts.trigger = "marker";  // committed on the target, pulled off by earlier false sightings
   e.facts.false_detection = true;
   EXPECT_EQ(ts::violation_cause(e, s), "estimate pulled off by false detections");
+  // Committed on the target and re-aimed on the way down by a look-alike.
+  e.facts.descent_started = true;
+  e.facts.descent_target = {0.2, 0.1};
+  e.facts.last_accepted = "distractors[1] (lookalike)";
+  EXPECT_EQ(ts::violation_cause(e, s), "look-alike accepted while descending");
+  e.facts.last_accepted = "ground";
+  EXPECT_EQ(ts::violation_cause(e, s), "false positive on the ground (glare) while descending");
+  // Aimed off before it: the estimate was pulled off, whatever came last.
+  e.facts.descent_target = {4.0, 0.0};
+  EXPECT_EQ(ts::violation_cause(e, s), "estimate pulled off by false detections");
 }
 
 TEST(Causes, OffMarkerLandings) {

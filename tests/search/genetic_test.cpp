@@ -224,6 +224,30 @@ TEST(Selection, BestIndicesAreElitistWithLowerIndexOnTies) {
   EXPECT_TRUE(best_indices(f, 0).empty());
 }
 
+TEST(Selection, ClearingKeepsTheFittestFewOfEachNiche) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  //                         0    1    2    3    4    5    6    7
+  const std::vector<double> f{5.0, 4.0, 9.0, 3.0, 2.0, 4.0, nan, 7.0};
+  const std::vector<std::string> n{"a", "a", "a", "", "", "b", "a", "b"};
+  // Niche a by fitness: 2 (9), 0 (5), 1 (4), 6 (NaN); b: 7 (7), 5 (4); 3 and 4 have none.
+  EXPECT_EQ(clear_niches(f, n, 2), (std::vector<double>{5.0, 0.0, 9.0, 3.0, 2.0, 4.0, 0.0, 7.0}));
+  const std::vector<double> one = clear_niches(f, n, 1, -1.0);
+  EXPECT_EQ(one, (std::vector<double>{-1.0, -1.0, 9.0, 3.0, 2.0, -1.0, -1.0, 7.0}));
+  // Ties: the lower index keeps its fitness.
+  EXPECT_EQ(clear_niches({1.0, 1.0, 1.0}, {"x", "x", "x"}, 2), (std::vector<double>{1.0, 1.0, 0.0}));
+  // A capacity as large as every niche changes nothing (NaN stays NaN).
+  const std::vector<double> all = clear_niches(f, n, 4);
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (std::isnan(f[i])) {
+      EXPECT_TRUE(std::isnan(all[i]));
+    } else {
+      EXPECT_EQ(all[i], f[i]) << i;
+    }
+  }
+  EXPECT_THROW((void)clear_niches(f, n, 0), InvalidArgument);
+  EXPECT_THROW((void)clear_niches(f, {"a"}, 1), InvalidArgument);
+}
+
 TEST(GaOptions, Validate) {
   std::string why;
   GaOptions o;

@@ -16,6 +16,7 @@
 #include <sstream>
 #include <thread>
 
+#include "search/search_io.hpp"
 #include "test_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/search/causes.hpp"
@@ -391,6 +392,77 @@ TEST_F(SearchDir, DiversityScoresARepeatedCauseLess) {
   // (Unfair runs scoring 0 is checked where the fake world makes them:
   // FairFitnessScoresUnfairViolationsAsNone; the same rule applies here.)
   (void)unfair;
+}
+
+// Clearing's promise, checked generation by generation from outside: when
+// the pool holds more than `capacity` fair violations of one cause, no
+// candidate it left out (of the last pool and the generation's offspring)
+// kept a positive fitness after clearing at that capacity — the extra ones
+// are there only because nothing better was left. The pools come from
+// state.json of the same campaign stopped at each generation's end (every
+// budget is a prefix of the longest: the draws depend on nothing else).
+bool clearing_holds(const SearchOptions& options, const fs::path& root, int capacity) {
+  std::vector<int> previous;
+  bool holds = true;
+  for (int budget = options.ga.population; budget <= options.budget; budget += options.ga.population) {
+    SearchOptions o = options;
+    o.budget = budget;
+    FakeEvaluator e;
+    e.facts = true;
+    const fs::path dir = root / std::to_string(budget);
+    const SearchResult r = run_search(o, e, dir, false);
+    const detail::PoolState state = detail::parse_state(test::read_text(dir / "state.json"), "state.json");
+    std::vector<int> pool;
+    for (const detail::PoolMember& m : state.pool) pool.push_back(m.index);
+    if (!previous.empty()) {
+      std::vector<int> all = previous;
+      for (const EvaluationRecord& rec : r.records)
+        if (rec.generation == state.generation) all.push_back(rec.index);
+      std::vector<double> fitness;
+      std::vector<std::string> cause;
+      for (int i : all) {
+        const EvaluationRecord& rec = r.records.at(static_cast<std::size_t>(i));
+        fitness.push_back(rec.fitness);
+        cause.push_back(rec.evaluation.fair_violation()
+                            ? violation_cause(rec.evaluation, scenario::load_scenario(dir / rec.scenario))
+                            : std::string());
+      }
+      const std::vector<double> cleared = clear_niches(fitness, cause, capacity);
+      std::map<std::string, int> in_pool;
+      int most = 0;
+      double best_left_out = 0;
+      for (std::size_t k = 0; k < all.size(); ++k) {
+        const bool member = std::find(pool.begin(), pool.end(), all[k]) != pool.end();
+        if (member && !cause[k].empty()) most = std::max(most, ++in_pool[cause[k]]);
+        if (!member) best_left_out = std::max(best_left_out, cleared[k]);
+      }
+      if (most > capacity && best_left_out > 0) holds = false;
+    }
+    previous = pool;
+  }
+  return holds;
+}
+
+TEST_F(SearchDir, DiversityLetsNoCauseFillMoreThanItsNicheOfThePool) {
+  for (Method m : {Method::DiverseGa, Method::ManyObjectiveGa}) {
+    const std::string name = std::to_string(static_cast<int>(m));
+    SearchOptions o = diverse(m);
+    o.niche_capacity = 1;
+    EXPECT_TRUE(clearing_holds(o, root_ / ("one" + name), 1)) << name;
+    // A niche as large as the pool is no clearing: one cause then takes
+    // places that a fitter candidate of another would have had.
+    o.niche_capacity = o.ga.population;
+    EXPECT_FALSE(clearing_holds(o, root_ / ("all" + name), 1)) << name;
+  }
+  SearchOptions o = diverse(Method::Rlaga);
+  o.niche_capacity = 7;
+  std::string why;
+  EXPECT_FALSE(o.validate(&why));
+  EXPECT_NE(why.find("niche_capacity: 7 is outside [1, population = 6]"), std::string::npos) << why;
+  o.niche_capacity = 2;
+  FakeEvaluator e;
+  (void)run_search(o, e, root_ / "c", false);
+  EXPECT_NE(test::read_text(root_ / "c" / "campaign.json").find("\"niche_capacity\": 2"), std::string::npos);
 }
 
 TEST_F(SearchDir, FairFitnessScoresUnfairViolationsAsNone) {

@@ -12,7 +12,9 @@
 ///   Type I      "look-alike accepted", "wrong id accepted",
 ///               "false positive on pattern", "false positive on <kind>",
 ///               "false positive on the ground[ (glare)]",
-///               "estimate pulled off by false detections"
+///               "estimate pulled off by false detections", and any of
+///               these + " while descending" (committed on the target,
+///               then re-aimed by that false detection)
 ///   off-marker  "drift off the marker after a true detection",
 ///               "descent aimed off a true detection", "blind landing (no
 ///               detection)"

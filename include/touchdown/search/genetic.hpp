@@ -82,4 +82,15 @@ std::vector<std::size_t> tournament_select(const std::vector<double>& fitness, s
 /// gives every index.
 std::vector<std::size_t> best_indices(const std::vector<double>& fitness, std::size_t n);
 
+/// Clearing (Pétrowski, "A clearing procedure as a niching method for
+/// genetic algorithms", ICEC 1996), with niches given by label instead of a
+/// radius: within each niche (equal non-empty `niche[i]`) the `capacity`
+/// highest fitnesses (ties: the lower index; NaN lowest) keep their value,
+/// every other member's becomes `cleared`. An empty label is no niche: its
+/// fitness is kept. The diversity option's niches are the fair violations'
+/// causes, so that one defect cannot fill the pool. Throws InvalidArgument
+/// for capacity < 1 or a size mismatch.
+std::vector<double> clear_niches(const std::vector<double>& fitness, const std::vector<std::string>& niche,
+                                 int capacity, double cleared = 0.0);
+
 }  // namespace touchdown::search

@@ -121,11 +121,15 @@ struct SearchOptions {
   /// spread (maximin over 8 × population draws of its own stream, never
   /// random sampling's pool); a fair violation whose cause (causes.hpp) was
   /// found n times before scores its fitness / (1 + n), unfair ones 0 (as
-  /// fair_fitness); a child nearer than min_distance (eq. 7's normalised
-  /// distance) to a scenario already run is mutated again, as an exact
-  /// duplicate is. GA methods only. Recorded in campaign.json when set.
+  /// fair_fitness); the survivors are chosen after clearing (clear_niches):
+  /// at most niche_capacity fair violations of one cause keep their
+  /// fitness, the others score 0, so one easy defect cannot fill the pool;
+  /// a child nearer than min_distance (eq. 7's normalised distance) to a
+  /// scenario already run is mutated again, as an exact duplicate is. GA
+  /// methods only. Recorded in campaign.json when set.
   bool diversity = false;
   double min_distance = 0.05;
+  int niche_capacity = 2;  ///< [1, population]
 
   [[nodiscard]] bool validate(std::string* why) const;
   /// Generations the budget allows: ceil(budget / population), the seed
