@@ -360,14 +360,7 @@ class Campaign {
     } else {
       // With the diversity option the tournaments see the pool's fitness
       // after clearing, as its selection did.
-      std::vector<double> fitness;
-      std::vector<std::string> niche;
-      for (const auto& p : pool_) {
-        fitness.push_back(records_[static_cast<std::size_t>(p.index)].fitness);
-        niche.push_back(causes_[static_cast<std::size_t>(p.index)]);
-      }
-      if (o_.diversity) fitness = clear_niches(fitness, niche, o_.niche_capacity, kCleared);
-      parents = tournament_select(fitness, parents_needed, rng);
+      parents = tournament_select(selection_fitness(pool_), parents_needed, rng);
     }
     std::vector<Chromosome> pool_chromosomes;
     for (const auto& p : pool_) pool_chromosomes.push_back(p.chromosome);
@@ -491,6 +484,19 @@ class Campaign {
     return out;
   }
 
+  // The members' fitness as selection sees it: their records' fitness,
+  // after clearing with the diversity option (at most niche_capacity fair
+  // violations of one cause keep theirs).
+  std::vector<double> selection_fitness(const std::vector<Individual>& members) const {
+    std::vector<double> fitness;
+    std::vector<std::string> niche;
+    for (const auto& m : members) {
+      fitness.push_back(records_[static_cast<std::size_t>(m.index)].fitness);
+      niche.push_back(causes_[static_cast<std::size_t>(m.index)]);
+    }
+    return o_.diversity ? clear_niches(fitness, niche, o_.niche_capacity, kCleared) : fitness;
+  }
+
   // The next pool: generation 0 is the pool; after it, the best of pool and
   // offspring (elitist, (μ + λ)) by fitness, or NSGA-II's survivors.
   // With the diversity option, survivors are chosen after clearing: of
@@ -500,18 +506,13 @@ class Campaign {
     std::vector<Individual> all = pool_;
     all.insert(all.end(), offspring.begin(), offspring.end());
     const std::size_t n = std::min<std::size_t>(static_cast<std::size_t>(o_.ga.population), all.size());
-    std::vector<double> fitness;
-    std::vector<std::string> niche;
-    for (const auto& a : all) {
-      fitness.push_back(records_[static_cast<std::size_t>(a.index)].fitness);
-      niche.push_back(causes_[static_cast<std::size_t>(a.index)]);
-    }
-    const std::vector<double> kept = o_.diversity ? clear_niches(fitness, niche, o_.niche_capacity, kCleared) : fitness;
+    const std::vector<double> kept = selection_fitness(all);
     std::vector<std::size_t> keep;
     if (o_.method == Method::ManyObjectiveGa) {
       std::vector<std::array<double, 2>> objectives;
       for (std::size_t i = 0; i < all.size(); ++i) {
-        const bool cleared = kept[i] == kCleared && fitness[i] != kCleared;
+        const bool cleared =
+            kept[i] == kCleared && records_[static_cast<std::size_t>(all[i].index)].fitness != kCleared;
         objectives.push_back(cleared ? std::array<double, 2>{0.0, 0.0}
                                      : objectives_of(o_, records_[static_cast<std::size_t>(all[i].index)].evaluation));
       }
