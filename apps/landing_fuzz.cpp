@@ -19,6 +19,7 @@
 
 #include "app_common.hpp"
 #include "core/io_util.hpp"
+#include "system_option.hpp"
 #include "touchdown/core/atomic_file.hpp"
 #include "touchdown/search/causes.hpp"
 #include "touchdown/search/compare.hpp"
@@ -62,14 +63,8 @@ struct Common {
 };
 
 void add_common(CLI::App& cmd, Common& c) {
-  cmd.add_option("--system", c.system, "landing system under test")
-      ->check(CLI::IsMember(ts::landing_system_names()))
-      ->capture_default_str();
-  cmd.add_option("--detector", c.detector,
-                 "the system's marker detector (learned-mls: always learned; the model: data/models/, or "
-                 "TOUCHDOWN_MODEL)")
-      ->check(CLI::IsMember(ts::marker_detector_names()))
-      ->capture_default_str();
+  add_system_option(cmd, c.system);
+  add_detector_option(cmd, c.detector);
   cmd.add_option("--threads", c.threads, "worker threads (per MPI rank)")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
@@ -101,6 +96,7 @@ Json metrics_json(const tsr::SearchMetrics& m) {
   j["type_iii"] = m.type_iii;
   j["off_marker"] = m.off_marker;
   j["unfair"] = m.unfair;
+  j["system_failed"] = m.system_failed;
   j["top_10"] = m.top_k ? Json(*m.top_k) : Json(nullptr);
   j["rounds_all_types"] = m.rounds_all_types ? Json(*m.rounds_all_types) : Json(nullptr);
   j["parameter_distance"] = round3(m.parameter_distance);
@@ -115,6 +111,10 @@ void print_metrics(const tsr::SearchMetrics& m, const std::optional<tsr::SearchM
   std::cout << "evaluated          " << m.evaluated << " scenarios\n"
             << "violations         " << m.violations << " (" << percent(m.violation_percent) << "): type I " << m.type_i
             << ", type II " << m.type_ii << ", type III " << m.type_iii << ", off-marker " << m.off_marker << "\n";
+  if (m.system_failed > 0) {
+    std::cout << "system failed      " << m.system_failed
+              << " runs (the system under test threw or answered garbage: not violations, results.jsonl says why)\n";
+  }
   if (fair && fair->facts_recorded) {
     std::cout << "fair violations    " << fair->violations << " (" << percent(fair->violation_percent) << "): type II "
               << fair->type_ii << "; " << m.unfair << " unfair (target never observable long enough)\n";

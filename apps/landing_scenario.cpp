@@ -27,6 +27,7 @@
 
 #include "app_common.hpp"
 #include "core/svg_plot.hpp"
+#include "system_option.hpp"
 #include "touchdown/core/atomic_file.hpp"
 #include "touchdown/scenario/campaign.hpp"
 #include "touchdown/scenario/dataset.hpp"
@@ -207,7 +208,7 @@ Json campaign_json(const ts::CampaignResult& c, const std::string& source, const
   const auto& s = c.summary;
   Json j;
   j["scenarios"] = source;
-  j["system"] = o.system;
+  j["system"] = o.system.name();
   j["detection_roi"] = o.mls.detector.roi;
   j["threads"] = o.threads;
   j["count"] = s.scenarios;
@@ -218,6 +219,7 @@ Json campaign_json(const ts::CampaignResult& c, const std::string& source, const
   j["type_iii"] = s.type_iii;
   j["off_marker"] = s.off_marker;
   j["unfair_type_ii"] = s.unfair_type_ii;
+  j["system_failed"] = s.system_failed;
   j["flight_s"] = round3(s.flight_s);
   j["wall_s"] = round3(s.wall_s);
   j["timing"] = {{"render_s", round3(s.timing.render_s)},
@@ -242,15 +244,22 @@ void print_campaign(const ts::CampaignResult& c, const std::string& source, cons
     return format_fixed(s.timing.total_s > 0 ? 100 * v / s.timing.total_s : 0.0, 0) + " %";
   };
   std::cout << "campaign   " << s.scenarios << " scenarios: " << source << "\n"
-            << "system     " << o.system
+            << "system     " << o.system.name()
             << (o.mls.detector.kind != "aruco" && o.system != "learned-mls" ? " (" + o.mls.detector.kind + " detector)"
                                                                             : "")
             << (o.mls.detector.roi ? "" : " (whole-frame detection)") << "\n"
             << "violations " << s.violations << "/" << s.scenarios << " (" << percent(s.violations, s.scenarios)
             << "): type I " << s.type_i << " (" << percent(s.type_i, s.scenarios) << "), type II " << s.type_ii << " ("
             << percent(s.type_ii, s.scenarios) << "; " << s.unfair_type_ii << " unfair), type III " << s.type_iii
-            << " (" << percent(s.type_iii, s.scenarios) << "), off-marker " << s.off_marker << "\n"
-            << "landed     " << dtl.size() << ": median DTL " << format_fixed(median(dtl), 2) << " m, median TTL "
+            << " (" << percent(s.type_iii, s.scenarios) << "), off-marker " << s.off_marker << "\n";
+  if (s.system_failed > 0) {
+    const auto first = std::find_if(c.entries.begin(), c.entries.end(), [](const ts::CampaignEntry& e) {
+      return e.outcome.status == ts::Violation::SystemFailed;
+    });
+    std::cout << "failed     " << s.system_failed << " runs: the system under test failed (first, scenario "
+              << (first - c.entries.begin()) << ": " << first->outcome.failure << ")\n";
+  }
+  std::cout << "landed     " << dtl.size() << ": median DTL " << format_fixed(median(dtl), 2) << " m, median TTL "
             << format_fixed(median(ttl), 1) << " s\n"
             << "time       " << format_fixed(s.wall_s, 1) << " s wall on " << o.threads << " threads for "
             << format_fixed(s.flight_s, 0) << " s of flight ("
@@ -264,14 +273,6 @@ void print_campaign(const ts::CampaignResult& c, const std::string& source, cons
 // ---- run: one scenario ----------------------------------------------------------------
 
 /// The --detector option of run and campaign.
-void add_detector_option(CLI::App& cmd, std::string& kind) {
-  cmd.add_option("--detector", kind,
-                 "the system's marker detector (learned-mls: always learned; the model: data/models/, or "
-                 "TOUCHDOWN_MODEL)")
-      ->check(CLI::IsMember(ts::marker_detector_names()))
-      ->capture_default_str();
-}
-
 struct RunArgs {
   std::string scenario_path, system = "opencv-mls", video_path, log_path, snapshot_path, weights_path;
   std::string detector = "aruco";
@@ -283,9 +284,7 @@ struct RunArgs {
 CLI::App* add_run_command(CLI::App& app, RunArgs& a) {
   auto* cmd = app.add_subcommand("run", "run a landing system in a scenario");
   cmd->add_option("SCENARIO", a.scenario_path, "scenario YAML or JSON (docs/formats.md)")->required();
-  cmd->add_option("--system", a.system, "landing system under test")
-      ->check(CLI::IsMember(ts::landing_system_names()))
-      ->capture_default_str();
+  add_system_option(*cmd, a.system);
   add_detector_option(*cmd, a.detector);
   cmd->add_option("--video", a.video_path, "write the camera view with detections and the outcome (.mp4 or .avi)")
       ->check([](const std::string& p) {
@@ -513,6 +512,7 @@ struct CampaignArgs {
   int count = 100;
   std::optional<ts::MapKind> map;  // empty: any
   std::string csv_path, weights_path, marker;
+  std::string system = "opencv-mls";
   bool json = false, whole_frame = false;
   ts::CampaignOptions campaign;
 };
@@ -531,9 +531,7 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
   add_enum_option(*cmd, "--map", a.map, kAnyMap,
                   "map of the random scenarios: " + td::enum_names_list<ts::MapKind>() + " or " + kAnyMap)
       ->excludes(files_opt);
-  cmd->add_option("--system", a.campaign.system, "landing system under test")
-      ->check(CLI::IsMember(ts::landing_system_names()))
-      ->capture_default_str();
+  add_system_option(*cmd, a.system);
   add_detector_option(*cmd, a.campaign.mls.detector.kind);
   cmd->add_option("--marker", a.marker,
                   "the target of the random scenarios, DICTIONARY:ID (default: drawn; a learned detector needs "
@@ -582,6 +580,7 @@ int campaign_command(CampaignArgs& a) {
              (a.map ? std::string(ts::to_string(*a.map)) : kAnyMap);
   }
   a.campaign.mls.detector.roi = !a.whole_frame;
+  a.campaign.system = a.system;
   if (!a.weights_path.empty()) {
     // One network, shared read-only; one ObjectPolicy per run (it keeps the
     // run's held action), as the search's LocalEvaluator does.
@@ -1155,6 +1154,41 @@ int bench_command(BenchArgs& a) {
 
 }  // namespace
 
+struct SystemsArgs {
+  std::vector<std::string> plugins;
+  bool json = false;
+};
+
+CLI::App* add_systems_command(CLI::App& app, SystemsArgs& a) {
+  auto* cmd = app.add_subcommand("systems",
+                                 "list the landing systems under test: the built-ins and those of plug-in libraries");
+  cmd->add_option("--plugin", a.plugins, "also load this plug-in library and list its systems (repeatable)")
+      ->check(CLI::ExistingFile);
+  cmd->add_flag("--json", a.json, "one JSON object per line instead of the table");
+  return cmd;
+}
+
+int systems_command(const SystemsArgs& a) {
+  std::map<std::string, std::string> origin;  // name -> the spec that reaches it
+  for (const std::string& path : a.plugins) {
+    for (const std::string& name : ts::load_system_plugin(path)) origin[name] = "plugin:" + path + ":" + name;
+  }
+  const auto entries = ts::system_registry().entries();
+  std::size_t width = 0;
+  for (const auto& e : entries) width = std::max(width, e.name.size());
+  for (const auto& e : entries) {
+    const auto it = origin.find(e.name);
+    const std::string spec = it != origin.end() ? it->second : e.name;
+    if (a.json) {
+      std::cout << Json{{"name", e.name}, {"spec", spec}, {"description", e.description}}.dump() << "\n";
+    } else {
+      std::cout << e.name << std::string(width + 2 - e.name.size(), ' ') << e.description << "\n";
+      if (it != origin.end()) std::cout << std::string(width + 2, ' ') << "--system " << spec << "\n";
+    }
+  }
+  return 0;
+}
+
 int main(int argc, char** argv) {
   CLI::App app{
       "Run a marker-landing system under test in a scenario (weather, markers, objects) and classify the "
@@ -1167,7 +1201,9 @@ int main(int argc, char** argv) {
   DatasetArgs dataset_args;
   DetectArgs detect_args;
   BenchArgs bench_args;
+  SystemsArgs systems_args;
   add_run_command(app, run_args);
+  auto* systems_cmd = add_systems_command(app, systems_args);
   auto* bench_cmd = add_bench_command(app, bench_args);
   auto* detect_cmd = add_detect_command(app, detect_args);
   auto* dataset_cmd = add_dataset_command(app, dataset_args);
@@ -1175,6 +1211,7 @@ int main(int argc, char** argv) {
   auto* campaign_cmd = add_campaign_command(app, campaign_args);
   return run(app, argc, argv, [&]() -> int {
     if (*campaign_cmd) return campaign_command(campaign_args);
+    if (*systems_cmd) return systems_command(systems_args);
     if (*dataset_cmd) return dataset_command(dataset_args);
     if (*detect_cmd) return detect_command(detect_args);
     if (*bench_cmd) return bench_command(bench_args);

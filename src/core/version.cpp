@@ -1,7 +1,9 @@
 #include "touchdown/core/version.hpp"
 
+#include "touchdown/core/version_defs.hpp"
+
 namespace touchdown {
 
-std::string version() { return TOUCHDOWN_VERSION_STRING; }
+std::string version() { return TOUCHDOWN_VERSION; }
 
 }  // namespace touchdown

@@ -35,7 +35,7 @@ std::vector<Scenario> random_scenarios(std::uint64_t first_seed, int count, std:
 CampaignResult run_campaign(const std::vector<Scenario>& scenarios, const CampaignOptions& options) {
   std::string why;
   if (!options.validate(&why)) throw InvalidArgument("campaign options: " + why);
-  (void)make_landing_system(options.system, options.mls);  // a bad name fails before any work
+  (void)options.system.make(options.mls);  // a bad spec fails before any work
   for (std::size_t i = 0; i < scenarios.size(); ++i) {
     if (!scenarios[i].validate(&why)) throw InvalidArgument("scenario " + std::to_string(i) + ": " + why);
   }
@@ -49,7 +49,7 @@ CampaignResult run_campaign(const std::vector<Scenario>& scenarios, const Campai
   std::mutex failure_mutex;
   const auto worker = [&] {
     try {
-      auto system = make_landing_system(options.system, options.mls);
+      auto system = options.system.make(options.mls);
       for (std::size_t i = next++; i < scenarios.size(); i = next++) {
         ScenarioResult r;
         if (options.external_for) {
@@ -93,6 +93,7 @@ CampaignResult run_campaign(const std::vector<Scenario>& scenarios, const Campai
     s.type_ii += e.status == Violation::TypeII ? 1 : 0;
     s.type_iii += e.status == Violation::TypeIII ? 1 : 0;
     s.off_marker += e.status == Violation::OffMarker ? 1 : 0;
+    s.system_failed += e.status == Violation::SystemFailed ? 1 : 0;
     s.unfair_type_ii += e.status == Violation::TypeII && !e.observability.observable_long_enough() ? 1 : 0;
     s.flight_s += e.flight_s;
     s.timing.render_s += e.timing.render_s;

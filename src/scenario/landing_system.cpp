@@ -5,10 +5,10 @@
 
 #include <string>
 
-#include "scenario/mm_mls.hpp"
 #include "scenario/opencv_mls.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/plan/planner.hpp"
+#include "touchdown/scenario/system_registry.hpp"
 
 namespace touchdown::scenario {
 
@@ -108,19 +108,10 @@ bool MlsOptions::validate(std::string* why) const {
   return validate_guidance(*this, why) && validate_map(*this, why) && validate_descent_plan(*this, why);
 }
 
-std::unique_ptr<LandingSystem> make_landing_system(std::string_view name, const MlsOptions& options) {
-  std::string why;
-  if (!options.validate(&why)) throw InvalidArgument("landing system options: " + why);
-  if (name == "opencv-mls") return std::make_unique<detail::OpencvMls>(options, "opencv-mls");
-  if (name == "learned-mls") {
-    MlsOptions o = options;
-    o.detector.kind = "learned";
-    return std::make_unique<detail::OpencvMls>(o, "learned-mls");
-  }
-  if (name == "mm-mls") return std::make_unique<detail::MmMls>(options);
-  throw InvalidArgument("landing system: unknown '" + std::string(name) + "' (known: opencv-mls, learned-mls, mm-mls)");
+std::unique_ptr<LandingSystem> make_landing_system(std::string_view spec, const MlsOptions& options) {
+  return SystemFactory(std::string(spec)).make(options);
 }
 
-std::vector<std::string> landing_system_names() { return {"opencv-mls", "learned-mls", "mm-mls"}; }
+std::vector<std::string> landing_system_names() { return system_registry().names(); }
 
 }  // namespace touchdown::scenario

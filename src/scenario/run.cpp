@@ -139,7 +139,13 @@ ScenarioRun::ScenarioRun(const Scenario& scenario, LandingSystem& system, const 
       world_(scenario, options.flight),
       renderer_(scenario, options.camera),
       time_limit_(max_time > 0 ? std::min(max_time, scenario.time_limit) : scenario.time_limit) {
-  system_.reset(system_setup(scenario, options));
+  try {
+    system_.reset(system_setup(scenario, options));
+  } catch (const std::exception& e) {
+    failure_ = std::string("reset() threw: ") + e.what();
+  } catch (...) {
+    failure_ = "reset() threw (not a std::exception)";
+  }
   steps_ = static_cast<long>(std::ceil(time_limit_ / world_.dt() - 1e-9));
   frame_period_ = 1.0 / options.camera.rate_hz;
   actions_.assign(static_cast<std::size_t>(world_.external_count()), ObjectAction::Stay);
@@ -166,7 +172,22 @@ ScenarioRun::ScenarioRun(const Scenario& scenario, LandingSystem& system, const 
   }
 }
 
-bool ScenarioRun::over() const { return k_ >= steps_ || world_.collision() || world_.drone().landed; }
+bool ScenarioRun::over() const {
+  return !failure_.empty() || k_ >= steps_ || world_.collision() || world_.drone().landed;
+}
+
+namespace {
+
+/// Why an answer cannot be flown (empty: it can).
+std::string unflyable(const SystemOutput& out) {
+  const DroneCommand& c = out.command;
+  if (!c.velocity_world.allFinite()) return "a non-finite command (velocity setpoint)";
+  if (!std::isfinite(c.yaw_rate_deg)) return "a non-finite command (yaw rate)";
+  if (out.descent_started && !out.target.allFinite()) return "a non-finite descent target";
+  return {};
+}
+
+}  // namespace
 
 bool ScenarioRun::step() {
   if (over()) return false;
@@ -190,8 +211,22 @@ bool ScenarioRun::step() {
     next_frame_ += frame_period_;
   }
   auto t1 = Clock::now();
-  last_output_ = system_.update(in);
+  const auto when = [&] { return " at t = " + format_fixed(state.t, 2) + " s (step " + std::to_string(k_) + ")"; };
+  try {
+    last_output_ = system_.update(in);
+  } catch (const std::exception& e) {
+    failure_ = "update() threw" + when() + ": " + e.what();
+  } catch (...) {
+    failure_ = "update() threw" + when() + " (not a std::exception)";
+  }
   r.timing.system_s += seconds_since(t1);
+  if (failure_.empty()) {
+    if (std::string why = unflyable(last_output_); !why.empty()) failure_ = "update() answered " + why + when();
+  }
+  if (!failure_.empty()) {
+    last_output_ = SystemOutput{};
+    return false;
+  }
   const SystemOutput& out = last_output_;
 
   if (frame_due) record_frame(out, state);
@@ -487,7 +522,15 @@ ScenarioResult ScenarioRun::finish() {
     r.observability = summarise(r, options_.oracle, frame_period_);
     r.timing.oracle_s += seconds_since(t0);
   }
-  classify(r, marker, time_limit_, options_.violation_radius, world_.collision());
+  if (failure_.empty()) {
+    classify(r, marker, time_limit_, options_.violation_radius, world_.collision());
+  } else {
+    r.status = Violation::SystemFailed;
+    r.failure = failure_;
+    r.landed = false;  // never a landing, whatever the drone did before
+    r.ttl = time_limit_;
+    r.message = "system failed: " + failure_;
+  }
   r.timing.total_s = seconds_since(start_);
   return r;
 }

@@ -130,6 +130,7 @@ std::string violation_cause(const Evaluation& e, const scenario::Scenario& s) {
     case scenario::Violation::TypeII:
       return f.fair ? no_landing(f, s) : unfair(f, s);
     case scenario::Violation::None:
+    case scenario::Violation::SystemFailed:
       break;
   }
   return "";

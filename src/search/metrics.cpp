@@ -51,7 +51,8 @@ SearchMetrics compute_metrics(const std::vector<EvaluationRecord>& records, int 
                             " (records must be in index order)");
     }
     const scenario::Violation v = r.evaluation.violation;
-    if (v == scenario::Violation::None) continue;
+    if (v == scenario::Violation::SystemFailed) ++m.system_failed;
+    if (!scenario::is_violation(v)) continue;
     if (!r.evaluation.fair_violation()) {
       ++m.unfair;
       if (count == Count::Fair) continue;

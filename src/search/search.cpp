@@ -83,7 +83,7 @@ ChromosomeLayout search_layout(const SearchOptions& options) {
 LocalEvaluator::LocalEvaluator(EvaluatorOptions options) : options_(std::move(options)) {
   std::string why;
   if (!options_.validate(&why)) throw InvalidArgument("evaluator options: " + why);
-  (void)scenario::make_landing_system(options_.system, options_.mls);  // a bad name fails now
+  (void)options_.system.make(options_.mls);  // a bad spec fails now
 }
 
 std::vector<Evaluation> LocalEvaluator::evaluate(const std::vector<scenario::Scenario>& scenarios,
@@ -134,9 +134,12 @@ std::string scenario_file(int index) {
 }
 
 // An unfair violation (the oracle: the target was never observable long
-// enough) scores as no violation with fair_fitness: 0, below any run.
+// enough) scores as no violation with fair_fitness: 0, below any run; so
+// does a run in which the system under test failed (its TTL, the time
+// limit, would otherwise rank a crash above every landing, and the budget
+// would go to crashing it again: the failures are counted apart instead).
 bool scores_nothing(const SearchOptions& o, const Evaluation& e) {
-  return (o.fair_fitness || o.diversity) && e.violation_found() && !e.fair_violation();
+  return e.system_failed() || ((o.fair_fitness || o.diversity) && e.violation_found() && !e.fair_violation());
 }
 
 // eq. 7's distance between two normalised chromosomes (÷ sqrt(dimension)).

@@ -144,7 +144,7 @@ TEST(Campaign, PerScenarioControllerAndInspectionAreThoseOfSingleRuns) {
     EXPECT_EQ(seen[i], 1) << i;
     RunOptions run = o.run;
     run.external = controller_for(i);
-    auto system = make_landing_system(o.system, o.mls);
+    auto system = o.system.make(o.mls);
     const ScenarioResult single = run_scenario(scenarios[i], *system, run);
     EXPECT_EQ(campaign.entries[i].outcome.message, single.message) << i;
     EXPECT_EQ(campaign.entries[i].outcome.final_position, single.final_position) << i;

@@ -8,9 +8,11 @@
 #include <fstream>
 #include <sstream>
 
+#include "scenario/plugins/gps_lander.hpp"
 #include "test_util.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/search/dqn.hpp"
+#include "touchdown/search/metrics.hpp"
 #include "touchdown/search/object_policy.hpp"
 #include "touchdown/search/search.hpp"
 #include "touchdown/search/shrink.hpp"
@@ -62,6 +64,37 @@ TEST(LocalEvaluator, SameResultsFileForOneAndTwoThreads) {
   EXPECT_EQ(single.dtl, r1.records[3].evaluation.dtl);
   EXPECT_EQ(single.reward_sum, r1.records[3].evaluation.reward_sum);
   EXPECT_EQ(single.cells, r1.records[3].evaluation.cells);
+}
+
+// A system under test that throws is a result: its runs are "system failed",
+// no violation, scored 0 (a crash's TTL would otherwise rank it above every
+// landing), counted apart, and the records read back.
+TEST(LocalEvaluator, AFailingSystemScoresNothingAndIsNoViolation) {
+  SearchOptions o;
+  o.method = Method::DiverseGa;
+  o.budget = 4;
+  o.ga.population = 2;
+  o.base.time_limit = 10;
+  EvaluatorOptions e = small_camera(2);
+  e.system = scenario::SystemFactory(
+      "faulty", [](const scenario::MlsOptions&) { return std::make_unique<test_plugin::GpsLander>("faulty", 0.5); });
+  LocalEvaluator evaluator(e);
+  const test::TempDir dir;
+  const SearchResult r = run_search(o, evaluator, dir.path(), false);
+  ASSERT_EQ(r.records.size(), 4u);
+  for (const EvaluationRecord& rec : r.records) {
+    EXPECT_TRUE(rec.evaluation.system_failed()) << rec.evaluation.message;
+    EXPECT_FALSE(rec.evaluation.violation_found());
+    EXPECT_EQ(rec.fitness, 0.0);
+    EXPECT_NE(rec.evaluation.message.find("system failed: update() threw at t = 0.5"), std::string::npos)
+        << rec.evaluation.message;
+  }
+  const std::vector<EvaluationRecord> read = load_records(dir.path() / "results.jsonl");
+  ASSERT_EQ(read.size(), 4u);
+  EXPECT_EQ(read[2].evaluation.violation, scenario::Violation::SystemFailed);
+  const SearchMetrics m = compute_metrics(read);
+  EXPECT_EQ(m.violations, 0);
+  EXPECT_EQ(m.system_failed, 4);
 }
 
 // A box over the marker hides it (Type II); light fog, rain, a far tree and

@@ -14,6 +14,7 @@
 
 #include "touchdown/scenario/run.hpp"
 #include "touchdown/scenario/scenario.hpp"
+#include "touchdown/scenario/system_registry.hpp"
 
 namespace touchdown::scenario {
 
@@ -32,7 +33,9 @@ struct CampaignProgress {
 };
 
 struct CampaignOptions {
-  std::string system = "opencv-mls";  ///< a make_landing_system() name
+  /// The system under test: a spec ("mm-mls", "plugin:PATH:NAME") or a
+  /// factory of your own; one system is made per worker thread.
+  SystemFactory system;
   MlsOptions mls;
   /// Camera, flight and violation radius; its callbacks must be empty (a
   /// campaign runs scenarios concurrently).
@@ -63,6 +66,7 @@ struct CampaignSummary {
   int type_i = 0, type_ii = 0, type_iii = 0;
   int off_marker = 0;      ///< landed off the marker after a true detection (or none)
   int unfair_type_ii = 0;  ///< of type_ii: the target never observable long enough (oracle.hpp)
+  int system_failed = 0;   ///< runs in which the system under test failed: not violations
   double flight_s = 0;     ///< simulated, summed
   Timing timing;           ///< summed over scenarios (CPU-side, per thread)
   double wall_s = 0;       ///< of the whole campaign

@@ -213,11 +213,15 @@ struct MlsOptions {
   [[nodiscard]] bool validate(std::string* why) const;
 };
 
+/// A system from a spec (system_registry.hpp): a registered name —
 /// "opencv-mls", "learned-mls" (opencv-mls on the learned detector,
-/// whatever options.detector.kind says: the source's TPHYoLo-MLS) or
-/// "mm-mls"; throws InvalidArgument for another name, invalid options or a
-/// learned model that cannot be loaded (naming the file).
-std::unique_ptr<LandingSystem> make_landing_system(std::string_view name, const MlsOptions& options = {});
+/// whatever options.detector.kind says: the source's TPHYoLo-MLS), "mm-mls"
+/// or a loaded plug-in's — or "plugin:PATH[:NAME]". Throws InvalidArgument
+/// for an unknown name (listing the known ones), invalid options, a
+/// plug-in that cannot be loaded or a learned model that cannot be loaded
+/// (naming the file).
+std::unique_ptr<LandingSystem> make_landing_system(std::string_view spec, const MlsOptions& options = {});
+/// The registered systems' names, sorted.
 std::vector<std::string> landing_system_names();
 
 }  // namespace touchdown::scenario

@@ -17,6 +17,10 @@
 ///               observability oracle (oracle.hpp): was the target
 ///               observable long enough for any system to have landed?
 ///   Type III    collision.
+/// Not a violation, and never a landing: the system under test failed (its
+/// reset() or update() threw, or it answered a non-finite command): the
+/// run ends there with status SystemFailed and the reason and the step in
+/// `failure` (a plug-in's or a process's fault is a result, not a crash).
 /// Every run records what its class rests on: the detection that triggered
 /// the descent and what it was really on, the descent target, the objects
 /// that hid the target and when, the object collided with and the phase.
@@ -40,11 +44,15 @@ namespace touchdown::scenario {
 
 enum class Violation {
   None,
-  TypeI,      ///< landed > radius from the marker: a false detection led it there
-  TypeII,     ///< did not land in time
-  TypeIII,    ///< collision
-  OffMarker,  ///< landed > radius from the marker after a true detection (or none)
+  TypeI,         ///< landed > radius from the marker: a false detection led it there
+  TypeII,        ///< did not land in time
+  TypeIII,       ///< collision
+  OffMarker,     ///< landed > radius from the marker after a true detection (or none)
+  SystemFailed,  ///< the system under test failed (threw, or a non-finite command): not a violation
 };
+
+/// Types I, II, III and off-marker (not None, not SystemFailed).
+constexpr bool is_violation(Violation v) { return v != Violation::None && v != Violation::SystemFailed; }
 
 }  // namespace touchdown::scenario
 
@@ -52,7 +60,7 @@ enum class Violation {
 // messages): the paper's roman numerals.
 template <>
 struct touchdown::EnumNames<touchdown::scenario::Violation> {
-  static constexpr std::array<std::string_view, 5> names{"none", "I", "II", "III", "off-marker"};
+  static constexpr std::array<std::string_view, 6> names{"none", "I", "II", "III", "off-marker", "system-failed"};
 };
 
 namespace touchdown::scenario {
@@ -159,7 +167,11 @@ struct ScenarioOutcome {
   int frame_count = 0;          ///< camera frames the system was given
   Timing timing;
 
-  [[nodiscard]] bool violation() const { return status != Violation::None; }
+  /// Why the system under test failed (status SystemFailed): what it
+  /// threw or answered, and when ("update() threw at t = 3.01 s (step 301): …").
+  std::string failure;
+
+  [[nodiscard]] bool violation() const { return is_violation(status); }
   [[nodiscard]] bool ok() const { return status == Violation::None; }
 };
 
@@ -192,10 +204,15 @@ class ScenarioRun {
   ScenarioRun(const Scenario& scenario, LandingSystem& system, const RunOptions& options = {}, double max_time = 0);
 
   /// One physics step (a camera frame first when one is due); false, and
-  /// nothing done, once the run is over.
+  /// nothing done, once the run is over. A system that throws from update()
+  /// or answers a non-finite command ends the run (false, the world not
+  /// stepped; failure() says why).
   bool step();
-  /// Time limit reached, collided or landed.
+  /// Time limit reached, collided, landed or the system failed.
   [[nodiscard]] bool over() const;
+  /// Why the system under test failed (empty: it has not): reset() or
+  /// update() threw, or update() answered a non-finite command.
+  [[nodiscard]] const std::string& failure() const { return failure_; }
 
   /// The last step's input to the system and its answer, valid until the
   /// next step (the input's frame, when it had one, and the output's phase
@@ -227,6 +244,7 @@ class ScenarioRun {
   SystemInput last_input_;
   SystemOutput last_output_;
   ScenarioResult result_;
+  std::string failure_;
   // The observability oracle: the target's code, the probe's camera and frame.
   std::unique_ptr<TargetOracle> oracle_;
   std::unique_ptr<Renderer> probe_renderer_;

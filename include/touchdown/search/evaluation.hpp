@@ -77,7 +77,10 @@ struct Evaluation {
   std::vector<std::array<int, 3>> cells;
   Facts facts;
 
-  [[nodiscard]] bool violation_found() const { return violation != scenario::Violation::None; }
+  [[nodiscard]] bool violation_found() const { return scenario::is_violation(violation); }
+  /// The system under test failed (threw, or answered garbage): no violation,
+  /// scored as none.
+  [[nodiscard]] bool system_failed() const { return violation == scenario::Violation::SystemFailed; }
   /// A violation the system is to blame for (Facts::fair); a result without
   /// facts (before issue 52) counts every violation.
   [[nodiscard]] bool fair_violation() const { return violation_found() && (!facts.recorded || facts.fair); }

@@ -24,6 +24,9 @@ struct SearchMetrics {
   /// Violations the oracle found unfair: with Count::All counted in the
   /// figures above, with Count::Fair left out of them.
   int unfair = 0;
+  /// Runs in which the system under test failed (threw, or answered a
+  /// non-finite command): not violations, counted apart.
+  int system_failed = 0;
   /// Every record carries its facts (results written since issue 52);
   /// false: fairness unknown, every violation counted as fair.
   bool facts_recorded = true;

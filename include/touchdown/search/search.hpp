@@ -73,7 +73,9 @@ class Evaluator {
 };
 
 struct EvaluatorOptions {
-  std::string system = "opencv-mls";  ///< a make_landing_system() name
+  /// The system under test: a spec ("mm-mls", "plugin:PATH:NAME") or a
+  /// factory of your own (scenario/system_registry.hpp).
+  scenario::SystemFactory system;
   scenario::MlsOptions mls;
   scenario::RunOptions run;  ///< camera, flight, violation radius; callbacks must be empty
   int threads = 1;           ///< worker threads

@@ -53,6 +53,7 @@
 #include <memory>
 #include <ostream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -159,17 +160,24 @@ class Lane {
   }
 
   [[nodiscard]] const Record& record() const { return record_; }
+  /// Why the system failed (ScenarioRun::failure(): it threw, or answered
+  /// a non-finite command, and the run ended there); empty: it did not.
+  [[nodiscard]] const std::string& failure() const { return run_.failure(); }
 
  private:
   ScenarioRun run_;
   Record record_;
 };
 
-/// A whole run of `scenario` on `system` (reset() included).
+/// A whole run of `scenario` on `system` (reset() included). A run the
+/// system failed (ScenarioRun ends it at a throw or a non-finite command)
+/// throws std::runtime_error with the reason, so that every clause fails
+/// on it, naming the step.
 inline Record run(LandingSystem& system, const Scenario& scenario, const RunOptions& options, double max_time = 0) {
   Lane lane(system, scenario, options, max_time);
   while (lane.step()) {
   }
+  if (!lane.failure().empty()) throw std::runtime_error("the system failed: " + lane.failure());
   return lane.record();
 }
 
@@ -346,6 +354,10 @@ inline ::testing::AssertionResult check_independent(const Factory& f) {
     for (bool more_a = true, more_b = true; more_a || more_b;) {
       if (more_a) more_a = lane_a.step();
       if (more_b) more_b = lane_b.step();
+    }
+    for (const Lane* lane : {&lane_a, &lane_b}) {
+      if (!lane->failure().empty())
+        return ::testing::AssertionFailure() << "stepped in turn, the system failed: " << lane->failure();
     }
     if (const std::string d = detail::first_difference(alone_a, lane_a.record()); !d.empty())
       return ::testing::AssertionFailure()
