@@ -30,6 +30,7 @@
 #include "system_option.hpp"
 #include "touchdown/core/atomic_file.hpp"
 #include "touchdown/scenario/campaign.hpp"
+#include "touchdown/scenario/contract.hpp"
 #include "touchdown/scenario/dataset.hpp"
 #include "touchdown/scenario/detector_bench.hpp"
 #include "touchdown/scenario/marker_detector.hpp"
@@ -1154,6 +1155,60 @@ int bench_command(BenchArgs& a) {
 
 }  // namespace
 
+struct ContractArgs {
+  std::string system = "opencv-mls";
+  std::string detector = "aruco";
+  bool json = false;
+};
+
+CLI::App* add_contract_command(CLI::App& app, ContractArgs& a) {
+  auto* cmd = app.add_subcommand(
+      "contract",
+      "check that a landing system keeps the LandingSystem contract (name, frameless steps, finite outputs, "
+      "determinism, reset, independence); exit 1 when a clause fails");
+  add_system_option(*cmd, a.system);
+  add_detector_option(*cmd, a.detector);
+  cmd->add_flag("--json", a.json, "one JSON object per clause instead of the table");
+  return cmd;
+}
+
+int contract_command(const ContractArgs& a) {
+  ts::MlsOptions mls;
+  mls.detector.kind = a.detector;
+  const ts::SystemFactory factory(a.system);
+  (void)factory.make(mls);  // a spec that does not resolve is bad input (exit 2), not a broken clause
+  const ts::contract::Factory f(a.system, [factory, mls] { return factory.make(mls); });
+  if (!a.json) {
+    std::cout << "contract   " << a.system << ": " << ts::contract::clauses().size()
+              << " clauses, closed-loop runs on the clear test scenario and a second one\n";
+  }
+  int failed = 0;
+  (void)ts::contract::run_contract(f, [&](const ts::contract::ClauseResult& r) {
+    failed += r.verdict.ok ? 0 : 1;
+    if (a.json) {
+      std::cout << Json{{"clause", r.clause->name},
+                        {"ok", r.verdict.ok},
+                        {"message", r.verdict.message},
+                        {"seconds", round3(r.seconds)}}
+                       .dump()
+                << std::endl;
+      return;
+    }
+    const std::string name(r.clause->name);
+    std::cout << name << std::string(15 - name.size(), ' ') << (r.verdict.ok ? "ok      " : "FAILED  ")
+              << format_fixed(r.seconds, 1) << " s  "
+              << (r.verdict.ok ? std::string(r.clause->promise) : r.verdict.message) << std::endl;
+  });
+  if (!a.json) {
+    std::cout << "result     "
+              << (failed == 0 ? "every clause holds"
+                              : std::to_string(failed) + " of " + std::to_string(ts::contract::clauses().size()) +
+                                    " clauses fail")
+              << "\n";
+  }
+  return failed == 0 ? 0 : 1;
+}
+
 struct SystemsArgs {
   std::vector<std::string> plugins;
   bool json = false;
@@ -1202,7 +1257,9 @@ int main(int argc, char** argv) {
   DetectArgs detect_args;
   BenchArgs bench_args;
   SystemsArgs systems_args;
+  ContractArgs contract_args;
   add_run_command(app, run_args);
+  auto* contract_cmd = add_contract_command(app, contract_args);
   auto* systems_cmd = add_systems_command(app, systems_args);
   auto* bench_cmd = add_bench_command(app, bench_args);
   auto* detect_cmd = add_detect_command(app, detect_args);
@@ -1212,6 +1269,7 @@ int main(int argc, char** argv) {
   return run(app, argc, argv, [&]() -> int {
     if (*campaign_cmd) return campaign_command(campaign_args);
     if (*systems_cmd) return systems_command(systems_args);
+    if (*contract_cmd) return contract_command(contract_args);
     if (*dataset_cmd) return dataset_command(dataset_args);
     if (*detect_cmd) return detect_command(detect_args);
     if (*bench_cmd) return bench_command(bench_args);

@@ -169,6 +169,47 @@ TEST(LandingScenarioApp, CampaignOverFilesWritesSummaryAndCsv) {
   EXPECT_EQ(scenario_app("campaign --count 0", dir).code, 2);
 }
 
+// The contract from the command line (issue 55): a system that keeps it
+// passes every clause; one that keeps state across reset() and one whose
+// objects share state fail the clause that says so, with exit 1; a spec
+// that does not resolve is bad input.
+TEST(LandingScenarioApp, ContractCommandPassesASoundSystemAndNamesTheBrokenClause) {
+  TempDir dir;
+  const std::string plugin = std::string("plugin:") + TOUCHDOWN_TEST_PLUGIN + ":";
+  const AppRun sound = scenario_app("contract --system " + plugin + "test-gps-lander", dir);
+  EXPECT_EQ(sound.code, 0) << sound.out << sound.err;
+  EXPECT_NE(sound.out.find("reset          ok"), std::string::npos) << sound.out;
+  EXPECT_NE(sound.out.find("result     every clause holds"), std::string::npos) << sound.out;
+
+  const AppRun stateful = scenario_app("contract --system " + plugin + "test-stateful", dir);
+  EXPECT_EQ(stateful.code, 1) << stateful.out << stateful.err;
+  EXPECT_NE(stateful.out.find("reset          FAILED"), std::string::npos) << stateful.out;
+  EXPECT_NE(stateful.out.find("the second run of one object differs from its first at step 0"), std::string::npos)
+      << stateful.out;
+  EXPECT_NE(stateful.out.find("deterministic  ok"), std::string::npos) << stateful.out;
+
+  const AppRun shared = scenario_app("contract --system " + plugin + "test-shared --json", dir);
+  EXPECT_EQ(shared.code, 1) << shared.out << shared.err;
+  std::istringstream lines(shared.out);
+  std::set<std::string> failed;
+  for (std::string line; std::getline(lines, line);) {
+    const auto j = nlohmann::json::parse(line);
+    if (!j.at("ok").get<bool>()) failed.insert(j.at("clause").get<std::string>());
+  }
+  EXPECT_TRUE(failed.count("deterministic")) << shared.out;
+  EXPECT_TRUE(failed.count("independent")) << shared.out;
+  EXPECT_FALSE(failed.count("name")) << shared.out;
+
+  const AppRun faulty = scenario_app("contract --system " + plugin + "test-gps-lander-faulty", dir);
+  EXPECT_EQ(faulty.code, 1);
+  EXPECT_NE(faulty.out.find("the system failed: update() threw at t = 3.00 s"), std::string::npos) << faulty.out;
+
+  const AppRun unknown = scenario_app("contract --system plugin:/nonexistent.so", dir);
+  EXPECT_EQ(unknown.code, 2);
+  EXPECT_NE(unknown.err.find("plugin:/nonexistent.so: no such file"), std::string::npos) << unknown.err;
+  EXPECT_TRUE(unknown.out.empty());
+}
+
 TEST(LandingScenarioApp, BadInputIsOneLineNamingTheKey) {
   TempDir dir;
   const std::string base = td::test::read_text(bundled_scenario());

@@ -274,8 +274,8 @@ contract::Factory flawed(Flaw flaw) {
   return f;
 }
 
-bool fails_saying(const ::testing::AssertionResult& r, const std::string& what) {
-  return !r && std::string(r.message()).find(what) != std::string::npos;
+bool fails_saying(const contract::Verdict& r, const std::string& what) {
+  return !r && r.message.find(what) != std::string::npos;
 }
 
 TEST(LandingSystemContractFake, WithoutAFlawPassesEveryClause) {

@@ -85,13 +85,16 @@ std::string bad_plugin(int kind) { return std::string(TOUCHDOWN_BAD_PLUGIN_PREFI
 
 TEST(Plugin, LoadsItsSystemsOnceAndResolvesSpecs) {
   const std::vector<std::string> names = load_system_plugin(kGood);
-  EXPECT_EQ(names, (std::vector<std::string>{"test-gps-lander", "test-gps-lander-faulty"}));
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"test-gps-lander", "test-gps-lander-faulty", "test-stateful", "test-shared"}));
   EXPECT_EQ(load_system_plugin(kGood), names);  // loaded once: no "already registered"
   EXPECT_TRUE(system_registry().find("test-gps-lander").has_value());
   EXPECT_EQ(SystemFactory("plugin:" + kGood + ":test-gps-lander").make()->name(), "test-gps-lander");
   EXPECT_EQ(SystemFactory("test-gps-lander-faulty").make()->name(), "test-gps-lander-faulty");  // registered now
   const std::string which = message_of([] { (void)resolve_system("plugin:" + kGood); });
-  EXPECT_TRUE(contains(which, "registers 2 systems (test-gps-lander, test-gps-lander-faulty): name one")) << which;
+  EXPECT_TRUE(contains(
+      which, "registers 4 systems (test-gps-lander, test-gps-lander-faulty, test-stateful, test-shared): name one"))
+      << which;
   const std::string none = message_of([] { (void)resolve_system("plugin:" + kGood + ":opencv-mls"); });
   EXPECT_TRUE(contains(none, "registers no 'opencv-mls'")) << none;
 }
