@@ -81,15 +81,18 @@ TIMING_PATTERNS = [
     r"\bETA:? #",  # progress lines
     r"own work # s \(# %\)",  # landing_fuzz campaign: "the search's own work 0.05 s (1.31 %)"
     r"^(?:f450|paper) .* (?:led|aruco) .* #$",  # led_pose benchmark: the last column, ms/frame (median)
+    r"\b(?:ok|FAILED) +# s\b",  # landing_scenario contract: each clause's wall time
 ]
 
 # Scripts the check runs, in the repository itself (not the scratch directory).
 KNOWN_SCRIPTS = {"scripts/demo.sh"}
 # Standard tools an example may use to prepare an input (run in the scratch
 # directory like an app: `sed ... data/plans/landing.yaml > tight.yaml`),
-# and Debian's Python for the independent LED renderer
-# (../shared/tools/render_led_sequence.py, seeded: same files every run).
-KNOWN_TOOLS = {"sed", "cp", "printf", "/usr/bin/python3"}
+# Debian's Python for the independent LED renderer
+# (../shared/tools/render_led_sequence.py, seeded: same files every run),
+# and CMake for the plug-in example (installed into and built under /tmp/,
+# which the check moves into its scratch directory).
+KNOWN_TOOLS = {"sed", "cp", "printf", "/usr/bin/python3", "cmake"}
 
 SKIP_MARKER = re.compile(r"<!--\s*readme-check:\s*skip\s*\((.*)\)\s*-->")
 NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")

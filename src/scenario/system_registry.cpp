@@ -17,12 +17,14 @@
 #include "scenario/opencv_mls.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/scenario/plugin.hpp"
+#include "touchdown/scenario/process_system.hpp"
 
 namespace touchdown::scenario {
 
 namespace {
 
 constexpr std::string_view kPluginPrefix = "plugin:";
+constexpr std::string_view kExecPrefix = "exec:";
 
 const MlsOptions& checked(const MlsOptions& o) {
   std::string why;
@@ -157,6 +159,13 @@ std::vector<std::string> load_system_plugin(const std::string& path) {
 }
 
 MakeSystem resolve_system(std::string_view spec) {
+  if (spec.substr(0, kExecPrefix.size()) == kExecPrefix) {
+    ProcessOptions o;
+    o.command = std::string(spec.substr(kExecPrefix.size()));
+    std::string why;
+    if (!o.validate(&why)) throw InvalidArgument(std::string(spec) + ": " + why);
+    return [o](const MlsOptions&) { return make_process_system(o); };
+  }
   if (spec.substr(0, kPluginPrefix.size()) != kPluginPrefix) return system_registry().get(spec).factory;
   const std::string rest(spec.substr(kPluginPrefix.size()));
   // plugin:PATH or plugin:PATH:NAME (a PATH that is a file as a whole wins).

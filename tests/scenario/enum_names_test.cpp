@@ -53,5 +53,6 @@ TEST(ScenarioEnumNames, MaskValuesAreTheLabelsNumbers) {
 TEST(ScenarioEnumNames, ABadNameListsTheAcceptedNames) {
   td::test::expect_bad_name<ts::MapKind>("moon", "expected one of ground, lawn; got 'moon'");
   td::test::expect_bad_name<ts::StaticKind>("lamp", "expected one of box, chair, pole, tree; got 'lamp'");
-  td::test::expect_bad_name<ts::Violation>("type_i", "expected one of none, I, II, III, off-marker; got 'type_i'");
+  td::test::expect_bad_name<ts::Violation>("type_i",
+                                           "expected one of none, I, II, III, off-marker, system-failed; got 'type_i'");
 }

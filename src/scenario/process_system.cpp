@@ -1,0 +1,293 @@
+// A landing system in another process (process_system.hpp): the host side
+// of the system protocol (system_protocol.hpp). The child's stdin and
+// stdout are one end of a socketpair(2) (send(2) with MSG_NOSIGNAL: a
+// child that died is an EPIPE, never a SIGPIPE that kills the host); every
+// wait is a poll(2) with the remaining timeout. fork(2) then, in the child,
+// only async-signal-safe calls before execve(2) (the host has threads).
+#include "touchdown/scenario/process_system.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/format.hpp"
+#include "touchdown/core/error.hpp"
+#include "touchdown/scenario/system_protocol.hpp"
+
+namespace touchdown::scenario {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Deadline = Clock::time_point;
+using touchdown::detail::format_fixed;
+
+Deadline after(double seconds) {
+  return Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+}
+
+/// The system's fault: ScenarioRun makes it the run's "system failed".
+class SystemFault : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class ProcessSystem final : public LandingSystem {
+ public:
+  explicit ProcessSystem(ProcessOptions options) : options_(std::move(options)), name_("exec:" + options_.command) {}
+  ProcessSystem(const ProcessSystem&) = delete;
+  ProcessSystem& operator=(const ProcessSystem&) = delete;
+  ~ProcessSystem() override { stop(true); }
+
+  [[nodiscard]] std::string_view name() const override { return name_; }
+
+  void reset(const SystemSetup& setup) override {
+    try {
+      if (pid_ <= 0) start();
+      send("reset", {protocol::setup_json(setup)});
+      const protocol::Header h = receive(options_.step_timeout_s, "reset");
+      if (h.verb != "ready" || !h.sizes.empty()) unexpected(h, "ready");
+    } catch (...) {
+      stop(false);
+      throw;
+    }
+  }
+
+  SystemOutput update(const SystemInput& input) override {
+    try {
+      std::string image, mask, depth;
+      if (input.frame != nullptr) {
+        const CameraFrame& f = *input.frame;
+        if (hello_.image) image.assign(f.image.pixels.begin(), f.image.pixels.end());
+        if (hello_.mask) mask.assign(f.mask.begin(), f.mask.end());
+        if (hello_.depth) {
+          depth.resize(f.depth.size() * sizeof(float));
+          std::memcpy(depth.data(), f.depth.data(), depth.size());
+        }
+      }
+      send("step", {protocol::state_json(input), image, mask, depth});
+      const protocol::Header h = receive(options_.step_timeout_s, "step");
+      if (h.verb != "command" || h.sizes.size() != 1) unexpected(h, "command");
+      const std::string json = payload(h.sizes[0], options_.step_timeout_s);
+      try {
+        return protocol::parse_output(json, phase_);
+      } catch (const protocol::ProtocolError& e) {
+        throw SystemFault(std::string("the system answered a bad command: ") + e.what());
+      }
+    } catch (...) {
+      stop(false);
+      throw;
+    }
+  }
+
+ private:
+  void start() {
+    int fds[2] = {-1, -1};
+    if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0) {
+      throw SystemFault(std::string("socketpair: ") + std::strerror(errno));
+    }
+    const std::string script = "exec " + options_.command;
+    const pid_t parent = ::getpid();
+    const pid_t pid = ::fork();
+    if (pid < 0) {
+      ::close(fds[0]);
+      ::close(fds[1]);
+      throw SystemFault(std::string("fork: ") + std::strerror(errno));
+    }
+    if (pid == 0) {
+      // The child: async-signal-safe calls only.
+      ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+      if (::getppid() != parent) ::_exit(126);
+      ::dup2(fds[1], 0);
+      ::dup2(fds[1], 1);
+      ::close_range(3, ~0U, 0);
+      ::execl("/bin/sh", "sh", "-c", script.c_str(), static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    ::close(fds[1]);
+    fd_ = fds[0];
+    pid_ = pid;
+    buffer_.clear();
+    send_raw(protocol::header("touchdown-system", {static_cast<std::size_t>(kSystemProtocolVersion)}));
+    const protocol::Header h = receive(options_.start_timeout_s, "hello");
+    if (h.verb != "touchdown-system") unexpected(h, "touchdown-system");
+    const std::string json = h.sizes.size() == 2 ? payload(h.sizes[1], options_.start_timeout_s) : "";
+    try {
+      hello_ = protocol::parse_hello(h, json);
+    } catch (const protocol::ProtocolError& e) {
+      throw SystemFault(e.what());
+    }
+  }
+
+  // Ends the child: bye and a moment to exit when it is well, then SIGKILL.
+  void stop(bool polite) noexcept {
+    if (pid_ <= 0) {
+      if (fd_ >= 0) ::close(fd_);
+      fd_ = -1;
+      return;
+    }
+    if (polite && fd_ >= 0) {
+      const std::string bye = protocol::header("bye");
+      (void)::send(fd_, bye.data(), bye.size(), MSG_NOSIGNAL);
+      ::shutdown(fd_, SHUT_WR);
+      for (int i = 0; i < 50 && ::waitpid(pid_, nullptr, WNOHANG) == 0; ++i) ::usleep(10000);
+    }
+    if (::waitpid(pid_, nullptr, WNOHANG) == 0) {
+      ::kill(pid_, SIGKILL);
+      ::waitpid(pid_, nullptr, 0);
+    }
+    pid_ = -1;
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+  }
+
+  [[noreturn]] void unexpected(const protocol::Header& h, const char* wanted) {
+    if (h.verb == "error" && h.sizes.size() == 1) {
+      std::string text = payload(std::min<std::size_t>(h.sizes[0], 4096), options_.step_timeout_s);
+      throw SystemFault("the system reported an error: " + text);
+    }
+    throw SystemFault("the system answered '" + h.verb + "' where '" + wanted + "' was due");
+  }
+
+  // How the child ended, once it has (waits up to 1 s for it).
+  std::string exit_status() {
+    int status = 0;
+    pid_t r = 0;
+    for (int i = 0; i < 100 && (r = ::waitpid(pid_, &status, WNOHANG)) == 0; ++i) ::usleep(10000);
+    if (r != pid_) return "closed its output";
+    pid_ = -1;
+    if (WIFEXITED(status)) return "exited with status " + std::to_string(WEXITSTATUS(status));
+    if (WIFSIGNALED(status)) return "was killed by signal " + std::to_string(WTERMSIG(status));
+    return "ended";
+  }
+
+  void send_raw(const std::string& bytes) {
+    std::size_t done = 0;
+    const Deadline deadline = after(options_.step_timeout_s);
+    while (done < bytes.size()) {
+      const ssize_t n = ::send(fd_, bytes.data() + done, bytes.size() - done, MSG_NOSIGNAL | MSG_DONTWAIT);
+      if (n > 0) {
+        done += static_cast<std::size_t>(n);
+        continue;
+      }
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+        wait_for(POLLOUT, deadline, options_.step_timeout_s, "to read its input");
+        continue;
+      }
+      throw SystemFault("the system's process " + exit_status() + " (writing to it: " + std::strerror(errno) + ")");
+    }
+  }
+
+  void send(const char* verb, const std::vector<std::string>& payloads) {
+    std::vector<std::size_t> sizes;
+    std::size_t total = 0;
+    for (const std::string& p : payloads) sizes.push_back(p.size()), total += p.size();
+    std::string bytes = protocol::header(verb, sizes);
+    bytes.reserve(bytes.size() + total);
+    for (const std::string& p : payloads) bytes += p;
+    send_raw(bytes);
+  }
+
+  void wait_for(short events, Deadline deadline, double timeout_s, const std::string& what) {
+    for (;;) {
+      const double left = std::chrono::duration<double>(deadline - Clock::now()).count();
+      if (left <= 0) {
+        throw SystemFault("no answer from the system within " + format_fixed(timeout_s, 1) + " s (waiting for it " +
+                          what + ")");
+      }
+      pollfd p{fd_, events, 0};
+      const int r = ::poll(&p, 1, static_cast<int>(std::ceil(left * 1000)));
+      if (r > 0) return;
+      if (r < 0 && errno != EINTR) throw SystemFault(std::string("poll: ") + std::strerror(errno));
+    }
+  }
+
+  // Reads at least one more byte into buffer_ before the deadline.
+  void fill(Deadline deadline, double timeout_s, const std::string& what) {
+    wait_for(POLLIN, deadline, timeout_s, what);
+    char chunk[65536];
+    const ssize_t n = ::recv(fd_, chunk, sizeof chunk, MSG_DONTWAIT);
+    if (n > 0) {
+      buffer_.append(chunk, static_cast<std::size_t>(n));
+      return;
+    }
+    if (n < 0 && (errno == EAGAIN || errno == EINTR)) return;
+    throw SystemFault("the system's process " + exit_status() + " (while " + what + ")");
+  }
+
+  protocol::Header receive(double timeout_s, const char* what) {
+    const Deadline deadline = after(timeout_s);
+    std::size_t eol = 0;
+    while ((eol = buffer_.find('\n')) == std::string::npos) {
+      if (buffer_.size() >= protocol::kMaxHeader) throw SystemFault("the system's header is over 256 bytes");
+      fill(deadline, timeout_s, std::string("answering ") + what);
+    }
+    const std::string line = buffer_.substr(0, eol);
+    buffer_.erase(0, eol + 1);
+    try {
+      return protocol::parse_header(line);
+    } catch (const protocol::ProtocolError& e) {
+      throw SystemFault(std::string("the system answered a malformed header: ") + e.what());
+    }
+  }
+
+  std::string payload(std::size_t n, double timeout_s) {
+    if (n > protocol::kMaxJsonPayload)
+      throw SystemFault("the system announced a payload of " + std::to_string(n) + " bytes");
+    const Deadline deadline = after(timeout_s);
+    while (buffer_.size() < n) {
+      try {
+        fill(deadline, timeout_s, "sending a payload");
+      } catch (const SystemFault& e) {
+        throw SystemFault(std::string(e.what()) + ": " + std::to_string(buffer_.size()) + " of " + std::to_string(n) +
+                          " bytes came");
+      }
+    }
+    std::string p = buffer_.substr(0, n);
+    buffer_.erase(0, n);
+    return p;
+  }
+
+  ProcessOptions options_;
+  std::string name_;
+  protocol::Hello hello_;
+  std::string phase_;
+  std::string buffer_;
+  pid_t pid_ = -1;
+  int fd_ = -1;
+};
+
+}  // namespace
+
+bool ProcessOptions::validate(std::string* why) const {
+  const auto bad = [why](const std::string& w) {
+    if (why != nullptr) *why = w;
+    return false;
+  };
+  if (command.find_first_not_of(" \t") == std::string::npos) return bad("command: empty");
+  if (!(start_timeout_s > 0 && start_timeout_s <= 3600)) return bad("start_timeout_s: must be in (0, 3600] s");
+  if (!(step_timeout_s > 0 && step_timeout_s <= 3600)) return bad("step_timeout_s: must be in (0, 3600] s");
+  return true;
+}
+
+std::unique_ptr<LandingSystem> make_process_system(const ProcessOptions& options) {
+  std::string why;
+  if (!options.validate(&why)) throw InvalidArgument("exec system: " + why);
+  return std::make_unique<ProcessSystem>(options);
+}
+
+}  // namespace touchdown::scenario

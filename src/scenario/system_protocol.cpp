@@ -1,0 +1,392 @@
+// touchdown's system protocol, version 1 (system_protocol.hpp,
+// docs/formats.md "System protocol"). JSON through nlohmann-json: doubles
+// are written with the shortest text that reads back to the same bits, so
+// a system in another process sees exactly what one in the host would.
+#include "touchdown/scenario/system_protocol.hpp"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <iostream>
+#include <istream>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "touchdown/scenario/process_system.hpp"
+
+namespace touchdown::scenario::protocol {
+
+namespace {
+
+using Json = nlohmann::json;
+
+[[noreturn]] void fail(const std::string& what) { throw ProtocolError(what); }
+
+Json parse_json(std::string_view text, const char* what) {
+  if (text.size() > kMaxJsonPayload) fail(std::string(what) + ": JSON payload over 16 MiB");
+  Json j = Json::parse(text.begin(), text.end(), nullptr, false);
+  if (j.is_discarded()) fail(std::string(what) + ": not JSON");
+  if (!j.is_object()) fail(std::string(what) + ": not a JSON object");
+  return j;
+}
+
+void only_keys(const Json& j, const char* what, std::initializer_list<const char*> keys) {
+  for (const auto& item : j.items()) {
+    bool known = false;
+    for (const char* k : keys) known = known || item.key() == k;
+    if (!known) fail(std::string(what) + ": unknown key '" + item.key() + "'");
+  }
+}
+
+double number(const Json& j, const std::string& key) {
+  if (!j.is_number()) fail(key + ": not a number");
+  const double v = j.get<double>();
+  if (!std::isfinite(v)) fail(key + ": not finite");
+  return v;
+}
+
+bool boolean(const Json& j, const std::string& key) {
+  if (!j.is_boolean()) fail(key + ": not true or false");
+  return j.get<bool>();
+}
+
+template <int N>
+Eigen::Matrix<double, N, 1> vec(const Json& j, const std::string& key) {
+  if (!j.is_array() || j.size() != static_cast<std::size_t>(N)) {
+    fail(key + ": not an array of " + std::to_string(N) + " numbers");
+  }
+  Eigen::Matrix<double, N, 1> v;
+  for (int i = 0; i < N; ++i) v(i) = number(j[static_cast<std::size_t>(i)], key);
+  return v;
+}
+
+template <class Derived>
+Json array(const Eigen::MatrixBase<Derived>& v) {
+  Json a = Json::array();
+  for (Eigen::Index i = 0; i < v.size(); ++i) a.push_back(v(i));
+  return a;
+}
+
+std::string dump(const Json& j) { return j.dump(-1, ' ', false, Json::error_handler_t::replace); }
+
+}  // namespace
+
+Header parse_header(std::string_view line) {
+  Header h;
+  const auto printable = [](char c) { return c >= 0x20 && c < 0x7f; };
+  for (const char c : line) {
+    if (!printable(c)) fail("header: not printable ASCII");
+  }
+  std::size_t i = 0;
+  const auto word = [&] {
+    while (i < line.size() && line[i] == ' ') ++i;
+    const std::size_t start = i;
+    while (i < line.size() && line[i] != ' ') ++i;
+    return line.substr(start, i - start);
+  };
+  const std::string_view verb = word();
+  if (verb.empty()) fail("header: empty");
+  for (const char c : verb) {
+    if (!((c >= 'a' && c <= 'z') || c == '-')) fail("header: '" + std::string(line.substr(0, 40)) + "' has no verb");
+  }
+  h.verb = std::string(verb);
+  for (std::string_view w = word(); !w.empty(); w = word()) {
+    std::size_t n = 0;
+    const auto r = std::from_chars(w.data(), w.data() + w.size(), n);
+    if (r.ec != std::errc() || r.ptr != w.data() + w.size()) {
+      fail("header '" + h.verb + "': '" + std::string(w.substr(0, 20)) + "' is not a byte count");
+    }
+    if (n > kMaxPayload) fail("header '" + h.verb + "': a payload of " + std::to_string(n) + " bytes (over 256 MiB)");
+    h.sizes.push_back(n);
+  }
+  return h;
+}
+
+std::string header(std::string_view verb, const std::vector<std::size_t>& sizes) {
+  std::string s(verb);
+  for (const std::size_t n : sizes) s += " " + std::to_string(n);
+  return s + "\n";
+}
+
+Hello parse_hello(const Header& h, std::string_view json) {
+  if (h.verb != "touchdown-system") fail("hello: expected 'touchdown-system', got '" + h.verb + "'");
+  if (h.sizes.size() != 2) fail("hello: expected 'touchdown-system VERSION JSON_BYTES'");
+  Hello hello;
+  hello.version = static_cast<int>(std::min<std::size_t>(h.sizes[0], 1000000));
+  if (hello.version != kSystemProtocolVersion) {
+    fail("hello: the system speaks protocol version " + std::to_string(h.sizes[0]) + ", the host version " +
+         std::to_string(kSystemProtocolVersion));
+  }
+  const Json j = parse_json(json, "hello");
+  only_keys(j, "hello", {"name", "wants"});
+  if (!j.contains("name") || !j["name"].is_string() || j["name"].get<std::string>().empty()) {
+    fail("hello: name: missing or not a non-empty string");
+  }
+  hello.name = j["name"].get<std::string>();
+  hello.image = hello.depth = hello.mask = false;
+  if (j.contains("wants")) {
+    if (!j["wants"].is_array()) fail("hello: wants: not an array");
+    for (const Json& w : j["wants"]) {
+      const std::string s = w.is_string() ? w.get<std::string>() : "";
+      if (s == "image") {
+        hello.image = true;
+      } else if (s == "depth") {
+        hello.depth = true;
+      } else if (s == "mask") {
+        hello.mask = true;
+      } else {
+        fail("hello: wants: '" + s + "' is not image, depth or mask");
+      }
+    }
+  }
+  return hello;
+}
+
+std::string hello_json(const Hello& hello) {
+  Json wants = Json::array();
+  if (hello.image) wants.push_back("image");
+  if (hello.depth) wants.push_back("depth");
+  if (hello.mask) wants.push_back("mask");
+  return dump(Json{{"name", hello.name}, {"wants", wants}});
+}
+
+std::string setup_json(const SystemSetup& s) {
+  const CameraOptions& c = s.camera;
+  Json T = Json::array();
+  const Eigen::Matrix4d m = c.T_body_camera().matrix();
+  for (int r = 0; r < 4; ++r) T.push_back(array(m.row(r).transpose()));
+  Json camera{{"width", c.width},           {"height", c.height},
+              {"hfov_deg", c.hfov_deg},     {"fx", c.fx()},
+              {"tilt_deg", c.tilt_deg},     {"rate_hz", c.rate_hz},
+              {"exposure_s", c.exposure_s}, {"offset_body", array(c.offset_body)},
+              {"T_body_camera", T}};
+  return dump(Json{{"camera", camera},
+                   {"dictionary", s.dictionary},
+                   {"marker_id", s.marker_id},
+                   {"marker_size", s.marker_size},
+                   {"gps_target", array(s.gps_target)},
+                   {"drone_radius", s.drone_radius}});
+}
+
+SystemSetup parse_setup(std::string_view json) {
+  const Json j = parse_json(json, "setup");
+  SystemSetup s;
+  try {
+    const Json& c = j.at("camera");
+    s.camera.width = c.at("width").get<int>();
+    s.camera.height = c.at("height").get<int>();
+    s.camera.hfov_deg = c.at("hfov_deg").get<double>();
+    s.camera.tilt_deg = c.at("tilt_deg").get<double>();
+    s.camera.rate_hz = c.at("rate_hz").get<double>();
+    s.camera.exposure_s = c.at("exposure_s").get<double>();
+    s.camera.offset_body = vec<3>(c.at("offset_body"), "camera.offset_body");
+    s.dictionary = j.at("dictionary").get<std::string>();
+    s.marker_id = j.at("marker_id").get<int>();
+    s.marker_size = j.at("marker_size").get<double>();
+    s.gps_target = vec<2>(j.at("gps_target"), "gps_target");
+    s.drone_radius = j.at("drone_radius").get<double>();
+  } catch (const Json::exception& e) {
+    fail(std::string("setup: ") + e.what());
+  }
+  return s;
+}
+
+std::string state_json(const SystemInput& in) {
+  const DroneState& d = in.state;
+  Json T = Json::array();
+  const Eigen::Matrix4d m = d.T_world_body().matrix();
+  for (int r = 0; r < 4; ++r) T.push_back(array(m.row(r).transpose()));
+  Json j{{"t", d.t},
+         {"position", array(d.position)},
+         {"velocity", array(d.velocity)},
+         {"acceleration", array(d.acceleration)},
+         {"yaw_deg", d.yaw_deg},
+         {"T_world_body", T},
+         {"land_mode", d.land_mode},
+         {"on_ground", d.on_ground},
+         {"landed", d.landed}};
+  j["frame"] = in.frame != nullptr ? Json{{"width", in.frame->width}, {"height", in.frame->height}} : Json(nullptr);
+  return dump(j);
+}
+
+StepState parse_state(std::string_view json) {
+  const Json j = parse_json(json, "state");
+  StepState s;
+  try {
+    s.state.t = number(j.at("t"), "t");
+    s.state.position = vec<3>(j.at("position"), "position");
+    s.state.velocity = vec<3>(j.at("velocity"), "velocity");
+    s.state.acceleration = vec<3>(j.at("acceleration"), "acceleration");
+    s.state.yaw_deg = number(j.at("yaw_deg"), "yaw_deg");
+    s.state.land_mode = boolean(j.at("land_mode"), "land_mode");
+    s.state.on_ground = boolean(j.at("on_ground"), "on_ground");
+    s.state.landed = boolean(j.at("landed"), "landed");
+    const Json& f = j.at("frame");
+    if (!f.is_null()) {
+      s.frame = true;
+      s.width = f.at("width").get<int>();
+      s.height = f.at("height").get<int>();
+    }
+  } catch (const Json::exception& e) {
+    fail(std::string("state: ") + e.what());
+  }
+  return s;
+}
+
+SystemOutput parse_output(std::string_view json, std::string& phase) {
+  const Json j = parse_json(json, "command");
+  only_keys(j, "command", {"velocity", "yaw_rate_deg", "land", "phase", "descent_started", "target", "detections"});
+  SystemOutput out;
+  if (!j.contains("velocity")) fail("command: velocity: missing");
+  out.command.velocity_world = vec<3>(j["velocity"], "command: velocity");
+  if (j.contains("yaw_rate_deg")) out.command.yaw_rate_deg = number(j["yaw_rate_deg"], "command: yaw_rate_deg");
+  if (j.contains("land")) out.command.land = boolean(j["land"], "command: land");
+  phase.clear();
+  if (j.contains("phase")) {
+    if (!j["phase"].is_string()) fail("command: phase: not a string");
+    phase = j["phase"].get<std::string>();
+    if (phase.size() > 64) fail("command: phase: over 64 characters");
+  }
+  out.phase = phase;
+  if (j.contains("descent_started")) out.descent_started = boolean(j["descent_started"], "command: descent_started");
+  if (j.contains("target")) out.target = vec<2>(j["target"], "command: target");
+  if (j.contains("detections")) {
+    const Json& ds = j["detections"];
+    if (!ds.is_array()) fail("command: detections: not an array");
+    if (ds.size() > 1000) fail("command: detections: over 1000");
+    for (std::size_t k = 0; k < ds.size(); ++k) {
+      const Json& d = ds[k];
+      const std::string key = "command: detections[" + std::to_string(k) + "]";
+      if (!d.is_object()) fail(key + ": not an object");
+      only_keys(d, key.c_str(), {"id", "corners", "quality", "confidence", "accepted", "ground"});
+      Detection r;
+      if (d.contains("id")) {
+        if (!d["id"].is_number_integer()) fail(key + ".id: not an integer");
+        r.id = d["id"].get<int>();
+      }
+      if (!d.contains("corners") || !d["corners"].is_array() || d["corners"].size() != 4) {
+        fail(key + ".corners: not four [u, v] pairs");
+      }
+      for (std::size_t c = 0; c < 4; ++c) r.corners[c] = vec<2>(d["corners"][c], key + ".corners");
+      if (d.contains("quality")) r.quality = number(d["quality"], key + ".quality");
+      if (d.contains("confidence")) r.confidence = number(d["confidence"], key + ".confidence");
+      if (d.contains("accepted")) r.accepted = boolean(d["accepted"], key + ".accepted");
+      if (d.contains("ground")) r.ground = vec<2>(d["ground"], key + ".ground");
+      out.detections.push_back(r);
+    }
+  }
+  return out;
+}
+
+std::string output_json(const SystemOutput& o) {
+  Json detections = Json::array();
+  for (const Detection& d : o.detections) {
+    Json corners = Json::array();
+    for (const Eigen::Vector2d& c : d.corners) corners.push_back(array(c));
+    detections.push_back(Json{{"id", d.id},
+                              {"corners", corners},
+                              {"quality", d.quality},
+                              {"confidence", d.confidence},
+                              {"accepted", d.accepted},
+                              {"ground", array(d.ground)}});
+  }
+  return dump(Json{{"velocity", array(o.command.velocity_world)},
+                   {"yaw_rate_deg", o.command.yaw_rate_deg},
+                   {"land", o.command.land},
+                   {"phase", std::string(o.phase)},
+                   {"descent_started", o.descent_started},
+                   {"target", array(o.target)},
+                   {"detections", detections}});
+}
+
+// ---- serve_system: the system's side -------------------------------------------------
+
+namespace {
+
+Header read_header(std::istream& in) {
+  std::string line;
+  if (!std::getline(in, line)) return Header{};  // the end: like bye
+  if (line.size() >= kMaxHeader) fail("header: over 256 bytes");
+  return parse_header(line);
+}
+
+std::string read_payload(std::istream& in, std::size_t n) {
+  std::string s(n, '\0');
+  if (n > 0 && !in.read(s.data(), static_cast<std::streamsize>(n))) fail("payload: cut short");
+  return s;
+}
+
+void send(std::ostream& out, std::string_view verb, const std::string& payload) {
+  out << header(verb, {payload.size()}) << payload;
+  out.flush();
+}
+
+}  // namespace
+
+int serve_system(LandingSystem& system, std::istream& in, std::ostream& out, const Hello& wanted) {
+  try {
+    const Header first = read_header(in);
+    if (first.verb != "touchdown-system" || first.sizes.size() != 1 || first.sizes[0] != 1) {
+      fail("hello: expected 'touchdown-system 1'");
+    }
+    Hello hello = wanted;
+    hello.name = std::string(system.name());
+    const std::string hj = hello_json(hello);
+    out << header("touchdown-system", {static_cast<std::size_t>(kSystemProtocolVersion), hj.size()}) << hj;
+    out.flush();
+    CameraFrame frame;
+    for (;;) {
+      const Header h = read_header(in);
+      if (h.verb.empty() || h.verb == "bye") return 0;
+      if (h.verb == "reset") {
+        if (h.sizes.size() != 1) fail("reset: expected one payload");
+        const SystemSetup setup = parse_setup(read_payload(in, h.sizes[0]));
+        try {
+          system.reset(setup);
+          out << header("ready");
+          out.flush();
+        } catch (const std::exception& e) {
+          send(out, "error", std::string("reset() threw: ") + e.what());
+        }
+      } else if (h.verb == "step") {
+        if (h.sizes.size() != 4) fail("step: expected four payloads");
+        const StepState s = parse_state(read_payload(in, h.sizes[0]));
+        const std::string image = read_payload(in, h.sizes[1]);
+        const std::string mask = read_payload(in, h.sizes[2]);
+        const std::string depth = read_payload(in, h.sizes[3]);
+        SystemInput input;
+        input.state = s.state;
+        if (s.frame) {
+          frame.width = s.width;
+          frame.height = s.height;
+          frame.image.resize(s.width, s.height);
+          const std::size_t pixels = static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height);
+          if (image.size() == pixels * 3) std::memcpy(frame.image.pixels.data(), image.data(), image.size());
+          frame.mask.assign(mask.begin(), mask.end());
+          frame.depth.resize(depth.size() / sizeof(float));
+          std::memcpy(frame.depth.data(), depth.data(), frame.depth.size() * sizeof(float));
+          input.frame = &frame;
+        }
+        try {
+          send(out, "command", output_json(system.update(input)));
+        } catch (const ProtocolError&) {
+          throw;
+        } catch (const std::exception& e) {
+          send(out, "error", e.what());
+        }
+      } else {
+        fail("unknown verb '" + h.verb + "'");
+      }
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "serve_system: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace touchdown::scenario::protocol
