@@ -210,6 +210,21 @@ TEST(LandingScenarioApp, ContractCommandPassesASoundSystemAndNamesTheBrokenClaus
   EXPECT_TRUE(unknown.out.empty());
 }
 
+// Interrupted, a campaign on a process system leaves none of its processes
+// behind (issue 55): the children get SIGKILL when their thread ends.
+TEST(LandingScenarioApp, AnInterruptedExecCampaignLeavesNoProcess) {
+  TempDir dir;
+  const std::string tag = dir.path().filename().string();  // marks this test's children
+  // Children that hang at their 5th step: only their SIGKILL on the host thread's end stops them.
+  const std::string spec = std::string("'exec:") + TOUCHDOWN_EXEC_CHILD + " sleep 5 " + tag + "'";
+  const AppRun r = td::test::run_app("timeout -s INT 3 " + std::string(LANDING_SCENARIO_EXE),
+                                     "campaign --system " + spec + " --count 50 --map ground --threads 2", dir);
+  EXPECT_NE(r.code, 0);  // interrupted
+  // "[x]yz" matches "xyz" but not the shell's own command line, which holds "[x]yz".
+  const AppRun left = td::test::run_app("pgrep", "-f 'sleep 5 [" + tag.substr(0, 1) + "]" + tag.substr(1) + "'", dir);
+  EXPECT_EQ(left.code, 1) << "still running: " << left.out;  // pgrep: 1 = no process matched
+}
+
 TEST(LandingScenarioApp, BadInputIsOneLineNamingTheKey) {
   TempDir dir;
   const std::string base = td::test::read_text(bundled_scenario());
