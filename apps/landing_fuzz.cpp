@@ -21,6 +21,7 @@
 #include "core/io_util.hpp"
 #include "system_option.hpp"
 #include "touchdown/core/atomic_file.hpp"
+#include "touchdown/search/campaign_policy.hpp"
 #include "touchdown/search/causes.hpp"
 #include "touchdown/search/compare.hpp"
 #include "touchdown/search/dqn.hpp"
@@ -39,22 +40,9 @@ namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 using namespace touchdown::app;
 
-constexpr const char* kWeightsFile = "dqn_weights.txt";
+using tsr::kWeightsFile;
 
 // ---- shared pieces ---------------------------------------------------------------------
-
-// FNV-1a (64 bit) of the weights text: campaign.json records which weights
-// drove the objects, so that --resume refuses others.
-std::string weights_id(const std::string& text) {
-  std::uint64_t h = 0xcbf29ce484222325ull;
-  for (const unsigned char c : text) {
-    h ^= c;
-    h *= 0x100000001b3ull;
-  }
-  std::ostringstream s;
-  s << "fnv1a64:" << std::hex << h;
-  return s.str();
-}
 
 struct Common {
   std::string system = "opencv-mls";
@@ -128,24 +116,18 @@ void print_metrics(const tsr::SearchMetrics& m, const std::optional<tsr::SearchM
             << "3-D coverage       " << m.coverage_cells << " cells of 2 m visited by violating runs\n";
 }
 
-// The DQN that drives the objects of an rlaga campaign: --weights, else the
-// directory's copy when resuming, else pre-trained now (deterministic for
-// the seed).
-std::shared_ptr<const tsr::QNetwork> campaign_policy(const std::string& weights_path, const fs::path& dir, bool resume,
-                                                     int episodes, std::uint64_t seed, bool quiet) {
-  if (!weights_path.empty()) return std::make_shared<const tsr::QNetwork>(tsr::load_weights(weights_path));
-  if (resume && fs::exists(dir / kWeightsFile)) {
-    return std::make_shared<const tsr::QNetwork>(tsr::load_weights(dir / kWeightsFile));
-  }
-  if (!quiet) std::cerr << "pre-training the DQN (" << episodes << " surrogate episodes, seed " << seed << ")\n";
-  tsr::DqnTraining t = tsr::train_dqn(tsr::DqnOptions{}, tsr::SurrogateOptions{}, episodes, seed);
-  return std::make_shared<const tsr::QNetwork>(std::move(t.network));
+// The DQN that drives the objects of an rlaga campaign (the library's
+// campaign_policy): --weights, else the directory's copy when resuming, else
+// pre-trained now (deterministic for the seed).
+tsr::CampaignPolicy campaign_policy(const std::string& weights_path, const fs::path& dir, bool resume, int episodes,
+                                    std::uint64_t seed, bool quiet) {
+  return tsr::campaign_policy(weights_path, dir, resume, episodes, seed, [&] {
+    if (!quiet) std::cerr << "pre-training the DQN (" << episodes << " surrogate episodes, seed " << seed << ")\n";
+  });
 }
 
-// The results directory's copy of the weights that drove its objects
-// (written once, atomically, by the library's writer).
 void keep_weights(const std::shared_ptr<const tsr::QNetwork>& policy, const fs::path& dir) {
-  if (policy && !fs::exists(dir / kWeightsFile)) tsr::save_weights(*policy, dir / kWeightsFile);
+  if (policy) tsr::keep_weights(*policy, dir);
 }
 
 // ---- campaign --------------------------------------------------------------------------
@@ -250,8 +232,10 @@ int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
   }
   std::shared_ptr<const tsr::QNetwork> policy;
   if (a.search.method == tsr::Method::Rlaga) {
-    policy = campaign_policy(a.weights, dir, a.resume, a.episodes, a.search.seed, !rank0 || a.json);
-    a.search.weights_id = weights_id(tsr::weights_text(*policy));
+    const tsr::CampaignPolicy p =
+        campaign_policy(a.weights, dir, a.resume, a.episodes, a.search.seed, !rank0 || a.json);
+    policy = p.network;
+    a.search.weights_id = p.id;
   }
   cv::setNumThreads(1);  // the campaign's threads are the parallelism
   const tsr::EvaluatorOptions eo = evaluator_options(a.common, policy);
@@ -539,8 +523,9 @@ int compare_command(const CompareArgs& a) {
       const bool resume = fs::exists(dir / "campaign.json");
       std::shared_ptr<const tsr::QNetwork> policy;
       if (o.method == tsr::Method::Rlaga) {
-        policy = campaign_policy(a.weights, dir, resume, a.episodes, o.seed, true);
-        o.weights_id = weights_id(tsr::weights_text(*policy));
+        const tsr::CampaignPolicy p = campaign_policy(a.weights, dir, resume, a.episodes, o.seed, true);
+        policy = p.network;
+        o.weights_id = p.id;
       }
       tsr::LocalEvaluator evaluator(evaluator_options(a.common, policy));
       std::optional<CampaignProgressLine> line;

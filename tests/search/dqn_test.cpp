@@ -16,6 +16,7 @@
 #include "test_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/scenario/world.hpp"
+#include "touchdown/search/campaign_policy.hpp"
 #include "touchdown/search/object_policy.hpp"
 #include "touchdown/search/surrogate.hpp"
 
@@ -377,6 +378,41 @@ TEST(ObjectPolicy, HoldsTheActionBetweenDecisions) {
   EXPECT_NEAR(world.dynamic_poses()[1].translation().x(), 1.3 - 0.9, 0.03);
   EXPECT_THROW(ObjectPolicy(nullptr), InvalidArgument);
   EXPECT_THROW(ObjectPolicy(towards_marker_x(), 0.0), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace touchdown::search
+
+// ---- the campaign's DQN (campaign_policy.hpp) ----------------------------------------------
+
+namespace touchdown::search {
+namespace {
+
+// The id is what campaigns kept in the repository recorded: they resume.
+TEST(CampaignPolicy, TheIdOfKeptWeightsIsTheOneTheirCampaignRecorded) {
+  const std::filesystem::path dir =
+      std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "docs/results/causes/opencv-mls/ground/rlaga/seed-1";
+  const CampaignPolicy p = campaign_policy("", dir, true, 20, 1);
+  EXPECT_FALSE(p.trained);
+  EXPECT_EQ(p.id, "fnv1a64:605fc88a6ca50fcc");
+  EXPECT_NE(test::read_text(dir / "campaign.json").find("\"weights\": \"" + p.id + "\""), std::string::npos);
+}
+
+TEST(CampaignPolicy, PreTrainsDeterministicallyAndPrefersAFileThenTheDirectory) {
+  const test::TempDir dir;
+  int trained = 0;
+  const CampaignPolicy a = campaign_policy("", dir.path(), true, 20, 7, [&] { ++trained; });
+  const CampaignPolicy b = campaign_policy("", dir.path(), false, 20, 7);
+  EXPECT_TRUE(a.trained);
+  EXPECT_EQ(trained, 1);
+  EXPECT_EQ(a.id, b.id);  // same seed, same weights
+  EXPECT_NE(a.id, campaign_policy("", dir.path(), false, 20, 8).id);
+  keep_weights(*a.network, dir.path());
+  const CampaignPolicy resumed = campaign_policy("", dir.path(), true, 20, 8);  // the directory's, not seed 8's
+  EXPECT_FALSE(resumed.trained);
+  EXPECT_EQ(resumed.id, a.id);
+  const CampaignPolicy file = campaign_policy(dir.path() / kWeightsFile, "", false, 20, 8);
+  EXPECT_EQ(file.id, a.id);
 }
 
 }  // namespace
