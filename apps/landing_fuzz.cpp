@@ -172,17 +172,21 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
                 "the source's chromosome: no static-object and distractor genes");
   cmd->add_flag("--fair-fitness", a.search.fair_fitness,
                 "unfair violations (the target never observable long enough) score as no violation");
-  cmd->add_flag("--diversity", a.search.diversity,
-                "distinct defects: a spread seed pool, repeated causes score less and fill at most --niche-capacity "
-                "places of the pool, near-duplicates are not run");
+  auto* diversity = cmd->add_flag(
+      "--diversity", a.search.diversity,
+      "distinct defects: a spread seed pool, repeated causes score less and fill at most --niche-capacity "
+      "places of the pool, near-duplicates are not run");
+  // Issue 58, item 6: an option that does not apply is refused, not ignored.
   cmd->add_option("--min-distance", a.search.min_distance,
                   "--diversity: a child nearer than this (normalised genes) to a scenario run is mutated again")
       ->check(CLI::Range(0.0, 1.0))
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(diversity);
   cmd->add_option("--niche-capacity", a.search.niche_capacity,
                   "--diversity: fair violations of one cause that keep their fitness in the pool (clearing)")
       ->check(CLI::PositiveNumber)
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(diversity);
   cmd->add_flag("--json", a.json, "the metrics as one JSON object on stdout");
   return cmd;
 }
@@ -611,6 +615,10 @@ int shrink_command(ShrinkArgs& a) {
   ts::Scenario scenario, base;
   std::string source = a.input;
   std::shared_ptr<const tsr::QNetwork> policy;
+  if (!fs::is_directory(a.input) && a.index >= 0) {
+    throw td::InvalidArgument("--index: picks a scenario of a results directory; " + a.input +
+                              " is a scenario file (issue 58: an option that does not apply is refused)");
+  }
   if (!a.weights.empty()) policy = std::make_shared<const tsr::QNetwork>(tsr::load_weights(a.weights));
   if (fs::is_directory(a.input)) {
     const tsr::ResultsDirectory d = tsr::load_results_directory(a.input);

@@ -244,6 +244,19 @@ TEST(LandingFuzzApp, BadInputIsOneLineWithExitTwoAndNothingOverwritten) {
   const std::string clear = (fs::path(TOUCHDOWN_SOURCE_DIR) / "data/scenarios/clear_ground.yaml").string();
   expect_one_line(fuzz_app("shrink " + clear + " -o " + (dir / "small.yaml").string(), dir), "nothing to shrink");
   EXPECT_FALSE(fs::exists(dir / "small.yaml"));
+  // Issue 58, item 6: options that do not apply are refused, not ignored.
+  expect_one_line(fuzz_app("shrink " + clear + " --index 3 -o " + (dir / "small.yaml").string(), dir),
+                  "--index: picks a scenario of a results directory");
+  expect_one_line(fuzz_app("campaign --method rlaga --min-distance 0.1 --out " + (dir / "y").string() + base, dir),
+                  "--diversity");
+  expect_one_line(fuzz_app("campaign --method rlaga --niche-capacity 3 --out " + (dir / "y").string() + base, dir),
+                  "--diversity");
+  EXPECT_FALSE(fs::exists(dir / "y"));
+  // A system spec that does not resolve: one line naming it.
+  expect_one_line(fuzz_app("campaign --method random --system plugin:" + (dir / "none.so").string() + " --out " +
+                               (dir / "y").string() + base,
+                           dir),
+                  "none.so: no such file");
 }
 
 TEST(LandingFuzzApp, HelpShowsEveryDefault) {
