@@ -392,7 +392,7 @@ struct Clause {
 
 /// Every clause, in the order run_contract() runs them.
 inline const std::array<Clause, 6>& clauses() {
-  static const std::array<Clause, 6> all{{
+  static const std::array<Clause, 6> kAll{{
       {"name", "name() is non-empty and never changes", &check_name},
       {"frameless", "a step without a camera frame is accepted, also the first after reset()", &check_frameless},
       {"outputs", "finite commands and targets; detections only with a frame", &check_outputs},
@@ -401,7 +401,7 @@ inline const std::array<Clause, 6>& clauses() {
       {"reset", "reset() starts a fresh run: nothing of an earlier run carries over", &check_reset},
       {"independent", "objects share no state: two stepped in turn give what each gives alone", &check_independent},
   }};
-  return all;
+  return kAll;
 }
 
 struct ClauseResult {

@@ -138,12 +138,12 @@ inline constexpr const char* kPluginEntryPoint = "touchdown_plugin_info";
 /// REGISTER a function void(touchdown::scenario::PluginRegistrar&).
 #define TOUCHDOWN_PLUGIN(DESCRIPTION, REGISTER)                                                                        \
   extern "C" __attribute__((visibility("default"))) const ::touchdown::scenario::PluginInfo* touchdown_plugin_info() { \
-    static const ::touchdown::scenario::PluginInfo info{::touchdown::scenario::kPluginAbiVersion,                      \
-                                                        TOUCHDOWN_VERSION,                                             \
-                                                        ::touchdown::scenario::compiler_abi(),                         \
-                                                        ::touchdown::scenario::standard_library_abi(),                 \
-                                                        ::touchdown::scenario::plugin_layout(),                        \
-                                                        (DESCRIPTION),                                                 \
-                                                        &(REGISTER)};                                                  \
-    return &info;                                                                                                      \
+    static const ::touchdown::scenario::PluginInfo kInfo{::touchdown::scenario::kPluginAbiVersion,                     \
+                                                         TOUCHDOWN_VERSION,                                            \
+                                                         ::touchdown::scenario::compiler_abi(),                        \
+                                                         ::touchdown::scenario::standard_library_abi(),                \
+                                                         ::touchdown::scenario::plugin_layout(),                       \
+                                                         (DESCRIPTION),                                                \
+                                                         &(REGISTER)};                                                 \
+    return &kInfo;                                                                                                     \
   }

@@ -37,15 +37,15 @@ namespace {
 extern "C" __attribute__((visibility("default"))) const touchdown::scenario::PluginInfo* touchdown_plugin_info() {
   namespace ts = touchdown::scenario;
 #if TEST_PLUGIN_KIND == 1
-  static const ts::PluginInfo info{
+  static const ts::PluginInfo kInfo{
       ts::kPluginAbiVersion, "0.0.1",           ts::compiler_abi(), ts::standard_library_abi(),
       ts::plugin_layout(),   "another version", &must_not_run};
 #else
-  static const ts::PluginInfo info{
+  static const ts::PluginInfo kInfo{
       ts::kPluginAbiVersion + 41, TOUCHDOWN_VERSION, ts::compiler_abi(), ts::standard_library_abi(),
       ts::plugin_layout(),        "another ABI",     &must_not_run};
 #endif
-  return &info;
+  return &kInfo;
 }
 #elif TEST_PLUGIN_KIND == 3
 TOUCHDOWN_PLUGIN("takes a built-in name", register_taken)
