@@ -8,12 +8,15 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sched.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/socket.h>
+#include <sys/uio.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -39,6 +42,15 @@ Deadline after(double seconds) {
   return Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
 }
 
+/// Non-blocking reads tried before a wait in poll().
+constexpr int kSpins = 200;
+
+/// A payload in place: bytes the caller keeps alive while they are sent.
+struct Bytes {
+  const void* data = nullptr;
+  std::size_t size = 0;
+};
+
 /// The system's fault: ScenarioRun makes it the run's "system failed".
 class SystemFault : public std::runtime_error {
  public:
@@ -57,7 +69,8 @@ class ProcessSystem final : public LandingSystem {
   void reset(const SystemSetup& setup) override {
     try {
       if (pid_ <= 0) start();
-      send("reset", {protocol::setup_json(setup)});
+      const std::string json = protocol::setup_json(setup);
+      send("reset", {{json.data(), json.size()}});
       const protocol::Header h = receive(options_.step_timeout_s, "reset");
       if (h.verb != "ready" || !h.sizes.empty()) unexpected(h, "ready");
     } catch (...) {
@@ -68,17 +81,16 @@ class ProcessSystem final : public LandingSystem {
 
   SystemOutput update(const SystemInput& input) override {
     try {
-      std::string image, mask, depth;
+      // The frame's buffers go to the socket as they are (no copy).
+      const std::string state = protocol::state_json(input);
+      std::vector<Bytes> payloads{{state.data(), state.size()}, {}, {}, {}};
       if (input.frame != nullptr) {
         const CameraFrame& f = *input.frame;
-        if (hello_.image) image.assign(f.image.pixels.begin(), f.image.pixels.end());
-        if (hello_.mask) mask.assign(f.mask.begin(), f.mask.end());
-        if (hello_.depth) {
-          depth.resize(f.depth.size() * sizeof(float));
-          std::memcpy(depth.data(), f.depth.data(), depth.size());
-        }
+        if (hello_.image) payloads[1] = {f.image.pixels.data(), f.image.pixels.size()};
+        if (hello_.mask) payloads[2] = {f.mask.data(), f.mask.size()};
+        if (hello_.depth) payloads[3] = {f.depth.data(), f.depth.size() * sizeof(float)};
       }
-      send("step", {protocol::state_json(input), image, mask, depth});
+      send("step", payloads);
       const protocol::Header h = receive(options_.step_timeout_s, "step");
       if (h.verb != "command" || h.sizes.size() != 1) unexpected(h, "command");
       const std::string json = payload(h.sizes[0], options_.step_timeout_s);
@@ -174,32 +186,54 @@ class ProcessSystem final : public LandingSystem {
     return "ended";
   }
 
-  void send_raw(const std::string& bytes) {
-    std::size_t done = 0;
+  // Writes the pieces in order, as one stream (sendmsg: no copy into one buffer).
+  void send_all(std::vector<Bytes> pieces) {
     const Deadline deadline = after(options_.step_timeout_s);
-    while (done < bytes.size()) {
-      const ssize_t n = ::send(fd_, bytes.data() + done, bytes.size() - done, MSG_NOSIGNAL | MSG_DONTWAIT);
-      if (n > 0) {
-        done += static_cast<std::size_t>(n);
+    std::size_t first = 0;
+    while (first < pieces.size()) {
+      if (pieces[first].size == 0) {
+        ++first;
         continue;
       }
+      std::vector<iovec> iov;
+      for (std::size_t i = first; i < pieces.size() && iov.size() < 64; ++i) {
+        if (pieces[i].size > 0)
+          iov.push_back({const_cast<void*>(pieces[i].data), pieces[i].size});  // NOLINT: sendmsg's iovec is not const
+      }
+      msghdr m{};
+      m.msg_iov = iov.data();
+      m.msg_iovlen = iov.size();
+      const ssize_t n = ::sendmsg(fd_, &m, MSG_NOSIGNAL | MSG_DONTWAIT);
       if (n < 0 && errno == EINTR) continue;
       if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
         wait_for(POLLOUT, deadline, options_.step_timeout_s, "to read its input");
         continue;
       }
-      throw SystemFault("the system's process " + exit_status() + " (writing to it: " + std::strerror(errno) + ")");
+      if (n < 0) {
+        throw SystemFault("the system's process " + exit_status() + " (writing to it: " + std::strerror(errno) + ")");
+      }
+      // Advance past what went out.
+      auto left = static_cast<std::size_t>(n);
+      while (left > 0 && first < pieces.size()) {
+        Bytes& b = pieces[first];
+        const std::size_t k = std::min(left, b.size);
+        b.data = static_cast<const char*>(b.data) + k;
+        b.size -= k;
+        left -= k;
+        if (b.size == 0) ++first;
+      }
     }
   }
 
-  void send(const char* verb, const std::vector<std::string>& payloads) {
+  void send_raw(const std::string& bytes) { send_all({{bytes.data(), bytes.size()}}); }
+
+  void send(const char* verb, const std::vector<Bytes>& payloads) {
     std::vector<std::size_t> sizes;
-    std::size_t total = 0;
-    for (const std::string& p : payloads) sizes.push_back(p.size()), total += p.size();
-    std::string bytes = protocol::header(verb, sizes);
-    bytes.reserve(bytes.size() + total);
-    for (const std::string& p : payloads) bytes += p;
-    send_raw(bytes);
+    for (const Bytes& p : payloads) sizes.push_back(p.size);
+    const std::string head = protocol::header(verb, sizes);
+    std::vector<Bytes> pieces{{head.data(), head.size()}};
+    pieces.insert(pieces.end(), payloads.begin(), payloads.end());
+    send_all(std::move(pieces));
   }
 
   void wait_for(short events, Deadline deadline, double timeout_s, const std::string& what) {
@@ -218,9 +252,20 @@ class ProcessSystem final : public LandingSystem {
 
   // Reads at least one more byte into buffer_ before the deadline.
   void fill(Deadline deadline, double timeout_s, const std::string& what) {
-    wait_for(POLLIN, deadline, timeout_s, what);
     char chunk[65536];
-    const ssize_t n = ::recv(fd_, chunk, sizeof chunk, MSG_DONTWAIT);
+    // A short answer usually comes within tens of microseconds: look for it
+    // a while (yielding the core, which the system's process may need)
+    // before sleeping in poll(), whose wake-up costs as much again.
+    ssize_t n = -1;
+    for (int spin = 0; spin < kSpins; ++spin) {
+      n = ::recv(fd_, chunk, sizeof chunk, MSG_DONTWAIT);
+      if (n >= 0 || (errno != EAGAIN && errno != EINTR)) break;
+      ::sched_yield();
+    }
+    if (n < 0 && (errno == EAGAIN || errno == EINTR)) {
+      wait_for(POLLIN, deadline, timeout_s, what);
+      n = ::recv(fd_, chunk, sizeof chunk, MSG_DONTWAIT);
+    }
     if (n > 0) {
       buffer_.append(chunk, static_cast<std::size_t>(n));
       return;

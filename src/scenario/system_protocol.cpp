@@ -4,14 +4,18 @@
 // a system in another process sees exactly what one in the host would.
 #include "touchdown/scenario/system_protocol.hpp"
 
+#include <poll.h>
+#include <sched.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <array>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstring>
 #include <iostream>
-#include <istream>
 #include <nlohmann/json.hpp>
-#include <ostream>
 #include <set>
 #include <string>
 #include <utility>
@@ -308,77 +312,152 @@ std::string output_json(const SystemOutput& o) {
 
 namespace {
 
-Header read_header(std::istream& in) {
+// Buffered reads and unbuffered writes on file descriptors. A read that
+// finds nothing looks again a while (yielding the core) before it sleeps
+// in poll(): the host's next message usually comes within microseconds,
+// and a wake-up from poll() costs as much again.
+class Channel {
+ public:
+  Channel(int in, int out) : in_(in), out_(out) {}
+
+  // False at the end of the input.
+  bool line(std::string& text) {
+    for (;;) {
+      if (const auto eol = buffer_.find('\n', 0); eol != std::string::npos) {
+        text.assign(buffer_, 0, eol);
+        buffer_.erase(0, eol + 1);
+        return true;
+      }
+      if (buffer_.size() >= kMaxHeader) fail("header: over 256 bytes");
+      if (!more()) return false;
+    }
+  }
+
+  void exact(void* data, std::size_t n) {
+    auto* p = static_cast<char*>(data);
+    const std::size_t from_buffer = std::min(n, buffer_.size());
+    std::memcpy(p, buffer_.data(), from_buffer);
+    buffer_.erase(0, from_buffer);
+    for (std::size_t done = from_buffer; done < n;) {
+      wait();
+      const ssize_t k = ::read(in_, p + done, n - done);
+      if (k == 0) fail("payload: cut short");
+      if (k < 0 && errno != EINTR && errno != EAGAIN) fail(std::string("read: ") + std::strerror(errno));
+      if (k > 0) done += static_cast<std::size_t>(k);
+    }
+  }
+
+  std::string exact(std::size_t n) {
+    std::string s(n, '\0');
+    exact(s.data(), n);
+    return s;
+  }
+
+  void write(std::string_view bytes) {
+    for (std::size_t done = 0; done < bytes.size();) {
+      const ssize_t k = ::write(out_, bytes.data() + done, bytes.size() - done);
+      if (k < 0 && errno == EINTR) continue;
+      if (k <= 0) fail(std::string("write: ") + std::strerror(errno));
+      done += static_cast<std::size_t>(k);
+    }
+  }
+
+  void send(std::string_view verb, const std::string& payload) { write(header(verb, {payload.size()}) + payload); }
+
+ private:
+  void wait() {
+    pollfd p{in_, POLLIN, 0};
+    for (int spin = 0; spin < 200; ++spin) {
+      if (::poll(&p, 1, 0) > 0) return;
+      ::sched_yield();
+    }
+    while (::poll(&p, 1, -1) < 0 && errno == EINTR) {
+    }
+  }
+
+  bool more() {
+    char chunk[65536];
+    for (;;) {
+      wait();
+      const ssize_t k = ::read(in_, chunk, sizeof chunk);
+      if (k > 0) {
+        buffer_.append(chunk, static_cast<std::size_t>(k));
+        return true;
+      }
+      if (k == 0) return false;
+      if (errno != EINTR && errno != EAGAIN) fail(std::string("read: ") + std::strerror(errno));
+    }
+  }
+
+  int in_, out_;
+  std::string buffer_;
+};
+
+Header read_header(Channel& c) {
   std::string line;
-  if (!std::getline(in, line)) return Header{};  // the end: like bye
-  if (line.size() >= kMaxHeader) fail("header: over 256 bytes");
+  if (!c.line(line)) return Header{};  // the end: like bye
   return parse_header(line);
-}
-
-std::string read_payload(std::istream& in, std::size_t n) {
-  std::string s(n, '\0');
-  if (n > 0 && !in.read(s.data(), static_cast<std::streamsize>(n))) fail("payload: cut short");
-  return s;
-}
-
-void send(std::ostream& out, std::string_view verb, const std::string& payload) {
-  out << header(verb, {payload.size()}) << payload;
-  out.flush();
 }
 
 }  // namespace
 
-int serve_system(LandingSystem& system, std::istream& in, std::ostream& out, const Hello& wanted) {
+int serve_system(LandingSystem& system, const Hello& wanted, int in_fd, int out_fd) {
+  Channel c(in_fd, out_fd);
   try {
-    const Header first = read_header(in);
+    const Header first = read_header(c);
     if (first.verb != "touchdown-system" || first.sizes.size() != 1 || first.sizes[0] != 1) {
       fail("hello: expected 'touchdown-system 1'");
     }
     Hello hello = wanted;
     hello.name = std::string(system.name());
     const std::string hj = hello_json(hello);
-    out << header("touchdown-system", {static_cast<std::size_t>(kSystemProtocolVersion), hj.size()}) << hj;
-    out.flush();
+    c.write(header("touchdown-system", {static_cast<std::size_t>(kSystemProtocolVersion), hj.size()}) + hj);
     CameraFrame frame;
     for (;;) {
-      const Header h = read_header(in);
+      const Header h = read_header(c);
       if (h.verb.empty() || h.verb == "bye") return 0;
       if (h.verb == "reset") {
         if (h.sizes.size() != 1) fail("reset: expected one payload");
-        const SystemSetup setup = parse_setup(read_payload(in, h.sizes[0]));
+        const SystemSetup setup = parse_setup(c.exact(h.sizes[0]));
         try {
           system.reset(setup);
-          out << header("ready");
-          out.flush();
+          c.write(header("ready"));
         } catch (const std::exception& e) {
-          send(out, "error", std::string("reset() threw: ") + e.what());
+          c.send("error", std::string("reset() threw: ") + e.what());
         }
       } else if (h.verb == "step") {
         if (h.sizes.size() != 4) fail("step: expected four payloads");
-        const StepState s = parse_state(read_payload(in, h.sizes[0]));
-        const std::string image = read_payload(in, h.sizes[1]);
-        const std::string mask = read_payload(in, h.sizes[2]);
-        const std::string depth = read_payload(in, h.sizes[3]);
+        const StepState s = parse_state(c.exact(h.sizes[0]));
         SystemInput input;
         input.state = s.state;
-        if (s.frame) {
-          frame.width = s.width;
-          frame.height = s.height;
-          frame.image.resize(s.width, s.height);
-          const std::size_t pixels = static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height);
-          if (image.size() == pixels * 3) std::memcpy(frame.image.pixels.data(), image.data(), image.size());
-          frame.mask.assign(mask.begin(), mask.end());
-          frame.depth.resize(depth.size() / sizeof(float));
-          std::memcpy(frame.depth.data(), depth.data(), frame.depth.size() * sizeof(float));
-          input.frame = &frame;
-        }
+        // The frame's payloads straight into its buffers.
+        const std::size_t pixels = s.frame ? static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height) : 0;
+        const auto sized = [&](std::size_t got, std::size_t want, const char* what) {
+          if (got != 0 && got != want) {
+            fail(std::string("step: the ") + what + " has " + std::to_string(got) + " bytes, the frame needs " +
+                 std::to_string(want));
+          }
+        };
+        sized(h.sizes[1], pixels * 3, "image");
+        sized(h.sizes[2], pixels, "mask");
+        sized(h.sizes[3], pixels * sizeof(float), "depth");
+        frame.width = s.width;
+        frame.height = s.height;
+        frame.image.resize(h.sizes[1] > 0 ? s.width : 0, h.sizes[1] > 0 ? s.height : 0);
+        c.exact(frame.image.pixels.data(), h.sizes[1]);
+        frame.mask.resize(h.sizes[2]);
+        c.exact(frame.mask.data(), h.sizes[2]);
+        frame.depth.resize(h.sizes[3] / sizeof(float));
+        c.exact(frame.depth.data(), h.sizes[3]);
+        if (s.frame) input.frame = &frame;
+        std::string answer;
         try {
-          send(out, "command", output_json(system.update(input)));
-        } catch (const ProtocolError&) {
-          throw;
+          answer = output_json(system.update(input));
         } catch (const std::exception& e) {
-          send(out, "error", e.what());
+          c.send("error", e.what());
+          continue;
         }
+        c.send("command", answer);
       } else {
         fail("unknown verb '" + h.verb + "'");
       }

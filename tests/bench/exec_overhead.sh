@@ -4,8 +4,9 @@
 # in-process (frames included). The same code both ways: the GPS test
 # lander of tests/scenario/plugins/, as a plug-in (in the host) and served by
 # test_exec_child (its own process, the protocol carrying every frame's image).
-# Prints each campaign's wall time, the medians of RUNS (default 3) and
-# their ratio.
+# Prints each campaign's wall time, the medians of RUNS (default 3), their
+# ratio, and the median of the runs' own ratios (each pair runs back to
+# back, so it holds when the host's speed drifts over the runs).
 #   tests/bench/exec_overhead.sh [BUILD]      # BUILD: default build
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -23,4 +24,5 @@ for ((i = 0; i < runs; i++)); do
 done
 a=$(printf '%s\n' "${in_host[@]}" | median)
 b=$(printf '%s\n' "${exec_[@]}" | median)
-echo "median: in the host $a s, through exec $b s, ratio $(python3 -c "print(f'{$b / $a:.3f}')")"
+pairs=$(for ((i = 0; i < runs; i++)); do python3 -c "print(${exec_[i]} / ${in_host[i]})"; done | median)
+echo "median: in the host $a s, through exec $b s, ratio $(python3 -c "print(f'{$b / $a:.3f}')"); median of the runs' ratios $(python3 -c "print(f'{$pairs:.3f}')")"

@@ -15,7 +15,6 @@
 /// `command J` (JSON: the output), `error T` (T: text; the run fails with it).
 #include <cstddef>
 #include <cstdint>
-#include <iosfwd>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -76,10 +75,14 @@ StepState parse_state(std::string_view json);
 SystemOutput parse_output(std::string_view json, std::string& phase);
 std::string output_json(const SystemOutput& output);
 
-/// Runs `system` as a process system: reads the host's messages on `in`
-/// and answers on `out` until `bye` or the end of `in`. Returns 0 after
-/// bye, 1 after a protocol error (written to stderr). For a system in C++
-/// that the host runs with exec: a main() that calls this.
-int serve_system(LandingSystem& system, std::istream& in, std::ostream& out, const Hello& hello = {});
+/// Runs `system` as a process system: reads the host's messages on the
+/// file descriptor `in_fd` and answers on `out_fd` (default stdin and
+/// stdout) until `bye` or the end of the input. Returns 0 after bye, 1
+/// after a protocol error (written to stderr). What `system` throws from
+/// reset() or update() is answered as `error` (the host ends that run as
+/// system-failed and goes on). For a system in C++ that the host runs with
+/// exec: a main() that calls this. `hello` says which frame payloads it
+/// wants (its name is the system's).
+int serve_system(LandingSystem& system, const Hello& hello = {}, int in_fd = 0, int out_fd = 1);
 
 }  // namespace touchdown::scenario::protocol

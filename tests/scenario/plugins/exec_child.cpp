@@ -2,7 +2,8 @@
 // gps_lander.hpp served with serve_system() (so that a campaign through
 // exec: can be compared with the same code in the host, bit for bit), or,
 // with a fault mode, one that breaks at its N-th step:
-//   exec_child lander
+//   exec_child lander              (asks for the image, as a vision system would)
+//   exec_child lander-no-frames    (asks for no frame payload)
 //   exec_child exit N | sleep N | garbage N | truncate N | wrong-size N | error N
 //   exec_child version      (says protocol version 2)
 //   exec_child silent       (never says hello)
@@ -61,10 +62,11 @@ int main(int argc, char** argv) {
     return 0;
   }
   ts::protocol::Hello hello;  // the image only
-  if (mode == "lander") {
+  if (mode == "lander" || mode == "lander-no-frames") {
+    hello.image = mode == "lander";  // lander-no-frames: the protocol's cost without the image payloads
     touchdown::test_plugin::GpsLander lander("test-gps-lander");
-    return ts::protocol::serve_system(lander, std::cin, std::cout, hello);
+    return ts::protocol::serve_system(lander, hello);
   }
   Saboteur saboteur(mode, argc > 2 ? std::atoi(argv[2]) : 1);
-  return ts::protocol::serve_system(saboteur, std::cin, std::cout, hello);
+  return ts::protocol::serve_system(saboteur, hello);
 }
