@@ -176,19 +176,19 @@ TEST(LandingScenarioApp, CampaignOverFilesWritesSummaryAndCsv) {
 TEST(LandingScenarioApp, ContractCommandPassesASoundSystemAndNamesTheBrokenClause) {
   TempDir dir;
   const std::string plugin = std::string("plugin:") + TOUCHDOWN_TEST_PLUGIN + ":";
-  const AppRun sound = scenario_app("contract --system " + plugin + "test-gps-lander", dir);
+  const AppRun sound = scenario_app("contract --max-time 6 --system " + plugin + "test-gps-lander", dir);
   EXPECT_EQ(sound.code, 0) << sound.out << sound.err;
   EXPECT_NE(sound.out.find("reset          ok"), std::string::npos) << sound.out;
   EXPECT_NE(sound.out.find("result     every clause holds"), std::string::npos) << sound.out;
 
-  const AppRun stateful = scenario_app("contract --system " + plugin + "test-stateful", dir);
+  const AppRun stateful = scenario_app("contract --max-time 6 --system " + plugin + "test-stateful", dir);
   EXPECT_EQ(stateful.code, 1) << stateful.out << stateful.err;
   EXPECT_NE(stateful.out.find("reset          FAILED"), std::string::npos) << stateful.out;
   EXPECT_NE(stateful.out.find("the second run of one object differs from its first at step 0"), std::string::npos)
       << stateful.out;
   EXPECT_NE(stateful.out.find("deterministic  ok"), std::string::npos) << stateful.out;
 
-  const AppRun shared = scenario_app("contract --system " + plugin + "test-shared --json", dir);
+  const AppRun shared = scenario_app("contract --max-time 6 --system " + plugin + "test-shared --json", dir);
   EXPECT_EQ(shared.code, 1) << shared.out << shared.err;
   std::istringstream lines(shared.out);
   std::set<std::string> failed;
@@ -200,7 +200,7 @@ TEST(LandingScenarioApp, ContractCommandPassesASoundSystemAndNamesTheBrokenClaus
   EXPECT_TRUE(failed.count("independent")) << shared.out;
   EXPECT_FALSE(failed.count("name")) << shared.out;
 
-  const AppRun faulty = scenario_app("contract --system " + plugin + "test-gps-lander-faulty", dir);
+  const AppRun faulty = scenario_app("contract --max-time 6 --system " + plugin + "test-gps-lander-faulty", dir);
   EXPECT_EQ(faulty.code, 1);
   EXPECT_NE(faulty.out.find("the system failed: update() threw at t = 3.00 s"), std::string::npos) << faulty.out;
 
