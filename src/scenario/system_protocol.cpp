@@ -336,7 +336,7 @@ class Channel {
   void exact(void* data, std::size_t n) {
     auto* p = static_cast<char*>(data);
     const std::size_t from_buffer = std::min(n, buffer_.size());
-    std::memcpy(p, buffer_.data(), from_buffer);
+    if (from_buffer > 0) std::memcpy(p, buffer_.data(), from_buffer);  // p may be null when n == 0
     buffer_.erase(0, from_buffer);
     for (std::size_t done = from_buffer; done < n;) {
       wait();
