@@ -47,6 +47,22 @@ inline std::filesystem::path stage(touchdown::StagedOutputs& outputs, const std:
   return path.empty() ? std::filesystem::path() : outputs.add(path, option);
 }
 
+/// An output directory that the app creates (a results directory, a
+/// dataset): its parent must exist, as every output file's directory must
+/// (an app does not create missing parents, so a mistyped path fails
+/// before any work). IoError: "--out a/b/c: output directory 'a/b' does
+/// not exist".
+inline void require_parent_directory(const std::string& path, const std::string& option) {
+  const std::filesystem::path parent = std::filesystem::absolute(path).parent_path();
+  std::error_code ec;
+  if (!std::filesystem::is_directory(parent, ec)) {
+    const std::filesystem::path shown = std::filesystem::path(path).has_parent_path()
+                                            ? std::filesystem::path(path).parent_path()
+                                            : std::filesystem::path(".");
+    throw touchdown::IoError(option + " " + path + ": output directory '" + shown.string() + "' does not exist");
+  }
+}
+
 /// Validator of an output path: it must end in `ext` (".svg", ".csv",
 /// ".json"), so that a file named x.png never receives SVG text.
 inline CLI::Validator output_extension(const std::string& ext) {
@@ -112,6 +128,20 @@ CLI::Option* add_enum_option(CLI::App& app, const std::string& name, std::option
           },
           "{" + names + "}"))
       ->default_str(value ? std::string(touchdown::enum_name(*value)) : open_name);
+}
+
+/// Validator of a name from a registry's list (core/registry.hpp): a bad
+/// one is refused listing them, in the style of the enum options
+/// ("--perception: expected one of model, render; got 'sonar'").
+inline CLI::Validator one_of_names(const std::vector<std::string>& names) {
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  return CLI::Validator(
+      [names, list](std::string& text) -> std::string {
+        if (std::find(names.begin(), names.end(), text) != names.end()) return "";
+        return "expected one of " + list + "; got '" + text + "'";
+      },
+      "{" + list + "}");
 }
 
 /// Validator of a number option: finite and within [lo, hi] (`(` or `)`
@@ -219,6 +249,63 @@ inline void print_warnings(const std::string& app, const std::vector<std::string
   for (const auto& w : warnings) std::cerr << app << ": warning: " << w << "\n";
 }
 
+/// Levenshtein's edit distance (insertions, deletions, substitutions), by
+/// the two-row dynamic programme of Wagner and Fischer (1974).
+inline std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    }
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+/// For an "argument was not expected" error: " (did you mean --extrinsics?)"
+/// when an unexpected `--word` is within a few edits of one option of the
+/// command (or of the subcommand it ran) and nearer to it than to any
+/// other; empty otherwise.
+inline std::string option_suggestion(const CLI::App& app, const std::string& message) {
+  std::vector<std::string> names;
+  std::vector<const CLI::App*> apps{&app};
+  for (std::size_t k = 0; k < apps.size(); ++k) {
+    for (const CLI::Option* o : apps[k]->get_options()) {
+      for (const std::string& n : o->get_lnames()) names.push_back("--" + n);
+    }
+    for (const CLI::App* s : apps[k]->get_subcommands()) apps.push_back(s);  // the parsed ones
+  }
+  std::string out;
+  std::size_t start = message.find(": ");
+  while (start != std::string::npos && start < message.size()) {
+    start = message.find_first_not_of(": ", start);
+    if (start == std::string::npos) break;
+    const std::size_t end = std::min(message.find(' ', start), message.size());
+    std::string word = message.substr(start, end - start);
+    start = end;
+    if (word.rfind("--", 0) != 0) continue;
+    word = word.substr(0, word.find('='));
+    const std::size_t limit = std::max<std::size_t>(1, (word.size() - 2) / 4);
+    std::string best;
+    std::size_t best_d = limit + 1;
+    bool tie = false;
+    for (const std::string& n : names) {
+      const std::size_t d = edit_distance(word, n);
+      if (d < best_d) {
+        best = n;
+        best_d = d;
+        tie = false;
+      } else if (d == best_d && n != best) {
+        tie = true;
+      }
+    }
+    if (!best.empty() && !tie && best != word) out += (out.empty() ? " (did you mean " : ", ") + best;
+  }
+  return out.empty() ? out : out + "?)";
+}
+
 /// Parses the command line and runs `body`, mapping exceptions to one line
 /// on stderr and the conventional exit codes.
 template <typename Body>
@@ -232,6 +319,9 @@ int run(CLI::App& app, int argc, char** argv, Body&& body) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
+  } catch (const CLI::ExtrasError& e) {
+    std::cerr << app.get_name() << ": " << e.what() << option_suggestion(app, e.what()) << " (see --help)\n";
+    return kExitBadInput;
   } catch (const CLI::ParseError& e) {
     std::cerr << app.get_name() << ": " << e.what() << " (see --help)\n";
     return kExitBadInput;

@@ -229,6 +229,7 @@ int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
   if (!a.search.validate(&why)) throw td::InvalidArgument(why);  // before any rank starts serving
   const fs::path dir = a.out;
   const bool rank0 = mpi.rank() == 0;
+  require_parent_directory(a.out, "--out");
   if (rank0 && !a.resume && fs::exists(dir / "campaign.json")) {
     throw td::InvalidArgument(a.out +
                               ": holds a campaign already (campaign.json); --resume continues it, or "
@@ -243,16 +244,12 @@ int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
   }
   cv::setNumThreads(1);  // the campaign's threads are the parallelism
   const tsr::EvaluatorOptions eo = evaluator_options(a.common, policy);
-  std::unique_ptr<tsr::Evaluator> evaluator;
-  if (mpi.size() > 1) {
-    auto m = std::make_unique<tsr::MpiEvaluator>(eo);
-    if (!rank0) {
-      m->serve();
-      return kExitOk;
-    }
-    evaluator = std::move(m);
-  } else {
-    evaluator = std::make_unique<tsr::LocalEvaluator>(eo);
+  tsr::register_mpi_evaluator();
+  const std::unique_ptr<tsr::Evaluator> evaluator =
+      tsr::evaluator_registry().get(mpi.size() > 1 ? "mpi" : "local").factory(eo);
+  if (!evaluator->coordinator()) {
+    evaluator->serve();
+    return kExitOk;
   }
   std::optional<CampaignProgressLine> line;
   if (ProgressBar::on_terminal()) line.emplace();
@@ -491,6 +488,7 @@ CLI::App* add_compare_command(CLI::App& app, CompareArgs& a) {
 }
 
 int compare_command(const CompareArgs& a) {
+  require_parent_directory(a.out, "--out");
   td::StagedOutputs staged;
   const fs::path plot_tmp = stage(staged, a.plot, "--plot");
   if (a.budget < a.population) {

@@ -32,7 +32,7 @@ struct Args {
   int runs = 1;
   std::uint64_t seed = 1;
   int threads = 0;
-  tdm::PerceptionMode perception = tdm::PerceptionMode::Model;
+  std::string perception = "model";
   bool json = false;
   std::string plot_dir, log_path, video_path;
   // envelope
@@ -154,7 +154,7 @@ std::string fixed(double v, int decimals) { return std::isfinite(v) ? format_fix
 void print_summary(const Args& a, const tdm::MissionOptions& o, const Summary& s, double wall) {
   std::printf("%s: %d mission%s, vehicle %s at %.2f m/s, perception %s, seed %llu\n", source_name(a).c_str(), s.runs,
               s.runs == 1 ? "" : "s", std::string(tdm::to_string(o.vehicle.path)).c_str(), o.vehicle.speed,
-              std::string(tdm::to_string(a.perception)).c_str(), static_cast<unsigned long long>(a.seed));
+              a.perception.c_str(), static_cast<unsigned long long>(a.seed));
   std::printf("  landed %d (%.1f %%), crashed %d, aborted %d, timeout %d\n", s.landed, 100 * s.success(), s.crashed,
               s.aborted, s.timeout);
   std::printf("  touchdown error from the pad centre: median %s m, 95th percentile %s m, max %s m\n",
@@ -399,8 +399,10 @@ int main(int argc, char** argv) {
   app.add_option("--runs", a.runs, "missions")->check(CLI::Range(1, 1000000))->capture_default_str();
   td::app::add_seed_option(app, "--seed", a.seed, "seed of the first mission (run i: (seed, i))");
   app.add_option("--threads", a.threads, "threads (0: all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
-  CLI::Option* perception = td::app::add_enum_option(app, "--perception", a.perception,
-                                                     "perception in the loop (default: the mission file's)");
+  CLI::Option* perception =
+      app.add_option("--perception", a.perception, "perception in the loop (default: the mission file's)")
+          ->check(td::app::one_of_names(tdm::perception_registry().names()))
+          ->default_str("the file's");
   app.add_flag("--json", a.json, "one JSON object on stdout");
   app.add_option("--plot", a.plot_dir, "write positions/velocities/errors/top_view SVGs of run 0 to this directory")
       ->default_str("off");
@@ -444,7 +446,7 @@ int main(int argc, char** argv) {
     td::app::print_warnings(app.get_name(), file.warnings);
     if (perception->count() == 0) a.perception = file.options.perception;
     file.options.perception = a.perception;
-    if (!a.video_path.empty() && a.perception != tdm::PerceptionMode::Render) {
+    if (!a.video_path.empty() && a.perception != "render") {
       throw td::InvalidArgument("--video: needs --perception render (the camera's frames are rendered only then)");
     }
     Recorded recorded;
@@ -464,7 +466,7 @@ int main(int argc, char** argv) {
       for (std::size_t i = 0; i < results.size(); ++i) runs.push_back(run_json(results[i], static_cast<int>(i)));
       std::cout << nlohmann::json{{"mission", source_name(a)},
                                   {"seed", a.seed},
-                                  {"perception", std::string(tdm::to_string(a.perception))},
+                                  {"perception", a.perception},
                                   {"summary", summary_json(s)},
                                   {"seconds", std::round(wall * 1e3) / 1e3},
                                   {"missions", runs}}

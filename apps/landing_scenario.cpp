@@ -707,8 +707,8 @@ int dataset_command(DatasetArgs& a) {
   if (!a.options.validate(&why)) throw td::InvalidArgument("--marker/--max-tilt: " + why);
   const fs::path out(a.out);
   if (fs::exists(out)) throw td::IoError("--out " + a.out + ": exists (a dataset goes into a new directory)");
+  require_parent_directory(a.out, "--out");
   const fs::path parent = fs::absolute(out).parent_path();
-  if (!fs::is_directory(parent)) throw td::IoError("--out " + a.out + ": " + parent.string() + " is not a directory");
   // Written beside it, renamed when complete: an interrupted run leaves no dataset.
   const fs::path tmp = parent / ("." + out.filename().string() + ".partial");
   fs::remove_all(tmp);
@@ -788,8 +788,8 @@ struct DetectArgs {
 CLI::App* add_detect_command(CLI::App& app, DetectArgs& a) {
   auto* cmd = app.add_subcommand("detect", "run a marker detector on image files (any size; PNG, JPEG, ...)");
   cmd->add_option("IMAGE", a.images, "image files")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--detector", a.detector.kind, "aruco or learned")
-      ->check(CLI::IsMember(ts::marker_detector_names()))
+  cmd->add_option("--detector", a.detector.kind, "the marker detector")
+      ->check(one_of_names(ts::marker_detector_names()))
       ->capture_default_str();
   cmd->add_option("--model", a.detector.model,
                   "the learned detector's ONNX model (default: data/models/, TOUCHDOWN_MODEL)");

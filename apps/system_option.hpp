@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
+#include "app_common.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/scenario/marker_detector.hpp"
 #include "touchdown/scenario/system_registry.hpp"
@@ -14,8 +15,7 @@ namespace touchdown::app {
 /// the command line is read (a plug-in is loaded then), so that an unknown
 /// name or a library that cannot be loaded is refused with its reason.
 inline CLI::Option* add_system_option(CLI::App& cmd, std::string& spec) {
-  std::string names;
-  for (const std::string& n : scenario::landing_system_names()) names += (names.empty() ? "" : ", ") + n;
+  const std::string names = scenario::system_registry().known();
   return cmd
       .add_option("--system", spec,
                   "landing system under test: " + names +
@@ -39,7 +39,7 @@ inline CLI::Option* add_detector_option(CLI::App& cmd, std::string& kind) {
       .add_option("--detector", kind,
                   "the system's marker detector (learned-mls: always learned; the model: data/models/, or "
                   "TOUCHDOWN_MODEL)")
-      ->check(CLI::IsMember(scenario::marker_detector_names()))
+      ->check(one_of_names(scenario::marker_detector_names()))
       ->capture_default_str();
 }
 

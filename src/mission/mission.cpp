@@ -159,11 +159,29 @@ double nutation_between(const Eigen::Matrix3d& R_a, const Eigen::Matrix3d& R_b) 
 
 }  // namespace
 
+Registry<PerceptionFactory>& perception_registry() {
+  static Registry<PerceptionFactory>* registry = [] {
+    auto* r = new Registry<PerceptionFactory>("mission perception");  // never destroyed: used until exit
+    r->add("model", "the fitted model of led_pose: range-dependent noise, bias, latency, drop-outs, field of view",
+           [](const MissionOptions& o, std::uint64_t seed) {
+             return std::make_unique<PerceptionModel>(o.perception_options(), seed);
+           });
+    r->add("render", "renders the camera's frames and runs the LED tracker on them (slower)",
+           [](const MissionOptions& o, std::uint64_t seed) {
+             const PerceptionModelOptions model = o.perception_options();
+             return std::make_unique<RenderPerception>(o.render, model.camera.T_pad_camera,
+                                                       o.drone.airframe.centre_of_mass(), model.rate_hz, model.latency,
+                                                       seed);
+           });
+    return r;
+  }();
+  return *registry;
+}
+
 std::unique_ptr<Perception> make_default_perception(const MissionOptions& o, std::uint64_t seed) {
-  const PerceptionModelOptions model = o.perception_options();
-  if (o.perception == PerceptionMode::Model) return std::make_unique<PerceptionModel>(model, seed);
-  return std::make_unique<RenderPerception>(o.render, model.camera.T_pad_camera, o.drone.airframe.centre_of_mass(),
-                                            model.rate_hz, model.latency, seed);
+  auto p = perception_registry().get(o.perception).factory(o, seed);
+  if (!p) throw InvalidArgument("perception '" + o.perception + "': its factory returned no perception");
+  return p;
 }
 
 PerceptionModelOptions MissionOptions::perception_options() const {
@@ -177,7 +195,10 @@ bool MissionOptions::validate(std::string* why) const {
   std::string w;
   if (!machine.validate(&w)) return invalid(why, "state_machine." + w);
   if (!perception_options().validate(why)) return false;
-  if (perception == PerceptionMode::Render && !render.validate(why)) return false;
+  if (!perception_registry().find(perception)) {
+    return invalid(why, "perception.mode: unknown '" + perception + "' (known: " + perception_registry().known() + ")");
+  }
+  if (perception == "render" && !render.validate(why)) return false;
   if (!(pad.size.allFinite() && pad.size.minCoeff() > 0)) return invalid(why, "pad.size: must be positive [m]");
   if (!(positive(pad.thickness))) return invalid(why, "pad.thickness: must be positive [m]");
   if (!wind.mean.allFinite()) return invalid(why, "wind.mean: must be finite [m/s]");

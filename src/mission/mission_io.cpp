@@ -46,6 +46,10 @@ Field flag(const char* key, bool& target) {
             }
           }};
 }
+// A name (checked by validate(), e.g. against a registry).
+Field word(const char* key, std::string& target) {
+  return {key, [&target](const YamlReader& r, const YAML::Node& n, const std::string& k) { target = r.text(n, k); }};
+}
 Field vec3(const char* key, Eigen::Vector3d& target) {
   return {key, [&target](const YamlReader& r, const YAML::Node& n, const std::string& k) {
             const auto v = r.vec3(n, k);
@@ -216,7 +220,7 @@ void read_mission(const YamlReader& r, const YAML::Node& root, const std::filesy
       section("perception",
               [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
                 read_fields(rr, n, k + ".",
-                            {named("mode", o.perception), num("rate_hz", p.rate_hz), num("latency", p.latency),
+                            {word("mode", o.perception), num("rate_hz", p.rate_hz), num("latency", p.latency),
                              num("sigma_a", p.sigma_a), num("sigma_b", p.sigma_b), num("bias_sigma", p.bias_sigma),
                              num("dropout", p.dropout), num("dropout_b", p.dropout_b), num("min_range", p.min_range),
                              num("max_range", p.max_range), num("fov_margin", p.fov_margin)});

@@ -16,8 +16,8 @@
 namespace touchdown::scenario {
 
 bool DetectorOptions::validate(std::string* why) const {
-  if (kind != "aruco" && kind != "learned")
-    return invalid(why, "detector: unknown '" + kind + "' (known: aruco, learned)");
+  if (!detector_registry().find(kind))
+    return invalid(why, "detector: unknown '" + kind + "' (known: " + detector_registry().known() + ")");
   if (full_frame_period < 1 || full_frame_period > 1000)
     return invalid(why, "detector.full_frame_period: must be in [1, 1000] frames");
   if (!(std::isfinite(min_confidence) && min_confidence >= 0 && min_confidence <= 1))
@@ -38,15 +38,30 @@ std::filesystem::path default_model_path() {
   return TOUCHDOWN_MODEL_PATH;
 }
 
+Registry<MakeDetector>& detector_registry() {
+  static Registry<MakeDetector>* registry = [] {
+    auto* r = new Registry<MakeDetector>("marker detector");  // never destroyed: used until exit
+    r->add("aruco", "OpenCV's ArUco detector with region-of-interest tracking", [](const DetectorOptions& o) {
+      return std::make_unique<detail::ArucoDetector>(o.roi, o.full_frame_period);
+    });
+    r->add("learned", "the learned marker detector (an ONNX model through OpenCV DNN; data/models/)",
+           [](const DetectorOptions& o) {
+             return std::make_unique<detail::LearnedDetector>(o.model.empty() ? default_model_path() : o.model,
+                                                              o.min_confidence, o.nms_iou, o.roi, o.full_frame_period);
+           });
+    return r;
+  }();
+  return *registry;
+}
+
 std::unique_ptr<MarkerDetector> make_marker_detector(const DetectorOptions& options) {
   std::string why;
   if (!options.validate(&why)) throw InvalidArgument(why);
-  if (options.kind == "aruco") return std::make_unique<detail::ArucoDetector>(options.roi, options.full_frame_period);
-  return std::make_unique<detail::LearnedDetector>(options.model.empty() ? default_model_path() : options.model,
-                                                   options.min_confidence, options.nms_iou, options.roi,
-                                                   options.full_frame_period);
+  auto d = detector_registry().get(options.kind).factory(options);
+  if (!d) throw InvalidArgument("detector '" + options.kind + "': its factory returned no detector");
+  return d;
 }
 
-std::vector<std::string> marker_detector_names() { return {"aruco", "learned"}; }
+std::vector<std::string> marker_detector_names() { return detector_registry().names(); }
 
 }  // namespace touchdown::scenario

@@ -8,7 +8,6 @@
 
 #include <fcntl.h>
 #include <poll.h>
-#include <sched.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/socket.h>
@@ -27,6 +26,7 @@
 #include <vector>
 
 #include "core/format.hpp"
+#include "scenario/fd_wait.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/scenario/system_protocol.hpp"
 
@@ -133,7 +133,9 @@ class ProcessSystem final : public LandingSystem {
     fd_ = fds[0];
     pid_ = pid;
     buffer_.clear();
-    send_raw(protocol::header("touchdown-system", {static_cast<std::size_t>(kSystemProtocolVersion)}));
+    const std::string version =
+        protocol::header("touchdown-system", {static_cast<std::size_t>(kSystemProtocolVersion)});
+    send_all({{version.data(), version.size()}});
     const protocol::Header h = receive(options_.start_timeout_s, "hello");
     if (h.verb != "touchdown-system") unexpected(h, "touchdown-system");
     const std::string json = h.sizes.size() == 2 ? payload(h.sizes[1], options_.start_timeout_s) : "";
@@ -206,7 +208,7 @@ class ProcessSystem final : public LandingSystem {
       const ssize_t n = ::sendmsg(fd_, &m, MSG_NOSIGNAL | MSG_DONTWAIT);
       if (n < 0 && errno == EINTR) continue;
       if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
-        wait_for(POLLOUT, deadline, options_.step_timeout_s, "to read its input");
+        wait_for(POLLOUT, 0, deadline, options_.step_timeout_s, "to read its input");
         continue;
       }
       if (n < 0) {
@@ -225,8 +227,6 @@ class ProcessSystem final : public LandingSystem {
     }
   }
 
-  void send_raw(const std::string& bytes) { send_all({{bytes.data(), bytes.size()}}); }
-
   void send(const char* verb, const std::vector<Bytes>& payloads) {
     std::vector<std::size_t> sizes;
     for (const Bytes& p : payloads) sizes.push_back(p.size);
@@ -236,34 +236,27 @@ class ProcessSystem final : public LandingSystem {
     send_all(std::move(pieces));
   }
 
-  void wait_for(short events, Deadline deadline, double timeout_s, const std::string& what) {
-    for (;;) {
-      const double left = std::chrono::duration<double>(deadline - Clock::now()).count();
-      if (left <= 0) {
-        throw SystemFault("no answer from the system within " + format_fixed(timeout_s, 1) + " s (waiting for it " +
-                          what + ")");
-      }
-      pollfd p{fd_, events, 0};
-      const int r = ::poll(&p, 1, static_cast<int>(std::ceil(left * 1000)));
-      if (r > 0) return;
-      if (r < 0 && errno != EINTR) throw SystemFault(std::string("poll: ") + std::strerror(errno));
+  // Waits for `events` on the socket until the deadline (first `spins`
+  // polls that do not sleep: detail::wait_fd).
+  void wait_for(short events, int spins, Deadline deadline, double timeout_s, const std::string& what) {
+    bool ready = false;
+    try {
+      ready = detail::wait_fd(fd_, events, spins, std::chrono::duration<double>(deadline - Clock::now()).count());
+    } catch (const Error& e) {
+      throw SystemFault(e.what());
+    }
+    if (!ready) {
+      throw SystemFault("no answer from the system within " + format_fixed(timeout_s, 1) + " s (waiting for it " +
+                        what + ")");
     }
   }
 
   // Reads at least one more byte into buffer_ before the deadline.
   void fill(Deadline deadline, double timeout_s, const std::string& what) {
     char chunk[65536];
-    // A short answer usually comes within tens of microseconds: look for it
-    // a while (yielding the core, which the system's process may need)
-    // before sleeping in poll(), whose wake-up costs as much again.
-    ssize_t n = -1;
-    for (int spin = 0; spin < kSpins; ++spin) {
-      n = ::recv(fd_, chunk, sizeof chunk, MSG_DONTWAIT);
-      if (n >= 0 || (errno != EAGAIN && errno != EINTR)) break;
-      ::sched_yield();
-    }
+    ssize_t n = ::recv(fd_, chunk, sizeof chunk, MSG_DONTWAIT);
     if (n < 0 && (errno == EAGAIN || errno == EINTR)) {
-      wait_for(POLLIN, deadline, timeout_s, what);
+      wait_for(POLLIN, kSpins, deadline, timeout_s, what);
       n = ::recv(fd_, chunk, sizeof chunk, MSG_DONTWAIT);
     }
     if (n > 0) {

@@ -5,7 +5,6 @@
 #include "touchdown/scenario/system_protocol.hpp"
 
 #include <poll.h>
-#include <sched.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -21,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "scenario/fd_wait.hpp"
 #include "touchdown/scenario/process_system.hpp"
 
 namespace touchdown::scenario::protocol {
@@ -365,15 +365,7 @@ class Channel {
   void send(std::string_view verb, const std::string& payload) { write(header(verb, {payload.size()}) + payload); }
 
  private:
-  void wait() {
-    pollfd p{in_, POLLIN, 0};
-    for (int spin = 0; spin < 200; ++spin) {
-      if (::poll(&p, 1, 0) > 0) return;
-      ::sched_yield();
-    }
-    while (::poll(&p, 1, -1) < 0 && errno == EINTR) {
-    }
-  }
+  void wait() { (void)detail::wait_fd(in_, POLLIN, 200, -1); }
 
   bool more() {
     char chunk[65536];

@@ -8,6 +8,8 @@
 #include <mpi.h>
 
 #include <cstdlib>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
@@ -136,6 +138,14 @@ std::vector<Evaluation> MpiEvaluator::evaluate(const std::vector<scenario::Scena
     }
   }
   return out;
+}
+
+void register_mpi_evaluator() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    evaluator_registry().add("mpi", "the scenarios of a batch spread over the MPI ranks (each with worker threads)",
+                             [](const EvaluatorOptions& o) { return std::make_unique<MpiEvaluator>(o); });
+  });
 }
 
 void MpiEvaluator::serve() {

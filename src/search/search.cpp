@@ -80,6 +80,16 @@ ChromosomeLayout search_layout(const SearchOptions& options) {
 
 // ---- the local evaluator ---------------------------------------------------------------
 
+Registry<MakeEvaluator>& evaluator_registry() {
+  static Registry<MakeEvaluator>* registry = [] {
+    auto* r = new Registry<MakeEvaluator>("evaluator");  // never destroyed: used until exit
+    r->add("local", "the scenarios of a batch on worker threads of this process",
+           [](const EvaluatorOptions& o) { return std::make_unique<LocalEvaluator>(o); });
+    return r;
+  }();
+  return *registry;
+}
+
 LocalEvaluator::LocalEvaluator(EvaluatorOptions options) : options_(std::move(options)) {
   std::string why;
   if (!options_.validate(&why)) throw InvalidArgument("evaluator options: " + why);

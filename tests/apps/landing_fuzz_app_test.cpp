@@ -252,6 +252,12 @@ TEST(LandingFuzzApp, BadInputIsOneLineWithExitTwoAndNothingOverwritten) {
   expect_one_line(fuzz_app("campaign --method rlaga --niche-capacity 3 --out " + (dir / "y").string() + base, dir),
                   "--diversity");
   EXPECT_FALSE(fs::exists(dir / "y"));
+  // Issue 58, item 2: a missing parent is refused, as by every other app, and not created.
+  const std::string deep = (dir / "no" / "such" / "x").string();
+  expect_one_line(fuzz_app("campaign --method random --budget 2 --population 2 --out " + deep + base, dir),
+                  "output directory '" + (dir / "no" / "such").string() + "' does not exist");
+  expect_one_line(fuzz_app("compare --seeds 1 --budget 2 --population 2 --out " + deep, dir), "does not exist");
+  EXPECT_FALSE(fs::exists(dir / "no"));
   // A system spec that does not resolve: one line naming it.
   expect_one_line(fuzz_app("campaign --method random --system plugin:" + (dir / "none.so").string() + " --out " +
                                (dir / "y").string() + base,

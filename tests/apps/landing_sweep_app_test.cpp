@@ -186,6 +186,16 @@ TEST(LandingSweepAppBadInput, BadOptionsAndFiles) {
   EXPECT_EQ(d.code, 2);
   EXPECT_NE(d.err.find(": cannot open: is a directory"), std::string::npos) << d.err;
   EXPECT_EQ(d.err.find("unknown point cloud format"), std::string::npos) << d.err;
+  // Issue 58, item 10: a misspelled option names the one meant; a word
+  // near no option (or as near two) gets no guess.
+  const AppRun typo = run(terrain + " --extrinsic x.yaml", dir);
+  EXPECT_EQ(typo.code, 2);
+  expect_one_line(typo);
+  EXPECT_NE(typo.err.find("--extrinsic"), std::string::npos) << typo.err;
+  EXPECT_NE(typo.err.find("(did you mean --extrinsics?)"), std::string::npos) << typo.err;
+  const AppRun far = run(terrain + " --banana 3", dir);
+  EXPECT_EQ(far.code, 2);
+  EXPECT_EQ(far.err.find("did you mean"), std::string::npos) << far.err;
 }
 
 // ---- the bundled terrains with a known answer (data/terrains/regenerate.sh) ----

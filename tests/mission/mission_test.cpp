@@ -7,7 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <numbers>
+#include <string>
+#include <vector>
 
 #include "touchdown/core/error.hpp"
 
@@ -110,6 +113,45 @@ TEST(Mission, OptionsTheDroneCannotFlyAreRefusedByKey) {
   refused(o, "link.dropout");
   std::string why;
   EXPECT_TRUE(tdm::MissionOptions{}.validate(&why)) << why;
+}
+
+namespace {
+
+// A camera that never finds the drone.
+class BlindPerception final : public tdm::Perception {
+ public:
+  tdm::PoseMeasurement capture(const tdm::PerceptionTruth& truth) override {
+    tdm::PoseMeasurement m;
+    m.t_capture = m.t_available = truth.t;
+    return m;
+  }
+  [[nodiscard]] double rate_hz() const override { return 30; }
+};
+
+}  // namespace
+
+TEST(PerceptionRegistry, AUserPerceptionIsNamedLikeTheBuiltIns) {
+  EXPECT_EQ(tdm::perception_registry().names(), (std::vector<std::string>{"model", "render"}));
+  tdm::perception_registry().add("test-blind", "never sees the drone", [](const tdm::MissionOptions&, std::uint64_t) {
+    return std::make_unique<BlindPerception>();
+  });
+  tdm::MissionOptions o = perfect(tdm::VehiclePath::Line);
+  const tdm::MissionResult seen = tdm::run_mission(o, 1);
+  o.perception = "test-blind";
+  std::string why;
+  EXPECT_TRUE(o.validate(&why)) << why;
+  const tdm::MissionResult blind = tdm::run_mission(o, 1);
+  // The named factory is the one flown: with it, no frame has a pose, and
+  // the perfect camera's landing does not happen.
+  EXPECT_GT(seen.pose_ok, 0);
+  EXPECT_EQ(seen.outcome, tdm::MissionOutcome::Landed);
+  EXPECT_EQ(blind.pose_ok, 0);
+  EXPECT_NE(blind.outcome, tdm::MissionOutcome::Landed);
+  o.perception = "telepathy";
+  EXPECT_FALSE(o.validate(&why));
+  EXPECT_NE(why.find("perception.mode: unknown 'telepathy' (known: model, render, test-blind)"), std::string::npos)
+      << why;
+  EXPECT_THROW((void)tdm::make_default_perception(o, 1), touchdown::InvalidArgument);
 }
 
 TEST(Guidance, PadFrameStatesAgreeWithRigidBodyMotion) {

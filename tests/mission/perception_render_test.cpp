@@ -78,7 +78,7 @@ TEST(PerceptionModel, KeepsThePerceptionContract) {
 
 TEST(RenderPerception, ShortMissionWithTheTrackerInTheLoopLands) {
   tdm::MissionOptions o;
-  o.perception = tdm::PerceptionMode::Render;
+  o.perception = "render";
   o.vehicle.path = tdm::VehiclePath::Line;
   o.drone_start = Eigen::Vector3d(-2.0, 0.0, 1.9);  // near the rendezvous point
   o.timeout = 25;

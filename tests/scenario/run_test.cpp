@@ -170,8 +170,9 @@ TEST(RunScenario, RejectsInvalidOptionsAndUnknownSystems) {
   RunOptions o;
   o.violation_radius = -1;
   auto sut = make_landing_system("opencv-mls");
-  EXPECT_THROW(run_scenario(test::clear_scenario(), *sut, o), InvalidArgument);
-  EXPECT_THROW(ScenarioRun(test::clear_scenario(), *sut, o), InvalidArgument);
+  const Scenario clear = test::clear_scenario();
+  EXPECT_THROW(run_scenario(clear, *sut, o), InvalidArgument);
+  EXPECT_THROW(ScenarioRun(clear, *sut, o), InvalidArgument);
   EXPECT_THROW(make_landing_system("px4-precland"), InvalidArgument);
   MlsOptions m;
   m.seen_time = -1;

@@ -76,7 +76,8 @@ TEST(SystemFault, ANonFiniteCommandIsNeverFlown) {
 
 TEST(SystemFault, AThrowingResetFailsBeforeTheFirstStep) {
   Garbage throws_in_reset(100, true);
-  ScenarioRun run(contract::clear_scenario(20), throws_in_reset, {});
+  const Scenario scenario = contract::clear_scenario(20);  // a ScenarioRun holds a reference to it
+  ScenarioRun run(scenario, throws_in_reset, {});
   EXPECT_TRUE(run.over());
   EXPECT_FALSE(run.step());
   EXPECT_EQ(run.failure(), "reset() threw (not a std::exception)");

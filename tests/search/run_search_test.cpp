@@ -6,7 +6,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
+#include <string>
 
 #include "scenario/plugins/gps_lander.hpp"
 #include "test_util.hpp"
@@ -49,9 +51,12 @@ TEST(LocalEvaluator, SameResultsFileForOneAndTwoThreads) {
   const fs::path& root = dir.path();
   EvaluatorOptions one = small_camera(1), two = small_camera(2);
   one.policy = two.policy = some_network();
-  LocalEvaluator e1(one), e2(two);
+  LocalEvaluator e1(one);
+  // The registry's `local` is the same evaluator, named.
+  const std::unique_ptr<Evaluator> e2 = evaluator_registry().get("local").factory(two);
+  EXPECT_TRUE(e2->coordinator());
   const SearchResult r1 = run_search(o, e1, root / "one", false);
-  const SearchResult r2 = run_search(o, e2, root / "two", false);
+  const SearchResult r2 = run_search(o, *e2, root / "two", false);
   ASSERT_EQ(r1.records.size(), 4u);
   EXPECT_EQ(test::read_text(root / "one" / "results.jsonl"), test::read_text(root / "two" / "results.jsonl"));
   // A record is the run of its scenario file, objects driven by the policy.
@@ -64,6 +69,20 @@ TEST(LocalEvaluator, SameResultsFileForOneAndTwoThreads) {
   EXPECT_EQ(single.dtl, r1.records[3].evaluation.dtl);
   EXPECT_EQ(single.reward_sum, r1.records[3].evaluation.reward_sum);
   EXPECT_EQ(single.cells, r1.records[3].evaluation.cells);
+}
+
+TEST(EvaluatorRegistry, NamesTheBuiltInAndRefusesAnUnknownOne) {
+  EXPECT_TRUE(evaluator_registry().find("local").has_value());
+  try {
+    (void)evaluator_registry().get("cluster");
+    FAIL() << "accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("evaluator: unknown 'cluster' (known: local"), std::string::npos) << e.what();
+  }
+  // Bad options are refused by the factory as by the constructor.
+  EvaluatorOptions bad = small_camera(1);
+  bad.decision_period = 0;
+  EXPECT_THROW((void)evaluator_registry().get("local").factory(bad), InvalidArgument);
 }
 
 // A system under test that throws is a result: its runs are "system failed",

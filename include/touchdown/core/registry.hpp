@@ -61,9 +61,7 @@ class Registry {
   /// The entry named `name`; throws InvalidArgument naming the known ones.
   [[nodiscard]] Entry get(std::string_view name) const {
     if (auto e = find(name)) return *e;
-    std::string known;
-    for (const std::string& n : names()) known += (known.empty() ? "" : ", ") + n;
-    throw InvalidArgument(what_ + ": unknown '" + std::string(name) + "' (known: " + known + ")");
+    throw InvalidArgument(what_ + ": unknown '" + std::string(name) + "' (known: " + known() + ")");
   }
 
   /// Every entry, sorted by name.
@@ -80,6 +78,13 @@ class Registry {
   [[nodiscard]] std::vector<std::string> names() const {
     std::vector<std::string> out;
     for (const Entry& e : entries()) out.push_back(e.name);
+    return out;
+  }
+
+  /// The names, sorted, comma-separated: for messages and --help.
+  [[nodiscard]] std::string known() const {
+    std::string out;
+    for (const std::string& n : names()) out += (out.empty() ? "" : ", ") + n;
     return out;
   }
 

@@ -21,9 +21,11 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "touchdown/core/registry.hpp"
 #include "touchdown/mission/drone.hpp"
 #include "touchdown/mission/guidance.hpp"
 #include "touchdown/mission/perception.hpp"
@@ -65,7 +67,9 @@ struct MissionOptions {
   PadGeometry pad;
   StateMachineOptions machine;
   GuidanceOptions guidance;
-  PerceptionMode perception = PerceptionMode::Model;
+  /// The perception in the loop: a name in perception_registry() — the
+  /// built-in `model` or `render`, or one registered by the user.
+  std::string perception = "model";
   PerceptionModelOptions perception_model;  ///< its camera is the guidance corridor's
   /// The `render` mode's camera intrinsics, constellation, renderer and
   /// tracker (its pose in the pad frame, rate and latency are the model's).
@@ -141,11 +145,19 @@ struct MissionResult {
   [[nodiscard]] double touchdown_speed() const { return touchdown_velocity.norm(); }
 };
 
-/// A perception of one's own (or a RenderPerception with a frame callback
-/// for a video); empty: the mode `options.perception` names.
+/// Makes a mission's perception, seeded; called concurrently from worker
+/// threads (one perception per mission).
 using PerceptionFactory = std::function<std::unique_ptr<Perception>(const MissionOptions&, std::uint64_t seed)>;
 
-/// The perception `options.perception` names, seeded.
+/// The registry of mission perceptions (core/registry.hpp, the idiom of the
+/// test world's systems): `model` (PerceptionModel) and `render`
+/// (RenderPerception) built in. Register your own and name it in
+/// `MissionOptions::perception` (the mission file's `perception.mode`, the
+/// app's `--perception`), or pass a factory to run_mission directly.
+Registry<PerceptionFactory>& perception_registry();
+
+/// The perception `options.perception` names, seeded (InvalidArgument for
+/// a name not registered).
 std::unique_ptr<Perception> make_default_perception(const MissionOptions& options, std::uint64_t seed);
 
 /// One mission. Throws InvalidArgument for invalid options.

@@ -15,29 +15,13 @@
 /// mission; deterministic given its Rng.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <array>
 #include <string>
-#include <string_view>
 
-#include "touchdown/core/enum_names.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/mission/state_machine.hpp"
 #include "touchdown/plan/corridor.hpp"
 
 namespace touchdown::mission {
-
-enum class PerceptionMode { Model, Render };
-
-}  // namespace touchdown::mission
-
-template <>
-struct touchdown::EnumNames<touchdown::mission::PerceptionMode> {
-  static constexpr std::array<std::string_view, 2> names{"model", "render"};
-};
-
-namespace touchdown::mission {
-
-inline std::string_view to_string(PerceptionMode m) { return enum_name(m); }
 
 /// One camera frame's answer.
 struct PoseMeasurement {

@@ -20,12 +20,14 @@
 #include <Eigen/Core>
 #include <array>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "touchdown/core/image.hpp"
+#include "touchdown/core/registry.hpp"
 
 namespace touchdown::scenario {
 
@@ -100,10 +102,19 @@ class MarkerDetector {
   virtual void track(const MarkerDetection* /*accepted*/) {}
 };
 
-/// Builds the detector `options` name; throws InvalidArgument for invalid
-/// options and a clear error naming the model file when a learned model is
-/// missing, truncated or of the wrong shape.
+/// Makes a detector from its options (`kind` picked it).
+using MakeDetector = std::function<std::unique_ptr<MarkerDetector>(const DetectorOptions&)>;
+
+/// The registry of marker detectors (core/registry.hpp, the idiom of the
+/// landing systems): `aruco` and `learned` built in; a detector you add is
+/// valid as `DetectorOptions::kind` (`detector:` in system options).
+Registry<MakeDetector>& detector_registry();
+
+/// Builds the detector `options.kind` names; throws InvalidArgument for
+/// invalid options and a clear error naming the model file when a learned
+/// model is missing, truncated or of the wrong shape.
 std::unique_ptr<MarkerDetector> make_marker_detector(const DetectorOptions& options);
+/// detector_registry()'s names.
 std::vector<std::string> marker_detector_names();
 
 }  // namespace touchdown::scenario

@@ -202,6 +202,8 @@ class ScenarioRun {
   /// many simulated seconds if the scenario's time limit is longer. Throws
   /// InvalidArgument for invalid options or scenario.
   ScenarioRun(const Scenario& scenario, LandingSystem& system, const RunOptions& options = {}, double max_time = 0);
+  /// A temporary scenario would be gone before the first step.
+  ScenarioRun(Scenario&& scenario, LandingSystem& system, const RunOptions& options = {}, double max_time = 0) = delete;
 
   /// One physics step (a camera frame first when one is due); false, and
   /// nothing done, once the run is over. A system that throws from update()

@@ -40,6 +40,10 @@ class MpiSession {
   int rank_ = 0, size_ = 1;
 };
 
+/// Adds `mpi` (an MpiEvaluator; needs an active session) to
+/// evaluator_registry(). Once per process; later calls do nothing.
+void register_mpi_evaluator();
+
 class MpiEvaluator final : public Evaluator {
  public:
   /// Needs an active session; throws InvalidArgument for invalid options.
@@ -53,8 +57,9 @@ class MpiEvaluator final : public Evaluator {
   /// other ranks' when their share arrives.
   std::vector<Evaluation> evaluate(const std::vector<scenario::Scenario>& scenarios,
                                    const std::function<void(std::size_t, const Evaluation&)>& on_done) override;
+  [[nodiscard]] bool coordinator() const override { return rank_ == 0; }
   /// Ranks other than 0: evaluates shares until rank 0 says stop.
-  void serve();
+  void serve() override;
 
  private:
   LocalEvaluator local_;

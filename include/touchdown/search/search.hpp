@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "touchdown/core/enum_names.hpp"
+#include "touchdown/core/registry.hpp"
 #include "touchdown/scenario/campaign.hpp"
 #include "touchdown/search/chromosome.hpp"
 #include "touchdown/search/evaluation.hpp"
@@ -70,6 +71,12 @@ class Evaluator {
   /// a worker; it may throw to stop the batch (the exception propagates).
   virtual std::vector<Evaluation> evaluate(const std::vector<scenario::Scenario>& scenarios,
                                            const std::function<void(std::size_t, const Evaluation&)>& on_done) = 0;
+  /// False for a worker (an MPI rank other than 0): it does not run the
+  /// search but serve()s the one that does.
+  [[nodiscard]] virtual bool coordinator() const { return true; }
+  /// For a worker only: evaluates the coordinator's batches until it says
+  /// stop (the base class has no workers and returns at once).
+  virtual void serve() {}
 };
 
 struct EvaluatorOptions {
@@ -86,6 +93,16 @@ struct EvaluatorOptions {
 
   [[nodiscard]] bool validate(std::string* why) const;
 };
+
+/// Makes an evaluator from its options; throws InvalidArgument for options
+/// it cannot use.
+using MakeEvaluator = std::function<std::unique_ptr<Evaluator>(const EvaluatorOptions&)>;
+
+/// The registry of evaluators (core/registry.hpp, the idiom of the test
+/// world's systems): `local` (LocalEvaluator) built in; `mpi`
+/// (MpiEvaluator) added by register_mpi_evaluator() of touchdown::search_mpi.
+/// landing_fuzz names `mpi` under an MPI launcher, `local` otherwise.
+Registry<MakeEvaluator>& evaluator_registry();
 
 /// Runs a batch with scenario::run_campaign's worker threads.
 class LocalEvaluator final : public Evaluator {
