@@ -196,7 +196,7 @@ bool MissionOptions::validate(std::string* why) const {
   if (!machine.validate(&w)) return invalid(why, "state_machine." + w);
   if (!perception_options().validate(why)) return false;
   if (!perception_registry().find(perception)) {
-    return invalid(why, "perception.mode: unknown '" + perception + "' (known: " + perception_registry().known() + ")");
+    return invalid(why, "perception.mode: " + perception_registry().unknown(perception));
   }
   if (perception == "render" && !render.validate(why)) return false;
   if (!(pad.size.allFinite() && pad.size.minCoeff() > 0)) return invalid(why, "pad.size: must be positive [m]");

@@ -16,8 +16,7 @@
 namespace touchdown::scenario {
 
 bool DetectorOptions::validate(std::string* why) const {
-  if (!detector_registry().find(kind))
-    return invalid(why, "detector: unknown '" + kind + "' (known: " + detector_registry().known() + ")");
+  if (!detector_registry().find(kind)) return invalid(why, "detector: " + detector_registry().unknown(kind));
   if (full_frame_period < 1 || full_frame_period > 1000)
     return invalid(why, "detector.full_frame_period: must be in [1, 1000] frames");
   if (!(std::isfinite(min_confidence) && min_confidence >= 0 && min_confidence <= 1))

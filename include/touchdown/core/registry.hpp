@@ -61,7 +61,7 @@ class Registry {
   /// The entry named `name`; throws InvalidArgument naming the known ones.
   [[nodiscard]] Entry get(std::string_view name) const {
     if (auto e = find(name)) return *e;
-    throw InvalidArgument(what_ + ": unknown '" + std::string(name) + "' (known: " + known() + ")");
+    throw InvalidArgument(what_ + ": " + unknown(name));
   }
 
   /// Every entry, sorted by name.
@@ -79,6 +79,13 @@ class Registry {
     std::vector<std::string> out;
     for (const Entry& e : entries()) out.push_back(e.name);
     return out;
+  }
+
+  /// "unknown 'NAME' (known: a, b)": the message for a name not registered
+  /// (get() prefixes it with what the registry holds, an option's
+  /// validate() with its key).
+  [[nodiscard]] std::string unknown(std::string_view name) const {
+    return "unknown '" + std::string(name) + "' (known: " + known() + ")";
   }
 
   /// The names, sorted, comma-separated: for messages and --help.
