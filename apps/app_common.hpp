@@ -1,6 +1,8 @@
 #pragma once
 // Shared plumbing of the command-line apps: exit codes and error lines
 // (DESIGN.md, app conventions): 0 success, 2 bad usage or input, 3 internal.
+#include <pthread.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -17,12 +19,15 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include "core/format.hpp"
 #include "touchdown/core/atomic_file.hpp"
 #include "touchdown/core/enum_names.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/units.hpp"
 #include "touchdown/core/version.hpp"
 
 namespace touchdown::app {
@@ -61,6 +66,35 @@ inline void require_parent_directory(const std::string& path, const std::string&
                                             : std::filesystem::path(".");
     throw touchdown::IoError(option + " " + path + ": output directory '" + shown.string() + "' does not exist");
   }
+}
+
+/// Validator of an input file (CLI11's ExistingFile, with the message
+/// every reader of the library gives: "PATH: cannot open: no such file",
+/// "... is a directory"), so a missing file reads the same whether an
+/// option's check or a parser finds it.
+inline CLI::Validator existing_file() {
+  return CLI::Validator(
+      [](std::string& path) -> std::string {
+        std::error_code ec;
+        const auto status = std::filesystem::status(path, ec);
+        if (ec || !std::filesystem::exists(status)) return path + ": cannot open: no such file";
+        if (std::filesystem::is_directory(status)) return path + ": cannot open: is a directory";
+        return "";
+      },
+      "FILE");
+}
+
+/// Validator of an input directory, in the same words.
+inline CLI::Validator existing_directory() {
+  return CLI::Validator(
+      [](std::string& path) -> std::string {
+        std::error_code ec;
+        const auto status = std::filesystem::status(path, ec);
+        if (ec || !std::filesystem::exists(status)) return path + ": cannot open: no such directory";
+        if (!std::filesystem::is_directory(status)) return path + ": not a directory";
+        return "";
+      },
+      "DIR");
 }
 
 /// Validator of an output path: it must end in `ext` (".svg", ".csv",
@@ -144,6 +178,50 @@ inline CLI::Validator one_of_names(const std::vector<std::string>& names) {
       "{" + list + "}");
 }
 
+/// Outputs larger than this get a warning with their size (issue 58: a
+/// 638 MB STL from --cell 0.001 came without a word).
+inline constexpr double kLargeOutputBytes = 100e6;
+
+/// "--output out.stl: 638 MB written; HINT" when `written` (the staged
+/// file) exceeds `limit` bytes; "" otherwise.
+inline std::string large_output_warning(const std::string& label, const std::string& target,
+                                        const std::filesystem::path& written, const std::string& hint,
+                                        double limit = kLargeOutputBytes) {
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(written, ec);
+  if (ec || static_cast<double>(bytes) <= limit) return "";
+  return label + " " + target + ": " + detail::format_general(static_cast<double>(bytes) / 1e6, 3) + " MB written" +
+         (hint.empty() ? "" : "; " + hint);
+}
+
+/// Warnings found while the command line was parsed (values that parse
+/// but look wrong); run() prints them once the whole line has parsed, so a
+/// command refused for another reason still prints one line.
+inline std::vector<std::string>& parse_warnings() {
+  static std::vector<std::string> warnings;
+  return warnings;
+}
+
+/// Check of an angle option in degrees (not a sigma): a value that looks
+/// like radians (touchdown::look_like_radians, the rule of the files'
+/// rpy_deg) is taken as given, with a warning: "--yaw-max 3.14 looks like
+/// radians (within +-2 pi, not a whole degree) but is read as degrees; if
+/// radians were meant, write 179.91".
+inline CLI::Validator degrees_not_radians(const std::string& option) {
+  return CLI::Validator(
+      [option](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0' || !touchdown::look_like_radians({v})) return "";
+        parse_warnings().push_back(option + " " + text +
+                                   " looks like radians (within +-2 pi, not a whole degree) but is read as degrees; "
+                                   "if radians were meant, write " +
+                                   detail::format_general(std::round(touchdown::rad_to_deg(v) * 100) / 100));
+        return "";
+      },
+      "");
+}
+
 /// Validator of a number option: finite and within [lo, hi] (`(` or `)`
 /// with lo_open / hi_open). --help shows the range; a value outside it is
 /// refused naming the option ("--slope: 95 is outside [0, 80)"). Vector
@@ -208,38 +286,129 @@ inline std::string large_count(double v) {
 /// One progress bar with an ETA on stderr, for work over about a second
 /// (DESIGN.md). Draw it only when stderr is a terminal (`on_terminal()`);
 /// close() the line before printing anything else.
+/// A duration for people: "45 s", "12 min", "3.5 h".
+inline std::string duration_text(double seconds) {
+  using touchdown::detail::format_general;
+  if (seconds < 120) return format_general(seconds, 2) + " s";
+  if (seconds < 7200) return format_general(seconds / 60, 2) + " min";
+  return format_general(seconds / 3600, 2) + " h";
+}
+
+/// Progress of long work on stderr. On a terminal, a bar with the time
+/// left, redrawn in place. Off one (a log file, CI, nohup) nothing for work
+/// that ends within a minute; for longer work one line with the estimate
+/// after the first 5 s, then a line every ~10 s, and one at
+/// the end (issue 58 item 3): "landing_mission: about 9.5 min for 1000
+/// missions (from the first 9 in 5.1 s)". The first draw() sets the
+/// baseline, so work resumed at done = k estimates from what this run did.
+/// Off a terminal: work that takes longer than `long_work_s` gets
+/// progress lines, one every `every_s` (tests scale them down).
+struct ProgressPacing {
+  double long_work_s = 60, every_s = 10;
+  double estimate_after_s = 5;  ///< the pace of the first seconds (a start-up) is no estimate
+};
+
 class ProgressBar {
  public:
-  void draw(std::size_t done, std::size_t total) {
-    // The first call draws (a 0/total line shows the work has started).
-    if (drawn_ && done != total && done < last_drawn_ + std::max<std::size_t>(1, total / 200)) return;
-    drawn_ = true;
-    last_drawn_ = done;
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    const int width = 40, filled = static_cast<int>(width * done / std::max<std::size_t>(1, total));
-    std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
-              << std::string(static_cast<std::size_t>(width - filled), '.') << "] " << done << "/" << total;
-    if (done > 0 && done < total) {
-      const double left = elapsed * static_cast<double>(total - done) / static_cast<double>(done);
-      std::cerr << "  " << static_cast<long>(std::ceil(left)) << " s left ";
+  /// `app` prefixes the lines off a terminal; `unit` names what is counted
+  /// ("missions", "scenarios"; empty: none).
+  explicit ProgressBar(std::string app = "", std::string unit = "", bool terminal = on_terminal(),
+                       std::ostream& out = std::cerr, ProgressPacing pacing = ProgressPacing())
+      : app_(std::move(app)), unit_(std::move(unit)), terminal_(terminal), out_(&out), pacing_(pacing) {}
+
+  void draw(std::size_t done, std::size_t total, const std::string& detail = "") {
+    if (!baseline_) baseline_ = done;
+    if (terminal_) {
+      draw_bar(done, total, detail);
     } else {
-      std::cerr << "  " << std::fixed << std::setprecision(1) << elapsed << " s      ";
+      report(done, total, detail);
     }
-    std::cerr << std::flush;
-    open_ = done != total;
-    if (done == total) std::cerr << "\n";
   }
 
   void close() {
-    if (open_) std::cerr << "\n";
+    if (open_) *out_ << "\n";
     open_ = false;
   }
 
   [[nodiscard]] static bool on_terminal() { return isatty(STDERR_FILENO) != 0; }
 
  private:
-  bool open_ = false, drawn_ = false;
-  const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  using Clock = std::chrono::steady_clock;
+
+  [[nodiscard]] double elapsed() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+
+  // Seconds left from the pace since the baseline; negative: not known yet.
+  [[nodiscard]] double left(std::size_t done, std::size_t total) const {
+    const std::size_t base = baseline_.value_or(0);
+    if (done <= base || done >= total) return -1;
+    return elapsed() * static_cast<double>(total - done) / static_cast<double>(done - base);
+  }
+
+  [[nodiscard]] std::string counted(std::size_t n) const {
+    return std::to_string(n) + (unit_.empty() ? "" : " " + unit_);
+  }
+
+  void draw_bar(std::size_t done, std::size_t total, const std::string& detail) {
+    // The first call draws (a 0/total line shows the work has started).
+    if (drawn_ && done != total && done < last_drawn_ + std::max<std::size_t>(1, total / 200) && detail == detail_) {
+      return;
+    }
+    drawn_ = true;
+    last_drawn_ = done;
+    detail_ = detail;
+    const int width = 40, filled = static_cast<int>(width * done / std::max<std::size_t>(1, total));
+    *out_ << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
+          << std::string(static_cast<std::size_t>(width - filled), '.') << "] " << done << "/" << total;
+    if (!detail.empty()) *out_ << "  " << detail;
+    if (const double l = left(done, total); l >= 0) {
+      *out_ << "  " << duration_text(std::ceil(l)) << " left ";
+    } else if (done == total) {
+      *out_ << "  " << duration_text(elapsed()) << "      ";
+    }
+    *out_ << std::flush;
+    open_ = done != total;
+    if (done == total) *out_ << "\n";
+  }
+
+  void report(std::size_t done, std::size_t total, const std::string& detail) {
+    const std::string prefix = app_.empty() ? "" : app_ + ": ";
+    const std::string extra = detail.empty() ? "" : " · " + detail;
+    if (done >= total) {
+      if (lines_ > 0) *out_ << prefix << counted(done) << " in " << duration_text(elapsed()) << extra << "\n";
+      lines_ = 0;
+      return;
+    }
+    const double l = left(done, total);
+    if (l < 0) return;
+    // The estimate after a few seconds: the first pieces carry the
+    // start-up, and on two threads the first one done alone would double it.
+    if (!estimated_ && elapsed() < pacing_.estimate_after_s) return;
+    if (!estimated_) {
+      estimated_ = true;
+      if (elapsed() + l < pacing_.long_work_s) return;  // short work: no lines
+      *out_ << prefix << "about " << duration_text(elapsed() + l) << " for " << counted(total - *baseline_)
+            << " (from the first " << done - *baseline_ << " in " << duration_text(elapsed()) << ")" << extra << "\n";
+      ++lines_;
+      last_line_ = Clock::now();
+      return;
+    }
+    if (lines_ == 0 || std::chrono::duration<double>(Clock::now() - last_line_).count() < pacing_.every_s) return;
+    *out_ << prefix << done << "/" << counted(total) << " ("
+          << touchdown::detail::format_fixed(100.0 * static_cast<double>(done) / static_cast<double>(total), 1)
+          << " %), " << duration_text(elapsed()) << ", about " << duration_text(l) << " left" << extra << "\n";
+    ++lines_;
+    last_line_ = Clock::now();
+  }
+
+  std::string app_, unit_, detail_;
+  bool terminal_;
+  std::ostream* out_;
+  ProgressPacing pacing_;
+  bool open_ = false, drawn_ = false, estimated_ = false;
+  int lines_ = 0;
+  std::optional<std::size_t> baseline_;
+  const Clock::time_point start_ = Clock::now();
+  Clock::time_point last_line_ = start_;
   std::size_t last_drawn_ = 0;
 };
 
@@ -306,6 +475,45 @@ inline std::string option_suggestion(const CLI::App& app, const std::string& mes
   return out.empty() ? out : out + "?)";
 }
 
+/// Ctrl-C, kill and a closed terminal: SIGINT, SIGTERM and SIGHUP are
+/// blocked in this thread and every thread it starts after this call, and
+/// one thread waits for them. On one it removes the outputs still being
+/// written (their hidden temporaries: core/atomic_file.hpp), says so in
+/// one line and ends the process by that signal (a shell sees 128 + N), so
+/// an interrupted run leaves no partial file (issue 58). Child processes
+/// unblock them before exec (scenario/process_system.cpp).
+inline void remove_temporaries_on_signal(const std::string& app) {
+  sigset_t set;
+  sigemptyset(&set);
+  int count = 0;
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+    // A signal the parent set to be ignored (SIGINT for a script's `app &`)
+    // stays ignored, as a program that handles it should leave it.
+    struct sigaction current {};
+    if (::sigaction(sig, nullptr, &current) == 0 && current.sa_handler == SIG_IGN) continue;
+    sigaddset(&set, sig);
+    ++count;
+  }
+  if (count == 0 || ::pthread_sigmask(SIG_BLOCK, &set, nullptr) != 0) return;
+  std::thread([set, app] {
+    int sig = 0;
+    if (::sigwait(&set, &sig) != 0) return;
+    const std::size_t removed = touchdown::remove_live_temporaries();
+    const char* name = sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "SIGHUP";
+    std::string line = (::isatty(2) != 0 ? "\n" : "") + app + ": interrupted (" + name + ")";
+    if (removed > 0) line += ": removed " + std::to_string(removed) + " unfinished output(s)";
+    line += "\n";
+    (void)!::write(2, line.data(), line.size());
+    ::signal(sig, SIG_DFL);
+    sigset_t one;
+    sigemptyset(&one);
+    sigaddset(&one, sig);
+    ::pthread_sigmask(SIG_UNBLOCK, &one, nullptr);
+    ::raise(sig);  // default action: the process ends by the signal
+    ::_exit(128 + sig);
+  }).detach();
+}
+
 /// Parses the command line and runs `body`, mapping exceptions to one line
 /// on stderr and the conventional exit codes.
 template <typename Body>
@@ -326,6 +534,8 @@ int run(CLI::App& app, int argc, char** argv, Body&& body) {
     std::cerr << app.get_name() << ": " << e.what() << " (see --help)\n";
     return kExitBadInput;
   }
+  remove_temporaries_on_signal(app.get_name());
+  print_warnings(app.get_name(), parse_warnings());
   try {
     return body();
   } catch (const touchdown::Error& e) {

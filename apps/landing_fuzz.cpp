@@ -158,7 +158,7 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
   cmd->add_option("--weights", a.weights,
                   "rlaga: DQN weights file (default: pre-train now; the directory keeps a copy, " +
                       std::string(kWeightsFile) + ")")
-      ->check(CLI::ExistingFile)
+      ->check(td::app::existing_file())
       ->default_str("pre-train");
   cmd->add_option("--episodes", a.episodes, "rlaga without --weights: surrogate pre-training episodes")
       ->check(CLI::Range(1, 1000000))
@@ -166,7 +166,7 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
   cmd->add_option("--base", a.base_path,
                   "scenario giving every field that is not a gene (marker type, drone start, time limit; default: "
                   "the built-in one)")
-      ->check(CLI::ExistingFile)
+      ->check(td::app::existing_file())
       ->default_str("built-in");
   cmd->add_flag("--source-chromosome", a.source_chromosome,
                 "the source's chromosome: no static-object and distractor genes");
@@ -191,33 +191,12 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
   return cmd;
 }
 
-// "generation 3/15  60/300 scenarios  violations I 1 · II 20 · III 2  4 min left"
-class CampaignProgressLine {
- public:
-  void draw(const tsr::SearchProgress& p) {
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    const int run = p.done - p.resumed;
-    std::cerr << "\rgeneration " << p.generation + 1 << "/" << p.generations << "  " << p.done << "/" << p.budget
-              << " scenarios  violations I " << p.type_i << " · II " << p.type_ii << " · III " << p.type_iii;
-    if (run > 0 && p.done < p.budget) {
-      const double left = elapsed / run * (p.budget - p.done);
-      std::cerr << "  "
-                << (left < 120 ? std::to_string(static_cast<long>(std::ceil(left))) + " s"
-                               : std::to_string(static_cast<long>(std::ceil(left / 60))) + " min")
-                << " left ";
-    }
-    std::cerr << "   " << std::flush;
-    open_ = true;
-  }
-  void close() {
-    if (open_) std::cerr << "\n";
-    open_ = false;
-  }
-
- private:
-  bool open_ = false;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-};
+// The search's progress: scenarios of the budget, with the generation and
+// the violations so far (a bar on a terminal, lines off one).
+std::string search_detail(const tsr::SearchProgress& p) {
+  return "generation " + std::to_string(p.generation + 1) + "/" + std::to_string(p.generations) + " · violations I " +
+         std::to_string(p.type_i) + " · II " + std::to_string(p.type_ii) + " · III " + std::to_string(p.type_iii);
+}
 
 int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
   a.search.system = a.common.system;
@@ -251,18 +230,17 @@ int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
     evaluator->serve();
     return kExitOk;
   }
-  std::optional<CampaignProgressLine> line;
-  if (ProgressBar::on_terminal()) line.emplace();
+  ProgressBar line("landing_fuzz", "scenarios");
   tsr::SearchResult r;
   try {
     r = tsr::run_search(a.search, *evaluator, dir, a.resume, [&](const tsr::SearchProgress& p) {
-      if (line) line->draw(p);
+      line.draw(static_cast<std::size_t>(p.done), static_cast<std::size_t>(p.budget), search_detail(p));
     });
   } catch (...) {
-    if (line) line->close();
+    line.close();
     throw;
   }
-  if (line) line->close();
+  line.close();
   keep_weights(policy, dir);
   if (a.json) {
     Json j;
@@ -277,7 +255,7 @@ int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
     j["wall_s"] = round3(r.wall_s);
     j["evaluation_s"] = round3(r.evaluation_s);
     j["search_s"] = round3(r.search_s());
-    std::cout << j.dump(2) << "\n";
+    std::cout << j.dump() << "\n";
   } else {
     std::cout << "campaign           " << tsr::to_string(a.search.method) << " on " << a.search.system << ", map "
               << ts::to_string(a.map) << ", seed " << a.search.seed << " -> " << a.out << "\n";
@@ -311,13 +289,11 @@ CLI::App* add_train_command(CLI::App& app, TrainArgs& a) {
 int train_command(const TrainArgs& a) {
   td::StagedOutputs staged;
   const fs::path tmp = staged.add(a.out, "--output");
-  std::optional<ProgressBar> bar;
-  if (ProgressBar::on_terminal()) bar.emplace();
+  ProgressBar bar("landing_fuzz", "episodes");
   const auto t0 = std::chrono::steady_clock::now();
-  tsr::DqnTraining t =
-      tsr::train_dqn(tsr::DqnOptions{}, tsr::SurrogateOptions{}, a.episodes, a.seed, [&](int done, int total) {
-        if (bar) bar->draw(static_cast<std::size_t>(done), static_cast<std::size_t>(total));
-      });
+  tsr::DqnTraining t = tsr::train_dqn(
+      tsr::DqnOptions{}, tsr::SurrogateOptions{}, a.episodes, a.seed,
+      [&](int done, int total) { bar.draw(static_cast<std::size_t>(done), static_cast<std::size_t>(total)); });
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   write_text(tmp, tsr::weights_text(t.network), a.out);
   staged.commit();
@@ -331,7 +307,7 @@ int train_command(const TrainArgs& a) {
     j["seed"] = a.seed;
     j["mean_return_last_100"] = round3(mean_last);
     j["wall_s"] = round3(wall);
-    std::cout << j.dump(2) << "\n";
+    std::cout << j.dump() << "\n";
   } else {
     std::cout << "weights   " << a.out << " (" << t.network.parameter_count() << " parameters, 2 x "
               << t.network.hidden() << " hidden units)\n"
@@ -373,7 +349,7 @@ int metrics_command(const MetricsArgs& a) {
     j["metrics"] = metrics_json(m);
     j["fair_metrics"] = fair.facts_recorded ? metrics_json(fair) : Json(nullptr);
     j["distinct_fair_causes"] = fair.facts_recorded ? Json(tsr::distinct_fair_causes(causes)) : Json(nullptr);
-    std::cout << j.dump(2) << "\n";
+    std::cout << j.dump() << "\n";
   } else {
     std::cout << "campaign           " << campaign.value("method", "") << " on " << campaign.value("system", "")
               << ", map " << campaign.value("map", "") << ", seed " << campaign.value("seed", 0) << ", "
@@ -417,7 +393,7 @@ int causes_command(const CausesArgs& a) {
     j["directory"] = a.dir;
     j["distinct_fair_causes"] = tsr::distinct_fair_causes(causes);
     j["causes"] = std::move(rows);
-    std::cout << j.dump(2) << "\n";
+    std::cout << j.dump() << "\n";
     return kExitOk;
   }
   const int fair = tsr::distinct_fair_causes(causes);
@@ -475,7 +451,7 @@ CLI::App* add_compare_command(CLI::App& app, CompareArgs& a) {
                   "directory of the campaigns (MAP/METHOD/seed-K; an existing campaign there is resumed)")
       ->required();
   cmd->add_option("--weights", a.weights, "rlaga: DQN weights (default: pre-trained per seed)")
-      ->check(CLI::ExistingFile)
+      ->check(td::app::existing_file())
       ->default_str("pre-train");
   cmd->add_option("--episodes", a.episodes, "rlaga without --weights: pre-training episodes")
       ->check(CLI::Range(1, 1000000))
@@ -530,16 +506,17 @@ int compare_command(const CompareArgs& a) {
         o.weights_id = p.id;
       }
       tsr::LocalEvaluator evaluator(evaluator_options(a.common, policy));
-      std::optional<CampaignProgressLine> line;
       if (terminal) {
         std::cerr << "[" << done + 1 << "/" << total << "] " << cell.method << " on " << cell.map << ", seed " << k
                   << "\n";
-        line.emplace();
       }
+      ProgressBar line("landing_fuzz", "scenarios");
+      const std::string which = cell.method + " on " + cell.map + ", seed " + std::to_string(k) + " · ";
       const tsr::SearchResult r = tsr::run_search(o, evaluator, dir, resume, [&](const tsr::SearchProgress& p) {
-        if (line) line->draw(p);
+        line.draw(static_cast<std::size_t>(p.done), static_cast<std::size_t>(p.budget),
+                  (terminal ? "" : which) + search_detail(p));
       });
-      if (line) line->close();
+      line.close();
       keep_weights(policy, dir);
       cell.per_seed.push_back(r.metrics);
       cell.per_seed_fair.push_back(tsr::compute_metrics(r.records, 10, tsr::Count::Fair));
@@ -572,7 +549,7 @@ int compare_command(const CompareArgs& a) {
       rows.push_back({{"method", c.method}, {"map", c.map}, {"per_seed", per_seed}});
     }
     j["rows"] = std::move(rows);
-    std::cout << j.dump(2) << "\n";
+    std::cout << j.dump() << "\n";
   } else {
     std::cout << title << "\n" << tsr::compare_table(cells);
   }
@@ -599,7 +576,7 @@ CLI::App* add_shrink_command(CLI::App& app, ShrinkArgs& a) {
       ->check(CLI::Range(0, 100000000));
   add_common(*cmd, a.common);
   cmd->add_option("--weights", a.weights, "scenario file: DQN weights driving its external objects")
-      ->check(CLI::ExistingFile);
+      ->check(td::app::existing_file());
   cmd->add_option("-o,--output", a.out, "the smallest failing scenario (YAML)")
       ->required()
       ->check(output_extension(".yaml"));
@@ -646,12 +623,11 @@ int shrink_command(ShrinkArgs& a) {
   }
   cv::setNumThreads(1);
   tsr::LocalEvaluator evaluator(evaluator_options(a.common, policy));
-  std::optional<ProgressBar> bar;
-  if (ProgressBar::on_terminal()) bar.emplace();
+  ProgressBar bar("landing_fuzz", "evaluations");
   const tsr::ShrinkResult r = tsr::shrink(scenario, base, evaluator, [&](int done, int total) {
-    if (bar) bar->draw(static_cast<std::size_t>(done), static_cast<std::size_t>(total));
+    bar.draw(static_cast<std::size_t>(done), static_cast<std::size_t>(total));
   });
-  if (bar) bar->close();
+  bar.close();
   if (!r.ok()) {
     throw td::InvalidArgument(source + ": not a violation on " + a.common.system + " (" + r.message +
                               "): nothing to shrink");
@@ -676,7 +652,7 @@ int shrink_command(ShrinkArgs& a) {
     j["steps"] = std::move(steps);
     j["smallest"] = a.out;
     j["runs"] = r.runs();
-    std::cout << j.dump(2) << "\n";
+    std::cout << j.dump() << "\n";
   } else {
     std::cout << "scenario   " << source << " on " << a.common.system << ": type " << ts::to_string(r.violation) << " ("
               << r.message << ")\n";

@@ -62,6 +62,7 @@ nlohmann::json run_json(const tdm::MissionResult& r, int index) {
   j["run"] = index;
   j["outcome"] = std::string(tdm::to_string(r.outcome));
   j["message"] = r.message;
+  j["reason"] = r.landed() ? nlohmann::json() : nlohmann::json(tdm::failure_reason(r));
   j["duration_s"] = round3(r.duration);
   j["touchdown_error_m"] =
       std::isfinite(r.touchdown_error) ? nlohmann::json(round3(r.touchdown_error)) : nlohmann::json();
@@ -97,6 +98,7 @@ nlohmann::json run_json(const tdm::MissionResult& r, int index) {
 // The summary over runs: counts, success rate, percentiles.
 struct Summary {
   int runs = 0, landed = 0, crashed = 0, aborted = 0, timeout = 0;
+  tdm::FailureCounts reasons;  ///< why the others did not land, most frequent first
   double error_median = 0, error_p95 = 0, error_max = 0;
   double speed_median = 0, speed_p95 = 0, speed_max = 0;
   double tracking_max = 0, axis_speed_max = 0, axis_accel_max = 0, v_limit = 0, a_limit = 0;
@@ -136,6 +138,7 @@ Summary summarise(const std::vector<tdm::MissionResult>& results) {
     ms.push_back(r.replan_median_ms);
     pose.push_back(r.pose_error_median);
   }
+  s.reasons = tdm::count_failure_reasons(results);
   s.error_median = percentile(err, 0.5);
   s.error_p95 = percentile(err, 0.95);
   s.error_max = percentile(err, 1.0);
@@ -149,6 +152,19 @@ Summary summarise(const std::vector<tdm::MissionResult>& results) {
   return s;
 }
 
+// "gave up: low_off_centre 2, timeout in tracking 1"
+std::string reasons_text(const tdm::FailureCounts& reasons) {
+  std::string out;
+  for (const auto& [why, n] : reasons) out += (out.empty() ? "" : ", ") + why + " " + std::to_string(n);
+  return out;
+}
+
+nlohmann::json reasons_json(const tdm::FailureCounts& reasons) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& [why, n] : reasons) j.push_back({{"reason", why}, {"runs", n}});
+  return j;
+}
+
 std::string fixed(double v, int decimals) { return std::isfinite(v) ? format_fixed(v, decimals) : "-"; }
 
 void print_summary(const Args& a, const tdm::MissionOptions& o, const Summary& s, double wall) {
@@ -157,6 +173,7 @@ void print_summary(const Args& a, const tdm::MissionOptions& o, const Summary& s
               a.perception.c_str(), static_cast<unsigned long long>(a.seed));
   std::printf("  landed %d (%.1f %%), crashed %d, aborted %d, timeout %d\n", s.landed, 100 * s.success(), s.crashed,
               s.aborted, s.timeout);
+  if (!s.reasons.empty()) std::printf("  why not landed: %s\n", reasons_text(s.reasons).c_str());
   std::printf("  touchdown error from the pad centre: median %s m, 95th percentile %s m, max %s m\n",
               fixed(s.error_median, 3).c_str(), fixed(s.error_p95, 3).c_str(), fixed(s.error_max, 3).c_str());
   std::printf("  relative speed at touchdown: median %s m/s, 95th percentile %s m/s, max %s m/s\n",
@@ -178,6 +195,7 @@ nlohmann::json summary_json(const Summary& s) {
       {"crashed", s.crashed},
       {"aborted", s.aborted},
       {"timeout", s.timeout},
+      {"reasons", reasons_json(s.reasons)},
       {"success_rate", round3(s.success())},
       {"touchdown_error_m", {{"median", num(s.error_median)}, {"p95", num(s.error_p95)}, {"max", num(s.error_max)}}},
       {"touchdown_speed_mps", {{"median", num(s.speed_median)}, {"p95", num(s.speed_p95)}, {"max", num(s.speed_max)}}},
@@ -269,8 +287,9 @@ void write_recorded(const Args& a, const tdm::MissionOptions& o, Recorded& out) 
   }
   const tdm::MissionResult r = tdm::run_mission(o, a.seed, 0, true, factory);
   if (video) video->finish();
-  const std::string title =
-      source_name(a) + ", run 0, seed " + std::to_string(a.seed) + " (" + std::string(tdm::to_string(r.outcome)) + ")";
+  // The outcome and, when it did not land, why (issue 58 item 8).
+  const std::string title = source_name(a) + ", run 0, seed " + std::to_string(a.seed) + " (" +
+                            (r.landed() ? std::string("landed") : tdm::failure_reason(r)) + ")";
   for (const auto& [name, tmp] : out.plots) {
     const std::string svg = name == "positions.svg"    ? tdm::plot_positions(r, title)
                             : name == "velocities.svg" ? tdm::plot_velocities(r, title)
@@ -298,8 +317,7 @@ int run_envelope(const Args& a) {
   std::vector<tdm::EnvelopeCell> cells;
   std::vector<std::pair<double, std::string>> refused;  // speed, why
   const auto speeds = range_of(a.speeds), winds = range_of(a.winds);
-  td::app::ProgressBar bar;
-  const bool draw = td::app::ProgressBar::on_terminal();
+  td::app::ProgressBar bar("landing_mission", "missions");
   const std::size_t total = speeds.size() * winds.size() * static_cast<std::size_t>(a.runs);
   std::size_t done = 0;
   for (const double wind : winds) {
@@ -313,15 +331,15 @@ int run_envelope(const Args& a) {
       o.wind.mean = Eigen::Vector3d(wind, 0, 0);
       o.wind.gust_sigma = 0.25 * wind;
       std::string why;
-      tdm::EnvelopeCell cell{speed, wind, a.runs, 0, true};
+      tdm::EnvelopeCell cell{speed, wind, a.runs, 0, 0, true, {}};
       if (o.validate(&why)) {
-        const auto results = tdm::run_missions(o, a.runs, a.seed, a.threads, {}, [&](int, int) {
-          if (draw) bar.draw(++done, total);
-        });
+        const auto results =
+            tdm::run_missions(o, a.runs, a.seed, a.threads, {}, [&](int, int) { bar.draw(++done, total); });
         cell.landed =
             static_cast<int>(std::count_if(results.begin(), results.end(), [](const auto& r) { return r.landed(); }));
         cell.crashed = static_cast<int>(std::count_if(
             results.begin(), results.end(), [](const auto& r) { return r.outcome == tdm::MissionOutcome::Crashed; }));
+        cell.reasons = tdm::count_failure_reasons(results);
       } else {
         done += static_cast<std::size_t>(a.runs);  // beyond what the drone's options allow: not flown
         cell.valid = false;
@@ -345,6 +363,7 @@ int run_envelope(const Args& a) {
                      {"runs", c.runs},
                      {"landed", c.landed},
                      {"crashed", c.crashed},
+                     {"reasons", reasons_json(c.reasons)},
                      {"success_rate", td::app::round3(c.success())}});
       } else {
         j.push_back({{"speed_mps", c.speed},
@@ -352,6 +371,7 @@ int run_envelope(const Args& a) {
                      {"runs", 0},
                      {"landed", 0},
                      {"crashed", 0},
+                     {"reasons", nlohmann::json::array()},
                      {"success_rate", nullptr}});
       }
     }
@@ -376,9 +396,14 @@ int run_envelope(const Args& a) {
     std::printf("\n");
   }
   if (std::any_of(cells.begin(), cells.end(), [](const auto& c) { return c.crashed > 0; })) {
-    std::printf("  * some missions of the cell crashed (--json has the counts); the rest aborted or timed out\n");
+    std::printf("  * some missions of the cell crashed (--json has the counts per cell)\n");
+  }
+  tdm::FailureCounts all;
+  for (const auto& c : cells) all = tdm::merge_failure_reasons(all, c.reasons);
+  if (all.empty()) {
+    std::printf("  every mission flown landed\n");
   } else {
-    std::printf("  no mission crashed: the others aborted or timed out\n");
+    std::printf("  why not landed (all cells): %s\n", reasons_text(all).c_str());
   }
   double last = -1;
   for (const auto& [speed, why] : refused) {
@@ -395,7 +420,7 @@ int main(int argc, char** argv) {
                "landing_mission"};
   Args a;
   app.add_option("mission", a.mission_path, "MISSION.yaml (docs/formats.md); default: the built-in circle mission")
-      ->check(CLI::ExistingFile);
+      ->check(td::app::existing_file());
   app.add_option("--runs", a.runs, "missions")->check(CLI::Range(1, 1000000))->capture_default_str();
   td::app::add_seed_option(app, "--seed", a.seed, "seed of the first mission (run i: (seed, i))");
   app.add_option("--threads", a.threads, "threads (0: all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
@@ -413,7 +438,7 @@ int main(int argc, char** argv) {
       ->check(td::app::output_extension(".mp4"))
       ->default_str("off");
   CLI::App* envelope = app.add_subcommand("envelope", "success rate over vehicle speed x wind");
-  envelope->add_option("mission", a.mission_path, "MISSION.yaml")->check(CLI::ExistingFile);
+  envelope->add_option("mission", a.mission_path, "MISSION.yaml")->check(td::app::existing_file());
   envelope->add_option("--speeds", a.speeds, "vehicle speeds lo hi step [m/s]")
       ->delimiter(':')
       ->expected(3)
@@ -452,8 +477,8 @@ int main(int argc, char** argv) {
     Recorded recorded;
     stage_recorded(a, recorded);
     const auto t0 = std::chrono::steady_clock::now();
-    td::app::ProgressBar bar;
-    const bool draw = td::app::ProgressBar::on_terminal() && a.runs > 1;
+    td::app::ProgressBar bar("landing_mission", "missions");
+    const bool draw = a.runs > 1;
     const auto results = tdm::run_missions(file.options, a.runs, a.seed, a.threads, {}, [&](int done, int total) {
       if (draw) bar.draw(static_cast<std::size_t>(done), static_cast<std::size_t>(total));
     });

@@ -303,7 +303,7 @@ CLI::App* add_run_command(CLI::App& app, RunArgs& a) {
   cmd->add_option("--weights", a.weights_path,
                   "drive the scenario's `external` dynamic objects with this DQN, as a landing_fuzz rlaga campaign "
                   "did (its results directory's dqn_weights.txt); without it they stay")
-      ->check(CLI::ExistingFile);
+      ->check(td::app::existing_file());
   cmd->add_flag("--json", a.json, "one JSON object on stdout");
   ts::CameraOptions& camera = a.options.camera;
   cmd->add_option("--width", camera.width, "camera image width [px]")
@@ -317,6 +317,7 @@ CLI::App* add_run_command(CLI::App& app, RunArgs& a) {
       ->capture_default_str();
   cmd->add_option("--tilt", camera.tilt_deg, "camera tilt forward from nadir [deg]")
       ->check(number_in(0, 80))
+      ->check(td::app::degrees_not_radians("--tilt"))
       ->capture_default_str();
   cmd->add_option("--camera-rate", camera.rate_hz, "frames per second")
       ->check(number_in(0, 50, true))
@@ -414,16 +415,15 @@ int run_command(RunArgs& a) {
   }
   images.snapshot_tmp = stage(images.staged, a.snapshot_path, "--snapshot");
   images.log_tmp = stage(images.staged, a.log_path, "--log");
-  // On a terminal: progress in camera frames of the time limit's worth (a
-  // landing ends it early: the bar is then completed at the frames flown).
-  std::optional<ProgressBar> bar;
-  if (ProgressBar::on_terminal()) bar.emplace();
+  // Progress in camera frames of the time limit's worth (a landing ends it
+  // early: the bar is then completed at the frames flown).
+  ProgressBar bar("landing_scenario", "frames");
   const auto frames_max =
       static_cast<std::size_t>(std::max(1.0, std::ceil(scenario.time_limit * a.options.camera.rate_hz)));
   std::size_t frames = 0;
   a.options.on_frame = [&](const ts::CameraFrame& f, const ts::SystemOutput& out, const ts::DroneState& s) {
     ++frames;
-    if (bar) bar->draw(std::min(frames, frames_max - 1), frames_max);
+    bar.draw(std::min(frames, frames_max - 1), frames_max);
     if (!images.video && a.snapshot_path.empty()) return;
     images.last = overlay(f, out, s);
     if (images.video) images.video->write(images.last);
@@ -436,15 +436,15 @@ int run_command(RunArgs& a) {
   try {
     r = ts::run_scenario(scenario, *sut, a.options);
   } catch (...) {
-    if (bar) bar->close();
+    bar.close();
     throw;
   }
-  if (bar) bar->draw(frames, frames);
+  bar.draw(frames, frames);
   write_images(a, r, images);
   if (!a.log_path.empty()) write_text(images.log_tmp, log_csv(r, 1.0 / a.options.flight.rate_hz), a.log_path);
   images.staged.commit();
   if (a.json) {
-    std::cout << result_json(a.scenario_path, sut->name(), r).dump(2) << "\n";
+    std::cout << result_json(a.scenario_path, sut->name(), r).dump() << "\n";
   } else {
     print_run(a, scenario, sut->name(), r);
   }
@@ -544,7 +544,7 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
   cmd->add_option("--weights", a.weights_path,
                   "drive every scenario's `external` dynamic objects with this DQN, as the landing_fuzz rlaga "
                   "campaign that wrote the files did (its dqn_weights.txt); without it they stay")
-      ->check(CLI::ExistingFile);
+      ->check(td::app::existing_file());
   cmd->add_option("--csv", a.csv_path, "one row per scenario")->check(output_extension(".csv"));
   cmd->add_flag("--json", a.json, "the summary as one JSON object on stdout");
   return cmd;
@@ -593,27 +593,22 @@ int campaign_command(CampaignArgs& a) {
   // The campaign's threads are the parallelism: OpenCV's own would
   // oversubscribe the cores.
   cv::setNumThreads(1);
-  // On a terminal: a bar with the time left, from the scenarios finished
-  // (the library calls this one scenario at a time).
-  std::optional<ProgressBar> bar;
-  if (ProgressBar::on_terminal()) {
-    bar.emplace();
-    bar->draw(0, scenarios.size());
-    a.campaign.progress = [&bar](const ts::CampaignProgress& p, const ts::CampaignEntry&) {
-      bar->draw(p.done, p.total);
-    };
-  }
+  // A bar with the time left (lines off a terminal), from the scenarios
+  // finished (the library calls this one scenario at a time).
+  ProgressBar bar("landing_scenario", "scenarios");
+  bar.draw(0, scenarios.size());
+  a.campaign.progress = [&bar](const ts::CampaignProgress& p, const ts::CampaignEntry&) { bar.draw(p.done, p.total); };
   ts::CampaignResult c;
   try {
     c = ts::run_campaign(scenarios, a.campaign);
   } catch (...) {
-    if (bar) bar->close();
+    bar.close();
     throw;
   }
   if (!a.csv_path.empty()) write_text(csv_tmp, campaign_csv(c, names), a.csv_path);
   staged.commit();
   if (a.json) {
-    std::cout << campaign_json(c, source, a.campaign).dump(2) << "\n";
+    std::cout << campaign_json(c, source, a.campaign).dump() << "\n";
   } else {
     print_campaign(c, source, a.campaign);
   }
@@ -639,7 +634,9 @@ CLI::App* add_dataset_command(CLI::App& app, DatasetArgs& a) {
   cmd->add_option("--count", a.count, "frames")->check(CLI::Range(1, 10000000))->capture_default_str();
   add_seed_option(*cmd, "--seed", a.options.seed, "dataset seed (frame i is drawn from (seed, i))");
   cmd->add_option("--marker", a.marker, "the target marker, DICTIONARY:ID")->capture_default_str();
-  cmd->add_option("--max-tilt", a.options.max_tilt_deg, "largest camera tilt drawn [deg]")->capture_default_str();
+  cmd->add_option("--max-tilt", a.options.max_tilt_deg, "largest camera tilt drawn [deg]")
+      ->check(td::app::degrees_not_radians("--max-tilt"))
+      ->capture_default_str();
   cmd->add_option("--threads", a.threads, "worker threads")->check(CLI::Range(1, 256))->capture_default_str();
   return cmd;
 }
@@ -708,10 +705,10 @@ int dataset_command(DatasetArgs& a) {
   const fs::path out(a.out);
   if (fs::exists(out)) throw td::IoError("--out " + a.out + ": exists (a dataset goes into a new directory)");
   require_parent_directory(a.out, "--out");
-  const fs::path parent = fs::absolute(out).parent_path();
-  // Written beside it, renamed when complete: an interrupted run leaves no dataset.
-  const fs::path tmp = parent / ("." + out.filename().string() + ".partial");
-  fs::remove_all(tmp);
+  // Written beside it, renamed when complete: a failed or interrupted run
+  // leaves no dataset.
+  td::StagedDirectory staged(fs::absolute(out));
+  const fs::path tmp = staged.path();
   fs::create_directories(tmp / "images");
   cv::setNumThreads(1);
   std::vector<std::string> lines(static_cast<std::size_t>(a.count));
@@ -719,8 +716,7 @@ int dataset_command(DatasetArgs& a) {
   std::atomic<int> next{0}, done{0};
   std::mutex m;
   std::exception_ptr error;
-  std::optional<ProgressBar> bar;
-  if (ProgressBar::on_terminal()) bar.emplace();
+  ProgressBar bar("landing_scenario", "frames");
   const auto work = [&] {
     for (int i = next++; i < a.count; i = next++) {
       try {
@@ -737,7 +733,7 @@ int dataset_command(DatasetArgs& a) {
         std::lock_guard lock(m);
         ++splits[static_cast<std::size_t>(f.split)];
         ++done;
-        if (bar) bar->draw(static_cast<std::size_t>(done.load()), static_cast<std::size_t>(a.count));
+        bar.draw(static_cast<std::size_t>(done.load()), static_cast<std::size_t>(a.count));
       } catch (...) {
         std::lock_guard lock(m);
         if (!error) error = std::current_exception();
@@ -749,11 +745,8 @@ int dataset_command(DatasetArgs& a) {
   for (int t = 1; t < a.threads; ++t) pool.emplace_back(work);
   work();
   for (auto& t : pool) t.join();
-  if (bar) bar->close();
-  if (error) {
-    fs::remove_all(tmp);
-    std::rethrow_exception(error);
-  }
+  bar.close();
+  if (error) std::rethrow_exception(error);
   std::string text;
   for (const std::string& l : lines) text += l + "\n";
   write_text(tmp / "labels.jsonl", text, a.out + "/labels.jsonl");
@@ -769,7 +762,7 @@ int dataset_command(DatasetArgs& a) {
   meta["splits"] = {{"train", splits[0]}, {"validation", splits[1]}, {"test", splits[2]}};
   meta["images"] = "8-bit grey PNG, the systems' BGR frame converted as cv::cvtColor(COLOR_BGR2GRAY)";
   write_text(tmp / "dataset.json", meta.dump(2) + "\n", a.out + "/dataset.json");
-  fs::rename(tmp, out);
+  staged.commit();
   std::cout << "dataset " << a.out << ": " << a.count << " frames (train " << splits[0] << ", validation " << splits[1]
             << ", test " << splits[2] << "), marker " << a.options.dictionary << " id " << a.options.marker_id
             << ", seed " << a.options.seed << "\n";
@@ -787,7 +780,7 @@ struct DetectArgs {
 
 CLI::App* add_detect_command(CLI::App& app, DetectArgs& a) {
   auto* cmd = app.add_subcommand("detect", "run a marker detector on image files (any size; PNG, JPEG, ...)");
-  cmd->add_option("IMAGE", a.images, "image files")->required()->check(CLI::ExistingFile);
+  cmd->add_option("IMAGE", a.images, "image files")->required()->check(td::app::existing_file());
   cmd->add_option("--detector", a.detector.kind, "the marker detector")
       ->check(one_of_names(ts::marker_detector_names()))
       ->capture_default_str();
@@ -884,7 +877,7 @@ CLI::App* add_bench_command(CLI::App& app, BenchArgs& a) {
       "detect-bench", "precision, recall, AP@0.5 and time of marker detectors on a dataset (landing_scenario dataset)");
   cmd->add_option("DATASET", a.dataset, "a dataset directory (dataset.json, labels.jsonl, images/)")
       ->required()
-      ->check(CLI::ExistingDirectory);
+      ->check(td::app::existing_directory());
   cmd->add_option("--detectors", a.detectors, "comma-separated: aruco, learned")->capture_default_str();
   cmd->add_option("--model", a.model, "the learned detector's model (default: data/models/, TOUCHDOWN_MODEL)");
   cmd->add_option("--split", a.split, "frames of this split only: train, validation, test or all")
@@ -1118,8 +1111,7 @@ int bench_command(BenchArgs& a) {
     detectors.back()->reset(dictionary, id);
   }
   std::vector<std::vector<ts::BenchFrame>> runs(names.size());
-  std::optional<ProgressBar> bar;
-  if (ProgressBar::on_terminal()) bar.emplace();
+  ProgressBar bar("landing_scenario", "images");
   std::vector<ts::MarkerDetection> found;
   for (std::size_t i = 0; i < labels.size(); ++i) {
     const fs::path image = dir / labels[i].image;
@@ -1134,9 +1126,9 @@ int bench_command(BenchArgs& a) {
       runs[d].push_back(ts::score_frame(labels[i], found, id));
       runs[d].back().ms = ms;
     }
-    if (bar) bar->draw(i + 1, labels.size());
+    bar.draw(i + 1, labels.size());
   }
-  if (bar) bar->close();
+  bar.close();
 
   std::string text;
   const Json out = bench_report(a, names, runs, labels, dictionary, id, &text);
@@ -1146,7 +1138,7 @@ int bench_command(BenchArgs& a) {
                a.plot_path);
   staged.commit();
   if (a.json) {
-    std::cout << out.dump(2) << "\n";
+    std::cout << out.dump() << "\n";
   } else {
     std::cout << text;
   }
@@ -1225,7 +1217,7 @@ CLI::App* add_systems_command(CLI::App& app, SystemsArgs& a) {
   auto* cmd = app.add_subcommand("systems",
                                  "list the landing systems under test: the built-ins and those of plug-in libraries");
   cmd->add_option("--plugin", a.plugins, "also load this plug-in library and list its systems (repeatable)")
-      ->check(CLI::ExistingFile);
+      ->check(td::app::existing_file());
   cmd->add_flag("--json", a.json, "one JSON object per line instead of the table");
   return cmd;
 }

@@ -80,14 +80,20 @@ void add_options(CLI::App& app, Args& a) {
          "--yaw-max", o.yaw_max_deg,
          "psi_max [deg]; 0 = 360 / the airframe's symmetry order (the turn after which its feet, motors and body "
          "repeat: 180 for the F450)")
+      ->check(td::app::degrees_not_radians("--yaw-max"))
       ->capture_default_str();
   app.add_option("--landing-point", a.landing_point, "x,y of the landing point [m]")
       ->delimiter(',')
       ->expected(2)
       ->default_str("0,0");
-  app.add_option("--hover-offset", o.hover_offset, "start this high above the terrain under the footprint [m]")
+  app.add_option("--hover-offset", o.hover_offset,
+                 "start this high above the terrain under the footprint [m] (a descent at --land-speed shorter "
+                 "than --timeout)")
+      ->check(td::app::number_in(0, tw::SweepOptions::kMaxHoverOffset, true, false))
       ->capture_default_str();
-  app.add_option("--land-speed", o.land_speed, "descent speed, PX4 MPC_LAND_SPEED [m/s]")->capture_default_str();
+  app.add_option("--land-speed", o.land_speed, "descent speed, PX4 MPC_LAND_SPEED [m/s]")
+      ->check(td::app::number_in(0, 5, true, true))
+      ->capture_default_str();
   app.add_option("--sigma-xy", o.perturbation.sigma_xy, "start position sigma [m]")->capture_default_str();
   app.add_option("--sigma-yaw-deg", o.perturbation.sigma_yaw_deg, "heading sigma [deg]")->capture_default_str();
   app.add_option("--sigma-tilt-deg", o.perturbation.sigma_tilt_deg, "initial roll/pitch sigma [deg]")
@@ -388,9 +394,8 @@ int main(int argc, char** argv) {
     out.plot = td::app::stage(out.staged, a.plot_path, "--plot");
     const tw::Airframe airframe = a.airframe_path.empty() ? tw::Airframe::f450() : tw::load_airframe(a.airframe_path);
     const auto terrain = load_terrain(app.get_name(), a);
-    td::app::ProgressBar bar;
-    if (td::app::ProgressBar::on_terminal())
-      a.o.progress = [&bar](std::size_t done, std::size_t total) { bar.draw(done, total); };
+    td::app::ProgressBar bar("landing_sweep", "landings");
+    a.o.progress = [&bar](std::size_t done, std::size_t total) { bar.draw(done, total); };
     const Eigen::Vector2d requested = a.o.landing_point;
     const tw::SearchResult search = sweep_or_search(airframe, terrain, a);
     bar.close();  // e.g. a --time-budget stop: the summary gets its own line

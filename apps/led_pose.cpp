@@ -95,13 +95,6 @@ constexpr double kBenchmarkSecondsPerPixel = 45e-9;
 constexpr double kMaxRenderPixels = 1e10;
 constexpr double kMaxBenchmarkPixels = 1e11;
 
-std::string duration_text(double seconds) {
-  using td::detail::format_general;
-  if (seconds < 120) return format_general(seconds, 2) + " s";
-  if (seconds < 7200) return format_general(seconds / 60, 2) + " min";
-  return format_general(seconds / 3600, 2) + " h";
-}
-
 std::string size_text(const tp::CameraModel& c) { return std::to_string(c.width) + "x" + std::to_string(c.height); }
 
 // The renderer's image limit, checked before anything is allocated, naming
@@ -243,6 +236,7 @@ void add_render_command(CLI::App& app, Args& a) {
   a.render_tilt =
       render->add_option("--camera-tilt", a.camera_tilt_deg, "chase: camera tilt above the horizontal [deg]")
           ->check(number_in(0, 80))
+          ->check(td::app::degrees_not_radians("--camera-tilt"))
           ->capture_default_str();
   render
       ->add_option("--frames", a.frames,
@@ -301,6 +295,7 @@ void add_benchmark_command(CLI::App& app, Args& a) {
                      ->add_option("--camera-tilt", a.camera_tilt_deg,
                                   "with --constellation and --geometry chase: camera tilt above the horizontal [deg]")
                      ->check(number_in(0, 80))
+                     ->check(td::app::degrees_not_radians("--camera-tilt"))
                      ->capture_default_str();
   a.bench_profile = td::app::add_enum_option(
       *bench, "--profile", a.profile, "with --constellation: rendering, " + td::enum_names_list<tp::RenderProfile>());
@@ -329,8 +324,8 @@ void check_render_request(const Args& a, const tp::CameraModel& camera) {
     throw td::InvalidArgument(
         "--frames " + std::to_string(a.frames) + " at " + size_text(camera) + ": " + td::app::large_count(pixels) +
         " pixels to render, ~" + td::app::gigabytes(pixels * kPngBytesPerPixel) + " of PNGs and ~" +
-        duration_text(pixels * kRenderSecondsPerPixel) + "; the limit is " + td::app::large_count(kMaxRenderPixels) +
-        " pixels (" +
+        td::app::duration_text(pixels * kRenderSecondsPerPixel) + "; the limit is " +
+        td::app::large_count(kMaxRenderPixels) + " pixels (" +
         std::to_string(static_cast<long long>(kMaxRenderPixels / (static_cast<double>(camera.width) * camera.height))) +
         " frames at " + size_text(camera) + ")");
   }
@@ -387,10 +382,10 @@ int run_render(const Args& a) {
   } catch (const td::InvalidArgument& e) {
     throw td::InvalidArgument(in_flag_terms(e.what()));
   }
-  td::app::ProgressBar bar;
-  std::function<void(std::size_t, std::size_t)> progress;
-  if (td::app::ProgressBar::on_terminal())
-    progress = [&bar](std::size_t done, std::size_t total) { bar.draw(done, total); };
+  td::app::ProgressBar bar("led_pose", "frames");
+  const std::function<void(std::size_t, std::size_t)> progress = [&bar](std::size_t done, std::size_t total) {
+    bar.draw(done, total);
+  };
   tp::write_sequence(a.out_dir, camera, k, samples, r, a.seed, progress);
   bar.close();
   std::cerr << "led_pose: wrote " << samples.size() << " frames to " << a.out_dir << "\n";
@@ -428,7 +423,7 @@ tp::PoseBenchmarkOptions benchmark_options(const Args& a) {
     throw td::InvalidArgument("--frames " + std::to_string(a.bench_frames) + ": " +
                               std::to_string(2 * o.scenarios.size()) + " sequences of " + size_text(o.camera) +
                               " frames, " + td::app::large_count(pixels) + " pixels to render and track, ~" +
-                              duration_text(pixels * kBenchmarkSecondsPerPixel) + "; the limit is " +
+                              td::app::duration_text(pixels * kBenchmarkSecondsPerPixel) + "; the limit is " +
                               td::app::large_count(kMaxBenchmarkPixels) + " pixels (" +
                               std::to_string(static_cast<long long>(kMaxBenchmarkPixels / (sequences * frame_pixels))) +
                               " frames per sequence here)");
@@ -495,7 +490,7 @@ int run_benchmark(const Args& a) {
   const auto r = tp::run_pose_benchmark(benchmark_options(a));
   if (!r.ok()) std::cerr << "led_pose: benchmark: " << r.message << "\n";
   if (a.json) {
-    std::cout << benchmark_json(a, r).dump(2) << "\n";
+    std::cout << benchmark_json(a, r).dump() << "\n";
   } else {
     print_benchmark_table(r);
   }
@@ -573,12 +568,22 @@ struct SequenceRun {
   touchdown::BgrImage colour;
   touchdown::DepthImage depth;
   bool depth_scale_checked = false;
-  std::size_t ti = 0;  // next ground-truth sample
-  std::string out;     // printed at the end: a bad frame leaves no partial output
+  std::string out;  // printed at the end: a bad frame leaves no partial output
   int ok = 0;
   std::vector<double> ms, rms, pos_err, rot_err;
-  std::vector<std::string> wrong_ok;  // frames reported ok but off the truth by more than kWrongOk*
+  std::vector<std::string> wrong_ok;   // frames reported ok but off the truth by more than kWrongOk*
+  std::map<std::string, int> no_pose;  // why the others have none: status -> frames
+  int grey = 0;                        // frames without colour (B = G = R everywhere)
 };
+
+// True when every pixel (every 7th, for speed) has B = G = R: a grey frame,
+// in which LEDs found by their colour cannot be.
+bool is_grey(const touchdown::BgrImage& image) {
+  for (std::size_t i = 0; i + 2 < image.pixels.size(); i += 3 * 7) {
+    if (image.pixels[i] != image.pixels[i + 1] || image.pixels[i] != image.pixels[i + 2]) return false;
+  }
+  return !image.pixels.empty();
+}
 
 // A pose reported ok but farther than this from the ground truth is wrong
 // (the benchmark's wrong-ok threshold).
@@ -590,6 +595,7 @@ constexpr double kWrongOkRotationRad = 0.1;
 void read_checked_frame(const tp::SequenceFrame& f, bool want_depth, const tp::CameraModel& camera,
                         const fs::path& camera_path, SequenceRun& run) {
   tp::read_frame(f, run.colour, want_depth ? &run.depth : nullptr);
+  if (is_grey(run.colour)) ++run.grey;
   if (run.colour.width != camera.width || run.colour.height != camera.height) {
     throw td::ParseError(f.colour.string() + ": image is " + std::to_string(run.colour.width) + "x" +
                          std::to_string(run.colour.height) + " but the camera is " + std::to_string(camera.width) +
@@ -610,14 +616,14 @@ void read_checked_frame(const tp::SequenceFrame& f, bool want_depth, const tp::C
 
 // Counts a frame's estimate, and its error when the ground truth has the frame.
 void record_estimate(const tp::SequenceFrame& f, const tp::PoseEstimate& e, double elapsed,
-                     const std::vector<tp::GroundTruthSample>& truth, bool jsonl, SequenceRun& run) {
+                     const std::map<std::string, const tp::GroundTruthSample*>& truth, bool jsonl, SequenceRun& run) {
   run.ms.push_back(elapsed);
+  if (!e.ok()) ++run.no_pose[std::string(tp::to_string(e.status))];
   if (e.ok()) {
     ++run.ok;
     run.rms.push_back(e.rms_px);
-    while (run.ti < truth.size() && truth[run.ti].frame < f.name) ++run.ti;
-    if (run.ti < truth.size() && truth[run.ti].frame == f.name) {
-      const auto [p, r] = tp::pose_error(e.T_camera_body, truth[run.ti].T_camera_body);
+    if (const auto it = truth.find(f.name); it != truth.end()) {
+      const auto [p, r] = tp::pose_error(e.T_camera_body, it->second->T_camera_body);
       run.pos_err.push_back(p);
       run.rot_err.push_back(r);
       if (p > kWrongOkPositionM || r > kWrongOkRotationRad) run.wrong_ok.push_back(f.name);
@@ -641,8 +647,21 @@ double mean(const std::vector<double>& v) {
 void print_sequence_summary(const Args& a, std::size_t frames, const SequenceRun& run) {
   std::cout << "led_pose: " << a.method << " on " << frames << " frames of " << a.sequence_dir << "\n"
             << "  pose found      " << run.ok << " / " << frames << " ("
-            << format_fixed(100.0 * run.ok / static_cast<double>(std::max<std::size_t>(1, frames)), 1) << "%)\n"
-            << "  reprojection    median "
+            << format_fixed(100.0 * run.ok / static_cast<double>(std::max<std::size_t>(1, frames)), 1) << "%)\n";
+  if (!run.no_pose.empty()) {
+    // Why the others have none (issue 58 item 5: a run of grey frames said
+    // only "0 / 10").
+    std::vector<std::pair<std::string, int>> why(run.no_pose.begin(), run.no_pose.end());
+    std::stable_sort(why.begin(), why.end(), [](const auto& x, const auto& y) { return x.second > y.second; });
+    std::cout << "  no pose         ";
+    for (std::size_t i = 0; i < why.size(); ++i) std::cout << (i ? ", " : "") << why[i].second << " " << why[i].first;
+    std::cout << "\n";
+  }
+  if (run.grey > 0 && a.method == "led") {
+    std::cout << "  note            " << td::app::count_noun(run.grey, "frame")
+              << " without colour (grey): the LED method finds the LEDs by their colour\n";
+  }
+  std::cout << "  reprojection    median "
             << (run.rms.empty() ? std::string("n/a") : format_fixed(median(run.rms), 3) + " px") << "\n"
             << "  time per frame  median " << format_fixed(median(run.ms), 3) << " ms\n";
   if (!run.pos_err.empty()) {
@@ -700,6 +719,8 @@ int run_sequence(const Args& a) {
   // Ground truth, when the sequence carries it (a rendered one does).
   std::vector<tp::GroundTruthSample> truth;
   if (fs::exists(dir / "ground_truth.jsonl")) truth = tp::read_ground_truth(dir / "ground_truth.jsonl");
+  std::map<std::string, const tp::GroundTruthSample*> truth_of;  // by frame name
+  for (const auto& g : truth) truth_of.emplace(g.frame, &g);
   // The attitude prior, one per frame, all checked before any frame runs.
   std::vector<tp::AttitudePrior> priors;
   if (!a.attitude_file.empty()) {
@@ -707,13 +728,14 @@ int run_sequence(const Args& a) {
     priors = attitude_per_frame(a.attitude_file, frames_list);
   }
   SequenceRun run;
-  // A progress bar on a terminal once the run has taken over a second.
-  td::app::ProgressBar bar;
+  // A progress bar on a terminal once the run has taken over a second
+  // (lines off one, for work over a minute).
+  td::app::ProgressBar bar("led_pose", "frames");
   const bool on_terminal = td::app::ProgressBar::on_terminal();
   const auto start = std::chrono::steady_clock::now();
   for (std::size_t i = 0; i < frames_list.size(); ++i) {
     const tp::SequenceFrame& f = frames_list[i];
-    if (on_terminal && std::chrono::steady_clock::now() - start > std::chrono::seconds(1)) {
+    if (!on_terminal || std::chrono::steady_clock::now() - start > std::chrono::seconds(1)) {
       bar.draw(i, frames_list.size());
     }
     const bool want_depth = a.method == "led" && !a.no_depth && f.depth;
@@ -725,7 +747,7 @@ int run_sequence(const Args& a) {
                                    ? est.tracker->track(run.colour.view(), want_depth ? &dv : nullptr)
                                    : est.tracker->track(run.colour.view(), want_depth ? &dv : nullptr, priors[i]);
     const double elapsed = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    record_estimate(f, e, elapsed, truth, a.jsonl, run);
+    record_estimate(f, e, elapsed, truth_of, a.jsonl, run);
   }
   bar.close();
   if (a.jsonl) {

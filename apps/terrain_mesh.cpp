@@ -113,7 +113,18 @@ int main(int argc, char** argv) {
     if (!result.ok()) throw td::InvalidArgument(input + ": " + result.message);
     if (!save_cloud.empty()) td::write_cloud(result.filtered_cloud, save_cloud_tmp);
     td::write_mesh(result.mesh, output_tmp);
+    std::vector<std::string> warnings;
+    for (const std::string& w :
+         {td::app::large_output_warning("--output", output, output_tmp,
+                                        std::to_string(result.report.triangles) + " triangles at --cell " +
+                                            td::detail::format_general(opt.height_map.cell) +
+                                            " m; the size goes with 1 / cell^2"),
+          save_cloud.empty() ? std::string()
+                             : td::app::large_output_warning("--save-cloud", save_cloud, save_cloud_tmp, "")}) {
+      if (!w.empty()) warnings.push_back(w);
+    }
     outputs.commit();
+    td::app::print_warnings(app.get_name(), warnings);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
     const auto& r = result.report;

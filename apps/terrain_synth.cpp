@@ -47,9 +47,11 @@ void add_shape_options(CLI::App& app, Args& a) {
   syn::Shape& shape = a.shape;
   app.add_option("--azimuth", shape.azimuth_deg, "direction the incline rises / the step goes up [deg]")
       ->check(number_in(-360, 360))
+      ->check(td::app::degrees_not_radians("--azimuth"))
       ->capture_default_str();
   app.add_option("--slope", shape.slope_deg, "incline angle [deg]")
       ->check(number_in(0, 80, false, true))
+      ->check(td::app::degrees_not_radians("--slope"))
       ->capture_default_str();
   app.add_option("--step-height", shape.step_height, "step height [m] (< 0: a step down)")
       ->check(number_in(-5, 5))
@@ -99,7 +101,10 @@ void add_options(CLI::App& app, Args& a) {
       ->capture_default_str();
   app.add_option("--camera-x", a.cam_x, "camera x [m]")->check(number_in(-1000, 1000))->capture_default_str();
   app.add_option("--camera-y", a.cam_y, "camera y [m]")->check(number_in(-1000, 1000))->capture_default_str();
-  app.add_option("--camera-yaw", a.cam_yaw_deg, "camera yaw [deg]")->check(number_in(-360, 360))->capture_default_str();
+  app.add_option("--camera-yaw", a.cam_yaw_deg, "camera yaw [deg]")
+      ->check(number_in(-360, 360))
+      ->check(td::app::degrees_not_radians("--camera-yaw"))
+      ->capture_default_str();
   app.add_option("--width", a.cam.width, "image width [px]; width x height at most 4194304 pixels")
       ->check(number_in(1, kMaxSide))
       ->capture_default_str();

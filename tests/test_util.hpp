@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <cstring>
@@ -276,6 +277,12 @@ inline void expect_help_shows_defaults(const std::string& help) {
   EXPECT_GT(options, 3) << help;
 }
 
+/// docs/cli.md's convention: `--json` prints its object on one line.
+inline void expect_one_json_line(const std::string& out) {
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out.substr(0, 400);
+  EXPECT_TRUE(!out.empty() && out.front() == '{' && out.back() == '\n') << out.substr(0, 400);
+}
+
 inline AppRun run_app(const std::string& exe, const std::string& args, const TempDir& dir) {
   const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
   const std::string cmd = exe + " " + args + " >" + out.string() + " 2>" + err.string();
@@ -286,6 +293,30 @@ inline AppRun run_app(const std::string& exe, const std::string& args, const Tem
   r.err = read_text(err);
   std::filesystem::remove(out);
   std::filesystem::remove(err);
+  return r;
+}
+
+/// Runs an app in the background, waits (up to 120 s) until `dir` holds an
+/// entry whose name starts with `appears` (a hidden temporary: the run is
+/// writing its outputs), sends it `signal` ("INT", "TERM") and waits for
+/// it. code: the shell's status (128 + N when the signal ended it).
+inline AppRun interrupt_app(const std::string& exe, const std::string& args, const TempDir& dir,
+                            const std::string& appears, const std::string& signal) {
+  const auto out = dir / "stdout.txt", err = dir / "stderr.txt", script = dir / "interrupt.sh";
+  // Job control (set -m): the app gets its own process group and SIGINT
+  // is not ignored, as for a command typed at a terminal.
+  write_text(script, "set -m\n" + exe + " " + args + " >" + out.string() + " 2>" + err.string() +
+                         " &\npid=$!\nfor i in $(seq 1200); do\n  ls -A " + dir.path().string() + " | grep -q '^" +
+                         appears + "' && break\n  kill -0 $pid 2>/dev/null || break\n  sleep 0.1\ndone\nkill -" +
+                         signal + " $pid\nwait $pid\n");
+  const int status = std::system(("bash " + script.string()).c_str());
+  AppRun r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_text(out);
+  r.err = read_text(err);
+  std::filesystem::remove(out);
+  std::filesystem::remove(err);
+  std::filesystem::remove(script);
   return r;
 }
 

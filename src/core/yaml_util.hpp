@@ -180,10 +180,7 @@ struct YamlReader {
   /// were meant, write [180, 0, 90]"); "" when they look like degrees. The
   /// reader never prints: the caller collects it for the app to show.
   std::string radians_warning(const YAML::Node& n, const std::string& key, const std::vector<double>& deg) const {
-    const double two_pi = 2 * std::numbers::pi;
-    const bool small = std::all_of(deg.begin(), deg.end(), [&](double v) { return std::abs(v) <= two_pi; });
-    const bool fractional = std::any_of(deg.begin(), deg.end(), [](double v) { return v != std::round(v); });
-    if (deg.empty() || !small || !fractional) return "";
+    if (!look_like_radians(deg)) return "";
     std::string as_read, as_radians;
     for (std::size_t i = 0; i < deg.size(); ++i) {
       as_read += (i ? ", " : "") + format_general(deg[i]);

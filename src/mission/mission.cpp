@@ -8,6 +8,7 @@
 #include <cmath>
 #include <deque>
 #include <iterator>
+#include <map>
 #include <mutex>
 #include <numbers>
 
@@ -592,6 +593,74 @@ std::vector<MissionResult> run_missions(const MissionOptions& options, int runs,
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(std::max(1, n)));
   tbb::parallel_for(0, runs, body);
   return results;
+}
+
+namespace {
+
+// The guards that abort (a landing, a lock) rather than advance.
+bool is_abort(TransitionReason r) {
+  switch (r) {
+    case TransitionReason::RendezvousTimeout:
+    case TransitionReason::PoseLost:
+    case TransitionReason::PlanInfeasible:
+    case TransitionReason::VehicleAccelerating:
+    case TransitionReason::VehicleTurning:
+    case TransitionReason::LowWithoutPlan:
+    case TransitionReason::LowOffCentre:
+      return true;
+    default:
+      return false;
+  }
+}
+
+}  // namespace
+
+std::string failure_reason(const MissionResult& r) {
+  switch (r.outcome) {
+    case MissionOutcome::Landed:
+      return "";
+    case MissionOutcome::Crashed:
+      return r.message.empty() ? std::string("crashed") : "crashed: " + r.message;
+    case MissionOutcome::Aborted: {
+      for (auto it = r.transitions.rbegin(); it != r.transitions.rend(); ++it) {
+        if (is_abort(it->reason)) return "gave up: " + std::string(to_string(it->reason));
+      }
+      return "gave up";
+    }
+    case MissionOutcome::Timeout:
+      break;
+  }
+  if (r.transitions.empty()) return "timeout in " + std::string(to_string(MissionState::Searching));
+  const Transition& last = r.transitions.back();
+  std::string out = "timeout in " + std::string(to_string(last.to));
+  if (is_abort(last.reason)) out += " after " + std::string(to_string(last.reason));
+  return out;
+}
+
+namespace {
+
+FailureCounts most_frequent_first(const std::map<std::string, int>& counts) {
+  FailureCounts out(counts.begin(), counts.end());
+  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  return out;
+}
+
+}  // namespace
+
+FailureCounts count_failure_reasons(const std::vector<MissionResult>& results) {
+  std::map<std::string, int> counts;
+  for (const MissionResult& r : results) {
+    if (!r.landed()) ++counts[failure_reason(r)];
+  }
+  return most_frequent_first(counts);
+}
+
+FailureCounts merge_failure_reasons(const FailureCounts& a, const FailureCounts& b) {
+  std::map<std::string, int> counts;
+  for (const auto* list : {&a, &b}) {
+    for (const auto& [why, n] : *list) counts[why] += n;
+  }
+  return most_frequent_first(counts);
 }
 
 }  // namespace touchdown::mission

@@ -9,6 +9,7 @@
 #include "core/io_util.hpp"
 #include "core/yaml_util.hpp"
 #include "plan/planner_yaml.hpp"
+#include "touchdown/core/data_path.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/units.hpp"
 
@@ -162,8 +163,11 @@ void read_mission(const YamlReader& r, const YAML::Node& root, const std::filesy
                     rr, n, k + ".",
                     {{"airframe",
                       [&](const YamlReader& r2, const YAML::Node& a, const std::string& ak) {
-                        const std::filesystem::path path = base / r2.text(a, ak);
+                        // Beside the mission first, then touchdown's data
+                        // directories (a bundled mission copied elsewhere).
+                        std::filesystem::path path;
                         try {
+                          path = resolve_data_file(base, r2.text(a, ak), "airframes");
                           d.airframe = twin::load_airframe(path);
                         } catch (const Error& e) {
                           r2.fail(a, ak, e.what());

@@ -224,6 +224,19 @@ std::string plot_top_view(const MissionResult& r, const std::string& title) {
   return svg.finish();
 }
 
+namespace {
+
+// A failure reason short enough for an envelope cell: the guard of an
+// abort, "crashed", or "timeout: <state>".
+std::string short_reason(const std::string& why) {
+  if (why.rfind("gave up: ", 0) == 0) return why.substr(9);
+  if (why.rfind("crashed", 0) == 0) return "crashed";
+  if (why.rfind("timeout in ", 0) == 0) return "timeout: " + why.substr(11, why.find(' ', 11) - 11);
+  return why;
+}
+
+}  // namespace
+
 std::string plot_envelope(const std::vector<EnvelopeCell>& cells, const std::string& title) {
   SvgWriter svg(760, 560);
   svg.title("Landing envelope: " + title);
@@ -251,11 +264,13 @@ std::string plot_envelope(const std::vector<EnvelopeCell>& cells, const std::str
       continue;
     }
     svg.rect(x, y, cw, ch, " fill='" + detail::rgb_colour(red, green, 60) + "' stroke='white'");
-    svg.text(x + cw / 2, y + ch / 2 + (c.crashed > 0 ? 0 : 4), detail::format_trimmed(100 * s, 0) + " %",
+    svg.text(x + cw / 2, y + ch / 2 + (c.reasons.empty() ? 4 : 0), detail::format_trimmed(100 * s, 0) + " %",
              " text-anchor='middle' font-size='12'");
-    if (c.crashed > 0) {
-      svg.text(x + cw / 2, y + ch / 2 + 14, std::to_string(c.crashed) + " crashed",
-               " text-anchor='middle' font-size='10'");
+    if (!c.reasons.empty()) {
+      // The most frequent reason the others did not land, shortened to fit.
+      svg.text(x + cw / 2, y + ch / 2 + 14,
+               std::to_string(c.reasons.front().second) + " " + short_reason(c.reasons.front().first),
+               " text-anchor='middle' font-size='9'");
     }
   }
   svg.rect(L, T, W, H, " fill='none' stroke='black'");
@@ -271,9 +286,10 @@ std::string plot_envelope(const std::vector<EnvelopeCell>& cells, const std::str
   svg.text(24, T + H / 2, "wind [m/s]",
            " text-anchor='middle' transform='rotate(-90 24 " + detail::format_trimmed(T + H / 2, 1) + ")'");
   svg.text(L + W + 14, T + 14, "share landed;");
-  svg.text(L + W + 14, T + 30, "the rest aborted");
-  svg.text(L + W + 14, T + 46, "or timed out unless");
-  svg.text(L + W + 14, T + 62, "a crash is named");
+  svg.text(L + W + 14, T + 30, "below it, the most");
+  svg.text(L + W + 14, T + 46, "frequent reason the");
+  svg.text(L + W + 14, T + 62, "others did not land");
+  svg.text(L + W + 14, T + 78, "(--json: all of them)");
   return svg.finish();
 }
 

@@ -123,6 +123,11 @@ class ProcessSystem final : public LandingSystem {
       // The child: async-signal-safe calls only.
       ::prctl(PR_SET_PDEATHSIG, SIGKILL);
       if (::getppid() != parent) ::_exit(126);
+      // A host app blocks SIGINT/SIGTERM/SIGHUP to wait for them in one
+      // thread (apps/app_common.hpp); the system gets the default mask.
+      sigset_t none;
+      sigemptyset(&none);
+      ::sigprocmask(SIG_SETMASK, &none, nullptr);
       ::dup2(fds[1], 0);
       ::dup2(fds[1], 1);
       ::close_range(3, ~0U, 0);

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "column_grid.hpp"
+#include "core/format.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::terrain {
@@ -97,6 +98,14 @@ bool HeightMapOptions::validate(std::string* why) const {
   return true;
 }
 
+namespace {
+
+// A cloud wider than this [m] is taken for millimetres in the message of a
+// height map too large to build.
+constexpr double kMillimetreSpan = 1000;
+
+}  // namespace
+
 HeightMap build_height_map(const PointCloud& cloud, const HeightMapOptions& o) {
   std::string why;
   if (!o.validate(&why)) throw InvalidArgument("height map options: " + why);
@@ -112,10 +121,16 @@ HeightMap build_height_map(const PointCloud& cloud, const HeightMapOptions& o) {
   const double x0 = std::floor(lo.x() / o.cell) * o.cell, y0 = std::floor(lo.y() / o.cell) * o.cell;
   const double fx = std::floor((hi.x() - x0) / o.cell) + 1, fy = std::floor((hi.y() - y0) / o.cell) + 1;
   if (fx * fy > static_cast<double>(o.max_cells)) {
+    const double span = std::max(hi.x() - lo.x(), hi.y() - lo.y());
+    // A landing-site scan spans metres to a few hundred; a thousand times
+    // that is a cloud in millimetres (issue 58).
+    const std::string units =
+        span > kMillimetreSpan ? "; a scan this large is likely in millimetres: scale it by 0.001 to metres" : "";
     throw InvalidArgument("height map would need " + std::to_string(static_cast<long long>(fx)) + " x " +
                           std::to_string(static_cast<long long>(fy)) + " cells (cloud spans " +
-                          std::to_string(hi.x() - lo.x()) + " x " + std::to_string(hi.y() - lo.y()) +
-                          " m); crop the cloud or use a larger cell");
+                          touchdown::detail::format_general(hi.x() - lo.x(), 4) + " x " +
+                          touchdown::detail::format_general(hi.y() - lo.y(), 4) +
+                          " m); crop the cloud or use a larger cell" + units);
   }
   HeightMap map(x0, y0, o.cell, static_cast<int>(fx), static_cast<int>(fy));
   detail::ColumnGrid grid;

@@ -144,8 +144,21 @@ bool SweepOptions::validate(std::string* why) const {
   }
   if (!(yaw_max_deg >= 0 && yaw_max_deg <= 360)) return fail("yaw-max must be in [0, 360] degrees (0 = automatic)");
   if (!landing_point.allFinite()) return fail("landing point must be finite");
-  if (!(hover_offset > 0)) return fail("hover-offset must be positive");
+  if (!(hover_offset > 0 && hover_offset <= kMaxHoverOffset)) {
+    return fail("hover-offset must be in (0, " + touchdown::detail::format_general(kMaxHoverOffset) + "] m, got " +
+                touchdown::detail::format_general(hover_offset));
+  }
   if (!(land_speed > 0 && land_speed < 5)) return fail("land-speed must be in (0, 5) m/s");
+  // A descent that cannot reach the ground before the timeout makes every
+  // run invalid (issue 58: --hover-offset 80 "ran" 100 % invalid and exited 0).
+  if (const double descent = hover_offset / land_speed; descent >= simulation.timeout) {
+    return fail("hover-offset " + touchdown::detail::format_general(hover_offset) + " m at land-speed " +
+                touchdown::detail::format_general(land_speed) + " m/s is a descent of " +
+                touchdown::detail::format_general(descent, 3) + " s, not shorter than the timeout of " +
+                touchdown::detail::format_general(simulation.timeout) +
+                " s: every landing would time out before touching the ground (lower the offset, or raise the land "
+                "speed or the timeout)");
+  }
   const auto& p = perturbation;
   if (!(p.sigma_xy >= 0 && p.sigma_yaw_deg >= 0 && p.sigma_tilt_deg >= 0 && p.sigma_land_speed >= 0)) {
     return fail("perturbation sigmas must be >= 0");

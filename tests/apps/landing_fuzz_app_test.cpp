@@ -58,6 +58,7 @@ TEST(LandingFuzzApp, CampaignWritesItsDirectoryAndMetricsReadsIt) {
   }
   const AppRun m = fuzz_app("metrics --json " + (dir / "c").string(), dir);
   ASSERT_EQ(m.code, 0) << m.err;
+  td::test::expect_one_json_line(m.out);
   EXPECT_EQ(nlohmann::json::parse(m.out)["metrics"], j["metrics"]);
   // Human output names every metric.
   const AppRun h = fuzz_app("metrics " + (dir / "c").string(), dir);

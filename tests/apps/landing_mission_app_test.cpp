@@ -80,7 +80,38 @@ TEST(LandingMissionApp, EnvelopeOverSpeedAndWind) {
     EXPECT_GE(c["landed"].get<int>(), 0);
   }
   EXPECT_EQ(j["cells"][0]["speed_mps"], 1.0);
+  // Each cell's reasons add up to the runs that did not land.
+  for (const auto& c : j["cells"]) {
+    int why = 0;
+    for (const auto& reason : c["reasons"]) why += reason["runs"].get<int>();
+    EXPECT_EQ(why, c["runs"].get<int>() - c["landed"].get<int>()) << c;
+  }
   EXPECT_NE(td::test::read_text(svg).find("Landing envelope"), std::string::npos);
+}
+
+// Issue 58 item 8: the summary says why missions did not land, not only
+// "timeout"; the JSON has the reason per mission and the counts.
+TEST(LandingMissionApp, TheSummaryNamesWhyMissionsDidNotLand) {
+  TempDir dir;
+  const std::string airframe = (std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/airframes/quad180.yaml").string();
+  const auto path = dir / "short.yaml";
+  td::test::write_text(path,
+                       td::test::replace(td::test::replace(td::test::read_text(bundled()), "timeout: 90", "timeout: 4"),
+                                         "../airframes/quad180.yaml", airframe));
+  const AppRun text = run(path.string() + " --runs 2", dir);
+  ASSERT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("timeout 2\n  why not landed: timeout in "), std::string::npos) << text.out;
+  const AppRun js = run(path.string() + " --runs 2 --json", dir);
+  ASSERT_EQ(js.code, 0) << js.err;
+  const auto j = nlohmann::json::parse(js.out);
+  ASSERT_EQ(j["summary"]["reasons"].size(), 1U) << j["summary"];
+  EXPECT_EQ(j["summary"]["reasons"][0]["runs"], 2);
+  const std::string why = j["summary"]["reasons"][0]["reason"];
+  EXPECT_EQ(why.rfind("timeout in ", 0), 0U) << why;
+  for (const auto& m : j["missions"]) EXPECT_EQ(m["reason"], why);
+  // A landing has no reason.
+  const AppRun ok = run(bundled() + " --runs 1 --json", dir);
+  EXPECT_TRUE(nlohmann::json::parse(ok.out)["missions"][0]["reason"].is_null());
 }
 
 TEST(LandingMissionApp, BadInputIsOneLineAndExitTwo) {
@@ -102,6 +133,15 @@ TEST(LandingMissionApp, BadInputIsOneLineAndExitTwo) {
   r = run("--perception sonar", dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("model, render"), std::string::npos) << r.err;
+  // A missing file reads as every reader of the library says it (issue
+  // 58 item 9: CLI11's "File does not exist" was a shape of its own).
+  const std::string missing = (dir / "nowhere.yaml").string();
+  r = run(missing, dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "landing_mission: mission: " + missing + ": cannot open: no such file (see --help)\n");
+  r = run("envelope " + dir.path().string(), dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find(dir.path().string() + ": cannot open: is a directory"), std::string::npos) << r.err;
   r = run("envelope --speeds 2:1:0.5", dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("--speeds"), std::string::npos) << r.err;

@@ -37,6 +37,7 @@ TEST(LandingScenarioApp, BundledScenarioLandsWithJsonLogAndSnapshot) {
                                     png.string() + " --snapshot-t 12",
                                 dir);
   ASSERT_EQ(r.code, 0) << r.err;
+  td::test::expect_one_json_line(r.out);
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["system"], "opencv-mls");
   EXPECT_EQ(j["violation"], false) << j["message"];
@@ -145,6 +146,7 @@ TEST(LandingScenarioApp, CampaignOverFilesWritesSummaryAndCsv) {
       "campaign " + bundled_scenario() + " " + bundled_scenario() + " --threads 2 --json --csv " + csv.string(), dir);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(r.err.empty()) << r.err;  // not a terminal: no progress bar
+  td::test::expect_one_json_line(r.out);
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["count"], 2);
   EXPECT_EQ(j["violations"], 0);
@@ -411,4 +413,17 @@ TEST(LandingScenarioApp, DetectBenchGroupsAgreeWithTheLabels) {
   EXPECT_NE(bad.err.find("labels.jsonl:2: image"), std::string::npos) << bad.err;
   EXPECT_EQ(bad.err.find('\n'), bad.err.size() - 1) << "one line: " << bad.err;
   EXPECT_TRUE(bad.out.empty()) << bad.out;
+}
+
+// Issue 58 item 1: killed while the video was being written, the run used
+// to leave .int.mp4.tmp-PID-0.mp4 behind.
+TEST(LandingScenarioApp, ATerminatedRunLeavesNoVideo) {
+  TempDir dir;
+  const AppRun r = td::test::interrupt_app(
+      LANDING_SCENARIO_EXE,
+      "run " + bundled_scenario() + " --video " + (dir / "int.mp4").string() + " --log " + (dir / "int.csv").string(),
+      dir, ".int.mp4.tmp-", "TERM");
+  EXPECT_EQ(r.code, 128 + 15) << r.err;  // ended by SIGTERM
+  EXPECT_NE(r.err.find("landing_scenario: interrupted (SIGTERM): removed "), std::string::npos) << r.err;
+  EXPECT_TRUE(dir.files().empty()) << dir.files().front();
 }

@@ -196,6 +196,24 @@ TEST(LandingSweepAppBadInput, BadOptionsAndFiles) {
   const AppRun far = run(terrain + " --banana 3", dir);
   EXPECT_EQ(far.code, 2);
   EXPECT_EQ(far.err.find("did you mean"), std::string::npos) << far.err;
+  // Issue 58, item 4: values that cannot be meant are refused in one
+  // style; an angle that looks like radians is swept, with a warning.
+  const AppRun fast = run(terrain + " --land-speed 7", dir);
+  EXPECT_EQ(fast.code, 2);
+  EXPECT_NE(fast.err.find("--land-speed: 7 is outside (0, 5)"), std::string::npos) << fast.err;
+  const AppRun high = run(terrain + " --hover-offset 8 --timeout 10", dir);
+  EXPECT_EQ(high.code, 2);
+  expect_one_line(high);
+  EXPECT_NE(high.err.find("hover-offset 8 m at land-speed 0.7 m/s is a descent of 11.4 s, not shorter than the "
+                          "timeout of 10 s"),
+            std::string::npos)
+      << high.err;
+  const AppRun radians = run(terrain + " --headings 2 --runs 1 --yaw-max 3.14", dir);
+  EXPECT_EQ(radians.code, 0) << radians.err;
+  EXPECT_NE(radians.err.find("landing_sweep: warning: --yaw-max 3.14 looks like radians (within +-2 pi, not a whole "
+                             "degree) but is read as degrees; if radians were meant, write 179.91"),
+            std::string::npos)
+      << radians.err;
 }
 
 // ---- the bundled terrains with a known answer (data/terrains/regenerate.sh) ----
@@ -271,14 +289,14 @@ TEST(LandingSweepApp, SameSeedSameJsonForOneAndTwoThreads) {
 TEST(LandingSweepApp, RunsThatTimeOutAreShownAsInvalidNeverAsANutation) {
   TempDir dir;
   const auto terrain = flat_stl(dir);
-  const AppRun text = run(terrain + " --headings 2 --runs 2 --timeout 0.3", dir);
+  const AppRun text = run(terrain + " --headings 2 --runs 2 --hover-offset 0.1 --timeout 0.3", dir);
   ASSERT_EQ(text.code, 0) << text.err;
   EXPECT_NE(text.out.find("invalid (timeout: did not come to rest before the timeout)"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("decision: do not land at (0.000, 0.000): no safe heading (2 headings: invalid runs"),
             std::string::npos)
       << text.out;
   EXPECT_EQ(text.out.find("3.142"), std::string::npos) << text.out;
-  const AppRun js = run(terrain + " --headings 2 --runs 2 --timeout 0.3 --json", dir);
+  const AppRun js = run(terrain + " --headings 2 --runs 2 --hover-offset 0.1 --timeout 0.3 --json", dir);
   ASSERT_EQ(js.code, 0) << js.err;
   const auto j = nlohmann::json::parse(js.out);
   EXPECT_TRUE(j["best"].is_null());
@@ -289,7 +307,10 @@ TEST(LandingSweepApp, RunsThatTimeOutAreShownAsInvalidNeverAsANutation) {
     EXPECT_EQ(h["reason"].get<std::string>(), "invalid runs");
   }
   // The plot puts the invalid runs in their band and no S line point for them.
-  ASSERT_EQ(run(terrain + " --headings 2 --runs 2 --timeout 0.3 --plot " + (dir / "bad.svg").string(), dir).code, 0);
+  ASSERT_EQ(
+      run(terrain + " --headings 2 --runs 2 --hover-offset 0.1 --timeout 0.3 --plot " + (dir / "bad.svg").string(), dir)
+          .code,
+      0);
   const std::string svg = td::test::read_text(dir / "bad.svg");
   EXPECT_NE(svg.find(">do not land: 2 headings:<"), std::string::npos);  // wrapped in the legend
   EXPECT_NE(svg.find("invalid runs"), std::string::npos);
@@ -326,7 +347,7 @@ TEST(LandingSweepApp, EveryPrintedKeyAndCsvValueIsDocumented) {
   std::set<std::string> keys;
   std::set<std::string> values;
   // A search (with its keys), and timeouts (with their reasons).
-  for (const std::string extra : {" --search-radius 0.2 --search-spacing 0.2", " --timeout 0.3"}) {
+  for (const std::string extra : {" --search-radius 0.2 --search-spacing 0.2", " --hover-offset 0.1 --timeout 0.3"}) {
     const AppRun r = run(terrain + " --headings 2 --runs 2 --json --runs-csv " + (dir / "r.csv").string() + extra, dir);
     ASSERT_EQ(r.code, 0) << r.err;
     collect_keys(nlohmann::json::parse(r.out), keys);

@@ -419,6 +419,7 @@ TEST(LedPoseApp, BenchmarkJson) {
   TempDir dir;
   const AppRun r = run("benchmark --frames 20 --json", dir);
   ASSERT_EQ(r.code, 0) << r.err;
+  td::test::expect_one_json_line(r.out);
   const auto j = nlohmann::json::parse(r.out);  // exactly one JSON object
   ASSERT_TRUE(j.is_object());
   ASSERT_EQ(j["rows"].size(), 12u);  // 3 scenarios x 2 sequences x 2 methods
@@ -906,4 +907,59 @@ TEST(LedPoseAppBadInput, ImplausibleDepthScale) {
   // The sequence's own camera.yaml is named when it is the one at fault.
   td::test::write_text(seq / "camera.yaml", td::test::replace_key_line(yaml, "depth_scale", "depth_scale: 1"));
   expect_bad_input(run(seq.string(), dir), (seq / "camera.yaml").string() + ": depth_scale: 1 m per unit");
+}
+
+// Issue 58 item 1: Ctrl-C while rendering used to leave the staging
+// directory (64 MB, 122 files); now the signal's thread removes it and the
+// process ends by SIGINT.
+TEST(LedPoseApp, AnInterruptedRenderLeavesNothing) {
+  TempDir dir;
+  const AppRun r = td::test::interrupt_app(LED_POSE_EXE, "render " + (dir / "intseq").string() + " --frames 3000", dir,
+                                           ".intseq.partial-", "INT");
+  EXPECT_EQ(r.code, 128 + 2) << r.err;  // ended by SIGINT
+  EXPECT_NE(r.err.find("led_pose: interrupted (SIGINT): removed 1 unfinished output(s)"), std::string::npos) << r.err;
+  EXPECT_TRUE(dir.files().empty()) << dir.files().front();
+}
+
+// Issue 58 item 5: grey frames gave "pose found 0 / 12" and no reason
+// outside --jsonl; JPEG frames under a camera's own names were refused.
+TEST(LedPoseApp, GreyFramesSayWhyAndCameraNamedJpegsAreASequence) {
+  TempDir dir;
+  const fs::path seq = rendered_sequence(dir);
+  const fs::path grey = dir / "grey", jpeg = dir / "jpeg";
+  fs::create_directories(grey);
+  fs::create_directories(jpeg);
+  for (const auto& name : {"camera.yaml", "constellation.yaml"}) {
+    fs::copy_file(seq / name, grey / name);
+    fs::copy_file(seq / name, jpeg / name);
+  }
+  for (int i = 0; i < 12; ++i) {
+    char name[16];
+    std::snprintf(name, sizeof name, "%06d", i);
+    const cv::Mat colour = cv::imread((seq / (std::string(name) + ".png")).string(), cv::IMREAD_COLOR);
+    ASSERT_FALSE(colour.empty());
+    cv::Mat g;
+    cv::extractChannel(colour, g, 1);
+    ASSERT_TRUE(cv::imwrite((grey / (std::string(name) + ".png")).string(), g));
+    ASSERT_TRUE(cv::imwrite((jpeg / ("frame_" + std::to_string(i + 1) + ".jpg")).string(), colour,
+                            {cv::IMWRITE_JPEG_QUALITY, 95}));
+  }
+  const AppRun g = run(grey.string() + " --no-depth", dir);
+  ASSERT_EQ(g.code, 0) << g.err;
+  EXPECT_NE(g.out.find("pose found      0 / 12"), std::string::npos) << g.out;
+  EXPECT_NE(g.out.find("  no pose         12 no consistent correspondence\n"), std::string::npos) << g.out;
+  EXPECT_NE(g.out.find("12 frames without colour (grey): the LED method finds the LEDs by their colour"),
+            std::string::npos)
+      << g.out;
+  // The colour frames as JPEGs named by a camera: read in number order
+  // (frame_2 before frame_10) and most of them get a pose.
+  const AppRun j = run(jpeg.string() + " --no-depth --jsonl", dir);
+  ASSERT_EQ(j.code, 0) << j.err;
+  const auto lines = lines_of(j.out);
+  ASSERT_EQ(lines.size(), 12U);
+  EXPECT_NE(lines[1].find("\"frame\": \"frame_2\""), std::string::npos) << lines[1];
+  EXPECT_NE(lines[9].find("\"frame\": \"frame_10\""), std::string::npos) << lines[9];
+  const AppRun png = run(seq.string() + " --no-depth", dir), jpg = run(jpeg.string() + " --no-depth", dir);
+  EXPECT_EQ(png.out.substr(png.out.find("pose found"), 30), jpg.out.substr(jpg.out.find("pose found"), 30))
+      << png.out << jpg.out;
 }

@@ -20,6 +20,19 @@ std::filesystem::path missions_dir() { return bundled().parent_path(); }
 
 }  // namespace
 
+// Issue 58 item 7: a bundled mission copied elsewhere still finds the
+// airframe it names (../airframes/quad180.yaml) in touchdown's data tree.
+TEST(MissionFile, ACopiedBundledMissionFindsItsAirframe) {
+  td::test::TempDir dir;
+  std::filesystem::create_directories(dir / "m");
+  const auto copy = dir / "m/circle.yaml";
+  std::filesystem::copy_file(bundled(), copy);
+  const tdm::MissionFile f = tdm::load_mission(copy);
+  EXPECT_EQ(f.options.drone.airframe.name, tdm::load_mission(bundled()).options.drone.airframe.name);
+  EXPECT_EQ(f.airframe.filename(), "quad180.yaml");
+  EXPECT_TRUE(std::filesystem::exists(f.airframe)) << f.airframe;
+}
+
 TEST(MissionFile, BundledCircleIsTheLibraryDefault) {
   const tdm::MissionFile f = tdm::load_mission(bundled());
   const tdm::MissionOptions d;

@@ -135,6 +135,11 @@ TEST(PerceptionRegistry, AUserPerceptionIsNamedLikeTheBuiltIns) {
   tdm::perception_registry().add("test-blind", "never sees the drone", [](const tdm::MissionOptions&, std::uint64_t) {
     return std::make_unique<BlindPerception>();
   });
+  // The registry is process-wide: take the entry out again however this
+  // test ends, so the other tests of this binary see only the built-ins.
+  struct Unregister {
+    ~Unregister() { tdm::perception_registry().remove("test-blind"); }
+  } unregister;
   tdm::MissionOptions o = perfect(tdm::VehiclePath::Line);
   const tdm::MissionResult seen = tdm::run_mission(o, 1);
   o.perception = "test-blind";
@@ -152,6 +157,9 @@ TEST(PerceptionRegistry, AUserPerceptionIsNamedLikeTheBuiltIns) {
   EXPECT_NE(why.find("perception.mode: unknown 'telepathy' (known: model, render, test-blind)"), std::string::npos)
       << why;
   EXPECT_THROW((void)tdm::make_default_perception(o, 1), touchdown::InvalidArgument);
+  EXPECT_TRUE(tdm::perception_registry().remove("test-blind"));
+  EXPECT_FALSE(tdm::perception_registry().remove("test-blind"));
+  EXPECT_EQ(tdm::perception_registry().names(), (std::vector<std::string>{"model", "render"}));
 }
 
 TEST(Guidance, PadFrameStatesAgreeWithRigidBodyMotion) {
@@ -234,4 +242,40 @@ TEST(PerceptionModel, NoiseGrowsWithRangeAsModelled) {
     EXPECT_NEAR(static_cast<double>(ok) / n, 1 - o.dropout, 0.01);
     EXPECT_NEAR(std::sqrt(sum2 / (3.0 * ok)), sigma, 0.02 * sigma);
   }
+}
+
+// Issue 58 item 8: why a mission did not land, in words a summary counts.
+TEST(FailureReason, NamesTheCrashTheLastAbortOrWhereItTimedOut) {
+  using S = tdm::MissionState;
+  using R = tdm::TransitionReason;
+  tdm::MissionResult landed;
+  landed.outcome = tdm::MissionOutcome::Landed;
+  EXPECT_EQ(tdm::failure_reason(landed), "");
+  tdm::MissionResult crash;
+  crash.outcome = tdm::MissionOutcome::Crashed;
+  crash.message = "touched the ground";
+  EXPECT_EQ(tdm::failure_reason(crash), "crashed: touched the ground");
+  tdm::MissionResult gave_up;
+  gave_up.outcome = tdm::MissionOutcome::Aborted;
+  gave_up.transitions = {{1, S::Searching, S::Rendezvous, R::ArrivedAtRendezvous},
+                         {5, S::Landing, S::Tracking, R::PoseLost},
+                         {9, S::Landing, S::Tracking, R::LowOffCentre},
+                         {12, S::Tracking, S::Landing, R::TrackingStable}};
+  EXPECT_EQ(tdm::failure_reason(gave_up), "gave up: low_off_centre");  // the last abort, not the last transition
+  tdm::MissionResult stuck;
+  stuck.outcome = tdm::MissionOutcome::Timeout;
+  EXPECT_EQ(tdm::failure_reason(stuck), "timeout in searching");
+  stuck.transitions = {{1, S::Searching, S::Rendezvous, R::ArrivedAtRendezvous},
+                       {30, S::Rendezvous, S::Rendezvous, R::RendezvousTimeout}};
+  EXPECT_EQ(tdm::failure_reason(stuck), "timeout in rendezvous after rendezvous_timeout");
+  stuck.transitions.push_back({31, S::Rendezvous, S::Tracking, R::TrackerLocked});
+  EXPECT_EQ(tdm::failure_reason(stuck), "timeout in tracking");
+  // Counted most frequent first, landings left out; merged across cells.
+  const auto counts = tdm::count_failure_reasons({landed, crash, stuck, gave_up, stuck});
+  EXPECT_EQ(counts,
+            (tdm::FailureCounts{
+                {"timeout in tracking", 2}, {"crashed: touched the ground", 1}, {"gave up: low_off_centre", 1}}));
+  EXPECT_EQ(tdm::merge_failure_reasons(counts, {{"gave up: low_off_centre", 3}}),
+            (tdm::FailureCounts{
+                {"gave up: low_off_centre", 4}, {"timeout in tracking", 2}, {"crashed: touched the ground", 1}}));
 }

@@ -119,9 +119,8 @@ TEST(Sequence, ListsOnlyFrameFilesSorted) {
   write_image(dir / "000002.png", img);
   write_image(dir / "000001.png", img);
   write_image(dir / "000001.depth.png", cv::Mat(4, 6, CV_16UC1, cv::Scalar(1000)));
-  write_image(dir / "1.png", img);
-  write_image(dir / "0000003.png", img);
   touchdown::test::write_text(dir / "notes.txt", "x");
+  touchdown::test::write_text(dir / "000003.txt", "x");  // numbered, not an image
   const auto frames = tp::list_sequence(dir.path());
   ASSERT_EQ(frames.size(), 2u);
   EXPECT_EQ(frames[0].name, "000001");
@@ -137,6 +136,36 @@ TEST(Sequence, ListsOnlyFrameFilesSorted) {
   EXPECT_TRUE(depth.empty());
   EXPECT_EQ(colour.pixels[0], 1);
   EXPECT_EQ(colour.pixels[2], 3);
+}
+
+// Issue 58 item 5: a camera's own names (frame_0001.jpg) and JPEG frames
+// are a sequence too, in the order of their numbers; two numberings in one
+// directory, or two files of one frame, are refused naming them.
+TEST(Sequence, AnyNumberedImagesInTheOrderOfTheirNumbers) {
+  TempDir dir;
+  const cv::Mat img(4, 6, CV_8UC3, cv::Scalar(40, 80, 120));
+  write_image(dir / "frame_10.jpg", img);
+  write_image(dir / "frame_9.jpg", img);
+  write_image(dir / "frame_11.PNG", img);
+  write_image(dir / "frame_9.depth.png", cv::Mat(4, 6, CV_16UC1, cv::Scalar(1000)));
+  const auto frames = tp::list_sequence(dir.path());
+  ASSERT_EQ(frames.size(), 3u);
+  EXPECT_EQ(frames[0].name, "frame_9");  // 9 < 10 < 11, not "frame_10" < "frame_9"
+  EXPECT_EQ(frames[1].name, "frame_10");
+  EXPECT_EQ(frames[2].name, "frame_11");
+  EXPECT_TRUE(frames[0].depth.has_value());
+  touchdown::BgrImage colour;
+  tp::read_frame(frames[1], colour, nullptr);  // a JPEG decodes (lossy: near the colour written)
+  EXPECT_EQ(colour.width, 6);
+  EXPECT_NEAR(colour.pixels[2], 120, 6);
+
+  write_image(dir / "cover1.jpg", img);
+  std::string m = error_of([&] { tp::list_sequence(dir.path()); });
+  EXPECT_NE(m.find("frames of two numberings (cover1.jpg and frame_9.jpg)"), std::string::npos) << m;
+  std::filesystem::remove(dir / "cover1.jpg");
+  write_image(dir / "frame_0010.png", img);
+  m = error_of([&] { tp::list_sequence(dir.path()); });
+  EXPECT_NE(m.find("two files for frame 10 (frame_0010.png and frame_10.jpg)"), std::string::npos) << m;
 }
 
 TEST(Sequence, AcceptsGreyAndBgra) {
@@ -169,6 +198,13 @@ TEST(SequenceBadInput, EachCaseNamesTheFile) {
   std::filesystem::create_directories(dir / "empty");
   m = error_of([&] { tp::list_sequence(dir / "empty"); });
   EXPECT_NE(m.find((dir / "empty").string()), std::string::npos) << m;
+  EXPECT_NE(m.find("(it is empty; expected numbered images"), std::string::npos) << m;
+  touchdown::test::write_text(dir / "empty/a.bmp", "x");
+  touchdown::test::write_text(dir / "empty/frame.png", "x");  // no number
+  m = error_of([&] { tp::list_sequence(dir / "empty"); });
+  EXPECT_NE(m.find("(found a.bmp, frame.png; expected numbered images"), std::string::npos) << m;
+  std::filesystem::remove(dir / "empty/a.bmp");
+  std::filesystem::remove(dir / "empty/frame.png");
   EXPECT_THROW(tp::list_sequence(dir / "empty"), touchdown::ParseError);
 
   touchdown::BgrImage colour;

@@ -47,6 +47,11 @@ TEST(Registry, RefusesDuplicatesAndBadNamesAndListsTheKnownOnes) {
   EXPECT_TRUE(contains(message_of([&] { r.add("a:b", "x", 0); }), "names use only"));
   EXPECT_TRUE(contains(message_of([&] { r.add("c", "two\nlines", 0); }), "one line"));
   EXPECT_EQ(r.names().size(), 2U);
+  EXPECT_TRUE(r.remove("a.0"));
+  EXPECT_FALSE(r.remove("a.0"));
+  EXPECT_EQ(r.known(), "b-1");
+  r.add("a.0", "back again", 4);  // a removed name may be registered anew
+  EXPECT_EQ(r.get("a.0").factory, 4);
 }
 
 TEST(SystemRegistry, HoldsTheBuiltInsWithDescriptions) {
@@ -87,6 +92,10 @@ TEST(DetectorRegistry, ADetectorYouAddIsTheOneAReferenceSystemUses) {
   static int frames = 0;
   detector_registry().add("test-counting", "counts frames, sees nothing",
                           [](const DetectorOptions&) { return std::make_unique<CountingDetector>(&frames); });
+  // Process-wide: taken out again however this test ends.
+  struct Unregister {
+    ~Unregister() { detector_registry().remove("test-counting"); }
+  } unregister;
   MlsOptions o;
   o.detector.kind = "test-counting";
   std::string why;
@@ -101,6 +110,8 @@ TEST(DetectorRegistry, ADetectorYouAddIsTheOneAReferenceSystemUses) {
   o.detector.kind = "yolo";
   EXPECT_FALSE(o.detector.validate(&why));
   EXPECT_EQ(why, "detector: unknown 'yolo' (known: aruco, learned, test-counting)");
+  EXPECT_TRUE(detector_registry().remove("test-counting"));
+  EXPECT_EQ(marker_detector_names(), (std::vector<std::string>{"aruco", "learned"}));
 }
 
 TEST(SystemRegistry, AFactoryOfYourOwnIsUsedAndNamed) {

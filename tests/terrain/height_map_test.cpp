@@ -154,3 +154,36 @@ TEST(HeightMapOptions, ValidateNamesTheField) {
       {"max_cells:", [](O& o) { o.max_cells = 0; }},
   });
 }
+
+// Issue 58 item 4: a cloud in millimetres was refused with only the cell
+// count; now the message says what the span suggests.
+TEST(HeightMap, ACloudInMillimetresIsNamedAsSuch) {
+  td::PointCloud mm = plane_cloud();
+  for (auto& p : mm.points) {  // a 2.4 m x 1.35 m scene written in mm
+    p.x() *= 2400.0F;
+    p.y() *= 1350.0F;
+    p.z() *= 1000.0F;
+  }
+  tt::HeightMapOptions o;
+  o.cell = 0.02;
+  std::string why;
+  try {
+    (void)tt::build_height_map(mm, o);
+  } catch (const td::InvalidArgument& e) {
+    why = e.what();
+  }
+  EXPECT_NE(why.find("height map would need "), std::string::npos) << why;
+  EXPECT_NE(why.find(" cells (cloud spans 2388 x 1343 m)"), std::string::npos) << why;
+  EXPECT_NE(why.find("likely in millimetres: scale it by 0.001"), std::string::npos) << why;
+  // A large cloud in metres that fits is built, and a merely too fine cell
+  // over a metre-sized scan does not speak of millimetres.
+  o.cell = 0.00002;
+  why.clear();
+  try {
+    (void)tt::build_height_map(plane_cloud(), o);
+  } catch (const td::InvalidArgument& e) {
+    why = e.what();
+  }
+  EXPECT_NE(why.find("crop the cloud or use a larger cell"), std::string::npos) << why;
+  EXPECT_EQ(why.find("millimetres"), std::string::npos) << why;
+}

@@ -2,6 +2,7 @@
 /// \file
 /// Write-to-temporary-then-rename, so that a failed write never leaves a
 /// partial output file (DESIGN.md, app conventions).
+#include <cstddef>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -48,5 +49,49 @@ class StagedOutputs {
   std::vector<Entry> entries_;
   bool committed_ = false;
 };
+
+/// A directory output written as a whole: a hidden staging directory beside
+/// `target` (`.NAME.partial-PID-N`), written by the caller, renamed onto
+/// `target` by commit(); destroyed before that (an error, an exception),
+/// it is removed with what it holds. The target's parent must exist.
+class StagedDirectory {
+ public:
+  /// Throws IoError when the parent of `target` does not exist or the
+  /// staging directory cannot be made.
+  explicit StagedDirectory(const std::filesystem::path& target);
+  StagedDirectory(const StagedDirectory&) = delete;
+  StagedDirectory& operator=(const StagedDirectory&) = delete;
+  ~StagedDirectory();
+
+  [[nodiscard]] const std::filesystem::path& path() const { return staging_; }
+  [[nodiscard]] const std::filesystem::path& target() const { return target_; }
+  /// Renames the staging directory onto the target, which must not exist.
+  /// Throws IoError.
+  void commit();
+
+ private:
+  std::filesystem::path target_, staging_;
+  bool committed_ = false;
+};
+
+/// The temporaries (files and staging directories) that outputs of this
+/// process are being written to and that no commit has renamed yet:
+/// StagedOutputs, write_file_atomically and the sequence writer register
+/// theirs for as long as they exist. A program stopped by a signal removes
+/// them with remove_live_temporaries() (the apps do, on SIGINT, SIGTERM and
+/// SIGHUP: app_common.hpp), so an interrupted run leaves nothing behind.
+void register_temporary(const std::filesystem::path& path);
+void unregister_temporary(const std::filesystem::path& path);
+/// Removes every registered temporary (recursively: a staging directory
+/// with what was written into it); returns how many existed. Not
+/// async-signal-safe: call it from a thread that waited for the signal.
+std::size_t remove_live_temporaries() noexcept;
+
+/// Removes the temporaries a stopped process left beside `target` (named
+/// as this file's writers name them: `.NAME.tmp-PID-N...` and
+/// `.NAME.partial-PID-N`, with PID a process that no longer runs; killed
+/// with SIGKILL, a run cannot clean up). Returns the paths removed. Called
+/// by StagedOutputs::add and the sequence writer before they stage.
+std::vector<std::filesystem::path> remove_stale_temporaries(const std::filesystem::path& target) noexcept;
 
 }  // namespace touchdown

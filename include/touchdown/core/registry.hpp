@@ -51,6 +51,17 @@ class Registry {
     entries_.push_back(Entry{std::move(name), std::move(description), std::move(factory)});
   }
 
+  /// Removes the entry named `name`; false when there was none. For a
+  /// caller that registered something for a limited time (a test, a host
+  /// that unloads what it added); a factory already taken stays valid.
+  bool remove(std::string_view name) {
+    const std::lock_guard lock(mutex_);
+    const auto it = std::find_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.name == name; });
+    if (it == entries_.end()) return false;
+    entries_.erase(it);
+    return true;
+  }
+
   /// The entry named `name`, or nullopt.
   [[nodiscard]] std::optional<Entry> find(std::string_view name) const {
     const std::lock_guard lock(mutex_);

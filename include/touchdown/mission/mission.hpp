@@ -23,6 +23,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "touchdown/core/registry.hpp"
@@ -169,5 +170,20 @@ MissionResult run_mission(const MissionOptions& options, std::uint64_t seed, std
 std::vector<MissionResult> run_missions(const MissionOptions& options, int runs, std::uint64_t seed, int threads,
                                         const PerceptionFactory& perception = {},
                                         const std::function<void(int done, int total)>& progress = {});
+
+/// Why a mission did not land, in words a summary can count (empty for a
+/// landing): a crash's cause ("crashed: touched the ground"); an abort's last guard
+/// ("gave up: low_off_centre", the guard that aborted the last landing);
+/// a timeout's state and the last guard that sent it there ("timeout in
+/// rendezvous after rendezvous_timeout", "timeout in searching").
+[[nodiscard]] std::string failure_reason(const MissionResult& r);
+
+/// The failure reasons of `results` with their counts, the most frequent
+/// first (ties by name): the summary's "why not landed".
+using FailureCounts = std::vector<std::pair<std::string, int>>;
+[[nodiscard]] FailureCounts count_failure_reasons(const std::vector<MissionResult>& results);
+
+/// `a` and `b` added up, in the same order (an envelope's cells together).
+[[nodiscard]] FailureCounts merge_failure_reasons(const FailureCounts& a, const FailureCounts& b);
 
 }  // namespace touchdown::mission

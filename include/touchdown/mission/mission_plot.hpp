@@ -28,10 +28,13 @@ struct EnvelopeCell {
   int runs = 0, landed = 0;
   int crashed = 0;    ///< of the runs (the others that did not land aborted or timed out)
   bool valid = true;  ///< false: the options refuse this speed (not flown; shown as n/a)
+  /// Why the runs that did not land did not (failure_reason), most
+  /// frequent first.
+  FailureCounts reasons;
   [[nodiscard]] double success() const { return runs > 0 ? static_cast<double>(landed) / runs : 0.0; }
 };
 /// The success rate over vehicle speed × wind as a coloured grid (each
-/// cell also names its crashes).
+/// cell also names the most frequent reason its missions did not land).
 std::string plot_envelope(const std::vector<EnvelopeCell>& cells, const std::string& title);
 
 }  // namespace touchdown::mission

@@ -56,8 +56,11 @@ struct SweepOptions {
   /// airframe's contact geometry repeats after that turn).
   double yaw_max_deg = 0;
   Eigen::Vector2d landing_point = Eigen::Vector2d::Zero();
-  double hover_offset = 0.8;  ///< Δz [m]
-  double land_speed = 0.7;    ///< MPC_LAND_SPEED [m/s]
+  double hover_offset = 0.8;  ///< Δz [m], in (0, kMaxHoverOffset]
+  /// validate() also refuses a descent (hover_offset / land_speed) not
+  /// shorter than simulation.timeout: every run would time out in the air.
+  static constexpr double kMaxHoverOffset = 10;
+  double land_speed = 0.7;  ///< MPC_LAND_SPEED [m/s]
   Perturbation perturbation{};
   SafetyMetric metric = SafetyMetric::Full;
   std::uint64_t seed = 1;

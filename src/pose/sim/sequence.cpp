@@ -1,10 +1,8 @@
 #include "touchdown/pose/sim/sequence.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
-#include <atomic>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -12,12 +10,15 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <set>
 #include <system_error>
+#include <tuple>
 
 #include "core/format.hpp"
 #include "core/io_util.hpp"
 #include "core/yaml_util.hpp"
+#include "touchdown/core/atomic_file.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::pose {
@@ -28,9 +29,35 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool is_frame_name(const std::string& file) {
-  if (file.size() != 10 || file.compare(6, 4, ".png") != 0) return false;
-  return std::all_of(file.begin(), file.begin() + 6, [](char c) { return c >= '0' && c <= '9'; });
+// A frame's file name: PREFIX + NUMBER + an image extension (.png, .jpg,
+// .jpeg in any case), not a depth image (STEM.depth.png): "000042.png",
+// "frame_0001.jpg". The prefix holds no digit at its end (the number is
+// every digit before the extension).
+struct NumberedName {
+  std::string prefix, stem;
+  unsigned long long number = 0;
+};
+
+bool is_image_extension(std::string ext) {
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext == ".png" || ext == ".jpg" || ext == ".jpeg";
+}
+
+std::optional<NumberedName> numbered_name(const std::string& file) {
+  const std::size_t dot = file.rfind('.');
+  if (dot == std::string::npos || dot == 0 || !is_image_extension(file.substr(dot))) return std::nullopt;
+  const std::string stem = file.substr(0, dot);
+  if (stem.size() > 6 && stem.compare(stem.size() - 6, 6, ".depth") == 0) return std::nullopt;
+  std::size_t first_digit = stem.size();
+  while (first_digit > 0 && stem[first_digit - 1] >= '0' && stem[first_digit - 1] <= '9') --first_digit;
+  const std::size_t digits = stem.size() - first_digit;
+  if (digits == 0 || digits > 18) return std::nullopt;
+  NumberedName n;
+  n.prefix = stem.substr(0, first_digit);
+  n.stem = stem;
+  n.number = std::stoull(stem.substr(first_digit));
+  return n;
 }
 
 std::string describe_type(int type) {
@@ -118,27 +145,62 @@ std::vector<SequenceFrame> list_sequence(const fs::path& dir) {
   std::error_code ec;
   if (!fs::exists(dir, ec)) throw IoError(dir.string() + ": sequence directory does not exist");
   if (!fs::is_directory(dir, ec)) throw IoError(dir.string() + ": not a directory");
-  std::vector<SequenceFrame> frames;
+  struct Found {
+    NumberedName name;
+    fs::path path;
+  };
+  std::vector<Found> found;
+  std::vector<std::string> others;  // for the message when no frame is found
   fs::directory_iterator it(dir, ec);
   if (ec) throw IoError(dir.string() + ": cannot list the directory: " + ec.message());
   for (; it != fs::directory_iterator(); it.increment(ec)) {
     if (ec) throw IoError(dir.string() + ": cannot list the directory: " + ec.message());
     const std::string file = it->path().filename().string();
-    if (!is_frame_name(file)) continue;
     std::error_code ec2;
     if (!it->is_regular_file(ec2)) continue;
+    if (auto n = numbered_name(file)) {
+      found.push_back({std::move(*n), it->path()});
+    } else {
+      others.push_back(file);
+    }
+  }
+  if (ec) throw IoError(dir.string() + ": cannot list the directory: " + ec.message());
+  if (found.empty()) {
+    std::sort(others.begin(), others.end());
+    std::string listed;
+    for (std::size_t i = 0; i < std::min<std::size_t>(others.size(), 5); ++i) listed += (i ? ", " : "") + others[i];
+    if (others.size() > 5) listed += ", ...";
+    throw ParseError(dir.string() + ": no frames in the sequence directory (" +
+                     (others.empty() ? std::string("it is empty") : "found " + listed) +
+                     "; expected numbered images: NNNNNN.png, or any PREFIX + number + .png/.jpg such as "
+                     "frame_0001.jpg)");
+  }
+  // One numbering per directory: two prefixes (left_0001.png beside
+  // right_0001.png, or a cover0.jpg beside the frames) or two files of one
+  // frame (000001.png and 000001.jpg) are refused rather than interleaved.
+  std::sort(found.begin(), found.end(), [](const Found& a, const Found& b) {
+    return std::tie(a.name.number, a.name.stem, a.path) < std::tie(b.name.number, b.name.stem, b.path);
+  });
+  for (const Found& f : found) {
+    if (f.name.prefix != found.front().name.prefix) {
+      throw ParseError(dir.string() + ": frames of two numberings (" + found.front().path.filename().string() +
+                       " and " + f.path.filename().string() + "): keep one sequence per directory");
+    }
+  }
+  std::vector<SequenceFrame> frames;
+  for (std::size_t i = 0; i < found.size(); ++i) {
+    if (i > 0 && found[i].name.number == found[i - 1].name.number) {
+      throw ParseError(dir.string() + ": two files for frame " + std::to_string(found[i].name.number) + " (" +
+                       found[i - 1].path.filename().string() + " and " + found[i].path.filename().string() + ")");
+    }
     SequenceFrame f;
-    f.name = file.substr(0, 6);
-    f.colour = it->path();
+    f.name = found[i].name.stem;
+    f.colour = found[i].path;
+    std::error_code ec2;
     const fs::path depth = dir / (f.name + ".depth.png");
     if (fs::is_regular_file(depth, ec2)) f.depth = depth;
     frames.push_back(std::move(f));
   }
-  if (ec) throw IoError(dir.string() + ": cannot list the directory: " + ec.message());
-  if (frames.empty()) {
-    throw ParseError(dir.string() + ": no frames in the sequence directory (expected files named NNNNNN.png)");
-  }
-  std::sort(frames.begin(), frames.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
   return frames;
 }
 
@@ -311,70 +373,54 @@ void write_sequence(const fs::path& out_dir, const CameraModel& camera, const Co
   if (fs::exists(target, ec) && !fs::is_directory(target, ec)) {
     throw IoError(target.string() + ": exists and is not a directory");
   }
-  const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  if (!fs::is_directory(parent, ec)) {
-    throw IoError(target.string() + ": output directory '" + parent.string() + "' does not exist");
-  }
-  static std::atomic<unsigned> counter{0};
-  const fs::path staging = parent / ("." + target.filename().string() + ".partial-" + std::to_string(::getpid()) + "-" +
-                                     std::to_string(counter++));
-  fs::remove_all(staging, ec);
-  if (!fs::create_directory(staging, ec) || ec) {
-    throw IoError(staging.string() + ": cannot create the staging directory: " + ec.message());
-  }
+  StagedDirectory staged(target);  // removed, with what it holds, unless renamed into place
+  const fs::path& staging = staged.path();
   std::vector<std::string> files;
-  try {
-    RenderedFrame frame;
-    std::string ground_truth;
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-      const Eigen::Isometry3d& T = samples[i].T_camera_body;
-      renderer.render(T, motion_blur_start(samples, i), seed, i, frame);
-      const std::string name = frame_name(i);
-      write_png(staging / (name + ".png"),
-                cv::Mat(frame.colour.height, frame.colour.width, CV_8UC3, frame.colour.pixels.data()));
-      write_png(staging / (name + ".depth.png"),
-                cv::Mat(frame.depth.height, frame.depth.width, CV_16UC1, frame.depth.pixels.data()));
-      files.push_back(name + ".png");
-      files.push_back(name + ".depth.png");
-      GroundTruthSample g;
-      g.frame = name;
-      g.t_s = samples[i].t;
-      g.T_camera_body = T;
-      g.leds_visible = frame.led_visible;
-      g.marker_visible = frame.marker_visible;
-      ground_truth += ground_truth_to_json(g) + "\n";
-      if (progress) progress(i + 1, samples.size());
-    }
-    write_text(staging / "ground_truth.jsonl", ground_truth);
-    write_text(staging / "camera.yaml", camera_to_yaml(camera));
-    write_text(staging / "constellation.yaml", constellation_to_yaml(constellation));
-    SequenceInfo info;
-    info.seed = seed;
-    info.aruco.emplace();
-    info.aruco->dictionary = options.aruco_dictionary;
-    info.aruco->marker_id = options.aruco_id;
-    info.aruco->marker_size = options.aruco_size;
-    write_text(staging / kSequenceInfoFile, sequence_info_to_yaml(info));
-    files.insert(files.end(), {"ground_truth.jsonl", "camera.yaml", "constellation.yaml", kSequenceInfoFile});
-
-    // Into place: one rename of the whole directory when the target is new;
-    // otherwise file by file (each rename atomic; the ground truth last).
-    if (!fs::exists(target, ec)) {
-      fs::rename(staging, target, ec);
-      if (!ec) return;
-      fs::create_directory(target, ec);
-    }
-    remove_stale_sequence_files(target, files);
-    std::stable_partition(files.begin(), files.end(), [](const std::string& f) { return f != "ground_truth.jsonl"; });
-    for (const auto& f : files) {
-      fs::rename(staging / f, target / f, ec);
-      if (ec) throw IoError((target / f).string() + ": cannot move the finished file into place: " + ec.message());
-    }
-  } catch (...) {
-    fs::remove_all(staging, ec);
-    throw;
+  RenderedFrame frame;
+  std::string ground_truth;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const Eigen::Isometry3d& T = samples[i].T_camera_body;
+    renderer.render(T, motion_blur_start(samples, i), seed, i, frame);
+    const std::string name = frame_name(i);
+    write_png(staging / (name + ".png"),
+              cv::Mat(frame.colour.height, frame.colour.width, CV_8UC3, frame.colour.pixels.data()));
+    write_png(staging / (name + ".depth.png"),
+              cv::Mat(frame.depth.height, frame.depth.width, CV_16UC1, frame.depth.pixels.data()));
+    files.push_back(name + ".png");
+    files.push_back(name + ".depth.png");
+    GroundTruthSample g;
+    g.frame = name;
+    g.t_s = samples[i].t;
+    g.T_camera_body = T;
+    g.leds_visible = frame.led_visible;
+    g.marker_visible = frame.marker_visible;
+    ground_truth += ground_truth_to_json(g) + "\n";
+    if (progress) progress(i + 1, samples.size());
   }
-  fs::remove_all(staging, ec);
+  write_text(staging / "ground_truth.jsonl", ground_truth);
+  write_text(staging / "camera.yaml", camera_to_yaml(camera));
+  write_text(staging / "constellation.yaml", constellation_to_yaml(constellation));
+  SequenceInfo info;
+  info.seed = seed;
+  info.aruco.emplace();
+  info.aruco->dictionary = options.aruco_dictionary;
+  info.aruco->marker_id = options.aruco_id;
+  info.aruco->marker_size = options.aruco_size;
+  write_text(staging / kSequenceInfoFile, sequence_info_to_yaml(info));
+  files.insert(files.end(), {"ground_truth.jsonl", "camera.yaml", "constellation.yaml", kSequenceInfoFile});
+
+  // Into place: one rename of the whole directory when the target is new;
+  // otherwise file by file (each rename atomic; the ground truth last).
+  if (!fs::exists(target, ec)) {
+    staged.commit();
+    return;
+  }
+  remove_stale_sequence_files(target, files);
+  std::stable_partition(files.begin(), files.end(), [](const std::string& f) { return f != "ground_truth.jsonl"; });
+  for (const auto& f : files) {
+    fs::rename(staging / f, target / f, ec);
+    if (ec) throw IoError((target / f).string() + ": cannot move the finished file into place: " + ec.message());
+  }
 }
 
 }  // namespace touchdown::pose

@@ -32,15 +32,17 @@
 namespace touchdown::pose {
 
 struct SequenceFrame {
-  std::string name;  ///< "000042"
+  std::string name;  ///< the file name without its extension: "000042", "frame_0001"
   std::filesystem::path colour;
   std::optional<std::filesystem::path> depth;
 };
 
-/// The frames of the sequence in `dir`: files named exactly six digits +
-/// ".png", sorted by name, each with its "NNNNNN.depth.png" when present.
-/// Throws IoError when `dir` is missing or not a directory, ParseError when
-/// it holds no frames.
+/// The frames of the sequence in `dir`: numbered images — PREFIX + number
+/// + .png, .jpg or .jpeg, as write_sequence's "000042.png" or a camera's
+/// "frame_0001.jpg" — sorted by number, each with its "NAME.depth.png" when
+/// present. Throws IoError when `dir` is missing or not a directory,
+/// ParseError when it holds no frames (naming the files it found), frames
+/// of two numberings (two prefixes) or two files of one frame number.
 std::vector<SequenceFrame> list_sequence(const std::filesystem::path& dir);
 
 /// Reads a frame into `colour` (and `depth` unless null), reusing their
