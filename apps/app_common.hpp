@@ -299,7 +299,8 @@ inline std::string duration_text(double seconds) {
 /// that ends within a minute; for longer work one line with the estimate
 /// after the first 5 s, then a line every ~10 s, and one at
 /// the end (issue 58 item 3): "landing_mission: about 9.5 min for 1000
-/// missions (from the first 9 in 5.1 s)". The first draw() sets the
+/// missions (from the first 9 in 5.1 s)"; TOUCHDOWN_PROGRESS=off silences
+/// both. The first draw() sets the
 /// baseline, so work resumed at done = k estimates from what this run did.
 /// Off a terminal: work that takes longer than `long_work_s` gets
 /// progress lines, one every `every_s` (tests scale them down).
@@ -314,9 +315,15 @@ class ProgressBar {
   /// ("missions", "scenarios"; empty: none).
   explicit ProgressBar(std::string app = "", std::string unit = "", bool terminal = on_terminal(),
                        std::ostream& out = std::cerr, ProgressPacing pacing = ProgressPacing())
-      : app_(std::move(app)), unit_(std::move(unit)), terminal_(terminal), out_(&out), pacing_(pacing) {}
+      : app_(std::move(app)), unit_(std::move(unit)), terminal_(terminal), out_(&out), pacing_(pacing) {
+    // TOUCHDOWN_PROGRESS=off: neither a bar nor lines (logs that keep only
+    // results; the README's checked examples).
+    const char* env = std::getenv("TOUCHDOWN_PROGRESS");
+    off_ = env != nullptr && std::string(env) == "off";
+  }
 
   void draw(std::size_t done, std::size_t total, const std::string& detail = "") {
+    if (off_) return;
     if (!baseline_) baseline_ = done;
     if (terminal_) {
       draw_bar(done, total, detail);
@@ -380,9 +387,13 @@ class ProgressBar {
     }
     const double l = left(done, total);
     if (l < 0) return;
-    // The estimate after a few seconds: the first pieces carry the
-    // start-up, and on two threads the first one done alone would double it.
-    if (!estimated_ && elapsed() < pacing_.estimate_after_s) return;
+    // The estimate after a few seconds and two pieces: the first pieces
+    // carry the start-up, and on two threads the first one done alone
+    // would double it (one piece is enough after six times as long).
+    if (!estimated_ && (elapsed() < pacing_.estimate_after_s ||
+                        (done - *baseline_ < 2 && elapsed() < 6 * pacing_.estimate_after_s))) {
+      return;
+    }
     if (!estimated_) {
       estimated_ = true;
       if (elapsed() + l < pacing_.long_work_s) return;  // short work: no lines
@@ -404,7 +415,7 @@ class ProgressBar {
   bool terminal_;
   std::ostream* out_;
   ProgressPacing pacing_;
-  bool open_ = false, drawn_ = false, estimated_ = false;
+  bool open_ = false, drawn_ = false, estimated_ = false, off_ = false;
   int lines_ = 0;
   std::optional<std::size_t> baseline_;
   const Clock::time_point start_ = Clock::now();

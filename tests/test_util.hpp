@@ -283,9 +283,11 @@ inline void expect_one_json_line(const std::string& out) {
   EXPECT_TRUE(!out.empty() && out.front() == '{' && out.back() == '\n') << out.substr(0, 400);
 }
 
+/// Runs an app with TOUCHDOWN_PROGRESS=off: a test that reads stderr must
+/// not depend on how fast the machine is (progress lines come after 5 s).
 inline AppRun run_app(const std::string& exe, const std::string& args, const TempDir& dir) {
   const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = exe + " " + args + " >" + out.string() + " 2>" + err.string();
+  const std::string cmd = "TOUCHDOWN_PROGRESS=off " + exe + " " + args + " >" + out.string() + " 2>" + err.string();
   const int status = std::system(cmd.c_str());
   AppRun r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

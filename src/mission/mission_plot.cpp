@@ -227,11 +227,11 @@ std::string plot_top_view(const MissionResult& r, const std::string& title) {
 namespace {
 
 // A failure reason short enough for an envelope cell: the guard of an
-// abort, "crashed", or "timeout: <state>".
+// abort, "crashed", or "timeout (<state>)".
 std::string short_reason(const std::string& why) {
   if (why.rfind("gave up: ", 0) == 0) return why.substr(9);
   if (why.rfind("crashed", 0) == 0) return "crashed";
-  if (why.rfind("timeout in ", 0) == 0) return "timeout: " + why.substr(11, why.find(' ', 11) - 11);
+  if (why.rfind("timeout in ", 0) == 0) return "timeout (" + why.substr(11, why.find(' ', 11) - 11) + ")";
   return why;
 }
 
@@ -269,7 +269,7 @@ std::string plot_envelope(const std::vector<EnvelopeCell>& cells, const std::str
     if (!c.reasons.empty()) {
       // The most frequent reason the others did not land, shortened to fit.
       svg.text(x + cw / 2, y + ch / 2 + 14,
-               std::to_string(c.reasons.front().second) + " " + short_reason(c.reasons.front().first),
+               std::to_string(c.reasons.front().second) + " \u00d7 " + short_reason(c.reasons.front().first),
                " text-anchor='middle' font-size='9'");
     }
   }

@@ -382,9 +382,10 @@ TEST(LedPoseApp, RenderShowsProgressOnATerminal) {
   if (!fs::exists("/usr/bin/script")) GTEST_SKIP() << "no script(1) to give the app a terminal";
   TempDir dir;
   const fs::path out = dir / "tty";
-  const AppRun r = td::test::run_app(
-      "/usr/bin/script", "-qec \"" + std::string(LED_POSE_EXE) + " render " + out.string() + " --frames 12\" /dev/null",
-      dir);
+  const AppRun r = td::test::run_app("/usr/bin/script",
+                                     "-qec \"env -u TOUCHDOWN_PROGRESS " + std::string(LED_POSE_EXE) + " render " +
+                                         out.string() + " --frames 12\" /dev/null",
+                                     dir);
   ASSERT_EQ(r.code, 0) << r.err << r.out;
   EXPECT_NE(r.out.find("] 12/12"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("led_pose: wrote 12 frames"), std::string::npos) << r.out;
