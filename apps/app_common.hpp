@@ -390,8 +390,8 @@ class ProgressBar {
     // The estimate after a few seconds and two pieces: the first pieces
     // carry the start-up, and on two threads the first one done alone
     // would double it (one piece is enough after six times as long).
-    if (!estimated_ && (elapsed() < pacing_.estimate_after_s ||
-                        (done - *baseline_ < 2 && elapsed() < 6 * pacing_.estimate_after_s))) {
+    if (!estimated_ &&
+        (elapsed() < pacing_.estimate_after_s || (done - *baseline_ < 2 && elapsed() < 6 * pacing_.estimate_after_s))) {
       return;
     }
     if (!estimated_) {
