@@ -285,10 +285,11 @@ inline void expect_one_json_line(const std::string& out) {
 
 /// Runs an app with TOUCHDOWN_PROGRESS=off: a test that reads stderr must
 /// not depend on how fast the machine is (progress lines come after 5 s).
-inline AppRun run_app(const std::string& exe, const std::string& args, const TempDir& dir) {
-  const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = "TOUCHDOWN_PROGRESS=off " + exe + " " + args + " >" + out.string() + " 2>" + err.string();
-  const int status = std::system(cmd.c_str());
+// Runs `command` through the shell; the app's output went to `out` and
+// `err`, which are read and removed.
+inline AppRun run_shell(const std::string& command, const std::filesystem::path& out,
+                        const std::filesystem::path& err) {
+  const int status = std::system(command.c_str());
   AppRun r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   r.out = read_text(out);
@@ -296,6 +297,11 @@ inline AppRun run_app(const std::string& exe, const std::string& args, const Tem
   std::filesystem::remove(out);
   std::filesystem::remove(err);
   return r;
+}
+
+inline AppRun run_app(const std::string& exe, const std::string& args, const TempDir& dir) {
+  const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
+  return run_shell("TOUCHDOWN_PROGRESS=off " + exe + " " + args + " >" + out.string() + " 2>" + err.string(), out, err);
 }
 
 /// Runs an app in the background, waits (up to 120 s) until `dir` holds an
@@ -311,13 +317,7 @@ inline AppRun interrupt_app(const std::string& exe, const std::string& args, con
                          " &\npid=$!\nfor i in $(seq 1200); do\n  ls -A " + dir.path().string() + " | grep -q '^" +
                          appears + "' && break\n  kill -0 $pid 2>/dev/null || break\n  sleep 0.1\ndone\nkill -" +
                          signal + " $pid\nwait $pid\n");
-  const int status = std::system(("bash " + script.string()).c_str());
-  AppRun r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = read_text(out);
-  r.err = read_text(err);
-  std::filesystem::remove(out);
-  std::filesystem::remove(err);
+  AppRun r = run_shell("bash " + script.string(), out, err);
   std::filesystem::remove(script);
   return r;
 }
