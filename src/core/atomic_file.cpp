@@ -19,13 +19,19 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A temporary path beside `target`: hidden, unique in this process, with
-// `ext` at the end.
-fs::path temporary_beside(const fs::path& target, const std::string& ext) {
+// The kinds of temporary this file's writers make: a file (".NAME.tmp-")
+// and a staging directory (".NAME.partial-"); remove_stale_temporaries
+// reads the PID back after either.
+constexpr const char* kFileKind = ".tmp-";
+constexpr const char* kDirectoryKind = ".partial-";
+
+// A temporary path beside `target`: hidden, unique in this process
+// (".NAME" + kind + "PID-N"), with `ext` at the end.
+fs::path temporary_beside(const fs::path& target, const std::string& ext, const char* kind = kFileKind) {
   static std::atomic<unsigned> counter{0};
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  return dir / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
-                std::to_string(counter++) + ext);
+  return dir /
+         ("." + target.filename().string() + kind + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ext);
 }
 
 // IoError unless `target` can be written: its directory exists, `target` is
@@ -105,8 +111,8 @@ std::vector<fs::path> remove_stale_temporaries(const fs::path& target) noexcept 
     std::error_code ec;
     for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
       const std::string entry = it->path().filename().string();
-      pid_t pid = pid_after(entry, "." + name + ".tmp-");
-      if (pid == 0) pid = pid_after(entry, "." + name + ".partial-");
+      pid_t pid = pid_after(entry, "." + name + kFileKind);
+      if (pid == 0) pid = pid_after(entry, "." + name + kDirectoryKind);
       // Only a process that is gone: kill(pid, 0) fails with ESRCH.
       if (pid == 0 || pid == ::getpid() || ::kill(pid, 0) == 0 || errno != ESRCH) continue;
       std::error_code rm;
@@ -175,9 +181,7 @@ StagedDirectory::StagedDirectory(const fs::path& target) : target_(target.lexica
     throw IoError(target_.string() + ": output directory '" + parent.string() + "' does not exist");
   }
   (void)remove_stale_temporaries(target_);  // what a killed run left
-  static std::atomic<unsigned> counter{0};
-  staging_ = parent / ("." + target_.filename().string() + ".partial-" + std::to_string(::getpid()) + "-" +
-                       std::to_string(counter++));
+  staging_ = temporary_beside(target_, "", kDirectoryKind);
   fs::remove_all(staging_, ec);
   if (!fs::create_directory(staging_, ec) || ec) {
     throw IoError(staging_.string() + ": cannot create the staging directory: " + ec.message());
