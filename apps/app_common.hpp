@@ -1,6 +1,6 @@
 #pragma once
 // Shared plumbing of the command-line apps: exit codes and error lines
-// (DESIGN.md, app conventions): 0 success, 2 bad usage or input, 3 internal.
+// (docs/architecture.md, "Conventions": apps): 0 success, 2 bad usage or input, 3 internal.
 #include <pthread.h>
 #include <signal.h>
 #include <unistd.h>
@@ -284,7 +284,7 @@ inline std::string large_count(double v) {
 }
 
 /// One progress bar with an ETA on stderr, for work over about a second
-/// (DESIGN.md). Draw it only when stderr is a terminal (`on_terminal()`);
+/// (docs/architecture.md, "Conventions": apps). Draw it only when stderr is a terminal (`on_terminal()`);
 /// close() the line before printing anything else.
 /// A duration for people: "45 s", "12 min", "3.5 h".
 inline std::string duration_text(double seconds) {

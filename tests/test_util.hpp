@@ -257,7 +257,7 @@ inline std::string replace_key_line(const std::string& yaml, const std::string& 
   return out;
 }
 
-/// DESIGN (app conventions): every option of a CLI11 --help text that takes
+/// docs/architecture.md, "Conventions" (apps): every option of a CLI11 --help text that takes
 /// a value (TEXT, INT, UINT, FLOAT) and is not required shows its default
 /// ("--cell FLOAT=0.02", "--crop-box FLOAT=off x 6").
 inline void expect_help_shows_defaults(const std::string& help) {

@@ -205,7 +205,7 @@ BranchDecision resolve_branches(const PinholeCamera& cam, const Constellation& k
   // them as the noise made every misfit look like noise (seen on an
   // independent renderer's 6-LED board at 3.2 m: the track's branch at
   // 0.035 px RMS against the mirrored one at 0.139 px scored χ² 2.7 and the
-  // depth pattern then chose the wrong one; docs/benchmarks.md, "LED pose:
+  // depth pattern then chose the wrong one; docs/journal/led-pose.md, "LED pose:
   // the sigma made true"). Without a measured noise the larger is kept: two
   // residual variances of a few degrees of freedom each are too noisy to
   // trust the smaller.

@@ -1,6 +1,6 @@
 // The violation search's chromosome (chromosome.hpp; RLaGA paper, Fig. 3).
 // The repair rules of decode() are listed in docs/architecture.md,
-// "Violation search (issue 32)" → "Chromosome and GA operators".
+// "The violation search" → "Chromosome and GA operators".
 #include "touchdown/search/chromosome.hpp"
 
 #include <algorithm>

@@ -2,7 +2,7 @@
 // paper's Algorithm 1 (rlaga, diverse-ga), NSGA-II (many-objective-ga) and
 // random sampling, over a results directory that a killed campaign resumes
 // from. The choices the source leaves open are in docs/architecture.md,
-// "Violation search (issue 32)".
+// "The violation search".
 #include "touchdown/search/search.hpp"
 
 #include <algorithm>

@@ -289,7 +289,7 @@ TEST(TerrainMeshAppBadInput, OptionsOutOfRange) {
   EXPECT_FALSE(std::filesystem::exists(dir / "o.stl"));
 }
 
-// DESIGN: --help shows the default of every option that takes a value.
+// docs/architecture.md, "Conventions" (apps): --help shows the default of every option that takes a value.
 TEST(TerrainMeshApp, HelpShowsEveryDefault) {
   TempDir dir;
   const AppRun r = run("--help", dir);

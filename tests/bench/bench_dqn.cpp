@@ -1,4 +1,4 @@
-// DQN benchmarks (issue 32; docs/benchmarks.md "Violation search: DQN"):
+// DQN benchmarks (issue 32; docs/benchmarks.md, "Violation search" → "DQN"):
 // pre-training on the surrogate (800 episodes, the source's count; target
 // ≤ 30 s on one core) and one greedy inference. The training benchmark
 // also reports the trained greedy policy's mean eq. 5 return on 100 fresh

@@ -1,4 +1,4 @@
-// Steady-state LED tracking must not touch the heap (issue 4, DESIGN.md):
+// Steady-state LED tracking must not touch the heap (issue 4; docs/architecture.md, "Conventions"):
 // a counting global operator new, armed only around the tracked frames.
 #include <gtest/gtest.h>
 

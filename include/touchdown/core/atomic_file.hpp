@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// Write-to-temporary-then-rename, so that a failed write never leaves a
-/// partial output file (DESIGN.md, app conventions).
+/// partial output file (docs/architecture.md, "Conventions": outputs and signals).
 #include <cstddef>
 #include <filesystem>
 #include <functional>

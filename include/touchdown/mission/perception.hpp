@@ -7,7 +7,7 @@
 /// would have measured) and `model`: measurements with range-dependent
 /// noise, a per-mission bias, latency, drop-outs and the camera's field of
 /// view and range, fitted to what `led_pose` achieves on the independent
-/// renderer's sequences (docs/benchmarks.md, "Landing mission: the
+/// renderer's sequences (docs/benchmarks.md, "Landing mission" → "The
 /// perception model's fit").
 ///
 /// A user's own perception runs the contract tests in

@@ -33,7 +33,7 @@ struct CorrespondenceOptions {
   /// many blobs in all (within the same max_hypotheses). Airframe
   /// reflections and lamps can outshine the LEDs themselves: a clipped LED
   /// core caps its summed brightness, a wider reflection's is not
-  /// (docs/benchmarks.md, "Data it was not tuned to").
+  /// (docs/journal/led-pose.md, "Data it was not tuned to").
   std::size_t max_blobs_retry = 16;
   std::size_t max_hypotheses = 50000;  ///< bound on the EPnP solves of one search
   /// Before EPnP, a hypothesis' fourth LED must lie within p3p_gate ×
@@ -41,7 +41,7 @@ struct CorrespondenceOptions {
   /// P3P leaves all the noise to the fourth point, so the gate stays wider
   /// than inlier_px; 1.5 keeps a margin over the fourth point's error on
   /// harsh frames while skipping most EPnP solves (the gate scan:
-  /// docs/benchmarks.md, "LED pose: joined blobs out of the fit").
+  /// docs/journal/led-pose.md, "LED pose: joined blobs out of the fit").
   double p3p_gate = 1.5;
   int min_leds = 4;  ///< fewest LEDs a pose may rest on
   /// Fewest LEDs a pose found by the full search (no prior) may rest on,
@@ -49,7 +49,7 @@ struct CorrespondenceOptions {
   /// toward it within emission_margin_deg): min(search_min_leds,
   /// expected − 1).
   /// Four points leave two redundant measurements, and of the thousands of
-  /// wrong 4-tuples a search tries some fit by chance (docs/benchmarks.md,
+  /// wrong 4-tuples a search tries some fit by chance (docs/journal/led-pose.md,
   /// "Data it was not tuned to"). Tracking (with a prior) needs min_leds.
   int search_min_leds = 5;
   double missing_penalty_px = 3.0;  ///< score charged per unexplained LED, as a reprojection error [px]
@@ -82,7 +82,7 @@ struct CorrespondenceOptions {
   /// to its weights; GaussNewton's bias_variance): (crowded_bias_px · f)²,
   /// f = 1 at half crowded_radii or closer, falling to 0 at crowded_radii
   /// as ((crowded_radii − q) / (crowded_radii / 2))², q the distance in
-  /// radii. Measured on an independent renderer's frames (docs/benchmarks.md,
+  /// radii. Measured on an independent renderer's frames (docs/journal/led-pose.md,
   /// "LED pose: the sigma made true"): isolated centres 0.008–0.03 px off
   /// (RMS), centres 4–5 radii from another 0.04–0.08 px, 3–4 radii 0.14 px.
   /// 0 = off.
@@ -96,7 +96,7 @@ struct CorrespondenceOptions {
   /// midpoint, with a bias of merged_bias · r (r of the merged blob): its
   /// centre is the spots' brightness-weighted mean, and the two LEDs'
   /// brightness differs (emission angle, halo), so the mean lies off the
-  /// midpoint along the line between them (docs/benchmarks.md, "LED pose:
+  /// midpoint along the line between them (docs/journal/led-pose.md, "LED pose:
   /// a merged spot").
   double merged_bias = 0.3;
   /// A small spot's centre is less sure than a large one's (pixel sampling
@@ -106,7 +106,7 @@ struct CorrespondenceOptions {
   /// noise; detection_sigma_px without a pool), the excess variance is the
   /// blob's own, like the crowding bias: (k/area)² − noise², when positive.
   /// Only the excess, so that a pool that has caught up with a distant
-  /// board's small spots is not counted twice. Measured (docs/benchmarks.md,
+  /// board's small spots is not counted twice. Measured (docs/journal/led-pose.md,
   /// "LED pose: a small spot's centre"): per-axis RMS of isolated centres
   /// ≈ 0.28/area on the independent renderer, 0.16–0.33/area on ours
   /// (clean/harsh); 0 = off.
@@ -116,7 +116,7 @@ struct CorrespondenceOptions {
   /// a wider ring — per-axis error ≈ large_blob_sigma_px · √area [px],
   /// added in variance to the small-spot term and counted like it (the
   /// excess over the noise the fit is judged by). Measured
-  /// (docs/benchmarks.md, "LED pose: a split or misread blob, a large
+  /// (docs/journal/led-pose.md, "LED pose: a split or misread blob, a large
   /// spot"): robust σ of isolated centres 0.0064–0.0069 px at 50–200 px,
   /// 0.008 at 200–250, 0.010–0.013 at 250–700 on the independent renderer
   /// at 0.4–0.6 m (our renderer's spots stay below 250 px). 0.0005 matches
@@ -139,7 +139,7 @@ struct CorrespondenceOptions {
   /// range mixes in the drone's body behind it, and the fused fits came
   /// out 4–5 cm too far at 2 m with a σ of 1 cm (dangerous frames, NEES
   /// 89 on the position at 2–3 m); without fusion, success over 0.4–3 m
-  /// went from 0.62 to 0.94 with no dangerous frame (docs/benchmarks.md,
+  /// went from 0.62 to 0.94 with no dangerous frame (docs/journal/led-pose.md,
   /// "LED pose on an independent renderer"). The depth still gates blobs,
   /// tests 3-D outliers and settles the mirrored branch (depth_misfit,
   /// which removes a common offset).
@@ -163,7 +163,7 @@ struct CorrespondenceOptions {
   /// attitude prior, as a safety net: the branch and correspondence tests
   /// do not yet exclude every other explanation of a frame, and a wrong
   /// branch comes with a σ that does not cover it. Measured on 14 400
-  /// frames from the independent renderer (docs/benchmarks.md, "LED pose on
+  /// frames from the independent renderer (docs/journal/led-pose.md, "LED pose on
   /// an independent renderer"): without the limit success rises from 0.907
   /// to 0.932 but 226 frames are wrong beyond 3 σ (4- and 6-LED boards at
   /// 2–3 m); 0.03 and 0.04 give none. First set from a scan on our own
@@ -179,7 +179,7 @@ struct CorrespondenceOptions {
   /// frame wrong beyond 3 σ; on our own renderer's harsh profile 2 of 1 524
   /// Ok frames were (tracked fits reprojecting at 1.6–2.4 px: a wrong blob
   /// in the fit, which no noise model covers) — so the limit stays
-  /// (docs/benchmarks.md, "LED pose: a noisy camera's sigma").
+  /// (docs/journal/led-pose.md, "LED pose: a noisy camera's sigma").
   double attitude_max_sigma_position_m = 0.03;
   double attitude_max_sigma_rotation_rad = 0.03;
   /// The limits (position [m], rotation [rad]) that apply with or without

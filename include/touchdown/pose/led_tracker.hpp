@@ -51,7 +51,7 @@ struct TrackerOptions {
   /// 0.25 rad off a constant-velocity prediction in 1/30 s is ~450 m/s² or
   /// ~450 rad/s²): the track is dropped and the full search decides. A
   /// tracked fit on few LEDs can be far off yet reproject well (an example:
-  /// docs/benchmarks.md, "LED pose: joined blobs out of the fit").
+  /// docs/journal/led-pose.md, "LED pose: joined blobs out of the fit").
   double max_jump_m = 0.25;
   double max_jump_rad = 0.25;  ///< see max_jump_m [rad]
   /// A tracked frame may rest on this many LEDs (3 or more; below
@@ -75,7 +75,7 @@ struct TrackerOptions {
   /// raised our harsh profile's Ok share by 1–2 % with no new wrong frame,
   /// but on the independent renderer it drops crowded blobs whose bias the
   /// covariance carried, and the share of frames beyond the NEES 99.9 %
-  /// bound rose to 0.56 % (docs/benchmarks.md, "LED pose: a tracked frame
+  /// bound rose to 0.56 % (docs/journal/led-pose.md, "LED pose: a tracked frame
   /// on three LEDs").
   double outlier_rms_factor = 0;
   double few_led_jump_m = 0.05;
@@ -87,7 +87,7 @@ struct TrackerOptions {
   /// full search decides. A fit well beyond the limits may itself be wrong,
   /// and four points absorb a few biased centres: own renderer, harsh
   /// profile, four points tracked from a fit at 2–3 × the limit were
-  /// reported 0.2–0.75 rad wrong with σ_rot 0.014–0.022 (docs/benchmarks.md,
+  /// reported 0.2–0.75 rad wrong with σ_rot 0.014–0.022 (docs/journal/led-pose.md,
   /// "LED pose: the own renderer's harsh frames"; 3 lets them through, 1
   /// costs the harsh chase sequence 4 % more frames than 1.5).
   double few_point_prediction_sigma_factor = 1.5;
@@ -105,7 +105,7 @@ struct TrackerOptions {
   /// correspondence.search_min_leds LEDs or reprojects worse than this
   /// [px]: such fits among many blobs are where chance poses hide, and a
   /// chance pose does not survive the next frame's prediction (figures:
-  /// docs/benchmarks.md, "Data it was not tuned to").
+  /// docs/journal/led-pose.md, "Data it was not tuned to").
   double confirm_rms_px = 1.0;
   /// The fused 1-σ is never below the frame's own / √fusion_max_frames:
   /// blob biases persist from frame to frame, so frames are not independent.
@@ -124,13 +124,13 @@ struct TrackerOptions {
   /// then came from single frames' σ̂²). One frame's σ̂² rests
   /// on 6–14 degrees of freedom and can be small by chance; the pool's
   /// median cannot, and a sensor quieter than the default floor no longer
-  /// has its poses' sigma overstated (docs/benchmarks.md, "Data it was not
+  /// has its poses' sigma overstated (docs/journal/led-pose.md, "Data it was not
   /// tuned to", the sigma calibration). 0 = off.
   int noise_pool_frames = 30;
   /// Fits the pool needs before it replaces the default floor: the median
   /// of 5 σ̂² with 6–14 degrees of freedom each is within a factor 2 of the
   /// noise; waiting for more fits would leave more of a sequence's first
-  /// frames judged at the default floor (docs/benchmarks.md, "LED pose:
+  /// frames judged at the default floor (docs/journal/led-pose.md, "LED pose:
   /// physical reflections").
   int noise_pool_min_fits = 5;
   /// Until the pool vouches, a frame noisier than the default floor is
@@ -154,8 +154,8 @@ struct TrackerOptions {
   /// per axis (robust σ, on the independent renderer and on our own); the
   /// pool's median is what counts above it. 0.05 overstated the sigma of
   /// an independent renderer's poses ~1.6x (NEES mean 2.1 instead of 6),
-  /// 0.01 that of near frames (NEES 3.2 at 0.4–1 m; docs/benchmarks.md,
-  /// "LED pose: a small spot's centre and a close neighbour").
+  /// 0.01 that of near frames (NEES 3.2 at 0.4–1 m; docs/journal/led-pose.md,
+  /// "LED pose: a small spot's centre").
   double min_detection_sigma_px = 0.007;
   /// "Ok means unimodal" (issue 33, item 1): a tracked fit that explains
   /// its whole frame is held to the complete_max_sigma_* limits (none by
@@ -188,13 +188,13 @@ struct TrackerOptions {
   /// A fit held to these limits still gives the next frame's few-point
   /// rules (few_point_prediction_sigma_factor) only a prediction within
   /// the regular limits.
-  /// Measured (docs/benchmarks.md, "LED pose: a fit that explains its
+  /// Measured (docs/journal/led-pose.md, "LED pose: a fit that explains its
   /// frame"): the independent renderer's 14 400 frames gain 0.8 % (single)
   /// and 0.5 % (attitude) with no wrong frame; on our own renderer the
   /// fits that lifting the limits let through wrong carried a wrong blob, a
   /// merged pair or a fresh search's pose — the rules above; what is left
   /// there is 1 frame in 25 600 at 3.06 σ (a true σ's tail). Split and
-  /// misread blobs (docs/benchmarks.md, "LED pose: a split or misread
+  /// misread blobs (docs/journal/led-pose.md, "LED pose: a split or misread
   /// blob, a large spot"): held-out success 0.970 → 0.993, none wrong.
   /// complete_fit_significance = 0 turns it off (every fit within
   /// correspondence.sigma_limits).

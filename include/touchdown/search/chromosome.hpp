@@ -12,7 +12,7 @@
 /// gene is 0 for "no object" and 1 + the kind's enumerator otherwise.
 /// decode() applies the per-kind rows (a person's speed, a bird's altitude)
 /// by clamping and repairs inconsistent slots by fixed rules
-/// (docs/architecture.md, "Violation search (issue 32)" → "Chromosome and GA
+/// (docs/architecture.md, "The violation search" → "Chromosome and GA
 /// operators"), so every chromosome of the right shape decodes to a valid
 /// scenario. Fields that are not genes (map, time limit, the marker's
 /// dictionary, id, size and yaw, the drone's start) come from the layout's

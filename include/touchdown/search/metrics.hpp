@@ -2,8 +2,8 @@
 /// \file
 /// The violation search's metrics (RLaGA paper, §4.3), computed from a
 /// results file's records (records.hpp). Definitions and the choices the
-/// source leaves open are in docs/architecture.md, "Violation search
-/// (issue 32)" → "Metrics". Pure functions, thread-safe.
+/// source leaves open are in docs/architecture.md, "The violation
+/// search" → "Metrics". Pure functions, thread-safe.
 #include <optional>
 #include <vector>
 

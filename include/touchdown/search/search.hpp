@@ -24,7 +24,7 @@
 /// for any thread count and any evaluator (threads or MPI ranks).
 ///
 /// The choices the source leaves open are in docs/architecture.md,
-/// "Violation search (issue 32)".
+/// "The violation search".
 #include <cstdint>
 #include <filesystem>
 #include <functional>
