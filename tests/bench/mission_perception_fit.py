@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Fit the landing mission's `model` perception to what led_pose achieves on
+the independent renderer's sequences (issue 34; docs/benchmarks.md, "Landing
 mission", "The perception model's fit").
-mission" → "The perception model's fit").
 
 Reads a work directory of tests/bench/led_independent.py (its sequences'
 ground_truth.jsonl and led_pose's per-frame JSON Lines of one mode) and fits,
