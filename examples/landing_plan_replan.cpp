@@ -71,7 +71,8 @@ int main(int argc, char** argv) {
     // relative state is the plan's), then a gust.
     age = std::min(age + period, plan.trajectory.total_duration());
     drone = {plan.trajectory.evaluate(age), plan.trajectory.evaluate(age, 1), plan.trajectory.evaluate(age, 2)};
-    drone.v += Eigen::Vector3d(gust(rng), gust(rng), gust(rng));
+    const double gz = gust(rng), gy = gust(rng);  // one draw per statement (argument order is unspecified)
+    drone.v += Eigen::Vector3d(gust(rng), gy, gz);
     // The pad turns: its velocity in the world rotates with it.
     pad.velocity = pad.world_velocity(period);
     pad.yaw = pad.heading(period);

@@ -342,7 +342,8 @@ inline PointCloud random_cloud(std::size_t n, unsigned seed, bool with_nan = tru
   std::uniform_real_distribution<float> u(-100.f, 100.f);
   PointCloud c;
   for (std::size_t i = 0; i < n; ++i) {
-    Eigen::Vector3f p(u(rng), u(rng), u(rng));
+    const float z = u(rng), y = u(rng);  // one draw per statement: z first, as recorded
+    Eigen::Vector3f p(u(rng), y, z);
     if (with_nan && i % 17 == 3) p.x() = std::numeric_limits<float>::quiet_NaN();
     if (i % 23 == 5) p.z() = std::numeric_limits<float>::denorm_min();
     if (i % 29 == 7) p.y() = 1e-30f;

@@ -15,6 +15,7 @@
 #include "checks.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
+#include "touchdown/core/random_vector.hpp"
 
 namespace touchdown::mission {
 namespace {
@@ -277,8 +278,10 @@ class Flight {
     T_start.translation() = o.drone_start - o.drone.airframe.centre_of_mass();
     drone_.place(T_start, Eigen::Vector3d::Zero(), true);
     // Errors of the fix (Gauss–Markov per axis) and the wind's gusts.
-    fix_error_ = Eigen::Vector3d(fix_rng_.normal(), fix_rng_.normal(), fix_rng_.normal()) * o.fix.sigma;
-    gust_ = Eigen::Vector3d(wind_rng_.normal(), wind_rng_.normal(), 0.5 * wind_rng_.normal()) * o.wind.gust_sigma;
+    fix_error_ = normal_vector3(fix_rng_) * o.fix.sigma;
+    Eigen::Vector3d gust = normal_vector3(wind_rng_);
+    gust.z() *= 0.5;  // vertical gusts are half as strong
+    gust_ = gust * o.wind.gust_sigma;
     estimator_ = DroneEstimator(drone_.state().p + fix_error_, Eigen::Vector3d::Zero(), std::max(o.fix.sigma, 0.05),
                                 std::max(o.imu_accel_sigma, 0.05), dt_);
     active_.setpoint.position = drone_.state().p;
@@ -465,8 +468,7 @@ class Flight {
     for (int i = 0; i < 3; ++i) {
       gust_[i] = ga * gust_[i] + gb * o_.wind.gust_sigma * (i == 2 ? 0.5 : 1.0) * wind_rng_.normal();
     }
-    const Eigen::Vector3d accel =
-        truth_.a + o_.imu_accel_sigma * Eigen::Vector3d(imu_rng_.normal(), imu_rng_.normal(), imu_rng_.normal());
+    const Eigen::Vector3d accel = truth_.a + o_.imu_accel_sigma * normal_vector3(imu_rng_);
     estimator_.predict(t, accel);
     vehicle_.step(dt_);
     last_pad_v_ = pad_.velocity;

@@ -5,6 +5,7 @@
 
 #include "checks.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/random_vector.hpp"
 
 namespace touchdown::mission {
 namespace {
@@ -45,7 +46,7 @@ PerceptionModel::PerceptionModel(PerceptionModelOptions options, std::uint64_t s
   cone.far_m = 1e6;
   fov_ = cone.pyramid();
   fov_.shrink(options_.fov_margin);
-  bias_ = Eigen::Vector3d(rng_.normal(), rng_.normal(), rng_.normal()) * options_.bias_sigma;
+  bias_ = normal_vector3(rng_) * options_.bias_sigma;
 }
 
 bool PerceptionModel::visible(const Eigen::Vector3d& p_pad) const {
@@ -59,7 +60,7 @@ PoseMeasurement PerceptionModel::capture(const PerceptionTruth& truth) {
   m.t_available = truth.t + options_.latency;
   // Draw every number whatever the outcome, so that one frame's visibility
   // does not shift the next frames' noise.
-  const Eigen::Vector3d n(rng_.normal(), rng_.normal(), rng_.normal());
+  const Eigen::Vector3d n = normal_vector3(rng_);
   const double drop = rng_.uniform();
   const double r = (truth.p_pad_com - options_.camera.T_pad_camera.translation()).norm();
   if (!visible(truth.p_pad_com) || drop < options_.dropout + options_.dropout_b * r * r) return m;

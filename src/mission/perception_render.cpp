@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/random_vector.hpp"
 #include "touchdown/core/units.hpp"
 
 namespace touchdown::mission {
@@ -24,7 +25,7 @@ leds:
 
 // A unit vector turned by a small random rotation of sigma [rad] per axis.
 Eigen::Vector3d perturbed(const Eigen::Vector3d& g, double sigma, Rng& rng) {
-  const Eigen::Vector3d w(rng.normal(0, sigma), rng.normal(0, sigma), rng.normal(0, sigma));
+  const Eigen::Vector3d w = normal_vector3(rng) * sigma;
   return (Eigen::AngleAxisd(w.norm(), w.norm() > 0 ? Eigen::Vector3d(w.normalized()) : Eigen::Vector3d::UnitZ()) * g)
       .normalized();
 }

@@ -98,8 +98,10 @@ cv::Mat concrete_texture(cv::RNG& rng) {
   cv::Mat stain = cv::Mat::zeros(512, 512, CV_32F);
   const int stains = 30;
   for (int i = 0; i < stains; ++i) {
-    const cv::Point c(rng.uniform(0, 512), rng.uniform(0, 512));
-    const cv::Size axes(rng.uniform(4, 26), rng.uniform(4, 18));
+    const int cy = rng.uniform(0, 512), cx = rng.uniform(0, 512);  // drawn y first
+    const cv::Point c(cx, cy);
+    const int ay = rng.uniform(4, 18), ax = rng.uniform(4, 26);
+    const cv::Size axes(ax, ay);
     const double angle = rng.uniform(0.0, 180.0), strength = rng.uniform(0.3, 1.0);
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
@@ -116,7 +118,8 @@ cv::Mat concrete_texture(cv::RNG& rng) {
   cv::Mat crack = cv::Mat::zeros(n, n, CV_8U);
   for (int i = 0; i < 40; ++i) {
     std::vector<cv::Point> walk;
-    cv::Point2d p(rng.uniform(0.0, static_cast<double>(n)), rng.uniform(0.0, static_cast<double>(n)));
+    const double py = rng.uniform(0.0, static_cast<double>(n));  // drawn y first
+    cv::Point2d p(rng.uniform(0.0, static_cast<double>(n)), py);
     double heading = rng.uniform(0.0, 2 * kPi);
     const int steps = rng.uniform(15, 70);
     for (int s = 0; s < steps; ++s) {

@@ -205,7 +205,8 @@ void Renderer::Impl::particles_pass(Frame& fr, const SceneState& state, Rng& rng
     for (int i = 0; i < flakes; ++i) {
       Eigen::Vector3d p;
       const bool visible = sample(0.3, 12, p);
-      const Eigen::Vector3d vel(rng.normal(0, 0.3), rng.normal(0, 0.3), -rng.uniform(0.7, 1.3));
+      const double fall = rng.uniform(0.7, 1.3), drift_y = rng.normal(0, 0.3);  // drawn z first
+      const Eigen::Vector3d vel(rng.normal(0, 0.3), drift_y, -fall);
       const double size = rng.uniform(0.004, 0.014);
       const double grey = rng.uniform(225, 252);
       if (!visible) continue;

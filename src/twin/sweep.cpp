@@ -15,6 +15,7 @@
 #include "core/format.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
+#include "touchdown/core/random_vector.hpp"
 #include "touchdown/core/units.hpp"
 
 namespace touchdown::twin {
@@ -178,7 +179,7 @@ LandingConditions sweep_conditions(const SweepOptions& o, double ground_z, doubl
   c.ground_z = ground_z;
   c.hover_offset = o.hover_offset;
   c.heading = yaw;
-  c.start_offset = Eigen::Vector2d(rng.normal(0, p.sigma_xy), rng.normal(0, p.sigma_xy));
+  c.start_offset = normal_vector2(rng) * p.sigma_xy;
   c.heading_error = rng.normal(0, deg_to_rad(p.sigma_yaw_deg));
   c.roll = rng.normal(0, deg_to_rad(p.sigma_tilt_deg));
   c.pitch = rng.normal(0, deg_to_rad(p.sigma_tilt_deg));

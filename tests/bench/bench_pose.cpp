@@ -163,8 +163,9 @@ struct BlobSets {
         const Eigen::Vector2d centre = (lo + hi) / 2, half = (hi - lo) + Eigen::Vector2d(10, 10);
         for (int d = 0; d < 4; ++d) {
           tp::Blob b;
-          b.uv_px = b.uv_undistorted =
-              centre + Eigen::Vector2d(rng.uniform(-1, 1) * half.x(), rng.uniform(-1, 1) * half.y());
+          const double dy = rng.uniform(-1, 1) * half.y();  // drawn y first, as recorded
+          const double dx = rng.uniform(-1, 1) * half.x();
+          b.uv_px = b.uv_undistorted = centre + Eigen::Vector2d(dx, dy);
           b.color = colours[static_cast<std::size_t>(rng.uniform(0, 4))];
           b.area = 12;
           blobs.push_back(b);

@@ -47,6 +47,7 @@
 #include <vector>
 
 #include "touchdown/core/random.hpp"
+#include "touchdown/core/random_vector.hpp"
 #include "touchdown/core/units.hpp"
 #include "touchdown/pose/gauss_newton.hpp"
 #include "touchdown/pose/led_tracker.hpp"
@@ -223,7 +224,7 @@ tp::AttitudePrior attitude_prior(const Eigen::Isometry3d& T_camera_body, double 
   touchdown::Rng rng(seed * 1000003ULL + i);
   const double s = touchdown::deg_to_rad(sigma_deg);
   auto noisy = [&](const Eigen::Vector3d& v) {
-    const Eigen::Vector3d a(rng.normal(0, s), rng.normal(0, s), rng.normal(0, s));
+    const Eigen::Vector3d a = normal_vector3(rng) * s;
     return (Eigen::AngleAxisd(a.norm(), a.norm() > 0 ? a.normalized() : Eigen::Vector3d::UnitX()) * v)
         .normalized()
         .eval();

@@ -66,7 +66,10 @@ TEST(ConvexHull, MatchesBruteForceOnRandomIntegerPoints) {
     std::uniform_int_distribution<int> coord(-grid, grid);
     std::uniform_int_distribution<int> count(0, 14);
     std::vector<V> pts(static_cast<std::size_t>(count(rng)));
-    for (auto& p : pts) p = V(coord(rng), coord(rng));
+    for (auto& p : pts) {
+      const double y = coord(rng);  // one draw per statement: y first, as recorded
+      p = V(coord(rng), y);
+    }
 
     const auto idx = convex_hull_indices(pts);
     const auto ref = reference_vertices(pts);
@@ -105,7 +108,10 @@ TEST(ConvexHull, RandomRealPointsAreConvexAndContainEveryPoint) {
   std::normal_distribution<double> g(0, 1);
   for (int trial = 0; trial < 100; ++trial) {
     std::vector<V> pts(50);
-    for (auto& p : pts) p = V(g(rng), g(rng));
+    for (auto& p : pts) {
+      const double y = g(rng);
+      p = V(g(rng), y);
+    }
     const auto hull = convex_hull(pts);
     ASSERT_GE(hull.size(), 3u);
     for (std::size_t k = 0; k < hull.size(); ++k) {

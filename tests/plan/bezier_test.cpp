@@ -17,7 +17,10 @@ tp::PiecewiseBezier bezier_random_curve(int order, int segments, std::mt19937& r
   std::vector<Eigen::Vector3d> cps;
   for (int k = 0; k < segments; ++k) {
     durations.push_back(duration(rng));
-    for (int i = 0; i <= order; ++i) cps.emplace_back(point(rng), point(rng), point(rng));
+    for (int i = 0; i <= order; ++i) {
+      const double z = point(rng), y = point(rng);  // one draw per statement: z first, as recorded
+      cps.emplace_back(point(rng), y, z);
+    }
   }
   return tp::PiecewiseBezier(order, durations, cps);
 }

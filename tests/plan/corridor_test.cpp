@@ -226,7 +226,8 @@ void corridor_check_pyramid(const CameraFov& c) {
   std::uniform_real_distribution<double> uz(c.near_m + 1e-3, c.far_m - 1e-3);
   for (int n = 0; n < 2000; ++n) {
     const double z = uz(rng);
-    const Eigen::Vector3d pc(u(rng) * z * th, u(rng) * z * tv, z);
+    const double y = u(rng) * z * tv;  // drawn y first, as recorded
+    const Eigen::Vector3d pc(u(rng) * z * th, y, z);
     ASSERT_TRUE(p.contains(c.T_pad_camera * pc)) << pc.transpose();
   }
   const double z = 0.5 * (c.near_m + c.far_m);

@@ -236,8 +236,8 @@ TEST(ProblemIo, RoundTripOfRandomProblems) {
       if (trial % 2 == 0) {
         CameraFov cam;
         cam.T_pad_camera.translation() = vec();
-        cam.T_pad_camera.linear() =
-            rotation_from_rpy(deg_to_rad(180 * u(rng)), deg_to_rad(89 * u(rng)), deg_to_rad(180 * u(rng)));
+        const double yaw = deg_to_rad(180 * u(rng)), pitch = deg_to_rad(89 * u(rng));  // yaw first, as recorded
+        cam.T_pad_camera.linear() = rotation_from_rpy(deg_to_rad(180 * u(rng)), pitch, yaw);
         cam.horizontal_fov_rad = deg_to_rad(1 + 178 * std::abs(u(rng)));
         cam.vertical_fov_rad = deg_to_rad(1 + 178 * std::abs(u(rng)));
         cam.near_m = std::abs(awkward());

@@ -11,6 +11,7 @@
 #include "test_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
+#include "touchdown/core/random_vector.hpp"
 
 // Oracle tests of the LED constellation calibration: views of the F450
 // constellation rendered exactly (or with Gaussian pixel noise) from known
@@ -29,7 +30,7 @@ tp::Constellation true_constellation() {
 tp::Constellation perturbed(const tp::Constellation& k, touchdown::Rng& rng) {
   tp::Constellation out = k;
   for (auto& led : out.leds) {
-    const Eigen::Vector3d d(rng.normal(), rng.normal(), rng.normal());
+    const Eigen::Vector3d d = normal_vector3(rng);
     led.p_body += 0.01 * d.normalized();
   }
   return out;
@@ -39,9 +40,10 @@ tp::Constellation perturbed(const tp::Constellation& k, touchdown::Rng& rng) {
 // under the body face the camera), any yaw, up to ~20° of tilt, 0.5–2 m away.
 Eigen::Isometry3d view_pose(touchdown::Rng& rng) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = (Eigen::AngleAxisd(rng.uniform(-M_PI, M_PI), Eigen::Vector3d::UnitZ()) *
-                Eigen::AngleAxisd(rng.uniform(-0.35, 0.35), Eigen::Vector3d::UnitX()) *
-                Eigen::AngleAxisd(rng.uniform(-0.35, 0.35), Eigen::Vector3d::UnitY()))
+  const double pitch = rng.uniform(-0.35, 0.35), roll = rng.uniform(-0.35, 0.35);  // drawn last factor first
+  const double yaw = rng.uniform(-M_PI, M_PI);
+  T.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()) *
+                Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()))
                    .toRotationMatrix();
   const double depth = rng.uniform(0.5, 2.0);
   T.translation() << rng.uniform(-0.25, 0.25) * depth, rng.uniform(-0.12, 0.12) * depth, depth;
@@ -64,8 +66,7 @@ Scene make_scene(std::uint64_t seed, double noise_px, int known, int num_views =
     const Eigen::Isometry3d T = view_pose(rng);
     tp::CalibrationView view;
     for (std::size_t k = 0; k < s.truth.leds.size(); ++k) {
-      const Eigen::Vector2d uv =
-          kCamera.project(T * s.truth.leds[k].p_body) + noise_px * Eigen::Vector2d(rng.normal(), rng.normal());
+      const Eigen::Vector2d uv = kCamera.project(T * s.truth.leds[k].p_body) + noise_px * normal_vector2(rng);
       view.observations.push_back({static_cast<int>(k), uv});
     }
     if (v < known) view.T_camera_body = T;

@@ -413,7 +413,8 @@ TEST(CameraDistortion, UndistortInvertsProjectAndAgreesWithOpenCv) {
     std::vector<Eigen::Vector3d> points;
     for (int i = 0; i < 500; ++i) {
       const double z = uz(rng);
-      points.emplace_back(ux(rng) * z, uy(rng) * z, z);
+      const double y = uy(rng) * z;  // drawn y first, as recorded
+      points.emplace_back(ux(rng) * z, y, z);
       object.emplace_back(points.back().x(), points.back().y(), z);
     }
     std::vector<cv::Point2d> projected;

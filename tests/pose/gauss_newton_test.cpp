@@ -11,6 +11,7 @@
 #include "test_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
+#include "touchdown/core/random_vector.hpp"
 
 using namespace touchdown::pose_test;
 
@@ -18,8 +19,10 @@ TEST(GaussNewton, JacobianMatchesFiniteDifferences) {
   touchdown::Rng rng(1);
   for (int k = 0; k < 50; ++k) {
     const auto T = random_pose(rng);
-    const Eigen::Vector3d p(rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2), rng.uniform(-0.1, 0.1));
-    const Eigen::Vector2d uv(rng.uniform(0, 848), rng.uniform(0, 480));
+    const double pz = rng.uniform(-0.1, 0.1), py = rng.uniform(-0.2, 0.2);  // drawn z first, as recorded
+    const Eigen::Vector3d p(rng.uniform(-0.2, 0.2), py, pz);
+    const double v = rng.uniform(0, 480);
+    const Eigen::Vector2d uv(rng.uniform(0, 848), v);
     Eigen::Vector2d r;
     Eigen::Matrix<double, 2, 6> J;
     ASSERT_TRUE(tp::reprojection_residual(kCamera, T, p, uv, r, &J));
@@ -138,7 +141,8 @@ TEST(GaussNewton, DepthJacobianMatchesFiniteDifferences) {
   touchdown::Rng rng(11);
   for (int k = 0; k < 50; ++k) {
     const auto T = random_pose(rng);
-    const Eigen::Vector3d p(rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2), rng.uniform(-0.1, 0.1));
+    const double pz = rng.uniform(-0.1, 0.1), py = rng.uniform(-0.2, 0.2);  // drawn z first, as recorded
+    const Eigen::Vector3d p(rng.uniform(-0.2, 0.2), py, pz);
     const double z = rng.uniform(0.5, 3), scale = rng.uniform(1, 100);
     double r = 0;
     Eigen::Matrix<double, 1, 6> J;
@@ -241,7 +245,7 @@ namespace {
 // A unit vector turned by a random rotation of `sigma` [rad] per axis: how
 // an IMU's gravity direction is off.
 Eigen::Vector3d noisy_direction(const Eigen::Vector3d& v, double sigma, touchdown::Rng& rng) {
-  const Eigen::Vector3d a(rng.normal(0, sigma), rng.normal(0, sigma), rng.normal(0, sigma));
+  const Eigen::Vector3d a = normal_vector3(rng) * sigma;
   return (a.norm() > 0 ? Eigen::AngleAxisd(a.norm(), a.normalized()) * v : v).normalized();
 }
 
@@ -252,8 +256,8 @@ TEST(GaussNewton, AttitudeJacobianMatchesFiniteDifferences) {
   for (int k = 0; k < 50; ++k) {
     const auto T = random_pose(rng);
     tp::AttitudeConstraint a;
-    a.g_camera = Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal()).normalized();
-    a.g_body = Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal()).normalized();
+    a.g_camera = normal_vector3(rng).normalized();
+    a.g_body = normal_vector3(rng).normalized();
     a.sigma_rad = rng.uniform(0.005, 0.1);
     a.pixel_sigma_px = rng.uniform(0.05, 1.0);
     Eigen::Vector3d r;
@@ -341,7 +345,7 @@ TEST(GaussNewton, BiasVarianceMakesTheCovarianceTrueForOneNoisyPoint) {
   double nees_bias = 0, nees_plain = 0;
   for (int k = 0; k < trials; ++k) {
     auto uv = observe(T, p, rng, sigma_px);
-    uv[2] += Eigen::Vector2d(rng.normal(0, sigma_bias), rng.normal(0, sigma_bias));
+    uv[2] += normal_vector2(rng) * sigma_bias;
     const auto with = tp::refine_pose_gauss_newton(kCamera, p, uv, T, {}, {}, {}, bias);
     const auto without = tp::refine_pose_gauss_newton(kCamera, p, uv, T);
     ASSERT_TRUE(with.ok() && without.ok()) << k;

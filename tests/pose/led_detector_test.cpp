@@ -95,7 +95,8 @@ TEST(LedDetector, ClippedWhiteCoresAreClassifiedFromTheirHalo) {
     for (const double diameter : {2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 20.0}) {
       for (const auto& col : colours) {
         auto img = dark(rng);
-        const Eigen::Vector2d c(424 + rng.uniform(0, 1), 240 + rng.uniform(0, 1));
+        const double cy = 240 + rng.uniform(0, 1);  // drawn y first, as recorded
+        const Eigen::Vector2d c(424 + rng.uniform(0, 1), cy);
         clipped_led(img, c, diameter, col.spectrum, blur, rng);
         const auto* centre = img.row(static_cast<int>(std::lround(c.y()))) + 3 * std::lround(c.x());
         white_cores += centre[0] == 255 && centre[1] == 255 && centre[2] == 255;
@@ -143,7 +144,8 @@ TEST(LedDetector, SubPixelCentresAndColourClasses) {
   const Eigen::Vector3d bgr[4] = {{40, 50, 300}, {70, 300, 60}, {300, 110, 40}, {300, 300, 300}};
   const tp::LedColor colors[4] = {tp::LedColor::Red, tp::LedColor::Green, tp::LedColor::Blue, tp::LedColor::White};
   for (int i = 0; i < 12; ++i) {
-    const Eigen::Vector2d c(60 + 60 * i + rng.uniform(0, 1), 100 + 25 * (i % 5) + rng.uniform(0, 1));
+    const double cy = 100 + 25 * (i % 5) + rng.uniform(0, 1);  // drawn y first, as recorded
+    const Eigen::Vector2d c(60 + 60 * i + rng.uniform(0, 1), cy);
     spot(img, c, 1.2 + 0.1 * i, bgr[i % 4]);
     truth.push_back({c, colors[i % 4]});
   }
@@ -310,7 +312,8 @@ TEST(LedDetector, ReflectionGlowBesideAnLedDoesNotPullItsCentre) {
   double worst = 0, worst_off = 0, sum = 0, sum_off = 0;
   for (int trial = 0; trial < 40; ++trial) {
     auto img = dark(rng);
-    const Eigen::Vector2d led(200 + 12 * trial % 400 + rng.uniform(0, 1), 200 + rng.uniform(0, 1));
+    const double led_y = 200 + rng.uniform(0, 1);  // drawn y first, as recorded
+    const Eigen::Vector2d led(200 + 12 * trial % 400 + rng.uniform(0, 1), led_y);
     const double angle = rng.uniform(0, 2 * M_PI), distance = rng.uniform(8, 11);
     const Eigen::Vector2d reflection = led + distance * Eigen::Vector2d(std::cos(angle), std::sin(angle));
     spot(img, reflection, rng.uniform(2.0, 2.6), {90, 330, 80});  // green, clipped in G only
@@ -346,7 +349,8 @@ TEST(LedDetector, LedMergedWithItsReflectionIsSplit) {
   tp::LedDetector det(d435()), whole(d435(), off);
   for (int trial = 0; trial < 20; ++trial) {
     auto img = dark(rng);
-    const Eigen::Vector2d led(300 + rng.uniform(0, 1), 200 + rng.uniform(0, 1));
+    const double led_y = 200 + rng.uniform(0, 1);  // drawn y first, as recorded
+    const Eigen::Vector2d led(300 + rng.uniform(0, 1), led_y);
     const double angle = rng.uniform(0, 2 * M_PI), distance = rng.uniform(5.5, 6.5);
     const Eigen::Vector2d reflection = led + distance * Eigen::Vector2d(std::cos(angle), std::sin(angle));
     spot(img, reflection, rng.uniform(2.6, 3.0), {150, 700, 140});

@@ -16,6 +16,7 @@
 #include "test_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
+#include "touchdown/core/random_vector.hpp"
 #include "touchdown/pose/gauss_newton.hpp"
 
 using namespace touchdown::pose_test;
@@ -28,9 +29,10 @@ using touchdown::pose_test::f450;
 // Drone above the camera, underside facing it (body z ≈ camera z).
 Eigen::Isometry3d looking_up(touchdown::Rng& rng, double distance) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = (Eigen::AngleAxisd(rng.uniform(-M_PI, M_PI), Eigen::Vector3d::UnitZ()) *
-                Eigen::AngleAxisd(rng.uniform(-0.3, 0.3), Eigen::Vector3d::UnitX()) *
-                Eigen::AngleAxisd(rng.uniform(-0.3, 0.3), Eigen::Vector3d::UnitY()))
+  const double pitch = rng.uniform(-0.3, 0.3), roll = rng.uniform(-0.3, 0.3);  // drawn last factor first
+  const double yaw = rng.uniform(-M_PI, M_PI);
+  T.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()) *
+                Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()))
                    .toRotationMatrix();
   T.translation() << rng.uniform(-0.1, 0.1) * distance, rng.uniform(-0.1, 0.1) * distance, distance;
   return T;
@@ -41,7 +43,7 @@ std::vector<tp::Blob> blobs_of(const tp::Constellation& k, const tp::PinholeCame
   std::vector<tp::Blob> out;
   for (const auto& led : k.leds) {
     tp::Blob b;
-    b.uv_undistorted = cam.project(T * led.p_body) + noise_px * Eigen::Vector2d(rng.normal(), rng.normal());
+    b.uv_undistorted = cam.project(T * led.p_body) + noise_px * normal_vector2(rng);
     b.uv_px = b.uv_undistorted;
     b.color = with_colour ? led.color : tp::LedColor::Unknown;
     b.intensity = 1000 + rng.uniform(0, 100);
@@ -74,9 +76,10 @@ void add_depth(std::vector<tp::Blob>& blobs, const tp::Constellation& k, const t
 // paper's chase camera sees it: body +x ≈ camera −z, roll about it free.
 Eigen::Isometry3d front_toward_camera(touchdown::Rng& rng, double distance) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = (Eigen::AngleAxisd(rng.uniform(-M_PI, M_PI), Eigen::Vector3d::UnitZ()) *
-                Eigen::AngleAxisd(rng.uniform(-0.4, 0.4), Eigen::Vector3d::UnitX()) *
-                Eigen::AngleAxisd(rng.uniform(-0.4, 0.4), Eigen::Vector3d::UnitY()) *
+  const double pitch = rng.uniform(-0.4, 0.4), roll = rng.uniform(-0.4, 0.4);  // drawn last factor first
+  const double yaw = rng.uniform(-M_PI, M_PI);
+  T.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()) *
+                Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
                 Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), -Eigen::Vector3d::UnitZ()))
                    .toRotationMatrix();
   T.translation() << rng.uniform(-0.1, 0.1) * distance, rng.uniform(-0.1, 0.1) * distance, distance;
@@ -445,7 +448,8 @@ TEST(Correspondence, P3pPreTestKeepsTheAnswerAndSavesSolves) {
     for (const auto& b : blobs) centre += b.uv_undistorted / static_cast<double>(blobs.size());
     for (int d = 0; d < 6; ++d) {  // distractors among the LEDs
       tp::Blob x = blobs[static_cast<std::size_t>(d % 5)];
-      x.uv_undistorted = centre + Eigen::Vector2d(rng.uniform(-60, 60), rng.uniform(-60, 60));
+      const double dy = rng.uniform(-60, 60);  // drawn y first, as recorded
+      x.uv_undistorted = centre + Eigen::Vector2d(rng.uniform(-60, 60), dy);
       x.uv_px = x.uv_undistorted;
       blobs.push_back(x);
     }
@@ -729,9 +733,11 @@ tp::Constellation quasi_planar_board() {
 // about its normal, at a distance in [z_min, z_max] [m].
 Eigen::Isometry3d board_seen_from_below(touchdown::Rng& rng, double z_min, double z_max) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  const Eigen::Vector3d axis(rng.uniform(-1, 1), rng.uniform(-1, 1), 0);
+  const double axis_y = rng.uniform(-1, 1);  // drawn right to left, as recorded
+  const Eigen::Vector3d axis(rng.uniform(-1, 1), axis_y, 0);
+  const double tilt = rng.uniform(0.1, 0.4);
   T.linear() = (Eigen::AngleAxisd(rng.uniform(-M_PI, M_PI), Eigen::Vector3d::UnitZ()) *
-                Eigen::AngleAxisd(rng.uniform(0.1, 0.4), axis.normalized()))
+                Eigen::AngleAxisd(tilt, axis.normalized()))
                    .toRotationMatrix();
   T.translation() << rng.uniform(-0.1, 0.1), rng.uniform(-0.05, 0.05), rng.uniform(z_min, z_max);
   return T;
@@ -1472,9 +1478,9 @@ TEST(Ambiguity, AttitudePriorSettlesTheMirroredTilt) {
   for (int trial = 0; trial < 60; ++trial) {
     const Eigen::Isometry3d T = board_seen_from_below(rng, 0.8, 1.6);
     const auto blobs = blobs_of(k, cam.pinhole(), T, rng, 0.4);
-    const Eigen::Vector3d g = Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal()).normalized();
+    const Eigen::Vector3d g = normal_vector3(rng).normalized();
     auto noisy = [&](const Eigen::Vector3d& v) {
-      const Eigen::Vector3d a(rng.normal(0, sigma), rng.normal(0, sigma), rng.normal(0, sigma));
+      const Eigen::Vector3d a = normal_vector3(rng) * sigma;
       return (Eigen::AngleAxisd(a.norm(), a.normalized()) * v).normalized().eval();
     };
     tp::AttitudePrior prior;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "touchdown/core/random.hpp"
+#include "touchdown/core/random_vector.hpp"
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/constellation.hpp"
 #include "touchdown/pose/se3.hpp"
@@ -42,7 +43,8 @@ inline std::vector<Eigen::Vector3d> constellation(Shape shape, touchdown::Rng& r
     double z = 0;
     if (shape == Shape::NonPlanar) z = rng.uniform(-0.08, 0.08);
     if (shape == Shape::QuasiPlanar) z = rng.uniform(-0.003, 0.003);
-    p.emplace_back(0.2 * std::cos(a) + rng.uniform(-0.02, 0.02), 0.15 * std::sin(a) + rng.uniform(-0.02, 0.02), z);
+    const double y = 0.15 * std::sin(a) + rng.uniform(-0.02, 0.02);  // drawn y first, as recorded
+    p.emplace_back(0.2 * std::cos(a) + rng.uniform(-0.02, 0.02), y, z);
   }
   return p;
 }
@@ -59,7 +61,7 @@ inline Eigen::Isometry3d random_pose(touchdown::Rng& rng) {
 inline std::vector<Eigen::Vector2d> observe(const Eigen::Isometry3d& T, const std::vector<Eigen::Vector3d>& p,
                                             touchdown::Rng& rng, double noise_px) {
   std::vector<Eigen::Vector2d> uv;
-  for (const auto& q : p) uv.push_back(kCamera.project(T * q) + noise_px * Eigen::Vector2d(rng.normal(), rng.normal()));
+  for (const auto& q : p) uv.push_back(kCamera.project(T * q) + noise_px * normal_vector2(rng));
   return uv;
 }
 

@@ -53,8 +53,9 @@ TEST(Filters, VoxelDownsampleGivesOneCentroidPerVoxel) {
   const double v = 0.1;
   std::set<std::tuple<long, long, long>> voxels;
   for (int i = 0; i < 5000; ++i) {
-    Eigen::Vector3f p(static_cast<float>(rng.uniform(-1, 1)), static_cast<float>(rng.uniform(-1, 1)),
-                      static_cast<float>(rng.uniform(0, 0.3)));
+    const auto z = static_cast<float>(rng.uniform(0, 0.3));  // drawn z first, as recorded
+    const auto y = static_cast<float>(rng.uniform(-1, 1));
+    Eigen::Vector3f p(static_cast<float>(rng.uniform(-1, 1)), y, z);
     c.points.push_back(p);
     voxels.insert({static_cast<long>(std::floor(p.x() / v)), static_cast<long>(std::floor(p.y() / v)),
                    static_cast<long>(std::floor(p.z() / v))});
@@ -100,9 +101,11 @@ TEST(Filters, StatisticalOutliersAreRemoved) {
       c.points.emplace_back(static_cast<float>(i) * 0.01f, static_cast<float>(j) * 0.01f,
                             static_cast<float>(rng.normal(0, 0.002)));
   const std::size_t plane = c.size();
-  for (int k = 0; k < 30; ++k)
-    c.points.emplace_back(static_cast<float>(rng.uniform(0, 1)), static_cast<float>(rng.uniform(0, 1)),
-                          static_cast<float>(rng.uniform(0.2, 0.5)));
+  for (int k = 0; k < 30; ++k) {
+    const auto z = static_cast<float>(rng.uniform(0.2, 0.5));  // drawn z first, as recorded
+    const auto y = static_cast<float>(rng.uniform(0, 1));
+    c.points.emplace_back(static_cast<float>(rng.uniform(0, 1)), y, z);
+  }
   c.mark_unorganized();
   const auto removed = tt::remove_statistical_outliers(c, tt::OutlierOptions{});
   EXPECT_GE(removed, 30u);

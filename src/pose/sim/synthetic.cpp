@@ -12,6 +12,7 @@
 #include "aruco_dictionary.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
+#include "touchdown/core/random_vector.hpp"
 #include "touchdown/core/units.hpp"
 #include "touchdown/pose/se3.hpp"
 
@@ -218,7 +219,7 @@ Constellation random_constellation(std::uint64_t seed) {
   Constellation k;
   const int n = 5 + static_cast<int>(rng.uniform(0, 4));
   const bool planar = rng.uniform() < 0.5;
-  const Eigen::Vector3d f = Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal()).normalized();
+  const Eigen::Vector3d f = normal_vector3(rng).normalized();
   const Eigen::Vector3d u = f.unitOrthogonal(), v = f.cross(u);
   constexpr std::array<LedColor, 4> colours{LedColor::Red, LedColor::Green, LedColor::Blue, LedColor::White};
   while (true) {
@@ -226,8 +227,10 @@ Constellation random_constellation(std::uint64_t seed) {
     for (int i = 0; i < n; ++i) {
       Led led;
       for (int tries = 0; tries < 100; ++tries) {
-        led.p_body = 0.1 * f + rng.uniform(-0.1, 0.1) * u + rng.uniform(-0.075, 0.075) * v +
-                     rng.uniform(-1, 1) * (planar ? 0.0025 : 0.03) * f;
+        // Drawn last term first, the order of the recorded constellations.
+        const double along = rng.uniform(-1, 1), across_v = rng.uniform(-0.075, 0.075);
+        const double across_u = rng.uniform(-0.1, 0.1);
+        led.p_body = 0.1 * f + across_u * u + across_v * v + along * (planar ? 0.0025 : 0.03) * f;
         bool apart = true;
         for (const auto& other : k.leds) apart = apart && (other.p_body - led.p_body).norm() > 0.03;
         if (apart) break;
@@ -372,7 +375,7 @@ void SyntheticCamera::Impl::led_extras(std::uint64_t seed, std::uint64_t frame_i
     LedExtras& e = extras[i];
     e.gain = std::exp2(o.led_gain_spread_stops * rng.uniform(-1, 1));
     e.reflection = rng.uniform() < o.reflection_probability;
-    Eigen::Vector3d d(rng.normal(), rng.normal(), rng.normal());
+    Eigen::Vector3d d = normal_vector3(rng);
     if (led.has_normal()) d -= d.dot(led.normal) * led.normal;  // along the airframe around the LED
     e.reflection_body = led.p_body + o.reflection_offset * d.normalized();
     const auto phase = static_cast<std::uint64_t>(rng.uniform(0, static_cast<double>(runs)));

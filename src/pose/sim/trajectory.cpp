@@ -193,8 +193,9 @@ std::vector<TrajectorySample> make_trajectory(TrajectoryKind kind, int frames, s
   const double f_a = rng.uniform(0.35, 0.55), f_b = rng.uniform(0.25, 0.45);  // [Hz] lateral
   const double ph_a = rng.uniform(0, two_pi), ph_b = rng.uniform(0, two_pi);
   const double yaw0 = rng.uniform(-std::numbers::pi, std::numbers::pi);
-  const double yaw_rate = (rng.uniform() < 0.5 ? -1 : 1) * deg_to_rad(rng.uniform(60, 120));  // [rad/s]
-  const double f_r = rng.uniform(0.2, 0.35), f_p = rng.uniform(0.25, 0.4);                    // [Hz] tilt
+  const double yaw_sign = rng.uniform() < 0.5 ? -1 : 1;
+  const double yaw_rate = yaw_sign * deg_to_rad(rng.uniform(60, 120));      // [rad/s]
+  const double f_r = rng.uniform(0.2, 0.35), f_p = rng.uniform(0.25, 0.4);  // [Hz] tilt
   const double ph_r = rng.uniform(0, two_pi), ph_p = rng.uniform(0, two_pi);
   const double tilt = deg_to_rad(20) / std::numbers::sqrt2;  // per axis: |tilt| <= 20°
   for (int i = 0; i < frames; ++i) {
