@@ -53,8 +53,8 @@ struct Common {
 void add_common(CLI::App& cmd, Common& c) {
   add_system_option(cmd, c.system);
   add_detector_option(cmd, c.detector);
-  cmd.add_option("--threads", c.threads, "worker threads (per MPI rank)")
-      ->check(CLI::Range(1, 256))
+  cmd.add_option("--threads", c.threads, "worker threads per MPI rank (0 = every core)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
 }
 
@@ -261,8 +261,9 @@ int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
               << ts::to_string(a.map) << ", seed " << a.search.seed << " -> " << a.out << "\n";
     print_metrics(r.metrics, tsr::compute_metrics(r.records, 10, tsr::Count::Fair));
     std::cout << "time               " << format_fixed(r.wall_s, 1) << " s wall on " << mpi.size() << " x "
-              << a.common.threads << " threads" << (r.resumed > 0 ? " (" + std::to_string(r.resumed) + " resumed)" : "")
-              << "; the search's own work " << format_fixed(r.search_s(), 2) << " s ("
+              << td::resolve_threads(a.common.threads) << " threads"
+              << (r.resumed > 0 ? " (" + std::to_string(r.resumed) + " resumed)" : "") << "; the search's own work "
+              << format_fixed(r.search_s(), 2) << " s ("
               << format_fixed(r.wall_s > 0 ? 100 * r.search_s() / r.wall_s : 0.0, 2) << " %)\n";
   }
   return kExitOk;
@@ -291,9 +292,8 @@ int train_command(const TrainArgs& a) {
   const fs::path tmp = staged.add(a.out, "--output");
   ProgressBar bar("landing_fuzz", "episodes");
   const auto t0 = std::chrono::steady_clock::now();
-  tsr::DqnTraining t = tsr::train_dqn(
-      tsr::DqnOptions{}, tsr::SurrogateOptions{}, a.episodes, a.seed,
-      [&](int done, int total) { bar.draw(static_cast<std::size_t>(done), static_cast<std::size_t>(total)); });
+  tsr::DqnTraining t = tsr::train_dqn(tsr::DqnOptions{}, tsr::SurrogateOptions{}, a.episodes, a.seed,
+                                      [&](const td::Progress& p) { bar.draw(p.done, p.total); });
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   write_text(tmp, tsr::weights_text(t.network), a.out);
   staged.commit();
@@ -624,9 +624,8 @@ int shrink_command(ShrinkArgs& a) {
   cv::setNumThreads(1);
   tsr::LocalEvaluator evaluator(evaluator_options(a.common, policy));
   ProgressBar bar("landing_fuzz", "evaluations");
-  const tsr::ShrinkResult r = tsr::shrink(scenario, base, evaluator, [&](int done, int total) {
-    bar.draw(static_cast<std::size_t>(done), static_cast<std::size_t>(total));
-  });
+  const tsr::ShrinkResult r =
+      tsr::shrink(scenario, base, evaluator, [&](const td::Progress& p) { bar.draw(p.done, p.total); });
   bar.close();
   if (!r.ok()) {
     throw td::InvalidArgument(source + ": not a violation on " + a.common.system + " (" + r.message +

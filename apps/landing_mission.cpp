@@ -334,7 +334,7 @@ int run_envelope(const Args& a) {
       tdm::EnvelopeCell cell{speed, wind, a.runs, 0, 0, true, {}};
       if (o.validate(&why)) {
         const auto results =
-            tdm::run_missions(o, a.runs, a.seed, a.threads, {}, [&](int, int) { bar.draw(++done, total); });
+            tdm::run_missions(o, a.runs, a.seed, a.threads, {}, [&](const td::Progress&) { bar.draw(++done, total); });
         cell.landed =
             static_cast<int>(std::count_if(results.begin(), results.end(), [](const auto& r) { return r.landed(); }));
         cell.crashed = static_cast<int>(std::count_if(
@@ -423,7 +423,7 @@ int main(int argc, char** argv) {
       ->check(td::app::existing_file());
   app.add_option("--runs", a.runs, "missions")->check(CLI::Range(1, 1000000))->capture_default_str();
   td::app::add_seed_option(app, "--seed", a.seed, "seed of the first mission (run i: (seed, i))");
-  app.add_option("--threads", a.threads, "threads (0: all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
+  app.add_option("--threads", a.threads, "worker threads (0 = every core)")->check(CLI::Range(0, 1024))->capture_default_str();
   CLI::Option* perception =
       app.add_option("--perception", a.perception, "perception in the loop (default: the mission file's)")
           ->check(td::app::one_of_names(tdm::perception_registry().names()))
@@ -451,7 +451,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   envelope->add_option("--runs", a.runs, "missions per cell")->check(CLI::Range(1, 100000))->capture_default_str();
   td::app::add_seed_option(*envelope, "--seed", a.seed, "seed");
-  envelope->add_option("--threads", a.threads, "threads (0: all cores)")->check(CLI::Range(0, 1024));
+  envelope->add_option("--threads", a.threads, "worker threads (0 = every core)")->check(CLI::Range(0, 1024));
   envelope->add_option("--plot", a.envelope_plot, "write the envelope as SVG")
       ->check(td::app::output_extension(".svg"))
       ->default_str("off");
@@ -479,8 +479,8 @@ int main(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     td::app::ProgressBar bar("landing_mission", "missions");
     const bool draw = a.runs > 1;
-    const auto results = tdm::run_missions(file.options, a.runs, a.seed, a.threads, {}, [&](int done, int total) {
-      if (draw) bar.draw(static_cast<std::size_t>(done), static_cast<std::size_t>(total));
+    const auto results = tdm::run_missions(file.options, a.runs, a.seed, a.threads, {}, [&](const td::Progress& p) {
+      if (draw) bar.draw(p.done, p.total);
     });
     bar.close();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -599,9 +599,9 @@ int main(int argc, char** argv) {
     // lines when it takes over a minute).
     td::app::ProgressBar bar("landing_plan", "QP solves");
     const bool terminal = td::app::ProgressBar::on_terminal();
-    problem.options.progress = [&bar, t0, terminal](int done, int cap) {
-      if (terminal && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(1)) return;
-      bar.draw(static_cast<std::size_t>(done), static_cast<std::size_t>(cap));
+    problem.options.progress = [&bar, terminal](const td::Progress& p) {
+      if (terminal && p.elapsed_s < 1) return;
+      bar.draw(p.done, p.total);
     };
     tp::PlanResult r;
     try {

@@ -211,7 +211,7 @@ Json campaign_json(const ts::CampaignResult& c, const std::string& source, const
   j["scenarios"] = source;
   j["system"] = o.system.name();
   j["detection_roi"] = o.mls.detector.roi;
-  j["threads"] = o.threads;
+  j["threads"] = td::resolve_threads(o.threads);
   j["count"] = s.scenarios;
   j["violations"] = s.violations;
   j["violation_rate"] = round3(s.violation_rate());
@@ -262,8 +262,8 @@ void print_campaign(const ts::CampaignResult& c, const std::string& source, cons
   }
   std::cout << "landed     " << dtl.size() << ": median DTL " << format_fixed(median(dtl), 2) << " m, median TTL "
             << format_fixed(median(ttl), 1) << " s\n"
-            << "time       " << format_fixed(s.wall_s, 1) << " s wall on " << o.threads << " threads for "
-            << format_fixed(s.flight_s, 0) << " s of flight ("
+            << "time       " << format_fixed(s.wall_s, 1) << " s wall on " << td::resolve_threads(o.threads)
+            << " threads for " << format_fixed(s.flight_s, 0) << " s of flight ("
             << format_fixed(s.wall_s > 0 ? s.flight_s / s.wall_s : 0.0, 0) << "x real time); per scenario "
             << format_fixed(s.scenarios > 0 ? s.timing.total_s / s.scenarios : 0.0, 2) << " s: render "
             << share(s.timing.render_s) << ", system " << share(s.timing.system_s) << ", physics "
@@ -538,7 +538,9 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
                   "the target of the random scenarios, DICTIONARY:ID (default: drawn; a learned detector needs "
                   "its model's marker)")
       ->excludes(files_opt);
-  cmd->add_option("--threads", a.campaign.threads, "worker threads")->check(CLI::Range(1, 256))->capture_default_str();
+  cmd->add_option("--threads", a.campaign.threads, "worker threads (0 = every core)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   cmd->add_flag("--whole-frame-detection", a.whole_frame,
                 "detect in the whole frame every time (no tracking ROI), as the published baseline");
   cmd->add_option("--weights", a.weights_path,
@@ -597,7 +599,7 @@ int campaign_command(CampaignArgs& a) {
   // finished (the library calls this one scenario at a time).
   ProgressBar bar("landing_scenario", "scenarios");
   bar.draw(0, scenarios.size());
-  a.campaign.progress = [&bar](const ts::CampaignProgress& p, const ts::CampaignEntry&) { bar.draw(p.done, p.total); };
+  a.campaign.progress = [&bar](const td::Progress& p) { bar.draw(p.done, p.total); };
   ts::CampaignResult c;
   try {
     c = ts::run_campaign(scenarios, a.campaign);
@@ -637,7 +639,9 @@ CLI::App* add_dataset_command(CLI::App& app, DatasetArgs& a) {
   cmd->add_option("--max-tilt", a.options.max_tilt_deg, "largest camera tilt drawn [deg]")
       ->check(td::app::degrees_not_radians("--max-tilt"))
       ->capture_default_str();
-  cmd->add_option("--threads", a.threads, "worker threads")->check(CLI::Range(1, 256))->capture_default_str();
+  cmd->add_option("--threads", a.threads, "worker threads (0 = every core)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   return cmd;
 }
 
@@ -713,40 +717,25 @@ int dataset_command(DatasetArgs& a) {
   cv::setNumThreads(1);
   std::vector<std::string> lines(static_cast<std::size_t>(a.count));
   std::array<int, 3> splits{};
-  std::atomic<int> next{0}, done{0};
-  std::mutex m;
-  std::exception_ptr error;
+  std::vector<ts::DatasetSplit> split_of(static_cast<std::size_t>(a.count));
   ProgressBar bar("landing_scenario", "frames");
-  const auto work = [&] {
-    for (int i = next++; i < a.count; i = next++) {
-      try {
-        const ts::DatasetFrame f = ts::render_dataset_frame(a.options, i);
-        char name[32];
-        std::snprintf(name, sizeof name, "images/%06d.png", i);
-        const cv::Mat bgr(f.frame.height, f.frame.width, CV_8UC3,
-                          const_cast<std::uint8_t*>(f.frame.image.pixels.data()));
-        cv::Mat gray;
-        cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
-        if (!cv::imwrite((tmp / name).string(), gray, {cv::IMWRITE_PNG_COMPRESSION, 1}))
-          throw td::IoError("--out " + a.out + ": cannot write " + name);
-        lines[static_cast<std::size_t>(i)] = dataset_frame_json(f, name).dump();
-        std::lock_guard lock(m);
-        ++splits[static_cast<std::size_t>(f.split)];
-        ++done;
-        bar.draw(static_cast<std::size_t>(done.load()), static_cast<std::size_t>(a.count));
-      } catch (...) {
-        std::lock_guard lock(m);
-        if (!error) error = std::current_exception();
-        next = a.count;
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < a.threads; ++t) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
+  td::BatchOptions batch;
+  batch.threads = a.threads;
+  batch.progress = [&bar](const td::Progress& p) { bar.draw(p.done, p.total); };
+  td::run_batch(static_cast<std::size_t>(a.count), batch, [&](std::size_t i, std::size_t) {
+    const ts::DatasetFrame f = ts::render_dataset_frame(a.options, static_cast<int>(i));
+    char name[32];
+    std::snprintf(name, sizeof name, "images/%06zu.png", i);
+    const cv::Mat bgr(f.frame.height, f.frame.width, CV_8UC3, const_cast<std::uint8_t*>(f.frame.image.pixels.data()));
+    cv::Mat gray;
+    cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
+    if (!cv::imwrite((tmp / name).string(), gray, {cv::IMWRITE_PNG_COMPRESSION, 1}))
+      throw td::IoError("--out " + a.out + ": cannot write " + name);
+    lines[i] = dataset_frame_json(f, name).dump();
+    split_of[i] = f.split;
+  });
   bar.close();
-  if (error) std::rethrow_exception(error);
+  for (const ts::DatasetSplit s : split_of) ++splits[static_cast<std::size_t>(s)];
   std::string text;
   for (const std::string& l : lines) text += l + "\n";
   write_text(tmp / "labels.jsonl", text, a.out + "/labels.jsonl");

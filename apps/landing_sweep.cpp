@@ -106,7 +106,7 @@ void add_options(CLI::App& app, Args& a) {
   td::app::add_enum_option(app, "--metric", o.metric,
                            "full: strikes and tip-overs are unsafe; seed: the paper's final-nutation rule");
   td::app::add_seed_option(app, "--seed", o.seed, "random seed (same seed -> same result for any thread count)");
-  app.add_option("--threads", o.threads, "worker threads, 0 = all cores")->capture_default_str();
+  app.add_option("--threads", o.threads, "worker threads (0 = every core)")->capture_default_str();
   app.add_option("--time-budget", o.time_budget, "anytime: stop after the round that passes this many seconds, 0 = off")
       ->capture_default_str();
   app.add_option("--search-radius", a.search_radius,
@@ -395,7 +395,7 @@ int main(int argc, char** argv) {
     const tw::Airframe airframe = a.airframe_path.empty() ? tw::Airframe::f450() : tw::load_airframe(a.airframe_path);
     const auto terrain = load_terrain(app.get_name(), a);
     td::app::ProgressBar bar("landing_sweep", "landings");
-    a.o.progress = [&bar](std::size_t done, std::size_t total) { bar.draw(done, total); };
+    a.o.progress = [&bar](const td::Progress& p) { bar.draw(p.done, p.total); };
     const Eigen::Vector2d requested = a.o.landing_point;
     const tw::SearchResult search = sweep_or_search(airframe, terrain, a);
     bar.close();  // e.g. a --time-budget stop: the summary gets its own line

@@ -383,9 +383,7 @@ int run_render(const Args& a) {
     throw td::InvalidArgument(in_flag_terms(e.what()));
   }
   td::app::ProgressBar bar("led_pose", "frames");
-  const std::function<void(std::size_t, std::size_t)> progress = [&bar](std::size_t done, std::size_t total) {
-    bar.draw(done, total);
-  };
+  const td::ProgressCallback progress = [&bar](const td::Progress& p) { bar.draw(p.done, p.total); };
   tp::write_sequence(a.out_dir, camera, k, samples, r, a.seed, progress);
   bar.close();
   std::cerr << "led_pose: wrote " << samples.size() << " frames to " << a.out_dir << "\n";

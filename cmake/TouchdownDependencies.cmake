@@ -17,7 +17,8 @@ if(TOUCHDOWN_BUILD_BENCHMARKS)
   find_package(benchmark REQUIRED)
 endif()
 # Landing twin: ODE (double precision) for dynamics, libccd for convex
-# contact generation, oneTBB for parallel runs.
+# contact generation. oneTBB only because pagmo2's exported target names
+# TBB::tbb; touchdown's own parallel runs use core/batch.hpp's threads.
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(ODE REQUIRED IMPORTED_TARGET ode)
 pkg_check_modules(CCD REQUIRED IMPORTED_TARGET ccd)

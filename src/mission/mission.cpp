@@ -1,18 +1,15 @@
 // One landing mission, closed loop (mission.hpp).
 #include "touchdown/mission/mission.hpp"
 
-#include <tbb/global_control.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 #include <deque>
 #include <iterator>
 #include <map>
-#include <mutex>
 #include <numbers>
 
 #include "checks.hpp"
+#include "touchdown/core/batch.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/core/random_vector.hpp"
@@ -576,24 +573,17 @@ MissionResult run_mission(const MissionOptions& options, std::uint64_t seed, std
 }
 
 std::vector<MissionResult> run_missions(const MissionOptions& options, int runs, std::uint64_t seed, int threads,
-                                        const PerceptionFactory& perception,
-                                        const std::function<void(int done, int total)>& progress) {
+                                        const PerceptionFactory& perception, const ProgressCallback& progress) {
   std::string why;
   if (!options.validate(&why)) throw InvalidArgument(why);
   if (runs < 1) throw InvalidArgument("runs: must be >= 1");
   std::vector<MissionResult> results(static_cast<std::size_t>(runs));
-  std::mutex mutex;
-  int done = 0;
-  auto body = [&](int i) {
-    results[static_cast<std::size_t>(i)] = run_mission(options, seed, static_cast<std::uint64_t>(i), false, perception);
-    if (progress) {
-      const std::lock_guard lock(mutex);
-      progress(++done, runs);
-    }
-  };
-  const int n = threads > 0 ? threads : static_cast<int>(tbb::this_task_arena::max_concurrency());
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(std::max(1, n)));
-  tbb::parallel_for(0, runs, body);
+  BatchOptions batch;
+  batch.threads = threads;
+  batch.progress = progress;
+  run_batch(results.size(), batch, [&](std::size_t i, std::size_t) {
+    results[i] = run_mission(options, seed, static_cast<std::uint64_t>(i), false, perception);
+  });
   return results;
 }
 

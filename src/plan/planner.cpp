@@ -11,6 +11,7 @@
 #include <nlopt.hpp>
 
 #include "core/format.hpp"
+#include "touchdown/core/batch.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/plan/qp.hpp"
 
@@ -468,6 +469,7 @@ struct AllocationContext {
   const PlannerOptions* o;
   Allocation* best;
   std::vector<double> T;
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
 };
 
 constexpr double kPenalty = 1e12;
@@ -496,7 +498,10 @@ double allocation_objective(unsigned n, const double* x, double* /*grad*/, void*
     c->best->objective = value;
     c->best->T = c->T;
   }
-  if (c->o->progress) c->o->progress(c->best->evaluations, c->o->time.max_evaluations);
+  if (c->o->progress) {
+    const auto done = static_cast<std::size_t>(c->best->evaluations);
+    c->o->progress(progress_since(c->start, done, static_cast<std::size_t>(c->o->time.max_evaluations), done - 1));
+  }
   return value;
 }
 

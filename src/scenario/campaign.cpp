@@ -1,13 +1,10 @@
 // Campaigns of scenario runs in parallel threads (campaign.hpp).
 #include "touchdown/scenario/campaign.hpp"
 
-#include <atomic>
 #include <chrono>
-#include <exception>
-#include <mutex>
-#include <thread>
 #include <utility>
 
+#include "touchdown/core/batch.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::scenario {
@@ -17,7 +14,7 @@ bool CampaignOptions::validate(std::string* why) const {
   if (!run.validate(&w)) return invalid(why, "run." + w);
   if (run.on_frame || run.external) return invalid(why, "run: frame and external callbacks are not allowed");
   if (!mls.validate(&w)) return invalid(why, "mls." + w);
-  if (threads < 1 || threads > 256) return invalid(why, "threads: must be in [1, 256]");
+  if (!check_threads(threads, "threads", why)) return false;
   return true;
 }
 
@@ -42,47 +39,30 @@ CampaignResult run_campaign(const std::vector<Scenario>& scenarios, const Campai
   const auto t0 = std::chrono::steady_clock::now();
   CampaignResult result;
   result.entries.resize(scenarios.size());
-  std::atomic<std::size_t> next{0};
-  std::mutex progress_mutex;
-  std::size_t done = 0;  // guarded by progress_mutex
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-  const auto worker = [&] {
-    try {
-      auto system = options.system.make(options.mls);
-      for (std::size_t i = next++; i < scenarios.size(); i = next++) {
-        ScenarioResult r;
-        if (options.external_for) {
-          RunOptions run = options.run;
-          run.external = options.external_for(i);
-          r = run_scenario(scenarios[i], *system, run);
-        } else {
-          r = run_scenario(scenarios[i], *system, options.run);
-        }
-        if (options.inspect) options.inspect(i, r);
-        CampaignEntry& e = result.entries[i];
-        e.map = scenarios[i].map;
-        e.outcome = std::move(static_cast<ScenarioOutcome&>(r));
-        if (options.progress) {
-          const std::lock_guard lock(progress_mutex);
-          options.progress(CampaignProgress{++done, scenarios.size(), i}, e);
-        }
-      }
-    } catch (...) {
-      const std::lock_guard lock(failure_mutex);
-      if (!failure) failure = std::current_exception();
-      next = scenarios.size();  // the others stop after their current run
+  // One system per worker, made by the worker on its first scenario.
+  std::vector<decltype(options.system.make(options.mls))> systems(batch_workers(scenarios.size(), options.threads));
+  BatchOptions batch;
+  batch.threads = options.threads;
+  batch.progress = options.progress;
+  batch.cancel = options.cancel;
+  const auto job = [&](std::size_t i, std::size_t worker) {
+    auto& system = systems[worker];
+    if (!system) system = options.system.make(options.mls);
+    ScenarioResult r;
+    if (options.external_for) {
+      RunOptions run = options.run;
+      run.external = options.external_for(i);
+      r = run_scenario(scenarios[i], *system, run);
+    } else {
+      r = run_scenario(scenarios[i], *system, options.run);
     }
+    if (options.inspect) options.inspect(i, r);
+    CampaignEntry& e = result.entries[i];
+    e.map = scenarios[i].map;
+    e.outcome = std::move(static_cast<ScenarioOutcome&>(r));
   };
-  const int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(options.threads), scenarios.size()));
-  if (n <= 1) {
-    worker();
-  } else {
-    std::vector<std::jthread> pool;
-    pool.reserve(static_cast<std::size_t>(n));
-    for (int k = 0; k < n; ++k) pool.emplace_back(worker);
-  }
-  if (failure) std::rethrow_exception(failure);
+  const BatchReport report = run_batch(scenarios.size(), batch, job);
+  result.entries.resize(report.completed);  // cancelled: the scenarios that ran
 
   CampaignSummary& s = result.summary;
   for (const auto& entry : result.entries) {

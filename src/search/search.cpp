@@ -110,9 +110,7 @@ std::vector<Evaluation> LocalEvaluator::evaluate(const std::vector<scenario::Sce
     out[i] = evaluate_result(r, scenarios[i].time_limit);
   };
   if (on_done) {
-    c.progress = [&](const scenario::CampaignProgress& p, const scenario::CampaignEntry&) {
-      on_done(p.index, out[p.index]);
-    };
+    c.progress = [&](const Progress& p) { on_done(p.index, out[p.index]); };
   }
   (void)scenario::run_campaign(scenarios, c);
   return out;

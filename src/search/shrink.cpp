@@ -1,6 +1,7 @@
 // Shrinking a violating scenario to the genes its failure needs (shrink.hpp).
 #include "touchdown/search/shrink.hpp"
 
+#include <chrono>
 #include <utility>
 
 namespace touchdown::search {
@@ -62,7 +63,8 @@ std::vector<Group> weather_groups(const scenario::Scenario& s) {
 }  // namespace
 
 ShrinkResult shrink(const scenario::Scenario& original, const scenario::Scenario& base, Evaluator& evaluator,
-                    const std::function<void(int, int)>& progress) {
+                    const ProgressCallback& progress) {
+  const auto start = std::chrono::steady_clock::now();
   std::string why;
   if (!original.validate(&why)) throw InvalidArgument("shrink: scenario: " + why);
   ShrinkResult result;
@@ -110,7 +112,13 @@ ShrinkResult shrink(const scenario::Scenario& original, const scenario::Scenario
   const int total = 1 + static_cast<int>(tries.size());
 
   const Evaluation first = run(original);
-  if (progress) progress(1, total);
+  const auto report = [&](int done) {
+    if (progress) {
+      progress(progress_since(start, static_cast<std::size_t>(done), static_cast<std::size_t>(total),
+                              static_cast<std::size_t>(done - 1)));
+    }
+  };
+  report(1);
   result.violation = first.violation;
   result.message = first.message;
   result.smallest = original;
@@ -147,7 +155,7 @@ ShrinkResult shrink(const scenario::Scenario& original, const scenario::Scenario
       if (tried) result.necessary.push_back(t.name);
     }
     result.steps.push_back(std::move(step));
-    if (progress) progress(result.runs(), total);
+    report(result.runs());
   }
   result.smallest = with_removals(resets, removed);
   return result;

@@ -4,6 +4,7 @@
 #include "touchdown/search/surrogate.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -181,7 +182,8 @@ SurrogateEnv::Step SurrogateEnv::step(int action) {
 }
 
 DqnTraining train_dqn(const DqnOptions& options, const SurrogateOptions& env_options, int episodes, std::uint64_t seed,
-                      const std::function<void(int, int)>& progress) {
+                      const ProgressCallback& progress) {
+  const auto start = std::chrono::steady_clock::now();
   if (episodes < 0) throw InvalidArgument("train_dqn: episodes must be >= 0");
   SurrogateEnv env(env_options);
   Rng init(seed, 0), rng(seed, 1);
@@ -202,7 +204,10 @@ DqnTraining train_dqn(const DqnOptions& options, const SurrogateOptions& env_opt
       if (st.done) break;
     }
     out.episode_returns.push_back(ret);
-    if (progress) progress(e + 1, episodes);
+    if (progress) {
+      const auto done = static_cast<std::size_t>(e + 1);
+      progress(progress_since(start, done, static_cast<std::size_t>(episodes), done - 1));
+    }
   }
   out.network = dqn.network();
   return out;

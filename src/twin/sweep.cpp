@@ -1,18 +1,15 @@
 #include "touchdown/twin/sweep.hpp"
 
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <mutex>
 #include <vector>
 
 #include "core/format.hpp"
+#include "touchdown/core/batch.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/core/random_vector.hpp"
@@ -165,7 +162,7 @@ bool SweepOptions::validate(std::string* why) const {
     return fail("perturbation sigmas must be >= 0");
   }
   if (!(p.friction_min > 0 && p.friction_max >= p.friction_min)) return fail("friction range must be 0 < min <= max");
-  if (threads < 0) return fail("threads must be >= 0");
+  if (!check_threads(threads, "threads", why)) return false;
   if (!(time_budget >= 0)) return fail("time budget must be >= 0");
   return true;
 }
@@ -210,32 +207,37 @@ void plan_runs(SweepResult& out, const SweepOptions& o, double yaw_max) {
 void fly_runs(SweepResult& out, const LandingSimulator& sim, const SweepOptions& o,
               std::chrono::steady_clock::time_point t0) {
   const int n = o.headings, m = o.runs;
-  std::mutex progress_mutex;
-  std::size_t done = 0;
   const std::size_t total = out.runs.size();
+  std::size_t done = 0;   // over the rounds; progress calls are serialised
+  std::size_t round = 0;  // with a time budget, the round being flown
+  BatchOptions batch;
+  batch.threads = o.threads;
+  if (o.progress) {
+    batch.progress = [&](const Progress& p) {
+      const std::size_t k = o.time_budget > 0 ? p.index * static_cast<std::size_t>(m) + round : p.index;
+      o.progress(progress_since(t0, ++done, total, k));
+    };
+  }
   auto fly = [&](std::size_t k) {
     auto& r = out.runs[k];
     const auto start = std::chrono::steady_clock::now();
     r.result = sim.land(r.conditions);
     r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (o.progress) {
-      std::lock_guard<std::mutex> lock(progress_mutex);
-      o.progress(++done, total);
-    }
   };
-  const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
-  tbb::task_arena arena(threads);
   // Rounds: run i of every heading, so that an interrupted (anytime) sweep
   // has the same number of runs at every heading.
   int rounds = 0;
   if (o.time_budget > 0) {
     for (int i = 0; i < m; ++i) {
-      arena.execute([&] { tbb::parallel_for(0, n, [&](int j) { fly(static_cast<std::size_t>(j) * m + i); }); });
+      round = static_cast<std::size_t>(i);
+      run_batch(static_cast<std::size_t>(n), batch, [&](std::size_t j, std::size_t) {
+        fly(j * static_cast<std::size_t>(m) + static_cast<std::size_t>(i));
+      });
       ++rounds;
       if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > o.time_budget) break;
     }
   } else {
-    arena.execute([&] { tbb::parallel_for(std::size_t{0}, total, [&](std::size_t k) { fly(k); }); });
+    run_batch(total, batch, [&](std::size_t k, std::size_t) { fly(k); });
     rounds = m;
   }
   if (rounds < m) {
@@ -473,8 +475,8 @@ SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<cons
     SweepOptions o = options;
     o.landing_point = c.xy;
     if (options.progress) {
-      o.progress = [&options, base = k * per, total](std::size_t done, std::size_t) {
-        options.progress(base + done, total);
+      o.progress = [&options, base = k * per, total, t0](const Progress& p) {
+        options.progress(progress_since(t0, base + p.done, total, base + p.index));
       };
     }
     SweepResult r = run_sweep(airframe, terrain, o);
@@ -501,7 +503,7 @@ SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<cons
       out.sweep = std::move(r);
     }
   }
-  if (options.progress) options.progress(total, total);
+  if (options.progress) options.progress(progress_since(t0, total, total, total > 0 ? total - 1 : 0));
   out.run_sim_to_wall = median(std::move(ratios));
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (out.best < 0) {

@@ -266,7 +266,9 @@ TEST(Planner, EvaluationCapIsHonouredExactlyAndReported) {
     tp::PlannerOptions o = planner_with_corridor();
     o.time.max_evaluations = cap;
     std::vector<std::pair<int, int>> calls;
-    o.progress = [&calls](int done, int of) { calls.emplace_back(done, of); };
+    o.progress = [&calls](const touchdown::Progress& p) {
+      calls.emplace_back(static_cast<int>(p.done), static_cast<int>(p.total));
+    };
     const tp::PlanResult r = tp::plan(start, std::nullopt, pad, o);
     // Never a verdict of infeasibility from a search cut short.
     ASSERT_TRUE(r.ok() || r.status == tp::PlanStatus::AllocationCutShort) << "cap " << cap << ": " << r.message;

@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <mutex>
+
 #include "scenario/clear_scenario.hpp"
 #include "touchdown/core/error.hpp"
 
@@ -29,7 +32,7 @@ TEST(Campaign, SameResultsForAnyThreadCount) {
   const CampaignResult one = run_campaign(scenarios, o);
   o.threads = 2;
   std::vector<std::size_t> reported;
-  o.progress = [&](const CampaignProgress& p, const CampaignEntry&) { reported.push_back(p.index); };
+  o.progress = [&](const touchdown::Progress& p) { reported.push_back(p.index); };
   const CampaignResult two = run_campaign(scenarios, o);
   ASSERT_EQ(one.entries.size(), scenarios.size());
   ASSERT_EQ(two.entries.size(), scenarios.size());
@@ -66,8 +69,8 @@ TEST(Campaign, SameResultsForAnyThreadCount) {
 
 // Issue 31 item 11: the progress callback drives the app's progress bar.
 // It is called once per scenario, with done counting 1..total (in call
-// order, whichever thread finishes), each index once, and the entry it
-// passes is the one the result holds.
+// order, whichever thread finishes), each index once, after that
+// scenario's run (its `inspect` came first), with a finite ETA.
 TEST(Campaign, ProgressCountsEachScenarioOnceUpToTheTotal) {
   std::vector<Scenario> scenarios = random_scenarios(40, 3, MapKind::Ground);
   for (auto& x : scenarios) x.time_limit = 10;
@@ -75,24 +78,61 @@ TEST(Campaign, ProgressCountsEachScenarioOnceUpToTheTotal) {
   o.run.camera.width = 160;
   o.run.camera.height = 120;
   o.threads = 2;
-  std::vector<CampaignProgress> calls;
-  std::vector<ScenarioOutcome> outcomes;
-  o.progress = [&](const CampaignProgress& p, const CampaignEntry& e) {
+  std::vector<touchdown::Progress> calls;
+  std::mutex inspected_mutex;
+  std::vector<int> inspected(scenarios.size(), 0);
+  std::vector<int> inspected_before(scenarios.size(), -1);
+  o.inspect = [&](std::size_t i, const ScenarioResult&) {
+    const std::lock_guard lock(inspected_mutex);
+    ++inspected[i];
+  };
+  o.progress = [&](const touchdown::Progress& p) {
     calls.push_back(p);
-    outcomes.push_back(e.outcome);
+    const std::lock_guard lock(inspected_mutex);
+    inspected_before[p.index] = inspected[p.index];
   };
   const CampaignResult r = run_campaign(scenarios, o);
   ASSERT_EQ(calls.size(), scenarios.size());
+  ASSERT_EQ(r.entries.size(), scenarios.size());
   std::vector<int> seen(scenarios.size(), 0);
   for (std::size_t k = 0; k < calls.size(); ++k) {
     EXPECT_EQ(calls[k].done, k + 1);
     EXPECT_EQ(calls[k].total, scenarios.size());
     ASSERT_LT(calls[k].index, scenarios.size());
     ++seen[calls[k].index];
-    EXPECT_EQ(outcomes[k].message, r.entries[calls[k].index].outcome.message);
-    EXPECT_EQ(outcomes[k].frame_count, r.entries[calls[k].index].outcome.frame_count);
+    EXPECT_GE(calls[k].eta_s, 0);
+    if (k > 0) {
+      EXPECT_GE(calls[k].elapsed_s, calls[k - 1].elapsed_s);
+    }
   }
-  for (std::size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], 1) << "scenario " << i;
+  EXPECT_DOUBLE_EQ(calls.back().eta_s, 0);
+  for (std::size_t i = 0; i < seen.size(); ++i) {
+    EXPECT_EQ(seen[i], 1) << "scenario " << i;
+    EXPECT_EQ(inspected_before[i], 1) << "scenario " << i << ": progress before its run ended";
+  }
+}
+
+// Cancelled from its own progress callback after the first scenario, a
+// campaign on one thread returns that scenario alone, the same as it is in
+// the whole campaign.
+TEST(Campaign, ACancelledCampaignReturnsTheScenariosThatRan) {
+  std::vector<Scenario> scenarios = random_scenarios(40, 3, MapKind::Ground);
+  for (auto& x : scenarios) x.time_limit = 10;
+  CampaignOptions o;
+  o.run.camera.width = 160;
+  o.run.camera.height = 120;
+  std::atomic<bool> cancel{false};
+  o.cancel = &cancel;
+  o.progress = [&](const touchdown::Progress&) { cancel = true; };
+  const CampaignResult part = run_campaign(scenarios, o);
+  ASSERT_EQ(part.entries.size(), 1u);
+  EXPECT_EQ(part.summary.scenarios, 1);
+  o.cancel = nullptr;
+  o.progress = nullptr;
+  const CampaignResult whole = run_campaign(scenarios, o);
+  ASSERT_EQ(whole.entries.size(), 3u);
+  EXPECT_EQ(part.entries[0].outcome.message, whole.entries[0].outcome.message);
+  EXPECT_EQ(part.entries[0].outcome.frame_count, whole.entries[0].outcome.frame_count);
 }
 
 TEST(Campaign, RandomScenariosAreTheSeededOnes) {
@@ -162,7 +202,7 @@ TEST(Campaign, PerScenarioControllerAndInspectionAreThoseOfSingleRuns) {
 TEST(Campaign, RefusesBadOptionsBeforeRunning) {
   std::vector<Scenario> scenarios(2);
   CampaignOptions o;
-  o.threads = 0;
+  o.threads = -1;  // 0 is every core (core/batch.hpp)
   EXPECT_THROW(run_campaign(scenarios, o), InvalidArgument);
   o.threads = 1;
   o.run.on_frame = [](const CameraFrame&, const SystemOutput&, const DroneState&) {};

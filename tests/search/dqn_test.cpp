@@ -202,9 +202,10 @@ TEST(TrainDqn, SameSeedSameParameters) {
   EXPECT_EQ(a.episode_returns, b.episode_returns);
   EXPECT_NE(pa, c.network.parameters());
   int calls = 0;
-  (void)train_dqn({}, env, 3, 1, [&](int done, int total) {
-    EXPECT_EQ(done, ++calls);
-    EXPECT_EQ(total, 3);
+  (void)train_dqn({}, env, 3, 1, [&](const Progress& p) {
+    EXPECT_EQ(p.done, static_cast<std::size_t>(++calls));
+    EXPECT_EQ(p.total, 3u);
+    EXPECT_EQ(p.index, p.done - 1);
   });
   EXPECT_EQ(calls, 3);
 }

@@ -141,7 +141,8 @@ TEST(Shrink, NamesExactlyTheBoxOverTheMarkerOfAHandBuiltTypeII) {
   ASSERT_TRUE(s.validate(&why)) << why;
   LocalEvaluator evaluator(small_camera(1));
   std::vector<int> progress;
-  const ShrinkResult r = shrink(s, scenario::Scenario{}, evaluator, [&](int done, int) { progress.push_back(done); });
+  const ShrinkResult r = shrink(s, scenario::Scenario{}, evaluator,
+                                [&](const Progress& p) { progress.push_back(static_cast<int>(p.done)); });
   ASSERT_TRUE(r.ok()) << r.message;
   EXPECT_EQ(r.violation, scenario::Violation::TypeII) << r.message;
   EXPECT_EQ(r.necessary, std::vector<std::string>{"static_objects[0] (box)"});

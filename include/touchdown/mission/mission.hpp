@@ -26,6 +26,7 @@
 #include <utility>
 #include <vector>
 
+#include "touchdown/core/batch.hpp"
 #include "touchdown/core/registry.hpp"
 #include "touchdown/mission/drone.hpp"
 #include "touchdown/mission/guidance.hpp"
@@ -166,10 +167,11 @@ MissionResult run_mission(const MissionOptions& options, std::uint64_t seed, std
                           const PerceptionFactory& perception = {});
 
 /// `runs` missions (run i seeded by (seed, i)) on `threads` threads (0:
-/// all cores); `progress` (any thread, serialised) after each.
+/// every core; core/batch.hpp's runner and rule); `progress` (any thread,
+/// serialised) after each.
 std::vector<MissionResult> run_missions(const MissionOptions& options, int runs, std::uint64_t seed, int threads,
                                         const PerceptionFactory& perception = {},
-                                        const std::function<void(int done, int total)>& progress = {});
+                                        const ProgressCallback& progress = {});
 
 /// Why a mission did not land, in words a summary can count (empty for a
 /// landing): a crash's cause ("crashed: touched the ground"); an abort's last guard

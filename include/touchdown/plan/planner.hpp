@@ -44,6 +44,7 @@
 #include <string_view>
 #include <vector>
 
+#include "touchdown/core/batch.hpp"
 #include "touchdown/core/enum_names.hpp"
 #include "touchdown/plan/bezier.hpp"
 #include "touchdown/plan/corridor.hpp"
@@ -125,10 +126,10 @@ struct PlannerOptions {
   /// (docs/benchmarks.md, "Landing trajectory", heap note).
   bool export_qp = false;
   /// Called after each QP solve of the time allocation with the solves done
-  /// so far and time.max_evaluations (an app draws a progress bar from it;
-  /// the allocation may stop before the cap). Called on the planning
-  /// thread; empty: none.
-  std::function<void(int evaluations, int max_evaluations)> progress;
+  /// so far (`done`) of time.max_evaluations (`total`; an app draws a
+  /// progress bar from it; the allocation may stop before the cap). Called
+  /// on the planning thread; empty: none.
+  ProgressCallback progress;
   /// False (with "field: what is wrong" in *why) for an invalid value.
   [[nodiscard]] bool validate(std::string* why) const;
 };

@@ -5,6 +5,7 @@
 /// random sampling). Scenario i of a seeded campaign is
 /// random_scenario(first_seed + i, map); results are in scenario order and
 /// identical for any thread count.
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -12,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "touchdown/core/batch.hpp"
 #include "touchdown/scenario/run.hpp"
 #include "touchdown/scenario/scenario.hpp"
 #include "touchdown/scenario/system_registry.hpp"
@@ -25,13 +27,6 @@ struct CampaignEntry {
   ScenarioOutcome outcome;
 };
 
-/// Where a campaign stands when a scenario finishes: `done` scenarios of
-/// `total` are finished (1, 2, …, total over the calls), the latest being
-/// scenario `index`.
-struct CampaignProgress {
-  std::size_t done = 0, total = 0, index = 0;
-};
-
 struct CampaignOptions {
   /// The system under test: a spec ("mm-mls", "plugin:PATH:NAME") or a
   /// factory of your own; one system is made per worker thread.
@@ -40,13 +35,17 @@ struct CampaignOptions {
   /// Camera, flight and violation radius; its callbacks must be empty (a
   /// campaign runs scenarios concurrently).
   RunOptions run;
-  int threads = 1;  ///< worker threads, ≥ 1
-  /// Called once after each scenario finishes, from the worker thread that
-  /// ran it but one call at a time (under a lock), with `done` counting up
-  /// 1, 2, …, total across the calls: for a progress bar. It does not change
-  /// the results (each goes to its scenario's slot). May be empty; an
-  /// exception from it stops the campaign and propagates.
-  std::function<void(const CampaignProgress&, const CampaignEntry&)> progress;
+  int threads = 1;  ///< worker threads; 0 = every core (core/batch.hpp's rule)
+  /// Called once after each scenario finishes (`index` the scenario's), from
+  /// the worker thread that ran it but one call at a time (under a lock),
+  /// with `done` counting up 1, 2, …, total across the calls: for a
+  /// progress bar. It does not change the results (each goes to its
+  /// scenario's slot). May be empty; an exception from it stops the campaign
+  /// and propagates.
+  ProgressCallback progress;
+  /// When it becomes true no further scenario starts; the result then holds
+  /// the entries [0, n) that ran. May be null.
+  const std::atomic<bool>* cancel = nullptr;
   /// Per scenario, a controller for its `external` dynamic objects (the
   /// search's DQN): called once per scenario, in the worker thread that runs
   /// it, before the run; the callable it returns drives that run only (so it

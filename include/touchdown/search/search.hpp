@@ -85,7 +85,7 @@ struct EvaluatorOptions {
   scenario::SystemFactory system;
   scenario::MlsOptions mls;
   scenario::RunOptions run;  ///< camera, flight, violation radius; callbacks must be empty
-  int threads = 1;           ///< worker threads
+  int threads = 1;           ///< worker threads; 0 = every core (core/batch.hpp)
   /// Drives the `external` dynamic objects of every run (rlaga); null:
   /// they stay where they start.
   std::shared_ptr<const QNetwork> policy;

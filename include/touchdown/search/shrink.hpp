@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "touchdown/core/batch.hpp"
 #include "touchdown/search/search.hpp"
 
 namespace touchdown::search {
@@ -63,6 +64,6 @@ struct ShrinkResult {
 /// depends on the one before). `base` gives the benign seed and marker
 /// position. `progress(done, total)` after each run (total = runs at most).
 ShrinkResult shrink(const scenario::Scenario& scenario, const scenario::Scenario& base, Evaluator& evaluator,
-                    const std::function<void(int, int)>& progress = {});
+                    const ProgressCallback& progress = {});
 
 }  // namespace touchdown::search

@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "touchdown/core/batch.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/search/dqn.hpp"
 
@@ -105,7 +106,7 @@ struct DqnTraining {
 /// total) after each episode (may be empty). Deterministic for a seed.
 /// Throws InvalidArgument for invalid options or episodes < 0.
 DqnTraining train_dqn(const DqnOptions& options, const SurrogateOptions& env, int episodes, std::uint64_t seed,
-                      const std::function<void(int, int)>& progress = {});
+                      const ProgressCallback& progress = {});
 
 /// Mean eq. 5 return of `policy` (state, rng → action) over `episodes`
 /// fresh surrogate episodes drawn from `seed`.

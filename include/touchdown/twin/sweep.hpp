@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "touchdown/core/batch.hpp"
 #include "touchdown/core/enum_names.hpp"
 #include "touchdown/twin/airframe.hpp"
 #include "touchdown/twin/landing.hpp"
@@ -64,13 +65,13 @@ struct SweepOptions {
   Perturbation perturbation{};
   SafetyMetric metric = SafetyMetric::Full;
   std::uint64_t seed = 1;
-  int threads = 0;  ///< 0 = all cores
+  int threads = 0;  ///< 0 = every core (core/batch.hpp's rule)
   /// Anytime use: stop after the round (one run per heading) that exceeds
   /// this many wall seconds; 0 = no limit. The result says how complete it is.
   double time_budget = 0;
   SimulationOptions simulation{};  ///< tip_nutation is set from the threshold
   /// Called after each finished landing (from worker threads, serialised).
-  std::function<void(std::size_t done, std::size_t total)> progress;
+  ProgressCallback progress;
 
   [[nodiscard]] bool validate(std::string* why) const;
 };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -361,7 +362,8 @@ void remove_stale_sequence_files(const fs::path& target, const std::vector<std::
 
 void write_sequence(const fs::path& out_dir, const CameraModel& camera, const Constellation& constellation,
                     std::span<const TrajectorySample> samples, const RenderOptions& options, std::uint64_t seed,
-                    const std::function<void(std::size_t done, std::size_t total)>& progress) {
+                    const ProgressCallback& progress) {
+  const auto start = std::chrono::steady_clock::now();
   if (samples.empty()) throw InvalidArgument("write_sequence: no samples to render");
   if (samples.size() > 1000000) throw InvalidArgument("write_sequence: more than 1000000 frames (names are 6 digits)");
   const SyntheticCamera renderer(camera, constellation, options);  // validates
@@ -395,7 +397,7 @@ void write_sequence(const fs::path& out_dir, const CameraModel& camera, const Co
     g.leds_visible = frame.led_visible;
     g.marker_visible = frame.marker_visible;
     ground_truth += ground_truth_to_json(g) + "\n";
-    if (progress) progress(i + 1, samples.size());
+    if (progress) progress(progress_since(start, i + 1, samples.size(), i));
   }
   write_text(staging / "ground_truth.jsonl", ground_truth);
   write_text(staging / "camera.yaml", camera_to_yaml(camera));

@@ -23,6 +23,7 @@
 #include <string_view>
 #include <vector>
 
+#include "touchdown/core/batch.hpp"
 #include "touchdown/core/image.hpp"
 #include "touchdown/pose/ground_truth.hpp"
 #include "touchdown/pose/sim/aruco_baseline.hpp"
@@ -95,6 +96,6 @@ SequenceInfo read_sequence_info(const std::filesystem::path& dir);
 /// `progress`, when set, is called with (frames written, total) after each frame.
 void write_sequence(const std::filesystem::path& out_dir, const CameraModel& camera, const Constellation& constellation,
                     std::span<const TrajectorySample> samples, const RenderOptions& options, std::uint64_t seed,
-                    const std::function<void(std::size_t done, std::size_t total)>& progress = {});
+                    const ProgressCallback& progress = {});
 
 }  // namespace touchdown::pose
