@@ -423,7 +423,9 @@ int main(int argc, char** argv) {
       ->check(td::app::existing_file());
   app.add_option("--runs", a.runs, "missions")->check(CLI::Range(1, 1000000))->capture_default_str();
   td::app::add_seed_option(app, "--seed", a.seed, "seed of the first mission (run i: (seed, i))");
-  app.add_option("--threads", a.threads, "worker threads (0 = every core)")->check(CLI::Range(0, 1024))->capture_default_str();
+  app.add_option("--threads", a.threads, "worker threads (0 = every core)")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
   CLI::Option* perception =
       app.add_option("--perception", a.perception, "perception in the loop (default: the mission file's)")
           ->check(td::app::one_of_names(tdm::perception_registry().names()))

@@ -23,6 +23,19 @@ std::vector<Scenario> campaign_short_scenarios() {
   return s;
 }
 
+/// Three 10 s Ground scenarios, and options seeing them at 160×120.
+std::vector<Scenario> three_short_scenarios() {
+  std::vector<Scenario> s = random_scenarios(40, 3, MapKind::Ground);
+  for (auto& x : s) x.time_limit = 10;
+  return s;
+}
+CampaignOptions small_camera_options() {
+  CampaignOptions o;
+  o.run.camera.width = 160;
+  o.run.camera.height = 120;
+  return o;
+}
+
 TEST(Campaign, SameResultsForAnyThreadCount) {
   const std::vector<Scenario> scenarios = campaign_short_scenarios();
   CampaignOptions o;
@@ -72,11 +85,8 @@ TEST(Campaign, SameResultsForAnyThreadCount) {
 // order, whichever thread finishes), each index once, after that
 // scenario's run (its `inspect` came first), with a finite ETA.
 TEST(Campaign, ProgressCountsEachScenarioOnceUpToTheTotal) {
-  std::vector<Scenario> scenarios = random_scenarios(40, 3, MapKind::Ground);
-  for (auto& x : scenarios) x.time_limit = 10;
-  CampaignOptions o;
-  o.run.camera.width = 160;
-  o.run.camera.height = 120;
+  const std::vector<Scenario> scenarios = three_short_scenarios();
+  CampaignOptions o = small_camera_options();
   o.threads = 2;
   std::vector<touchdown::Progress> calls;
   std::mutex inspected_mutex;
@@ -116,11 +126,8 @@ TEST(Campaign, ProgressCountsEachScenarioOnceUpToTheTotal) {
 // campaign on one thread returns that scenario alone, the same as it is in
 // the whole campaign.
 TEST(Campaign, ACancelledCampaignReturnsTheScenariosThatRan) {
-  std::vector<Scenario> scenarios = random_scenarios(40, 3, MapKind::Ground);
-  for (auto& x : scenarios) x.time_limit = 10;
-  CampaignOptions o;
-  o.run.camera.width = 160;
-  o.run.camera.height = 120;
+  const std::vector<Scenario> scenarios = three_short_scenarios();
+  CampaignOptions o = small_camera_options();
   std::atomic<bool> cancel{false};
   o.cancel = &cancel;
   o.progress = [&](const touchdown::Progress&) { cancel = true; };
