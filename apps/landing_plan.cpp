@@ -191,12 +191,15 @@ td::detail::PlotFrame panel(double x0, double y0, double w, double h, const Rang
   return f;
 }
 
-const char* kAxisColour[3] = {"#d62728", "#2ca02c", "#1f77b4"};  // x, y, z
-constexpr const char* kTrajectory = "#1f3f9f";
-constexpr const char* kRear = "#ff7f0e";
-constexpr const char* kTouchdown = "#2ca02c";
-constexpr const char* kFov = "#9467bd";
-constexpr const char* kObstacle = "#6b6b6b";
+namespace palette = td::detail::palette;
+const char* kAxisColour[3] = {palette::kRed, palette::kGreen, palette::kBlue};  // x, y, z
+constexpr const char* kTrajectory = palette::kBlue;
+constexpr const char* kRear = palette::kOrange;
+constexpr const char* kTouchdown = palette::kGreen;
+constexpr const char* kFov = palette::kPurple;
+constexpr const char* kObstacle = palette::kGrey;
+const std::string kStartMark = std::string(" fill='") + palette::kGreen + "' stroke='black'";
+const std::string kGoalMark = std::string(" fill='") + palette::kRed + "' stroke='black'";
 constexpr const char* kLimitStyle = " stroke='black' stroke-dasharray='7,4' stroke-width='1.3'";
 constexpr const char* kBoundaryStyle = " stroke='#777' stroke-dasharray='2,3'";
 
@@ -360,8 +363,8 @@ void draw_view(td::detail::SvgWriter& svg, const View& view, const Scene& scene,
     }
   }
   const Eigen::Vector2d s = to_px(in.problem->start.p), g = to_px(in.goal.p);
-  svg.circle(s.x(), s.y(), 6, " fill='#17a317' stroke='black'");
-  svg.diamond(g.x(), g.y(), 6, " fill='#d62728' stroke='black'");
+  svg.circle(s.x(), s.y(), 6, kStartMark);
+  svg.diamond(g.x(), g.y(), 6, kGoalMark);
   svg.end_clip();
 }
 
@@ -437,8 +440,8 @@ void draw_legend(td::detail::SvgWriter& svg, double legend_y, const Scene& scene
       svg.circle(x, y, 2.8, std::string(" fill='white' stroke='") + kTrajectory + "'");
     });
   }
-  shown.entry("start", [&](double x, double y) { svg.circle(x, y, 6, " fill='#17a317' stroke='black'"); });
-  shown.entry("goal", [&](double x, double y) { svg.diamond(x, y, 6, " fill='#d62728' stroke='black'"); });
+  shown.entry("start", [&](double x, double y) { svg.circle(x, y, 6, kStartMark); });
+  shown.entry("goal", [&](double x, double y) { svg.diamond(x, y, 6, kGoalMark); });
   if (in.result->corridor.ok()) {
     shown.entry("rear corridor", box(kRear, " fill-opacity='0.3'"));
     shown.entry("touchdown corridor", box(kTouchdown, " fill-opacity='0.3'"));

@@ -29,6 +29,7 @@
 #include "core/svg_plot.hpp"
 #include "system_option.hpp"
 #include "touchdown/core/atomic_file.hpp"
+#include "touchdown/core/statistics.hpp"
 #include "touchdown/scenario/campaign.hpp"
 #include "touchdown/scenario/contract.hpp"
 #include "touchdown/scenario/dataset.hpp"
@@ -180,13 +181,6 @@ using Video = td::app::VideoFile;
 
 std::string percent(int n, int of) { return format_fixed(of > 0 ? 100.0 * n / of : 0.0, 1) + " %"; }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const std::size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
-
 std::string campaign_csv(const ts::CampaignResult& c, const std::vector<std::string>& names) {
   std::ostringstream os;
   os << "scenario,map,violation,type,landed,dtl,ttl,false_detection,flight_s,frames,wall_s,render_s,system_s,"
@@ -260,8 +254,8 @@ void print_campaign(const ts::CampaignResult& c, const std::string& source, cons
     std::cout << "failed     " << s.system_failed << " runs: the system under test failed (first, scenario "
               << (first - c.entries.begin()) << ": " << first->outcome.failure << ")\n";
   }
-  std::cout << "landed     " << dtl.size() << ": median DTL " << format_fixed(median(dtl), 2) << " m, median TTL "
-            << format_fixed(median(ttl), 1) << " s\n"
+  std::cout << "landed     " << dtl.size() << ": median DTL " << format_fixed(td::median(dtl), 2) << " m, median TTL "
+            << format_fixed(td::median(ttl), 1) << " s\n"
             << "time       " << format_fixed(s.wall_s, 1) << " s wall on " << td::resolve_threads(o.threads)
             << " threads for " << format_fixed(s.flight_s, 0) << " s of flight ("
             << format_fixed(s.wall_s > 0 ? s.flight_s / s.wall_s : 0.0, 0) << "x real time); per scenario "
@@ -895,7 +889,7 @@ std::string bench_plot(const std::vector<std::string>& names, const std::vector<
     if (std::find(weathers.begin(), weathers.end(), l.weather) == weathers.end()) weathers.push_back(l.weather);
   }
   std::sort(weathers.begin(), weathers.end());
-  const std::array<const char*, 4> colours = {"#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd"};
+  const auto& colours = td::detail::palette::kSeries;
   const int columns = 5, rows = std::max(1, static_cast<int>((weathers.size() + columns - 1) / columns));
   const double panel_w = 150, panel_h = 130, gap_x = 42, gap_y = 58, left = 62, top = 70;
   td::detail::SvgWriter svg(static_cast<int>(left + columns * (panel_w + gap_x) + 10),
@@ -1039,7 +1033,7 @@ Json bench_report(const BenchArgs& a, const std::vector<std::string>& names,
     }
     const double per_k = none ? 1000.0 * fp / none : 0.0;
     const double per_k_d = none_distract ? 1000.0 * fp_distract / none_distract : 0.0;
-    const double med = median(ms);
+    const double med = td::median(ms);
     tail << names[d] << ": " << format_fixed(per_k, 1) << " false positives per 1000 frames without the target ("
          << none << " frames; " << format_fixed(per_k_d, 1) << " on the " << none_distract
          << " with distractors in view), " << format_fixed(med, 2) << " ms per frame (median, one core)\n";

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "app_common.hpp"
+#include "touchdown/core/statistics.hpp"
 #include "touchdown/core/units.hpp"
 #include "touchdown/pose/camera.hpp"
 #include "touchdown/pose/constellation.hpp"
@@ -630,12 +631,6 @@ void record_estimate(const tp::SequenceFrame& f, const tp::PoseEstimate& e, doub
   if (jsonl) run.out += pose_json(f.name, e, elapsed) + "\n";
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
-
 double mean(const std::vector<double>& v) {
   double s = 0;
   for (double x : v) s += x;
@@ -660,8 +655,8 @@ void print_sequence_summary(const Args& a, std::size_t frames, const SequenceRun
               << " without colour (grey): the LED method finds the LEDs by their colour\n";
   }
   std::cout << "  reprojection    median "
-            << (run.rms.empty() ? std::string("n/a") : format_fixed(median(run.rms), 3) + " px") << "\n"
-            << "  time per frame  median " << format_fixed(median(run.ms), 3) << " ms\n";
+            << (run.rms.empty() ? std::string("n/a") : format_fixed(td::upper_median(run.rms), 3) + " px") << "\n"
+            << "  time per frame  median " << format_fixed(td::upper_median(run.ms), 3) << " ms\n";
   if (!run.pos_err.empty()) {
     std::cout << "  vs ground truth mean position error " << format_fixed(mean(run.pos_err), 4) << " m, orientation "
               << format_fixed(mean(run.rot_err), 4) << " rad (" << run.pos_err.size() << " frames)\n"

@@ -56,6 +56,28 @@ std::vector<double> ticks(double lo, double hi, double step);
 /// "#rrggbb", each component clamped to [0, 255].
 std::string rgb_colour(int red, int green, int blue);
 
+/// The one palette of every touchdown figure: Tableau 10's colours
+/// (matplotlib's default cycle), which stay distinct for the common colour
+/// vision deficiencies in this order's first four. A series, a state or a
+/// verdict takes a named colour; the n-th line of a figure takes
+/// kSeries[n % size].
+namespace palette {
+inline constexpr const char* kBlue = "#1f77b4";
+inline constexpr const char* kOrange = "#ff7f0e";
+inline constexpr const char* kGreen = "#2ca02c";
+inline constexpr const char* kRed = "#d62728";
+inline constexpr const char* kPurple = "#9467bd";
+inline constexpr const char* kBrown = "#8c564b";
+inline constexpr const char* kPink = "#e377c2";
+inline constexpr const char* kGrey = "#7f7f7f";
+inline constexpr const char* kOlive = "#bcbd22";
+inline constexpr const char* kCyan = "#17becf";
+/// Below the data: light grey fills, dark ink.
+inline constexpr const char* kLight = "#dddddd";
+inline constexpr const char* kInk = "#2c2c2c";
+inline constexpr std::array<const char*, 8> kSeries{kBlue, kRed, kGreen, kOrange, kPurple, kBrown, kPink, kGrey};
+}  // namespace palette
+
 // ----------------------------------------------------------------- axes --
 
 /// One axis of a plot frame.

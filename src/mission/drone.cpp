@@ -11,13 +11,13 @@
 #include <vector>
 
 #include "../twin/ode_util.hpp"
-#include "checks.hpp"
+#include "core/checks.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::mission {
 namespace {
 
-using detail::positive;
+using touchdown::detail::positive;
 using twin::detail::rotation_of;
 using twin::detail::to_ode;
 using twin::detail::vec_of;

@@ -6,14 +6,14 @@
 #include <cmath>
 #include <numbers>
 
-#include "checks.hpp"
+#include "core/checks.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/units.hpp"
 
 namespace touchdown::mission {
 namespace {
 
-using detail::positive;
+using touchdown::detail::positive;
 
 plan::PadMotion motion_of(const PadState& pad) {
   plan::PadMotion m;

@@ -8,17 +8,18 @@
 #include <map>
 #include <numbers>
 
-#include "checks.hpp"
+#include "core/checks.hpp"
 #include "touchdown/core/batch.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/core/random_vector.hpp"
+#include "touchdown/core/statistics.hpp"
 
 namespace touchdown::mission {
 namespace {
 
-using detail::positive;
-using detail::probability;
+using touchdown::detail::positive;
+using touchdown::detail::probability;
 
 // The drone's position estimate: per axis a Kalman filter on [p, v] driven
 // by the accelerometer, corrected by position measurements that arrive
@@ -144,13 +145,6 @@ struct PositionFix {
   Eigen::Vector3d p_world = Eigen::Vector3d::Zero();
   double sigma = 0;
 };
-
-double median_of(std::vector<double> v) {
-  if (v.empty()) return 0;
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
 
 double nutation_between(const Eigen::Matrix3d& R_a, const Eigen::Matrix3d& R_b) {
   return std::acos(std::clamp((R_a.col(2)).dot(R_b.col(2)), -1.0, 1.0));
@@ -296,10 +290,10 @@ class Flight {
       res_.message = "no landing within the timeout";
     }
     res_.landing_attempts = machine_.landing_attempts();
-    res_.replan_median_ms = median_of(replan_ms_);
+    res_.replan_median_ms = upper_median(replan_ms_);
     if (!pose_errors_.empty()) {
       res_.pose_error_max = *std::max_element(pose_errors_.begin(), pose_errors_.end());
-      res_.pose_error_median = median_of(std::move(pose_errors_));
+      res_.pose_error_median = upper_median(std::move(pose_errors_));
     }
     return std::move(res_);
   }

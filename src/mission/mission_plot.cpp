@@ -19,8 +19,10 @@ using detail::SvgWriter;
 
 // The colours of the series (drone, estimate, setpoint, pad) and of the
 // states (searching … shutdown).
-constexpr std::array<const char*, 4> kSeries{"#1f5fbf", "#2ca02c", "#d62728", "#7f7f7f"};
-constexpr std::array<const char*, 5> kStates{"#bbbbbb", "#9467bd", "#17becf", "#ff7f0e", "#2c2c2c"};
+namespace palette = touchdown::detail::palette;
+constexpr std::array<const char*, 4> kSeries{palette::kBlue, palette::kGreen, palette::kRed, palette::kGrey};
+constexpr std::array<const char*, 5> kStates{palette::kLight, palette::kPurple, palette::kCyan, palette::kOrange,
+                                             palette::kInk};
 
 std::string stroke(const char* colour, double width = 1.4, const char* dash = nullptr) {
   std::string s =
@@ -205,7 +207,7 @@ std::string plot_top_view(const MissionResult& r, const std::string& title) {
   }
   if (!tr.empty()) {
     svg.square(f.px(dx.front()), f.py(dy.front()), 5, " fill='white' stroke='black'");
-    svg.square(f.px(px.front()), f.py(py.front()), 5, " fill='white' stroke='#7f7f7f'");
+    svg.square(f.px(px.front()), f.py(py.front()), 5, std::string(" fill='white' stroke='") + palette::kGrey + "'");
   }
   SvgLegend legend(svg, 622, 60);
   legend.entry("drone", [&](double x, double y) { svg.line(x - 8, y, x + 8, y, stroke(kSeries[0], 2)); });
@@ -259,7 +261,7 @@ std::string plot_envelope(const std::vector<EnvelopeCell>& cells, const std::str
     const int green = s < 0.5 ? static_cast<int>(60 + s * 2 * 150) : 190;
     const double x = L + i * cw, y = T + H - (j + 1) * ch;
     if (!c.valid) {
-      svg.rect(x, y, cw, ch, " fill='#dddddd' stroke='white'");
+      svg.rect(x, y, cw, ch, std::string(" fill='") + palette::kLight + "' stroke='white'");
       svg.text(x + cw / 2, y + ch / 2 + 4, "n/a", " text-anchor='middle' font-size='12' fill='#666'");
       continue;
     }

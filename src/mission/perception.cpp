@@ -3,14 +3,14 @@
 
 #include <cmath>
 
-#include "checks.hpp"
+#include "core/checks.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random_vector.hpp"
 
 namespace touchdown::mission {
 namespace {
 
-using detail::non_negative;
+using touchdown::detail::non_negative;
 
 }  // namespace
 

@@ -3,13 +3,13 @@
 
 #include <cmath>
 
-#include "checks.hpp"
+#include "core/checks.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::mission {
 namespace {
 
-using detail::positive;
+using touchdown::detail::positive;
 
 }  // namespace
 

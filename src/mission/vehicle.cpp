@@ -6,13 +6,13 @@
 #include <cmath>
 #include <numbers>
 
-#include "checks.hpp"
+#include "core/checks.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::mission {
 namespace {
 
-using detail::positive;
+using touchdown::detail::positive;
 
 constexpr double kPi = std::numbers::pi;
 

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "pose/dense_solvers.hpp"
+#include "touchdown/core/statistics.hpp"
 #include "touchdown/core/units.hpp"
 
 namespace touchdown::pose::detail {
@@ -132,10 +133,9 @@ double depth_misfit(const Constellation& k, std::span<const Blob> blobs, const s
   // The depth measured at a blob may sit on the LED's housing or board, a
   // common offset: the branches differ in the pattern (the tilt), so the
   // median offset is removed first.
-  const auto mid = sorted.begin() + static_cast<std::ptrdiff_t>(n / 2);
-  std::nth_element(sorted.begin(), mid, sorted.begin() + static_cast<std::ptrdiff_t>(n));
+  const double offset = upper_median_in_place(std::span(sorted).first(n));
   double chi2 = 0;
-  for (std::size_t i = 0; i < n; ++i) chi2 += std::pow((r[i] - *mid) / s[i], 2);
+  for (std::size_t i = 0; i < n; ++i) chi2 += std::pow((r[i] - offset) / s[i], 2);
   return chi2;
 }
 

@@ -5,6 +5,8 @@
 #include <limits>
 #include <numbers>
 
+#include "touchdown/core/statistics.hpp"
+
 namespace touchdown::pose::detail {
 
 namespace {
@@ -52,9 +54,8 @@ void gather(const Constellation& k, std::span<const Blob> blobs, const std::arra
       areas[n_areas++] = blobs[static_cast<std::size_t>(blob_of_led[l])].area / (partner[l] >= 0 ? 2.0 : 1.0);
     }
   }
-  const auto mid = areas.begin() + static_cast<std::ptrdiff_t>(n_areas / 2);
-  std::nth_element(areas.begin(), mid, areas.begin() + static_cast<std::ptrdiff_t>(n_areas));
-  const double oversized = n_areas > 0 ? kMergedAreaRatio * *mid : kInf;
+  const double oversized =
+      n_areas > 0 ? kMergedAreaRatio * upper_median_in_place(std::span(areas).first(n_areas)) : kInf;
   int joined = 0, split = 0, merged = 0, points = 0;
   for (std::size_t l = 0; l < k.leds.size(); ++l) {
     if (blob_of_led[l] < 0 || (partner[l] >= 0 && partner[l] < static_cast<int>(l))) continue;

@@ -14,6 +14,7 @@
 #include "core/io_util.hpp"
 #include "core/yaml_util.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/statistics.hpp"
 
 namespace touchdown::pose {
 
@@ -386,9 +387,7 @@ DepthScaleCheck check_depth_scale(const DepthImageView& depth, double depth_scal
   }
   c.samples = static_cast<int>(v.size());
   if (v.empty()) return c;
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  c.median_raw = *mid;
+  c.median_raw = upper_median_in_place(std::span(v));
   c.median_m = c.median_raw * depth_scale;
   c.conclusive = c.samples >= min_samples;
   if (!c.conclusive) return c;

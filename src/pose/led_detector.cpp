@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/statistics.hpp"
 #include "touchdown/core/units.hpp"
 
 namespace touchdown::pose {
@@ -460,9 +461,7 @@ struct LedDetector::Impl {
       }
     }
     if (n == 0) return true;  // no measurement (common on bright LEDs): keep, without a 3-D point
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n / 2),
-                     v.begin() + static_cast<std::ptrdiff_t>(n));
-    const double z = v[n / 2] * camera.depth_scale;
+    const double z = upper_median_in_place(std::span(v).first(static_cast<std::size_t>(n))) * camera.depth_scale;
     if (z < options.min_depth || z > options.max_depth) return false;
     b.has_point = true;
     b.p_camera = camera.pinhole().back_project(b.uv_undistorted, z);

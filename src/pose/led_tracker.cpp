@@ -11,6 +11,7 @@
 #include "pose/assignment.hpp"
 #include "pose/pose_filter.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/statistics.hpp"
 #include "touchdown/core/units.hpp"
 
 namespace touchdown::pose {
@@ -578,13 +579,10 @@ struct LedTracker::Impl {
   // The detection-noise variance floor (TrackerOptions::noise_pool_frames).
   double noise_floor() {
     const double sd = options.correspondence.detection_sigma_px;
-    const int n = static_cast<int>(noise_pool.size());
     if (!pool_vouches()) return sd * sd;
     noise_sorted.assign(noise_pool.begin(), noise_pool.end());
-    const auto mid = noise_sorted.begin() + n / 2;
-    std::nth_element(noise_sorted.begin(), mid, noise_sorted.end());
     const double lo = options.min_detection_sigma_px;
-    return std::max(*mid, lo * lo);
+    return std::max(upper_median_in_place(std::span(noise_sorted)), lo * lo);
   }
 
   // A fit's σ̂² on k degrees of freedom enters the pool over the median of

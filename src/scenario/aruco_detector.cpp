@@ -8,8 +8,8 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
-#include "pose/sim/aruco_dictionary.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/pose/sim/aruco_dictionary.hpp"
 
 namespace touchdown::scenario::detail {
 
@@ -18,9 +18,9 @@ cv::Mat as_mat(const GrayImageView& v) {
 }
 
 cv::Ptr<cv::aruco::Dictionary> aruco_dictionary(std::string_view name) {
-  const auto* dict = pose::detail::find_aruco_dictionary(name);
+  const auto* dict = pose::find_aruco_dictionary(name);
   if (!dict) throw InvalidArgument("dictionary: unknown " + std::string(name));
-  return cv::aruco::getPredefinedDictionary(dict->id);
+  return cv::aruco::getPredefinedDictionary(dict->opencv_id);
 }
 
 ArucoDetector::ArucoDetector(bool roi, int full_frame_period)

@@ -6,10 +6,10 @@
 #include <cmath>
 #include <numbers>
 
-#include "pose/sim/aruco_dictionary.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/core/units.hpp"
+#include "touchdown/pose/sim/aruco_dictionary.hpp"
 
 namespace touchdown::scenario {
 
@@ -123,7 +123,7 @@ DatasetFrame label_frame(const Scenario& s, const CameraOptions& camera, const S
 }
 
 bool DatasetOptions::validate(std::string* why) const {
-  const auto* dict = pose::detail::find_aruco_dictionary(dictionary);
+  const auto* dict = pose::find_aruco_dictionary(dictionary);
   if (!dict) return invalid(why, "marker: unknown dictionary " + dictionary);
   if (marker_id < 0 || marker_id >= dict->codes)
     return invalid(why, "marker: " + dictionary + " has ids 0.." + std::to_string(dict->codes - 1));

@@ -15,9 +15,7 @@ namespace touchdown::scenario {
 namespace {
 
 using detail::in_range;
-
-/// An integer option in [lo, hi].
-bool in_range_int(int v, int lo, int hi) { return v >= lo && v <= hi; }
+using touchdown::detail::in_range_int;
 
 /// Guidance of both systems (the first fields and the guidance block).
 bool validate_guidance(const MlsOptions& o, std::string* why) {

@@ -11,9 +11,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "pose/sim/aruco_dictionary.hpp"
 #include "scenario/aruco_detector.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/pose/sim/aruco_dictionary.hpp"
 
 namespace touchdown::scenario::detail {
 
@@ -69,7 +69,7 @@ ModelManifest parse_model_manifest(std::string_view text, const std::filesystem:
   get("output", "stride", m.stride);
   get("output", "channels", m.channels);
   get("output", "corner_scale", m.corner_scale);
-  const auto* dict = pose::detail::find_aruco_dictionary(m.dictionary);
+  const auto* dict = pose::find_aruco_dictionary(m.dictionary);
   if (!dict) model_error(path, "marker.dictionary: unknown " + m.dictionary);
   if (m.marker_id < 0 || m.marker_id >= dict->codes) model_error(path, "marker.id: not in the dictionary");
   if (m.stride < 1 || m.stride > 64) model_error(path, "output.stride: must be in [1, 64]");
@@ -348,8 +348,8 @@ void LearnedDetector::verify(const cv::Mat& gray, std::vector<MarkerDetection>& 
 }
 
 void LearnedDetector::reset(std::string_view dictionary, int marker_id) {
-  const auto* want = pose::detail::find_aruco_dictionary(dictionary);
-  const auto* have = pose::detail::find_aruco_dictionary(manifest_.dictionary);
+  const auto* want = pose::find_aruco_dictionary(dictionary);
+  const auto* have = pose::find_aruco_dictionary(manifest_.dictionary);
   if (!want || want != have || marker_id != manifest_.marker_id)
     throw InvalidArgument(
         "learned detector: model " + path_.string() + " detects " + manifest_.dictionary + " id " +

@@ -7,9 +7,9 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
-#include "pose/sim/aruco_dictionary.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/units.hpp"
+#include "touchdown/pose/sim/aruco_dictionary.hpp"
 
 namespace touchdown::scenario::detail {
 
@@ -36,7 +36,7 @@ void OpencvMls::reset(const SystemSetup& setup) {
   if (!setup.camera.validate(&why)) throw InvalidArgument("landing system: camera: " + why);
   if (!in_range(setup.drone_radius, 0.01, 5))
     throw InvalidArgument("landing system: drone_radius: must be in [0.01, 5] m");
-  if (!pose::detail::find_aruco_dictionary(setup.dictionary))
+  if (!pose::find_aruco_dictionary(setup.dictionary))
     throw InvalidArgument("landing system: dictionary: unknown " + setup.dictionary);
   setup_ = setup;
   detector_->reset(setup.dictionary, setup.marker_id);

@@ -18,6 +18,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/checks.hpp"
 #include "scenario/aruco_detector.hpp"
 #include "touchdown/core/enum_names.hpp"
 #include "touchdown/scenario/landing_system.hpp"
@@ -25,7 +26,7 @@
 
 namespace touchdown::scenario::detail {
 
-inline bool in_range(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
+using touchdown::detail::in_range;
 
 /// `v` shortened to at most `max_norm`.
 inline Eigen::Vector2d limit(const Eigen::Vector2d& v, double max_norm) {

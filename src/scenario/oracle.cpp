@@ -6,10 +6,10 @@
 #include <cmath>
 #include <opencv2/aruco.hpp>
 
-#include "pose/sim/aruco_dictionary.hpp"
 #include "scenario/render_marker.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/units.hpp"
+#include "touchdown/pose/sim/aruco_dictionary.hpp"
 
 namespace touchdown::scenario {
 
@@ -32,11 +32,11 @@ bool OracleOptions::validate(std::string* why) const {
 TargetOracle::TargetOracle(const Scenario& scenario, const OracleOptions& options) : options_(options) {
   std::string why;
   if (!options.validate(&why)) throw InvalidArgument("oracle." + why);
-  const auto* info = pose::detail::find_aruco_dictionary(scenario.marker.dictionary);
+  const auto* info = pose::find_aruco_dictionary(scenario.marker.dictionary);
   if (!info) throw InvalidArgument("marker.dictionary: unknown " + scenario.marker.dictionary);
   if (scenario.marker.id < 0 || scenario.marker.id >= info->codes)
     throw InvalidArgument("marker.id: " + std::to_string(scenario.marker.id) + " is not in " + std::string(info->name));
-  const cv::Ptr<cv::aruco::Dictionary> dict = cv::aruco::getPredefinedDictionary(info->id);
+  const cv::Ptr<cv::aruco::Dictionary> dict = cv::aruco::getPredefinedDictionary(info->opencv_id);
   // The renderer's own cells (with the white margin): the code as printed.
   const cv::Mat cells =
       render_detail::marker_cells(dict, info->bits, DistractorKind::WrongId, scenario.marker.id, 0, 0, 0);

@@ -38,11 +38,11 @@
 #include <optional>
 #include <string>
 
-#include "pose/sim/aruco_dictionary.hpp"
 #include "scenario/render_impl.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/core/units.hpp"
+#include "touchdown/pose/sim/aruco_dictionary.hpp"
 #include "touchdown/scenario/camera.hpp"
 #include "touchdown/scenario/geometry.hpp"
 
@@ -69,13 +69,12 @@ namespace {
 
 /// Checks the camera options and the scenario's marker and distractors
 /// (throws InvalidArgument); returns the marker's dictionary.
-const pose::detail::ArucoDictionaryInfo* checked_dictionary(const Scenario& scenario, const CameraOptions& camera) {
+const pose::ArucoDictionaryInfo* checked_dictionary(const Scenario& scenario, const CameraOptions& camera) {
   std::string why;
   if (!camera.validate(&why)) throw InvalidArgument("camera." + why);
-  const pose::detail::ArucoDictionaryInfo* dict_info = pose::detail::find_aruco_dictionary(scenario.marker.dictionary);
+  const pose::ArucoDictionaryInfo* dict_info = pose::find_aruco_dictionary(scenario.marker.dictionary);
   if (!dict_info) {
-    throw InvalidArgument("marker.dictionary: unknown " +
-                          pose::detail::unknown_aruco_dictionary(scenario.marker.dictionary));
+    throw InvalidArgument("marker.dictionary: unknown " + pose::unknown_aruco_dictionary(scenario.marker.dictionary));
   }
   auto check_id = [&](const std::string& key, int id) {
     if (id < 0 || id >= dict_info->codes) {
@@ -99,7 +98,7 @@ const pose::detail::ArucoDictionaryInfo* checked_dictionary(const Scenario& scen
 }  // namespace
 
 Renderer::Renderer(const Scenario& scenario, const CameraOptions& camera) : impl_(std::make_unique<Impl>()) {
-  const pose::detail::ArucoDictionaryInfo* dict_info = checked_dictionary(scenario, camera);
+  const pose::ArucoDictionaryInfo* dict_info = checked_dictionary(scenario, camera);
 
   Impl& m = *impl_;
   m.scenario = scenario;
@@ -117,7 +116,7 @@ Renderer::Renderer(const Scenario& scenario, const CameraOptions& camera) : impl
 }
 
 void Renderer::Impl::build_ground_and_markers(Impl& m, const Scenario& scenario,
-                                              const pose::detail::ArucoDictionaryInfo* dict_info) {
+                                              const pose::ArucoDictionaryInfo* dict_info) {
   const Weather& w = scenario.weather;
   // Ground texture and cover: shared by every renderer of the same map.
   MapTextureKey key;
@@ -131,7 +130,7 @@ void Renderer::Impl::build_ground_and_markers(Impl& m, const Scenario& scenario,
   m.map_shift = kGroundTexel * Eigen::Vector2d(placement.x, placement.y);
   const CoverSampler& cover = m.map->cover;
 
-  const auto dict = cv::aruco::getPredefinedDictionary(dict_info->id);
+  const auto dict = cv::aruco::getPredefinedDictionary(dict_info->opencv_id);
   const int bits = dict_info->bits;
   for (std::size_t i = 0; i < scenario.distractors.size(); ++i) {
     const Distractor& d = scenario.distractors[i];

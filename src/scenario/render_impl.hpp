@@ -13,12 +13,12 @@
 #include <optional>
 #include <vector>
 
-#include "pose/sim/aruco_dictionary.hpp"
 #include "scenario/render_internal.hpp"
 #include "scenario/render_map.hpp"
 #include "scenario/render_marker.hpp"
 #include "scenario/render_mesh.hpp"
 #include "touchdown/core/random.hpp"
+#include "touchdown/pose/sim/aruco_dictionary.hpp"
 #include "touchdown/scenario/camera.hpp"
 
 namespace touchdown::scenario {
@@ -89,8 +89,7 @@ struct Renderer::Impl {
   void render(const SceneState& state, CameraFrame& out);
 
   // Construction (render.cpp), in this order.
-  static void build_ground_and_markers(Impl& m, const Scenario& scenario,
-                                       const pose::detail::ArucoDictionaryInfo* dict_info);
+  static void build_ground_and_markers(Impl& m, const Scenario& scenario, const pose::ArucoDictionaryInfo* dict_info);
   static void build_sun(Impl& m, const Scenario& scenario);
   static void build_objects(Impl& m, const Scenario& scenario);
   static void build_fog(Impl& m, const Scenario& scenario);

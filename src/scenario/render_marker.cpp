@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/aruco.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "touchdown/core/random.hpp"

@@ -8,6 +8,8 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
+#include "touchdown/core/statistics.hpp"
+
 namespace touchdown::scenario::render_detail {
 
 void swizzle_into(const cv::Mat& bgra, std::uint32_t* dst) {
@@ -58,9 +60,7 @@ float quantile(const cv::Mat& noise, double fraction) {
     const float* row = noise.ptr<float>(y);
     for (int x = 0; x < noise.cols; x += 4) v.push_back(row[x]);
   }
-  const auto k = static_cast<std::size_t>(std::clamp(fraction, 0.0, 1.0) * static_cast<double>(v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  return v[k];
+  return quantile_in_place(std::span(v), fraction);
 }
 
 /// Soft coverage mask: ≈ `fraction` of the texels covered, 8 cm soft edges.

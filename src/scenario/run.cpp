@@ -8,6 +8,7 @@
 
 #include "core/format.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/statistics.hpp"
 #include "touchdown/core/units.hpp"
 #include "touchdown/scenario/geometry.hpp"
 
@@ -497,9 +498,7 @@ Observability summarise(const ScenarioResult& r, const OracleOptions& o, double 
     if (why[i] > most) most = why[i], s.probe_failure = static_cast<Sight>(i);
   }
   if (!contrast.empty()) {
-    std::nth_element(contrast.begin(), contrast.begin() + static_cast<std::ptrdiff_t>(contrast.size() / 2),
-                     contrast.end());
-    s.probe_contrast = contrast[contrast.size() / 2];
+    s.probe_contrast = upper_median_in_place(std::span(contrast));
   }
   return s;
 }

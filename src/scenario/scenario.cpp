@@ -10,10 +10,10 @@
 #include <string>
 #include <utility>
 
-#include "pose/sim/aruco_dictionary.hpp"
 #include "scenario/scenario_internal.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/units.hpp"
+#include "touchdown/pose/sim/aruco_dictionary.hpp"
 
 namespace touchdown::scenario {
 
@@ -217,7 +217,7 @@ struct Checker {
   }
 };
 
-void check_marker_like(Checker& c, const Scenario& s, const pose::detail::ArucoDictionaryInfo& dict) {
+void check_marker_like(Checker& c, const Scenario& s, const pose::ArucoDictionaryInfo& dict) {
   if (c.failed()) return;
   if (s.marker.id >= dict.codes) {
     c.fail("marker.id: " + std::string(dict.name) + " has ids 0.." + std::to_string(dict.codes - 1) + ", got " +
@@ -286,9 +286,8 @@ bool Scenario::validate(std::string* why) const {
   }
   c.value("time_limit", "time_limit", time_limit);
 
-  const auto* dict = pose::detail::find_aruco_dictionary(marker.dictionary);
-  if (!c.failed() && !dict)
-    c.fail("marker.dictionary: unknown " + pose::detail::unknown_aruco_dictionary(marker.dictionary));
+  const auto* dict = pose::find_aruco_dictionary(marker.dictionary);
+  if (!c.failed() && !dict) c.fail("marker.dictionary: unknown " + pose::unknown_aruco_dictionary(marker.dictionary));
   c.value("marker.id", "marker.id", marker.id);
   c.value("marker.size", "marker.size", marker.size);
   c.vec2("marker.position", "marker.position", marker.position);
@@ -379,7 +378,7 @@ bool Scenario::validate(std::string* why) const {
 // ---- public: the target ---------------------------------------------------------------
 
 void set_target(Scenario& s, const std::string& dictionary, int id) {
-  const auto* dict = pose::detail::find_aruco_dictionary(dictionary);
+  const auto* dict = pose::find_aruco_dictionary(dictionary);
   if (!dict) throw InvalidArgument("marker: unknown dictionary " + dictionary);
   if (id < 0 || id >= dict->codes)
     throw InvalidArgument("marker: " + dictionary + " has ids 0.." + std::to_string(dict->codes - 1) + ", got " +

@@ -7,9 +7,9 @@
 #include <numbers>
 #include <string>
 
-#include "pose/sim/aruco_dictionary.hpp"
 #include "scenario/scenario_internal.hpp"
 #include "touchdown/core/random.hpp"
+#include "touchdown/pose/sim/aruco_dictionary.hpp"
 #include "touchdown/scenario/scenario.hpp"
 
 namespace touchdown::scenario {
@@ -70,7 +70,7 @@ Eigen::Vector3d draw_size(Drawer& d, std::string_view list, std::string_view kin
   return size;
 }
 
-void draw_distractors(Drawer& d, Scenario& s, const pose::detail::ArucoDictionaryInfo& dict) {
+void draw_distractors(Drawer& d, Scenario& s, const pose::ArucoDictionaryInfo& dict) {
   const int n = d.integer(0, 3);
   const Footprint target = marker_square(s.marker.position, s.marker.yaw_deg, s.marker.size, dict.bits);
   for (int k = 0; k < n; ++k) {
@@ -194,7 +194,7 @@ Scenario random_scenario(std::uint64_t seed, MapKind map) {
   // look-alike distractors can be read as the target.
   static constexpr const char* kDictionaries[] = {"4X4_50", "5X5_50", "6X6_50"};
   s.marker.dictionary = kDictionaries[d.integer(0, 2)];
-  const auto* dict = pose::detail::find_aruco_dictionary(s.marker.dictionary);
+  const auto* dict = pose::find_aruco_dictionary(s.marker.dictionary);
   s.marker.id = d.integer(0, dict->codes - 1);
   s.marker.size = d.uniform(0.5, 1.5, 100);
   s.marker.position = {d.uniform(-3, 3, 100), d.uniform(-3, 3, 100)};

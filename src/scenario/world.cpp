@@ -9,6 +9,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/checks.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/core/units.hpp"
@@ -17,13 +18,12 @@ namespace touchdown::scenario {
 
 namespace {
 
+using touchdown::detail::positive;
 constexpr double kGravity = 9.80665;
 double wrap_deg(double d) {
   d = std::fmod(d, 360.0);
   return d < 0 ? d + 360.0 : d;
 }
-
-bool positive(double v) { return std::isfinite(v) && v > 0; }
 
 }  // namespace
 

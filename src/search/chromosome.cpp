@@ -9,9 +9,9 @@
 #include <utility>
 
 #include "core/format.hpp"
-#include "pose/sim/aruco_dictionary.hpp"
 #include "scenario/scenario_internal.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/pose/sim/aruco_dictionary.hpp"
 
 namespace touchdown::search {
 
@@ -75,8 +75,8 @@ double clamp_to_kind(double v, std::string_view list, std::string_view kind, std
   return b ? std::clamp(v, b->min, b->max) : v;
 }
 
-const pose::detail::ArucoDictionaryInfo& dictionary_of(const scenario::Scenario& s) {
-  const auto* dict = pose::detail::find_aruco_dictionary(s.marker.dictionary);
+const pose::ArucoDictionaryInfo& dictionary_of(const scenario::Scenario& s) {
+  const auto* dict = pose::find_aruco_dictionary(s.marker.dictionary);
   TD_ASSERT(dict != nullptr);  // the base validated
   return *dict;
 }

@@ -71,8 +71,7 @@ std::size_t display_width(const std::string& s) {
       std::count_if(s.begin(), s.end(), [](char ch) { return (static_cast<unsigned char>(ch) & 0xC0) != 0x80; }));
 }
 
-constexpr std::array<const char*, 8> kColours{"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e",
-                                              "#9467bd", "#8c564b", "#e377c2", "#7f7f7f"};
+constexpr const auto& kColours = touchdown::detail::palette::kSeries;
 
 template <typename Get>
 std::vector<std::string> distinct(const std::vector<CompareCell>& cells, Get get) {

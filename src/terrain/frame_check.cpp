@@ -9,6 +9,7 @@
 #include "core/format.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
+#include "touchdown/core/statistics.hpp"
 #include "touchdown/core/units.hpp"
 
 namespace touchdown::terrain {
@@ -72,10 +73,8 @@ Plane refine(const std::vector<Eigen::Vector3d>& pts, Plane plane, double tol) {
 double span(std::vector<double> values) {
   const std::size_t n = values.size();
   const std::size_t lo = n / 100, hi = n - 1 - n / 100;
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(lo), values.end());
-  const double a = values[lo];
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(hi), values.end());
-  return values[hi] - a;
+  const double a = nth_smallest(std::span(values), lo);
+  return nth_smallest(std::span(values), hi) - a;
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "column_grid.hpp"
 #include "core/format.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/statistics.hpp"
 
 namespace touchdown::terrain {
 namespace {
@@ -145,13 +146,7 @@ HeightMap build_height_map(const PointCloud& cloud, const HeightMapOptions& o) {
       if (o.aggregate == CellAggregate::Max) {
         z = *std::max_element(zs.begin(), zs.end());
       } else {
-        const std::size_t mid = zs.size() / 2;
-        std::nth_element(zs.begin(), zs.begin() + static_cast<std::ptrdiff_t>(mid), zs.end());
-        z = zs[mid];
-        if (zs.size() % 2 == 0) {
-          const float below = *std::max_element(zs.begin(), zs.begin() + static_cast<std::ptrdiff_t>(mid));
-          z = 0.5f * (z + below);
-        }
+        z = median_in_place(std::span(zs));
       }
       map.set(i, j, z, CellState::Measured);
     }

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <tuple>
 
+#include "core/checks.hpp"
 #include "core/convex_hull.hpp"
 #include "core/format.hpp"
 #include "core/io_util.hpp"
@@ -199,7 +200,7 @@ bool Airframe::validate(std::string* why) const {
     if (why) *why = w;
     return false;
   };
-  auto positive = [](double v) { return v > 0 && std::isfinite(v); };
+  using touchdown::detail::positive;
   if (!positive(body_mass)) return fail("body.mass: must be positive, got " + format_general(body_mass));
   // Masses are kilograms: a multirotor body over 100 kg, a motor over 10 kg
   // or landing gear over 50 kg was almost certainly written in grams.

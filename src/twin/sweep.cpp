@@ -13,6 +13,7 @@
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/core/random_vector.hpp"
+#include "touchdown/core/statistics.hpp"
 #include "touchdown/core/units.hpp"
 
 namespace touchdown::twin {
@@ -344,18 +345,11 @@ void add_sim_to_wall_ratios(const SweepResult& sweep, std::vector<double>& ratio
   }
 }
 
-// The median of the ratios (0 when there are none).
-double median(std::vector<double> ratios) {
-  if (ratios.empty()) return 0;
-  std::nth_element(ratios.begin(), ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2), ratios.end());
-  return ratios[ratios.size() / 2];
-}
-
 // The median over runs of simulated time / wall time.
 void median_run_sim_to_wall(SweepResult& out) {
   std::vector<double> ratios;
   add_sim_to_wall_ratios(out, ratios);
-  if (!ratios.empty()) out.run_sim_to_wall = median(std::move(ratios));
+  if (!ratios.empty()) out.run_sim_to_wall = upper_median(std::move(ratios));
 }
 
 }  // namespace
@@ -504,7 +498,7 @@ SearchResult search_landing_point(const Airframe& airframe, std::shared_ptr<cons
     }
   }
   if (options.progress) options.progress(progress_since(t0, total, total, total > 0 ? total - 1 : 0));
-  out.run_sim_to_wall = median(std::move(ratios));
+  out.run_sim_to_wall = upper_median(std::move(ratios));
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (out.best < 0) {
     out.status = SweepStatus::FootprintNotCovered;

@@ -20,12 +20,13 @@ using detail::PlotFrame;
 using detail::SvgLegend;
 using detail::SvgWriter;
 
-constexpr const char* kSafe = "#2a9d3a";
-constexpr const char* kUnsafe = "#d62728";
-constexpr const char* kStrike = "#ff7f0e";
-constexpr const char* kTipped = "#7a0000";
-constexpr const char* kInvalid = "#7b3fa0";
-constexpr const char* kUnobserved = "#f4b860";
+namespace palette = touchdown::detail::palette;
+constexpr const char* kSafe = palette::kGreen;
+constexpr const char* kUnsafe = palette::kRed;
+constexpr const char* kStrike = palette::kOrange;
+constexpr const char* kTipped = palette::kBrown;
+constexpr const char* kInvalid = palette::kPurple;
+constexpr const char* kUnobserved = "#f4b860";  // a light orange hatched in brown: unknown ground
 
 // Attribute text: " fill='c'" and " stroke='c' stroke-width='w'".
 std::string fill(std::string_view colour) { return " fill='" + std::string(colour) + "'"; }
@@ -112,7 +113,7 @@ void heading_panel(SvgWriter& svg, const SweepResult& r, double ox, double oy, d
   for (const auto& hs : r.headings) {
     if (hs.scored()) line.emplace_back(X(rad_to_deg(hs.yaw)), Y(hs.score));
   }
-  svg.polyline(line, " fill='none' stroke='#1f5fbf' stroke-width='1.5'");
+  svg.polyline(line, std::string(" fill='none' stroke='") + palette::kBlue + "' stroke-width='1.5'");
   for (std::size_t j = 0; j < r.headings.size(); ++j) {
     const auto& hs = r.headings[j];
     if (!hs.scored()) continue;
@@ -217,7 +218,8 @@ std::string search_plot_svg(const SearchResult& search, const Eigen::Vector2d& r
   const double zspan = std::max(zhi - zlo, 1e-3);
   svg.raw(std::string("<defs><pattern id='unk' width='6' height='6' patternUnits='userSpaceOnUse' "
                       "patternTransform='rotate(45)'><rect width='6' height='6' fill='") +
-          kUnobserved + "'/><line x1='0' y1='0' x2='0' y2='6' stroke='#a0522d' stroke-width='2'/></pattern></defs>\n");
+          kUnobserved + "'/><line x1='0' y1='0' x2='0' y2='6' stroke='" + std::string(palette::kBrown) +
+          "' stroke-width='2'/></pattern></defs>\n");
   for (int j = 0; j < n; ++j) {
     for (int i = 0; i < n; ++i) {
       const double v = z[static_cast<std::size_t>(j) * n + i];
@@ -242,7 +244,7 @@ std::string search_plot_svg(const SearchResult& search, const Eigen::Vector2d& r
   svg.text(L - 44, T + size / 2, "y [m]", " text-anchor='middle'");
   // The search circle and the requested point.
   svg.circle(PX(requested.x()), PY(requested.y()), radius * scale,
-             fill("none") + " stroke='#1f5fbf' stroke-dasharray='5,4'");
+             fill("none") + " stroke='" + palette::kBlue + "' stroke-dasharray='5,4'");
   svg.cross(PX(requested.x()), PY(requested.y()), 6, stroke("black", 1.5));
   // Candidates, their markers sized to the grid (the nearest neighbour of
   // the requested point is one spacing away).

@@ -13,17 +13,17 @@
 #include <string_view>
 #include <tuple>
 
-#include "aruco_dictionary.hpp"
 #include "core/format.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/pose/gauss_newton.hpp"
+#include "touchdown/pose/sim/aruco_dictionary.hpp"
 
 namespace touchdown::pose {
 
-std::vector<std::string> aruco_dictionary_names() { return detail::aruco_dictionary_name_list(); }
+std::vector<std::string> aruco_dictionary_names() { return aruco_dictionary_name_list(); }
 
 std::string canonical_aruco_dictionary(std::string_view name) {
-  const detail::ArucoDictionaryInfo* d = detail::find_aruco_dictionary(name);
+  const ArucoDictionaryInfo* d = find_aruco_dictionary(name);
   return d ? std::string(d->name) : std::string();
 }
 
@@ -32,8 +32,8 @@ bool ArucoOptions::validate(std::string* why) const {
     if (why) *why = m;
     return false;
   };
-  const auto* dict = detail::find_aruco_dictionary(dictionary);
-  if (!dict) return fail("dictionary: unknown ArUco dictionary " + detail::unknown_aruco_dictionary(dictionary));
+  const auto* dict = find_aruco_dictionary(dictionary);
+  if (!dict) return fail("dictionary: unknown ArUco dictionary " + unknown_aruco_dictionary(dictionary));
   const int n = dict->codes;
   if (marker_id < 0 || marker_id >= n) {
     return fail("marker_id: " + std::to_string(marker_id) + " is not in dictionary " + std::string(dict->name) +
@@ -84,7 +84,7 @@ ArucoPoseEstimator::ArucoPoseEstimator(const CameraModel& camera, const Eigen::I
   impl->T_body_marker = T_body_marker;
   impl->T_marker_body = T_body_marker.inverse(Eigen::Isometry);
   impl->options = options;
-  impl->dictionary = cv::aruco::getPredefinedDictionary(detail::find_aruco_dictionary(options.dictionary)->id);
+  impl->dictionary = cv::aruco::getPredefinedDictionary(find_aruco_dictionary(options.dictionary)->opencv_id);
   impl->parameters = cv::aruco::DetectorParameters::create();
   // Otherwise aruco's defaults: the baseline is the pipeline people run.
   if (options.corner_refinement) impl->parameters->cornerRefinementMethod = cv::aruco::CORNER_REFINE_SUBPIX;

@@ -1,10 +1,11 @@
-#include "aruco_dictionary.hpp"
+#include "touchdown/pose/sim/aruco_dictionary.hpp"
 
 #include <array>
 #include <cctype>
 #include <mutex>
+#include <opencv2/aruco.hpp>
 
-namespace touchdown::pose::detail {
+namespace touchdown::pose {
 namespace {
 
 // OpenCV 4.6 aruco/dictionary.hpp, enum PREDEFINED_DICTIONARY_NAME, in its order.
@@ -38,7 +39,7 @@ const std::array<ArucoDictionaryInfo, kNames.size()>& table() {
     std::array<ArucoDictionaryInfo, kNames.size()> out{};
     for (std::size_t i = 0; i < kNames.size(); ++i) {
       const auto d = cv::aruco::getPredefinedDictionary(kNames[i].second);
-      out[i] = {kNames[i].first, kNames[i].second, d->bytesList.rows, d->markerSize};
+      out[i] = {kNames[i].first, static_cast<int>(kNames[i].second), d->bytesList.rows, d->markerSize};
     }
     return out;
   }();
@@ -75,4 +76,4 @@ std::string unknown_aruco_dictionary(std::string_view name) {
   return "'" + std::string(name) + "' (known: " + known + ")";
 }
 
-}  // namespace touchdown::pose::detail
+}  // namespace touchdown::pose

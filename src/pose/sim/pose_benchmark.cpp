@@ -6,6 +6,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/statistics.hpp"
 #include "touchdown/pose/epnp.hpp"
 
 namespace touchdown::pose {
@@ -70,13 +71,6 @@ using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  const auto k = static_cast<std::size_t>(std::clamp(q, 0.0, 1.0) * static_cast<double>(v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  return v[k];
-}
-
 struct Accumulator {
   MethodStats s;
   std::vector<double> pos, rot, ms;
@@ -105,8 +99,8 @@ struct Accumulator {
     s.position_max_m = pos.empty() ? 0 : *std::max_element(pos.begin(), pos.end());
     s.success_rate = s.frames ? static_cast<double>(s.successes) / s.frames : 0;
     s.wrong_ok_rate = s.frames ? static_cast<double>(s.wrong_ok) / s.frames : 0;
-    s.ms_median = percentile(ms, 0.5);
-    s.ms_p90 = percentile(ms, 0.9);
+    s.ms_median = quantile(ms, 0.5);
+    s.ms_p90 = quantile(ms, 0.9);
     return s;
   }
 };
@@ -199,10 +193,10 @@ PoseBenchmarkResult run_pose_benchmark(const PoseBenchmarkOptions& o) {
                       row.profile + " " + row.sequence + " sequence: no successful frame of " +
                       std::to_string(row.frames) + " (its error statistics are undefined)";
   }
-  result.epnp_gn_us_median = percentile(ours_us, 0.5);
-  result.opencv_iterative_us_median = percentile(iter_us, 0.5);
-  result.opencv_sqpnp_us_median = percentile(sqp_us, 0.5);
-  result.opencv_epnp_us_median = percentile(epnp_us, 0.5);
+  result.epnp_gn_us_median = quantile(ours_us, 0.5);
+  result.opencv_iterative_us_median = quantile(iter_us, 0.5);
+  result.opencv_sqpnp_us_median = quantile(sqp_us, 0.5);
+  result.opencv_epnp_us_median = quantile(epnp_us, 0.5);
   return result;
 }
 

@@ -9,12 +9,12 @@
 #include <opencv2/imgproc.hpp>
 #include <utility>
 
-#include "aruco_dictionary.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/core/random_vector.hpp"
 #include "touchdown/core/units.hpp"
 #include "touchdown/pose/se3.hpp"
+#include "touchdown/pose/sim/aruco_dictionary.hpp"
 
 namespace touchdown::pose {
 
@@ -155,8 +155,8 @@ bool RenderOptions::validate(std::string* why) const {
       distractor_max_depth < distractor_min_depth) {
     return fail("distractor_min_depth: must be positive and <= distractor_max_depth");
   }
-  const auto* dict = detail::find_aruco_dictionary(aruco_dictionary);
-  if (!dict) return fail("aruco_dictionary: unknown dictionary " + detail::unknown_aruco_dictionary(aruco_dictionary));
+  const auto* dict = find_aruco_dictionary(aruco_dictionary);
+  if (!dict) return fail("aruco_dictionary: unknown dictionary " + unknown_aruco_dictionary(aruco_dictionary));
   if (aruco_id < 0 || aruco_id >= dict->codes) {
     return fail("aruco_id: must be in 0.." + std::to_string(dict->codes - 1) + " for " + aruco_dictionary);
   }
@@ -342,10 +342,10 @@ SyntheticCamera::SyntheticCamera(CameraModel camera, Constellation constellation
     impl_->ceiling_depth[i] = depth_units(static_cast<float>(o.ceiling_distance), static_cast<float>(o.depth_noise_k),
                                           table[i], static_cast<float>(1 / c.depth_scale));
   }
-  const detail::ArucoDictionaryInfo& dict = *detail::find_aruco_dictionary(o.aruco_dictionary);
+  const ArucoDictionaryInfo& dict = *find_aruco_dictionary(o.aruco_dictionary);
   const int side = dict.bits + 2;  // marker cells including the black border
   cv::Mat marker;
-  cv::aruco::drawMarker(cv::aruco::getPredefinedDictionary(dict.id), o.aruco_id, side, marker, 1);
+  cv::aruco::drawMarker(cv::aruco::getPredefinedDictionary(dict.opencv_id), o.aruco_id, side, marker, 1);
   impl_->card_cells = side + 2;
   impl_->cell_size = o.aruco_size / side;
   impl_->card.assign(static_cast<std::size_t>(impl_->card_cells * impl_->card_cells), 255);
