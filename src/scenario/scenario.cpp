@@ -120,6 +120,8 @@ std::string indexed(std::string_view list, std::size_t i, std::string_view prop)
   return std::string(list) + "[" + std::to_string(i) + "]." + std::string(prop);
 }
 
+}  // namespace detail
+
 // Separating-axis test of two rotated rectangles (touching counts as overlap).
 bool overlap(const Footprint& a, const Footprint& b) {
   const Eigen::Matrix2d ra = Eigen::Rotation2Dd(a.yaw_rad).toRotationMatrix();
@@ -145,7 +147,11 @@ Footprint static_footprint(const StaticObject& o) {
   return {o.position, deg_to_rad(o.yaw_deg), Eigen::Vector2d(o.size.x() / 2, o.size.y() / 2), round};
 }
 
-}  // namespace detail
+const PropertyBound* find_property_bound(std::string_view key) { return detail::find_bound(key); }
+
+std::string indexed_key(std::string_view list, std::size_t i, std::string_view prop) {
+  return detail::indexed(list, i, prop);
+}
 
 namespace {
 

@@ -9,9 +9,9 @@
 #include <utility>
 
 #include "core/format.hpp"
-#include "scenario/scenario_internal.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/pose/sim/aruco_dictionary.hpp"
+#include "touchdown/scenario/footprint.hpp"
 
 namespace touchdown::search {
 
@@ -66,8 +66,8 @@ int max_count(std::string_view list) { return static_cast<int>(scenario::propert
 // whole property or of component j, or nullptr when the envelope applies.
 const PropertyBound* kind_row(std::string_view list, std::string_view kind, std::string_view prop, int j) {
   const std::string whole = std::string(list) + "[" + std::string(kind) + "]." + std::string(prop);
-  if (const PropertyBound* b = scenario::detail::find_bound(whole)) return b;
-  return scenario::detail::find_bound(whole + "[" + std::to_string(j) + "]");
+  if (const PropertyBound* b = scenario::find_property_bound(whole)) return b;
+  return scenario::find_property_bound(whole + "[" + std::to_string(j) + "]");
 }
 
 double clamp_to_kind(double v, std::string_view list, std::string_view kind, std::string_view prop, int j) {
@@ -324,7 +324,7 @@ Chromosome ChromosomeLayout::encode(const scenario::Scenario& s) const {
   for (std::size_t i = 0; i < s.dynamic_objects.size() && options_.dynamic_slots > 0; ++i) {
     const bool external = s.dynamic_objects[i].motion == MotionKind::External;
     if (external != options_.drive_objects) {
-      does_not_fit(scenario::detail::indexed("dynamic_objects", i, "motion"),
+      does_not_fit(scenario::indexed_key("dynamic_objects", i, "motion"),
                    options_.drive_objects ? "must be external (drive_objects: the DQN moves every object)"
                                           : "external needs drive_objects");
     }
@@ -377,8 +377,8 @@ scenario::Scenario ChromosomeLayout::decode(std::span<const double> c) const {
     if (o.kind == StaticKind::Pole) o.size.y() = o.size.x();
     if (o.kind == StaticKind::Tree && !(o.size.y() < o.size.x())) o.size.y() = o.size.x() / 2;
     // Repair 3: an object the drone would start inside is dropped.
-    if (scenario::detail::static_footprint(o).contains(s.drone.position.head<2>()) &&
-        s.drone.position.z() < o.size.z() + scenario::detail::kDroneClearance) {
+    if (scenario::static_footprint(o).contains(s.drone.position.head<2>()) &&
+        s.drone.position.z() < o.size.z() + scenario::kDroneClearance) {
       continue;
     }
     s.static_objects.push_back(o);
@@ -386,8 +386,8 @@ scenario::Scenario ChromosomeLayout::decode(std::span<const double> c) const {
 
   if (options_.distractor_slots > 0) s.distractors.clear();
   const auto& dict = dictionary_of(s);
-  const scenario::detail::Footprint target =
-      scenario::detail::marker_square(s.marker.position, s.marker.yaw_deg, s.marker.size, dict.bits);
+  const scenario::Footprint target =
+      scenario::marker_square(s.marker.position, s.marker.yaw_deg, s.marker.size, dict.bits);
   for (int k = 0; k < options_.distractor_slots; ++k) {
     const int kind = r.integer();
     scenario::Distractor d;
@@ -405,12 +405,10 @@ scenario::Scenario ChromosomeLayout::decode(std::span<const double> c) const {
     }
     if (d.kind == DistractorKind::Lookalike) d.flipped_bits = std::min(d.flipped_bits, dict.bits * dict.bits);
     // Repair 5: a distractor over the marker or an earlier distractor is dropped.
-    const scenario::detail::Footprint square =
-        scenario::detail::marker_square(d.position, d.yaw_deg, d.size, dict.bits);
-    bool free = !scenario::detail::overlap(square, target);
+    const scenario::Footprint square = scenario::marker_square(d.position, d.yaw_deg, d.size, dict.bits);
+    bool free = !scenario::overlap(square, target);
     for (const scenario::Distractor& e : s.distractors) {
-      free = free && !scenario::detail::overlap(
-                         square, scenario::detail::marker_square(e.position, e.yaw_deg, e.size, dict.bits));
+      free = free && !scenario::overlap(square, scenario::marker_square(e.position, e.yaw_deg, e.size, dict.bits));
     }
     if (free) s.distractors.push_back(d);
   }

@@ -170,6 +170,10 @@ struct PropertyBound {
 const std::vector<PropertyBound>& property_bounds();
 /// The row for `key`; throws InvalidArgument for an unknown key.
 const PropertyBound& property_bound(std::string_view key);
+/// The row for `key`, or nullptr.
+const PropertyBound* find_property_bound(std::string_view key);
+/// "LIST[I].PROP": the key of an element's property, as messages name it.
+std::string indexed_key(std::string_view list, std::size_t i, std::string_view prop);
 
 /// Reads a scenario from YAML (JSON is YAML too). Unknown keys, missing
 /// keys, NaN and values outside property_bounds() throw ParseError naming
