@@ -15,15 +15,18 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <utility>
 #include <vector>
 
 #include "core/format.hpp"
+#include "core/json_number.hpp"
 #include "touchdown/core/atomic_file.hpp"
 #include "touchdown/core/enum_names.hpp"
 #include "touchdown/core/error.hpp"
@@ -262,8 +265,8 @@ using detail::format_fixed;
 // "1 segment", "2 segments": a count and its noun in messages (core/format.hpp).
 using detail::count_noun;
 
-/// `v` rounded to 3 decimals for JSON output (no negative zero).
-inline double round3(double v) { return std::round(v * 1e3) / 1e3 + 0.0; }
+// Figures in JSON output: 3 decimals, no negative zero (core/json_number.hpp).
+using detail::round3;
 
 /// A memory or disk estimate for an error line: "0.22 GB", "3.5 GB", "106 GB".
 inline std::string gigabytes(double bytes) {
@@ -523,6 +526,22 @@ inline void remove_temporaries_on_signal(const std::string& app) {
     ::raise(sig);  // default action: the process ends by the signal
     ::_exit(128 + sig);
   }).detach();
+}
+
+/// A subcommand and what runs it once parsed: an app with many subcommands
+/// declares them from several files (landing_scenario.hpp) and runs the one
+/// given with run_parsed.
+struct Subcommand {
+  CLI::App* command = nullptr;
+  std::function<int()> run;
+};
+
+/// Runs the parsed one of `commands` (the app requires one).
+inline int run_parsed(const std::vector<Subcommand>& commands) {
+  for (const Subcommand& c : commands) {
+    if (c.command->parsed()) return c.run();
+  }
+  throw std::logic_error("no subcommand was parsed");
 }
 
 /// Parses the command line and runs `body`, mapping exceptions to one line

@@ -7,6 +7,20 @@
 #include <cstdlib>
 #include <new>
 
+// TOUCHDOWN_TEST_ASAN: 1 in an AddressSanitizer build, whose runtime owns
+// malloc (GCC defines __SANITIZE_ADDRESS__; clang 14 only answers
+// __has_feature(address_sanitizer)).
+#if defined(__SANITIZE_ADDRESS__)
+#define TOUCHDOWN_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define TOUCHDOWN_TEST_ASAN 1
+#endif
+#endif
+#ifndef TOUCHDOWN_TEST_ASAN
+#define TOUCHDOWN_TEST_ASAN 0
+#endif
+
 namespace {
 std::atomic<bool> g_armed{false};
 std::atomic<long> g_allocations{0};

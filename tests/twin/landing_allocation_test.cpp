@@ -8,7 +8,7 @@
 
 #include "counting_new.hpp"
 
-#if !defined(__SANITIZE_ADDRESS__)
+#if !TOUCHDOWN_TEST_ASAN
 extern "C" void* __libc_malloc(std::size_t);  // NOLINT(readability-identifier-naming): glibc's own malloc
 namespace {
 std::atomic<long> g_mallocs{0};
@@ -35,13 +35,13 @@ long allocations_of_landing(const std::shared_ptr<const tw::TerrainModel>& terra
   c.hover_offset = hover_offset;
   c.heading = 0.4;
   g_allocations = 0;
-#if !defined(__SANITIZE_ADDRESS__)
+#if !TOUCHDOWN_TEST_ASAN
   g_mallocs = 0;
 #endif
   g_armed = true;
   const tw::RunResult r = sim.land(c);
   g_armed = false;
-#if !defined(__SANITIZE_ADDRESS__)
+#if !TOUCHDOWN_TEST_ASAN
   std::cout << "landing of " << r.steps << " steps: " << g_allocations << " operator new, " << g_mallocs << " malloc\n";
   g_allocations += g_mallocs;
 #endif

@@ -20,10 +20,12 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "touchdown/core/batch.hpp"
 #include "touchdown/scenario/camera.hpp"
 #include "touchdown/scenario/oracle.hpp"
 #include "touchdown/scenario/scenario.hpp"
@@ -88,6 +90,35 @@ DatasetFrame label_frame(const Scenario& s, const CameraOptions& camera, const S
 
 /// Renders frame `index` of the dataset; throws InvalidArgument for invalid options.
 DatasetFrame render_dataset_frame(const DatasetOptions& options, int index);
+
+/// A marker named "DICTIONARY:ID" ("4X4_50:0"): false, leaving both
+/// unchanged, unless `text` is a name, a colon and a whole integer (the
+/// name and the id's range are DatasetOptions::validate's to check).
+bool parse_marker_spec(std::string_view text, std::string& dictionary, int& id);
+
+/// Frame `f`'s line of labels.jsonl (docs/formats.md, "Detector dataset"),
+/// its image at `image` (relative to the dataset directory). No newline.
+[[nodiscard]] std::string dataset_label_json(const DatasetFrame& f, std::string_view image);
+
+/// What write_dataset wrote: frames per split (train, validation, test).
+struct DatasetSummary {
+  int count = 0;
+  std::array<int, 3> splits{};
+};
+
+/// Renders frames [0, count) of the dataset into the new directory `out`:
+/// images/NNNNNN.png (8-bit grey, the systems' BGR frame converted as
+/// cv::cvtColor's COLOR_BGR2GRAY), labels.jsonl (one line per frame, in
+/// frame order) and dataset.json (format, seed, marker, camera, splits).
+/// The frames are spread over `batch` (threads, progress, cancellation; the
+/// files do not depend on the thread count). Written into a directory
+/// beside `out` and renamed when complete, so a failed, cancelled or
+/// interrupted run leaves no dataset; a cancelled one (`batch.cancel`)
+/// writes nothing and returns a count of 0. Throws InvalidArgument for
+/// invalid options or a count below 1, IoError when `out` exists, its
+/// parent does not, or a file cannot be written.
+DatasetSummary write_dataset(const DatasetOptions& options, int count, const std::filesystem::path& out,
+                             const BatchOptions& batch = {});
 
 }  // namespace touchdown::scenario
 

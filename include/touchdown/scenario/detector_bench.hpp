@@ -17,9 +17,11 @@
 #include <array>
 #include <filesystem>
 #include <istream>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "touchdown/core/batch.hpp"
 #include "touchdown/scenario/marker_detector.hpp"
 
 namespace touchdown::scenario {
@@ -89,5 +91,51 @@ const std::vector<std::string>& distance_bands();
 std::string visible_band(double visible_fraction);
 /// "whole" (≥ 0.99), "0.8-0.99", "0.6-0.8".
 const std::vector<std::string>& visible_bands();
+
+/// A dataset's target marker (its dataset.json). Throws IoError when the
+/// file cannot be read, ParseError naming the file and key otherwise.
+struct DatasetMarker {
+  std::string dictionary;
+  int id = 0;
+};
+DatasetMarker read_dataset_marker(const std::filesystem::path& dataset_dir);
+
+/// Runs every detector on every frame: result[d][i] is detectors[d] on
+/// labels[i] (its image read as 8-bit grey from `dataset_dir`), scored for
+/// the marker, with its detect() time. Each detector is reset to the marker
+/// before each frame (no tracking across frames). `progress` is called after
+/// each frame (index = the frame). Throws IoError for an image OpenCV cannot read.
+std::vector<std::vector<BenchFrame>> run_detector_bench(const std::filesystem::path& dataset_dir,
+                                                        const std::vector<BenchLabel>& labels,
+                                                        const DatasetMarker& marker,
+                                                        const std::vector<std::unique_ptr<MarkerDetector>>& detectors,
+                                                        const ProgressCallback& progress = {});
+
+/// What the report says about its input.
+struct BenchReportInfo {
+  std::string dataset;  ///< the directory, as the user named it
+  std::string split = "all";
+  DatasetMarker marker;
+  double threshold = 0.7;  ///< confidence from which a detection counts (AP uses every confidence)
+};
+
+/// The benchmark's figures: per group of frames (all, by weather, distance
+/// band, visible fraction, phase, the oracle's sight, and clear weather
+/// with the target observable) each detector's recall, precision and
+/// AP@0.5; then per detector false positives per 1 000 frames without the
+/// target (and on those with distractors in view) and the median time per
+/// frame. `names[d]` names `runs[d]`; every run has one frame per label.
+struct BenchReport {
+  std::string json;  ///< one line, no newline
+  std::string text;  ///< the table and the per-detector lines, for a person
+};
+BenchReport bench_report(const std::vector<std::string>& names, const std::vector<std::vector<BenchFrame>>& runs,
+                         const std::vector<BenchLabel>& labels, const BenchReportInfo& info);
+
+/// Recall of the target against the distance band (SVG): one panel per
+/// weather kind (small multiples), one line per detector; a band's point
+/// needs at least 10 targets.
+std::string bench_recall_plot(const std::vector<std::string>& names, const std::vector<std::vector<BenchFrame>>& runs,
+                              const std::vector<BenchLabel>& labels, double threshold, const std::string& title);
 
 }  // namespace touchdown::scenario
