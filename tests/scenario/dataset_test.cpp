@@ -6,9 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <filesystem>
 
 #include "scenario/clear_scenario.hpp"
+#include "test_util.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::scenario {
@@ -209,6 +212,53 @@ TEST(Dataset, InvalidOptionsNameTheKey) {
   o.test_fraction = 0.8;
   o.validation_fraction = 0.3;
   EXPECT_THROW(render_dataset_frame(o, 0), InvalidArgument);
+}
+
+TEST(Dataset, MarkerSpecIsANameAColonAndAWholeInteger) {
+  std::string dictionary = "kept";
+  int id = -7;
+  EXPECT_TRUE(parse_marker_spec("5X5_100:42", dictionary, id));
+  EXPECT_EQ(dictionary, "5X5_100");
+  EXPECT_EQ(id, 42);
+  for (const char* bad : {"4X4_50", "4X4_50:", ":3", "4X4_50:3x", "4X4_50:x3", "4X4_50: 3", "4X4_50:99999999999"}) {
+    dictionary = "kept", id = -7;
+    EXPECT_FALSE(parse_marker_spec(bad, dictionary, id)) << bad;
+    EXPECT_EQ(dictionary, "kept") << bad;
+    EXPECT_EQ(id, -7) << bad;
+  }
+}
+
+TEST(Dataset, WrittenFilesAreTheFramesForAnyThreadCountAndRefuseAnExistingDirectory) {
+  const touchdown::test::TempDir dir;
+  DatasetOptions o;
+  o.seed = 5;
+  BatchOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  const DatasetSummary a = write_dataset(o, 3, dir / "a", one);
+  const DatasetSummary b = write_dataset(o, 3, dir / "b", two);
+  EXPECT_EQ(a.count, 3);
+  EXPECT_EQ(a.splits[0] + a.splits[1] + a.splits[2], 3);
+  EXPECT_EQ(a.splits, b.splits);
+  const std::string labels = touchdown::test::read_text(dir / "a" / "labels.jsonl");
+  EXPECT_EQ(labels, touchdown::test::read_text(dir / "b" / "labels.jsonl"));
+  // Line i is frame i's label, as dataset_label_json writes it.
+  const std::string first = labels.substr(0, labels.find('\n'));
+  EXPECT_EQ(first, dataset_label_json(render_dataset_frame(o, 0), "images/000000.png"));
+  EXPECT_EQ(std::count(labels.begin(), labels.end(), '\n'), 3);
+  for (const char* image : {"images/000000.png", "images/000001.png", "images/000002.png"}) {
+    EXPECT_EQ(touchdown::test::read_text(dir / "a" / image), touchdown::test::read_text(dir / "b" / image)) << image;
+  }
+  EXPECT_NE(touchdown::test::read_text(dir / "a" / "dataset.json").find("\"touchdown-dataset/1\""), std::string::npos);
+  EXPECT_THROW((void)write_dataset(o, 3, dir / "a", one), IoError);
+  EXPECT_THROW((void)write_dataset(o, 0, dir / "c", one), InvalidArgument);
+  EXPECT_FALSE(std::filesystem::exists(dir / "c"));
+  // A cancelled run leaves no directory.
+  const std::atomic<bool> cancel{true};
+  BatchOptions cancelled;
+  cancelled.cancel = &cancel;
+  EXPECT_EQ(write_dataset(o, 3, dir / "d", cancelled).count, 0);
+  EXPECT_FALSE(std::filesystem::exists(dir / "d"));
 }
 
 }  // namespace
