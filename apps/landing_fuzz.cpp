@@ -4,6 +4,11 @@
 // directories, on threads or MPI ranks; DQN pre-training; the source's
 // metrics and its Table 2 comparison; and shrinking a violation to the
 // genes it needs.
+//
+// This file: main, the shared pieces, campaign and train-dqn; the other
+// subcommands are in landing_fuzz_*.cpp (landing_fuzz.hpp).
+#include "landing_fuzz.hpp"
+
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -31,24 +36,13 @@
 #include "touchdown/search/shrink.hpp"
 #include "touchdown/search/surrogate.hpp"
 
-namespace {
+namespace touchdown::app::fuzz_app {
 
-namespace td = touchdown;
-namespace ts = touchdown::scenario;
 namespace tsr = touchdown::search;
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
-using namespace touchdown::app;
-
-using tsr::kWeightsFile;
 
 // ---- shared pieces ---------------------------------------------------------------------
-
-struct Common {
-  std::string system = "opencv-mls";
-  std::string detector = "aruco";
-  int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-};
 
 void add_common(CLI::App& cmd, Common& c) {
   add_system_option(cmd, c.system);
@@ -67,7 +61,6 @@ tsr::EvaluatorOptions evaluator_options(const Common& c, std::shared_ptr<const t
   return o;
 }
 
-/// The detector a campaign runs (learned-mls: always the learned one).
 std::string detector_of(const Common& c) { return c.system == "learned-mls" ? "learned" : c.detector; }
 
 std::string percent(double v) { return format_fixed(v, 1) + " %"; }
@@ -95,7 +88,7 @@ Json metrics_json(const tsr::SearchMetrics& m) {
 // Raw (the source's definition) and, when the records carry their facts,
 // fair (issue 52: a Type II whose target was never observable long enough
 // is not the system's doing).
-void print_metrics(const tsr::SearchMetrics& m, const std::optional<tsr::SearchMetrics>& fair = std::nullopt) {
+void print_metrics(const tsr::SearchMetrics& m, const std::optional<tsr::SearchMetrics>& fair) {
   std::cout << "evaluated          " << m.evaluated << " scenarios\n"
             << "violations         " << m.violations << " (" << percent(m.violation_percent) << "): type I " << m.type_i
             << ", type II " << m.type_ii << ", type III " << m.type_iii << ", off-marker " << m.off_marker << "\n";
@@ -129,6 +122,24 @@ tsr::CampaignPolicy campaign_policy(const std::string& weights_path, const fs::p
 void keep_weights(const std::shared_ptr<const tsr::QNetwork>& policy, const fs::path& dir) {
   if (policy) tsr::keep_weights(*policy, dir);
 }
+
+std::string search_detail(const tsr::SearchProgress& p) {
+  return "generation " + std::to_string(p.generation + 1) + "/" + std::to_string(p.generations) + " · violations I " +
+         std::to_string(p.type_i) + " · II " + std::to_string(p.type_ii) + " · III " + std::to_string(p.type_iii);
+}
+
+}  // namespace touchdown::app::fuzz_app
+
+namespace {
+
+namespace td = touchdown;
+namespace ts = touchdown::scenario;
+namespace tsr = touchdown::search;
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+using namespace touchdown::app;
+using namespace touchdown::app::fuzz_app;
+using tsr::kWeightsFile;
 
 // ---- campaign --------------------------------------------------------------------------
 
@@ -193,11 +204,6 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
 
 // The search's progress: scenarios of the budget, with the generation and
 // the violations so far (a bar on a terminal, lines off one).
-std::string search_detail(const tsr::SearchProgress& p) {
-  return "generation " + std::to_string(p.generation + 1) + "/" + std::to_string(p.generations) + " · violations I " +
-         std::to_string(p.type_i) + " · II " + std::to_string(p.type_ii) + " · III " + std::to_string(p.type_iii);
-}
-
 int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
   a.search.system = a.common.system;
   a.search.detector = detector_of(a.common);
@@ -318,368 +324,10 @@ int train_command(const TrainArgs& a) {
   return kExitOk;
 }
 
-// ---- metrics ---------------------------------------------------------------------------
-
-struct MetricsArgs {
-  std::string dir;
-  bool json = false;
-};
-
-CLI::App* add_metrics_command(CLI::App& app, MetricsArgs& a) {
-  auto* cmd = app.add_subcommand("metrics", "the source's metrics of a results directory");
-  cmd->add_option("RESULT_DIR", a.dir, "results directory of a campaign")->required();
-  cmd->add_flag("--json", a.json, "the metrics as one JSON object on stdout");
-  return cmd;
-}
-
-int metrics_command(const MetricsArgs& a) {
-  const tsr::ResultsDirectory d = tsr::load_results_directory(a.dir);
-  const tsr::SearchMetrics m = tsr::compute_metrics(d.records);
-  const tsr::SearchMetrics fair = tsr::compute_metrics(d.records, 10, tsr::Count::Fair);
-  const std::vector<tsr::CauseCount> causes = tsr::count_causes(a.dir);
-  const Json campaign = Json::parse(d.campaign_json);
-  if (a.json) {
-    Json j;
-    j["directory"] = a.dir;
-    j["campaign"] = {{"method", campaign.value("method", "")},
-                     {"system", campaign.value("system", "")},
-                     {"map", campaign.value("map", "")},
-                     {"budget", campaign.value("budget", 0)},
-                     {"seed", campaign.value("seed", 0)}};
-    j["metrics"] = metrics_json(m);
-    j["fair_metrics"] = fair.facts_recorded ? metrics_json(fair) : Json(nullptr);
-    j["distinct_fair_causes"] = fair.facts_recorded ? Json(tsr::distinct_fair_causes(causes)) : Json(nullptr);
-    std::cout << j.dump() << "\n";
-  } else {
-    std::cout << "campaign           " << campaign.value("method", "") << " on " << campaign.value("system", "")
-              << ", map " << campaign.value("map", "") << ", seed " << campaign.value("seed", 0) << ", "
-              << d.records.size() << " of " << campaign.value("budget", 0) << " scenarios\n";
-    print_metrics(m, fair);
-    if (fair.facts_recorded) {
-      std::cout << "distinct causes    " << tsr::distinct_fair_causes(causes) << " fair, "
-                << causes.size() - static_cast<std::size_t>(tsr::distinct_fair_causes(causes))
-                << " unfair (landing_fuzz causes " << a.dir << ")\n";
-    }
-  }
-  return kExitOk;
-}
-
-// ---- causes ----------------------------------------------------------------------------
-
-struct CausesArgs {
-  std::string dir;
-  bool json = false;
-};
-
-CLI::App* add_causes_command(CLI::App& app, CausesArgs& a) {
-  auto* cmd = app.add_subcommand("causes", "the distinct causes of a results directory's violations, with counts");
-  cmd->add_option("RESULT_DIR", a.dir, "results directory of a campaign")->required();
-  cmd->add_flag("--json", a.json, "the causes as one JSON object on stdout");
-  return cmd;
-}
-
-int causes_command(const CausesArgs& a) {
-  const std::vector<tsr::CauseCount> causes = tsr::count_causes(a.dir);
-  if (a.json) {
-    Json rows = Json::array();
-    for (const tsr::CauseCount& c : causes) {
-      rows.push_back({{"cause", c.cause},
-                      {"fair", c.fair},
-                      {"count", c.count},
-                      {"first_index", c.first_index},
-                      {"scenario", c.scenario}});
-    }
-    Json j;
-    j["directory"] = a.dir;
-    j["distinct_fair_causes"] = tsr::distinct_fair_causes(causes);
-    j["causes"] = std::move(rows);
-    std::cout << j.dump() << "\n";
-    return kExitOk;
-  }
-  const int fair = tsr::distinct_fair_causes(causes);
-  std::cout << a.dir << ": " << count_noun(fair, "distinct fair cause") << ", "
-            << count_noun(static_cast<int>(causes.size()) - fair, "unfair one") << "\n";
-  std::size_t width = 5;
-  for (const tsr::CauseCount& c : causes) width = std::max(width, c.cause.size());
-  for (const tsr::CauseCount& c : causes) {
-    std::string count = std::to_string(c.count);
-    count.insert(0, count.size() < 4 ? 4 - count.size() : 0, ' ');
-    std::string cause = c.cause;
-    cause.append(width - cause.size(), ' ');
-    std::cout << count << "  " << cause << "  e.g. " << (fs::path(a.dir) / c.scenario).string() << "\n";
-  }
-  if (!causes.empty())
-    std::cout << "replay one: landing_scenario run " << (fs::path(a.dir) / causes.front().scenario).string() << "\n";
-  return kExitOk;
-}
-
-// ---- compare ---------------------------------------------------------------------------
-
-struct CompareArgs {
-  Common common;
-  std::vector<std::string> methods{"rlaga", "diverse-ga", "many-objective-ga", "random"};
-  std::vector<std::string> maps{"ground", "lawn"};
-  int seeds = 3, budget = 300, population = 20, episodes = 800;
-  std::string out, plot, weights;
-  bool json = false;
-};
-
-CLI::App* add_compare_command(CLI::App& app, CompareArgs& a) {
-  auto* cmd = app.add_subcommand(
-      "compare", "the source's Table 2: every method on every map over seeds 1..N (resumable campaigns in --out)");
-  cmd->add_option("--methods", a.methods,
-                  "methods; a method with '+diversity' runs with the diversity option (e.g. rlaga+diversity)")
-      ->check(CLI::Validator(
-          [](std::string& m) -> std::string {
-            std::string base = m.substr(0, m.find('+'));
-            const std::string extra = m.substr(base.size());
-            if (!extra.empty() && extra != "+diversity") return "unknown option '" + extra + "' (only +diversity)";
-            if (base == "random" && !extra.empty()) return "random has no +diversity";
-            return one_of<tsr::Method>()(base);
-          },
-          "METHOD[+diversity]"))
-      ->capture_default_str()
-      ->delimiter(',');
-  cmd->add_option("--maps", a.maps, "maps")->check(one_of<ts::MapKind>())->capture_default_str()->delimiter(',');
-  cmd->add_option("--seeds", a.seeds, "campaign seeds 1..N per method and map")
-      ->check(CLI::Range(1, 1000))
-      ->capture_default_str();
-  cmd->add_option("--budget", a.budget, "scenarios per campaign")->check(CLI::Range(1, 1000000))->capture_default_str();
-  cmd->add_option("--population", a.population, "GA population")->check(CLI::Range(2, 10000))->capture_default_str();
-  add_common(*cmd, a.common);
-  cmd->add_option("--out", a.out,
-                  "directory of the campaigns (MAP/METHOD/seed-K; an existing campaign there is resumed)")
-      ->required();
-  cmd->add_option("--weights", a.weights, "rlaga: DQN weights (default: pre-trained per seed)")
-      ->check(td::app::existing_file())
-      ->default_str("pre-train");
-  cmd->add_option("--episodes", a.episodes, "rlaga without --weights: pre-training episodes")
-      ->check(CLI::Range(1, 1000000))
-      ->capture_default_str();
-  cmd->add_option("--plot", a.plot, "cumulative violations against scenarios evaluated")
-      ->check(output_extension(".svg"))
-      ->default_str("none");
-  cmd->add_flag("--json", a.json, "the table as one JSON object on stdout");
-  return cmd;
-}
-
-int compare_command(const CompareArgs& a) {
-  require_parent_directory(a.out, "--out");
-  td::StagedOutputs staged;
-  const fs::path plot_tmp = stage(staged, a.plot, "--plot");
-  if (a.budget < a.population) {
-    throw td::InvalidArgument("--budget " + std::to_string(a.budget) + " is less than --population " +
-                              std::to_string(a.population) + ": the seed pool alone needs a whole population");
-  }
-  cv::setNumThreads(1);
-  // Seeds outermost: a compare stopped early (or still running) has every
-  // method and map at the seeds it finished. Cells stay in map, method order.
-  std::vector<tsr::CompareCell> cells;
-  for (const std::string& map : a.maps) {
-    for (const std::string& method : a.methods) {
-      tsr::CompareCell cell;
-      cell.method = method;
-      cell.map = map;
-      cells.push_back(std::move(cell));
-    }
-  }
-  const int total = static_cast<int>(cells.size()) * a.seeds;
-  int done = 0;
-  const bool terminal = ProgressBar::on_terminal();
-  for (int k = 1; k <= a.seeds; ++k) {
-    for (tsr::CompareCell& cell : cells) {
-      tsr::SearchOptions o;
-      o.method = td::from_string<tsr::Method>(cell.method.substr(0, cell.method.find('+')));
-      o.diversity = cell.method.find("+diversity") != std::string::npos;
-      o.system = a.common.system;
-      o.detector = detector_of(a.common);
-      o.budget = a.budget;
-      o.ga.population = a.population;
-      o.seed = static_cast<std::uint64_t>(k);
-      o.base.map = td::from_string<ts::MapKind>(cell.map);
-      const fs::path dir = fs::path(a.out) / cell.map / cell.method / ("seed-" + std::to_string(k));
-      const bool resume = fs::exists(dir / "campaign.json");
-      std::shared_ptr<const tsr::QNetwork> policy;
-      if (o.method == tsr::Method::Rlaga) {
-        const tsr::CampaignPolicy p = campaign_policy(a.weights, dir, resume, a.episodes, o.seed, true);
-        policy = p.network;
-        o.weights_id = p.id;
-      }
-      tsr::LocalEvaluator evaluator(evaluator_options(a.common, policy));
-      if (terminal) {
-        std::cerr << "[" << done + 1 << "/" << total << "] " << cell.method << " on " << cell.map << ", seed " << k
-                  << "\n";
-      }
-      ProgressBar line("landing_fuzz", "scenarios");
-      const std::string which = cell.method + " on " + cell.map + ", seed " + std::to_string(k) + " · ";
-      const tsr::SearchResult r = tsr::run_search(o, evaluator, dir, resume, [&](const tsr::SearchProgress& p) {
-        line.draw(static_cast<std::size_t>(p.done), static_cast<std::size_t>(p.budget),
-                  (terminal ? "" : which) + search_detail(p));
-      });
-      line.close();
-      keep_weights(policy, dir);
-      cell.per_seed.push_back(r.metrics);
-      cell.per_seed_fair.push_back(tsr::compute_metrics(r.records, 10, tsr::Count::Fair));
-      cell.fair_causes.push_back(
-          cell.per_seed_fair.back().facts_recorded ? tsr::distinct_fair_causes(tsr::count_causes(dir)) : -1);
-      cell.cumulative.push_back(tsr::cumulative_violations(r.records));
-      ++done;
-    }
-  }
-  const std::string title = "Violations found: " + a.common.system + ", budget " + std::to_string(a.budget) + ", " +
-                            count_noun(a.seeds, "seed");
-  if (!a.plot.empty()) write_text(plot_tmp, tsr::compare_plot_svg(cells, title), a.plot);
-  staged.commit();
-  if (a.json) {
-    Json j;
-    j["system"] = a.common.system;
-    j["budget"] = a.budget;
-    j["population"] = a.population;
-    j["seeds"] = a.seeds;
-    Json rows = Json::array();
-    for (const auto& c : cells) {
-      Json per_seed = Json::array();
-      for (std::size_t k = 0; k < c.per_seed.size(); ++k) {
-        Json seed = metrics_json(c.per_seed[k]);
-        const bool facts = c.per_seed_fair[k].facts_recorded;
-        seed["fair"] = facts ? metrics_json(c.per_seed_fair[k]) : Json(nullptr);
-        seed["distinct_fair_causes"] = facts ? Json(c.fair_causes[k]) : Json(nullptr);
-        per_seed.push_back(std::move(seed));
-      }
-      rows.push_back({{"method", c.method}, {"map", c.map}, {"per_seed", per_seed}});
-    }
-    j["rows"] = std::move(rows);
-    std::cout << j.dump() << "\n";
-  } else {
-    std::cout << title << "\n" << tsr::compare_table(cells);
-  }
-  return kExitOk;
-}
-
-// ---- shrink ----------------------------------------------------------------------------
-
-struct ShrinkArgs {
-  Common common;
-  std::string input, out, weights;
-  int index = -1;
-  bool json = false;
-};
-
-CLI::App* add_shrink_command(CLI::App& app, ShrinkArgs& a) {
-  auto* cmd = app.add_subcommand(
-      "shrink",
-      "why did it fail: reset genes to benign values while the violation stays; the smallest failing "
-      "scenario and the genes it needs");
-  cmd->add_option("INPUT", a.input, "a results directory (its campaign's system and weights) or a scenario file")
-      ->required();
-  cmd->add_option("--index", a.index, "results directory: the scenario's index (default: the first violation)")
-      ->check(CLI::Range(0, 100000000));
-  add_common(*cmd, a.common);
-  cmd->add_option("--weights", a.weights, "scenario file: DQN weights driving its external objects")
-      ->check(td::app::existing_file());
-  cmd->add_option("-o,--output", a.out, "the smallest failing scenario (YAML)")
-      ->required()
-      ->check(output_extension(".yaml"));
-  cmd->add_flag("--json", a.json, "the result as one JSON object on stdout");
-  return cmd;
-}
-
-int shrink_command(ShrinkArgs& a) {
-  td::StagedOutputs staged;
-  const fs::path tmp = staged.add(a.out, "--output");
-  ts::Scenario scenario, base;
-  std::string source = a.input;
-  std::shared_ptr<const tsr::QNetwork> policy;
-  if (!fs::is_directory(a.input) && a.index >= 0) {
-    throw td::InvalidArgument("--index: picks a scenario of a results directory; " + a.input +
-                              " is a scenario file (issue 58: an option that does not apply is refused)");
-  }
-  if (!a.weights.empty()) policy = std::make_shared<const tsr::QNetwork>(tsr::load_weights(a.weights));
-  if (fs::is_directory(a.input)) {
-    const tsr::ResultsDirectory d = tsr::load_results_directory(a.input);
-    const Json campaign = Json::parse(d.campaign_json);
-    const tsr::EvaluationRecord* pick = nullptr;
-    for (const auto& r : d.records) {
-      if (a.index >= 0 ? r.index == a.index : r.evaluation.violation_found()) {
-        pick = &r;
-        break;
-      }
-    }
-    if (!pick) {
-      throw td::InvalidArgument(
-          a.input + ": " +
-          (a.index >= 0 ? "no scenario with index " + std::to_string(a.index) : std::string("no violation to shrink")));
-    }
-    source = (fs::path(a.input) / pick->scenario).string();
-    scenario = ts::load_scenario(source);
-    base = ts::parse_scenario(campaign.at("base_scenario").dump(), a.input + "/campaign.json: base_scenario");
-    a.common.system = campaign.value("system", a.common.system);
-    a.common.detector = campaign.value("detector", std::string("aruco"));
-    const fs::path stored = fs::path(a.input) / kWeightsFile;
-    if (!policy && fs::exists(stored)) policy = std::make_shared<const tsr::QNetwork>(tsr::load_weights(stored));
-  } else {
-    scenario = ts::load_scenario(a.input);
-    base.map = scenario.map;
-  }
-  cv::setNumThreads(1);
-  tsr::LocalEvaluator evaluator(evaluator_options(a.common, policy));
-  ProgressBar bar("landing_fuzz", "evaluations");
-  const tsr::ShrinkResult r =
-      tsr::shrink(scenario, base, evaluator, [&](const td::Progress& p) { bar.draw(p.done, p.total); });
-  bar.close();
-  if (!r.ok()) {
-    throw td::InvalidArgument(source + ": not a violation on " + a.common.system + " (" + r.message +
-                              "): nothing to shrink");
-  }
-  write_text(tmp, ts::to_yaml(r.smallest), a.out);
-  staged.commit();
-  if (a.json) {
-    Json j;
-    j["scenario"] = source;
-    j["system"] = a.common.system;
-    j["violation"] = ts::to_string(r.violation);
-    j["message"] = r.message;
-    j["necessary"] = r.necessary;
-    Json steps = Json::array();
-    for (const auto& s : r.steps) {
-      steps.push_back({{"gene", s.gene},
-                       {"tried", s.tried},
-                       {"outcome", ts::to_string(s.outcome)},
-                       {"kept", s.kept},
-                       {"message", s.message}});
-    }
-    j["steps"] = std::move(steps);
-    j["smallest"] = a.out;
-    j["runs"] = r.runs();
-    std::cout << j.dump() << "\n";
-  } else {
-    std::cout << "scenario   " << source << " on " << a.common.system << ": type " << ts::to_string(r.violation) << " ("
-              << r.message << ")\n";
-    for (const auto& s : r.steps) {
-      std::cout << "  reset " << s.gene << ": "
-                << (!s.tried ? s.message
-                             : (s.kept ? "still type " + std::string(ts::to_string(s.outcome)) + ", kept"
-                                       : "now " +
-                                             (s.outcome == ts::Violation::None
-                                                  ? std::string("no violation")
-                                                  : "type " + std::string(ts::to_string(s.outcome))) +
-                                             ": needed"))
-                << "\n";
-    }
-    std::cout << "needs      ";
-    for (std::size_t i = 0; i < r.necessary.size(); ++i) std::cout << (i ? ", " : "") << r.necessary[i];
-    std::cout << (r.necessary.empty() ? "none of its genes (with every gene reset it still fails: the cause lies in "
-                                        "the base scenario's own fields)"
-                                      : "")
-              << "\n"
-              << "smallest   " << a.out << " (" << r.runs() << " runs)\n";
-  }
-  return kExitOk;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
+  namespace fa = touchdown::app::fuzz_app;
   // MPI first: under mpirun every rank parses the same command line.
   const tsr::MpiSession mpi(argc, argv);
   CLI::App app{
@@ -689,24 +337,15 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   CampaignArgs campaign_args;
   TrainArgs train_args;
-  MetricsArgs metrics_args;
-  CompareArgs compare_args;
-  ShrinkArgs shrink_args;
-  CausesArgs causes_args;
   auto* campaign_cmd = add_campaign_command(app, campaign_args);
   auto* train_cmd = add_train_command(app, train_args);
-  auto* metrics_cmd = add_metrics_command(app, metrics_args);
-  auto* compare_cmd = add_compare_command(app, compare_args);
-  auto* causes_cmd = add_causes_command(app, causes_args);
-  add_shrink_command(app, shrink_args);
+  const std::vector<Subcommand> others{fa::add_metrics(app), fa::add_compare(app), fa::add_causes(app),
+                                       fa::add_shrink(app)};
   const int code = run(app, argc, argv, [&]() -> int {
     if (*campaign_cmd) return campaign_command(campaign_args, mpi);
     if (mpi.size() > 1) throw td::InvalidArgument("only `campaign` runs on several MPI ranks");
     if (*train_cmd) return train_command(train_args);
-    if (*metrics_cmd) return metrics_command(metrics_args);
-    if (*compare_cmd) return compare_command(compare_args);
-    if (*causes_cmd) return causes_command(causes_args);
-    return shrink_command(shrink_args);
+    return run_parsed(others);
   });
   // An error on one rank that the others may not see (rank 0's results
   // directory) must not leave them waiting.
