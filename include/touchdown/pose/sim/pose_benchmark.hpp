@@ -117,4 +117,12 @@ PoseBenchmarkResult run_pose_benchmark(const PoseBenchmarkOptions& options);
 /// Position error [m] and angle-axis orientation error [rad] of `estimate`.
 std::pair<double, double> pose_error(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth);
 
+/// The benchmark's figures as one JSON line (keys sorted): status,
+/// frames per sequence, seed, one row per scenario, method and sequence,
+/// and the solvers' median times.
+[[nodiscard]] std::string benchmark_json(const PoseBenchmarkResult& r, int frames_per_sequence, std::uint64_t seed);
+
+/// The same as the table `led_pose benchmark` prints. Ends in a newline.
+[[nodiscard]] std::string benchmark_table(const PoseBenchmarkResult& r);
+
 }  // namespace touchdown::pose
