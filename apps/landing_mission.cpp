@@ -19,6 +19,7 @@
 #include "touchdown/mission/mission_io.hpp"
 #include "touchdown/mission/mission_plot.hpp"
 #include "touchdown/mission/perception_render.hpp"
+#include "touchdown/mission/report.hpp"
 #include "video.hpp"
 
 namespace {
@@ -40,188 +41,12 @@ struct Args {
   std::string envelope_plot;
 };
 
-// The percentile q of `v` (nearest rank); NaN when empty.
-double percentile(std::vector<double> v, double q) {
-  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  const auto k = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size()))) - (q > 0 ? 1 : 0);
-  return v[std::min(k, v.size() - 1)];
-}
-
 tdm::MissionFile load(const Args& a) {
   if (a.mission_path.empty()) return {};  // the built-in default: the paper's setup
   return tdm::load_mission(a.mission_path);
 }
 
 std::string source_name(const Args& a) { return a.mission_path.empty() ? "built-in circle mission" : a.mission_path; }
-
-nlohmann::json run_json(const tdm::MissionResult& r, int index) {
-  using td::app::round3;
-  nlohmann::json j;
-  j["run"] = index;
-  j["outcome"] = std::string(tdm::to_string(r.outcome));
-  j["message"] = r.message;
-  j["reason"] = r.landed() ? nlohmann::json() : nlohmann::json(tdm::failure_reason(r));
-  j["duration_s"] = round3(r.duration);
-  j["touchdown_error_m"] =
-      std::isfinite(r.touchdown_error) ? nlohmann::json(round3(r.touchdown_error)) : nlohmann::json();
-  j["touchdown_speed_mps"] =
-      r.touchdown_velocity.allFinite() ? nlohmann::json(round3(r.touchdown_speed())) : nlohmann::json();
-  nlohmann::json states;
-  for (int s = 0; s < 5; ++s) {
-    states[std::string(tdm::to_string(static_cast<tdm::MissionState>(s)))] =
-        round3(r.time_in_state[static_cast<std::size_t>(s)]);
-  }
-  j["time_in_state_s"] = states;
-  j["max_tracking_error_m"] = round3(r.max_tracking_error);
-  j["max_axis_speed_mps"] = round3(r.max_axis_speed);
-  j["max_axis_acceleration_mps2"] = round3(r.max_axis_acceleration);
-  j["replans"] = r.replans;
-  j["replan_failures"] = r.replan_failures;
-  j["pose_frames"] = r.pose_frames;
-  j["pose_ok"] = r.pose_ok;
-  j["pose_error_median_m"] = std::round(r.pose_error_median * 1e5) / 1e5;
-  j["pose_error_max_m"] = std::round(r.pose_error_max * 1e5) / 1e5;
-  j["landing_attempts"] = r.landing_attempts;
-  nlohmann::json log = nlohmann::json::array();
-  for (const auto& t : r.transitions) {
-    log.push_back({{"t_s", round3(t.t)},
-                   {"from", std::string(tdm::to_string(t.from))},
-                   {"to", std::string(tdm::to_string(t.to))},
-                   {"reason", std::string(tdm::to_string(t.reason))}});
-  }
-  j["transitions"] = log;
-  return j;
-}
-
-// The summary over runs: counts, success rate, percentiles.
-struct Summary {
-  int runs = 0, landed = 0, crashed = 0, aborted = 0, timeout = 0;
-  tdm::FailureCounts reasons;  ///< why the others did not land, most frequent first
-  double error_median = 0, error_p95 = 0, error_max = 0;
-  double speed_median = 0, speed_p95 = 0, speed_max = 0;
-  double tracking_max = 0, axis_speed_max = 0, axis_accel_max = 0, v_limit = 0, a_limit = 0;
-  double replan_ms_median = 0, pose_error_median = 0, duration_median = 0;
-  double landing_time_median = 0;
-  [[nodiscard]] double success() const { return runs ? static_cast<double>(landed) / runs : 0.0; }
-};
-
-Summary summarise(const std::vector<tdm::MissionResult>& results) {
-  Summary s;
-  std::vector<double> err, spd, ms, pose, dur, landing;
-  for (const auto& r : results) {
-    ++s.runs;
-    switch (r.outcome) {
-      case tdm::MissionOutcome::Landed:
-        ++s.landed;
-        err.push_back(r.touchdown_error);
-        spd.push_back(r.touchdown_speed());
-        dur.push_back(r.duration);
-        landing.push_back(r.time_in_state[static_cast<std::size_t>(tdm::MissionState::Landing)]);
-        break;
-      case tdm::MissionOutcome::Crashed:
-        ++s.crashed;
-        break;
-      case tdm::MissionOutcome::Aborted:
-        ++s.aborted;
-        break;
-      case tdm::MissionOutcome::Timeout:
-        ++s.timeout;
-        break;
-    }
-    s.tracking_max = std::max(s.tracking_max, r.max_tracking_error);
-    s.axis_speed_max = std::max(s.axis_speed_max, r.max_axis_speed);
-    s.axis_accel_max = std::max(s.axis_accel_max, r.max_axis_acceleration);
-    s.v_limit = r.v_limit;
-    s.a_limit = r.a_limit;
-    ms.push_back(r.replan_median_ms);
-    pose.push_back(r.pose_error_median);
-  }
-  s.reasons = tdm::count_failure_reasons(results);
-  s.error_median = percentile(err, 0.5);
-  s.error_p95 = percentile(err, 0.95);
-  s.error_max = percentile(err, 1.0);
-  s.speed_median = percentile(spd, 0.5);
-  s.speed_p95 = percentile(spd, 0.95);
-  s.speed_max = percentile(spd, 1.0);
-  s.replan_ms_median = percentile(ms, 0.5);
-  s.pose_error_median = percentile(pose, 0.5);
-  s.duration_median = percentile(dur, 0.5);
-  s.landing_time_median = percentile(landing, 0.5);
-  return s;
-}
-
-// "gave up: low_off_centre 2, timeout in tracking 1"
-std::string reasons_text(const tdm::FailureCounts& reasons) {
-  std::string out;
-  for (const auto& [why, n] : reasons) out += (out.empty() ? "" : ", ") + why + " " + std::to_string(n);
-  return out;
-}
-
-nlohmann::json reasons_json(const tdm::FailureCounts& reasons) {
-  nlohmann::json j = nlohmann::json::array();
-  for (const auto& [why, n] : reasons) j.push_back({{"reason", why}, {"runs", n}});
-  return j;
-}
-
-std::string fixed(double v, int decimals) { return std::isfinite(v) ? format_fixed(v, decimals) : "-"; }
-
-void print_summary(const Args& a, const tdm::MissionOptions& o, const Summary& s, double wall) {
-  std::printf("%s: %d mission%s, vehicle %s at %.2f m/s, perception %s, seed %llu\n", source_name(a).c_str(), s.runs,
-              s.runs == 1 ? "" : "s", std::string(tdm::to_string(o.vehicle.path)).c_str(), o.vehicle.speed,
-              a.perception.c_str(), static_cast<unsigned long long>(a.seed));
-  std::printf("  landed %d (%.1f %%), crashed %d, aborted %d, timeout %d\n", s.landed, 100 * s.success(), s.crashed,
-              s.aborted, s.timeout);
-  if (!s.reasons.empty()) std::printf("  why not landed: %s\n", reasons_text(s.reasons).c_str());
-  std::printf("  touchdown error from the pad centre: median %s m, 95th percentile %s m, max %s m\n",
-              fixed(s.error_median, 3).c_str(), fixed(s.error_p95, 3).c_str(), fixed(s.error_max, 3).c_str());
-  std::printf("  relative speed at touchdown: median %s m/s, 95th percentile %s m/s, max %s m/s\n",
-              fixed(s.speed_median, 2).c_str(), fixed(s.speed_p95, 2).c_str(), fixed(s.speed_max, 2).c_str());
-  std::printf("  in landing: largest axis speed %.2f m/s (limit %.2f), acceleration %.2f m/s^2 (limit %.2f)\n",
-              s.axis_speed_max, s.v_limit, s.axis_accel_max, s.a_limit);
-  std::printf("  max tracking error %.2f m; replans %s ms median; pose error %s mm median\n", s.tracking_max,
-              fixed(s.replan_ms_median, 3).c_str(), fixed(1e3 * s.pose_error_median, 1).c_str());
-  std::printf("  mission %s s median (landing phase %s s); %.2f s wall\n", fixed(s.duration_median, 1).c_str(),
-              fixed(s.landing_time_median, 1).c_str(), wall);
-}
-
-nlohmann::json summary_json(const Summary& s) {
-  using td::app::round3;
-  const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(round3(v)) : nlohmann::json(); };
-  return {
-      {"runs", s.runs},
-      {"landed", s.landed},
-      {"crashed", s.crashed},
-      {"aborted", s.aborted},
-      {"timeout", s.timeout},
-      {"reasons", reasons_json(s.reasons)},
-      {"success_rate", round3(s.success())},
-      {"touchdown_error_m", {{"median", num(s.error_median)}, {"p95", num(s.error_p95)}, {"max", num(s.error_max)}}},
-      {"touchdown_speed_mps", {{"median", num(s.speed_median)}, {"p95", num(s.speed_p95)}, {"max", num(s.speed_max)}}},
-      {"max_axis_speed_mps", round3(s.axis_speed_max)},
-      {"v_limit_mps", round3(s.v_limit)},
-      {"max_axis_acceleration_mps2", round3(s.axis_accel_max)},
-      {"a_limit_mps2", round3(s.a_limit)},
-      {"max_tracking_error_m", round3(s.tracking_max)},
-      {"replan_ms_median", num(s.replan_ms_median)}};
-}
-
-std::string trace_csv(const tdm::MissionResult& r) {
-  std::ostringstream os;
-  os.precision(6);
-  os << "t_s,state,x_m,y_m,z_m,vx_mps,vy_mps,vz_mps,est_x_m,est_y_m,est_z_m,sp_x_m,sp_y_m,sp_z_m,sp_vx_mps,sp_vy_mps,"
-        "sp_vz_mps,pad_x_m,pad_y_m,pad_z_m,pad_yaw_rad,rel_x_m,rel_y_m,rel_z_m,pose_error_m,tracking_error_m\n";
-  for (const auto& s : r.trace) {
-    os << s.t << "," << tdm::to_string(s.state);
-    for (const Eigen::Vector3d* v : {&s.drone, &s.drone_v, &s.estimate, &s.setpoint, &s.setpoint_v, &s.pad}) {
-      os << "," << v->x() << "," << v->y() << "," << v->z();
-    }
-    os << "," << s.pad_yaw << "," << s.relative.x() << "," << s.relative.y() << "," << s.relative.z() << ","
-       << s.pose_error << "," << s.tracking_error << "\n";
-  }
-  return os.str();
-}
 
 // --plot DIR and --log FILE: staged before any work (a run that fails
 // leaves nothing), written from run 0 flown again with its trace recorded.
@@ -297,7 +122,7 @@ void write_recorded(const Args& a, const tdm::MissionOptions& o, Recorded& out) 
                                                        : tdm::plot_top_view(r, title);
     td::app::write_text(tmp, svg, "--plot");
   }
-  if (!out.log.empty()) td::app::write_text(out.log, trace_csv(r), "--log");
+  if (!out.log.empty()) td::app::write_text(out.log, tdm::trace_csv(r), "--log");
   out.staged.commit();
 }
 
@@ -314,102 +139,16 @@ int run_envelope(const Args& a) {
   td::StagedOutputs staged;
   std::filesystem::path plot;
   if (!a.envelope_plot.empty()) plot = staged.add(a.envelope_plot, "--plot");
-  std::vector<tdm::EnvelopeCell> cells;
-  std::vector<std::pair<double, std::string>> refused;  // speed, why
-  const auto speeds = range_of(a.speeds), winds = range_of(a.winds);
   td::app::ProgressBar bar("landing_mission", "missions");
-  const std::size_t total = speeds.size() * winds.size() * static_cast<std::size_t>(a.runs);
-  std::size_t done = 0;
-  for (const double wind : winds) {
-    for (const double speed : speeds) {
-      tdm::MissionOptions o = file.options;
-      o.vehicle.speed = std::max(speed, 1e-3);  // 0: a vehicle standing still
-      // The vehicle is what the sweep varies: its wheels may go as fast as
-      // the speed needs; the drone's limits stay the file's.
-      const double outer = o.vehicle.speed * (1 + 0.5 * o.vehicle.track_width / o.vehicle.radius) + 0.1;
-      o.vehicle.max_wheel_speed = std::max(o.vehicle.max_wheel_speed, outer);
-      o.wind.mean = Eigen::Vector3d(wind, 0, 0);
-      o.wind.gust_sigma = 0.25 * wind;
-      std::string why;
-      tdm::EnvelopeCell cell{speed, wind, a.runs, 0, 0, true, {}};
-      if (o.validate(&why)) {
-        const auto results =
-            tdm::run_missions(o, a.runs, a.seed, a.threads, {}, [&](const td::Progress&) { bar.draw(++done, total); });
-        cell.landed =
-            static_cast<int>(std::count_if(results.begin(), results.end(), [](const auto& r) { return r.landed(); }));
-        cell.crashed = static_cast<int>(std::count_if(
-            results.begin(), results.end(), [](const auto& r) { return r.outcome == tdm::MissionOutcome::Crashed; }));
-        cell.reasons = tdm::count_failure_reasons(results);
-      } else {
-        done += static_cast<std::size_t>(a.runs);  // beyond what the drone's options allow: not flown
-        cell.valid = false;
-        refused.emplace_back(speed, why);
-      }
-      cells.push_back(cell);
-    }
-  }
+  const tdm::Envelope e = tdm::run_envelope(file.options, range_of(a.speeds), range_of(a.winds), a.runs, a.seed,
+                                            a.threads, [&bar](const td::Progress& p) { bar.draw(p.done, p.total); });
   bar.close();
   if (!plot.empty()) {
     td::app::write_text(
-        plot, tdm::plot_envelope(cells, source_name(a) + ", " + std::to_string(a.runs) + " runs per cell"), "--plot");
+        plot, tdm::plot_envelope(e.cells, source_name(a) + ", " + std::to_string(a.runs) + " runs per cell"), "--plot");
   }
   staged.commit();
-  if (a.json) {
-    nlohmann::json j = nlohmann::json::array();
-    for (const auto& c : cells) {
-      if (c.valid) {
-        j.push_back({{"speed_mps", c.speed},
-                     {"wind_mps", c.wind},
-                     {"runs", c.runs},
-                     {"landed", c.landed},
-                     {"crashed", c.crashed},
-                     {"reasons", reasons_json(c.reasons)},
-                     {"success_rate", td::app::round3(c.success())}});
-      } else {
-        j.push_back({{"speed_mps", c.speed},
-                     {"wind_mps", c.wind},
-                     {"runs", 0},
-                     {"landed", 0},
-                     {"crashed", 0},
-                     {"reasons", nlohmann::json::array()},
-                     {"success_rate", nullptr}});
-      }
-    }
-    std::cout << nlohmann::json{{"mission", source_name(a)}, {"seed", a.seed}, {"cells", j}}.dump() << "\n";
-    return td::app::kExitOk;
-  }
-  std::printf("%s: share landed over vehicle speed x wind, %d runs per cell (gusts 25 %% of the wind)\n",
-              source_name(a).c_str(), a.runs);
-  std::printf("%10s", "wind \\ v");
-  for (const double s : speeds) std::printf(" %6.2f ", s);
-  std::printf("\n");
-  for (std::size_t j = winds.size(); j-- > 0;) {
-    std::printf("%6.2f m/s", winds[j]);
-    for (std::size_t i = 0; i < speeds.size(); ++i) {
-      const auto& c = cells[j * speeds.size() + i];
-      if (c.valid) {
-        std::printf(" %5.0f%%%s", 100 * c.success(), c.crashed > 0 ? "*" : " ");
-      } else {
-        std::printf(" %6s ", "n/a");
-      }
-    }
-    std::printf("\n");
-  }
-  if (std::any_of(cells.begin(), cells.end(), [](const auto& c) { return c.crashed > 0; })) {
-    std::printf("  * some missions of the cell crashed (--json has the counts per cell)\n");
-  }
-  tdm::FailureCounts all;
-  for (const auto& c : cells) all = tdm::merge_failure_reasons(all, c.reasons);
-  if (all.empty()) {
-    std::printf("  every mission flown landed\n");
-  } else {
-    std::printf("  why not landed (all cells): %s\n", reasons_text(all).c_str());
-  }
-  double last = -1;
-  for (const auto& [speed, why] : refused) {
-    if (speed != last) std::printf("  n/a at %.2f m/s: %s\n", speed, why.c_str());
-    last = speed;
-  }
+  std::cout << (a.json ? tdm::envelope_json(e, source_name(a), a.seed) + "\n" : tdm::envelope_text(e, source_name(a)));
   return td::app::kExitOk;
 }
 
@@ -487,21 +226,9 @@ int main(int argc, char** argv) {
     bar.close();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     write_recorded(a, file.options, recorded);
-    const Summary s = summarise(results);
-    if (a.json) {
-      nlohmann::json runs = nlohmann::json::array();
-      for (std::size_t i = 0; i < results.size(); ++i) runs.push_back(run_json(results[i], static_cast<int>(i)));
-      std::cout << nlohmann::json{{"mission", source_name(a)},
-                                  {"seed", a.seed},
-                                  {"perception", a.perception},
-                                  {"summary", summary_json(s)},
-                                  {"seconds", std::round(wall * 1e3) / 1e3},
-                                  {"missions", runs}}
-                       .dump()
-                << "\n";
-    } else {
-      print_summary(a, file.options, s, wall);
-    }
+    const tdm::MissionRunInfo info{source_name(a), a.seed, a.perception};
+    std::cout << (a.json ? tdm::missions_json(info, results, wall) + "\n"
+                         : tdm::summary_text(info, file.options, tdm::summarise(results), wall));
     return td::app::kExitOk;
   });
 }

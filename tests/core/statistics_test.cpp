@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "touchdown/core/random.hpp"
@@ -39,6 +40,26 @@ TEST(Statistics, AgreeWithTheSortedSample) {
       EXPECT_EQ(nth_smallest(std::span(w), k), sorted[k]) << n << " " << k;
     }
   }
+}
+
+TEST(Statistics, NearestRankIsTheCeilingRankOfTheSortedSample) {
+  // The nearest-rank definition: the smallest value with at least q n of the
+  // sample at or below it; counted here by brute force.
+  for (std::size_t n = 1; n <= 30; ++n) {
+    const std::vector<double> v = sample(100 + n, n);
+    for (const double q : {0.0, 0.05, 0.25, 0.5, 0.9, 0.95, 1.0}) {
+      double expected = std::numeric_limits<double>::infinity();
+      for (const double x : v) {
+        const auto at_or_below = std::count_if(v.begin(), v.end(), [&](double y) { return y <= x; });
+        if (static_cast<double>(at_or_below) >= q * static_cast<double>(n)) expected = std::min(expected, x);
+      }
+      EXPECT_EQ(nearest_rank(v, q), expected) << "n " << n << " q " << q;
+    }
+  }
+  EXPECT_EQ(nearest_rank({4, 1, 3, 2}, 0.5), 2);   // rank 2 of 4
+  EXPECT_EQ(nearest_rank({4, 1, 3, 2}, 0.51), 3);  // rank 3
+  EXPECT_EQ(nearest_rank({4, 1, 3, 2}, 2.0), 4);   // q clamped
+  EXPECT_EQ(nearest_rank({}, 0.5), 0);
 }
 
 TEST(Statistics, InPlaceFormsWorkOnFloatsAndPrefixes) {

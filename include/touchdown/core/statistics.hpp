@@ -8,9 +8,12 @@
 ///  - `upper_median`: the element of rank n/2 (0-based), a value of the
 ///    sample itself (timing figures, noise levels, depth at a blob).
 /// `quantile(v, q)` is the element of rank ⌊q (n − 1)⌋ (the lower
-/// nearest rank, no interpolation). The `_in_place` forms reorder their
+/// nearest rank, no interpolation); `nearest_rank(v, q)` the element of
+/// 1-based rank ⌈q n⌉ (the nearest-rank percentile: the mission's error
+/// figures). The `_in_place` forms reorder their
 /// span and do not allocate (hot loops); the others take a copy.
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -52,6 +55,15 @@ T quantile_in_place(std::span<T> v, double q) {
   return nth_smallest(v, k);
 }
 
+/// The element of 1-based rank max(1, ⌈q n⌉), q clamped to [0, 1] (v
+/// reordered, not empty).
+template <class T>
+T nearest_rank_in_place(std::span<T> v, double q) {
+  const double rank = std::ceil(std::clamp(q, 0.0, 1.0) * static_cast<double>(v.size()));
+  const auto k = static_cast<std::size_t>(std::max(1.0, rank)) - 1;
+  return nth_smallest(v, std::min(k, v.size() - 1));
+}
+
 /// median_in_place of a copy; 0 for an empty sample.
 inline double median(std::vector<double> v) { return v.empty() ? 0.0 : median_in_place(std::span<double>(v)); }
 
@@ -63,6 +75,11 @@ inline double upper_median(std::vector<double> v) {
 /// quantile_in_place of a copy; 0 for an empty sample.
 inline double quantile(std::vector<double> v, double q) {
   return v.empty() ? 0.0 : quantile_in_place(std::span<double>(v), q);
+}
+
+/// nearest_rank_in_place of a copy; 0 for an empty sample.
+inline double nearest_rank(std::vector<double> v, double q) {
+  return v.empty() ? 0.0 : nearest_rank_in_place(std::span<double>(v), q);
 }
 
 }  // namespace touchdown
