@@ -18,6 +18,7 @@
 #include <functional>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -535,6 +536,15 @@ struct Subcommand {
   CLI::App* command = nullptr;
   std::function<int()> run;
 };
+
+/// A subcommand whose options `add(app, args)` declares on an Args of its
+/// own (kept alive by the returned runner) and `run(args)` runs.
+template <class Args, class Add, class Run>
+Subcommand make_subcommand(CLI::App& app, Add add, Run run) {
+  auto args = std::make_shared<Args>();
+  CLI::App* command = add(app, *args);
+  return {command, [args, run] { return run(*args); }};
+}
 
 /// Runs the parsed one of `commands` (the app requires one).
 inline int run_parsed(const std::vector<Subcommand>& commands) {

@@ -282,21 +282,15 @@ int compare_command(const CompareArgs& a) {
 namespace touchdown::app::fuzz_app {
 
 Subcommand add_metrics(CLI::App& app) {
-  auto a = std::make_shared<MetricsArgs>();
-  CLI::App* command = add_metrics_command(app, *a);
-  return {command, [a] { return metrics_command(*a); }};
+  return make_subcommand<MetricsArgs>(app, add_metrics_command, metrics_command);
 }
 
 Subcommand add_causes(CLI::App& app) {
-  auto a = std::make_shared<CausesArgs>();
-  CLI::App* command = add_causes_command(app, *a);
-  return {command, [a] { return causes_command(*a); }};
+  return make_subcommand<CausesArgs>(app, add_causes_command, causes_command);
 }
 
 Subcommand add_compare(CLI::App& app) {
-  auto a = std::make_shared<CompareArgs>();
-  CLI::App* command = add_compare_command(app, *a);
-  return {command, [a] { return compare_command(*a); }};
+  return make_subcommand<CompareArgs>(app, add_compare_command, compare_command);
 }
 
 }  // namespace touchdown::app::fuzz_app

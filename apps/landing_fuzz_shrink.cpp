@@ -164,9 +164,7 @@ int shrink_command(ShrinkArgs& a) {
 namespace touchdown::app::fuzz_app {
 
 Subcommand add_shrink(CLI::App& app) {
-  auto a = std::make_shared<ShrinkArgs>();
-  CLI::App* command = add_shrink_command(app, *a);
-  return {command, [a] { return shrink_command(*a); }};
+  return make_subcommand<ShrinkArgs>(app, add_shrink_command, shrink_command);
 }
 
 }  // namespace touchdown::app::fuzz_app

@@ -218,15 +218,11 @@ void parse_marker(const std::string& text, const std::string& option, std::strin
 }
 
 Subcommand add_random(CLI::App& app) {
-  auto a = std::make_shared<RandomArgs>();
-  CLI::App* command = add_random_command(app, *a);
-  return {command, [a] { return random_command(*a); }};
+  return make_subcommand<RandomArgs>(app, add_random_command, random_command);
 }
 
 Subcommand add_campaign(CLI::App& app) {
-  auto a = std::make_shared<CampaignArgs>();
-  CLI::App* command = add_campaign_command(app, *a);
-  return {command, [a] { return campaign_command(*a); }};
+  return make_subcommand<CampaignArgs>(app, add_campaign_command, campaign_command);
 }
 
 }  // namespace touchdown::app::scenario_app

@@ -272,21 +272,15 @@ int bench_command(BenchArgs& a) {
 namespace touchdown::app::scenario_app {
 
 Subcommand add_dataset(CLI::App& app) {
-  auto a = std::make_shared<DatasetArgs>();
-  CLI::App* command = add_dataset_command(app, *a);
-  return {command, [a] { return dataset_command(*a); }};
+  return make_subcommand<DatasetArgs>(app, add_dataset_command, dataset_command);
 }
 
 Subcommand add_detect(CLI::App& app) {
-  auto a = std::make_shared<DetectArgs>();
-  CLI::App* command = add_detect_command(app, *a);
-  return {command, [a] { return detect_command(*a); }};
+  return make_subcommand<DetectArgs>(app, add_detect_command, detect_command);
 }
 
 Subcommand add_bench(CLI::App& app) {
-  auto a = std::make_shared<BenchArgs>();
-  CLI::App* command = add_bench_command(app, *a);
-  return {command, [a] { return bench_command(*a); }};
+  return make_subcommand<BenchArgs>(app, add_bench_command, bench_command);
 }
 
 }  // namespace touchdown::app::scenario_app

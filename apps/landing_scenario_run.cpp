@@ -250,9 +250,7 @@ int run_command(RunArgs& a) {
 namespace touchdown::app::scenario_app {
 
 Subcommand add_run(CLI::App& app) {
-  auto a = std::make_shared<RunArgs>();
-  CLI::App* command = add_run_command(app, *a);
-  return {command, [a] { return run_command(*a); }};
+  return make_subcommand<RunArgs>(app, add_run_command, run_command);
 }
 
 }  // namespace touchdown::app::scenario_app

@@ -153,15 +153,11 @@ int systems_command(const SystemsArgs& a) {
 namespace touchdown::app::scenario_app {
 
 Subcommand add_contract(CLI::App& app) {
-  auto a = std::make_shared<ContractArgs>();
-  CLI::App* command = add_contract_command(app, *a);
-  return {command, [a] { return contract_command(*a); }};
+  return make_subcommand<ContractArgs>(app, add_contract_command, contract_command);
 }
 
 Subcommand add_systems(CLI::App& app) {
-  auto a = std::make_shared<SystemsArgs>();
-  CLI::App* command = add_systems_command(app, *a);
-  return {command, [a] { return systems_command(*a); }};
+  return make_subcommand<SystemsArgs>(app, add_systems_command, systems_command);
 }
 
 }  // namespace touchdown::app::scenario_app

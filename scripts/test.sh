@@ -102,9 +102,6 @@ ctest --test-dir build -j"$jobs" --output-on-failure
 # one compile serves both (libFuzzer is clang's); GCC without clang++ (no
 # fuzzers then). -O1 -g1: the sanitizers need no more optimisation than
 # that, and line tables are enough for their stack traces.
-# -fno-sanitize=pointer-overflow: clang reports Eigen's empty blocks (an
-# offset of 0 rows added to a null data pointer, Eigen/src/Core/Block.h),
-# which is not a defect of this code; GCC's check does not fire on it.
 san_tree=0
 fuzz=0
 [ "$full" = 1 ] && [ "${SKIP_ASAN:-0}" != "1" ] && san_tree=1
@@ -115,7 +112,6 @@ if [ "$san_tree" = 1 ] || [ "$fuzz" = 1 ]; then
   compiler=()
   if command -v clang++ >/dev/null 2>&1; then
     compiler=(-DCMAKE_CXX_COMPILER=clang++ "-DTOUCHDOWN_BUILD_FUZZERS=$([ "$fuzz" = 1 ] && echo ON || echo OFF)")
-    san+=" -fno-sanitize=pointer-overflow"
   fi
   configure build-asan "${compiler[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTOUCHDOWN_WERROR=ON \
         -DTOUCHDOWN_BUILD_BENCHMARKS=OFF -DTOUCHDOWN_TEST_PER_CASE=OFF "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" \

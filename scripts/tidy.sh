@@ -17,10 +17,19 @@
 # change can reach; a tree without Ninja's log, or an empty cache, checks
 # everything. Findings are never cached.
 #
+# The keys of the committed tree's clean units are also in the repository
+# (scripts/tidy-clean.keys), read as a second cache, so that a fresh clone
+# on a machine that never ran the checks (CI's) re-checks only what changed
+# since they were recorded instead of all ~165 units (~20 min of 2 cores).
+# TOUCHDOWN_TIDY_RECORD=1 rewrites that file after a clean run with the
+# keys of every unit of this tree (commit it with the change).
+#
 #   scripts/tidy.sh [BUILD_DIR]    # default: build (configured when missing)
 #   JOBS=4 scripts/tidy.sh         # parallel clang-tidy processes (default 2)
 #   TOUCHDOWN_TIDY_CACHE=DIR       # the cache (default ~/.cache/touchdown/tidy;
-#                                  # "off": check every unit, store nothing)
+#                                  # "off": check every unit, store nothing,
+#                                  # and ignore scripts/tidy-clean.keys)
+#   TOUCHDOWN_TIDY_RECORD=1        # after a clean run, rewrite scripts/tidy-clean.keys
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -65,7 +74,10 @@ def digest(path):
             digests[path] = "missing"
     return digests[path]
 common = version + digest(os.path.join(root, ".clang-tidy"))
-todo, keys = [], []
+committed = set()
+if cache != "off" and os.path.exists(os.path.join(root, "scripts", "tidy-clean.keys")):
+    committed = set(open(os.path.join(root, "scripts", "tidy-clean.keys")).read().split())
+todo, keys, every = [], [], []
 for e in entries:
     if e["file"].endswith("_pch_host.cpp"):
         continue
@@ -84,14 +96,20 @@ for e in entries:
     for f in sorted(set(files)):
         h.update(here(f + digest(f if os.path.isabs(f) else os.path.join(build, f))).encode())
     key = h.hexdigest()
+    every.append(key)
     stored = os.path.join(cache, key[:2], key)
     if os.path.exists(stored):
         os.utime(stored)  # last met now: kept by the 60-day pruning
+    elif key in committed:
+        keys.append(key)  # clean when recorded: stored in the local cache too
     else:
         todo.append(e)
         keys.append(key)
 json.dump(todo, open(os.path.join(work, "compile_commands.json"), "w"))
 open(os.path.join(work, "keys"), "w").write("".join(k + "\n" for k in keys))
+# Every unit has a key only when each has a dependency record.
+complete = len(every) == sum(not e["file"].endswith("_pch_host.cpp") for e in entries)
+open(os.path.join(work, "every"), "w").write("".join(k + "\n" for k in sorted(every)) if complete else "")
 open(os.path.join(work, "counts"), "w").write(f"{len(entries) - sum(e['file'].endswith('_pch_host.cpp') for e in entries)} {len(todo)}\n")
 PY
 status=0
@@ -126,5 +144,13 @@ if [ "$cache" != off ] && [ -s "$work/keys" ]; then
   done <"$work/keys"
   # Keys of units no run has met for 60 days go.
   find "$cache" -type f -mtime +60 -delete 2>/dev/null || true
+fi
+if [ "${TOUCHDOWN_TIDY_RECORD:-0}" = 1 ]; then
+  if [ -s "$work/every" ]; then
+    cp "$work/every" scripts/tidy-clean.keys
+    echo "scripts/tidy.sh: recorded $(wc -l <scripts/tidy-clean.keys) clean units in scripts/tidy-clean.keys" >&2
+  else
+    echo "scripts/tidy.sh: not recorded (a unit has no dependency record: build the tree with Ninja first)" >&2
+  fi
 fi
 echo "scripts/tidy.sh: $units translation units, $todo checked ($((units - todo)) unchanged since a clean run: $cache), no findings" >&2

@@ -196,7 +196,11 @@ void QpSolver::reduce(const Eigen::Ref<const Eigen::MatrixXd>& P, const Eigen::R
       if (w != 0) col += w * P.col(basis_[static_cast<std::size_t>(b)]);
     }
   }
-  for (int b = 0; b < rk; ++b) PZB_.row(b).head(nc) = PZ_.row(basis_[static_cast<std::size_t>(b)]).head(nc);
+  // No free variable (the equalities fix every one): nothing to copy, and a
+  // row of a matrix without columns would offset its null data pointer.
+  if (nc > 0) {
+    for (int b = 0; b < rk; ++b) PZB_.row(b).head(nc) = PZ_.row(basis_[static_cast<std::size_t>(b)]).head(nc);
+  }
   auto Pc = Pc_.topLeftCorner(nc, nc);
   for (int i = 0; i < nc; ++i) Pc.row(i) = PZ_.row(free_[static_cast<std::size_t>(i)]).head(nc);
   Pc.noalias() += Wt_.topLeftCorner(nc, rk) * PZB_.topLeftCorner(rk, nc);
