@@ -285,9 +285,7 @@ Subcommand add_metrics(CLI::App& app) {
   return make_subcommand<MetricsArgs>(app, add_metrics_command, metrics_command);
 }
 
-Subcommand add_causes(CLI::App& app) {
-  return make_subcommand<CausesArgs>(app, add_causes_command, causes_command);
-}
+Subcommand add_causes(CLI::App& app) { return make_subcommand<CausesArgs>(app, add_causes_command, causes_command); }
 
 Subcommand add_compare(CLI::App& app) {
   return make_subcommand<CompareArgs>(app, add_compare_command, compare_command);

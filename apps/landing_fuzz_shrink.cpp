@@ -163,8 +163,6 @@ int shrink_command(ShrinkArgs& a) {
 
 namespace touchdown::app::fuzz_app {
 
-Subcommand add_shrink(CLI::App& app) {
-  return make_subcommand<ShrinkArgs>(app, add_shrink_command, shrink_command);
-}
+Subcommand add_shrink(CLI::App& app) { return make_subcommand<ShrinkArgs>(app, add_shrink_command, shrink_command); }
 
 }  // namespace touchdown::app::fuzz_app

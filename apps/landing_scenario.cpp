@@ -217,9 +217,7 @@ void parse_marker(const std::string& text, const std::string& option, std::strin
     throw td::InvalidArgument(option + " " + text + ": expected DICTIONARY:ID, e.g. 4X4_50:0");
 }
 
-Subcommand add_random(CLI::App& app) {
-  return make_subcommand<RandomArgs>(app, add_random_command, random_command);
-}
+Subcommand add_random(CLI::App& app) { return make_subcommand<RandomArgs>(app, add_random_command, random_command); }
 
 Subcommand add_campaign(CLI::App& app) {
   return make_subcommand<CampaignArgs>(app, add_campaign_command, campaign_command);

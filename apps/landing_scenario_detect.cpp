@@ -275,12 +275,8 @@ Subcommand add_dataset(CLI::App& app) {
   return make_subcommand<DatasetArgs>(app, add_dataset_command, dataset_command);
 }
 
-Subcommand add_detect(CLI::App& app) {
-  return make_subcommand<DetectArgs>(app, add_detect_command, detect_command);
-}
+Subcommand add_detect(CLI::App& app) { return make_subcommand<DetectArgs>(app, add_detect_command, detect_command); }
 
-Subcommand add_bench(CLI::App& app) {
-  return make_subcommand<BenchArgs>(app, add_bench_command, bench_command);
-}
+Subcommand add_bench(CLI::App& app) { return make_subcommand<BenchArgs>(app, add_bench_command, bench_command); }
 
 }  // namespace touchdown::app::scenario_app

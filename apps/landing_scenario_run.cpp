@@ -249,8 +249,6 @@ int run_command(RunArgs& a) {
 
 namespace touchdown::app::scenario_app {
 
-Subcommand add_run(CLI::App& app) {
-  return make_subcommand<RunArgs>(app, add_run_command, run_command);
-}
+Subcommand add_run(CLI::App& app) { return make_subcommand<RunArgs>(app, add_run_command, run_command); }
 
 }  // namespace touchdown::app::scenario_app
