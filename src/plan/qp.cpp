@@ -196,11 +196,7 @@ void QpSolver::reduce(const Eigen::Ref<const Eigen::MatrixXd>& P, const Eigen::R
       if (w != 0) col += w * P.col(basis_[static_cast<std::size_t>(b)]);
     }
   }
-  // No free variable (the equalities fix every one): nothing to copy, and a
-  // row of a matrix without columns would offset its null data pointer.
-  if (nc > 0) {
-    for (int b = 0; b < rk; ++b) PZB_.row(b).head(nc) = PZ_.row(basis_[static_cast<std::size_t>(b)]).head(nc);
-  }
+  for (int b = 0; b < rk; ++b) PZB_.row(b).head(nc) = PZ_.row(basis_[static_cast<std::size_t>(b)]).head(nc);
   auto Pc = Pc_.topLeftCorner(nc, nc);
   for (int i = 0; i < nc; ++i) Pc.row(i) = PZ_.row(free_[static_cast<std::size_t>(i)]).head(nc);
   Pc.noalias() += Wt_.topLeftCorner(nc, rk) * PZB_.topLeftCorner(rk, nc);
@@ -210,7 +206,11 @@ void QpSolver::reduce(const Eigen::Ref<const Eigen::MatrixXd>& P, const Eigen::R
   for (int i = 0; i < nc; ++i) qc_(i) = g_(free_[static_cast<std::size_t>(i)]);
   for (int b = 0; b < rk; ++b) qc_.head(nc) += g_(basis_[static_cast<std::size_t>(b)]) * Wt_.col(b).head(nc);
 
-  for (int j = 0; j < nc; ++j) normals_.row(j) = A_in.col(free_[static_cast<std::size_t>(j)]).transpose();
+  // Without inequalities normals_ has no column: a row of it would offset
+  // its null data pointer (undefined, though nothing is read).
+  if (m_in_ > 0) {
+    for (int j = 0; j < nc; ++j) normals_.row(j) = A_in.col(free_[static_cast<std::size_t>(j)]).transpose();
+  }
   offsets_ = b_in;
   for (int b = 0; b < rk; ++b) {
     const int var = basis_[static_cast<std::size_t>(b)];
