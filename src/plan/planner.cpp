@@ -11,10 +11,10 @@
 #include <nlopt.hpp>
 
 #include "core/format.hpp"
+#include "plan/qp_builder.hpp"
 #include "touchdown/core/batch.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/plan/qp.hpp"
-#include "plan/qp_builder.hpp"
 
 namespace touchdown::plan {
 
