@@ -136,17 +136,35 @@ bool DatasetOptions::validate(std::string* why) const {
   return true;
 }
 
-DatasetFrame render_dataset_frame(const DatasetOptions& options, int index) {
+namespace {
+
+// Frame `index`'s generator, its options and index checked.
+Rng frame_rng(const DatasetOptions& options, int index) {
   std::string why;
   if (!options.validate(&why)) throw InvalidArgument("dataset: " + why);
   if (index < 0) throw InvalidArgument("dataset: frame index must be ≥ 0");
+  return Rng(options.seed, static_cast<std::uint64_t>(index));
+}
+
+// The split of a frame whose first draw is `u`.
+DatasetSplit split_of(const DatasetOptions& options, double u) {
+  return u < options.test_fraction                                 ? DatasetSplit::Test
+         : u < options.test_fraction + options.validation_fraction ? DatasetSplit::Validation
+                                                                   : DatasetSplit::Train;
+}
+
+}  // namespace
+
+DatasetSplit dataset_split(const DatasetOptions& options, int index) {
+  Rng r = frame_rng(options, index);
+  return split_of(options, r.uniform());
+}
+
+DatasetFrame render_dataset_frame(const DatasetOptions& options, int index) {
+  Rng r = frame_rng(options, index);
   DatasetFrame out;
   out.index = index;
-  Rng r(options.seed, static_cast<std::uint64_t>(index));
-  const double split = r.uniform();
-  out.split = split < options.test_fraction                                 ? DatasetSplit::Test
-              : split < options.test_fraction + options.validation_fraction ? DatasetSplit::Validation
-                                                                            : DatasetSplit::Train;
+  out.split = split_of(options, r.uniform());
   const MapKind map = r.uniform() < 0.5 ? MapKind::Ground : MapKind::Lawn;
   out.scenario_seed = r.next();
   Scenario s = random_scenario(out.scenario_seed, map);

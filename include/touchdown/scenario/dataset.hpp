@@ -91,6 +91,11 @@ DatasetFrame label_frame(const Scenario& s, const CameraOptions& camera, const S
 /// Renders frame `index` of the dataset; throws InvalidArgument for invalid options.
 DatasetFrame render_dataset_frame(const DatasetOptions& options, int index);
 
+/// The split of frame `index` (the first draw of its generator, as
+/// render_dataset_frame draws it) without rendering the frame; throws
+/// InvalidArgument for invalid options.
+[[nodiscard]] DatasetSplit dataset_split(const DatasetOptions& options, int index);
+
 /// A marker named "DICTIONARY:ID" ("4X4_50:0"): false, leaving both
 /// unchanged, unless `text` is a name, a colon and a whole integer (the
 /// name and the id's range are DatasetOptions::validate's to check).
