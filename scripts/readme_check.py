@@ -258,7 +258,11 @@ def normalize(line):
     last = 0
     for m in NUMBER.finditer(line):
         if any(a <= m.start() and m.end() <= b for a, b in spans):
-            out.append(line[last : m.start()])
+            # A right-aligned column pads a timing to its width: the spaces
+            # before it change with its digits ("  9.8" / " 10.5"), so they
+            # count as one.
+            before = line[last : m.start()]
+            out.append(before.rstrip(" ") + " " if before.endswith(" ") else before)
             out.append("<time>")
             last = m.end()
     out.append(line[last:])
