@@ -14,7 +14,6 @@
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <iomanip>
 #include <iostream>
@@ -27,6 +26,7 @@
 #include <vector>
 
 #include "core/format.hpp"
+#include "core/io_util.hpp"
 #include "core/json_number.hpp"
 #include "touchdown/core/atomic_file.hpp"
 #include "touchdown/core/enum_names.hpp"
@@ -41,12 +41,9 @@ inline constexpr int kExitBadInput = 2;
 inline constexpr int kExitInternal = 3;
 
 /// Writes `text` to `path` (a StagedOutputs temporary); IoError naming
-/// `what` when the write fails.
+/// `what` (the option or final path) when the write fails.
 inline void write_text(const std::filesystem::path& path, const std::string& text, const std::string& what) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  out.flush();
-  if (!out) throw touchdown::IoError(what + ": write failed");
+  touchdown::detail::write_text_file(path, text, what);
 }
 
 /// An optional output option's path staged in `outputs` (checked now, before

@@ -29,4 +29,13 @@ std::string read_text_file(const std::filesystem::path& path) {
   return text;
 }
 
+void write_text_file(const std::filesystem::path& path, std::string_view text, const std::string& shown) {
+  const std::string name = shown.empty() ? path.string() : shown;
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw IoError(name + ": cannot write");
+  out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  out.flush();
+  if (!out) throw IoError(name + ": write failed");
+}
+
 }  // namespace touchdown::detail

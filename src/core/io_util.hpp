@@ -81,6 +81,13 @@ std::ifstream open_for_read(const std::filesystem::path& path);
 /// The whole content of a file (IoError naming it when unreadable).
 std::string read_text_file(const std::filesystem::path& path);
 
+/// Writes `text` to `path` (binary, replacing what was there): the one
+/// writer of a whole text or binary file. IoError "SHOWN: cannot write"
+/// when it cannot be opened, "SHOWN: write failed" when a write fails;
+/// SHOWN is `shown` (an option name, the file's place in a dataset, or the
+/// final path of a staged temporary), `path` itself when empty.
+void write_text_file(const std::filesystem::path& path, std::string_view text, const std::string& shown = {});
+
 /// Reads one line (without '\n' or a trailing '\r'); false at end of stream.
 inline bool read_line(std::istream& in, std::string& line) {
   if (!std::getline(in, line)) return false;

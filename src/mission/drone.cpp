@@ -10,17 +10,17 @@
 #include <cmath>
 #include <vector>
 
-#include "../twin/ode_util.hpp"
 #include "core/checks.hpp"
+#include "core/ode_util.hpp"
 #include "touchdown/core/error.hpp"
 
 namespace touchdown::mission {
 namespace {
 
 using touchdown::detail::positive;
-using twin::detail::rotation_of;
-using twin::detail::to_ode;
-using twin::detail::vec_of;
+using touchdown::detail::rotation_of;
+using touchdown::detail::to_ode;
+using touchdown::detail::vec_of;
 
 enum class Part { Foot, Leg, Arm, Propeller, Body };
 
@@ -60,10 +60,10 @@ struct DroneSimulation::Impl {
         mixer(af, com),
         controller(options.controller, af.total_mass(), af.inertia_about_com(), options.step),
         motor_alpha(1.0 - std::exp(-options.step / af.motor_time_constant)) {
-    world = twin::detail::create_world(&threading);
+    world = touchdown::detail::create_world(twin::kStandardGravity, &threading);
     contact_group = dJointGroupCreate(0);
-    body = twin::detail::create_airframe_body(world, af);
-    twin::detail::soft_params(options.step, options.contact_stiffness, options.contact_damping, erp, cfm);
+    body = touchdown::detail::create_rigid_body(world, af.total_mass(), af.inertia_about_com());
+    touchdown::detail::soft_params(options.step, options.contact_stiffness, options.contact_damping, erp, cfm);
     // The airframe's collision parts, offset from the centre of mass.
     auto attach = [&](dGeomID g, const Eigen::Vector3d& centre, const Eigen::Matrix3d& R, Part kind) {
       dGeomSetBody(g, body);

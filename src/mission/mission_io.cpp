@@ -8,10 +8,10 @@
 
 #include "core/io_util.hpp"
 #include "core/yaml_util.hpp"
-#include "plan/planner_yaml.hpp"
 #include "touchdown/core/data_path.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/units.hpp"
+#include "touchdown/plan/problem_io.hpp"
 
 namespace touchdown::mission {
 namespace {
@@ -113,7 +113,8 @@ int line_of(const YAML::Node& root, const std::string& path) {
   return node.Mark().line >= 0 ? node.Mark().line + 1 : -1;
 }
 
-void read_mission(const YamlReader& r, const YAML::Node& root, const std::filesystem::path& base, MissionFile& file) {
+void read_mission(const YamlReader& r, const YAML::Node& root, std::string_view yaml_text,
+                  const std::filesystem::path& base, MissionFile& file) {
   MissionOptions& o = file.options;
   VehicleOptions& v = o.vehicle;
   DroneOptions& d = o.drone;
@@ -214,11 +215,9 @@ void read_mission(const YamlReader& r, const YAML::Node& root, const std::filesy
                      num("terminal_acceleration", g.terminal_acceleration),
                      num("pad_integral_gain", g.pad_integral_gain), num("pad_integral_limit", g.pad_integral_limit),
                      num("pad_integral_window", g.pad_integral_window),
-                     section("planner", [&](const YamlReader& r2, const YAML::Node& pn, const std::string& pk) {
-                       std::vector<Field> keys;
-                       for (const char* key : plan::io::kPlannerKeys) keys.push_back({key, [](auto&&...) {}});
-                       read_fields(r2, pn, pk + ".", keys);  // unknown keys
-                       plan::io::read_planner(r2, pn, pk + ".", false, g.planner, file.warnings);
+                     section("planner", [&](const YamlReader& r2, const YAML::Node&, const std::string& pk) {
+                       // The landing problem's planner keys, read by their owner.
+                       plan::parse_planner_section(yaml_text, r2.source, pk, g.planner, file.warnings);
                      })});
               }),
       section("perception",
@@ -260,7 +259,7 @@ MissionFile parse_mission(std::string_view yaml_text, std::string_view source, c
   MissionFile file;
   try {
     if (root.IsNull()) reader.fail(root, "<document>", "empty mission file");
-    read_mission(reader, root, base, file);
+    read_mission(reader, root, yaml_text, base, file);
   } catch (const YAML::Exception& e) {
     throw ParseError(std::string(source) + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }

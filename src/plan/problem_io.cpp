@@ -3,6 +3,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <limits>
@@ -12,7 +13,6 @@
 #include "core/format.hpp"
 #include "core/io_util.hpp"
 #include "core/yaml_util.hpp"
-#include "planner_yaml.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/rotation.hpp"
 #include "touchdown/core/units.hpp"
@@ -228,10 +228,10 @@ std::vector<Box> read_obstacles(const YamlReader& r, const YAML::Node& list, con
   return out;
 }
 
-}  // namespace
-
-namespace io {
-
+// Reads the planner keys present in `root` (limits, order, segments,
+// durations, time, corridor, obstacles; docs/formats.md, "Landing problem")
+// into `o` (the others keep their values); `at` prefixes every key in
+// messages ("" or "guidance.planner.").
 void read_planner(const YamlReader& r, const YAML::Node& root, const std::string& at, bool limits_required,
                   PlannerOptions& o, std::vector<std::string>& warnings) {
   const YAML::Node limits = limits_required ? r.child(root, at, "limits") : root["limits"];
@@ -264,17 +264,13 @@ void read_planner(const YamlReader& r, const YAML::Node& root, const std::string
   if (const YAML::Node obstacles = root["obstacles"]) o.obstacles = read_obstacles(r, obstacles, at);
 }
 
-}  // namespace io
-
-namespace {
-
 void read_problem(const YamlReader& r, const YAML::Node& root, PlanProblem& p) {
   only(r, root, "",
        {"start", "goal", "pad", "limits", "order", "segments", "durations", "time", "corridor", "obstacles"});
   p.start = read_state(r, r.child(root, "", "start"), "start");
   if (const YAML::Node g = root["goal"]) p.goal = read_state(r, g, "goal");
   if (const YAML::Node pad = root["pad"]) p.pad = read_pad(r, pad, p.warnings);
-  io::read_planner(r, root, "", true, p.options, p.warnings);
+  read_planner(r, root, "", true, p.options, p.warnings);
 }
 
 // The degrees that deg_to_rad() maps to exactly `rad`, when one lies within
@@ -313,6 +309,32 @@ PlanProblem parse_plan_problem(std::string_view yaml_text, std::string_view sour
   std::string why;
   if (!problem.options.validate(&why)) throw ParseError(std::string(source) + ": " + why);
   return problem;
+}
+
+void parse_planner_section(std::string_view yaml_text, std::string_view source, std::string_view section,
+                           PlannerOptions& options, std::vector<std::string>& warnings) {
+  const YAML::Node root = detail::load_yaml(yaml_text, source);
+  const YamlReader reader{source};
+  try {
+    YAML::Node node = root;
+    std::string at;  // "guidance.planner." once walked
+    for (std::size_t begin = 0; begin <= section.size();) {
+      const std::size_t end = std::min(section.find('.', begin), section.size());
+      const std::string part(section.substr(begin, end - begin));
+      if (part.empty()) throw InvalidArgument("parse_planner_section: bad section '" + std::string(section) + "'");
+      if (!node.IsMap())
+        reader.fail(node, at.empty() ? "<document>" : at.substr(0, at.size() - 1), "expected a mapping");
+      const YAML::Node next = node[part];
+      if (!next) return;  // no such section: the options keep their values
+      node.reset(next);
+      at += part + ".";
+      begin = end + 1;
+    }
+    only(reader, node, at, {"limits", "order", "segments", "durations", "time", "corridor", "obstacles"});
+    read_planner(reader, node, at, false, options, warnings);
+  } catch (const YAML::Exception& e) {
+    throw ParseError(std::string(source) + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
 }
 
 PlanProblem load_plan_problem(const std::string& path) {

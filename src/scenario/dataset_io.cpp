@@ -2,12 +2,12 @@
 // labels.jsonl lines, the grey PNG frames and dataset.json.
 #include <charconv>
 #include <cstdio>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/io_util.hpp"
 #include "core/json_number.hpp"
 #include "touchdown/core/atomic_file.hpp"
 #include "touchdown/core/error.hpp"
@@ -32,15 +32,6 @@ Json quad_json(const QuadLabel& q) {
   j["inside_fraction"] = round3(q.inside_fraction);
   j["visible_fraction"] = round3(q.visible_fraction);
   return j;
-}
-
-// A file inside the staged dataset directory; IoError naming its place in
-// the dataset (`shown`) when the write fails.
-void write_text(const std::filesystem::path& path, const std::string& text, const std::filesystem::path& shown) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  out.flush();
-  if (!out) throw IoError(shown.string() + ": cannot write");
 }
 
 }  // namespace
@@ -131,7 +122,7 @@ DatasetSummary write_dataset(const DatasetOptions& options, int count, const std
   for (const DatasetSplit s : split_of) ++summary.splits[static_cast<std::size_t>(s)];
   std::string text;
   for (const std::string& l : lines) text += l + "\n";
-  write_text(tmp / "labels.jsonl", text, out / "labels.jsonl");
+  touchdown::detail::write_text_file(tmp / "labels.jsonl", text, (out / "labels.jsonl").string());
   Json meta;
   meta["format"] = "touchdown-dataset/1";
   meta["seed"] = options.seed;
@@ -143,7 +134,7 @@ DatasetSummary write_dataset(const DatasetOptions& options, int count, const std
                     {"max_tilt_deg", options.max_tilt_deg}};
   meta["splits"] = {{"train", summary.splits[0]}, {"validation", summary.splits[1]}, {"test", summary.splits[2]}};
   meta["images"] = "8-bit grey PNG, the systems' BGR frame converted as cv::cvtColor(COLOR_BGR2GRAY)";
-  write_text(tmp / "dataset.json", meta.dump(2) + "\n", out / "dataset.json");
+  touchdown::detail::write_text_file(tmp / "dataset.json", meta.dump(2) + "\n", (out / "dataset.json").string());
   staged.commit();
   return summary;
 }

@@ -1,6 +1,5 @@
 // The DQN weights file (dqn.hpp; docs/formats.md "DQN weights file").
 #include <cmath>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -111,13 +110,8 @@ QNetwork parse_weights(std::string_view text, std::string_view source) {
 
 void save_weights(const QNetwork& net, const std::filesystem::path& path) {
   const std::string text = weights_text(net);
-  write_file_atomically(path, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw IoError(path.string() + ": cannot write");
-    out << text;
-    out.flush();
-    if (!out) throw IoError(path.string() + ": write failed");
-  });
+  write_file_atomically(path,
+                        [&](const std::filesystem::path& tmp) { detail::write_text_file(tmp, text, path.string()); });
 }
 
 QNetwork load_weights(const std::filesystem::path& path) {

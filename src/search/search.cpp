@@ -236,12 +236,7 @@ class Directory {
   }
 
  private:
-  static void write(const fs::path& path, const std::string& text) {
-    std::ofstream f(path, std::ios::binary);
-    f << text;
-    f.flush();
-    if (!f) throw IoError(path.string() + ": write failed");
-  }
+  static void write(const fs::path& path, const std::string& text) { touchdown::detail::write_text_file(path, text); }
 
   fs::path dir_;
   std::vector<EvaluationRecord> existing_;

@@ -14,7 +14,7 @@
 #include <numbers>
 
 #include "contacts.hpp"
-#include "ode_util.hpp"
+#include "core/ode_util.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/rotation.hpp"
 #include "touchdown/core/units.hpp"
@@ -23,9 +23,9 @@
 namespace touchdown::twin {
 namespace {
 
-using detail::rotation_of;
-using detail::soft_params;
-using detail::vec_of;
+using touchdown::detail::rotation_of;
+using touchdown::detail::soft_params;
+using touchdown::detail::vec_of;
 
 double nutation_of(const Eigen::Matrix3d& R) { return std::acos(std::clamp(R(2, 2), -1.0, 1.0)); }
 
@@ -36,10 +36,10 @@ class Run {
  public:
   Run(const LandingSimulator& sim, double friction)
       : sim_(sim), af_(sim.airframe()), opt_(sim.options()), com_(af_.centre_of_mass()), mixer_(af_, com_) {
-    world_ = detail::create_world(&threading_);
+    world_ = touchdown::detail::create_world(kStandardGravity, &threading_);
     dWorldSetQuickStepNumIterations(world_, opt_.solver_iterations);
     contacts_group_ = dJointGroupCreate(0);
-    body_ = detail::create_airframe_body(world_, af_);
+    body_ = touchdown::detail::create_rigid_body(world_, af_.total_mass(), af_.inertia_about_com());
     friction_ = friction;
     soft_params(opt_.step, opt_.contact_stiffness, opt_.contact_damping, erp_, cfm_);
     const std::size_t n = af_.motor_count();
@@ -81,7 +81,7 @@ class Run {
     const Eigen::Vector3d p = T_world_body * com_;
     dBodySetPosition(body_, p.x(), p.y(), p.z());
     dMatrix3 R;
-    detail::to_ode(T_world_body.linear(), R);
+    touchdown::detail::to_ode(T_world_body.linear(), R);
     dBodySetRotation(body_, R);
     dBodySetLinearVel(body_, 0, 0, 0);
     dBodySetAngularVel(body_, 0, 0, 0);

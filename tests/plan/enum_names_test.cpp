@@ -2,6 +2,7 @@
 // and summaries write them.
 #include <gtest/gtest.h>
 
+#include "enum_names_suite.hpp"
 #include "test_util.hpp"
 #include "touchdown/plan/corridor.hpp"
 #include "touchdown/plan/planner.hpp"
@@ -10,11 +11,7 @@
 namespace td = touchdown;
 namespace tp = touchdown::plan;
 
-TEST(PlanEnumNames, EveryEnumeratorRoundTripsThroughItsName) {
-  td::test::expect_names_round_trip<tp::QpStatus>();
-  td::test::expect_names_round_trip<tp::ConstraintGroup>();
-  td::test::expect_names_round_trip<tp::PlanStatus>();
-  td::test::expect_names_round_trip<tp::CorridorStatus>();
-  td::test::expect_bad_name<tp::ConstraintGroup>(
-      "jerk", "expected one of boundary, corridor, velocity, acceleration; got 'jerk'");
-}
+using PlanEnums = ::testing::Types<tp::QpStatus, tp::ConstraintGroup, tp::PlanStatus, tp::CorridorStatus>;
+namespace touchdown::test {
+INSTANTIATE_TYPED_TEST_SUITE_P(Plan, EnumNamesSuite, PlanEnums);
+}  // namespace touchdown::test

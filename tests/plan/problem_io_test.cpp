@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <numbers>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -305,6 +306,64 @@ TEST(ProblemIo, RadiansInDegreeKeysAreWarnedAbout) {
   EXPECT_TRUE(parse_plan_problem(text, "p.yaml").warnings.empty());
   text = problem_io_replace(kProblemIoFull, "rpy_deg: [-45, 0, 90]", "rpy_deg: [-45.5, 0, 90]");
   EXPECT_TRUE(parse_plan_problem(text, "p.yaml").warnings.empty());
+}
+
+// The planner part of another file (the mission's guidance.planner): the
+// same keys and messages as a problem file's, the key path and the
+// document's own lines in each message.
+TEST(ProblemIo, APlannerSectionOfAnotherFileReadsTheSameKeys) {
+  const std::string text =
+      "name: x\n"
+      "guidance:\n"
+      "  speed: 2\n"
+      "  planner:\n"
+      "    limits: {v_max: 1.5, a_max: 2.5}\n"
+      "    order: 9\n";
+  PlannerOptions o;
+  const int segments = o.segments;
+  std::vector<std::string> warnings;
+  parse_planner_section(text, "m.yaml", "guidance.planner", o, warnings);
+  EXPECT_EQ(o.v_max, 1.5);
+  EXPECT_EQ(o.a_max, 2.5);
+  EXPECT_EQ(o.order, 9);
+  EXPECT_EQ(o.segments, segments);  // absent: kept
+  EXPECT_TRUE(warnings.empty());
+  // The same keys as the problem file's planner part read to the same options.
+  const PlanProblem p = parse_plan_problem(kProblemIoFull, "p.yaml");
+  std::string nested = "outer:\n  planner:\n";
+  std::istringstream lines(kProblemIoFull);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("start", 0) == 0 || line.rfind("goal", 0) == 0 || line.rfind("pad", 0) == 0) {
+      for (std::string skip; lines.peek() == ' ' && std::getline(lines, skip);) {
+      }
+      continue;
+    }
+    nested += "    " + line + "\n";
+  }
+  PlannerOptions from_section;
+  parse_planner_section(nested, "n.yaml", "outer.planner", from_section, warnings);
+  EXPECT_EQ(from_section.order, p.options.order);
+  EXPECT_EQ(from_section.segments, p.options.segments);
+  EXPECT_EQ(from_section.durations, p.options.durations);
+  EXPECT_EQ(from_section.v_max, p.options.v_max);
+  EXPECT_EQ(from_section.obstacles.size(), p.options.obstacles.size());
+  EXPECT_EQ(from_section.corridor.has_value(), p.options.corridor.has_value());
+  // Errors name the document's line and the whole key path.
+  EXPECT_EQ(test::error_of(
+                [&] { parse_planner_section(text + "    ordre: 3\n", "m.yaml", "guidance.planner", o, warnings); }),
+            "m.yaml:7: guidance.planner.ordre: unknown key (expected limits, order, segments, durations, time, "
+            "corridor, obstacles)");
+  EXPECT_NE(test::error_of([&] {
+              parse_planner_section("g:\n  p:\n    limits: {v_max: -1, a_max: 1}\n", "m.yaml", "g.p", o, warnings);
+            }).find("m.yaml:3: g.p.limits.v_max"),
+            std::string::npos);
+  EXPECT_EQ(test::error_of([&] { parse_planner_section("g: 3\n", "m.yaml", "g.p", o, warnings); }),
+            "m.yaml:1: g: expected a mapping");
+  // No such section: nothing read, nothing refused.
+  PlannerOptions untouched;
+  parse_planner_section("other: 1\n", "m.yaml", "guidance.planner", untouched, warnings);
+  EXPECT_EQ(untouched.order, PlannerOptions{}.order);
+  EXPECT_THROW(parse_planner_section(text, "m.yaml", "guidance..planner", o, warnings), InvalidArgument);
 }
 
 // ---- bad input: one error naming the file, the line and the key ----

@@ -3,6 +3,7 @@
 // trajectories, geometries and profiles as led_pose reads them.
 #include <gtest/gtest.h>
 
+#include "enum_names_suite.hpp"
 #include "test_util.hpp"
 #include "touchdown/pose/calib/calibration.hpp"
 #include "touchdown/pose/constellation.hpp"
@@ -16,17 +17,12 @@
 namespace td = touchdown;
 namespace tp = touchdown::pose;
 
-TEST(PoseEnumNames, EveryEnumeratorRoundTripsThroughItsName) {
-  td::test::expect_names_round_trip<tp::LedColor>();
-  td::test::expect_names_round_trip<tp::TrajectoryKind>();
-  td::test::expect_names_round_trip<tp::CameraGeometry>();
-  td::test::expect_names_round_trip<tp::RenderProfile>();
-  td::test::expect_names_round_trip<tp::PoseStatus>();
-  td::test::expect_names_round_trip<tp::CalibrationStatus>();
-  td::test::expect_names_round_trip<tp::PoseBenchmarkStatus>();
-  td::test::expect_names_round_trip<tp::RefineStatus>();
-  td::test::expect_names_round_trip<tp::EpnpStatus>();
-}
+using PoseEnums =
+    ::testing::Types<tp::LedColor, tp::TrajectoryKind, tp::CameraGeometry, tp::RenderProfile, tp::PoseStatus,
+                     tp::CalibrationStatus, tp::PoseBenchmarkStatus, tp::RefineStatus, tp::EpnpStatus>;
+namespace touchdown::test {
+INSTANTIATE_TYPED_TEST_SUITE_P(Pose, EnumNamesSuite, PoseEnums);
+}  // namespace touchdown::test
 
 TEST(PoseEnumNames, ABadNameListsTheAcceptedNames) {
   td::test::expect_bad_name<tp::TrajectoryKind>("still", "expected one of static, moving; got 'still'");

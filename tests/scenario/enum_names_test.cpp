@@ -4,9 +4,11 @@
 // log writes them.
 #include <gtest/gtest.h>
 
+#include "enum_names_suite.hpp"
 #include "scenario/opencv_mls.hpp"
 #include "test_util.hpp"
 #include "touchdown/scenario/camera.hpp"
+#include "touchdown/scenario/dataset.hpp"
 #include "touchdown/scenario/geometry.hpp"
 #include "touchdown/scenario/run.hpp"
 #include "touchdown/scenario/scenario.hpp"
@@ -15,19 +17,12 @@
 namespace td = touchdown;
 namespace ts = touchdown::scenario;
 
-TEST(ScenarioEnumNames, EveryEnumeratorRoundTripsThroughItsName) {
-  td::test::expect_names_round_trip<ts::MapKind>();
-  td::test::expect_names_round_trip<ts::DistractorKind>();
-  td::test::expect_names_round_trip<ts::StaticKind>();
-  td::test::expect_names_round_trip<ts::DynamicKind>();
-  td::test::expect_names_round_trip<ts::MotionKind>();
-  td::test::expect_names_round_trip<ts::Violation>();
-  td::test::expect_names_round_trip<ts::ObjectAction>();
-  td::test::expect_names_round_trip<ts::Solid::Shape>();
-  td::test::expect_names_round_trip<ts::Label>();
-  td::test::expect_names_round_trip<ts::Sight>();
-  td::test::expect_names_round_trip<ts::detail::MlsPhase>();
-}
+using ScenarioEnums =
+    ::testing::Types<ts::MapKind, ts::DistractorKind, ts::StaticKind, ts::DynamicKind, ts::MotionKind, ts::Violation,
+                     ts::ObjectAction, ts::Solid::Shape, ts::Label, ts::Sight, ts::detail::MlsPhase, ts::DatasetSplit>;
+namespace touchdown::test {
+INSTANTIATE_TYPED_TEST_SUITE_P(Scenario, EnumNamesSuite, ScenarioEnums);
+}  // namespace touchdown::test
 
 TEST(ScenarioEnumNames, NamesAreTheFilesAndOutputsSpellings) {
   EXPECT_EQ(ts::to_string(ts::MapKind::Ground), "ground");

@@ -2,6 +2,7 @@
 // spelled as the CLI (--agg, --unknown-fill, terrain_synth KIND) reads them.
 #include <gtest/gtest.h>
 
+#include "enum_names_suite.hpp"
 #include "test_util.hpp"
 #include "touchdown/terrain/frame_check.hpp"
 #include "touchdown/terrain/height_map.hpp"
@@ -11,14 +12,11 @@
 namespace td = touchdown;
 namespace tt = touchdown::terrain;
 
-TEST(TerrainEnumNames, EveryEnumeratorRoundTripsThroughItsName) {
-  td::test::expect_names_round_trip<tt::CellAggregate>();
-  td::test::expect_names_round_trip<tt::UnknownFill>();
-  td::test::expect_names_round_trip<tt::CellState>();
-  td::test::expect_names_round_trip<tt::TerrainStatus>();
-  td::test::expect_names_round_trip<tt::FrameRule>();
-  td::test::expect_names_round_trip<tt::synthetic::ShapeKind>();
-}
+using TerrainEnums = ::testing::Types<tt::CellAggregate, tt::UnknownFill, tt::CellState, tt::TerrainStatus,
+                                      tt::FrameRule, tt::synthetic::ShapeKind>;
+namespace touchdown::test {
+INSTANTIATE_TYPED_TEST_SUITE_P(Terrain, EnumNamesSuite, TerrainEnums);
+}  // namespace touchdown::test
 
 TEST(TerrainEnumNames, ABadNameListsTheAcceptedNames) {
   td::test::expect_bad_name<tt::CellAggregate>("mean", "expected one of max, median; got 'mean'");

@@ -2,6 +2,7 @@
 // and CSV outputs write them, options as landing_sweep reads them.
 #include <gtest/gtest.h>
 
+#include "enum_names_suite.hpp"
 #include "test_util.hpp"
 #include "touchdown/twin/landing.hpp"
 #include "touchdown/twin/sweep.hpp"
@@ -9,16 +10,11 @@
 namespace td = touchdown;
 namespace tw = touchdown::twin;
 
-TEST(TwinEnumNames, EveryEnumeratorRoundTripsThroughItsName) {
-  td::test::expect_names_round_trip<tw::RunStatus>();
-  td::test::expect_names_round_trip<tw::SafetyMetric>();
-  td::test::expect_names_round_trip<tw::UnsafeReason>();
-  td::test::expect_names_round_trip<tw::SweepStatus>();
-  td::test::expect_names_round_trip<tw::SearchPreference>();
-  // A safe heading has no reason: the empty name.
-  EXPECT_EQ(tw::to_string(tw::UnsafeReason::None), "");
-  EXPECT_EQ(tw::to_string(tw::UnsafeReason::AboveThreshold), "S above the threshold");
-}
+using TwinEnums =
+    ::testing::Types<tw::RunStatus, tw::SafetyMetric, tw::UnsafeReason, tw::SweepStatus, tw::SearchPreference>;
+namespace touchdown::test {
+INSTANTIATE_TYPED_TEST_SUITE_P(Twin, EnumNamesSuite, TwinEnums);
+}  // namespace touchdown::test
 
 TEST(TwinEnumNames, ABadNameListsTheAcceptedNames) {
   td::test::expect_bad_name<tw::SafetyMetric>("best", "expected one of full, seed; got 'best'");

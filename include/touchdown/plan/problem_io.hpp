@@ -34,6 +34,18 @@ struct PlanProblem {
 /// invalid values; the result's options validate.
 PlanProblem parse_plan_problem(std::string_view yaml_text, std::string_view source);
 
+/// The planner's keys of a landing problem (limits, order, segments,
+/// durations, time, corridor, obstacles) read from the mapping at the
+/// dotted `section` of another YAML document ("guidance.planner" of a
+/// mission file) into `options`; keys absent keep their values, and no
+/// such section reads nothing. Throws ParseError "source:line:
+/// section.key: what" for malformed YAML, an unknown key or a bad value,
+/// as the document's own reader does (the caller validates the options);
+/// InvalidArgument for an empty part in `section`. Warnings as the
+/// problem's.
+void parse_planner_section(std::string_view yaml_text, std::string_view source, std::string_view section,
+                           PlannerOptions& options, std::vector<std::string>& warnings);
+
 /// Reads and parses a problem file (IoError when it cannot be read).
 PlanProblem load_plan_problem(const std::string& path);
 

@@ -131,3 +131,9 @@ template <>
 struct touchdown::EnumNames<touchdown::scenario::DatasetSplit> {
   static constexpr std::array<std::string_view, 3> names{"train", "validation", "test"};
 };
+
+namespace touchdown::scenario {
+
+inline std::string_view to_string(DatasetSplit split) { return enum_name(split); }
+
+}  // namespace touchdown::scenario

@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <iterator>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -316,14 +315,6 @@ void write_png(const fs::path& path, const cv::Mat& image) {
   if (!ok) throw IoError(path.string() + ": cannot write the image");
 }
 
-void write_text(const fs::path& path, const std::string& text) {
-  std::ofstream f(path, std::ios::binary);
-  if (!f) throw IoError(path.string() + ": cannot open for writing");
-  f << text;
-  f.close();
-  if (!f) throw IoError(path.string() + ": write error");
-}
-
 // A file write_sequence writes: NNNNNN.png, NNNNNN.depth.png, the ground
 // truth, camera and constellation.
 bool is_sequence_file(const std::string& name) {
@@ -399,16 +390,16 @@ void write_sequence(const fs::path& out_dir, const CameraModel& camera, const Co
     ground_truth += ground_truth_to_json(g) + "\n";
     if (progress) progress(progress_since(start, i + 1, samples.size(), i));
   }
-  write_text(staging / "ground_truth.jsonl", ground_truth);
-  write_text(staging / "camera.yaml", camera_to_yaml(camera));
-  write_text(staging / "constellation.yaml", constellation_to_yaml(constellation));
+  detail::write_text_file(staging / "ground_truth.jsonl", ground_truth);
+  detail::write_text_file(staging / "camera.yaml", camera_to_yaml(camera));
+  detail::write_text_file(staging / "constellation.yaml", constellation_to_yaml(constellation));
   SequenceInfo info;
   info.seed = seed;
   info.aruco.emplace();
   info.aruco->dictionary = options.aruco_dictionary;
   info.aruco->marker_id = options.aruco_id;
   info.aruco->marker_size = options.aruco_size;
-  write_text(staging / kSequenceInfoFile, sequence_info_to_yaml(info));
+  detail::write_text_file(staging / kSequenceInfoFile, sequence_info_to_yaml(info));
   files.insert(files.end(), {"ground_truth.jsonl", "camera.yaml", "constellation.yaml", kSequenceInfoFile});
 
   // Into place: one rename of the whole directory when the target is new;

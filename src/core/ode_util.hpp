@@ -1,16 +1,14 @@
 #pragma once
 // ODE set-up and conversions shared by the twin's landings and the
-// mission's drone (internal; include only from sources that link ODE).
+// mission's drone (core's internal helpers: a module that includes it links
+// touchdown_ode, src/CMakeLists.txt).
 #include <ode/ode.h>
 
 #include <Eigen/Core>
 #include <cstdarg>
 #include <mutex>
 
-#include "touchdown/twin/airframe.hpp"
-#include "touchdown/twin/flight_control.hpp"
-
-namespace touchdown::twin::detail {
+namespace touchdown::detail {
 
 // ODE's global initialisation (once per process) and this thread's data
 // (every thread that steps a world).
@@ -54,28 +52,29 @@ inline void to_ode(const Eigen::Matrix3d& M, dMatrix3 R) {
 
 // A world for one airframe: its own single-threaded stepping (the
 // library-wide default one is shared and must not step two worlds at once),
-// standard gravity, the contact settings of the twin, no auto-disable.
-// Free with dWorldDestroy and dThreadingFreeImplementation(*threading).
-inline dWorldID create_world(dThreadingImplementationID* threading) {
+// gravity `g` [m/s²] down (−z), the contact settings of the twin, no
+// auto-disable. Free with dWorldDestroy and
+// dThreadingFreeImplementation(*threading).
+inline dWorldID create_world(double g, dThreadingImplementationID* threading) {
   ensure_ode();
   dWorldID world = dWorldCreate();
   *threading = dThreadingAllocateSelfThreadedImplementation();
   dWorldSetStepThreadingImplementation(world, dThreadingImplementationGetFunctions(*threading), *threading);
-  dWorldSetGravity(world, 0, 0, -kStandardGravity);
+  dWorldSetGravity(world, 0, 0, -g);
   dWorldSetContactSurfaceLayer(world, 0.0005);
   dWorldSetContactMaxCorrectingVel(world, 1.0);
   dWorldSetAutoDisableFlag(world, 0);
   return world;
 }
 
-// The airframe's rigid body (its mass and inertia about its centre of mass).
-inline dBodyID create_airframe_body(dWorldID world, const Airframe& af) {
+// A rigid body of `mass` [kg] and inertia `I` about its centre of mass
+// (an airframe's total_mass() and inertia_about_com()).
+inline dBodyID create_rigid_body(dWorldID world, double mass, const Eigen::Matrix3d& I) {
   dBodyID body = dBodyCreate(world);
   dMass m;
-  const Eigen::Matrix3d I = af.inertia_about_com();
-  dMassSetParameters(&m, af.total_mass(), 0, 0, 0, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
+  dMassSetParameters(&m, mass, 0, 0, 0, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
   dBodySetMass(body, &m);
   return body;
 }
 
-}  // namespace touchdown::twin::detail
+}  // namespace touchdown::detail
