@@ -111,6 +111,23 @@ std::string no_landing(const Facts& f, const scenario::Scenario& s) {
   return "sighting not held in " + weather;
 }
 
+// " while approaching" for a phase of the reference systems (their phase
+// names: approach, search, track, descend, land; mm-mls's descent step),
+// " during PHASE" for one a system from outside names itself.
+std::string while_phase(const std::string& phase) {
+  static constexpr std::array<std::pair<std::string_view, std::string_view>, 6> kGerunds{{{"approach", "approaching"},
+                                                                                          {"search", "searching"},
+                                                                                          {"track", "tracking"},
+                                                                                          {"descend", "descending"},
+                                                                                          {"descent", "descending"},
+                                                                                          {"land", "landing"}}};
+  if (phase.empty()) return "";
+  for (const auto& [verb, gerund] : kGerunds) {
+    if (phase == verb) return " while " + std::string(gerund);
+  }
+  return " during " + phase;
+}
+
 }  // namespace
 
 std::string violation_cause(const Evaluation& e, const scenario::Scenario& s) {
@@ -120,7 +137,7 @@ std::string violation_cause(const Evaluation& e, const scenario::Scenario& s) {
   switch (e.violation) {
     case scenario::Violation::TypeIII:
       return "collision with " + object_kind(f.collided_with.empty() ? std::string("an object") : f.collided_with) +
-             (f.collision_phase.empty() ? std::string() : " while " + f.collision_phase);
+             while_phase(f.collision_phase);
     case scenario::Violation::TypeI:
       return false_positive(f, s);
     case scenario::Violation::OffMarker:

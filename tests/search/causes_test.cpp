@@ -8,6 +8,7 @@
 
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "test_util.hpp"
@@ -44,10 +45,20 @@ TEST(Causes, CollisionNamesTheObjectAndThePhase) {
   ts::Evaluation e = violation(Violation::TypeIII);
   e.facts.collided_with = "static_objects[1] (pole)";
   e.facts.collision_phase = "descend";
-  EXPECT_EQ(ts::violation_cause(e, scene()), "collision with pole while descend");
+  EXPECT_EQ(ts::violation_cause(e, scene()), "collision with pole while descending");
   e.facts.collided_with = "dynamic_objects[0] (bird)";
   e.facts.collision_phase = "search";
-  EXPECT_EQ(ts::violation_cause(e, scene()), "collision with bird while search");
+  EXPECT_EQ(ts::violation_cause(e, scene()), "collision with bird while searching");
+  for (const auto& [phase, words] : std::vector<std::pair<std::string, std::string>>{
+           {"approach", " while approaching"},
+           {"track", " while tracking"},
+           {"land", " while landing"},
+           {"descent", " while descending"},  // mm-mls's step
+           {"hover", " during hover"},        // a phase a system from outside names
+           {"", ""}}) {
+    e.facts.collision_phase = phase;
+    EXPECT_EQ(ts::violation_cause(e, scene()), "collision with bird" + words) << phase;
+  }
 }
 
 TEST(Causes, TypeINamesWhatWasTakenForTheTarget) {

@@ -8,7 +8,9 @@
 ///
 /// The vocabulary (<kind>: the object's kind, "tree", "person", "lookalike";
 /// <weather>: the scenario's dominant condition, dominant_weather()):
-///   Type III    "collision with <kind> while <phase>"
+///   Type III    "collision with <kind> while approaching" (searching,
+///               tracking, descending, landing: the reference systems'
+///               phases), "... during <phase>" for a phase named otherwise
 ///   Type I      "look-alike accepted", "wrong id accepted",
 ///               "false positive on pattern", "false positive on <kind>",
 ///               "false positive on the ground[ (glare)]",
