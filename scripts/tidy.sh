@@ -93,7 +93,9 @@ for e in entries:
         todo.append(e)  # no dependency record: always checked
         continue
     h = hashlib.sha256(here(common + e["command"] + e["file"]).encode())
-    for f in sorted(set(files)):
+    # In the order of the path-free names: sorting the paths themselves put
+    # a clone's own files before or after /usr's by where the clone is.
+    for f in sorted(set(files), key=here):
         h.update(here(f + digest(f if os.path.isabs(f) else os.path.join(build, f))).encode())
     key = h.hexdigest()
     every.append(key)

@@ -373,7 +373,12 @@ Airframe parse_airframe(std::string_view yaml_text, std::string_view source) {
         a.motor_mass = r.number(r.child(motors, "motors.", "mass"), "motors.mass");
         if (motors["spin"]) {
           a.spin.clear();
-          for (double s : r.numbers(motors["spin"], "motors.spin")) a.spin.push_back(static_cast<int>(s));
+          for (double s : r.numbers(motors["spin"], "motors.spin")) {
+            // Checked before the cast: a huge number does not fit an int.
+            if (s != 1 && s != -1)
+              r.fail(motors["spin"], "motors.spin", "entries must be 1 or -1, got " + format_general(s));
+            a.spin.push_back(static_cast<int>(s));
+          }
         } else {
           a.spin.clear();
           for (std::size_t i = 0; i < a.arm_angles_deg.size(); ++i) a.spin.push_back(i % 2 ? -1 : 1);

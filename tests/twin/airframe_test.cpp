@@ -211,6 +211,13 @@ std::vector<td::test::BadInput> airframe_cases() {
        replace(y, "  motor_z: 0.03", "  motor_z: [0.03, 0.03]"),
        {"arms.motor_z: a list needs one z per arm (4), got 2"}},
       {"SpinWithTwoNumbers", replace(y, "  spin: [1, -1, 1, -1]", "  spin: [1, -1]"), {"motors.spin: expected 4"}},
+      // Found by fuzz_airframe: 1.4e31 was cast to int (undefined) before the check.
+      {"SpinTooLargeForAnInt",
+       replace(y, "  spin: [1, -1, 1, -1]", "  spin: [1, -1, 1.4e31, -1]"),
+       {"motors.spin: entries must be 1 or -1, got 1.4e+31"}},
+      {"SpinAHalf",
+       replace(y, "  spin: [1, -1, 1, -1]", "  spin: [1, -1, 0.5, -1]"),
+       {"motors.spin: entries must be 1 or -1, got 0.5"}},
       {"NonNumericMass", replace(y, "  mass: 0.35", "  mass: heavy"), {"landing_gear.mass: expected a number"}},
       {"InvalidYaml", "body: [1\n", {"invalid YAML"}},
       {"CollinearLegs", collinear, {"collinear"}},
