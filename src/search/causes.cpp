@@ -112,8 +112,9 @@ std::string no_landing(const Facts& f, const scenario::Scenario& s) {
 }
 
 // " while approaching" for a phase of the reference systems (their phase
-// names: approach, search, track, descend, land; mm-mls's descent step),
-// " during PHASE" for one a system from outside names itself.
+// names: approach, search, track, descend, land; "descent" as a synonym),
+// " during PHASE" for any other a system names itself (mm-mls's
+// "replan-climb", a system from outside's own).
 std::string while_phase(const std::string& phase) {
   static constexpr std::array<std::pair<std::string_view, std::string_view>, 6> kGerunds{{{"approach", "approaching"},
                                                                                           {"search", "searching"},

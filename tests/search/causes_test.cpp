@@ -53,8 +53,9 @@ TEST(Causes, CollisionNamesTheObjectAndThePhase) {
            {"approach", " while approaching"},
            {"track", " while tracking"},
            {"land", " while landing"},
-           {"descent", " while descending"},  // mm-mls's step
-           {"hover", " during hover"},        // a phase a system from outside names
+           {"descent", " while descending"},          // a synonym of descend
+           {"hover", " during hover"},                // a phase a system from outside names
+           {"replan-climb", " during replan-climb"},  // mm-mls's own
            {"", ""}}) {
     e.facts.collision_phase = phase;
     EXPECT_EQ(ts::violation_cause(e, scene()), "collision with bird" + words) << phase;
