@@ -9,11 +9,13 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "core/format.hpp"
 #include "core/json_number.hpp"
+#include "core/json_read.hpp"
 #include "core/svg_plot.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/statistics.hpp"
@@ -40,7 +42,10 @@ DatasetMarker read_dataset_marker(const std::filesystem::path& dataset_dir) {
   DatasetMarker m;
   try {
     m.dictionary = meta.at("marker").at("dictionary").get<std::string>();
-    m.id = meta.at("marker").at("id").get<int>();
+    const Json& id = meta.at("marker").at("id");
+    const std::optional<int> i = touchdown::detail::json_int(id);
+    if (!i) throw ParseError(path.string() + ": marker.id: " + touchdown::detail::json_int_problem(id));
+    m.id = *i;
   } catch (const Json::exception&) {
     throw ParseError(path.string() + ": marker.dictionary, marker.id: missing");
   }

@@ -7,10 +7,13 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numeric>
+#include <optional>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
+#include "core/json_read.hpp"
 #include "scenario/aruco_detector.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/pose/sim/aruco_dictionary.hpp"
@@ -50,10 +53,17 @@ ModelManifest parse_model_manifest(std::string_view text, const std::filesystem:
     const auto g = j.find(group);
     if (g == j.end() || !g->is_object() || !g->contains(key))
       model_error(path, std::string(group) + "." + key + ": missing");
-    try {
-      (*g)[key].get_to(value);
-    } catch (const nlohmann::json::exception&) {
-      model_error(path, std::string(group) + "." + key + ": wrong type");
+    const nlohmann::json& v = (*g)[key];
+    if constexpr (std::is_same_v<std::decay_t<decltype(value)>, int>) {
+      const std::optional<int> i = touchdown::detail::json_int(v);
+      if (!i) model_error(path, std::string(group) + "." + key + ": " + touchdown::detail::json_int_problem(v));
+      value = *i;
+    } else {
+      try {
+        v.get_to(value);
+      } catch (const nlohmann::json::exception&) {
+        model_error(path, std::string(group) + "." + key + ": wrong type");
+      }
     }
   };
   const auto format = j.is_object() ? j.find("format") : j.end();

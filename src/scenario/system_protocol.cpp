@@ -14,12 +14,14 @@
 #include <cmath>
 #include <cstring>
 #include <iostream>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "core/json_read.hpp"
 #include "scenario/fd_wait.hpp"
 #include "touchdown/scenario/process_system.hpp"
 
@@ -45,6 +47,12 @@ void only_keys(const Json& j, const char* what, std::initializer_list<const char
     for (const char* k : keys) known = known || item.key() == k;
     if (!known) fail(std::string(what) + ": unknown key '" + item.key() + "'");
   }
+}
+
+int integer(const Json& j, const std::string& key) {
+  const std::optional<int> i = touchdown::detail::json_int(j);
+  if (!i) fail(key + ": " + touchdown::detail::json_int_problem(j));
+  return *i;
 }
 
 double number(const Json& j, const std::string& key) {
@@ -182,15 +190,15 @@ SystemSetup parse_setup(std::string_view json) {
   SystemSetup s;
   try {
     const Json& c = j.at("camera");
-    s.camera.width = c.at("width").get<int>();
-    s.camera.height = c.at("height").get<int>();
+    s.camera.width = integer(c.at("width"), "setup: camera.width");
+    s.camera.height = integer(c.at("height"), "setup: camera.height");
     s.camera.hfov_deg = c.at("hfov_deg").get<double>();
     s.camera.tilt_deg = c.at("tilt_deg").get<double>();
     s.camera.rate_hz = c.at("rate_hz").get<double>();
     s.camera.exposure_s = c.at("exposure_s").get<double>();
     s.camera.offset_body = vec<3>(c.at("offset_body"), "camera.offset_body");
     s.dictionary = j.at("dictionary").get<std::string>();
-    s.marker_id = j.at("marker_id").get<int>();
+    s.marker_id = integer(j.at("marker_id"), "setup: marker_id");
     s.marker_size = j.at("marker_size").get<double>();
     s.gps_target = vec<2>(j.at("gps_target"), "gps_target");
     s.drone_radius = j.at("drone_radius").get<double>();
@@ -233,8 +241,8 @@ StepState parse_state(std::string_view json) {
     const Json& f = j.at("frame");
     if (!f.is_null()) {
       s.frame = true;
-      s.width = f.at("width").get<int>();
-      s.height = f.at("height").get<int>();
+      s.width = integer(f.at("width"), "state: frame.width");
+      s.height = integer(f.at("height"), "state: frame.height");
     }
   } catch (const Json::exception& e) {
     fail(std::string("state: ") + e.what());
@@ -270,8 +278,7 @@ SystemOutput parse_output(std::string_view json, std::string& phase) {
       only_keys(d, key.c_str(), {"id", "corners", "quality", "confidence", "accepted", "ground"});
       Detection r;
       if (d.contains("id")) {
-        if (!d["id"].is_number_integer()) fail(key + ".id: not an integer");
-        r.id = d["id"].get<int>();
+        r.id = integer(d["id"], key + ".id");
       }
       if (!d.contains("corners") || !d["corners"].is_array() || d["corners"].size() != 4) {
         fail(key + ".corners: not four [u, v] pairs");

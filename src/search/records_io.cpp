@@ -5,12 +5,14 @@
 #include <climits>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/io_util.hpp"
+#include "core/json_read.hpp"
 #include "touchdown/core/enum_names.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/search/records.hpp"
@@ -213,15 +215,9 @@ class ObjectReader {
   }
 
   int to_int(const json& v, std::string_view key, int lo) const {
-    if (v.is_number_unsigned()) {
-      if (v.get<std::uint64_t>() > static_cast<std::uint64_t>(INT_MAX)) fail(key, "integer out of range");
-    } else if (v.is_number_integer()) {
-      const auto i = v.get<std::int64_t>();
-      if (i < INT_MIN || i > INT_MAX) fail(key, "integer out of range");
-    } else {
-      fail(key, "expected an integer, got " + (v.is_number() ? std::string("a fraction") : std::string(v.type_name())));
-    }
-    const int i = v.get<int>();
+    const std::optional<int> got = detail::json_int(v);
+    if (!got) fail(key, detail::json_int_problem(v));
+    const int i = *got;
     if (i < lo) fail(key, std::to_string(i) + " is below " + std::to_string(lo));
     return i;
   }

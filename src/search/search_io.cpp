@@ -3,7 +3,10 @@
 #include "search/search_io.hpp"
 
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
 
+#include "core/json_read.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/version.hpp"
 
@@ -36,6 +39,12 @@ void check_header(const Json& j, std::string_view format, std::string_view sourc
   if (!j.contains("version") || !j["version"].is_number_integer() || j["version"] != kVersion) {
     fail(source, "version: expected " + std::to_string(kVersion));
   }
+}
+
+int integer(const Json& j, std::string_view key, std::string_view source) {
+  const std::optional<int> i = touchdown::detail::json_int(j);
+  if (!i) fail(source, std::string(key) + ": " + touchdown::detail::json_int_problem(j));
+  return *i;
 }
 
 // The first key (as a dotted path) where a and b differ, with both values.
@@ -116,11 +125,11 @@ PoolState parse_state(std::string_view text, std::string_view source) {
   check_header(j, kStateFormat, source);
   PoolState s;
   try {
-    s.generation = j.at("generation").get<int>();
-    s.evaluated = j.at("evaluated").get<int>();
+    s.generation = integer(j.at("generation"), "generation", source);
+    s.evaluated = integer(j.at("evaluated"), "evaluated", source);
     for (const Json& m : j.at("pool")) {
       PoolMember p;
-      p.index = m.at("index").get<int>();
+      p.index = integer(m.at("index"), "pool[].index", source);
       p.chromosome = m.at("chromosome").get<Chromosome>();
       s.pool.push_back(std::move(p));
     }

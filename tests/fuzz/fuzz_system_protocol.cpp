@@ -1,8 +1,10 @@
 // libFuzzer target for the host's reader of the system protocol
 // (touchdown/scenario/system_protocol.hpp): a process system's header line
-// and its hello and command payloads. Any bytes give a header, hello and
-// output that are safe to use (sizes within the limits, finite numbers, a
-// non-empty name), or ProtocolError.
+// and its hello and command payloads, and the system side's readers of the
+// setup and state payloads. Any bytes give a header, hello and output that
+// are safe to use (sizes within the limits, finite numbers, a non-empty
+// name), a setup and state read without undefined behaviour, or
+// ProtocolError.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -41,6 +43,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
       if (!std::isfinite(d.quality) || !std::isfinite(d.confidence) || !d.ground.allFinite()) __builtin_trap();
     }
+  } catch (const tp::ProtocolError&) {
+  }
+  // The system side (a C++ system behind `exec:`) reads setup and state.
+  try {
+    (void)tp::parse_setup(rest);
+  } catch (const tp::ProtocolError&) {
+  }
+  try {
+    const tp::StepState st = tp::parse_state(rest);
+    if (!st.state.position.allFinite() || !std::isfinite(st.state.t)) __builtin_trap();
   } catch (const tp::ProtocolError&) {
   }
   return 0;

@@ -209,6 +209,16 @@ TEST_F(ModelFiles, ManifestErrorsNameTheFileAndKey) {
   EXPECT_NE(e.find("output.channels"), std::string::npos) << e;
   e = with([](nlohmann::json& j) { j["input"]["width"] = "wide"; });
   EXPECT_NE(e.find("input.width"), std::string::npos) << e;
+  // Numbers that are not ints: no cast (a double past int's range is
+  // undefined behaviour; fuzz_model_manifest found "channels": 1.4e44).
+  e = with([](nlohmann::json& j) { j["output"]["channels"] = 1.4e44; });
+  EXPECT_NE(e.find("output.channels: expected an integer, got a fraction"), std::string::npos) << e;
+  e = with([](nlohmann::json& j) { j["input"]["width"] = 640.5; });
+  EXPECT_NE(e.find("input.width: expected an integer, got a fraction"), std::string::npos) << e;
+  e = with([](nlohmann::json& j) { j["output"]["stride"] = std::uint64_t{1} << 40; });
+  EXPECT_NE(e.find("output.stride: integer out of range"), std::string::npos) << e;
+  e = with([](nlohmann::json& j) { j["marker"]["id"] = -(std::int64_t{1} << 40); });
+  EXPECT_NE(e.find("marker.id: integer out of range"), std::string::npos) << e;
   e = with([](nlohmann::json& j) { j["format"] = "yolo"; });
   EXPECT_NE(e.find("format"), std::string::npos) << e;
   // The second stage: its keys, and a file beside the manifest only.
