@@ -9,8 +9,8 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
-#include <optional>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <sstream>
 
 #include "core/format.hpp"
