@@ -11,7 +11,7 @@
 
 namespace touchdown::app {
 
-/// --system SPEC: a registered name or plugin:PATH[:NAME], resolved while
+/// --system SPEC: a registered name, plugin:PATH[:NAME] or exec:COMMAND, resolved while
 /// the command line is read (a plug-in is loaded then), so that an unknown
 /// name or a library that cannot be loaded is refused with its reason.
 inline CLI::Option* add_system_option(CLI::App& cmd, std::string& spec) {
@@ -19,7 +19,8 @@ inline CLI::Option* add_system_option(CLI::App& cmd, std::string& spec) {
   return cmd
       .add_option("--system", spec,
                   "landing system under test: " + names +
-                      " (landing_scenario systems lists them), or plugin:PATH[:NAME] for a plug-in library")
+                      " (landing_scenario systems lists them), plugin:PATH[:NAME] for a plug-in library, or "
+                      "exec:'COMMAND ARGS' for a system in another process (docs/formats.md, \"System protocol\")")
       ->check(CLI::Validator(
           [](std::string& s) -> std::string {
             try {

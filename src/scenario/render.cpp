@@ -97,6 +97,31 @@ const pose::ArucoDictionaryInfo* checked_dictionary(const Scenario& scenario, co
 
 }  // namespace
 
+ParticleWindow particle_window(const CameraOptions& camera) {
+  // The same expressions for the default camera and any other, so that the
+  // default's window is the one it always had ([−0.1 W, 1.1 W] ×
+  // [−0.1 H, 1.1 H]) and its scale exactly 1.
+  const auto window = [](const CameraOptions& c, const CameraOptions& reference) {
+    ParticleWindow w;
+    const double f = c.fx(), f0 = reference.fx();
+    const double mx = 0.1 * reference.width * (f / f0), my = 0.1 * reference.height * (f / f0);
+    if (0.1 * c.width >= mx && 0.1 * c.height >= my) {
+      w.u_lo = -0.1 * c.width, w.u_hi = 1.1 * c.width;
+      w.v_lo = -0.1 * c.height, w.v_hi = 1.1 * c.height;
+    } else {
+      const double ax = std::max(mx, 0.1 * c.width), ay = std::max(my, 0.1 * c.height);
+      w.u_lo = -ax, w.u_hi = c.width + ax;
+      w.v_lo = -ay, w.v_hi = c.height + ay;
+    }
+    w.scale = (w.u_hi - w.u_lo) * (w.v_hi - w.v_lo) / (f * f);
+    return w;
+  };
+  const CameraOptions reference;
+  ParticleWindow w = window(camera, reference);
+  w.scale /= window(reference, reference).scale;
+  return w;
+}
+
 Renderer::Renderer(const Scenario& scenario, const CameraOptions& camera) : impl_(std::make_unique<Impl>()) {
   const pose::ArucoDictionaryInfo* dict_info = checked_dictionary(scenario, camera);
 
@@ -106,6 +131,7 @@ Renderer::Renderer(const Scenario& scenario, const CameraOptions& camera) : impl
   m.f = camera.fx();
   m.cx = 0.5 * (camera.width - 1);
   m.cy = 0.5 * (camera.height - 1);
+  m.particles = particle_window(camera);
   m.T_body_camera = camera.T_body_camera();
   Impl::build_ground_and_markers(m, scenario, dict_info);
   Impl::build_sun(m, scenario);

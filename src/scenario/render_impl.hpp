@@ -23,10 +23,27 @@
 
 namespace touchdown::scenario {
 
+/// Where a frame's rain drops, snow flakes and falling leaves are drawn,
+/// and how many: the image and a margin around it (particles just outside
+/// streak or spread into it), in pixels, and the count relative to the
+/// default camera's (CameraOptions{}: 640 × 480, 90°).
+struct ParticleWindow {
+  double u_lo = 0, u_hi = 0, v_lo = 0, v_hi = 0;  ///< [px]
+  /// The window's solid angle, (width / f)(height / f), over the default
+  /// camera's: exactly 1 for it. The particles fill the air at a fixed
+  /// density, so a narrower view (the oracle's 128 × 128 probe) holds fewer.
+  double scale = 1;
+};
+/// The default camera's margin is a tenth of its image (64 and 48 px);
+/// every camera gets at least that angle (0.2 rad, 0.15 rad), so a narrow
+/// view still draws the near particles that streak into it.
+ParticleWindow particle_window(const CameraOptions& camera);
+
 struct Renderer::Impl {
   Scenario scenario;
   CameraOptions cam;
   double f = 0, cx = 0, cy = 0;
+  ParticleWindow particles;  ///< particle_window(cam)
   Eigen::Isometry3d T_body_camera;
 
   std::shared_ptr<const render_detail::MapTexture> map;  // shared with other renderers of the same map (immutable)

@@ -161,7 +161,7 @@ void Renderer::Impl::particles_pass(Frame& fr, const SceneState& state, Rng& rng
   const Weather& weather = scenario.weather;
   const double exposure = std::max(cam.exposure_s, 1e-3);
   const auto sample = [&](double z_min, double z_max, Eigen::Vector3d& p) {
-    const double u = rng.uniform(-0.1 * W, 1.1 * W), vv = rng.uniform(-0.1 * H, 1.1 * H);
+    const double u = rng.uniform(particles.u_lo, particles.u_hi), vv = rng.uniform(particles.v_lo, particles.v_hi);
     // Uniform in the frustum's volume (∝ z²): z³ uniform.
     const double z3 = z_min * z_min * z_min + rng.uniform() * (z_max * z_max * z_max - z_min * z_min * z_min);
     const double z = std::cbrt(z3);
@@ -184,7 +184,7 @@ void Renderer::Impl::particles_pass(Frame& fr, const SceneState& state, Rng& rng
   if (weather.rain > 0) {
     if (overlay.rows != H || overlay.cols != W) overlay.create(H, W, CV_8U);
     overlay.setTo(0);
-    const int drops = static_cast<int>(std::lround(3000 * weather.rain));
+    const int drops = static_cast<int>(std::lround(3000 * weather.rain * particles.scale));
     for (int i = 0; i < drops; ++i) {
       Eigen::Vector3d p;
       const bool visible = sample(0.3, 10, p);
@@ -201,7 +201,7 @@ void Renderer::Impl::particles_pass(Frame& fr, const SceneState& state, Rng& rng
   }
   // Snow: flakes of 3–10 mm falling at ~1 m/s with some flutter.
   if (weather.snow > 0) {
-    const int flakes = static_cast<int>(std::lround(2500 * weather.snow));
+    const int flakes = static_cast<int>(std::lround(2500 * weather.snow * particles.scale));
     for (int i = 0; i < flakes; ++i) {
       Eigen::Vector3d p;
       const bool visible = sample(0.3, 12, p);
@@ -225,7 +225,7 @@ void Renderer::Impl::particles_pass(Frame& fr, const SceneState& state, Rng& rng
   }
   // Falling leaves: 4–8 cm, opaque, autumn colours.
   if (weather.leaves > 0) {
-    const int leaves = static_cast<int>(std::lround(40 * weather.leaves));
+    const int leaves = static_cast<int>(std::lround(40 * weather.leaves * particles.scale));
     static constexpr std::array<std::array<double, 3>, 4> kLeaf{
         {{30, 95, 200}, {40, 175, 215}, {35, 65, 115}, {35, 45, 165}}};
     for (int i = 0; i < leaves; ++i) {

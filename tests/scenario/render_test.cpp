@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "scenario/render_cache.hpp"
+#include "scenario/render_impl.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/scenario/camera.hpp"
 
@@ -333,6 +334,72 @@ TEST(RenderDeterminism, SameStateSameBytesRainChangesPerFrameMaskDoesNot) {
   EXPECT_NE(a.image.pixels, b.image.pixels);
   EXPECT_EQ(a.mask, b.mask);
   EXPECT_EQ(a.depth, b.depth);
+}
+
+/// The share of the central `side` × `side` pixels that rain, snow or
+/// leaves changed by more than 30 grey levels, over `frames` frames:
+/// `weather` against the same scene without it.
+double particle_cover(Scenario s, const CameraOptions& cam, const touchdown::scenario::Weather& weather, int frames,
+                      int side) {
+  Renderer clear_renderer(s, cam);
+  s.weather = weather;
+  Renderer wet_renderer(s, cam);
+  CameraFrame clear, wet;
+  std::size_t changed = 0, pixels = 0;
+  const int x0 = (cam.width - side) / 2, y0 = (cam.height - side) / 2;
+  for (int k = 0; k < frames; ++k) {
+    SceneState st = render_state({0, 0, 10});
+    st.frame_index = k;
+    st.t = 0.1 * k;
+    clear_renderer.render(st, clear);
+    wet_renderer.render(st, wet);
+    for (int y = y0; y < y0 + side; ++y) {
+      for (int x = x0; x < x0 + side; ++x) {
+        const std::size_t i = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(cam.width) + x);
+        int d = 0;
+        for (std::size_t c = 0; c < 3; ++c)
+          d = std::max(d, std::abs(wet.image.pixels[i + c] - clear.image.pixels[i + c]));
+        changed += d > 30;
+        ++pixels;
+      }
+    }
+  }
+  return static_cast<double>(changed) / static_cast<double>(pixels);
+}
+
+// Particles fill the air at a fixed density, not the image at a fixed
+// count: a 128 × 128 view at the default camera's focal length (the
+// oracle's probe) is as covered by snow, rain or leaves as the same
+// pixels of the 640 × 480 view around it. Before, each frame drew the same count, so the probe held
+// 18.75 × the flakes per pixel and read falling snow as a covered target.
+TEST(RenderWeather, ParticlesFillTheAirNotTheImage) {
+  const CameraOptions wide;
+  CameraOptions narrow = wide;
+  narrow.width = narrow.height = 128;
+  narrow.hfov_deg = 2 * std::atan(0.5 * 128 / wide.fx()) * 180 / M_PI;
+  ASSERT_NEAR(narrow.fx(), wide.fx(), 1e-9 * wide.fx());
+  const auto w0 = touchdown::scenario::particle_window(wide);
+  EXPECT_EQ(w0.scale, 1.0);
+  EXPECT_EQ(w0.u_lo, -0.1 * 640);  // the default camera's window as it always was
+  EXPECT_EQ(w0.u_hi, 1.1 * 640);
+  EXPECT_EQ(w0.v_hi, 1.1 * 480);
+  // The narrow view: the same angular margin (64 and 48 px at this focal length).
+  const auto w1 = touchdown::scenario::particle_window(narrow);
+  EXPECT_NEAR(w1.u_lo, -64, 1e-9);
+  EXPECT_NEAR(w1.v_hi, 128 + 48, 1e-9);
+  EXPECT_NEAR(w1.scale, (256.0 * 224) / (768 * 576), 1e-9);
+  for (const char* kind : {"snow", "rain", "leaves"}) {
+    touchdown::scenario::Weather w;
+    if (std::string(kind) == "snow") w.snow = 0.8;
+    if (std::string(kind) == "rain") w.rain = 0.8;
+    if (std::string(kind) == "leaves") w.leaves = 1.0;
+    // Many frames: 128 × 128 pixels hold few particles (a leaf in 3 frames).
+    const double a = particle_cover(render_scenario(), wide, w, 60, 128);
+    const double b = particle_cover(render_scenario(), narrow, w, 60, 128);
+    EXPECT_GT(a, 0) << kind;
+    EXPECT_GT(b, 0.6 * a) << kind << ": wide " << a << ", narrow " << b;
+    EXPECT_LT(b, 1.6 * a) << kind << ": wide " << a << ", narrow " << b;
+  }
 }
 
 TEST(RenderOcclusion, ABoxOverTheMarkerHidesPartOfIt) {
