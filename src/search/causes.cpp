@@ -75,7 +75,9 @@ std::string unfair(const Facts& f, const scenario::Scenario& s) {
   if (f.probe_failure == "covered" || (unreadable && ground_cover && clear_air)) {
     if (w.ground_snow >= w.ground_leaves && w.ground_snow > 0) return "unfair: target covered by ground snow";
     if (w.ground_leaves > 0) return "unfair: target covered by ground leaves";
-    return "unfair: target covered";
+    // Cells read the wrong colour with nothing on the ground: what is in
+    // the air (falling snow, rain, dust) or the light garbled the code.
+    return "unfair: target not readable in " + weather;
   }
   if (f.probe_failure == "hidden") {
     // The object standing over it: a static one within its size of the marker.

@@ -137,6 +137,10 @@ TEST(Causes, UnfairNoLandingsSayWhyNoCameraCould) {
   s.weather.ground_snow = 0;
   s.weather.ground_leaves = 0.7;
   EXPECT_EQ(ts::violation_cause(e, s), "unfair: target covered by ground leaves");
+  // Wrong cells with nothing on the ground: named after the weather in the air.
+  sc::Scenario falling = scene();
+  falling.weather.snow = 0.6;
+  EXPECT_EQ(ts::violation_cause(e, falling), "unfair: target not readable in snowfall");
   sc::StaticObject box;
   box.kind = sc::StaticKind::Box;
   box.position = {0.3, 0};
