@@ -198,6 +198,10 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str()
       ->needs(diversity);
+  add_enum_option(*cmd, "--diversity-pool", a.search.diversity_pool,
+                  "--diversity's seed pool: spread (maximin over random draws) or cover (each weather, light and "
+                  "object condition once at the severe end of its range, the rest benign)")
+      ->needs(diversity);
   cmd->add_flag("--json", a.json, "the metrics as one JSON object on stdout");
   return cmd;
 }

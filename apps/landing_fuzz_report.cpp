@@ -149,16 +149,19 @@ CLI::App* add_compare_command(CLI::App& app, CompareArgs& a) {
   auto* cmd = app.add_subcommand(
       "compare", "the source's Table 2: every method on every map over seeds 1..N (resumable campaigns in --out)");
   cmd->add_option("--methods", a.methods,
-                  "methods; a method with '+diversity' runs with the diversity option (e.g. rlaga+diversity)")
+                  "methods; a method with '+diversity' runs with the diversity option (e.g. rlaga+diversity), with "
+                  "'+cover' with the diversity option and its covering seed pool (--diversity-pool cover)")
       ->check(CLI::Validator(
           [](std::string& m) -> std::string {
             std::string base = m.substr(0, m.find('+'));
             const std::string extra = m.substr(base.size());
-            if (!extra.empty() && extra != "+diversity") return "unknown option '" + extra + "' (only +diversity)";
-            if (base == "random" && !extra.empty()) return "random has no +diversity";
+            if (!extra.empty() && extra != "+diversity" && extra != "+cover") {
+              return "unknown option '" + extra + "' (+diversity or +cover)";
+            }
+            if (base == "random" && !extra.empty()) return "random has no " + extra;
             return one_of<tsr::Method>()(base);
           },
-          "METHOD[+diversity]"))
+          "METHOD[+diversity|+cover]"))
       ->capture_default_str()
       ->delimiter(',');
   cmd->add_option("--maps", a.maps, "maps")->check(one_of<ts::MapKind>())->capture_default_str()->delimiter(',');
@@ -211,7 +214,9 @@ int compare_command(const CompareArgs& a) {
     for (tsr::CompareCell& cell : cells) {
       tsr::SearchOptions o;
       o.method = td::from_string<tsr::Method>(cell.method.substr(0, cell.method.find('+')));
-      o.diversity = cell.method.find("+diversity") != std::string::npos;
+      const bool cover = cell.method.find("+cover") != std::string::npos;
+      o.diversity = cover || cell.method.find("+diversity") != std::string::npos;
+      if (cover) o.diversity_pool = tsr::SeedPool::Cover;
       o.system = a.common.system;
       o.detector = detector_of(a.common);
       o.budget = a.budget;

@@ -400,8 +400,12 @@ void set_target(Scenario& s, const std::string& dictionary, int id) {
 
 // ---- public: the dominant weather ----------------------------------------------------
 
-std::string dominant_weather(const Weather& w) {
-  const std::array<std::pair<double, const char*>, 9> levels{{
+namespace {
+
+// Each condition's level: its intensity scaled to 1 where it visibly
+// changes the camera's view (dominant_weather()'s documentation).
+std::array<std::pair<double, const char*>, 9> weather_levels(const Weather& w) {
+  return {{
       {w.fog / 0.1, "fog"},
       {w.rain / 0.5, "rain"},
       {w.snow / 0.5, "snowfall"},
@@ -412,12 +416,34 @@ std::string dominant_weather(const Weather& w) {
       {w.ground_leaves / 0.5, "ground leaves"},
       {(1 - w.ambient) / 0.5, "low light"},
   }};
+}
+
+}  // namespace
+
+std::string dominant_weather(const Weather& w) {
   double best = 1;
   const char* name = "clear";
-  for (const auto& [level, label] : levels) {
+  for (const auto& [level, label] : weather_levels(w)) {
     if (level >= best) best = level, name = label;
   }
   return name;
+}
+
+std::string weather_conditions(const Weather& w) {
+  const std::string first = dominant_weather(w);
+  if (first == "clear") return first;
+  const auto levels = weather_levels(w);
+  double top = 0;
+  for (const auto& [level, label] : levels) {
+    if (label == first) top = level;
+  }
+  // The strongest other condition that reaches 1 and 80 % of the first.
+  double second = 0;
+  const char* name = nullptr;
+  for (const auto& [level, label] : levels) {
+    if (label != first && level >= 1 && level >= 0.8 * top && level > second) second = level, name = label;
+  }
+  return name ? first + " and " + name : first;
 }
 
 // ---- public: equality -----------------------------------------------------------------

@@ -430,8 +430,10 @@ Chromosome ChromosomeLayout::draw(std::uint64_t seed) const {
   if (options_.dynamic_slots > 0) s.dynamic_objects = first(r.dynamic_objects, options_.dynamic_slots);
   if (options_.static_slots > 0) s.static_objects = first(r.static_objects, options_.static_slots);
   if (options_.distractor_slots > 0) s.distractors = first(r.distractors, options_.distractor_slots);
-  return encode(decode(write(s)));
+  return fit(s);
 }
+
+Chromosome ChromosomeLayout::fit(const scenario::Scenario& s) const { return encode(decode(write(s))); }
 
 std::vector<double> ChromosomeLayout::normalised(std::span<const double> c) const {
   check(c);

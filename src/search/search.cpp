@@ -15,6 +15,7 @@
 #include <set>
 
 #include "core/io_util.hpp"
+#include "search/cover_pool.hpp"
 #include "search/search_io.hpp"
 #include "touchdown/core/atomic_file.hpp"
 #include "touchdown/core/error.hpp"
@@ -63,6 +64,9 @@ bool SearchOptions::validate(std::string* why) const {
   if (system.empty()) return invalid(why, "system: empty");
   if (diversity && method == Method::Random) return invalid(why, "diversity: needs a GA method, not random");
   if (!(min_distance >= 0 && min_distance <= 1)) return invalid(why, "min_distance: must be in [0, 1]");
+  if (static_cast<std::size_t>(diversity_pool) >= EnumNames<SeedPool>::names.size()) {
+    return invalid(why, "diversity_pool: unknown pool");
+  }
   if (niche_capacity < 1 || niche_capacity > ga.population) {
     return invalid(why, "niche_capacity: " + std::to_string(niche_capacity) +
                             " is outside [1, population = " + std::to_string(ga.population) + "]");
@@ -294,7 +298,7 @@ class Campaign {
       progress_state_.generation = generation;
       const int n = std::min(o_.ga.population, o_.budget - evaluated_);
       std::vector<Chromosome> batch = o_.method == Method::Random ? draws(n)
-                                      : generation == 0           ? (o_.diversity ? spread_draws(n) : draws(n))
+                                      : generation == 0           ? seed_pool(n)
                                                                   : offspring(generation, n);
       const std::vector<Individual> evaluated = evaluate(batch, generation);
       if (o_.method != Method::Random) select(evaluated);
@@ -321,6 +325,24 @@ class Campaign {
   std::vector<Chromosome> draws(int n) const {
     std::vector<Chromosome> out;
     for (int k = 0; k < n; ++k) out.push_back(layout_.draw(draw_seed(o_.seed, evaluated_ + k)));
+    return out;
+  }
+
+  // Generation 0: random sampling's draws, or the diversity option's pool.
+  std::vector<Chromosome> seed_pool(int n) const {
+    if (!o_.diversity) return draws(n);
+    if (o_.diversity_pool == SeedPool::Spread) return spread_draws(n);
+    // The covering design's members, then (a population larger than its
+    // conditions) the spread pool's.
+    const int covered = std::min(n, static_cast<int>(detail::cover_conditions(layout_.options()).size()));
+    std::vector<Chromosome> out;
+    for (const detail::CoverMember& m : detail::cover_pool(layout_, o_.seed, 0, covered)) {
+      out.push_back(layout_.fit(m.scenario));
+    }
+    if (covered < n) {
+      std::vector<Chromosome> rest = spread_draws(n - covered);
+      out.insert(out.end(), rest.begin(), rest.end());
+    }
     return out;
   }
 

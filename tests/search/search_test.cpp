@@ -16,6 +16,7 @@
 #include <sstream>
 #include <thread>
 
+#include "search/cover_pool.hpp"
 #include "search/search_io.hpp"
 #include "test_util.hpp"
 #include "touchdown/core/error.hpp"
@@ -339,6 +340,42 @@ TEST_F(SearchDir, DiversitySpreadsItsSeedPoolAwayFromRandomSamplings) {
   }
   // Maximin over 48 candidates: its closest pair is farther apart than random's.
   EXPECT_GT(min_pairwise(d.records, 6), min_pairwise(rnd.records, 6));
+}
+
+TEST_F(SearchDir, DiversityCoverPoolRunsEachConditionFirstAndIsRecorded) {
+  SearchOptions o = diverse(Method::Rlaga);
+  o.diversity_pool = SeedPool::Cover;
+  FakeEvaluator a, b;
+  a.facts = b.facts = true;
+  const SearchResult r = run_search(o, a, root_ / "c", false);
+  // Population 6: fog, wrong_id, rain, lookalike, snowfall, pattern. The
+  // fake misses the marker in fog > 0.25 (the fog member's is ≥ 0.36).
+  EXPECT_EQ(r.records[0].evaluation.violation, scenario::Violation::TypeII);
+  const ChromosomeLayout layout = search_layout(o);
+  const auto pool = detail::cover_pool(layout, o.seed, 0, 6);
+  for (std::size_t k = 0; k < pool.size(); ++k) {
+    EXPECT_EQ(r.records[k].genes, layout.normalised(layout.fit(pool[k].scenario))) << pool[k].condition;
+  }
+  const std::string json = test::read_text(root_ / "c" / "campaign.json");
+  EXPECT_NE(json.find("\"pool\": \"cover\""), std::string::npos);
+  // A spread campaign's is written as before the option (kept ones resume).
+  (void)run_search(diverse(Method::Rlaga), b, root_ / "s", false);
+  EXPECT_EQ(test::read_text(root_ / "s" / "campaign.json").find("\"pool\""), std::string::npos);
+  // The other pool's campaign is refused, naming the key.
+  FakeEvaluator c;
+  try {
+    (void)run_search(diverse(Method::Rlaga), c, root_ / "c", true);
+    ADD_FAILURE() << "resumed a cover campaign as a spread one";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("diversity.pool"), std::string::npos) << e.what();
+  }
+  // Killed and resumed: the same file.
+  FakeEvaluator killed, rest;
+  killed.facts = rest.facts = true;
+  killed.fail_after = 4;
+  EXPECT_THROW(run_search(o, killed, root_ / "k", false), std::runtime_error);
+  (void)run_search(o, rest, root_ / "k", true);
+  EXPECT_EQ(test::read_text(root_ / "k" / "results.jsonl"), test::read_text(root_ / "c" / "results.jsonl"));
 }
 
 TEST_F(SearchDir, DiversityRunsNoScenarioNearOneAlreadyRun) {

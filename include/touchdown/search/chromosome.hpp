@@ -123,6 +123,12 @@ class ChromosomeLayout {
   /// objects beyond the slots dropped), repaired, encoded. Same seed, same
   /// chromosome.
   [[nodiscard]] Chromosome draw(std::uint64_t seed) const;
+  /// The chromosome nearest `s`: its gene fields written with every value
+  /// clamped into its gene's range (objects beyond the slots dropped), then
+  /// repaired as decode() repairs; non-gene fields are the base's. For a
+  /// scenario built by hand (the diversity option's covering pool). Throws
+  /// InvalidArgument for NaN.
+  [[nodiscard]] Chromosome fit(const scenario::Scenario& s) const;
   /// eq. 7's normalisation: each value mapped to [0, 1] by its gene's range
   /// (0 for a zero-width range); the values of an ABSENT object slot (kind
   /// 0) are 0 except the kind gene, so two scenarios without an object do

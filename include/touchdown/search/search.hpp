@@ -45,12 +45,19 @@
 namespace touchdown::search {
 
 enum class Method { Rlaga, DiverseGa, ManyObjectiveGa, Random };
+/// The diversity option's seed pool (SearchOptions::diversity_pool).
+enum class SeedPool { Spread, Cover };
 
 }  // namespace touchdown::search
 
 template <>
 struct touchdown::EnumNames<touchdown::search::Method> {
   static constexpr std::array<std::string_view, 4> names{"rlaga", "diverse-ga", "many-objective-ga", "random"};
+};
+
+template <>
+struct touchdown::EnumNames<touchdown::search::SeedPool> {
+  static constexpr std::array<std::string_view, 2> names{"spread", "cover"};
 };
 
 namespace touchdown::search {
@@ -149,6 +156,15 @@ struct SearchOptions {
   bool diversity = false;
   double min_distance = 0.05;
   int niche_capacity = 2;  ///< [1, population]
+  /// The diversity option's seed pool. Spread: as above. Cover: a covering
+  /// design (one factor at a time at its boundary): each member a benign
+  /// scene with one condition at the severe end of its range (each weather
+  /// and light property; a distractor, moving object or static object of
+  /// each kind by the marker), so a defect at one factor's extreme is in
+  /// the first generation (cover_pool.hpp lists the rules); members beyond
+  /// the conditions come from the spread pool. Recorded in campaign.json
+  /// when Cover (absent: Spread, so campaigns from before it resume).
+  SeedPool diversity_pool = SeedPool::Spread;
 
   [[nodiscard]] bool validate(std::string* why) const;
   /// Generations the budget allows: ceil(budget / population), the seed

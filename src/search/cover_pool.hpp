@@ -1,0 +1,42 @@
+#pragma once
+// The diversity option's covering seed pool (SearchOptions::diversity_pool =
+// Cover; docs/architecture.md, "The violation search" → "Distinct
+// defects"); private to the search module.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "touchdown/search/chromosome.hpp"
+
+namespace touchdown::search::detail {
+
+/// One member of the covering design: a benign scene with exactly one
+/// condition at the severe end of its range.
+struct CoverMember {
+  std::string condition;  ///< "fog", "low light", "lookalike near the marker", ...
+  scenario::Scenario scenario;
+};
+
+/// The conditions the layout can express, in pool order: the environment's
+/// and the object kinds' alternately (so a pool smaller than the list still
+/// covers both), environment first. A group switched off in the layout
+/// (0 slots) contributes none.
+std::vector<std::string> cover_conditions(const ChromosomeOptions& options);
+
+/// Members first .. first + n − 1 of the covering pool (member k covers
+/// condition k mod the list's size). Member k starts from
+/// layout.draw(seed of its own stream k): its scene seed and marker position
+/// (and the base's non-gene fields); the weather is made benign (no fog,
+/// precipitation, dust, ground cover or wet ground; the sun 45–90° high;
+/// ambient 0.85–1) and every object removed; then its condition is set:
+/// a weather property in the severe tenth of its range (the top tenth of an
+/// intensity, the bottom tenth of ambient or sun elevation: boundary-value
+/// testing, jittered so that seeds differ), or one object of the kind
+/// placed by the marker: a distractor 1.5–4 m from the marker's centre in
+/// the top tenth of its size range; a person, dog or bird starting within
+/// 3 m of it, wandering (or driven, rlaga) in the landing column, a bird
+/// 3–8 m above the ground; a box, chair, pole or tree 1.5–3.5 m from it
+/// in the top tenth of its kind's sizes. Deterministic in (seed, k).
+std::vector<CoverMember> cover_pool(const ChromosomeLayout& layout, std::uint64_t seed, int first, int n);
+
+}  // namespace touchdown::search::detail

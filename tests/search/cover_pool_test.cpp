@@ -1,0 +1,147 @@
+// The diversity option's covering seed pool (src/search/cover_pool.hpp):
+// each member, after the chromosome's round trip (fit, decode), is a benign
+// scene with exactly its one condition at the severe end of its range.
+#include "search/cover_pool.hpp"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "touchdown/search/search.hpp"
+
+namespace touchdown::search {
+namespace {
+
+using scenario::Scenario;
+using scenario::Weather;
+
+// The weather intensities (0 when benign) and their condition names.
+const std::vector<std::pair<std::string, double Weather::*>>& intensities() {
+  static const std::vector<std::pair<std::string, double Weather::*>> k{
+      {"fog", &Weather::fog},
+      {"rain", &Weather::rain},
+      {"snowfall", &Weather::snow},
+      {"dust", &Weather::dust},
+      {"falling leaves", &Weather::leaves},
+      {"wet ground", &Weather::ground_wetness},
+      {"ground snow", &Weather::ground_snow},
+      {"ground leaves", &Weather::ground_leaves}};
+  return k;
+}
+
+double upper(const char* key) { return scenario::property_bound(key).max; }
+
+std::size_t objects(const Scenario& s) {
+  return s.dynamic_objects.size() + s.static_objects.size() + s.distractors.size();
+}
+
+TEST(CoverPool, EachMemberIsBenignButForItsOneConditionAtItsSevereEnd) {
+  for (bool drive : {false, true}) {
+    ChromosomeOptions o;
+    o.drive_objects = drive;
+    const ChromosomeLayout layout(Scenario{}, o);
+    const std::vector<std::string> names = detail::cover_conditions(o);
+    ASSERT_EQ(names.size(), 20u);  // 10 weather and light, 3 distractor, 3 moving and 4 static kinds
+    EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), 20u);
+    EXPECT_EQ(names[0], "fog");  // alternating, the environment first
+    EXPECT_EQ(names[1], "wrong_id near the marker");
+    for (std::uint64_t seed : {1u, 2u, 3u}) {
+      const auto pool = detail::cover_pool(layout, seed, 0, 20);
+      ASSERT_EQ(pool.size(), 20u);
+      for (std::size_t k = 0; k < pool.size(); ++k) {
+        ASSERT_EQ(pool[k].condition, names[k]);
+        // What the search runs: the member through the chromosome.
+        const Scenario s = layout.decode(layout.fit(pool[k].scenario));
+        const std::string& c = names[k];
+        const Weather& w = s.weather;
+        SCOPED_TRACE(c + ", seed " + std::to_string(seed));
+        for (const auto& [name, field] : intensities()) {
+          const std::string key = name == "snowfall"         ? "weather.snow"
+                                  : name == "falling leaves" ? "weather.leaves"
+                                  : name == "wet ground"     ? "weather.ground_wetness"
+                                  : name == "ground snow"    ? "weather.ground_snow"
+                                  : name == "ground leaves"  ? "weather.ground_leaves"
+                                                             : "weather." + name;
+          if (c == name) {
+            EXPECT_GE(w.*field, 0.9 * upper(key.c_str()));
+          } else {
+            EXPECT_EQ(w.*field, 0.0) << name;
+          }
+        }
+        if (c == "low light") {
+          EXPECT_LE(w.ambient, 0.15 + 0.1 * 0.85);
+        } else {
+          EXPECT_GE(w.ambient, 0.85);
+        }
+        if (c == "low sun") {
+          EXPECT_LE(w.sun_elevation_deg, 5 + 0.1 * 85);
+        } else {
+          EXPECT_GE(w.sun_elevation_deg, 45);
+        }
+        const bool object = c.find(" the marker") != std::string::npos;
+        EXPECT_EQ(objects(s), object ? 1u : 0u);
+        if (!object) continue;
+        const std::string kind = c.substr(0, c.find(' '));
+        if (!s.distractors.empty()) {
+          const auto& d = s.distractors[0];
+          EXPECT_EQ(scenario::to_string(d.kind), kind);
+          EXPECT_GE(d.size, 2 - 0.1 * 1.7);  // the top tenth of 0.3–2 m
+          const double r = (d.position - s.marker.position).norm();
+          EXPECT_GE(r, 0.75 * (s.marker.size + d.size));
+          EXPECT_LE(r, 0.75 * (s.marker.size + d.size) + 2.0 + 1e-9);
+        } else if (!s.dynamic_objects.empty()) {
+          const auto& d = s.dynamic_objects[0];
+          EXPECT_EQ(scenario::to_string(d.kind), kind);
+          EXPECT_LE((d.position - s.marker.position).norm(), 3 + 1e-9);
+          EXPECT_EQ(d.motion, drive ? scenario::MotionKind::External : scenario::MotionKind::Wander);
+          if (d.kind == scenario::DynamicKind::Bird) {
+            EXPECT_GE(d.altitude, 3);
+            EXPECT_LE(d.altitude, 8);
+          }
+        } else {
+          ASSERT_EQ(s.static_objects.size(), 1u);
+          const auto& t = s.static_objects[0];
+          EXPECT_EQ(scenario::to_string(t.kind), kind);
+          const bool round = t.kind == scenario::StaticKind::Pole || t.kind == scenario::StaticKind::Tree;
+          const double reach = round ? 0.5 * t.size[0] : 0.5 * std::hypot(t.size[0], t.size[1]);
+          const double r = (t.position - s.marker.position).norm();
+          EXPECT_GE(r, 0.75 * s.marker.size + reach + 0.3 - 1e-9);
+          EXPECT_LE(r, 0.75 * s.marker.size + reach + 1.5 + 1e-9);
+          const std::string row = "static_objects[" + kind + "].size";
+          const auto* found = scenario::find_property_bound(row);  // a box's row is for every extent
+          const auto h = found ? *found : scenario::property_bound(row + "[2]");
+          EXPECT_GE(t.size[2], h.max - 0.1 * (h.max - h.min) - 1e-9);  // the top tenth of its heights
+        }
+      }
+    }
+  }
+}
+
+TEST(CoverPool, IsDeterministicPerSeedAndDiffersBetweenSeeds) {
+  const ChromosomeLayout layout(Scenario{});
+  const auto a = detail::cover_pool(layout, 5, 0, 20);
+  const auto b = detail::cover_pool(layout, 5, 0, 20);
+  const auto c = detail::cover_pool(layout, 6, 0, 20);
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(layout.fit(a[k].scenario), layout.fit(b[k].scenario)) << k;
+    EXPECT_NE(layout.fit(a[k].scenario), layout.fit(c[k].scenario)) << k;
+  }
+  // Members are indexed: a later slice is the same as the whole pool's tail.
+  const auto tail = detail::cover_pool(layout, 5, 7, 3);
+  for (std::size_t k = 0; k < tail.size(); ++k) EXPECT_EQ(layout.fit(tail[k].scenario), layout.fit(a[7 + k].scenario));
+}
+
+TEST(CoverPool, TheSourceChromosomeCoversWeatherAndMovingObjectsOnly) {
+  const std::vector<std::string> names = detail::cover_conditions(ChromosomeOptions::source());
+  ASSERT_EQ(names.size(), 13u);
+  for (const std::string& n : names) {
+    EXPECT_EQ(n.find("near the marker"), std::string::npos) << n;
+    EXPECT_EQ(n.find("beside the marker"), std::string::npos) << n;
+  }
+  ChromosomeOptions none;
+  none.dynamic_slots = none.static_slots = none.distractor_slots = 0;
+  EXPECT_EQ(detail::cover_conditions(none).size(), 10u);
+}
+
+}  // namespace
+}  // namespace touchdown::search
