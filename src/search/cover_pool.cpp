@@ -14,6 +14,8 @@
 #include <string_view>
 
 #include "touchdown/core/random.hpp"
+#include "touchdown/pose/sim/aruco_dictionary.hpp"
+#include "touchdown/scenario/footprint.hpp"
 
 namespace touchdown::search::detail {
 
@@ -131,11 +133,20 @@ void add_distractor(scenario::Scenario& s, std::size_t i, Rng& rng) {
   scenario::Distractor d;
   d.kind = static_cast<DistractorKind>(i);
   d.size = severe(range_of("distractors", kDistractors[i], "size", 0), false, rng);
-  // Beyond the marker's and its own white margins (their half diagonals):
-  // decode() drops a distractor over the marker.
-  const double clear = 0.75 * (s.marker.size + d.size);
-  d.position = around(s.marker.position, clear + rng.uniform(0.2, 2.0), rng);
   d.yaw_deg = rng.uniform(-180, 180);
+  // Moved out along a random direction until its square (with its white
+  // margin) clears the marker's — decode() drops a distractor over the
+  // marker — then 0–1 m farther: near enough that both are in one view
+  // while the drone confirms the marker from a few metres up.
+  const double a = rng.uniform(-std::numbers::pi, std::numbers::pi);
+  const Eigen::Vector2d u(std::cos(a), std::sin(a));
+  const int bits = pose::find_aruco_dictionary(s.marker.dictionary)->bits;  // the draw's base is valid
+  const scenario::Footprint target = scenario::marker_square(s.marker.position, s.marker.yaw_deg, s.marker.size, bits);
+  double r = 0;
+  while (scenario::overlap(target, scenario::marker_square(s.marker.position + r * u, d.yaw_deg, d.size, bits))) {
+    r += 0.01;
+  }
+  d.position = s.marker.position + (r + 0.01 + rng.uniform(0, 1)) * u;
   // decode() takes it modulo the dictionary's size and off marker.id.
   const auto ids = scenario::property_bound("distractors[].id");
   d.id = static_cast<int>(std::floor(rng.uniform(ids.min, ids.max + 1)));

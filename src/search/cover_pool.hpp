@@ -32,8 +32,8 @@ std::vector<std::string> cover_conditions(const ChromosomeOptions& options);
 /// a weather property in the severe tenth of its range (the top tenth of an
 /// intensity, the bottom tenth of ambient or sun elevation: boundary-value
 /// testing, jittered so that seeds differ), or one object of the kind
-/// placed by the marker: a distractor 1.5–4 m from the marker's centre in
-/// the top tenth of its size range; a person, dog or bird starting within
+/// placed by the marker: a distractor in the top tenth of its size range,
+/// 0–1 m beyond touching the marker's square (white margins included); a person, dog or bird starting within
 /// 3 m of it, wandering (or driven, rlaga) in the landing column, a bird
 /// 3–8 m above the ground; a box, chair, pole or tree 1.5–3.5 m from it
 /// in the top tenth of its kind's sizes. Deterministic in (seed, k).

@@ -86,9 +86,13 @@ TEST(CoverPool, EachMemberIsBenignButForItsOneConditionAtItsSevereEnd) {
           const auto& d = s.distractors[0];
           EXPECT_EQ(scenario::to_string(d.kind), kind);
           EXPECT_GE(d.size, 2 - 0.1 * 1.7);  // the top tenth of 0.3–2 m
+          // Clear of the marker (with both white margins: 4X4 codes span 6
+          // cells, the margins add 2) by at most 1 m: its centre no farther
+          // than the two half diagonals and 1 m.
           const double r = (d.position - s.marker.position).norm();
-          EXPECT_GE(r, 0.75 * (s.marker.size + d.size));
-          EXPECT_LE(r, 0.75 * (s.marker.size + d.size) + 2.0 + 1e-9);
+          const double half_diagonal = 0.5 * std::sqrt(2.0) * 8.0 / 6.0;
+          EXPECT_GE(r, 0.5 * 8.0 / 6.0 * (s.marker.size + d.size));  // not overlapping, even when aligned
+          EXPECT_LE(r, half_diagonal * (s.marker.size + d.size) + 1.02);
         } else if (!s.dynamic_objects.empty()) {
           const auto& d = s.dynamic_objects[0];
           EXPECT_EQ(scenario::to_string(d.kind), kind);
