@@ -429,23 +429,6 @@ std::string dominant_weather(const Weather& w) {
   return name;
 }
 
-std::string weather_conditions(const Weather& w) {
-  const std::string first = dominant_weather(w);
-  if (first == "clear") return first;
-  const auto levels = weather_levels(w);
-  double top = 0;
-  for (const auto& [level, label] : levels) {
-    if (label == first) top = level;
-  }
-  // The strongest other condition that reaches 1 and 80 % of the first.
-  double second = 0;
-  const char* name = nullptr;
-  for (const auto& [level, label] : levels) {
-    if (label != first && level >= 1 && level >= 0.8 * top && level > second) second = level, name = label;
-  }
-  return name ? first + " and " + name : first;
-}
-
 // ---- public: equality -----------------------------------------------------------------
 
 bool operator==(const Scenario& a, const Scenario& b) {

@@ -63,7 +63,7 @@ std::string descent_occluder(const Facts& f) {
 
 /// An unfair Type II: why no camera could have read the target.
 std::string unfair(const Facts& f, const scenario::Scenario& s) {
-  const std::string weather = scenario::weather_conditions(s.weather);
+  const std::string weather = dominant_weather(s.weather);
   const scenario::Weather& w = s.weather;
   // A marker under snow or leaves reads as one colour: low contrast as in
   // fog. Cover it is when the ground is covered (≥ 0.3) and the air at the
@@ -95,7 +95,7 @@ std::string unfair(const Facts& f, const scenario::Scenario& s) {
 
 /// A fair Type II: the target was observable long enough, yet no landing.
 std::string no_landing(const Facts& f, const scenario::Scenario& s) {
-  const std::string weather = scenario::weather_conditions(s.weather);
+  const std::string weather = dominant_weather(s.weather);
   if (f.descent_started) {
     const std::string occluder = descent_occluder(f);
     if (!occluder.empty()) return occluder + " between camera and target during descent";

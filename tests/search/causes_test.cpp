@@ -174,22 +174,6 @@ TEST(Causes, DominantWeatherAndObjectKind) {
   w = {};
   w.ambient = 0.2;
   EXPECT_EQ(ts::dominant_weather(w), "low light");
-  EXPECT_EQ(sc::weather_conditions(w), "low light");
-  // Two conditions as strong are both named, the stronger first; one below
-  // 80 % of the first or below its own level 1 is not.
-  w = {};
-  w.snow = 0.86;  // level 1.72
-  w.ambient = 0.16;  // level 1.68
-  EXPECT_EQ(ts::dominant_weather(w), "snowfall");
-  EXPECT_EQ(sc::weather_conditions(w), "snowfall and low light");
-  w.ambient = 0.4;  // level 1.2 < 0.8 × 1.72
-  EXPECT_EQ(sc::weather_conditions(w), "snowfall");
-  w = {};
-  w.rain = 0.4;  // level 0.8: not reaching 1
-  w.fog = 0.09;  // level 0.9
-  EXPECT_EQ(sc::weather_conditions(w), "clear");
-  w.fog = 0.11;
-  EXPECT_EQ(sc::weather_conditions(w), "fog");
   EXPECT_EQ(ts::object_kind("static_objects[12] (tree)"), "tree");
   EXPECT_EQ(ts::object_kind("ground"), "ground");
 }

@@ -197,11 +197,6 @@ void set_target(Scenario& s, const std::string& dictionary, int id);
 /// "dust", "falling leaves", "wet ground", "ground snow", "ground leaves",
 /// "low light"; "clear" when none reaches 1.
 std::string dominant_weather(const Weather& w);
-/// The dominant condition and, when another reaches 1 and at least 80 % of
-/// its level, that one too: "snowfall and low light" (snow 0.86, ambient
-/// 0.16: levels 1.72 and 1.68), where dominant_weather() would name one of
-/// two conditions that are as strong. At most two; "clear" as above.
-std::string weather_conditions(const Weather& w);
 
 /// A random valid scenario drawn from property_bounds(): same seed, same
 /// scenario. `map` fixes the map (else drawn).

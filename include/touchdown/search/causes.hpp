@@ -7,9 +7,7 @@
 /// defects; a search that finds one cause many times has found one defect.
 ///
 /// The vocabulary (<kind>: the object's kind, "tree", "person", "lookalike";
-/// <weather>: the scenario's dominant condition, or its two strongest when
-/// they are as strong, scenario::weather_conditions(): "fog", "snowfall and
-/// low light"):
+/// <weather>: the scenario's dominant condition, dominant_weather()):
 ///   Type III    "collision with <kind> while approaching" (searching,
 ///               tracking, descending, landing: the reference systems'
 ///               phases), "... during <phase>" for a phase named otherwise
