@@ -154,6 +154,13 @@ void add_distractor(scenario::Scenario& s, std::size_t i, Rng& rng) {
   s.distractors.push_back(d);
 }
 
+// A walk-in: it starts 3–8 m from the marker heading for it at a quarter
+// to all of its kind's top speed, so it reaches the landing spot anywhere
+// from ~1 s to ~30 s into the run (before, during or after the descent);
+// scripted, it walks a line through the spot and 3 m beyond, and back;
+// for rlaga the DQN drives it from there. Starting on the marker instead,
+// the DQN parks it there at once (eq. 5 rewards occlusion) and the run is
+// unfair ("target hidden by"), which the diversity option scores 0.
 void add_dynamic(scenario::Scenario& s, std::size_t i, Rng& rng) {
   scenario::DynamicObject o;
   o.kind = static_cast<DynamicKind>(i);
@@ -161,12 +168,14 @@ void add_dynamic(scenario::Scenario& s, std::size_t i, Rng& rng) {
     const auto r = range_of("dynamic_objects", kDynamic[i], "size", j);
     o.size[j] = rng.uniform(0.5 * (r.first + r.second), r.second);
   }
-  o.position = around(s.marker.position, rng.uniform(0, 3), rng);
+  const double distance = rng.uniform(3, 8);
+  o.position = around(s.marker.position, distance, rng);
+  const Eigen::Vector2d to_marker = s.marker.position - o.position;
+  o.heading_deg = std::atan2(to_marker.y(), to_marker.x()) * 180 / std::numbers::pi;
   const auto speed = range_of("dynamic_objects", kDynamic[i], "speed", 0);
-  o.speed = rng.uniform(speed.first, speed.second);
-  o.heading_deg = rng.uniform(-180, 180);
-  o.motion = MotionKind::Wander;  // decode() makes it External for rlaga
-  o.extent = rng.uniform(1, 3);
+  o.speed = rng.uniform(0.25 * speed.second, speed.second);
+  o.motion = MotionKind::Line;  // decode() makes it External for rlaga
+  o.extent = distance + 3;
   o.altitude = o.kind == DynamicKind::Bird ? rng.uniform(3, 8) : 0.0;
   s.dynamic_objects.push_back(o);
 }

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
 #include <set>
 
 #include "touchdown/search/search.hpp"
@@ -96,8 +98,15 @@ TEST(CoverPool, EachMemberIsBenignButForItsOneConditionAtItsSevereEnd) {
         } else if (!s.dynamic_objects.empty()) {
           const auto& d = s.dynamic_objects[0];
           EXPECT_EQ(scenario::to_string(d.kind), kind);
-          EXPECT_LE((d.position - s.marker.position).norm(), 3 + 1e-9);
-          EXPECT_EQ(d.motion, drive ? scenario::MotionKind::External : scenario::MotionKind::Wander);
+          // Walking in: 3–8 m out, heading for the marker, its line through it.
+          const Eigen::Vector2d to_marker = s.marker.position - d.position;
+          EXPECT_GE(to_marker.norm(), 3 - 1e-9);
+          EXPECT_LE(to_marker.norm(), 8 + 1e-9);
+          const double h = d.heading_deg * std::numbers::pi / 180;
+          EXPECT_NEAR(to_marker.normalized().dot(Eigen::Vector2d(std::cos(h), std::sin(h))), 1.0, 1e-9);
+          EXPECT_GE(d.extent, to_marker.norm());
+          EXPECT_GT(d.speed, 0);
+          EXPECT_EQ(d.motion, drive ? scenario::MotionKind::External : scenario::MotionKind::Line);
           if (d.kind == scenario::DynamicKind::Bird) {
             EXPECT_GE(d.altitude, 3);
             EXPECT_LE(d.altitude, 8);
