@@ -12,7 +12,7 @@
 namespace td = touchdown;
 namespace tsr = touchdown::search;
 
-using SearchEnums = ::testing::Types<tsr::Method, tsr::GeneGroup, tsr::ShrinkStatus>;
+using SearchEnums = ::testing::Types<tsr::Method, tsr::GeneGroup, tsr::ShrinkStatus, tsr::SeedPool>;
 namespace touchdown::test {
 INSTANTIATE_TYPED_TEST_SUITE_P(Search, EnumNamesSuite, SearchEnums);
 }  // namespace touchdown::test
@@ -22,6 +22,7 @@ TEST(SearchEnumNames, NamesAreTheCommandLinesAndFilesSpellings) {
   EXPECT_EQ(tsr::to_string(tsr::Method::ManyObjectiveGa), "many-objective-ga");
   EXPECT_EQ(tsr::to_string(tsr::GeneGroup::DynamicObject), "dynamic_object");
   EXPECT_EQ(tsr::to_string(tsr::ShrinkStatus::NotViolating), "not_violating");
+  EXPECT_EQ(td::enum_name(tsr::SeedPool::Cover), "cover");  // campaign.json's diversity.pool
   td::test::expect_bad_name<tsr::Method>("nsga2",
                                          "expected one of rlaga, diverse-ga, many-objective-ga, random; got 'nsga2'");
 }

@@ -63,6 +63,7 @@ struct touchdown::EnumNames<touchdown::search::SeedPool> {
 namespace touchdown::search {
 
 inline std::string_view to_string(Method m) { return enum_name(m); }
+inline std::string_view to_string(SeedPool p) { return enum_name(p); }
 
 class QNetwork;
 
