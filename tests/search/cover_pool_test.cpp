@@ -19,7 +19,7 @@ using scenario::Weather;
 
 // The weather intensities (0 when benign) and their condition names.
 const std::vector<std::pair<std::string, double Weather::*>>& intensities() {
-  static const std::vector<std::pair<std::string, double Weather::*>> k{
+  static const std::vector<std::pair<std::string, double Weather::*>> kIntensities{
       {"fog", &Weather::fog},
       {"rain", &Weather::rain},
       {"snowfall", &Weather::snow},
@@ -28,7 +28,7 @@ const std::vector<std::pair<std::string, double Weather::*>>& intensities() {
       {"wet ground", &Weather::ground_wetness},
       {"ground snow", &Weather::ground_snow},
       {"ground leaves", &Weather::ground_leaves}};
-  return k;
+  return kIntensities;
 }
 
 double upper(const char* key) { return scenario::property_bound(key).max; }
