@@ -149,6 +149,12 @@ Footprint static_footprint(const StaticObject& o) {
 
 const PropertyBound* find_property_bound(std::string_view key) { return detail::find_bound(key); }
 
+const PropertyBound* find_kind_bound(std::string_view list, std::string_view kind, std::string_view prop, int j) {
+  const std::string whole = std::string(list) + "[" + std::string(kind) + "]." + std::string(prop);
+  if (const PropertyBound* b = detail::find_bound(whole)) return b;
+  return detail::find_bound(whole + "[" + std::to_string(j) + "]");
+}
+
 std::string indexed_key(std::string_view list, std::size_t i, std::string_view prop) {
   return detail::indexed(list, i, prop);
 }
@@ -400,12 +406,8 @@ void set_target(Scenario& s, const std::string& dictionary, int id) {
 
 // ---- public: the dominant weather ----------------------------------------------------
 
-namespace {
-
-// Each condition's level: its intensity scaled to 1 where it visibly
-// changes the camera's view (dominant_weather()'s documentation).
-std::array<std::pair<double, const char*>, 9> weather_levels(const Weather& w) {
-  return {{
+std::string dominant_weather(const Weather& w) {
+  const std::array<std::pair<double, const char*>, 9> levels{{
       {w.fog / 0.1, "fog"},
       {w.rain / 0.5, "rain"},
       {w.snow / 0.5, "snowfall"},
@@ -416,14 +418,9 @@ std::array<std::pair<double, const char*>, 9> weather_levels(const Weather& w) {
       {w.ground_leaves / 0.5, "ground leaves"},
       {(1 - w.ambient) / 0.5, "low light"},
   }};
-}
-
-}  // namespace
-
-std::string dominant_weather(const Weather& w) {
   double best = 1;
   const char* name = "clear";
-  for (const auto& [level, label] : weather_levels(w)) {
+  for (const auto& [level, label] : levels) {
     if (level >= best) best = level, name = label;
   }
   return name;

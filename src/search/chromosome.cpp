@@ -62,16 +62,8 @@ std::string slot_key(std::string_view list, int slot, std::string_view prop) {
 
 int max_count(std::string_view list) { return static_cast<int>(scenario::property_bound(list).max); }
 
-// The per-kind bound of component j of list[kind].prop: the row of the
-// whole property or of component j, or nullptr when the envelope applies.
-const PropertyBound* kind_row(std::string_view list, std::string_view kind, std::string_view prop, int j) {
-  const std::string whole = std::string(list) + "[" + std::string(kind) + "]." + std::string(prop);
-  if (const PropertyBound* b = scenario::find_property_bound(whole)) return b;
-  return scenario::find_property_bound(whole + "[" + std::to_string(j) + "]");
-}
-
 double clamp_to_kind(double v, std::string_view list, std::string_view kind, std::string_view prop, int j) {
-  const PropertyBound* b = kind_row(list, kind, prop, j);
+  const PropertyBound* b = scenario::find_kind_bound(list, kind, prop, j);
   return b ? std::clamp(v, b->min, b->max) : v;
 }
 

@@ -99,9 +99,7 @@ std::string name_of(const Condition& c) {
 // [min, max] of component j of list[kind].prop: its per-kind row, else the
 // envelope row (the bounds table's rule, scenario.cpp).
 std::pair<double, double> range_of(std::string_view list, std::string_view kind, std::string_view prop, int j) {
-  const std::string whole = std::string(list) + "[" + std::string(kind) + "]." + std::string(prop);
-  const scenario::PropertyBound* b = scenario::find_property_bound(whole);
-  if (!b) b = scenario::find_property_bound(whole + "[" + std::to_string(j) + "]");
+  const scenario::PropertyBound* b = scenario::find_kind_bound(list, kind, prop, j);
   if (!b) b = &scenario::property_bound(std::string(list) + "[]." + std::string(prop));
   return {b->min, b->max};
 }

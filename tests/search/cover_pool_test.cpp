@@ -130,6 +130,17 @@ TEST(CoverPool, EachMemberIsBenignButForItsOneConditionAtItsSevereEnd) {
   }
 }
 
+TEST(CoverPool, KindRowsAreTheWholePropertysOrTheComponentsOrNone) {
+  // A box's row covers every extent; a tree's are per component; a
+  // distractor's size has only the envelope row.
+  EXPECT_EQ(scenario::find_kind_bound("static_objects", "box", "size", 2),
+            scenario::find_property_bound("static_objects[box].size"));
+  EXPECT_EQ(scenario::find_kind_bound("static_objects", "tree", "size", 2),
+            scenario::find_property_bound("static_objects[tree].size[2]"));
+  EXPECT_EQ(scenario::find_kind_bound("static_objects", "tree", "size", 2)->max, 12);
+  EXPECT_EQ(scenario::find_kind_bound("distractors", "lookalike", "size", 0), nullptr);
+}
+
 TEST(CoverPool, IsDeterministicPerSeedAndDiffersBetweenSeeds) {
   const ChromosomeLayout layout(Scenario{});
   const auto a = detail::cover_pool(layout, 5, 0, 20);

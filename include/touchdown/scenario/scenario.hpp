@@ -172,6 +172,12 @@ const std::vector<PropertyBound>& property_bounds();
 const PropertyBound& property_bound(std::string_view key);
 /// The row for `key`, or nullptr.
 const PropertyBound* find_property_bound(std::string_view key);
+/// The per-kind row of component j of LIST[KIND].PROP ("static_objects",
+/// "tree", "size", 2): the row of the whole property
+/// ("static_objects[box].size") or of the component
+/// ("static_objects[tree].size[2]"); nullptr when the envelope row
+/// ("static_objects[].size") applies.
+const PropertyBound* find_kind_bound(std::string_view list, std::string_view kind, std::string_view prop, int j);
 /// "LIST[I].PROP": the key of an element's property, as messages name it.
 std::string indexed_key(std::string_view list, std::size_t i, std::string_view prop);
 
