@@ -289,10 +289,13 @@ inline std::string large_count(double v) {
 /// close() the line before printing anything else.
 /// A duration for people: "45 s", "12 min", "3.5 h".
 inline std::string duration_text(double seconds) {
-  using touchdown::detail::format_general;
-  if (seconds < 120) return format_general(seconds, 2) + " s";
-  if (seconds < 7200) return format_general(seconds / 60, 2) + " min";
-  return format_general(seconds / 3600, 2) + " h";
+  // Two significant digits below 10, whole units from 10 (never "1e+02 s").
+  const auto digits = [](double v) {
+    return v < 9.5 ? touchdown::detail::format_general(v, 2) : touchdown::detail::format_fixed(v, 0);
+  };
+  if (seconds < 120) return digits(seconds) + " s";
+  if (seconds < 7200) return digits(seconds / 60) + " min";
+  return digits(seconds / 3600) + " h";
 }
 
 /// Progress of long work on stderr. On a terminal, a bar with the time

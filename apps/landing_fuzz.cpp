@@ -202,6 +202,9 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
                   "--diversity's seed pool: spread (maximin over random draws) or cover (each weather, light and "
                   "object condition once at the severe end of its range, the rest benign)")
       ->needs(diversity);
+  cmd->add_flag("--near-miss", a.search.near_miss,
+                "rlaga, diverse-ga: an object's nearest approach to the drone within 2 m adds up to 0.5 to the "
+                "fitness, so the search climbs toward collisions");
   cmd->add_flag("--json", a.json, "the metrics as one JSON object on stdout");
   return cmd;
 }

@@ -148,9 +148,11 @@ struct CompareArgs {
 CLI::App* add_compare_command(CLI::App& app, CompareArgs& a) {
   auto* cmd = app.add_subcommand(
       "compare", "the source's Table 2: every method on every map over seeds 1..N (resumable campaigns in --out)");
-  cmd->add_option("--methods", a.methods,
-                  "methods; a method with '+diversity' runs with the diversity option (e.g. rlaga+diversity), with "
-                  "'+cover' with the diversity option and its covering seed pool (--diversity-pool cover)")
+  cmd->add_option(
+         "--methods", a.methods,
+         "methods; a method with '+diversity' runs with the diversity option (e.g. rlaga+diversity), with "
+         "'+cover' with the diversity option, its covering seed pool and the near-miss term (--diversity-pool cover "
+         "--near-miss)")
       ->check(CLI::Validator(
           [](std::string& m) -> std::string {
             std::string base = m.substr(0, m.find('+'));
@@ -216,7 +218,7 @@ int compare_command(const CompareArgs& a) {
       o.method = td::from_string<tsr::Method>(cell.method.substr(0, cell.method.find('+')));
       const bool cover = cell.method.find("+cover") != std::string::npos;
       o.diversity = cover || cell.method.find("+diversity") != std::string::npos;
-      if (cover) o.diversity_pool = tsr::SeedPool::Cover;
+      if (cover) o.diversity_pool = tsr::SeedPool::Cover, o.near_miss = true;
       o.system = a.common.system;
       o.detector = detector_of(a.common);
       o.budget = a.budget;

@@ -59,6 +59,12 @@ std::string result_json(const ScenarioResult& r, std::string_view scenario, std:
     j["collision"] = {
         {"t", round3(r.collision.t)}, {"object", r.collision.what}, {"point", vec_json(r.collision.point)}};
   }
+  if (r.has_nearest) {
+    j["nearest"] = {{"object", r.nearest.what},
+                    {"m", round3(r.nearest.distance)},
+                    {"t", round3(r.nearest_t)},
+                    {"phase", r.nearest_phase}};
+  }
   j["descent"] = {{"started", r.descent_started}};
   if (r.descent_started) {
     j["descent"]["t"] = round3(r.descent_time);

@@ -250,6 +250,18 @@ bool ScenarioRun::step() {
   const DroneState& now = world_.drone();
   r.trajectory.push_back({now.t, now.position, now.velocity, now.yaw_deg, std::string(out.phase)});
   if (world_.collision() && r.collision_phase.empty()) r.collision_phase = std::string(out.phase);
+  if ((frame_due && !now.on_ground) || world_.collision()) {
+    const auto t3 = Clock::now();
+    NearestObject near = world_.nearest_object();
+    if (world_.collision()) near = {world_.collision()->object, world_.collision()->what, 0.0};
+    if (near.object >= 0 && (!r.has_nearest || near.distance < r.nearest.distance)) {
+      r.has_nearest = true;
+      r.nearest = std::move(near);
+      r.nearest_t = now.t;
+      r.nearest_phase = std::string(out.phase);
+    }
+    r.timing.physics_s += seconds_since(t3);
+  }
   return true;
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "scenario/scenario_internal.hpp"
+#include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
 #include "touchdown/pose/sim/aruco_dictionary.hpp"
 #include "touchdown/scenario/scenario.hpp"
@@ -63,9 +64,10 @@ std::string kind_key(std::string_view list, std::string_view kind, std::string_v
 
 Eigen::Vector3d draw_size(Drawer& d, std::string_view list, std::string_view kind) {
   Eigen::Vector3d size;
-  const std::string whole = kind_key(list, kind, "size");
   for (int j = 0; j < 3; ++j) {
-    size[j] = find_bound(whole) ? d.in_row(whole, 100) : d.in_row(whole + "[" + std::to_string(j) + "]", 100);
+    const PropertyBound* b = find_kind_bound(list, kind, "size", j);
+    TD_ASSERT(b);  // every kind has its size rows
+    size[j] = d.uniform(b->min, b->max, 100);
   }
   return size;
 }

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "core/checks.hpp"
@@ -279,6 +280,20 @@ const DroneState& World::drone() const { return impl_->drone; }
 const std::vector<Eigen::Isometry3d>& World::dynamic_poses() const { return impl_->dynamic_poses; }
 const std::vector<Eigen::Vector3d>& World::dynamic_velocities() const { return impl_->dynamic_velocities; }
 const CollisionEvent* World::collision() const { return impl_->has_collision ? &impl_->collision : nullptr; }
+NearestObject World::nearest_object() const {
+  const Impl& w = *impl_;
+  NearestObject out;
+  const Eigen::Isometry3d T_wb = w.drone.T_world_body();
+  for (int i = 0; i < w.checker.object_count(); ++i) {
+    const double d = w.checker.distance(i, T_wb, w.object_poses[static_cast<std::size_t>(i)]).distance;
+    if (d < out.distance) {
+      out.distance = d;
+      out.object = i;
+      out.what = w.names[static_cast<std::size_t>(i)];
+    }
+  }
+  return out;
+}
 const Scenario& World::scenario() const { return impl_->scenario; }
 int World::external_count() const { return impl_->externals; }
 

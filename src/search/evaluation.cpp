@@ -50,6 +50,12 @@ Evaluation evaluate_result(const scenario::ScenarioResult& result, double time_l
     f.occluders.push_back({r.object, r.first_t, r.last_t, r.frames, r.frames_descending});
   }
   if (result.collided) f.collided_with = result.collision.what, f.collision_phase = result.collision_phase;
+  if (result.has_nearest) {
+    f.nearest_object = result.nearest.what;
+    f.nearest_m = result.nearest.distance;
+    f.nearest_t = result.nearest_t;
+    f.nearest_phase = result.nearest_phase;
+  }
   return e;
 }
 

@@ -150,6 +150,12 @@ double fitness_eq6(const Evaluation& e, double violation_radius) {
   return e.reward_sum != 0 ? f + 1.0 / e.reward_sum : f;
 }
 
+double near_miss_term(const Evaluation& e) {
+  const Facts& f = e.facts;
+  if (f.nearest_object.empty() || !(f.nearest_m < kNearMissRange)) return 0.0;
+  return kNearMissWeight * (1.0 - std::max(0.0, f.nearest_m) / kNearMissRange);
+}
+
 std::vector<std::size_t> tournament_select(const std::vector<double>& fitness, std::size_t count, Rng& rng) {
   if (fitness.empty() && count > 0) throw InvalidArgument("tournament_select: no fitness values");
   std::vector<std::size_t> chosen;

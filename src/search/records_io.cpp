@@ -85,6 +85,15 @@ void append_facts(std::string& out, const Facts& f) {
   out += ']';
   put_key_string(out, "collided_with", f.collided_with);
   put_key_string(out, "collision_phase", f.collision_phase);
+  // Written only when there is one, so that files from before it read the same.
+  if (!f.nearest_object.empty()) {
+    out += ",\"nearest\":{\"object\":";
+    put_string(out, f.nearest_object);
+    put_key_double(out, "m", f.nearest_m);
+    put_key_double(out, "t", f.nearest_t);
+    put_key_string(out, "phase", f.nearest_phase);
+    out += '}';
+  }
   out += '}';
 }
 
@@ -208,6 +217,14 @@ class ObjectReader {
     return v.get<std::string>();
   }
 
+  [[nodiscard]] bool has(std::string_view key) const { return object_.contains(key); }
+
+  const json& object(std::string_view key) {
+    const json& v = at(key);
+    if (!v.is_object()) fail(key, "expected an object, got " + std::string(v.type_name()));
+    return v;
+  }
+
   const json& array(std::string_view key) {
     const json& v = at(key);
     if (!v.is_array()) fail(key, "expected an array, got " + std::string(v.type_name()));
@@ -276,9 +293,20 @@ Facts read_facts(const json& object, const std::string& where, const std::string
   }
   f.collided_with = r.string("collided_with");
   f.collision_phase = r.string("collision_phase");
+  if (r.has("nearest")) {
+    const json& n = r.object("nearest");
+    ObjectReader o(n, where, prefix + "nearest.");
+    f.nearest_object = o.string("object");
+    if (f.nearest_object.empty()) o.fail("object", "empty");
+    f.nearest_m = o.number("m", 0);
+    f.nearest_t = o.number("t", 0);
+    f.nearest_phase = o.string("phase");
+    o.no_other_keys({"object", "m", "t", "phase"});
+  }
   r.no_other_keys({"fair", "sighting_time", "observable_s", "longest_s", "probe_observable_s", "probe_longest_s",
                    "probe_failure", "probe_contrast", "descent_started", "descent_time", "descent_target", "trigger",
-                   "trigger_t", "last_accepted", "false_detection", "occluders", "collided_with", "collision_phase"});
+                   "trigger_t", "last_accepted", "false_detection", "occluders", "collided_with", "collision_phase",
+                   "nearest"});
   return f;
 }
 

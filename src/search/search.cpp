@@ -63,6 +63,10 @@ bool SearchOptions::validate(std::string* why) const {
   if (!(violation_radius > 0)) return invalid(why, "violation_radius: must be > 0");
   if (system.empty()) return invalid(why, "system: empty");
   if (diversity && method == Method::Random) return invalid(why, "diversity: needs a GA method, not random");
+  if (near_miss && (method == Method::Random || method == Method::ManyObjectiveGa)) {
+    return invalid(why, "near_miss: needs a method with a scalar fitness (rlaga or diverse-ga), not " +
+                            std::string(to_string(method)));
+  }
   if (!(min_distance >= 0 && min_distance <= 1)) return invalid(why, "min_distance: must be in [0, 1]");
   if (static_cast<std::size_t>(diversity_pool) >= EnumNames<SeedPool>::names.size()) {
     return invalid(why, "diversity_pool: unknown pool");
@@ -163,7 +167,8 @@ double gene_distance(const std::vector<double>& a, const std::vector<double>& b)
 
 double fitness_of(const SearchOptions& o, const Evaluation& e) {
   if (scores_nothing(o, e)) return 0.0;
-  return o.method == Method::Rlaga ? fitness_eq6(e, o.violation_radius) : fitness_eq1(e, o.violation_radius);
+  const double f = o.method == Method::Rlaga ? fitness_eq6(e, o.violation_radius) : fitness_eq1(e, o.violation_radius);
+  return o.near_miss ? f + near_miss_term(e) : f;
 }
 
 std::array<double, 2> objectives_of(const SearchOptions& o, const Evaluation& e) {
@@ -389,6 +394,18 @@ class Campaign {
       // With the diversity option the tournaments see the pool's fitness
       // after clearing, as its selection did.
       parents = tournament_select(selection_fitness(pool_), parents_needed, rng);
+      // With the near-miss term every fourth pair is drawn from the pool's
+      // frontier alone (select()), so near misses breed with near misses.
+      const std::vector<std::size_t> front = frontier(pool_, pool_.size());
+      if (o_.near_miss && !front.empty()) {
+        std::vector<double> fitness;
+        for (std::size_t i : front) fitness.push_back(records_[static_cast<std::size_t>(pool_[i].index)].fitness);
+        for (std::size_t k = 0; k + 1 < parents.size(); k += 8) {
+          const std::vector<std::size_t> pair = tournament_select(fitness, 2, rng);
+          parents[k] = front[pair[0]];
+          parents[k + 1] = front[pair[1]];
+        }
+      }
     }
     std::vector<Chromosome> pool_chromosomes;
     for (const auto& p : pool_) pool_chromosomes.push_back(p.chromosome);
@@ -512,6 +529,24 @@ class Campaign {
     return out;
   }
 
+  // The near-miss frontier (SearchOptions::near_miss): of `members`, the
+  // at most `n` fittest runs without a violation that had a near miss
+  // (near_miss_term > 0), fittest first; empty without the option.
+  std::vector<std::size_t> frontier(const std::vector<Individual>& members, std::size_t n) const {
+    if (!o_.near_miss) return {};
+    std::vector<double> fitness(members.size(), -std::numeric_limits<double>::infinity());
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < members.size(); ++i) {
+      const EvaluationRecord& r = records_[static_cast<std::size_t>(members[i].index)];
+      if (r.evaluation.violation_found() || r.evaluation.system_failed() || !(near_miss_term(r.evaluation) > 0)) {
+        continue;
+      }
+      fitness[i] = r.fitness;
+      ++count;
+    }
+    return best_indices(fitness, std::min(n, count));
+  }
+
   // The members' fitness as selection sees it: their records' fitness,
   // after clearing with the diversity option (at most niche_capacity fair
   // violations of one cause keep theirs).
@@ -545,6 +580,15 @@ class Campaign {
                                      : objectives_of(o_, records_[static_cast<std::size_t>(all[i].index)].evaluation));
       }
       keep = nsga2_survivors(objectives, n);
+    } else if (o_.near_miss) {
+      // A quarter of the pool is the frontier, the rest the fittest after
+      // clearing: the fair violations of distinct causes fill a pool on
+      // their own (eq. 1 puts a violation above any landing), and a near
+      // miss would never survive to be brought nearer.
+      keep = frontier(all, static_cast<std::size_t>(o_.ga.population) / 4);
+      std::vector<double> rest = kept;
+      for (std::size_t k : keep) rest[k] = -std::numeric_limits<double>::infinity();
+      for (std::size_t k : best_indices(rest, n - keep.size())) keep.push_back(k);
     } else {
       keep = best_indices(kept, n);
     }

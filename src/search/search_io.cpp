@@ -90,6 +90,7 @@ std::string campaign_config(const SearchOptions& o) {
   // Written only when set, so that campaigns from before it still resume.
   if (o.detector != "aruco") j["detector"] = o.detector;
   if (o.fair_fitness) j["fair_fitness"] = true;
+  if (o.near_miss) j["near_miss"] = true;
   if (o.diversity) {
     j["diversity"] = {{"min_distance", o.min_distance}, {"niche_capacity", o.niche_capacity}};
     if (o.diversity_pool != SeedPool::Spread) j["diversity"]["pool"] = std::string(enum_name(o.diversity_pool));

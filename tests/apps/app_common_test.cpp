@@ -106,4 +106,9 @@ TEST(Validators, AMissingInputReadsAsTheLibrarySaysIt) {
   EXPECT_EQ(ta::duration_text(45), "45 s");
   EXPECT_EQ(ta::duration_text(600), "10 min");
   EXPECT_EQ(ta::duration_text(4.5 * 3600), "4.5 h");
+  // Whole units from 10 up, never an exponent.
+  EXPECT_EQ(ta::duration_text(99.6), "100 s");
+  EXPECT_EQ(ta::duration_text(3.25), "3.2 s");
+  EXPECT_EQ(ta::duration_text(7100), "118 min");
+  EXPECT_EQ(ta::duration_text(200 * 3600.0), "200 h");
 }

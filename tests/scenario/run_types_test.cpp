@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <string>
 
 #include "scenario/clear_scenario.hpp"
@@ -189,6 +190,39 @@ TEST(ViolationTypes, TheRecordsNameTheOccluderAndTheCollidedObject) {
   EXPECT_EQ(r.occluders.front().object, "static_objects[0] (pole)");
   EXPECT_GT(r.occluders.front().frames, 0);
   EXPECT_LE(r.occluders.front().first_t, r.occluders.front().last_t);
+  // The nearest approach is the collision itself.
+  ASSERT_TRUE(r.has_nearest);
+  EXPECT_EQ(r.nearest.what, r.collision.what);
+  EXPECT_EQ(r.nearest.distance, 0.0);
+  EXPECT_EQ(r.nearest_phase, r.collision_phase);
+  EXPECT_NEAR(r.nearest_t, r.collision.t, 1e-9);
+}
+
+TEST(ViolationTypes, TheNearestApproachIsRecordedWithoutACollision) {
+  // The look-alike scene has no objects: nothing to be near.
+  const ScenarioResult none = run_scenario(with_lookalike(), *make_landing_system("opencv-mls"));
+  EXPECT_FALSE(none.has_nearest);
+  // A pole 1.5 m beside the marker: a clean landing passes it at about
+  // 1.5 − 0.1 (its radius) − the drone's half span, never touching it.
+  Scenario s = test::clear_scenario();
+  StaticObject pole;
+  pole.kind = StaticKind::Pole;
+  pole.size = {0.2, 0.2, 3};
+  pole.position = s.marker.position + Eigen::Vector2d(1.5, 0);
+  s.static_objects = {pole};
+  const ScenarioResult r = run_scenario(s, *make_landing_system("opencv-mls"));
+  ASSERT_TRUE(r.landed) << r.message;
+  ASSERT_TRUE(r.has_nearest);
+  EXPECT_EQ(r.nearest.what, "static_objects[0] (pole)");
+  // On the ground the drone's centre is within dtl of the marker's; its
+  // reach toward the pole is between the X frame's narrowest (a rotor
+  // disk's centre at 45°, m = r/√2) and its half span; the approach may
+  // have wandered a little nearer (0.2 m).
+  const FlightOptions f;
+  const double half_span = f.airframe.motor_radius + f.airframe.prop_radius;
+  const double narrowest = f.airframe.motor_radius / std::sqrt(2.0) + f.airframe.prop_radius;
+  EXPECT_GT(r.nearest.distance, 1.5 - 0.1 - half_span - r.dtl - 0.2) << r.message;
+  EXPECT_LT(r.nearest.distance, 1.5 - 0.1 - narrowest + r.dtl + 0.02) << r.message;
 }
 
 TEST(ViolationTypes, TheFactsReplayBitForBit) {

@@ -171,6 +171,30 @@ TEST(World, FlyingIntoAPoleIsACollisionWithItsName) {
   EXPECT_EQ(w.drone().position, p);
 }
 
+TEST(World, TheNearestObjectIsTheAnalyticClearance) {
+  Scenario s = world_empty_scenario();
+  EXPECT_EQ(World(s).nearest_object().object, -1);
+  EXPECT_TRUE(std::isinf(World(s).nearest_object().distance));
+  s.drone.position = {0, 0, 4};
+  StaticObject box;
+  box.position = {-6, 0};
+  StaticObject pole;
+  pole.kind = StaticKind::Pole;
+  pole.position = {4, 0};
+  pole.size = {0.2, 0.2, 6};
+  s.static_objects = {box, pole};
+  const World w(s);
+  const NearestObject n = w.nearest_object();
+  EXPECT_EQ(n.object, 1);
+  EXPECT_EQ(n.what, "static_objects[1] (pole)");
+  // At yaw 0 the rotor disks ahead are centred at (m, ±m), m = r/√2: the
+  // nearest point is on a disk's rim, toward the pole's axis at (4, 0).
+  const FlightOptions f;
+  const double m = f.airframe.motor_radius / std::sqrt(2.0);
+  const double expected = std::hypot(4.0 - m, m) - f.airframe.prop_radius - 0.1;
+  EXPECT_NEAR(n.distance, expected, 1e-3);
+}
+
 TEST(World, SameScenarioAndCommandsReplayBitIdentically) {
   Scenario s = world_empty_scenario();
   DynamicObject wanderer;

@@ -203,6 +203,13 @@ std::vector<ts::EvaluationRecord> hand_made() {
   crash.facts.collided_with = "static_objects[0] (tree)";
   crash.facts.collision_phase = "search";
   crash.facts.occluders = {{"static_objects[0] (tree)", 1.5, 2.25, 4, 0}};
+  crash.facts.nearest_object = "static_objects[0] (tree)";
+  crash.facts.nearest_t = 2.5;
+  crash.facts.nearest_phase = "search";
+  ok.facts.nearest_object = "dynamic_objects[0] (dog)";
+  ok.facts.nearest_m = 0.75;
+  ok.facts.nearest_t = 21.5;
+  ok.facts.nearest_phase = "descend";
   ts::Evaluation off = violation(Violation::OffMarker);
   off.facts.trigger = "marker";
   return {record(0, ok, {0.5, 0.5}), record(1, type_i, {0, 0}), record(2, unfair, {1, 1}),
@@ -226,6 +233,14 @@ TEST(FairMetrics, HandMadeResultsFile) {
   EXPECT_EQ(ts::record_line(records[4]), ts::record_line(hand_made()[4]));
   EXPECT_EQ(records[4].evaluation.facts.occluders.size(), 1u);
   EXPECT_EQ(records[4].evaluation.facts.occluders[0].last_t, 2.25);
+  EXPECT_EQ(ts::record_line(records[0]), ts::record_line(hand_made()[0]));
+  EXPECT_EQ(records[0].evaluation.facts.nearest_object, "dynamic_objects[0] (dog)");
+  EXPECT_EQ(records[0].evaluation.facts.nearest_m, 0.75);
+  EXPECT_EQ(records[0].evaluation.facts.nearest_phase, "descend");
+  EXPECT_EQ(records[4].evaluation.facts.nearest_m, 0.0);
+  // A scene without objects writes no "nearest" and reads back without one.
+  EXPECT_EQ(ts::record_line(records[1]).find("nearest"), std::string::npos);
+  EXPECT_TRUE(records[1].evaluation.facts.nearest_object.empty());
   const ts::SearchMetrics raw = ts::compute_metrics(records, 2);
   EXPECT_EQ(raw.violations, 5);
   EXPECT_EQ(raw.type_i, 1);
@@ -290,6 +305,11 @@ TEST(FairMetrics, BadFactsAreRefusedNamingTheKey) {
   refused(replaced("\"last_t\":2.25", "\"last_t\":1"), "evaluation.facts.occluders[0].last_t");
   refused(replaced("\"collision_phase\":", "\"extra\":1,\"collision_phase\":"), "evaluation.facts.extra");
   refused(replaced("\"descent_target\":[0,0]", "\"descent_target\":[0]"), "evaluation.facts.descent_target");
+  refused(replaced("\"nearest\":{\"object\":\"static_objects[0] (tree)\"", "\"nearest\":{\"object\":\"\""),
+          "evaluation.facts.nearest.object");
+  refused(replaced("\"m\":0,", "\"m\":-1,"), "evaluation.facts.nearest.m");
+  refused(replaced("\"phase\":\"search\"}", "\"phase\":\"search\",\"x\":1}"), "evaluation.facts.nearest.x");
+  refused(replaced("\"nearest\":{", "\"nearest\":7,\"z\":{"), "evaluation.facts.nearest: expected an object");
 }
 
 TEST(CountCauses, DistinctCausesWithCountsAndAnExample) {

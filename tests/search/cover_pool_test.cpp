@@ -105,7 +105,11 @@ TEST(CoverPool, EachMemberIsBenignButForItsOneConditionAtItsSevereEnd) {
           const double h = d.heading_deg * std::numbers::pi / 180;
           EXPECT_NEAR(to_marker.normalized().dot(Eigen::Vector2d(std::cos(h), std::sin(h))), 1.0, 1e-9);
           EXPECT_GE(d.extent, to_marker.norm());
-          EXPECT_GT(d.speed, 0);
+          // It reaches the spot 15–50 % into the run: while a system lands.
+          ASSERT_GT(d.speed, 0);
+          const double arrival = to_marker.norm() / d.speed / s.time_limit;
+          EXPECT_GE(arrival, 0.15 - 1e-6);
+          EXPECT_LE(arrival, 0.5 + 1e-6);
           EXPECT_EQ(d.motion, drive ? scenario::MotionKind::External : scenario::MotionKind::Line);
           if (d.kind == scenario::DynamicKind::Bird) {
             EXPECT_GE(d.altitude, 3);

@@ -197,6 +197,20 @@ TEST(Fitness, Eq1AndEq6OnHandMadeEvaluations) {
   EXPECT_THROW((void)fitness_eq6(e, 1.5), InvalidArgument);
 }
 
+TEST(Fitness, TheNearMissTermIsLinearInTheClearanceAndZeroBeyondItsRange) {
+  Evaluation e;
+  EXPECT_EQ(near_miss_term(e), 0.0);  // nothing recorded
+  e.facts.nearest_object = "static_objects[0] (box)";
+  e.facts.nearest_m = 0;  // a collision
+  EXPECT_DOUBLE_EQ(near_miss_term(e), kNearMissWeight);
+  e.facts.nearest_m = 0.5;
+  EXPECT_DOUBLE_EQ(near_miss_term(e), kNearMissWeight * (1 - 0.5 / kNearMissRange));
+  e.facts.nearest_m = kNearMissRange;
+  EXPECT_EQ(near_miss_term(e), 0.0);
+  e.facts.nearest_m = 7;
+  EXPECT_EQ(near_miss_term(e), 0.0);
+}
+
 TEST(Selection, TournamentIsBinaryAndDeterministic) {
   const std::vector<double> f{1, 5, 3, 5};
   Rng rng(9), same(9), copy(9);

@@ -74,6 +74,11 @@ Evaluation fake_with_facts(const scenario::Scenario& s) {
   if (e.violation == scenario::Violation::TypeI) {
     e.facts.trigger = "distractors[0] (" + std::string(scenario::to_string(s.distractors[0].kind)) + ")";
   }
+  if (!s.dynamic_objects.empty()) {  // a stand-in clearance: a fifth of the first one's distance from the marker
+    e.facts.nearest_object = "dynamic_objects[0] (" + std::string(scenario::to_string(s.dynamic_objects[0].kind)) + ")";
+    e.facts.nearest_m = 0.2 * (s.dynamic_objects[0].position - s.marker.position).norm();
+    e.facts.nearest_phase = "descend";
+  }
   return e;
 }
 
@@ -84,6 +89,7 @@ class FakeEvaluator final : public Evaluator {
   int fail_after = -1;
   int evaluated = 0;
   bool facts = false;                  // fake_with_facts instead of fake_evaluation
+  bool crowd = false;                  // with facts: a landing without a near miss is a fair Type II instead
   std::chrono::milliseconds pause{0};  // per batch: a stand-in for the runs' time
   std::vector<Evaluation> evaluate(const std::vector<scenario::Scenario>& scenarios,
                                    const std::function<void(std::size_t, const Evaluation&)>& on_done) override {
@@ -92,6 +98,11 @@ class FakeEvaluator final : public Evaluator {
     for (std::size_t k = scenarios.size(); k-- > 0;) {
       if (fail_after >= 0 && evaluated >= fail_after) throw std::runtime_error("killed");
       out[k] = facts ? fake_with_facts(scenarios[k]) : fake_evaluation(scenarios[k]);
+      if (crowd && out[k].violation == scenario::Violation::None && !(near_miss_term(out[k]) > 0)) {
+        out[k].violation = scenario::Violation::TypeII;
+        out[k].ttl = out[k].time_limit;
+        out[k].facts.fair = true;
+      }
       ++evaluated;
       if (on_done) on_done(k, out[k]);
     }
@@ -521,6 +532,81 @@ TEST_F(SearchDir, FairFitnessScoresUnfairViolationsAsNone) {
   EXPECT_NE(test::read_text(root_ / "f" / "campaign.json").find("\"fair_fitness\": true"), std::string::npos);
 }
 
+TEST_F(SearchDir, TheNearMissTermAddsToTheScalarFitnessAndIsRecorded) {
+  FakeEvaluator e;
+  e.facts = true;
+  SearchOptions o = small(Method::DiverseGa);
+  o.near_miss = true;
+  const SearchResult r = run_search(o, e, root_ / "n", false);
+  int near = 0;
+  for (const EvaluationRecord& rec : r.records) {
+    const double term = near_miss_term(rec.evaluation);
+    near += term > 0;
+    if (rec.evaluation.system_failed()) continue;
+    EXPECT_DOUBLE_EQ(rec.fitness, fitness_eq1(rec.evaluation, o.violation_radius) + term) << rec.index;
+  }
+  EXPECT_GT(near, 0) << "no scene had an object within the range: the test shows nothing";
+  EXPECT_NE(test::read_text(root_ / "n" / "campaign.json").find("\"near_miss\": true"), std::string::npos);
+  // Without it, campaign.json has no such key (campaigns from before resume).
+  FakeEvaluator e2;
+  e2.facts = true;
+  (void)run_search(small(Method::DiverseGa), e2, root_ / "m", false);
+  EXPECT_EQ(test::read_text(root_ / "m" / "campaign.json").find("near_miss"), std::string::npos);
+}
+
+// With the near-miss term every pool after the first holds the frontier:
+// of the last pool and the generation's offspring, the population / 4
+// fittest landings with a near miss (all of them when fewer). The pools
+// come from state.json of the campaign stopped at each generation's end.
+// Returns how many frontier members the pools held (0: the test showed nothing).
+int frontier_kept(const SearchOptions& options, const fs::path& root, bool crowd) {
+  std::vector<int> previous;
+  int kept = 0;
+  for (int budget = options.ga.population; budget <= options.budget; budget += options.ga.population) {
+    SearchOptions o = options;
+    o.budget = budget;
+    FakeEvaluator e;
+    e.facts = true;
+    e.crowd = crowd;
+    const fs::path dir = root / std::to_string(budget);
+    const SearchResult r = run_search(o, e, dir, false);
+    const detail::PoolState state = detail::parse_state(test::read_text(dir / "state.json"), "state.json");
+    std::vector<int> pool;
+    for (const detail::PoolMember& m : state.pool) pool.push_back(m.index);
+    if (!previous.empty()) {
+      std::vector<int> all = previous;
+      for (const EvaluationRecord& rec : r.records)
+        if (rec.generation == state.generation) all.push_back(rec.index);
+      std::vector<std::pair<double, int>> near;  // (fitness, index) of the near-miss landings
+      for (int i : all) {
+        const EvaluationRecord& rec = r.records.at(static_cast<std::size_t>(i));
+        if (!rec.evaluation.violation_found() && near_miss_term(rec.evaluation) > 0) near.emplace_back(rec.fitness, i);
+      }
+      std::stable_sort(near.begin(), near.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+      const std::size_t quota = std::min(near.size(), static_cast<std::size_t>(o.ga.population / 4));
+      for (std::size_t k = 0; k < quota; ++k) {
+        EXPECT_NE(std::find(pool.begin(), pool.end(), near[k].second), pool.end())
+            << "generation " << state.generation << ": frontier member " << near[k].second << " left out";
+        ++kept;
+      }
+    }
+    previous = pool;
+  }
+  return kept;
+}
+
+TEST_F(SearchDir, TheNearMissFrontierKeepsAQuarterOfThePool) {
+  // Every landing without a near miss a Type II: violations would fill the
+  // pool (eq. 1 ranks any above a landing) but for the frontier.
+  SearchOptions o = small(Method::DiverseGa);
+  o.budget = 48;
+  o.ga.population = 8;
+  o.near_miss = true;
+  EXPECT_GT(frontier_kept(o, root_ / "near", true), 0) << "no near-miss landing: the test shows nothing";
+  o.diversity = true;
+  EXPECT_GT(frontier_kept(o, root_ / "diverse", false), 0) << "no near-miss landing: the test shows nothing";
+}
+
 TEST(SearchOptions, BadOptionsAreRefusedNamingTheKey) {
   SearchOptions o;
   std::string why;
@@ -541,6 +627,13 @@ TEST(SearchOptions, BadOptionsAreRefusedNamingTheKey) {
   d.diversity = true;
   EXPECT_FALSE(d.validate(&why));
   EXPECT_NE(why.find("diversity"), std::string::npos) << why;
+  for (Method m : {Method::Random, Method::ManyObjectiveGa}) {
+    SearchOptions n;
+    n.method = m;
+    n.near_miss = true;
+    EXPECT_FALSE(n.validate(&why));
+    EXPECT_NE(why.find("near_miss: needs a method with a scalar fitness"), std::string::npos) << why;
+  }
   d.method = Method::Rlaga;
   d.min_distance = 2;
   EXPECT_FALSE(d.validate(&why));

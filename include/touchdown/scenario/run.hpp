@@ -162,6 +162,14 @@ struct ScenarioOutcome {
   DetectionTruth last_accepted;
   std::vector<OccluderRecord> occluders;
   std::string collision_phase;  ///< the system's phase when it collided
+  /// The nearest any object came to the drone in flight, checked at every
+  /// camera frame (0 at a collision): what, how near, when and in which of
+  /// the system's phases. None (has_nearest false) in a scene without
+  /// objects.
+  bool has_nearest = false;
+  NearestObject nearest;
+  double nearest_t = 0;
+  std::string nearest_phase;
   Observability observability;  ///< the oracle's summary (measured = false when off)
   double flight_s = 0;          ///< simulated time flown [s]
   int frame_count = 0;          ///< camera frames the system was given

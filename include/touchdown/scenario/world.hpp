@@ -9,6 +9,7 @@
 /// Thread-safety: one World per thread. step() does not allocate.
 #include <Eigen/Geometry>
 #include <array>
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -86,6 +87,12 @@ struct CollisionEvent {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< contact on the drone [m]
 };
 
+struct NearestObject {
+  int object = -1;                                            ///< index in static_objects, then dynamic_objects
+  std::string what;                                           ///< e.g. "static_objects[1] (pole)"
+  double distance = std::numeric_limits<double>::infinity();  ///< [m]
+};
+
 class World {
  public:
   World(const Scenario& scenario, const FlightOptions& flight = {});
@@ -106,6 +113,10 @@ class World {
   [[nodiscard]] const std::vector<Eigen::Vector3d>& dynamic_velocities() const;
   /// The first collision, if any (the run stops there).
   [[nodiscard]] const CollisionEvent* collision() const;
+  /// The object nearest the drone now (FCL distance between the drone's
+  /// solids and the object's, 0 in contact); `object` = -1 and an infinite
+  /// distance when the scene has none.
+  [[nodiscard]] NearestObject nearest_object() const;
   [[nodiscard]] const Scenario& scenario() const;
   /// Number of dynamic objects with motion `external`.
   [[nodiscard]] int external_count() const;

@@ -60,6 +60,13 @@ struct Facts {
   std::vector<OccluderFact> occluders;
   std::string collided_with;  ///< the collision's object ("static_objects[1] (pole)"); empty: none
   std::string collision_phase;
+  /// The object that came nearest the drone in flight
+  /// (ScenarioOutcome::nearest); empty: none (no objects, or a result
+  /// written before it was recorded).
+  std::string nearest_object;
+  double nearest_m = 0;  ///< [m]; 0 at a collision
+  double nearest_t = 0;  ///< [s]
+  std::string nearest_phase;
 };
 
 struct Evaluation {

@@ -72,6 +72,13 @@ double fitness_eq1(const Evaluation& e, double violation_radius);
 /// eq. 6: eq. 1 + 1 / ΣR when ΣR != 0 (ΣR = e.reward_sum, eq. 5 summed
 /// over the run's frames).
 double fitness_eq6(const Evaluation& e, double violation_radius);
+/// The near-miss term (SearchOptions::near_miss): kNearMissWeight × (1 −
+/// d / kNearMissRange) for the nearest approach d < kNearMissRange of an
+/// object to the drone in flight (Facts::nearest_m, 0 at a collision);
+/// 0 with none recorded.
+inline constexpr double kNearMissWeight = 0.5;
+inline constexpr double kNearMissRange = 2.0;  ///< [m]
+double near_miss_term(const Evaluation& e);
 
 /// `count` binary tournaments: two indices drawn uniformly (with
 /// replacement), the higher fitness wins, ties (and NaN) the lower index.

@@ -166,6 +166,19 @@ struct SearchOptions {
   /// the conditions come from the spread pool. Recorded in campaign.json
   /// when Cover (absent: Spread, so campaigns from before it resume).
   SeedPool diversity_pool = SeedPool::Spread;
+  /// The near-miss term (issue 52's collisions): a run that scores at all
+  /// gains near_miss_weight × (1 − d / near_miss_range) when an object came
+  /// within d < near_miss_range of the drone in flight (Facts::nearest_m;
+  /// 0 at a collision), so that selection climbs toward collisions, which
+  /// eq. 1's DTL and TTL do not see; the weight (0.5) makes a near
+  /// miss worth half of one violation threshold's term. Because eq. 1 puts
+  /// any violation above any landing, a quarter of each next pool is kept
+  /// for the frontier (the fittest runs without a violation that had a
+  /// near miss) and every fourth pair of parents is drawn from it, so near
+  /// misses breed with near misses and can be brought nearer. GA methods
+  /// with a scalar fitness (rlaga, diverse-ga). Recorded in campaign.json
+  /// when set.
+  bool near_miss = false;
 
   [[nodiscard]] bool validate(std::string* why) const;
   /// Generations the budget allows: ceil(budget / population), the seed
