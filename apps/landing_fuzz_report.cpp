@@ -145,25 +145,58 @@ struct CompareArgs {
   bool json = false;
 };
 
+// A compare method: its base and the options after '+' (rlaga+cover+near-miss).
+struct MethodSpec {
+  std::string base;
+  bool diversity = false, cover = false, near_miss = false;
+  std::string error;  ///< empty: valid (the base is checked apart)
+};
+
+MethodSpec parse_method_spec(const std::string& m) {
+  MethodSpec spec;
+  spec.base = m.substr(0, m.find('+'));
+  std::size_t at = spec.base.size();
+  while (at < m.size()) {
+    const std::size_t next = m.find('+', at + 1);
+    const std::string option = m.substr(at + 1, next == std::string::npos ? std::string::npos : next - at - 1);
+    bool* flag = option == "diversity"   ? &spec.diversity
+                 : option == "cover"     ? &spec.cover
+                 : option == "near-miss" ? &spec.near_miss
+                                         : nullptr;
+    if (!flag) {
+      spec.error = "unknown option '+" + option + "' (+diversity, +cover or +near-miss)";
+      return spec;
+    }
+    if (*flag) {
+      spec.error = "'+" + option + "' given twice";
+      return spec;
+    }
+    *flag = true;
+    at = next == std::string::npos ? m.size() : next;
+  }
+  if (spec.diversity && spec.cover) spec.error = "'+cover' already is the diversity option: drop '+diversity'";
+  const bool any = spec.diversity || spec.cover || spec.near_miss;
+  if (spec.error.empty() && any && spec.base == "random") spec.error = "random has no options";
+  if (spec.error.empty() && spec.near_miss && spec.base == "many-objective-ga") {
+    spec.error = "many-objective-ga has no scalar fitness for '+near-miss'";
+  }
+  return spec;
+}
+
 CLI::App* add_compare_command(CLI::App& app, CompareArgs& a) {
   auto* cmd = app.add_subcommand(
       "compare", "the source's Table 2: every method on every map over seeds 1..N (resumable campaigns in --out)");
-  cmd->add_option(
-         "--methods", a.methods,
-         "methods; a method with '+diversity' runs with the diversity option (e.g. rlaga+diversity), with "
-         "'+cover' with the diversity option, its covering seed pool and the near-miss term (--diversity-pool cover "
-         "--near-miss)")
+  cmd->add_option("--methods", a.methods,
+                  "methods, each with options after '+': '+diversity' the diversity option (e.g. rlaga+diversity), "
+                  "'+cover' the diversity option with its covering seed pool (--diversity-pool cover), '+near-miss' "
+                  "the near-miss term (e.g. rlaga+cover+near-miss)")
       ->check(CLI::Validator(
           [](std::string& m) -> std::string {
-            std::string base = m.substr(0, m.find('+'));
-            const std::string extra = m.substr(base.size());
-            if (!extra.empty() && extra != "+diversity" && extra != "+cover") {
-              return "unknown option '" + extra + "' (+diversity or +cover)";
-            }
-            if (base == "random" && !extra.empty()) return "random has no " + extra;
-            return one_of<tsr::Method>()(base);
+            const MethodSpec spec = parse_method_spec(m);
+            if (!spec.error.empty()) return spec.error;
+            return one_of<tsr::Method>()(spec.base);
           },
-          "METHOD[+diversity|+cover]"))
+          "METHOD[+diversity|+cover][+near-miss]"))
       ->capture_default_str()
       ->delimiter(',');
   cmd->add_option("--maps", a.maps, "maps")->check(one_of<ts::MapKind>())->capture_default_str()->delimiter(',');
@@ -215,10 +248,11 @@ int compare_command(const CompareArgs& a) {
   for (int k = 1; k <= a.seeds; ++k) {
     for (tsr::CompareCell& cell : cells) {
       tsr::SearchOptions o;
-      o.method = td::from_string<tsr::Method>(cell.method.substr(0, cell.method.find('+')));
-      const bool cover = cell.method.find("+cover") != std::string::npos;
-      o.diversity = cover || cell.method.find("+diversity") != std::string::npos;
-      if (cover) o.diversity_pool = tsr::SeedPool::Cover, o.near_miss = true;
+      const MethodSpec spec = parse_method_spec(cell.method);
+      o.method = td::from_string<tsr::Method>(spec.base);
+      o.diversity = spec.diversity || spec.cover;
+      if (spec.cover) o.diversity_pool = tsr::SeedPool::Cover;
+      o.near_miss = spec.near_miss;
       o.system = a.common.system;
       o.detector = detector_of(a.common);
       o.budget = a.budget;

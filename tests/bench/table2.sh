@@ -18,7 +18,7 @@
 # learned detector, the source's pairing). BIN (default build/apps) holds landing_fuzz.
 # SEEDS (default 3) and BUDGET (default 300) as in the issue. Issue 52's
 # comparison of distinct causes keeps its campaigns apart:
-#   KEPT=docs/results/causes METHODS=rlaga,rlaga+diversity tests/bench/table2.sh run opencv-mls WORK
+#   KEPT=docs/results/causes METHODS=rlaga,rlaga+diversity,rlaga+cover+near-miss tests/bench/table2.sh run opencv-mls WORK
 # (KEPT: the kept tree, default docs/results/table2; METHODS and MAPS: as
 # landing_fuzz compare's, default all four methods on ground,lawn). The
 # source's Table 1 (issue 53) is rlaga alone on the three systems:
