@@ -139,7 +139,8 @@ TEST(World, ExternalActionsMoveObjectsInWorldAxes) {
   EXPECT_NEAR(w.dynamic_poses()[2].translation().x(), -0.02, 1e-9);
 }
 
-TEST(World, FlyingIntoAPoleIsACollisionWithItsName) {
+// The drone at (0, 0, 4), a box 6 m behind it, a 0.2 m pole 4 m ahead.
+Scenario box_and_pole_scenario() {
   Scenario s = world_empty_scenario();
   s.drone.position = {0, 0, 4};
   StaticObject box;
@@ -149,6 +150,11 @@ TEST(World, FlyingIntoAPoleIsACollisionWithItsName) {
   pole.position = {4, 0};
   pole.size = {0.2, 0.2, 6};
   s.static_objects = {box, pole};
+  return s;
+}
+
+TEST(World, FlyingIntoAPoleIsACollisionWithItsName) {
+  const Scenario s = box_and_pole_scenario();
   World w(s);
   DroneCommand c;
   c.velocity_world = {2, 0, 0};
@@ -172,18 +178,10 @@ TEST(World, FlyingIntoAPoleIsACollisionWithItsName) {
 }
 
 TEST(World, TheNearestObjectIsTheAnalyticClearance) {
-  Scenario s = world_empty_scenario();
+  const Scenario s = world_empty_scenario();
   EXPECT_EQ(World(s).nearest_object().object, -1);
   EXPECT_TRUE(std::isinf(World(s).nearest_object().distance));
-  s.drone.position = {0, 0, 4};
-  StaticObject box;
-  box.position = {-6, 0};
-  StaticObject pole;
-  pole.kind = StaticKind::Pole;
-  pole.position = {4, 0};
-  pole.size = {0.2, 0.2, 6};
-  s.static_objects = {box, pole};
-  const World w(s);
+  const World w(box_and_pole_scenario());
   const NearestObject n = w.nearest_object();
   EXPECT_EQ(n.object, 1);
   EXPECT_EQ(n.what, "static_objects[1] (pole)");

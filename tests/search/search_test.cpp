@@ -442,21 +442,20 @@ TEST_F(SearchDir, DiversityScoresARepeatedCauseLess) {
   (void)unfair;
 }
 
-// Clearing's promise, checked generation by generation from outside: when
-// the pool holds more than `capacity` fair violations of one cause, no
-// candidate it left out (of the last pool and the generation's offspring)
-// kept a positive fitness after clearing at that capacity — the extra ones
-// are there only because nothing better was left. The pools come from
-// state.json of the same campaign stopped at each generation's end (every
-// budget is a prefix of the longest: the draws depend on nothing else).
-bool clearing_holds(const SearchOptions& options, const fs::path& root, int capacity) {
+// One campaign (fake_with_facts; `crowd` as FakeEvaluator's) stopped at
+// each generation's end: for every generation after the first, `check`
+// gets the run so far, its directory, the generation, the pool state.json
+// holds then, and the candidates it was chosen from (the last pool and the
+// generation's offspring).
+template <class Check>
+void each_pool(const SearchOptions& options, const fs::path& root, bool crowd, Check check) {
   std::vector<int> previous;
-  bool holds = true;
   for (int budget = options.ga.population; budget <= options.budget; budget += options.ga.population) {
     SearchOptions o = options;
     o.budget = budget;
     FakeEvaluator e;
     e.facts = true;
+    e.crowd = crowd;
     const fs::path dir = root / std::to_string(budget);
     const SearchResult r = run_search(o, e, dir, false);
     const detail::PoolState state = detail::parse_state(test::read_text(dir / "state.json"), "state.json");
@@ -466,28 +465,44 @@ bool clearing_holds(const SearchOptions& options, const fs::path& root, int capa
       std::vector<int> all = previous;
       for (const EvaluationRecord& rec : r.records)
         if (rec.generation == state.generation) all.push_back(rec.index);
-      std::vector<double> fitness;
-      std::vector<std::string> cause;
-      for (int i : all) {
-        const EvaluationRecord& rec = r.records.at(static_cast<std::size_t>(i));
-        fitness.push_back(rec.fitness);
-        cause.push_back(rec.evaluation.fair_violation()
-                            ? violation_cause(rec.evaluation, scenario::load_scenario(dir / rec.scenario))
-                            : std::string());
-      }
-      const std::vector<double> cleared = clear_niches(fitness, cause, capacity);
-      std::map<std::string, int> in_pool;
-      int most = 0;
-      double best_left_out = 0;
-      for (std::size_t k = 0; k < all.size(); ++k) {
-        const bool member = std::find(pool.begin(), pool.end(), all[k]) != pool.end();
-        if (member && !cause[k].empty()) most = std::max(most, ++in_pool[cause[k]]);
-        if (!member) best_left_out = std::max(best_left_out, cleared[k]);
-      }
-      if (most > capacity && best_left_out > 0) holds = false;
+      check(r, dir, state.generation, pool, all);
     }
     previous = pool;
   }
+}
+
+// Clearing's promise, checked generation by generation from outside: when
+// the pool holds more than `capacity` fair violations of one cause, no
+// candidate it left out (of the last pool and the generation's offspring)
+// kept a positive fitness after clearing at that capacity — the extra ones
+// are there only because nothing better was left. The pools come from
+// state.json of the same campaign stopped at each generation's end (every
+// budget is a prefix of the longest: the draws depend on nothing else).
+bool clearing_holds(const SearchOptions& options, const fs::path& root, int capacity) {
+  bool holds = true;
+  each_pool(
+      options, root, false,
+      [&](const SearchResult& r, const fs::path& dir, int, const std::vector<int>& pool, const std::vector<int>& all) {
+        std::vector<double> fitness;
+        std::vector<std::string> cause;
+        for (int i : all) {
+          const EvaluationRecord& rec = r.records.at(static_cast<std::size_t>(i));
+          fitness.push_back(rec.fitness);
+          cause.push_back(rec.evaluation.fair_violation()
+                              ? violation_cause(rec.evaluation, scenario::load_scenario(dir / rec.scenario))
+                              : std::string());
+        }
+        const std::vector<double> cleared = clear_niches(fitness, cause, capacity);
+        std::map<std::string, int> in_pool;
+        int most = 0;
+        double best_left_out = 0;
+        for (std::size_t k = 0; k < all.size(); ++k) {
+          const bool member = std::find(pool.begin(), pool.end(), all[k]) != pool.end();
+          if (member && !cause[k].empty()) most = std::max(most, ++in_pool[cause[k]]);
+          if (!member) best_left_out = std::max(best_left_out, cleared[k]);
+        }
+        if (most > capacity && best_left_out > 0) holds = false;
+      });
   return holds;
 }
 
@@ -560,38 +575,25 @@ TEST_F(SearchDir, TheNearMissTermAddsToTheScalarFitnessAndIsRecorded) {
 // come from state.json of the campaign stopped at each generation's end.
 // Returns how many frontier members the pools held (0: the test showed nothing).
 int frontier_kept(const SearchOptions& options, const fs::path& root, bool crowd) {
-  std::vector<int> previous;
   int kept = 0;
-  for (int budget = options.ga.population; budget <= options.budget; budget += options.ga.population) {
-    SearchOptions o = options;
-    o.budget = budget;
-    FakeEvaluator e;
-    e.facts = true;
-    e.crowd = crowd;
-    const fs::path dir = root / std::to_string(budget);
-    const SearchResult r = run_search(o, e, dir, false);
-    const detail::PoolState state = detail::parse_state(test::read_text(dir / "state.json"), "state.json");
-    std::vector<int> pool;
-    for (const detail::PoolMember& m : state.pool) pool.push_back(m.index);
-    if (!previous.empty()) {
-      std::vector<int> all = previous;
-      for (const EvaluationRecord& rec : r.records)
-        if (rec.generation == state.generation) all.push_back(rec.index);
-      std::vector<std::pair<double, int>> near;  // (fitness, index) of the near-miss landings
-      for (int i : all) {
-        const EvaluationRecord& rec = r.records.at(static_cast<std::size_t>(i));
-        if (!rec.evaluation.violation_found() && near_miss_term(rec.evaluation) > 0) near.emplace_back(rec.fitness, i);
-      }
-      std::stable_sort(near.begin(), near.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-      const std::size_t quota = std::min(near.size(), static_cast<std::size_t>(o.ga.population / 4));
-      for (std::size_t k = 0; k < quota; ++k) {
-        EXPECT_NE(std::find(pool.begin(), pool.end(), near[k].second), pool.end())
-            << "generation " << state.generation << ": frontier member " << near[k].second << " left out";
-        ++kept;
-      }
-    }
-    previous = pool;
-  }
+  each_pool(options, root, crowd,
+            [&](const SearchResult& r, const fs::path&, int generation, const std::vector<int>& pool,
+                const std::vector<int>& all) {
+              std::vector<std::pair<double, int>> near;  // (fitness, index) of the near-miss landings
+              for (int i : all) {
+                const EvaluationRecord& rec = r.records.at(static_cast<std::size_t>(i));
+                if (!rec.evaluation.violation_found() && near_miss_term(rec.evaluation) > 0)
+                  near.emplace_back(rec.fitness, i);
+              }
+              std::stable_sort(near.begin(), near.end(),
+                               [](const auto& a, const auto& b) { return a.first > b.first; });
+              const std::size_t quota = std::min(near.size(), static_cast<std::size_t>(options.ga.population / 4));
+              for (std::size_t k = 0; k < quota; ++k) {
+                EXPECT_NE(std::find(pool.begin(), pool.end(), near[k].second), pool.end())
+                    << "generation " << generation << ": frontier member " << near[k].second << " left out";
+                ++kept;
+              }
+            });
   return kept;
 }
 
