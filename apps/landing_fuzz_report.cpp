@@ -148,7 +148,7 @@ struct CompareArgs {
 // A compare method: its base and the options after '+' (rlaga+cover+near-miss).
 struct MethodSpec {
   std::string base;
-  bool diversity = false, cover = false, near_miss = false;
+  bool diversity = false, cover = false, cover_drawn = false, near_miss = false;
   std::string error;  ///< empty: valid (the base is checked apart)
 };
 
@@ -159,12 +159,13 @@ MethodSpec parse_method_spec(const std::string& m) {
   while (at < m.size()) {
     const std::size_t next = m.find('+', at + 1);
     const std::string option = m.substr(at + 1, next == std::string::npos ? std::string::npos : next - at - 1);
-    bool* flag = option == "diversity"   ? &spec.diversity
-                 : option == "cover"     ? &spec.cover
-                 : option == "near-miss" ? &spec.near_miss
-                                         : nullptr;
+    bool* flag = option == "diversity"     ? &spec.diversity
+                 : option == "cover"       ? &spec.cover
+                 : option == "cover-drawn" ? &spec.cover_drawn
+                 : option == "near-miss"   ? &spec.near_miss
+                                           : nullptr;
     if (!flag) {
-      spec.error = "unknown option '+" + option + "' (+diversity, +cover or +near-miss)";
+      spec.error = "unknown option '+" + option + "' (+diversity, +cover, +cover-drawn or +near-miss)";
       return spec;
     }
     if (*flag) {
@@ -174,8 +175,13 @@ MethodSpec parse_method_spec(const std::string& m) {
     *flag = true;
     at = next == std::string::npos ? m.size() : next;
   }
-  if (spec.diversity && spec.cover) spec.error = "'+cover' already is the diversity option: drop '+diversity'";
-  const bool any = spec.diversity || spec.cover || spec.near_miss;
+  if (spec.cover && spec.cover_drawn) spec.error = "'+cover' and '+cover-drawn' are two seed pools: give one";
+  for (const auto& [set, name] : {std::pair{spec.cover, "cover"}, std::pair{spec.cover_drawn, "cover-drawn"}}) {
+    if (spec.error.empty() && spec.diversity && set) {
+      spec.error = std::string("'+") + name + "' already is the diversity option: drop '+diversity'";
+    }
+  }
+  const bool any = spec.diversity || spec.cover || spec.cover_drawn || spec.near_miss;
   if (spec.error.empty() && any && spec.base == "random") spec.error = "random has no options";
   if (spec.error.empty() && spec.near_miss && spec.base == "many-objective-ga") {
     spec.error = "many-objective-ga has no scalar fitness for '+near-miss'";
@@ -188,15 +194,15 @@ CLI::App* add_compare_command(CLI::App& app, CompareArgs& a) {
       "compare", "the source's Table 2: every method on every map over seeds 1..N (resumable campaigns in --out)");
   cmd->add_option("--methods", a.methods,
                   "methods, each with options after '+': '+diversity' the diversity option (e.g. rlaga+diversity), "
-                  "'+cover' the diversity option with its covering seed pool (--diversity-pool cover), '+near-miss' "
-                  "the near-miss term (e.g. rlaga+cover+near-miss)")
+                  "'+cover' or '+cover-drawn' the diversity option with that covering seed pool (--diversity-pool), "
+                  "'+near-miss' the near-miss term (e.g. rlaga+cover-drawn+near-miss)")
       ->check(CLI::Validator(
           [](std::string& m) -> std::string {
             const MethodSpec spec = parse_method_spec(m);
             if (!spec.error.empty()) return spec.error;
             return one_of<tsr::Method>()(spec.base);
           },
-          "METHOD[+diversity|+cover][+near-miss]"))
+          "METHOD[+diversity|+cover|+cover-drawn][+near-miss]"))
       ->capture_default_str()
       ->delimiter(',');
   cmd->add_option("--maps", a.maps, "maps")->check(one_of<ts::MapKind>())->capture_default_str()->delimiter(',');
@@ -250,8 +256,9 @@ int compare_command(const CompareArgs& a) {
       tsr::SearchOptions o;
       const MethodSpec spec = parse_method_spec(cell.method);
       o.method = td::from_string<tsr::Method>(spec.base);
-      o.diversity = spec.diversity || spec.cover;
+      o.diversity = spec.diversity || spec.cover || spec.cover_drawn;
       if (spec.cover) o.diversity_pool = tsr::SeedPool::Cover;
+      if (spec.cover_drawn) o.diversity_pool = tsr::SeedPool::CoverDrawn;
       o.near_miss = spec.near_miss;
       o.system = a.common.system;
       o.detector = detector_of(a.common);

@@ -149,7 +149,7 @@ void add_distractor(scenario::Scenario& s, std::size_t i, Rng& rng) {
   const auto ids = scenario::property_bound("distractors[].id");
   d.id = static_cast<int>(std::floor(rng.uniform(ids.min, ids.max + 1)));
   d.flipped_bits = 1 + static_cast<int>(rng.next() % 4);
-  s.distractors.push_back(d);
+  s.distractors.insert(s.distractors.begin(), d);
 }
 
 // A walk-in timed to reach the landing spot while the drone lands: it
@@ -179,7 +179,7 @@ void add_dynamic(scenario::Scenario& s, std::size_t i, Rng& rng) {
   o.motion = MotionKind::Line;  // decode() makes it External for rlaga
   o.extent = distance + 3;
   o.altitude = o.kind == DynamicKind::Bird ? rng.uniform(3, 8) : 0.0;
-  s.dynamic_objects.push_back(o);
+  s.dynamic_objects.insert(s.dynamic_objects.begin(), o);
 }
 
 void add_static(scenario::Scenario& s, std::size_t i, Rng& rng) {
@@ -198,7 +198,7 @@ void add_static(scenario::Scenario& s, std::size_t i, Rng& rng) {
   o.position = s.marker.position +
                (0.75 * s.marker.size + reach + rng.uniform(0.3, 1.5)) * Eigen::Vector2d(std::cos(a), std::sin(a));
   o.yaw_deg = rng.uniform(-180, 180);
-  s.static_objects.push_back(o);
+  s.static_objects.insert(s.static_objects.begin(), o);
 }
 
 }  // namespace
@@ -209,13 +209,14 @@ std::vector<std::string> cover_conditions(const ChromosomeOptions& options) {
   return out;
 }
 
-std::vector<CoverMember> cover_pool(const ChromosomeLayout& layout, std::uint64_t seed, int first, int n) {
+std::vector<CoverMember> cover_pool(const ChromosomeLayout& layout, std::uint64_t seed, int first, int n,
+                                    Background background) {
   const std::vector<Condition> list = conditions(layout.options());
   std::vector<CoverMember> out;
   for (int k = first; k < first + n; ++k) {
     Rng rng(seed, kCoverStream + static_cast<std::uint64_t>(k));
     scenario::Scenario s = layout.decode(layout.draw(rng.next() >> 11));
-    make_benign(s, rng);
+    if (background == Background::Benign) make_benign(s, rng);
     const Condition& c = list[static_cast<std::size_t>(k) % list.size()];
     switch (c.kind) {
       case Kind::Weather: {

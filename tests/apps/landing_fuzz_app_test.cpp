@@ -265,6 +265,8 @@ TEST(LandingFuzzApp, BadInputIsOneLineWithExitTwoAndNothingOverwritten) {
        std::vector<std::pair<std::string, std::string>>{{"rlaga+fast", "unknown option '+fast'"},
                                                         {"rlaga+cover+cover", "'+cover' given twice"},
                                                         {"rlaga+diversity+cover", "drop '+diversity'"},
+                                                        {"rlaga+cover-drawn+diversity", "drop '+diversity'"},
+                                                        {"rlaga+cover+cover-drawn", "two seed pools"},
                                                         {"random+near-miss", "random has no options"},
                                                         {"many-objective-ga+near-miss", "no scalar fitness"},
                                                         {"hill-climbing+cover", "hill-climbing"}}) {

@@ -1,6 +1,7 @@
-// The diversity option's covering seed pool (src/search/cover_pool.hpp):
-// each member, after the chromosome's round trip (fit, decode), is a benign
-// scene with exactly its one condition at the severe end of its range.
+// The diversity option's covering seed pools (src/search/cover_pool.hpp):
+// each member, after the chromosome's round trip (fit, decode), has its one
+// condition at the severe end of its range, on a benign scene (nothing else)
+// or on a randomly drawn one (everything else kept).
 #include "search/cover_pool.hpp"
 
 #include <gtest/gtest.h>
@@ -37,7 +38,11 @@ std::size_t objects(const Scenario& s) {
   return s.dynamic_objects.size() + s.static_objects.size() + s.distractors.size();
 }
 
-TEST(CoverPool, EachMemberIsBenignButForItsOneConditionAtItsSevereEnd) {
+// Every member of a pool on the given background, through the chromosome:
+// its condition at its severe end; on a benign background, nothing else; on
+// a drawn one, the condition's object first in its list.
+void check_pool(detail::Background background) {
+  const bool benign = background == detail::Background::Benign;
   for (bool drive : {false, true}) {
     ChromosomeOptions o;
     o.drive_objects = drive;
@@ -48,7 +53,7 @@ TEST(CoverPool, EachMemberIsBenignButForItsOneConditionAtItsSevereEnd) {
     EXPECT_EQ(names[0], "fog");  // alternating, the environment first
     EXPECT_EQ(names[1], "wrong_id near the marker");
     for (std::uint64_t seed : {1u, 2u, 3u}) {
-      const auto pool = detail::cover_pool(layout, seed, 0, 20);
+      const auto pool = detail::cover_pool(layout, seed, 0, 20, background);
       ASSERT_EQ(pool.size(), 20u);
       for (std::size_t k = 0; k < pool.size(); ++k) {
         ASSERT_EQ(pool[k].condition, names[k]);
@@ -56,7 +61,7 @@ TEST(CoverPool, EachMemberIsBenignButForItsOneConditionAtItsSevereEnd) {
         const Scenario s = layout.decode(layout.fit(pool[k].scenario));
         const std::string& c = names[k];
         const Weather& w = s.weather;
-        SCOPED_TRACE(c + ", seed " + std::to_string(seed));
+        SCOPED_TRACE(c + ", seed " + std::to_string(seed) + (benign ? ", benign" : ", drawn"));
         for (const auto& [name, field] : intensities()) {
           const std::string key = name == "snowfall"         ? "weather.snow"
                                   : name == "falling leaves" ? "weather.leaves"
@@ -66,25 +71,28 @@ TEST(CoverPool, EachMemberIsBenignButForItsOneConditionAtItsSevereEnd) {
                                                              : "weather." + name;
           if (c == name) {
             EXPECT_GE(w.*field, 0.9 * upper(key.c_str()));
-          } else {
+          } else if (benign) {
             EXPECT_EQ(w.*field, 0.0) << name;
           }
         }
         if (c == "low light") {
           EXPECT_LE(w.ambient, 0.15 + 0.1 * 0.85);
-        } else {
+        } else if (benign) {
           EXPECT_GE(w.ambient, 0.85);
         }
         if (c == "low sun") {
           EXPECT_LE(w.sun_elevation_deg, 5 + 0.1 * 85);
-        } else {
+        } else if (benign) {
           EXPECT_GE(w.sun_elevation_deg, 45);
         }
         const bool object = c.find(" the marker") != std::string::npos;
-        EXPECT_EQ(objects(s), object ? 1u : 0u);
+        if (benign) {
+          EXPECT_EQ(objects(s), object ? 1u : 0u);
+        }
         if (!object) continue;
         const std::string kind = c.substr(0, c.find(' '));
-        if (!s.distractors.empty()) {
+        if (c.ends_with(" near the marker")) {
+          ASSERT_FALSE(s.distractors.empty());
           const auto& d = s.distractors[0];
           EXPECT_EQ(scenario::to_string(d.kind), kind);
           EXPECT_GE(d.size, 2 - 0.1 * 1.7);  // the top tenth of 0.3–2 m
@@ -95,7 +103,8 @@ TEST(CoverPool, EachMemberIsBenignButForItsOneConditionAtItsSevereEnd) {
           const double half_diagonal = 0.5 * std::sqrt(2.0) * 8.0 / 6.0;
           EXPECT_GE(r, 0.5 * 8.0 / 6.0 * (s.marker.size + d.size));  // not overlapping, even when aligned
           EXPECT_LE(r, half_diagonal * (s.marker.size + d.size) + 1.02);
-        } else if (!s.dynamic_objects.empty()) {
+        } else if (c.ends_with(" at the marker")) {
+          ASSERT_FALSE(s.dynamic_objects.empty());
           const auto& d = s.dynamic_objects[0];
           EXPECT_EQ(scenario::to_string(d.kind), kind);
           // Walking in: 3–8 m out, heading for the marker, its line through it.
@@ -116,7 +125,8 @@ TEST(CoverPool, EachMemberIsBenignButForItsOneConditionAtItsSevereEnd) {
             EXPECT_LE(d.altitude, 8);
           }
         } else {
-          ASSERT_EQ(s.static_objects.size(), 1u);
+          ASSERT_TRUE(c.ends_with(" beside the marker"));
+          ASSERT_FALSE(s.static_objects.empty());
           const auto& t = s.static_objects[0];
           EXPECT_EQ(scenario::to_string(t.kind), kind);
           const bool round = t.kind == scenario::StaticKind::Pole || t.kind == scenario::StaticKind::Tree;
@@ -132,6 +142,42 @@ TEST(CoverPool, EachMemberIsBenignButForItsOneConditionAtItsSevereEnd) {
       }
     }
   }
+}
+
+TEST(CoverPool, EachMemberIsBenignButForItsOneConditionAtItsSevereEnd) { check_pool(detail::Background::Benign); }
+
+TEST(CoverPool, OnADrawnBackgroundEachMemberStillHasItsConditionAtItsSevereEnd) {
+  check_pool(detail::Background::Drawn);
+}
+
+TEST(CoverPool, ADrawnBackgroundIsTheBenignMembersDrawWithItsWeatherAndObjectsKept) {
+  const ChromosomeLayout layout(Scenario{});
+  int other_weather = 0, other_objects = 0;
+  for (std::uint64_t seed : {1u, 2u, 3u}) {
+    const auto benign = detail::cover_pool(layout, seed, 0, 20, detail::Background::Benign);
+    const auto drawn = detail::cover_pool(layout, seed, 0, 20, detail::Background::Drawn);
+    for (std::size_t k = 0; k < drawn.size(); ++k) {
+      const Scenario b = layout.decode(layout.fit(benign[k].scenario));
+      const Scenario d = layout.decode(layout.fit(drawn[k].scenario));
+      SCOPED_TRACE(drawn[k].condition + ", seed " + std::to_string(seed));
+      // The same draw: its scene seed and marker.
+      EXPECT_EQ(d.seed, b.seed);
+      EXPECT_EQ(d.marker.position, b.marker.position);
+      EXPECT_NE(layout.fit(d), layout.fit(b));
+      const bool weather_condition = drawn[k].condition.find(" the marker") == std::string::npos;
+      for (const auto& [name, field] : intensities()) {
+        if (name != drawn[k].condition && d.weather.*field > 0) {
+          ++other_weather;
+          break;
+        }
+      }
+      other_objects += objects(d) > (weather_condition ? 0u : 1u) ? 1 : 0;
+    }
+  }
+  // Random sampling's draws have weather and objects in most scenes: so
+  // must most drawn backgrounds (60 members), where benign ones have none.
+  EXPECT_GE(other_weather, 40);
+  EXPECT_GE(other_objects, 30);
 }
 
 TEST(CoverPool, KindRowsAreTheWholePropertysOrTheComponentsOrNone) {

@@ -389,6 +389,26 @@ TEST_F(SearchDir, DiversityCoverPoolRunsEachConditionFirstAndIsRecorded) {
   EXPECT_EQ(test::read_text(root_ / "k" / "results.jsonl"), test::read_text(root_ / "c" / "results.jsonl"));
 }
 
+TEST_F(SearchDir, DiversityCoverDrawnPoolRunsEachConditionOnADrawnSceneAndIsRecorded) {
+  SearchOptions o = diverse(Method::Rlaga);
+  o.diversity_pool = SeedPool::CoverDrawn;
+  FakeEvaluator a, b;
+  a.facts = b.facts = true;
+  const SearchResult r = run_search(o, a, root_ / "d", false);
+  const ChromosomeLayout layout = search_layout(o);
+  const auto pool = detail::cover_pool(layout, o.seed, 0, 6, detail::Background::Drawn);
+  const auto benign = detail::cover_pool(layout, o.seed, 0, 6, detail::Background::Benign);
+  for (std::size_t k = 0; k < pool.size(); ++k) {
+    EXPECT_EQ(r.records[k].genes, layout.normalised(layout.fit(pool[k].scenario))) << pool[k].condition;
+    EXPECT_NE(r.records[k].genes, layout.normalised(layout.fit(benign[k].scenario))) << pool[k].condition;
+  }
+  EXPECT_NE(test::read_text(root_ / "d" / "campaign.json").find("\"pool\": \"cover-drawn\""), std::string::npos);
+  // A cover campaign is not resumed as a cover-drawn one.
+  SearchOptions cover = o;
+  cover.diversity_pool = SeedPool::Cover;
+  EXPECT_THROW((void)run_search(cover, b, root_ / "d", true), InvalidArgument);
+}
+
 TEST_F(SearchDir, DiversityRunsNoScenarioNearOneAlreadyRun) {
   FakeEvaluator e;
   e.facts = true;

@@ -46,7 +46,7 @@ namespace touchdown::search {
 
 enum class Method { Rlaga, DiverseGa, ManyObjectiveGa, Random };
 /// The diversity option's seed pool (SearchOptions::diversity_pool).
-enum class SeedPool { Spread, Cover };
+enum class SeedPool { Spread, Cover, CoverDrawn };
 
 }  // namespace touchdown::search
 
@@ -57,7 +57,7 @@ struct touchdown::EnumNames<touchdown::search::Method> {
 
 template <>
 struct touchdown::EnumNames<touchdown::search::SeedPool> {
-  static constexpr std::array<std::string_view, 2> names{"spread", "cover"};
+  static constexpr std::array<std::string_view, 3> names{"spread", "cover", "cover-drawn"};
 };
 
 namespace touchdown::search {
@@ -163,8 +163,13 @@ struct SearchOptions {
   /// and light property; a distractor, moving object or static object of
   /// each kind by the marker), so a defect at one factor's extreme is in
   /// the first generation (cover_pool.hpp lists the rules); members beyond
-  /// the conditions come from the spread pool. Recorded in campaign.json
-  /// when Cover (absent: Spread, so campaigns from before it resume).
+  /// the conditions come from the spread pool. CoverDrawn: the same
+  /// conditions, each on a randomly drawn scene instead of a benign one
+  /// (the condition at its severe end, every other factor as drawn), so
+  /// the first generation also holds the combinations a benign scene
+  /// never shows (a look-alike in dusk, fog with a walker). Recorded in
+  /// campaign.json when not Spread (absent: Spread, so campaigns from
+  /// before it resume).
   SeedPool diversity_pool = SeedPool::Spread;
   /// The near-miss term (issue 52's collisions): a run that scores at all
   /// gains near_miss_weight × (1 − d / near_miss_range) when an object came
