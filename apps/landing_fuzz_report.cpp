@@ -148,8 +148,9 @@ struct CompareArgs {
 // A compare method: its base and the options after '+' (rlaga+cover+near-miss).
 struct MethodSpec {
   std::string base;
-  bool diversity = false, cover = false, cover_drawn = false, near_miss = false;
-  std::string error;  ///< empty: valid (the base is checked apart)
+  bool diversity = false, near_miss = false;
+  std::optional<tsr::SeedPool> pool;  ///< '+cover' or '+cover-drawn' (each implies the diversity option)
+  std::string error;                  ///< empty: valid (the base is checked apart)
 };
 
 MethodSpec parse_method_spec(const std::string& m) {
@@ -159,11 +160,18 @@ MethodSpec parse_method_spec(const std::string& m) {
   while (at < m.size()) {
     const std::size_t next = m.find('+', at + 1);
     const std::string option = m.substr(at + 1, next == std::string::npos ? std::string::npos : next - at - 1);
-    bool* flag = option == "diversity"     ? &spec.diversity
-                 : option == "cover"       ? &spec.cover
-                 : option == "cover-drawn" ? &spec.cover_drawn
-                 : option == "near-miss"   ? &spec.near_miss
-                                           : nullptr;
+    if (option == "cover" || option == "cover-drawn") {
+      const auto pool = option == "cover" ? tsr::SeedPool::Cover : tsr::SeedPool::CoverDrawn;
+      if (spec.pool) {
+        spec.error = spec.pool == pool ? "'+" + option + "' given twice"
+                                       : "'+cover' and '+cover-drawn' are two seed pools: give one";
+        return spec;
+      }
+      spec.pool = pool;
+      at = next == std::string::npos ? m.size() : next;
+      continue;
+    }
+    bool* flag = option == "diversity" ? &spec.diversity : option == "near-miss" ? &spec.near_miss : nullptr;
     if (!flag) {
       spec.error = "unknown option '+" + option + "' (+diversity, +cover, +cover-drawn or +near-miss)";
       return spec;
@@ -175,13 +183,10 @@ MethodSpec parse_method_spec(const std::string& m) {
     *flag = true;
     at = next == std::string::npos ? m.size() : next;
   }
-  if (spec.cover && spec.cover_drawn) spec.error = "'+cover' and '+cover-drawn' are two seed pools: give one";
-  for (const auto& [set, name] : {std::pair{spec.cover, "cover"}, std::pair{spec.cover_drawn, "cover-drawn"}}) {
-    if (spec.error.empty() && spec.diversity && set) {
-      spec.error = std::string("'+") + name + "' already is the diversity option: drop '+diversity'";
-    }
+  if (spec.diversity && spec.pool) {
+    spec.error = "'+" + std::string(td::enum_name(*spec.pool)) + "' already is the diversity option: drop '+diversity'";
   }
-  const bool any = spec.diversity || spec.cover || spec.cover_drawn || spec.near_miss;
+  const bool any = spec.diversity || spec.pool || spec.near_miss;
   if (spec.error.empty() && any && spec.base == "random") spec.error = "random has no options";
   if (spec.error.empty() && spec.near_miss && spec.base == "many-objective-ga") {
     spec.error = "many-objective-ga has no scalar fitness for '+near-miss'";
@@ -256,9 +261,8 @@ int compare_command(const CompareArgs& a) {
       tsr::SearchOptions o;
       const MethodSpec spec = parse_method_spec(cell.method);
       o.method = td::from_string<tsr::Method>(spec.base);
-      o.diversity = spec.diversity || spec.cover || spec.cover_drawn;
-      if (spec.cover) o.diversity_pool = tsr::SeedPool::Cover;
-      if (spec.cover_drawn) o.diversity_pool = tsr::SeedPool::CoverDrawn;
+      o.diversity = spec.diversity || spec.pool;
+      o.diversity_pool = spec.pool.value_or(tsr::SeedPool::Spread);
       o.near_miss = spec.near_miss;
       o.system = a.common.system;
       o.detector = detector_of(a.common);
