@@ -1,5 +1,6 @@
 // landing_fuzz metrics, causes and compare: a results directory's figures,
 // its violations' causes, and the source's Table 2 over campaigns.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -149,8 +150,9 @@ struct CompareArgs {
 struct MethodSpec {
   std::string base;
   bool diversity = false, near_miss = false;
-  std::optional<tsr::SeedPool> pool;  ///< '+cover' or '+cover-drawn' (each implies the diversity option)
-  std::string error;                  ///< empty: valid (the base is checked apart)
+  /// '+cover', '+cover-drawn' or '+cover-mixed' (each implies the diversity option)
+  std::optional<tsr::SeedPool> pool;
+  std::string error;  ///< empty: valid (the base is checked apart)
 };
 
 MethodSpec parse_method_spec(const std::string& m) {
@@ -160,11 +162,13 @@ MethodSpec parse_method_spec(const std::string& m) {
   while (at < m.size()) {
     const std::size_t next = m.find('+', at + 1);
     const std::string option = m.substr(at + 1, next == std::string::npos ? std::string::npos : next - at - 1);
-    if (option == "cover" || option == "cover-drawn") {
-      const auto pool = option == "cover" ? tsr::SeedPool::Cover : tsr::SeedPool::CoverDrawn;
+    const auto& pools = td::EnumNames<tsr::SeedPool>::names;
+    if (option != "spread" && std::find(pools.begin(), pools.end(), option) != pools.end()) {
+      const auto pool = td::from_string<tsr::SeedPool>(option);
       if (spec.pool) {
         spec.error = spec.pool == pool ? "'+" + option + "' given twice"
-                                       : "'+cover' and '+cover-drawn' are two seed pools: give one";
+                                       : "'+" + std::string(td::enum_name(*spec.pool)) + "' and '+" + option +
+                                             "' are two seed pools: give one";
         return spec;
       }
       spec.pool = pool;
@@ -173,7 +177,7 @@ MethodSpec parse_method_spec(const std::string& m) {
     }
     bool* flag = option == "diversity" ? &spec.diversity : option == "near-miss" ? &spec.near_miss : nullptr;
     if (!flag) {
-      spec.error = "unknown option '+" + option + "' (+diversity, +cover, +cover-drawn or +near-miss)";
+      spec.error = "unknown option '+" + option + "' (+diversity, +cover, +cover-drawn, +cover-mixed or +near-miss)";
       return spec;
     }
     if (*flag) {
@@ -199,7 +203,8 @@ CLI::App* add_compare_command(CLI::App& app, CompareArgs& a) {
       "compare", "the source's Table 2: every method on every map over seeds 1..N (resumable campaigns in --out)");
   cmd->add_option("--methods", a.methods,
                   "methods, each with options after '+': '+diversity' the diversity option (e.g. rlaga+diversity), "
-                  "'+cover' or '+cover-drawn' the diversity option with that covering seed pool (--diversity-pool), "
+                  "'+cover', '+cover-drawn' or '+cover-mixed' the diversity option with that covering seed pool "
+                  "(--diversity-pool), "
                   "'+near-miss' the near-miss term (e.g. rlaga+cover-drawn+near-miss)")
       ->check(CLI::Validator(
           [](std::string& m) -> std::string {
@@ -207,7 +212,7 @@ CLI::App* add_compare_command(CLI::App& app, CompareArgs& a) {
             if (!spec.error.empty()) return spec.error;
             return one_of<tsr::Method>()(spec.base);
           },
-          "METHOD[+diversity|+cover|+cover-drawn][+near-miss]"))
+          "METHOD[+diversity|+cover|+cover-drawn|+cover-mixed][+near-miss]"))
       ->capture_default_str()
       ->delimiter(',');
   cmd->add_option("--maps", a.maps, "maps")->check(one_of<ts::MapKind>())->capture_default_str()->delimiter(',');

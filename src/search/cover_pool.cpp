@@ -216,8 +216,10 @@ std::vector<CoverMember> cover_pool(const ChromosomeLayout& layout, std::uint64_
   for (int k = first; k < first + n; ++k) {
     Rng rng(seed, kCoverStream + static_cast<std::uint64_t>(k));
     scenario::Scenario s = layout.decode(layout.draw(rng.next() >> 11));
-    if (background == Background::Benign) make_benign(s, rng);
     const Condition& c = list[static_cast<std::size_t>(k) % list.size()];
+    if (background == Background::Benign || (background == Background::Mixed && c.kind == Kind::Dynamic)) {
+      make_benign(s, rng);
+    }
     switch (c.kind) {
       case Kind::Weather: {
         const WeatherCondition& w = kWeather[c.index];

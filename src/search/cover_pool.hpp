@@ -1,6 +1,6 @@
 #pragma once
 // The diversity option's covering seed pools (SearchOptions::diversity_pool =
-// Cover or CoverDrawn; docs/architecture.md, "The violation search" → "Distinct
+// Cover, CoverDrawn or CoverMixed; docs/architecture.md, "The violation search" → "Distinct
 // defects"); private to the search module.
 #include <cstdint>
 #include <string>
@@ -27,6 +27,10 @@ std::vector<std::string> cover_conditions(const ChromosomeOptions& options);
 enum class Background {
   Benign,  ///< no other weather, no other object (SeedPool::Cover)
   Drawn,   ///< as random sampling draws them (SeedPool::CoverDrawn)
+  /// Benign for a moving object's condition (person, dog, bird), Drawn for
+  /// every other (SeedPool::CoverMixed): member k is then exactly the
+  /// Benign or the Drawn pool's member k.
+  Mixed,
 };
 
 /// Members first .. first + n − 1 of the covering pool (member k covers

@@ -341,8 +341,9 @@ class Campaign {
     // conditions) the spread pool's.
     const int covered = std::min(n, static_cast<int>(detail::cover_conditions(layout_.options()).size()));
     std::vector<Chromosome> out;
-    const auto background =
-        o_.diversity_pool == SeedPool::Cover ? detail::Background::Benign : detail::Background::Drawn;
+    const auto background = o_.diversity_pool == SeedPool::Cover        ? detail::Background::Benign
+                            : o_.diversity_pool == SeedPool::CoverDrawn ? detail::Background::Drawn
+                                                                        : detail::Background::Mixed;
     for (const detail::CoverMember& m : detail::cover_pool(layout_, o_.seed, 0, covered, background)) {
       out.push_back(layout_.fit(m.scenario));
     }

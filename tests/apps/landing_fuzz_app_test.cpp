@@ -261,15 +261,18 @@ TEST(LandingFuzzApp, BadInputIsOneLineWithExitTwoAndNothingOverwritten) {
   EXPECT_FALSE(fs::exists(dir / "no"));
   // compare's method options: each known once, and only where they apply.
   const std::string out = " --seeds 1 --budget 2 --population 2 --out " + (dir / "methods").string();
-  for (const auto& [method, says] :
-       std::vector<std::pair<std::string, std::string>>{{"rlaga+fast", "unknown option '+fast'"},
-                                                        {"rlaga+cover+cover", "'+cover' given twice"},
-                                                        {"rlaga+diversity+cover", "drop '+diversity'"},
-                                                        {"rlaga+cover-drawn+diversity", "drop '+diversity'"},
-                                                        {"rlaga+cover+cover-drawn", "two seed pools"},
-                                                        {"random+near-miss", "random has no options"},
-                                                        {"many-objective-ga+near-miss", "no scalar fitness"},
-                                                        {"hill-climbing+cover", "hill-climbing"}}) {
+  for (const auto& [method, says] : std::vector<std::pair<std::string, std::string>>{
+           {"rlaga+fast", "unknown option '+fast'"},
+           {"rlaga+cover+cover", "'+cover' given twice"},
+           {"rlaga+diversity+cover", "drop '+diversity'"},
+           {"rlaga+cover-drawn+diversity", "drop '+diversity'"},
+           {"rlaga+cover+cover-drawn", "two seed pools"},
+           {"rlaga+cover-mixed+cover", "'+cover-mixed' and '+cover' are two"},
+           {"rlaga+cover-mixed+cover-mixed", "given twice"},
+           {"rlaga+spread", "unknown option '+spread'"},
+           {"random+near-miss", "random has no options"},
+           {"many-objective-ga+near-miss", "no scalar fitness"},
+           {"hill-climbing+cover", "hill-climbing"}}) {
     expect_one_line(fuzz_app("compare --methods " + method + out, dir), says);
   }
   EXPECT_FALSE(fs::exists(dir / "methods"));

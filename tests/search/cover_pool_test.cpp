@@ -40,9 +40,9 @@ std::size_t objects(const Scenario& s) {
 
 // Every member of a pool on the given background, through the chromosome:
 // its condition at its severe end; on a benign background, nothing else; on
-// a drawn one, the condition's object first in its list.
+// a drawn one, the condition's object first in its list; on a mixed one, a
+// moving object's member as on a benign one, the others as on a drawn one.
 void check_pool(detail::Background background) {
-  const bool benign = background == detail::Background::Benign;
   for (bool drive : {false, true}) {
     ChromosomeOptions o;
     o.drive_objects = drive;
@@ -61,6 +61,9 @@ void check_pool(detail::Background background) {
         const Scenario s = layout.decode(layout.fit(pool[k].scenario));
         const std::string& c = names[k];
         const Weather& w = s.weather;
+        // Mixed: a moving object's member is on the benign background.
+        const bool benign = background == detail::Background::Benign ||
+                            (background == detail::Background::Mixed && c.ends_with(" at the marker"));
         SCOPED_TRACE(c + ", seed " + std::to_string(seed) + (benign ? ", benign" : ", drawn"));
         for (const auto& [name, field] : intensities()) {
           const std::string key = name == "snowfall"         ? "weather.snow"
@@ -148,6 +151,35 @@ TEST(CoverPool, EachMemberIsBenignButForItsOneConditionAtItsSevereEnd) { check_p
 
 TEST(CoverPool, OnADrawnBackgroundEachMemberStillHasItsConditionAtItsSevereEnd) {
   check_pool(detail::Background::Drawn);
+}
+
+TEST(CoverPool, OnAMixedBackgroundEachMemberStillHasItsConditionAtItsSevereEnd) {
+  check_pool(detail::Background::Mixed);
+}
+
+// Mixed: a moving object's member on the benign background (where the
+// system descends, so a walk-in can meet it), every other on the drawn one.
+TEST(CoverPool, AMixedBackgroundIsBenignForAMovingObjectAndDrawnForEveryOtherCondition) {
+  const ChromosomeLayout layout(Scenario{});
+  int moving = 0;
+  for (std::uint64_t seed : {1u, 2u, 3u}) {
+    const auto benign = detail::cover_pool(layout, seed, 0, 20, detail::Background::Benign);
+    const auto drawn = detail::cover_pool(layout, seed, 0, 20, detail::Background::Drawn);
+    const auto mixed = detail::cover_pool(layout, seed, 0, 20, detail::Background::Mixed);
+    ASSERT_EQ(mixed.size(), 20u);
+    for (std::size_t k = 0; k < mixed.size(); ++k) {
+      SCOPED_TRACE(mixed[k].condition + ", seed " + std::to_string(seed));
+      ASSERT_EQ(mixed[k].condition, drawn[k].condition);
+      const std::string& c = mixed[k].condition;
+      const bool walker = c == "person at the marker" || c == "dog at the marker" || c == "bird at the marker";
+      moving += walker ? 1 : 0;
+      const auto& same = walker ? benign[k] : drawn[k];
+      const auto& other = walker ? drawn[k] : benign[k];
+      EXPECT_EQ(layout.fit(mixed[k].scenario), layout.fit(same.scenario));
+      EXPECT_NE(layout.fit(mixed[k].scenario), layout.fit(other.scenario));
+    }
+  }
+  EXPECT_EQ(moving, 9);  // person, dog and bird on each of the 3 seeds
 }
 
 TEST(CoverPool, ADrawnBackgroundIsTheBenignMembersDrawWithItsWeatherAndObjectsKept) {

@@ -409,6 +409,27 @@ TEST_F(SearchDir, DiversityCoverDrawnPoolRunsEachConditionOnADrawnSceneAndIsReco
   EXPECT_THROW((void)run_search(cover, b, root_ / "d", true), InvalidArgument);
 }
 
+TEST_F(SearchDir, DiversityCoverMixedPoolRunsTheMixedMembersAndIsRecorded) {
+  SearchOptions o = diverse(Method::Rlaga);
+  o.ga.population = 20;  // every condition, the moving objects' among them
+  o.budget = 20;
+  o.diversity_pool = SeedPool::CoverMixed;
+  FakeEvaluator a, b;
+  a.facts = b.facts = true;
+  const SearchResult r = run_search(o, a, root_ / "m", false);
+  const ChromosomeLayout layout = search_layout(o);
+  const auto pool = detail::cover_pool(layout, o.seed, 0, 20, detail::Background::Mixed);
+  ASSERT_GE(r.records.size(), pool.size());
+  for (std::size_t k = 0; k < pool.size(); ++k) {
+    EXPECT_EQ(r.records[k].genes, layout.normalised(layout.fit(pool[k].scenario))) << pool[k].condition;
+  }
+  EXPECT_NE(test::read_text(root_ / "m" / "campaign.json").find("\"pool\": \"cover-mixed\""), std::string::npos);
+  // Nor is a cover-drawn campaign resumed as a cover-mixed one.
+  SearchOptions drawn = o;
+  drawn.diversity_pool = SeedPool::CoverDrawn;
+  EXPECT_THROW((void)run_search(drawn, b, root_ / "m", true), InvalidArgument);
+}
+
 TEST_F(SearchDir, DiversityRunsNoScenarioNearOneAlreadyRun) {
   FakeEvaluator e;
   e.facts = true;

@@ -46,7 +46,7 @@ namespace touchdown::search {
 
 enum class Method { Rlaga, DiverseGa, ManyObjectiveGa, Random };
 /// The diversity option's seed pool (SearchOptions::diversity_pool).
-enum class SeedPool { Spread, Cover, CoverDrawn };
+enum class SeedPool { Spread, Cover, CoverDrawn, CoverMixed };
 
 }  // namespace touchdown::search
 
@@ -57,7 +57,7 @@ struct touchdown::EnumNames<touchdown::search::Method> {
 
 template <>
 struct touchdown::EnumNames<touchdown::search::SeedPool> {
-  static constexpr std::array<std::string_view, 3> names{"spread", "cover", "cover-drawn"};
+  static constexpr std::array<std::string_view, 4> names{"spread", "cover", "cover-drawn", "cover-mixed"};
 };
 
 namespace touchdown::search {
@@ -167,7 +167,11 @@ struct SearchOptions {
   /// conditions, each on a randomly drawn scene instead of a benign one
   /// (the condition at its severe end, every other factor as drawn), so
   /// the first generation also holds the combinations a benign scene
-  /// never shows (a look-alike in dusk, fog with a walker). Recorded in
+  /// never shows (a look-alike in dusk, fog with a walker). CoverMixed:
+  /// CoverDrawn's members, but a moving object's (person, dog, bird) on
+  /// Cover's benign scene: a walk-in is a hazard only while the system
+  /// descends, and a drawn scene often keeps it from descending at all, so
+  /// the drawn member is neither a collision nor a near miss. Recorded in
   /// campaign.json when not Spread (absent: Spread, so campaigns from
   /// before it resume).
   SeedPool diversity_pool = SeedPool::Spread;
