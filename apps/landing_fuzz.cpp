@@ -201,8 +201,10 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
   add_enum_option(*cmd, "--diversity-pool", a.search.diversity_pool,
                   "--diversity's seed pool: spread (maximin over random draws), cover (each weather, light and "
                   "object condition once at the severe end of its range, the rest benign), cover-drawn (each "
-                  "condition once at its severe end, the rest of the scene as randomly drawn) or cover-mixed "
-                  "(cover-drawn, but a person, dog or bird condition on a benign scene, where the system descends)")
+                  "condition once at its severe end, the rest of the scene as randomly drawn), cover-mixed "
+                  "(cover-drawn, but a person, dog or bird condition on a benign scene, where the system descends) "
+                  "or cover-and-spread (a first generation of cover-mixed's members and a population of spread "
+                  "ones)")
       ->needs(diversity);
   cmd->add_flag("--near-miss", a.search.near_miss,
                 "rlaga, diverse-ga: an object's nearest approach to the drone within 2 m adds up to 0.5 to the "

@@ -150,7 +150,7 @@ struct CompareArgs {
 struct MethodSpec {
   std::string base;
   bool diversity = false, near_miss = false;
-  /// '+cover', '+cover-drawn' or '+cover-mixed' (each implies the diversity option)
+  /// '+cover', '+cover-drawn', '+cover-mixed' or '+cover-and-spread' (each implies the diversity option)
   std::optional<tsr::SeedPool> pool;
   std::string error;  ///< empty: valid (the base is checked apart)
 };
@@ -177,7 +177,8 @@ MethodSpec parse_method_spec(const std::string& m) {
     }
     bool* flag = option == "diversity" ? &spec.diversity : option == "near-miss" ? &spec.near_miss : nullptr;
     if (!flag) {
-      spec.error = "unknown option '+" + option + "' (+diversity, +cover, +cover-drawn, +cover-mixed or +near-miss)";
+      spec.error = "unknown option '+" + option +
+                   "' (+diversity, +cover, +cover-drawn, +cover-mixed, +cover-and-spread or +near-miss)";
       return spec;
     }
     if (*flag) {
@@ -203,8 +204,8 @@ CLI::App* add_compare_command(CLI::App& app, CompareArgs& a) {
       "compare", "the source's Table 2: every method on every map over seeds 1..N (resumable campaigns in --out)");
   cmd->add_option("--methods", a.methods,
                   "methods, each with options after '+': '+diversity' the diversity option (e.g. rlaga+diversity), "
-                  "'+cover', '+cover-drawn' or '+cover-mixed' the diversity option with that covering seed pool "
-                  "(--diversity-pool), "
+                  "'+cover', '+cover-drawn', '+cover-mixed' or '+cover-and-spread' the diversity option with that "
+                  "seed pool (--diversity-pool), "
                   "'+near-miss' the near-miss term (e.g. rlaga+cover-drawn+near-miss)")
       ->check(CLI::Validator(
           [](std::string& m) -> std::string {
@@ -212,7 +213,7 @@ CLI::App* add_compare_command(CLI::App& app, CompareArgs& a) {
             if (!spec.error.empty()) return spec.error;
             return one_of<tsr::Method>()(spec.base);
           },
-          "METHOD[+diversity|+cover|+cover-drawn|+cover-mixed][+near-miss]"))
+          "METHOD[+diversity|+cover|+cover-drawn|+cover-mixed|+cover-and-spread][+near-miss]"))
       ->capture_default_str()
       ->delimiter(',');
   cmd->add_option("--maps", a.maps, "maps")->check(one_of<ts::MapKind>())->capture_default_str()->delimiter(',');

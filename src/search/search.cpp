@@ -78,7 +78,15 @@ bool SearchOptions::validate(std::string* why) const {
   return true;
 }
 
-int SearchOptions::generations() const { return (budget + ga.population - 1) / ga.population; }
+int SearchOptions::first_generation() const {
+  if (!diversity || diversity_pool != SeedPool::CoverAndSpread) return std::min(budget, ga.population);
+  const int covered = static_cast<int>(detail::cover_conditions(chromosome).size());
+  return std::min(budget, covered + ga.population);
+}
+
+int SearchOptions::generations() const {
+  return 1 + (std::max(0, budget - first_generation()) + ga.population - 1) / ga.population;
+}
 
 ChromosomeLayout search_layout(const SearchOptions& options) {
   ChromosomeOptions c = options.chromosome;
@@ -301,7 +309,7 @@ class Campaign {
     }
     for (; evaluated_ < o_.budget; ++generation) {
       progress_state_.generation = generation;
-      const int n = std::min(o_.ga.population, o_.budget - evaluated_);
+      const int n = generation == 0 ? o_.first_generation() : std::min(o_.ga.population, o_.budget - evaluated_);
       std::vector<Chromosome> batch = o_.method == Method::Random ? draws(n)
                                       : generation == 0           ? seed_pool(n)
                                                                   : offspring(generation, n);
@@ -338,12 +346,13 @@ class Campaign {
     if (!o_.diversity) return draws(n);
     if (o_.diversity_pool == SeedPool::Spread) return spread_draws(n);
     // The covering design's members, then (a population larger than its
-    // conditions) the spread pool's.
+    // conditions, or CoverAndSpread's first generation) the spread pool's.
     const int covered = std::min(n, static_cast<int>(detail::cover_conditions(layout_.options()).size()));
     std::vector<Chromosome> out;
-    const auto background = o_.diversity_pool == SeedPool::Cover        ? detail::Background::Benign
-                            : o_.diversity_pool == SeedPool::CoverDrawn ? detail::Background::Drawn
-                                                                        : detail::Background::Mixed;
+    const auto background = o_.diversity_pool == SeedPool::Cover ? detail::Background::Benign
+                            : o_.diversity_pool == SeedPool::CoverDrawn
+                                ? detail::Background::Drawn
+                                : detail::Background::Mixed;  // and CoverAndSpread
     for (const detail::CoverMember& m : detail::cover_pool(layout_, o_.seed, 0, covered, background)) {
       out.push_back(layout_.fit(m.scenario));
     }

@@ -269,6 +269,7 @@ TEST(LandingFuzzApp, BadInputIsOneLineWithExitTwoAndNothingOverwritten) {
            {"rlaga+cover+cover-drawn", "two seed pools"},
            {"rlaga+cover-mixed+cover", "'+cover-mixed' and '+cover' are two"},
            {"rlaga+cover-mixed+cover-mixed", "given twice"},
+           {"rlaga+cover-and-spread+cover", "two seed pools"},
            {"rlaga+spread", "unknown option '+spread'"},
            {"random+near-miss", "random has no options"},
            {"many-objective-ga+near-miss", "no scalar fitness"},

@@ -430,6 +430,47 @@ TEST_F(SearchDir, DiversityCoverMixedPoolRunsTheMixedMembersAndIsRecorded) {
   EXPECT_THROW((void)run_search(drawn, b, root_ / "m", true), InvalidArgument);
 }
 
+// cover-and-spread: generation 0 is cover-mixed's members, then a
+// population of the spread pool's; selection keeps a population of them
+// and every later generation is a population.
+TEST_F(SearchDir, DiversityCoverAndSpreadRunsBothKindsInItsFirstGeneration) {
+  SearchOptions o = diverse(Method::Rlaga);  // population 6, budget 48
+  o.diversity_pool = SeedPool::CoverAndSpread;
+  ASSERT_EQ(o.first_generation(), 26);
+  FakeEvaluator a;
+  a.facts = true;
+  const SearchResult r = run_search(o, a, root_ / "s", false);
+  ASSERT_EQ(r.records.size(), 48u);
+  const ChromosomeLayout layout = search_layout(o);
+  const auto pool = detail::cover_pool(layout, o.seed, 0, 20, detail::Background::Mixed);
+  std::vector<int> per_generation;
+  for (const EvaluationRecord& rec : r.records) {
+    if (per_generation.size() <= static_cast<std::size_t>(rec.generation)) per_generation.resize(rec.generation + 1);
+    ++per_generation[static_cast<std::size_t>(rec.generation)];
+  }
+  EXPECT_EQ(per_generation, (std::vector<int>{26, 6, 6, 6, 4}));
+  for (std::size_t k = 0; k < pool.size(); ++k) {
+    EXPECT_EQ(r.records[k].genes, layout.normalised(layout.fit(pool[k].scenario))) << pool[k].condition;
+  }
+  // The other 6 are the spread pool's: what a spread campaign of population
+  // 6 runs first.
+  SearchOptions spread = o;
+  spread.diversity_pool = SeedPool::Spread;
+  spread.budget = 6;
+  FakeEvaluator c;
+  c.facts = true;
+  const SearchResult first = run_search(spread, c, root_ / "p", false);
+  for (std::size_t k = 0; k < 6; ++k) EXPECT_EQ(r.records[20 + k].genes, first.records[k].genes) << k;
+  EXPECT_NE(test::read_text(root_ / "s" / "campaign.json").find("\"pool\": \"cover-and-spread\""), std::string::npos);
+  // Killed in generation 0 and resumed: the same results file.
+  FakeEvaluator killed, rest;
+  killed.facts = rest.facts = true;
+  killed.fail_after = 10;
+  EXPECT_THROW(run_search(o, killed, root_ / "k", false), std::runtime_error);
+  (void)run_search(o, rest, root_ / "k", true);
+  EXPECT_EQ(test::read_text(root_ / "k" / "results.jsonl"), test::read_text(root_ / "s" / "results.jsonl"));
+}
+
 TEST_F(SearchDir, DiversityRunsNoScenarioNearOneAlreadyRun) {
   FakeEvaluator e;
   e.facts = true;
@@ -661,6 +702,18 @@ TEST(SearchOptions, BadOptionsAreRefusedNamingTheKey) {
   o.budget = 21;
   EXPECT_TRUE(o.validate(&why));
   EXPECT_EQ(o.generations(), 2);
+  EXPECT_EQ(o.first_generation(), 20);
+  // cover-and-spread: the 20 conditions and a population in generation 0.
+  SearchOptions both;
+  both.diversity = true;
+  both.diversity_pool = SeedPool::CoverAndSpread;
+  EXPECT_EQ(both.first_generation(), 40);
+  EXPECT_EQ(both.generations(), 1 + 13);  // 40, then 13 of 20
+  both.budget = 30;
+  EXPECT_EQ(both.first_generation(), 30);
+  EXPECT_EQ(both.generations(), 1);
+  both.diversity = false;  // the pool is the diversity option's
+  EXPECT_EQ(both.first_generation(), 20);
   FakeEvaluator e;
   o.budget = 5;
   EXPECT_THROW(run_search(o, e, fs::temp_directory_path() / "td_search_never", false), InvalidArgument);

@@ -46,7 +46,7 @@ namespace touchdown::search {
 
 enum class Method { Rlaga, DiverseGa, ManyObjectiveGa, Random };
 /// The diversity option's seed pool (SearchOptions::diversity_pool).
-enum class SeedPool { Spread, Cover, CoverDrawn, CoverMixed };
+enum class SeedPool { Spread, Cover, CoverDrawn, CoverMixed, CoverAndSpread };
 
 }  // namespace touchdown::search
 
@@ -57,7 +57,8 @@ struct touchdown::EnumNames<touchdown::search::Method> {
 
 template <>
 struct touchdown::EnumNames<touchdown::search::SeedPool> {
-  static constexpr std::array<std::string_view, 4> names{"spread", "cover", "cover-drawn", "cover-mixed"};
+  static constexpr std::array<std::string_view, 5> names{"spread", "cover", "cover-drawn", "cover-mixed",
+                                                         "cover-and-spread"};
 };
 
 namespace touchdown::search {
@@ -171,8 +172,13 @@ struct SearchOptions {
   /// CoverDrawn's members, but a moving object's (person, dog, bird) on
   /// Cover's benign scene: a walk-in is a hazard only while the system
   /// descends, and a drawn scene often keeps it from descending at all, so
-  /// the drawn member is neither a collision nor a near miss. Recorded in
-  /// campaign.json when not Spread (absent: Spread, so campaigns from
+  /// the drawn member is neither a collision nor a near miss.
+  /// CoverAndSpread: a first generation of both kinds, CoverMixed's members
+  /// and then a population of the spread pool's (first_generation() runs,
+  /// 40 for the default chromosome and population), from which selection
+  /// keeps a population: a system that handles every single condition
+  /// still leaves the search scenes with many conditions to breed. Recorded
+  /// in campaign.json when not Spread (absent: Spread, so campaigns from
   /// before it resume).
   SeedPool diversity_pool = SeedPool::Spread;
   /// The near-miss term (issue 52's collisions): a run that scores at all
@@ -190,9 +196,13 @@ struct SearchOptions {
   bool near_miss = false;
 
   [[nodiscard]] bool validate(std::string* why) const;
-  /// Generations the budget allows: ceil(budget / population), the seed
-  /// pool counting as generation 0.
+  /// Generations the budget allows: 1 + ceil((budget − first_generation())
+  /// / population), the seed pool counting as generation 0.
   [[nodiscard]] int generations() const;
+  /// Runs in generation 0: the population, or with the diversity option's
+  /// CoverAndSpread pool its covering members (cover_conditions of the
+  /// chromosome) and a population; at most the budget.
+  [[nodiscard]] int first_generation() const;
 };
 
 /// Where a campaign stands, after each evaluated scenario.
