@@ -389,24 +389,38 @@ TEST_F(SearchDir, DiversityCoverPoolRunsEachConditionFirstAndIsRecorded) {
   EXPECT_EQ(test::read_text(root_ / "k" / "results.jsonl"), test::read_text(root_ / "c" / "results.jsonl"));
 }
 
+// Runs `o` (a covering pool) in `dir` and checks what every covering pool
+// shares: its first n records are cover_pool(background)'s n members, in
+// order; campaign.json names the pool; the campaign is not resumed under
+// the pool `other`.
+SearchResult expect_covering_run(const SearchOptions& o, detail::Background background, int n, const fs::path& dir,
+                                 SeedPool other) {
+  FakeEvaluator a, b;
+  a.facts = b.facts = true;
+  const SearchResult r = run_search(o, a, dir, false);
+  const ChromosomeLayout layout = search_layout(o);
+  const auto pool = detail::cover_pool(layout, o.seed, 0, n, background);
+  EXPECT_GE(r.records.size(), pool.size());
+  for (std::size_t k = 0; k < pool.size() && k < r.records.size(); ++k) {
+    EXPECT_EQ(r.records[k].genes, layout.normalised(layout.fit(pool[k].scenario))) << pool[k].condition;
+  }
+  const std::string name(enum_name(o.diversity_pool));
+  EXPECT_NE(test::read_text(dir / "campaign.json").find("\"pool\": \"" + name + "\""), std::string::npos) << name;
+  SearchOptions resumed = o;
+  resumed.diversity_pool = other;
+  EXPECT_THROW((void)run_search(resumed, b, dir, true), InvalidArgument) << name << " resumed as " << enum_name(other);
+  return r;
+}
+
 TEST_F(SearchDir, DiversityCoverDrawnPoolRunsEachConditionOnADrawnSceneAndIsRecorded) {
   SearchOptions o = diverse(Method::Rlaga);
   o.diversity_pool = SeedPool::CoverDrawn;
-  FakeEvaluator a, b;
-  a.facts = b.facts = true;
-  const SearchResult r = run_search(o, a, root_ / "d", false);
+  const SearchResult r = expect_covering_run(o, detail::Background::Drawn, 6, root_ / "d", SeedPool::Cover);
   const ChromosomeLayout layout = search_layout(o);
-  const auto pool = detail::cover_pool(layout, o.seed, 0, 6, detail::Background::Drawn);
   const auto benign = detail::cover_pool(layout, o.seed, 0, 6, detail::Background::Benign);
-  for (std::size_t k = 0; k < pool.size(); ++k) {
-    EXPECT_EQ(r.records[k].genes, layout.normalised(layout.fit(pool[k].scenario))) << pool[k].condition;
-    EXPECT_NE(r.records[k].genes, layout.normalised(layout.fit(benign[k].scenario))) << pool[k].condition;
+  for (std::size_t k = 0; k < benign.size(); ++k) {
+    EXPECT_NE(r.records[k].genes, layout.normalised(layout.fit(benign[k].scenario))) << benign[k].condition;
   }
-  EXPECT_NE(test::read_text(root_ / "d" / "campaign.json").find("\"pool\": \"cover-drawn\""), std::string::npos);
-  // A cover campaign is not resumed as a cover-drawn one.
-  SearchOptions cover = o;
-  cover.diversity_pool = SeedPool::Cover;
-  EXPECT_THROW((void)run_search(cover, b, root_ / "d", true), InvalidArgument);
 }
 
 TEST_F(SearchDir, DiversityCoverMixedPoolRunsTheMixedMembersAndIsRecorded) {
@@ -414,20 +428,7 @@ TEST_F(SearchDir, DiversityCoverMixedPoolRunsTheMixedMembersAndIsRecorded) {
   o.ga.population = 20;  // every condition, the moving objects' among them
   o.budget = 20;
   o.diversity_pool = SeedPool::CoverMixed;
-  FakeEvaluator a, b;
-  a.facts = b.facts = true;
-  const SearchResult r = run_search(o, a, root_ / "m", false);
-  const ChromosomeLayout layout = search_layout(o);
-  const auto pool = detail::cover_pool(layout, o.seed, 0, 20, detail::Background::Mixed);
-  ASSERT_GE(r.records.size(), pool.size());
-  for (std::size_t k = 0; k < pool.size(); ++k) {
-    EXPECT_EQ(r.records[k].genes, layout.normalised(layout.fit(pool[k].scenario))) << pool[k].condition;
-  }
-  EXPECT_NE(test::read_text(root_ / "m" / "campaign.json").find("\"pool\": \"cover-mixed\""), std::string::npos);
-  // Nor is a cover-drawn campaign resumed as a cover-mixed one.
-  SearchOptions drawn = o;
-  drawn.diversity_pool = SeedPool::CoverDrawn;
-  EXPECT_THROW((void)run_search(drawn, b, root_ / "m", true), InvalidArgument);
+  (void)expect_covering_run(o, detail::Background::Mixed, 20, root_ / "m", SeedPool::CoverDrawn);
 }
 
 // cover-and-spread: generation 0 is cover-mixed's members, then a
@@ -437,21 +438,14 @@ TEST_F(SearchDir, DiversityCoverAndSpreadRunsBothKindsInItsFirstGeneration) {
   SearchOptions o = diverse(Method::Rlaga);  // population 6, budget 48
   o.diversity_pool = SeedPool::CoverAndSpread;
   ASSERT_EQ(o.first_generation(), 26);
-  FakeEvaluator a;
-  a.facts = true;
-  const SearchResult r = run_search(o, a, root_ / "s", false);
+  const SearchResult r = expect_covering_run(o, detail::Background::Mixed, 20, root_ / "s", SeedPool::CoverMixed);
   ASSERT_EQ(r.records.size(), 48u);
-  const ChromosomeLayout layout = search_layout(o);
-  const auto pool = detail::cover_pool(layout, o.seed, 0, 20, detail::Background::Mixed);
   std::vector<int> per_generation;
   for (const EvaluationRecord& rec : r.records) {
     if (per_generation.size() <= static_cast<std::size_t>(rec.generation)) per_generation.resize(rec.generation + 1);
     ++per_generation[static_cast<std::size_t>(rec.generation)];
   }
   EXPECT_EQ(per_generation, (std::vector<int>{26, 6, 6, 6, 4}));
-  for (std::size_t k = 0; k < pool.size(); ++k) {
-    EXPECT_EQ(r.records[k].genes, layout.normalised(layout.fit(pool[k].scenario))) << pool[k].condition;
-  }
   // The other 6 are the spread pool's: what a spread campaign of population
   // 6 runs first.
   SearchOptions spread = o;
@@ -461,7 +455,6 @@ TEST_F(SearchDir, DiversityCoverAndSpreadRunsBothKindsInItsFirstGeneration) {
   c.facts = true;
   const SearchResult first = run_search(spread, c, root_ / "p", false);
   for (std::size_t k = 0; k < 6; ++k) EXPECT_EQ(r.records[20 + k].genes, first.records[k].genes) << k;
-  EXPECT_NE(test::read_text(root_ / "s" / "campaign.json").find("\"pool\": \"cover-and-spread\""), std::string::npos);
   // Killed in generation 0 and resumed: the same results file.
   FakeEvaluator killed, rest;
   killed.facts = rest.facts = true;
