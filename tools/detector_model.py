@@ -20,9 +20,9 @@ CORNER_SCALE = 64.0
 CHANNELS = 11
 
 
-def conv_bn(cin, cout, k=3, s=1, groups=1):
+def conv_bn(cin, cout, k=3, s=1, groups=1, pad=None):
     return nn.Sequential(
-        nn.Conv2d(cin, cout, k, s, k // 2, groups=groups, bias=False),
+        nn.Conv2d(cin, cout, k, s, k // 2 if pad is None else pad, groups=groups, bias=False),
         nn.BatchNorm2d(cout),
         nn.ReLU(inplace=True),
     )
@@ -43,13 +43,23 @@ class Residual(nn.Module):
 
 
 class MarkerNet(nn.Module):
-    def __init__(self, width=1.0, stem=(12, 24)):
+    def __init__(self, width=1.0, stem=(12, 24), patchify=False):
         """`width` multiplies every layer's channels; `stem` is the first two
         layers' (strides 2 and 4) before it: model v3 widened them to
-        (16, 32) to keep a far marker's code cells (3-5 px) apart."""
+        (16, 32) to keep a far marker's code cells (3-5 px) apart.
+
+        `patchify` (model v5) replaces those two layers by one 4 x 4
+        convolution of stride 4 with stem[1] channels: each output cell is a
+        linear map of its own 16 pixels (lossless when stem[1] >= 16), and
+        it costs a fifth of the 3 x 3 stride-2 convolution plus the stride-4
+        pointwise layer, which were 36 % of model v4's time in OpenCV's DNN
+        (docs/journal/marker-detectors.md)."""
         super().__init__()
         c = [int(round(v * width)) for v in (*stem, 32, 64, 96)]
-        self.stem = nn.Sequential(conv_bn(1, c[0], 3, 2), dw_sep(c[0], c[1], 2))  # stride 4
+        if patchify:
+            self.stem = conv_bn(1, c[1], 4, 4, pad=0)  # stride 4
+        else:
+            self.stem = nn.Sequential(conv_bn(1, c[0], 3, 2), dw_sep(c[0], c[1], 2))  # stride 4
         self.s8 = nn.Sequential(dw_sep(c[1], c[2], 2), Residual(c[2]))
         self.s16 = nn.Sequential(dw_sep(c[2], c[3], 2), Residual(c[3]), Residual(c[3]))
         self.s32 = nn.Sequential(dw_sep(c[3], c[4], 2), Residual(c[4]), Residual(c[4]))

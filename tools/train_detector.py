@@ -226,7 +226,11 @@ ARUCO_DICTS = ("DICT_4X4_50", "DICT_5X5_100", "DICT_6X6_250", "DICT_7X7_50", "DI
 
 
 class HardNegatives:
-    def __init__(self, marker):
+    def __init__(self, marker, round_share=0.0):
+        """`round_share`: the share of patches that are round shapes (see
+        `round_patch`); 0 draws exactly what models v1-v5's heat maps were
+        trained on (no random draw is spent on the choice)."""
+        self.round_share = round_share
         self.dict_name = "DICT_" + marker["dictionary"]
         self.target_id = int(marker["id"])
         d = cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, self.dict_name))
@@ -244,7 +248,40 @@ class HardNegatives:
         m = int(rng.uniform(0, 1.5) * px)
         return cv2.copyMakeBorder(img, m, m, m, m, cv2.BORDER_CONSTANT, value=255)
 
+    def round_patch(self, rng):
+        """Round things a square detector may take for a marker: one or two
+        dark discs or ellipses (eyes, wheels, holes, bolt heads), a ring
+        round a light centre with or without a dark pupil (a target, a
+        manhole cover), a specular highlight in some; on a grey ground, so
+        the patch is no white square. Added for model v5's verifier, which
+        took a cartoon robot's eyes for the target (docs/journal/
+        2026-12-06-learned-detector-v5.md)."""
+        s = 96  # drawn at 96 px, anti-aliased; the paste scales it
+        img = np.full((s, s), int(rng.uniform(110, 255)), np.uint8)
+        count = 2 if rng.random() < 0.4 else 1
+        for k in range(count):
+            r = rng.uniform(0.18, 0.42) * s / count
+            cx = s / 2 if count == 1 else s * (0.28 + 0.44 * k) + rng.normal(0, 2)
+            cy = s / 2 + rng.normal(0, 3)
+            axes = (int(r), int(r * rng.uniform(0.7, 1.0)))
+            angle = rng.uniform(0, 180)
+            dark = int(rng.uniform(0, 70))
+            cv2.ellipse(img, (int(cx), int(cy)), axes, angle, 0, 360, dark, -1, cv2.LINE_AA)
+            if rng.random() < 0.5:  # a ring: a light centre, maybe a dark pupil in it
+                inner = (max(1, int(axes[0] * rng.uniform(0.5, 0.8))), max(1, int(axes[1] * rng.uniform(0.5, 0.8))))
+                cv2.ellipse(img, (int(cx), int(cy)), inner, angle, 0, 360, int(rng.uniform(150, 255)), -1, cv2.LINE_AA)
+                if rng.random() < 0.6:
+                    pupil = (max(1, inner[0] // 2), max(1, inner[1] // 2))
+                    cv2.ellipse(img, (int(cx), int(cy)), pupil, angle, 0, 360, dark, -1, cv2.LINE_AA)
+            if rng.random() < 0.6:  # a highlight
+                hr = max(1, int(r * rng.uniform(0.1, 0.3)))
+                hx, hy = cx + rng.uniform(-0.4, 0.4) * r, cy + rng.uniform(-0.4, 0.4) * r
+                cv2.circle(img, (int(hx), int(hy)), hr, 255, -1, cv2.LINE_AA)
+        return img, False
+
     def patch(self, rng):
+        if self.round_share > 0 and rng.random() < self.round_share:
+            return self.round_patch(rng)
         kind = rng.choice(["board", "chessboard", "aruco", "grid", "ring", "bars"],
                           p=[0.2, 0.15, 0.25, 0.15, 0.1, 0.15])
         if kind == "board":
@@ -420,7 +457,9 @@ def main():
     ap.add_argument("--crop", default="256x192", help="training crop WxH (multiples of 32)")
     ap.add_argument("--width", type=float, default=1.0, help="the network's channel multiplier")
     ap.add_argument("--stem", default="12,24", help="channels of the first two layers before --width "
-                    "(model v3: 16,32)")
+                    "(model v3: 16,32; with --patchify only the second is used)")
+    ap.add_argument("--patchify", action="store_true",
+                    help="one 4x4 stride-4 convolution as the stem (model v5: half model v4's time in OpenCV's DNN)")
     ap.add_argument("--no-negatives", action="store_true", help="paste no hard negatives")
     ap.add_argument("--preview", help="write a PNG of 32 training crops with their targets and stop")
     ap.add_argument("--vectors", help="directory for stored frames and PyTorch's outputs (C++ cross-check)")
@@ -476,7 +515,7 @@ def main():
         assert len(stem) == 2 and min(stem) > 0
     except (ValueError, AssertionError):
         sys.exit(f"train_detector: --stem {a.stem}: expected two positive channel counts, e.g. 16,32")
-    model = MarkerNet(a.width, stem)
+    model = MarkerNet(a.width, stem, a.patchify)
     params = sum(p.numel() for p in model.parameters())
     opt = torch.optim.AdamW(model.parameters(), lr=a.lr, weight_decay=1e-4)
     sched = torch.optim.lr_scheduler.OneCycleLR(opt, max_lr=a.lr, total_steps=a.steps, pct_start=0.05)
@@ -528,12 +567,14 @@ def main():
                              "[corner_scale input px], clockwise from the one nearest the top-left"},
         "model": {"file": os.path.basename(a.out), "bytes": len(blob),
                   "sha256": hashlib.sha256(blob).hexdigest(), "parameters": params, "opset": 11,
-                  "architecture": f"MarkerNet(width={a.width}, stem={stem}) (tools/detector_model.py)"},
+                  "architecture": f"MarkerNet(width={a.width}, stem={stem}, patchify={a.patchify}) "
+                                  "(tools/detector_model.py)"},
         "dataset": {"seed": meta["seed"], "count": meta["count"], "splits": meta["splits"],
                     "command": f"landing_scenario dataset --out DIR --count {meta['count']} --seed {meta['seed']} "
                                f"--marker {meta['marker']['dictionary']}:{meta['marker']['id']}"},
         "training": {"seed": a.seed, "steps": a.steps, "batch": a.batch, "lr": a.lr, "threads": a.threads,
                      "positive_fraction": a.positive_fraction, "width": a.width, "stem": list(stem),
+                     "patchify": a.patchify,
                      "scale_aware_degradation": True,
                      "hard_negatives": negatives is not None,
                      "crop": [CROP_W, CROP_H], "optimizer": "AdamW, one-cycle", "torch": torch.__version__,

@@ -23,7 +23,8 @@ Training patches, from the dataset's train split:
              jittered corners; the first stage's proposals on anything
              else (background, objects, glare); and hard negatives drawn
              here (calibration boards, other dictionaries' markers, bit
-             grids, codeless squares: train_detector's HardNegatives)
+             grids, codeless squares, and with --round-negatives discs,
+             rings and eyes: train_detector's HardNegatives)
              under a random perspective on a frame's background.
 Each sample gets a random quarter turn (the corners rolled: the proposal's
 corner order says nothing of the code's rotation), blur and noise.
@@ -260,6 +261,9 @@ def main():
                     help="the heat that makes a proposal at run time (the manifest's proposal_threshold)")
     ap.add_argument("--run-max-proposals", type=int, default=4,
                     help="proposals verified a frame at run time (the manifest's max_proposals)")
+    ap.add_argument("--round-negatives", type=float, default=0.25,
+                    help="share of the drawn hard negatives that are round shapes (discs, rings, eyes); "
+                         "model v4's verifier: 0")
     ap.add_argument("--state", help="also save the PyTorch weights here (to write vectors again)")
     ap.add_argument("--vectors", help="directory for stored patches and PyTorch's outputs (C++ cross-check)")
     a = ap.parse_args()
@@ -287,7 +291,7 @@ def main():
 
     pos = [s for s in train if s[2] == 1]
     neg = [s for s in train if s[2] == 0]
-    negatives = HardNegatives(meta["marker"])
+    negatives = HardNegatives(meta["marker"], a.round_negatives)
     model = VerifierNet(a.width)
     params = sum(p.numel() for p in model.parameters())
     opt = torch.optim.AdamW(model.parameters(), lr=a.lr, weight_decay=1e-4)
@@ -352,6 +356,7 @@ def main():
         "training": {"seed": a.seed, "steps": a.steps, "batch": a.batch, "lr": a.lr, "threads": a.threads,
                      "width": a.width, "proposal_threshold": a.proposal, "max_proposals": a.max_proposals,
                      "drawn": "hard negatives 10 %, the target or a look-alike drawn 10 % of each batch",
+                     "round_negatives": a.round_negatives,
                      "optimizer": "AdamW, one-cycle", "torch": torch.__version__,
                      "seconds": round(train_s), "samples": counts,
                      "dataset": {"seed": meta["seed"], "count": meta["count"]},

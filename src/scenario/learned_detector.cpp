@@ -373,7 +373,9 @@ const cv::Mat& LearnedDetector::forward(const cv::Mat& gray) {
   box_ = letterbox(gray.cols, gray.rows, manifest_.width, manifest_.height);
   const auto pad = static_cast<float>(manifest_.pad_value);
   input_.create(manifest_.height, manifest_.width, CV_32FC1);
-  input_.setTo(cv::Scalar(pad));
+  // The padding only where the frame leaves some (a frame of the network's
+  // size fills it: every frame of a campaign).
+  if (box_.width != manifest_.width || box_.height != manifest_.height) input_.setTo(cv::Scalar(pad));
   cv::Mat roi =
       input_(cv::Rect(static_cast<int>(box_.offset.x()), static_cast<int>(box_.offset.y()), box_.width, box_.height));
   if (box_.width == gray.cols && box_.height == gray.rows) {
