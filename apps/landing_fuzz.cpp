@@ -218,6 +218,7 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
 int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
   a.search.system = a.common.system;
   a.search.detector = detector_of(a.common);
+  if (a.search.detector == "learned") a.search.detector_model = ts::learned_model_id(ts::default_model_path());
   a.search.base = a.base_path.empty() ? ts::Scenario{} : ts::load_scenario(a.base_path);
   a.search.base.map = a.map;
   if (a.source_chromosome) a.search.chromosome = tsr::ChromosomeOptions::source();

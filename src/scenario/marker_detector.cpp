@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "core/io_util.hpp"
 #include "scenario/aruco_detector.hpp"
 #include "scenario/learned_detector.hpp"
 #include "touchdown/core/error.hpp"
@@ -35,6 +36,12 @@ std::filesystem::path default_model_path() {
   if (std::filesystem::exists(TOUCHDOWN_MODEL_PATH, ec)) return TOUCHDOWN_MODEL_PATH;
   if (std::filesystem::exists(TOUCHDOWN_INSTALLED_MODEL_PATH, ec)) return TOUCHDOWN_INSTALLED_MODEL_PATH;
   return TOUCHDOWN_MODEL_PATH;
+}
+
+std::string learned_model_id(const std::filesystem::path& model) {
+  namespace core = touchdown::detail;
+  const std::uint64_t h = core::fnv1a64(core::read_text_file(model));
+  return core::fnv1a64_id(core::fnv1a64(core::read_text_file(detail::manifest_path(model)), h));
 }
 
 Registry<MakeDetector>& detector_registry() {

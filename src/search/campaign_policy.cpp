@@ -1,23 +1,16 @@
 // The DQN of an rlaga campaign (campaign_policy.hpp).
 #include "touchdown/search/campaign_policy.hpp"
 
-#include <sstream>
 #include <utility>
 
+#include "core/io_util.hpp"
 #include "touchdown/search/surrogate.hpp"
 
 namespace touchdown::search {
 
 std::string weights_id(const QNetwork& network) {
   // FNV-1a, 64 bit, of the weights' text form.
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (const unsigned char c : weights_text(network)) {
-    h ^= c;
-    h *= 0x100000001b3ULL;
-  }
-  std::ostringstream s;
-  s << "fnv1a64:" << std::hex << h;
-  return s.str();
+  return detail::fnv1a64_id(detail::fnv1a64(weights_text(network)));
 }
 
 CampaignPolicy campaign_policy(const std::filesystem::path& weights, const std::filesystem::path& dir, bool resume,

@@ -89,6 +89,7 @@ std::string campaign_config(const SearchOptions& o) {
   j["weights"] = o.weights_id;
   // Written only when set, so that campaigns from before it still resume.
   if (o.detector != "aruco") j["detector"] = o.detector;
+  if (!o.detector_model.empty()) j["detector_model"] = o.detector_model;
   if (o.fair_fitness) j["fair_fitness"] = true;
   if (o.near_miss) j["near_miss"] = true;
   if (o.diversity) {

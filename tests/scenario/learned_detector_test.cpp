@@ -174,6 +174,23 @@ TEST_F(ModelFiles, AMissingModelNamesTheFile) {
   EXPECT_THROW(make_marker_detector(o), InvalidArgument);
 }
 
+TEST_F(ModelFiles, AModelsIdIsItsBytesAndItsManifestsAndNamesAMissingFile) {
+  // FNV-1a 64 of "a" then "" (the published test vector: af63dc4c8601ec8c).
+  const fs::path model = write("m.onnx", "a");
+  write("m.json", "");
+  EXPECT_EQ(learned_model_id(model), "fnv1a64:af63dc4c8601ec8c");
+  write("m.json", "b");  // "ab": a manifest edit changes the id
+  EXPECT_EQ(learned_model_id(model), "fnv1a64:89c4407b545986a");
+  EXPECT_NE(learned_model_id(kModel), learned_model_id(model));
+  fs::remove(dir_ / "m.json");
+  try {
+    (void)learned_model_id(model);
+    ADD_FAILURE() << "no error for a missing manifest";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("m.json"), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(ModelFiles, ATruncatedModelNamesTheFile) {
   std::ifstream in(kModel, std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -291,6 +291,16 @@ TEST_F(SearchDir, RefusesAnotherCampaignsDirectoryAndOverwritesNothing) {
   }
   other = small(Method::Random);
   EXPECT_THROW(run_search(other, e, dir, true), InvalidArgument);
+  // Another learned model: a campaign never resumes on another detector.
+  EXPECT_EQ(test::read_text(dir / "campaign.json").find("detector_model"), std::string::npos);
+  other = small(Method::DiverseGa);
+  other.detector_model = "fnv1a64:1234";
+  try {
+    (void)run_search(other, e, dir, true);
+    FAIL();
+  } catch (const InvalidArgument& x) {
+    EXPECT_NE(std::string(x.what()).find("detector_model"), std::string::npos) << x.what();
+  }
   EXPECT_EQ(test::read_text(dir / "results.jsonl"), before);
   // A directory without a campaign cannot be resumed.
   EXPECT_THROW(run_search(small(Method::DiverseGa), e, root_ / "empty", true), InvalidArgument);

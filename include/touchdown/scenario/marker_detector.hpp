@@ -84,6 +84,12 @@ struct DetectorOptions {
 /// environment variable TOUCHDOWN_MODEL overrides both.
 std::filesystem::path default_model_path();
 
+/// What a learned model is, for results that depend on it (campaign.json's
+/// "detector_model"): "fnv1a64:<hex>" of the ONNX file's bytes and then its
+/// manifest's (which carries the verifier's sha256). Throws IoError naming
+/// a file that cannot be read.
+std::string learned_model_id(const std::filesystem::path& model);
+
 class MarkerDetector {
  public:
   virtual ~MarkerDetector() = default;

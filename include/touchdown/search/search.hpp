@@ -129,7 +129,10 @@ struct SearchOptions {
   Method method = Method::Rlaga;
   std::string system = "opencv-mls";  ///< recorded in campaign.json (the evaluator runs it)
   std::string detector = "aruco";     ///< the system's marker detector, recorded likewise
-  int budget = 300;                   ///< scenarios evaluated in all (≥ population)
+  /// The learned detector's model (scenario::learned_model_id), recorded
+  /// likewise so a campaign never resumes on another model; empty: none.
+  std::string detector_model;
+  int budget = 300;  ///< scenarios evaluated in all (≥ population)
   std::uint64_t seed = 1;
   GaOptions ga;  ///< population, thresholds, mutation candidates
   /// Gene slots. The method sets drive_objects (rlaga: true, else false).
