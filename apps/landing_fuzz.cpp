@@ -61,7 +61,11 @@ tsr::EvaluatorOptions evaluator_options(const Common& c, std::shared_ptr<const t
   return o;
 }
 
-std::string detector_of(const Common& c) { return c.system == "learned-mls" ? "learned" : c.detector; }
+void set_detector(tsr::SearchOptions& o, const Common& c) {
+  o.detector = c.system == "learned-mls" ? "learned" : c.detector;
+  o.detector_model =
+      o.detector == "learned" ? touchdown::scenario::learned_model_id(touchdown::scenario::default_model_path()) : "";
+}
 
 std::string percent(double v) { return format_fixed(v, 1) + " %"; }
 
@@ -217,8 +221,7 @@ CLI::App* add_campaign_command(CLI::App& app, CampaignArgs& a) {
 // the violations so far (a bar on a terminal, lines off one).
 int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
   a.search.system = a.common.system;
-  a.search.detector = detector_of(a.common);
-  if (a.search.detector == "learned") a.search.detector_model = ts::learned_model_id(ts::default_model_path());
+  set_detector(a.search, a.common);
   a.search.base = a.base_path.empty() ? ts::Scenario{} : ts::load_scenario(a.base_path);
   a.search.base.map = a.map;
   if (a.source_chromosome) a.search.chromosome = tsr::ChromosomeOptions::source();

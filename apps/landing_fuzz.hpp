@@ -33,8 +33,9 @@ struct Common {
 void add_common(CLI::App& cmd, Common& c);
 touchdown::search::EvaluatorOptions evaluator_options(const Common& c,
                                                       std::shared_ptr<const touchdown::search::QNetwork> policy);
-/// The detector a campaign runs (learned-mls: always the learned one).
-std::string detector_of(const Common& c);
+/// Sets the detector a campaign runs (learned-mls: always the learned one)
+/// and, for the learned one, its model's id (campaign.json's detector_model).
+void set_detector(touchdown::search::SearchOptions& o, const Common& c);
 std::string percent(double v);
 /// A count or "not found".
 std::string optional_count(const std::optional<int>& v);

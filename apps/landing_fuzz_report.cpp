@@ -271,7 +271,7 @@ int compare_command(const CompareArgs& a) {
       o.diversity_pool = spec.pool.value_or(tsr::SeedPool::Spread);
       o.near_miss = spec.near_miss;
       o.system = a.common.system;
-      o.detector = detector_of(a.common);
+      set_detector(o, a.common);
       o.budget = a.budget;
       o.ga.population = a.population;
       o.seed = static_cast<std::uint64_t>(k);
