@@ -1,7 +1,6 @@
 #include "io_util.hpp"
 
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
 #include <iterator>
 
@@ -28,15 +27,6 @@ std::string read_text_file(const std::filesystem::path& path) {
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw IoError(path.string() + ": read error");
   return text;
-}
-
-std::string fnv1a64_id(std::uint64_t h) {
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
-  // Leading zeros dropped: the form weights ids have always had.
-  const char* first = hex;
-  while (*first == '0' && first[1]) ++first;
-  return std::string("fnv1a64:") + first;
 }
 
 void write_text_file(const std::filesystem::path& path, std::string_view text, const std::string& shown) {

@@ -89,20 +89,6 @@ std::string read_text_file(const std::filesystem::path& path);
 void write_text_file(const std::filesystem::path& path, std::string_view text, const std::string& shown = {});
 
 /// Reads one line (without '\n' or a trailing '\r'); false at end of stream.
-/// FNV-1a, 64 bit, of `bytes`, continuing from `h` (to hash several
-/// pieces as one): a content identity for files named in results (the
-/// DQN's weights, a learned detector's model), not a cryptographic hash.
-inline std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t h = 0xcbf29ce484222325ULL) {
-  for (const char c : bytes) {
-    h ^= static_cast<unsigned char>(c);
-    h *= 0x100000001b3ULL;
-  }
-  return h;
-}
-
-/// "fnv1a64:<hex>", the form campaign.json records.
-std::string fnv1a64_id(std::uint64_t h);
-
 inline bool read_line(std::istream& in, std::string& line) {
   if (!std::getline(in, line)) return false;
   if (!line.empty() && line.back() == '\r') line.pop_back();

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "core/hash.hpp"
 #include "core/io_util.hpp"
 #include "scenario/aruco_detector.hpp"
 #include "scenario/learned_detector.hpp"

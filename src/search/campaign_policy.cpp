@@ -3,7 +3,7 @@
 
 #include <utility>
 
-#include "core/io_util.hpp"
+#include "core/hash.hpp"
 #include "touchdown/search/surrogate.hpp"
 
 namespace touchdown::search {
