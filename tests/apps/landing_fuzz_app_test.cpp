@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "test_util.hpp"
+#include "touchdown/scenario/marker_detector.hpp"
 #include "touchdown/scenario/scenario.hpp"
 
 namespace td = touchdown;
@@ -73,6 +74,33 @@ TEST(LandingFuzzApp, CampaignWritesItsDirectoryAndMetricsReadsIt) {
   ASSERT_EQ(again.code, 0) << again.err;
   EXPECT_EQ(nlohmann::json::parse(again.out)["resumed"], 4);
   EXPECT_EQ(td::test::read_text(dir / "c" / "results.jsonl"), before);
+}
+
+// Issue 53: a campaign of the learned detector records its model (the ONNX
+// file's and manifest's FNV-1a), from campaign and from compare alike, so
+// that neither resumes on another model; an ArUco campaign records none.
+TEST(LandingFuzzApp, LearnedCampaignsRecordTheirModel) {
+  TempDir dir;
+  const std::string id = td::scenario::learned_model_id(td::scenario::default_model_path());
+  ASSERT_EQ(id.rfind("fnv1a64:", 0), 0u) << id;
+  const std::string small = " --budget 2 --population 2 --threads 2";
+  const AppRun c = fuzz_app("campaign --method random --system learned-mls --out " + (dir / "c").string() + small +
+                                " --base " + short_base(dir),
+                            dir);
+  ASSERT_EQ(c.code, 0) << c.err;
+  EXPECT_EQ(nlohmann::json::parse(td::test::read_text(dir / "c" / "campaign.json")).value("detector_model", ""), id);
+  const AppRun m = fuzz_app(
+      "compare --methods random --maps ground --seeds 1 --system learned-mls --out " + (dir / "t").string() + small,
+      dir);
+  ASSERT_EQ(m.code, 0) << m.err;
+  const auto cell =
+      nlohmann::json::parse(td::test::read_text(dir / "t" / "ground" / "random" / "seed-1" / "campaign.json"));
+  EXPECT_EQ(cell.value("detector_model", ""), id);
+  EXPECT_EQ(cell.value("detector", ""), "learned");
+  const AppRun a =
+      fuzz_app("campaign --method random --out " + (dir / "a").string() + small + " --base " + short_base(dir), dir);
+  ASSERT_EQ(a.code, 0) << a.err;
+  EXPECT_FALSE(nlohmann::json::parse(td::test::read_text(dir / "a" / "campaign.json")).contains("detector_model"));
 }
 
 // For a built-in system, a plug-in's (issue 55: each rank loads the library
