@@ -406,25 +406,10 @@ PointCloud read_pcd(std::istream& in, std::string_view source) {
 
 void write_pcd(const PointCloud& cloud, std::ostream& out, PcdEncoding encoding) {
   switch (encoding) {
-    case PcdEncoding::Ascii: {
+    case PcdEncoding::Ascii:
       write_header(out, cloud, encoding);
-      char buf[32];
-      std::string line;
-      for (const auto& p : cloud.points) {
-        line.clear();
-        for (int a = 0; a < 3; ++a) {
-          if (a) line += ' ';
-          if (std::isnan(p[a])) {
-            line += "nan";
-          } else {
-            line += detail::format_exact(p[a], buf);
-          }
-        }
-        line += '\n';
-        out << line;
-      }
+      write_xyz(cloud, out);  // PCD's ASCII body is an XYZ text cloud: "x y z" a line, nan as "nan"
       break;
-    }
     case PcdEncoding::Binary:
       write_header(out, cloud, encoding);
       out.write(reinterpret_cast<const char*>(cloud.points.data()),

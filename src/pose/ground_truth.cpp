@@ -5,8 +5,11 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <iterator>
+#include <string_view>
 #include <system_error>
+#include <vector>
 
 #include "core/format.hpp"
 #include "core/io_util.hpp"
@@ -64,74 +67,24 @@ class LineParser {
 
   GroundTruthSample parse() {
     GroundTruthSample out;
-    bool have_frame = false, have_t_s = false, have_t = false, have_q = false, have_leds = false, have_marker = false;
     double tq[7] = {};
-    skip_ws();
-    expect('{', "expected a JSON object");
-    skip_ws();
-    if (peek() == '}') fail("missing key \"frame\"");
-    std::string key;
-    for (;;) {
-      skip_ws();
-      parse_string(key);
-      skip_ws();
-      expect(':', "expected ':' after a key");
-      skip_ws();
-      auto once = [&](bool& seen) {
-        if (seen) fail("duplicate key \"" + key + "\"");
-        seen = true;
-      };
-      if (key == "frame") {
-        once(have_frame);
-        if (peek() != '"') fail("frame: expected a string");
-        parse_string(out.frame);
-      } else if (key == "t_s") {
-        once(have_t_s);
-        out.t_s = parse_number(key);
-      } else if (key == "t") {
-        once(have_t);
-        parse_number_array(key, tq, 3);
-      } else if (key == "q") {
-        once(have_q);
-        parse_number_array(key, tq + 3, 4);
-      } else if (key == "leds_visible") {
-        once(have_leds);
-        expect('[', "leds_visible: expected an array of booleans");
-        skip_ws();
-        if (peek() != ']') {
-          for (;;) {
-            skip_ws();
-            out.leds_visible.push_back(parse_bool(key));
-            if (out.leds_visible.size() > 1024) fail("leds_visible: more than 1024 entries");
-            skip_ws();
-            if (peek() == ',') {
-              ++i_;
-              continue;
-            }
-            break;
+    parse_object(
+        {{"frame", true}, {"t_s", true}, {"t", true}, {"q", true}, {"leds_visible", false}, {"marker_visible", false}},
+        [&](const std::string& key) {
+          if (key == "frame") {
+            parse_frame(out.frame);
+          } else if (key == "t_s") {
+            out.t_s = parse_number(key);
+          } else if (key == "t") {
+            parse_number_array(key, tq, 3);
+          } else if (key == "q") {
+            parse_number_array(key, tq + 3, 4);
+          } else if (key == "leds_visible") {
+            parse_bool_array(key, out.leds_visible);
+          } else {
+            out.marker_visible = parse_bool(key);
           }
-        }
-        expect(']', "leds_visible: expected ',' or ']'");
-      } else if (key == "marker_visible") {
-        once(have_marker);
-        out.marker_visible = parse_bool(key);
-      } else {
-        skip_value(0);
-      }
-      skip_ws();
-      if (peek() == ',') {
-        ++i_;
-        continue;
-      }
-      expect('}', "expected ',' or '}' in the object");
-      break;
-    }
-    skip_ws();
-    if (i_ != s_.size()) fail("unexpected text after the JSON object");
-    if (!have_frame) fail("missing key \"frame\"");
-    if (!have_t_s) fail("missing key \"t_s\"");
-    if (!have_t) fail("missing key \"t\"");
-    if (!have_q) fail("missing key \"q\"");
+        });
     Eigen::Quaterniond q(tq[3], tq[4], tq[5], tq[6]);
     const double n = q.norm();
     if (!(std::abs(n - 1) <= 1e-6)) fail("q: not a unit quaternion (norm " + detail::format_exact(n) + ")");
@@ -145,57 +98,21 @@ class LineParser {
   // One attitude line (ground_truth.hpp): the same strict reader.
   AttitudeSample parse_attitude() {
     AttitudeSample out;
-    bool have_frame = false, have_t_s = false, have_gc = false, have_gb = false, have_sigma = false;
     double g[6] = {};
-    skip_ws();
-    expect('{', "expected a JSON object");
-    skip_ws();
-    if (peek() == '}') fail("missing key \"frame\"");
-    std::string key;
-    for (;;) {
-      skip_ws();
-      parse_string(key);
-      skip_ws();
-      expect(':', "expected ':' after a key");
-      skip_ws();
-      auto once = [&](bool& seen) {
-        if (seen) fail("duplicate key \"" + key + "\"");
-        seen = true;
-      };
-      if (key == "frame") {
-        once(have_frame);
-        if (peek() != '"') fail("frame: expected a string");
-        parse_string(out.frame);
-      } else if (key == "t_s") {
-        once(have_t_s);
-        out.t_s = parse_number(key);
-      } else if (key == "g_camera") {
-        once(have_gc);
-        parse_number_array(key, g, 3);
-      } else if (key == "g_body") {
-        once(have_gb);
-        parse_number_array(key, g + 3, 3);
-      } else if (key == "sigma_deg") {
-        once(have_sigma);
-        out.sigma_deg = parse_number(key);
-      } else {
-        skip_value(0);
-      }
-      skip_ws();
-      if (peek() == ',') {
-        ++i_;
-        continue;
-      }
-      expect('}', "expected ',' or '}' in the object");
-      break;
-    }
-    skip_ws();
-    if (i_ != s_.size()) fail("unexpected text after the JSON object");
-    if (!have_frame) fail("missing key \"frame\"");
-    if (!have_t_s) fail("missing key \"t_s\"");
-    if (!have_gc) fail("missing key \"g_camera\"");
-    if (!have_gb) fail("missing key \"g_body\"");
-    if (!have_sigma) fail("missing key \"sigma_deg\"");
+    parse_object({{"frame", true}, {"t_s", true}, {"g_camera", true}, {"g_body", true}, {"sigma_deg", true}},
+                 [&](const std::string& key) {
+                   if (key == "frame") {
+                     parse_frame(out.frame);
+                   } else if (key == "t_s") {
+                     out.t_s = parse_number(key);
+                   } else if (key == "g_camera") {
+                     parse_number_array(key, g, 3);
+                   } else if (key == "g_body") {
+                     parse_number_array(key, g + 3, 3);
+                   } else {
+                     out.sigma_deg = parse_number(key);
+                   }
+                 });
     out.g_camera = Eigen::Vector3d(g[0], g[1], g[2]);
     out.g_body = Eigen::Vector3d(g[3], g[4], g[5]);
     for (const auto& [name, v] : {std::pair{"g_camera", out.g_camera}, std::pair{"g_body", out.g_body}}) {
@@ -213,6 +130,75 @@ class LineParser {
   }
 
  private:
+  struct Key {
+    std::string_view name;
+    bool required;
+  };
+
+  // The whole line as one object: each known key (given once at most) is
+  // handed to on_key, which parses its value; unknown keys are skipped; then
+  // the required keys are checked in the order given. Nothing may follow.
+  template <class OnKey>
+  void parse_object(std::initializer_list<Key> known, OnKey&& on_key) {
+    std::vector<bool> seen(known.size(), false);
+    skip_ws();
+    expect('{', "expected a JSON object");
+    skip_ws();
+    if (peek() == '}') fail("missing key \"" + std::string(known.begin()->name) + "\"");
+    std::string key;
+    for (;;) {
+      skip_ws();
+      parse_string(key);
+      skip_ws();
+      expect(':', "expected ':' after a key");
+      skip_ws();
+      const auto it = std::find_if(known.begin(), known.end(), [&](const Key& k) { return k.name == key; });
+      if (it == known.end()) {
+        skip_value(0);
+      } else {
+        const auto index = static_cast<std::size_t>(it - known.begin());
+        if (seen[index]) fail("duplicate key \"" + key + "\"");
+        seen[index] = true;
+        on_key(key);
+      }
+      skip_ws();
+      if (peek() == ',') {
+        ++i_;
+        continue;
+      }
+      expect('}', "expected ',' or '}' in the object");
+      break;
+    }
+    skip_ws();
+    if (i_ != s_.size()) fail("unexpected text after the JSON object");
+    std::size_t index = 0;
+    for (const Key& k : known) {
+      if (k.required && !seen[index]) fail("missing key \"" + std::string(k.name) + "\"");
+      ++index;
+    }
+  }
+  void parse_frame(std::string& frame) {
+    if (peek() != '"') fail("frame: expected a string");
+    parse_string(frame);
+  }
+  void parse_bool_array(const std::string& key, std::vector<bool>& out) {
+    expect('[', (key + ": expected an array of booleans").c_str());
+    skip_ws();
+    if (peek() != ']') {
+      for (;;) {
+        skip_ws();
+        out.push_back(parse_bool(key));
+        if (out.size() > 1024) fail(key + ": more than 1024 entries");
+        skip_ws();
+        if (peek() == ',') {
+          ++i_;
+          continue;
+        }
+        break;
+      }
+    }
+    expect(']', (key + ": expected ',' or ']'").c_str());
+  }
   [[noreturn]] void fail(const std::string& what) const { detail::parse_fail_line(source_, line_, what); }
   [[nodiscard]] char peek() const { return i_ < s_.size() ? s_[i_] : '\0'; }
   void skip_ws() {
