@@ -52,7 +52,7 @@ using namespace touchdown::app;
 using namespace touchdown::app::scenario_app;
 
 /// The camera view with the system's detections, phase and state drawn on.
-cv::Mat overlay(const ts::CameraFrame& frame, const ts::SystemOutput& out, const ts::DroneState& s) {
+cv::Mat overlay(const ts::CameraFrame& frame, const ts::SystemOutput& out, const td::DroneState& s) {
   cv::Mat img(frame.height, frame.width, CV_8UC3);
   std::memcpy(img.data, frame.image.pixels.data(), frame.image.pixels.size());
   for (const auto& d : out.detections) {
@@ -214,7 +214,7 @@ int run_command(RunArgs& a) {
   const auto frames_max =
       static_cast<std::size_t>(std::max(1.0, std::ceil(scenario.time_limit * a.options.camera.rate_hz)));
   std::size_t frames = 0;
-  a.options.on_frame = [&](const ts::CameraFrame& f, const ts::SystemOutput& out, const ts::DroneState& s) {
+  a.options.on_frame = [&](const ts::CameraFrame& f, const ts::SystemOutput& out, const td::DroneState& s) {
     ++frames;
     bar.draw(std::min(frames, frames_max - 1), frames_max);
     if (!images.video && a.snapshot_path.empty()) return;

@@ -36,7 +36,7 @@ class EagerLander final : public ts::LandingSystem {
 
   ts::SystemOutput update(const ts::SystemInput& in) override {
     ts::SystemOutput out;
-    const ts::DroneState& s = in.state;
+    const touchdown::DroneState& s = in.state;
     if (in.frame != nullptr) look(*in.frame, s, out);
     if (s.t - last_seen_ > 1.0) seen_since_ = -1;  // lost: the sighting restarts
     if (!descending_ && seen_since_ >= 0 && s.t - seen_since_ >= 1.0) {
@@ -58,7 +58,7 @@ class EagerLander final : public ts::LandingSystem {
  private:
   // Detects the target in the frame (grey by the BT.601 luma weights) and
   // moves the estimate to its centre's ground point.
-  void look(const ts::CameraFrame& f, const ts::DroneState& s, ts::SystemOutput& out) {
+  void look(const ts::CameraFrame& f, const touchdown::DroneState& s, ts::SystemOutput& out) {
     gray_.resize(static_cast<std::size_t>(f.width) * static_cast<std::size_t>(f.height));
     const std::uint8_t* bgr = f.image.pixels.data();
     for (std::size_t i = 0; i < gray_.size(); ++i) {

@@ -13,6 +13,7 @@
 #include "core/checks.hpp"
 #include "core/ode_util.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::mission {
 namespace {
@@ -123,11 +124,14 @@ struct DroneSimulation::Impl {
 
   DroneState read() const {
     DroneState s;
-    s.p = vec_of(dBodyGetPosition(body));
-    s.v = vec_of(dBodyGetLinearVel(body));
-    s.R = rotation_of(body);
-    s.w_body = s.R.transpose() * vec_of(dBodyGetAngularVel(body));
-    s.a = accel;
+    s.t = t;
+    s.position = vec_of(dBodyGetPosition(body));
+    s.velocity = vec_of(dBodyGetLinearVel(body));
+    s.R_world_body = rotation_of(body);
+    s.w_body = s.R_world_body.transpose() * vec_of(dBodyGetAngularVel(body));
+    s.acceleration = accel;
+    s.yaw_deg = rad_to_deg(std::atan2(s.R_world_body(1, 0), s.R_world_body(0, 0)));
+    s.on_ground = contact_state.on_ground || contact_state.support_on_pad || contact_state.strike_on_pad;
     return s;
   }
 
@@ -191,6 +195,7 @@ struct DroneSimulation::Impl {
   Eigen::VectorXd motor;
   Eigen::Isometry3d T_pad = Eigen::Isometry3d::Identity();
   Eigen::Vector3d accel = Eigen::Vector3d::Zero();
+  double t = 0;  // since place() [s]
   ContactState contact_state;
 };
 
@@ -219,6 +224,7 @@ void DroneSimulation::place(const Eigen::Isometry3d& T_world_body, const Eigen::
   m.controller.reset();
   m.controller.idle(v);
   m.accel.setZero();
+  m.t = 0;
 }
 
 void DroneSimulation::set_pad(const Eigen::Isometry3d& T_world_pad, const Eigen::Vector3d& v,
@@ -240,8 +246,9 @@ void DroneSimulation::step(const twin::Setpoint& setpoint, const Eigen::Vector3d
   const double dt = m.options.step;
   const DroneState s = m.read();
   if (armed) {
-    const twin::LandController::Output u =
-        m.controller.update({p_estimate, v_estimate, s.R, s.w_body}, setpoint, false);
+    const twin::LandController::Output u = m.controller.update(
+        {.position = p_estimate, .velocity = v_estimate, .R_world_body = s.R_world_body, .w_body = s.w_body}, setpoint,
+        false);
     const Eigen::VectorXd& cmd = m.mixer.mix_in_place(u.thrust, u.torque);
     m.motor += (cmd - m.motor) * m.motor_alpha;
   } else {
@@ -254,13 +261,14 @@ void DroneSimulation::step(const twin::Setpoint& setpoint, const Eigen::Vector3d
     dBodyAddRelTorque(m.body, 0, 0, -m.af.spin[static_cast<std::size_t>(i)] * m.af.torque_coefficient * m.motor[i]);
   }
   // Drag against the air: linear + quadratic in the airspeed.
-  const Eigen::Vector3d air = s.v - wind;
+  const Eigen::Vector3d air = s.velocity - wind;
   const Eigen::Vector3d drag = -(m.options.drag_linear + m.options.drag_quadratic * air.norm()) * air;
   dBodyAddForce(m.body, drag.x(), drag.y(), drag.z());
   m.collide();
   dWorldStep(m.world, dt);
   dJointGroupEmpty(m.contact_group);
-  m.accel = (vec_of(dBodyGetLinearVel(m.body)) - s.v) / dt;
+  m.accel = (vec_of(dBodyGetLinearVel(m.body)) - s.velocity) / dt;
+  m.t += dt;
 }
 
 DroneState DroneSimulation::state() const { return impl_->read(); }
@@ -271,8 +279,8 @@ const Eigen::VectorXd& DroneSimulation::motor_thrusts() const { return impl_->mo
 Eigen::Isometry3d DroneSimulation::T_world_body() const {
   const DroneState s = impl_->read();
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = s.R;
-  T.translation() = s.p - s.R * impl_->com;
+  T.linear() = s.R_world_body;
+  T.translation() = s.position - s.R_world_body * impl_->com;
   return T;
 }
 

@@ -273,10 +273,10 @@ class Flight {
     Eigen::Vector3d gust = normal_vector3(wind_rng_);
     gust.z() *= 0.5;  // vertical gusts are half as strong
     gust_ = gust * o.wind.gust_sigma;
-    estimator_ = DroneEstimator(drone_.state().p + fix_error_, Eigen::Vector3d::Zero(), std::max(o.fix.sigma, 0.05),
-                                std::max(o.imu_accel_sigma, 0.05), dt_);
-    active_.setpoint.position = drone_.state().p;
-    p_fix_pad_ = world_to_pad(pad_, {drone_.state().p + fix_error_, {}, {}}).p;
+    estimator_ = DroneEstimator(drone_.state().position + fix_error_, Eigen::Vector3d::Zero(),
+                                std::max(o.fix.sigma, 0.05), std::max(o.imu_accel_sigma, 0.05), dt_);
+    active_.setpoint.position = drone_.state().position;
+    p_fix_pad_ = world_to_pad(pad_, {drone_.state().position + fix_error_, {}, {}}).p;
     res_.v_limit = o.guidance.planner.v_max;
     res_.a_limit = o.guidance.planner.a_max;
   }
@@ -327,11 +327,11 @@ class Flight {
   void step(long step) {
     const double t = static_cast<double>(step) * dt_;
     truth_ = drone_.state();
-    if (!truth_.p.allFinite() || !truth_.v.allFinite() || truth_.v.norm() > 50) {
+    if (!truth_.position.allFinite() || !truth_.velocity.allFinite() || truth_.velocity.norm() > 50) {
       end(MissionOutcome::Crashed, "unstable: non-finite or runaway state", t);
       return;
     }
-    rel_truth_ = world_to_pad(pad_, {truth_.p, truth_.v, truth_.a});
+    rel_truth_ = world_to_pad(pad_, {truth_.position, truth_.velocity, truth_.acceleration});
     if (step % frame_every_ == 0) capture(t);
     if (step % fix_every_ == 0) update_fix(t);
     if (step % ground_every_ == 0 && !ground_station(t)) return;
@@ -348,7 +348,7 @@ class Flight {
     pt.p_pad_com = rel_truth_.p;
     // The drone's attitude telemetry (its IMU's gravity direction) reaches
     // the ground station over the link: the one from link.latency ago.
-    attitude_.emplace_back(t, truth_.R.transpose() * -Eigen::Vector3d::UnitZ());
+    attitude_.emplace_back(t, truth_.R_world_body.transpose() * -Eigen::Vector3d::UnitZ());
     while (attitude_.size() > 1 && attitude_[1].first <= t - o_.link.latency) attitude_.pop_front();
     pt.g_body = attitude_.front().second;
     pt.state = state_;
@@ -459,7 +459,7 @@ class Flight {
     for (int i = 0; i < 3; ++i) {
       gust_[i] = ga * gust_[i] + gb * o_.wind.gust_sigma * (i == 2 ? 0.5 : 1.0) * wind_rng_.normal();
     }
-    const Eigen::Vector3d accel = truth_.a + o_.imu_accel_sigma * normal_vector3(imu_rng_);
+    const Eigen::Vector3d accel = truth_.acceleration + o_.imu_accel_sigma * normal_vector3(imu_rng_);
     estimator_.predict(t, accel);
     vehicle_.step(dt_);
     last_pad_v_ = pad_.velocity;
@@ -476,15 +476,15 @@ class Flight {
     const double tracking_error = (guide_.reference.p - rel_truth_.p).norm();
     if (state_ == MissionState::Landing && !touched_) {
       res_.max_tracking_error = std::max(res_.max_tracking_error, tracking_error);
-      res_.max_axis_speed = std::max(res_.max_axis_speed, truth_.v.cwiseAbs().maxCoeff());
-      res_.max_axis_acceleration = std::max(res_.max_axis_acceleration, truth_.a.cwiseAbs().maxCoeff());
+      res_.max_axis_speed = std::max(res_.max_axis_speed, truth_.velocity.cwiseAbs().maxCoeff());
+      res_.max_axis_acceleration = std::max(res_.max_axis_acceleration, truth_.acceleration.cwiseAbs().maxCoeff());
     }
     if (!record_ || step % sample_every_ != 0) return;
     MissionSample s;
     s.t = t;
     s.state = state_;
-    s.drone = truth_.p;
-    s.drone_v = truth_.v;
+    s.drone = truth_.position;
+    s.drone_v = truth_.velocity;
     s.estimate = estimator_.p();
     s.estimate_v = estimator_.v();
     s.setpoint = flown.position;
@@ -507,10 +507,10 @@ class Flight {
     const DroneState now = drone_.state();
     if (c.support_on_pad && !touched_) {
       touched_ = true;
-      res_.touchdown_velocity = world_to_pad(pad_, {now.p, now.v, {}}).v;
+      res_.touchdown_velocity = world_to_pad(pad_, {now.position, now.velocity, {}}).v;
     }
     if (armed_) return;
-    const Eigen::Vector3d rel_v = world_to_pad(pad_, {now.p, now.v, {}}).v;
+    const Eigen::Vector3d rel_v = world_to_pad(pad_, {now.position, now.velocity, {}}).v;
     rest_timer_ = rel_v.norm() < 0.05 ? rest_timer_ + dt_ : 0;
     const bool settled = rest_timer_ >= 0.3;
     if (!settled && t - shutdown_time_ <= 3.0) return;

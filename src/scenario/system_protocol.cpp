@@ -235,6 +235,11 @@ StepState parse_state(std::string_view json) {
     s.state.velocity = vec<3>(j.at("velocity"), "velocity");
     s.state.acceleration = vec<3>(j.at("acceleration"), "acceleration");
     s.state.yaw_deg = number(j.at("yaw_deg"), "yaw_deg");
+    const Json& T = j.at("T_world_body");
+    if (!T.is_array() || T.size() != 4) fail("state: T_world_body: expected 4 rows");
+    for (int r = 0; r < 3; ++r) {
+      s.state.R_world_body.row(r) = vec<4>(T[static_cast<std::size_t>(r)], "T_world_body").head<3>().transpose();
+    }
     s.state.land_mode = boolean(j.at("land_mode"), "land_mode");
     s.state.on_ground = boolean(j.at("on_ground"), "on_ground");
     s.state.landed = boolean(j.at("landed"), "landed");

@@ -52,30 +52,29 @@ bool FlightOptions::validate(std::string* why) const {
   return true;
 }
 
-Eigen::Isometry3d DroneState::T_world_body() const {
+Eigen::Matrix3d thrust_attitude(const DroneState& state) {
   // The thrust points along body z: attitude from the commanded
   // acceleration plus gravity, at the current yaw (differential flatness,
   // Mellinger & Kumar 2011).
-  Eigen::Vector3d z = acceleration + Eigen::Vector3d(0, 0, kGravity);
-  if (on_ground || z.z() < 1e-3) z = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d z = state.acceleration + Eigen::Vector3d(0, 0, kGravity);
+  if (state.on_ground || z.z() < 1e-3) z = Eigen::Vector3d::UnitZ();
   z.normalize();
   // yaw_deg * pi / 180, not deg_to_rad()'s yaw_deg * (pi / 180) (core/units.hpp):
   // the two differ in the last bit for about a quarter of all inputs, and this
   // yaw sets the camera of every frame: deg_to_rad() here changes recorded
   // campaign outcomes (2 of the 160 scenarios of tests/bench/compare_outputs.sh
   // at 40 per map and system). Kept until the outcomes are re-recorded.
-  const double yaw = yaw_deg * std::numbers::pi / 180.0;
+  const double yaw = state.yaw_deg * std::numbers::pi / 180.0;
   const Eigen::Vector3d x_c(std::cos(yaw), std::sin(yaw), 0);
   Eigen::Vector3d y = z.cross(x_c);
   if (y.norm() < 1e-9) y = Eigen::Vector3d::UnitY();
   y.normalize();
   const Eigen::Vector3d x = y.cross(z);
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear().col(0) = x;
-  T.linear().col(1) = y;
-  T.linear().col(2) = z;
-  T.translation() = position;
-  return T;
+  Eigen::Matrix3d R;
+  R.col(0) = x;
+  R.col(1) = y;
+  R.col(2) = z;
+  return R;
 }
 
 struct World::Impl {
@@ -128,6 +127,7 @@ struct World::Impl {
     update_dynamic_poses();
     drone.position = s.drone.position;
     drone.yaw_deg = wrap_deg(s.drone.yaw_deg);
+    drone.R_world_body = thrust_attitude(drone);
   }
 
   void update_dynamic_poses() {
@@ -245,6 +245,7 @@ struct World::Impl {
     } else {
       ground_time = 0;
     }
+    drone.R_world_body = thrust_attitude(drone);
   }
 
   void step(const DroneCommand& c, std::span<const ObjectAction> actions) {

@@ -34,8 +34,8 @@ LandController::LandController(const ControllerParams& params, double mass, cons
                                double dt)
     : p_(params), mass_(mass), dt_(dt), hover_thrust_(mass * kStandardGravity), inertia_(inertia_about_com) {}
 
-LandController::Output LandController::update(const VehicleState& s, const Eigen::Vector2d& landing_point,
-                                              double heading, double land_speed, bool level) {
+LandController::Output LandController::update(const DroneState& s, const Eigen::Vector2d& landing_point, double heading,
+                                              double land_speed, bool level) {
   Setpoint sp;
   sp.position.head<2>() = landing_point;
   sp.velocity.z() = -land_speed;
@@ -44,11 +44,11 @@ LandController::Output LandController::update(const VehicleState& s, const Eigen
   return update(s, sp, level);
 }
 
-LandController::Output LandController::update(const VehicleState& s, const Setpoint& sp, bool level) {
+LandController::Output LandController::update(const DroneState& s, const Setpoint& sp, bool level) {
   const auto& cp = p_;
   const double dt = dt_;
-  const Eigen::Vector3d& p = s.p_world;
-  const Eigen::Vector3d& v = s.v_world;
+  const Eigen::Vector3d& p = s.position;
+  const Eigen::Vector3d& v = s.velocity;
   const Eigen::Matrix3d& R = s.R_world_body;
   const Eigen::Vector3d& w = s.w_body;
   const double heading = sp.yaw;

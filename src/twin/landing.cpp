@@ -97,13 +97,12 @@ class Run {
   RunResult fly(const LandingConditions& lc, bool armed) {
     Flight f(opt_, af_, hover_thrust_, sim_.terrain().bounds().min.z() - 1.0, armed);
     for (long step = 0; step < f.max_steps; ++step) {
-      const BodyState s = body_state();
+      const DroneState s = body_state(step, f.dt);
       if (const char* why = instability_of(s, f.terrain_floor)) return f.unstable(step, why);
-      const Eigen::Vector3d w = s.R.transpose() * s.w_world;
-      const double nut = nutation_of(s.R);
+      const double nut = nutation_of(s.R_world_body);
       if (f.touched) f.res.max_touchdown_nutation = std::max(f.res.max_touchdown_nutation, nut);
 
-      command_motors(f, lc, s, w);
+      command_motors(f, lc, s);
       // A non-finite command must never reach ODE (its normalisation asserts
       // abort the process): the run ends as unstable instead.
       if (!std::all_of(motor_.begin(), motor_.end(), [](double m) { return std::isfinite(m); })) {
@@ -120,7 +119,7 @@ class Run {
       ++f.res.steps;
 
       if (opt_.record_trace && step % 20 == 0) {
-        f.res.trace.push_back({static_cast<double>(step) * f.dt, s.p, nut, f.detector.stage()});
+        f.res.trace.push_back({s.t, s.position, nut, f.detector.stage()});
       }
       if (run_ended(f, step)) break;
     }
@@ -168,45 +167,46 @@ class Run {
     std::vector<bool> foot_touch;
   };
 
-  // The ODE body's state at the start of a step (world frame, at the CoM).
-  struct BodyState {
-    Eigen::Vector3d p, v, w_world;
-    Eigen::Matrix3d R;
-  };
-
-  [[nodiscard]] BodyState body_state() const {
-    return {vec_of(dBodyGetPosition(body_)), vec_of(dBodyGetLinearVel(body_)), vec_of(dBodyGetAngularVel(body_)),
-            rotation_of(body_)};
+  // The ODE body's state at the start of step `step` (world frame, at the
+  // CoM; the flight controller's input).
+  [[nodiscard]] DroneState body_state(long step, double dt) const {
+    DroneState s;
+    s.t = static_cast<double>(step) * dt;
+    s.position = vec_of(dBodyGetPosition(body_));
+    s.velocity = vec_of(dBodyGetLinearVel(body_));
+    s.R_world_body = rotation_of(body_);
+    s.w_body = s.R_world_body.transpose() * vec_of(dBodyGetAngularVel(body_));
+    return s;
   }
 
   // Why the state ends the run as unstable, or nullptr.
-  [[nodiscard]] const char* instability_of(const BodyState& s, double terrain_floor) const {
+  [[nodiscard]] const char* instability_of(const DroneState& s, double terrain_floor) const {
     const auto& tb = sim_.terrain().bounds();
-    const Eigen::Vector3d& p = s.p;
+    const Eigen::Vector3d& p = s.position;
     const bool off_map = p.x() < tb.min.x() || p.x() > tb.max.x() || p.y() < tb.min.y() || p.y() > tb.max.y();
-    if (!p.allFinite() || !s.v.allFinite() || !s.R.allFinite()) return "non-finite state";
+    if (!p.allFinite() || !s.velocity.allFinite() || !s.R_world_body.allFinite()) return "non-finite state";
     if (p.z() < terrain_floor) return "fell through the terrain";
     if (off_map) return "left the mapped terrain";
-    if (s.v.norm() > 30.0) return "speed above 30 m/s";
-    if (s.w_world.norm() > 200.0) return "spin above 200 rad/s";
+    if (s.velocity.norm() > 30.0) return "speed above 30 m/s";
+    if (s.w_body.norm() > 200.0) return "spin above 200 rad/s";
     return nullptr;
   }
 
   // Flight controller, land detector, mixer (flight_control.hpp) and the
-  // motors' first-order lag; `w` is the angular velocity in body axes.
-  void command_motors(Flight& f, const LandingConditions& lc, const BodyState& s, const Eigen::Vector3d& w) {
+  // motors' first-order lag.
+  void command_motors(Flight& f, const LandingConditions& lc, const DroneState& s) {
     if (!f.detector.landed()) {
-      const LandController::Output u =
-          f.controller.update({s.p, s.v, s.R, w}, lc.landing_point, lc.heading, lc.land_speed,
-                              f.detector.stage() >= LandDetector::GroundContact);
-      if (f.detector.update(u.thrust, s.v.z(), u.vz_setpoint, w.norm())) f.controller.reset_velocity_integrator();
+      const LandController::Output u = f.controller.update(s, lc.landing_point, lc.heading, lc.land_speed,
+                                                           f.detector.stage() >= LandDetector::GroundContact);
+      if (f.detector.update(u.thrust, s.velocity.z(), u.vz_setpoint, s.w_body.norm()))
+        f.controller.reset_velocity_integrator();
       const Eigen::VectorXd& thrust = mixer_.mix_in_place(f.detector.limit_thrust(u.thrust), u.torque);
       for (std::size_t i = 0; i < motor_.size(); ++i) {
         const double cmd = f.detector.landed() ? 0.0 : thrust[static_cast<Eigen::Index>(i)];
         motor_[i] += (cmd - motor_[i]) * f.motor_alpha;
       }
     } else {
-      f.controller.idle(s.v);
+      f.controller.idle(s.velocity);
       for (double& m : motor_) m += (0.0 - m) * f.motor_alpha;  // disarmed: spin down
     }
   }
@@ -221,8 +221,8 @@ class Run {
   }
 
   // A body-frame point of the airframe in the world.
-  [[nodiscard]] Eigen::Vector3d to_world(const BodyState& s, const Eigen::Vector3d& q) const {
-    return Eigen::Vector3d(s.p + s.R * (q - com_));
+  [[nodiscard]] Eigen::Vector3d to_world(const DroneState& s, const Eigen::Vector3d& q) const {
+    return Eigen::Vector3d(s.position + s.R_world_body * (q - com_));
   }
 
   // Keeps the deepest contacts of one part (those from `before` on) and
@@ -244,7 +244,7 @@ class Run {
   }
 
   // This step's contacts of every part with the terrain, in f.contacts.
-  void find_contacts(Flight& f, const BodyState& s) {
+  void find_contacts(Flight& f, const DroneState& s) {
     f.contacts.clear();
     f.contact_kind.clear();
     f.contact_foot.clear();
@@ -252,7 +252,8 @@ class Run {
     // Whole-twin broad phase: a sphere around the centre of mass holding
     // every part; nothing to do while it is above all terrain below it.
     const Eigen::Vector3d reach = Eigen::Vector3d::Constant(reach_);
-    const bool near = terrain.max_z_near(Eigen::AlignedBox3d(s.p - reach, s.p + reach)) >= s.p.z() - reach_;
+    const bool near =
+        terrain.max_z_near(Eigen::AlignedBox3d(s.position - reach, s.position + reach)) >= s.position.z() - reach_;
     for (std::size_t i = 0; near && i < af_.legs.size(); ++i) {
       std::size_t before = f.contacts.size();
       const Sphere& sphere = feet_[i];
@@ -270,21 +271,21 @@ class Run {
       tag_contacts(f, before, PartKind::Arm, -1);
       before = f.contacts.size();
       const Disk& d = props_[i];
-      detail::collide_disk(terrain, to_world(s, d.centre), s.R * d.axis, d.radius, d.half_thickness, f.scratch,
-                           f.contacts);
+      detail::collide_disk(terrain, to_world(s, d.centre), s.R_world_body * d.axis, d.radius, d.half_thickness,
+                           f.scratch, f.contacts);
       tag_contacts(f, before, PartKind::Propeller, -1);
     }
     if (near) {
       const std::size_t before = f.contacts.size();
       const Box b = af_.body_box();
-      detail::collide_box(terrain, to_world(s, b.centre), s.R, b.half_extents, f.scratch, f.contacts);
+      detail::collide_box(terrain, to_world(s, b.centre), s.R_world_body, b.half_extents, f.scratch, f.contacts);
       tag_contacts(f, before, PartKind::Body, -1);
     }
   }
 
   // Records which parts touch (feet, strikes) and hands each valid contact
   // to ODE as a soft contact joint for this step.
-  void add_contact_joints(Flight& f, const BodyState& s) {
+  void add_contact_joints(Flight& f, const DroneState& s) {
     std::fill(f.foot_touch.begin(), f.foot_touch.end(), false);
     for (std::size_t k = 0; k < f.contacts.size(); ++k) {
       const detail::Contact& contact = f.contacts[k];
@@ -311,7 +312,9 @@ class Run {
           // feet.
           if (af_.has_landing_gear()) {
             f.res.body_strike = true;
-          } else if (const int c = bottom_corner_of(s.R.transpose() * (contact.position - s.p) + com_); c >= 0) {
+          } else if (const int c =
+                         bottom_corner_of(s.R_world_body.transpose() * (contact.position - s.position) + com_);
+                     c >= 0) {
             f.foot_touch[static_cast<std::size_t>(c)] = true;
           }
           break;

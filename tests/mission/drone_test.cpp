@@ -39,8 +39,8 @@ void fly(tdm::DroneSimulation& d, const tw::Setpoint& sp, double seconds, bool a
          const Eigen::Vector3d& wind = Eigen::Vector3d::Zero()) {
   const int n = static_cast<int>(std::lround(seconds / d.options().step));
   for (int k = 0; k < n; ++k) {
-    const tdm::DroneState s = d.state();
-    d.step(sp, s.p, s.v, armed, wind);
+    const touchdown::DroneState s = d.state();
+    d.step(sp, s.position, s.velocity, armed, wind);
   }
 }
 
@@ -56,11 +56,11 @@ TEST(Drone, DisarmedFallsFreelyThenAtTheDragTerminalSpeed) {
     tdm::DroneSimulation d(options(), {});
     pad_away(d);
     d.place(at({0, 0, 50}), Eigen::Vector3d::Zero(), false);
-    const double z0 = d.state().p.z();
+    const double z0 = d.state().position.z();
     fly(d, {}, 1.0, false);
     // z = z0 − g t²/2 (semi-implicit Euler: within g·dt·t).
-    EXPECT_NEAR(d.state().p.z(), z0 - 0.5 * tw::kStandardGravity, tw::kStandardGravity * 0.002 + 1e-9);
-    EXPECT_NEAR(d.state().v.z(), -tw::kStandardGravity, 1e-9);
+    EXPECT_NEAR(d.state().position.z(), z0 - 0.5 * tw::kStandardGravity, tw::kStandardGravity * 0.002 + 1e-9);
+    EXPECT_NEAR(d.state().velocity.z(), -tw::kStandardGravity, 1e-9);
   }
   // With drag: m g = (k1 + k2 v) v at the terminal speed.
   const double k1 = 0.1, k2 = 0.05;
@@ -70,7 +70,7 @@ TEST(Drone, DisarmedFallsFreelyThenAtTheDragTerminalSpeed) {
   fly(d, {}, 20.0, false);
   const double mg = quad180().total_mass() * tw::kStandardGravity;
   const double v_terminal = (-k1 + std::sqrt(k1 * k1 + 4 * k2 * mg)) / (2 * k2);
-  EXPECT_NEAR(-d.state().v.z(), v_terminal, 1e-3 * v_terminal);
+  EXPECT_NEAR(-d.state().velocity.z(), v_terminal, 1e-3 * v_terminal);
 }
 
 TEST(Drone, MotorsSpinDownWithTheirTimeConstant) {
@@ -89,9 +89,9 @@ TEST(Drone, HoversAtItsSetpointWithHoverThrust) {
   pad_away(d);
   d.place(at({1, 2, 3}), Eigen::Vector3d::Zero(), true);
   tw::Setpoint sp;
-  sp.position = d.state().p;
+  sp.position = d.state().position;
   fly(d, sp, 3.0);
-  EXPECT_LT((d.state().p - sp.position).norm(), 1e-3);
+  EXPECT_LT((d.state().position - sp.position).norm(), 1e-3);
   EXPECT_NEAR(d.motor_thrusts().sum(), quad180().total_mass() * tw::kStandardGravity, 1e-3);
 }
 
@@ -117,8 +117,8 @@ TEST(Drone, VelocityStepFollowsThePiLoopsSecondOrderResponse) {
     fly(d, sp, until - t);
     t = until;
     const double expected = 1 + A * std::exp(p1 * t) + B * std::exp(p2 * t);
-    EXPECT_NEAR(d.state().v.z(), expected, 0.03) << "t = " << t;
-    peak = std::max(peak, d.state().v.z());
+    EXPECT_NEAR(d.state().velocity.z(), expected, 0.03) << "t = " << t;
+    peak = std::max(peak, d.state().velocity.z());
   }
   EXPECT_GT(peak, 1.05);  // the overshoot a first-order model would not have
 }
@@ -133,11 +133,11 @@ TEST(Drone, TiltAndRateLimitsHoldOnAFarSetpoint) {
   double max_tilt = 0, max_rate = 0, max_speed = 0;
   const int n = static_cast<int>(10 / d.options().step);
   for (int k = 0; k < n; ++k) {
-    const tdm::DroneState s = d.state();
-    max_tilt = std::max(max_tilt, std::acos(std::clamp(s.R(2, 2), -1.0, 1.0)));
+    const touchdown::DroneState s = d.state();
+    max_tilt = std::max(max_tilt, std::acos(std::clamp(s.R_world_body(2, 2), -1.0, 1.0)));
     max_rate = std::max(max_rate, s.w_body.head<2>().cwiseAbs().maxCoeff());
-    max_speed = std::max(max_speed, s.v.head<2>().norm());
-    d.step(sp, s.p, s.v, true, Eigen::Vector3d::Zero());
+    max_speed = std::max(max_speed, s.velocity.head<2>().norm());
+    d.step(sp, s.position, s.velocity, true, Eigen::Vector3d::Zero());
   }
   // The attitude loop lags its setpoint a little: within 10 % of the limits.
   EXPECT_LT(max_tilt, 1.1 * touchdown::deg_to_rad(cp.tilt_max_air_deg));
@@ -157,8 +157,8 @@ TEST(Drone, AtRestOnAMovingPadItStaysOnIt) {
   for (int k = 0; k < static_cast<int>(3 / dt); ++k) {
     pad.translation() += v_pad * dt;
     d.set_pad(pad, v_pad, Eigen::Vector3d::Zero());
-    const tdm::DroneState s = d.state();
-    d.step({}, s.p, s.v, false, Eigen::Vector3d::Zero());
+    const touchdown::DroneState s = d.state();
+    d.step({}, s.position, s.velocity, false, Eigen::Vector3d::Zero());
   }
   const Eigen::Vector3d rel = pad.inverse() * d.T_world_body().translation();
   EXPECT_LT(rel.head<2>().norm(), 0.005);
@@ -191,9 +191,9 @@ TEST(Drone, SlidesTheCoulombDistanceOrTipsAsTheSupportSays) {
     for (int k = 0; k < static_cast<int>(2 / dt); ++k) {
       pad.translation() += v_pad * dt;
       d.set_pad(pad, v_pad, Eigen::Vector3d::Zero());
-      const tdm::DroneState s = d.state();
-      d.step({}, s.p, s.v, false, Eigen::Vector3d::Zero());
-      max_tilt = std::max(max_tilt, std::acos(std::clamp(d.state().R(2, 2), -1.0, 1.0)));
+      const touchdown::DroneState s = d.state();
+      d.step({}, s.position, s.velocity, false, Eigen::Vector3d::Zero());
+      max_tilt = std::max(max_tilt, std::acos(std::clamp(d.state().R_world_body(2, 2), -1.0, 1.0)));
     }
     const Eigen::Vector3d rel = pad.inverse() * d.T_world_body().translation();
     if (mu < mu_tip) {

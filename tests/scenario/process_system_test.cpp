@@ -209,9 +209,11 @@ TEST(SystemProtocol, SetupAndStateRoundTrip) {
   in.state.t = 1.0 / 3.0;
   in.state.position = {1, 2, 9.75};
   in.state.yaw_deg = 33;
+  in.state.R_world_body = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   const tp::StepState st = tp::parse_state(tp::state_json(in));
   EXPECT_EQ(st.state.t, in.state.t);
   EXPECT_EQ(st.state.position, in.state.position);
+  EXPECT_EQ(st.state.R_world_body, in.state.R_world_body);  // the child sees the attitude the world has
   EXPECT_FALSE(st.frame);
   const tp::Header hello_header{"touchdown-system", {1, 0}};
   EXPECT_EQ(tp::parse_hello(hello_header, "{\"name\":\"x\",\"wants\":[\"depth\"]}").depth, true);

@@ -37,6 +37,13 @@ TEST(World, VelocityResponseRespectsTheAccelerationLimit) {
     EXPECT_LE(v - v_prev, f.max_accel_xy * w.dt() + 1e-12);
     EXPECT_GE(v, v_prev);
     v_prev = v;
+    // The attitude the world reports is the thrust direction's: body z
+    // along (3, 0, g) while accelerating at the 3 m/s² limit, yaw 0.
+    const DroneState& s = w.drone();
+    EXPECT_EQ(s.R_world_body, thrust_attitude(s));
+    EXPECT_NEAR(s.R_world_body(0, 2), 3.0 / std::hypot(3.0, 9.80665), 1e-12);
+    EXPECT_NEAR(s.R_world_body(1, 2), 0.0, 1e-15);
+    EXPECT_NEAR(s.R_world_body(1, 1), 1.0, 1e-15);
   }
   // 0.5 s at the limit of 3 m/s².
   EXPECT_NEAR(v_prev, 1.5, 1e-9);

@@ -88,8 +88,8 @@ TEST(LandController, HoverOverThePadCommandsDescentWithoutTorque) {
   const auto af = tw::Airframe::f450();
   const double m = af.total_mass(), dt = 0.002;
   tw::LandController c(p, m, af.inertia_about_com(), dt);
-  tw::VehicleState s;
-  s.p_world = {1.0, 2.0, 3.0};
+  touchdown::DroneState s;
+  s.position = {1.0, 2.0, 3.0};
   const auto u = c.update(s, {1.0, 2.0}, 0.0, 0.7, false);
   // a_z = Kp e + Ki ∫e with e = −0.7 m/s over one step.
   const double a_z = p.z_vel_p * -0.7 + p.z_vel_i * (-0.7 * dt);
@@ -102,7 +102,7 @@ TEST(LandController, TiltLimitAndRestoringTorques) {
   tw::ControllerParams p;
   const auto af = tw::Airframe::f450();
   tw::LandController c(p, af.total_mass(), af.inertia_about_com(), 0.002);
-  tw::VehicleState s;
+  touchdown::DroneState s;
   // Far from the pad: the thrust vector leans towards it, but no more than
   // MPC_TILTMAX_LND.
   const auto u = c.update(s, {50.0, 0.0}, 0.0, 0.7, false);
@@ -112,10 +112,10 @@ TEST(LandController, TiltLimitAndRestoringTorques) {
   // Rolled right over the pad: the torque rolls it back (negative about x);
   // yawed left of the heading: the torque yaws it back.
   tw::LandController level(p, af.total_mass(), af.inertia_about_com(), 0.002);
-  tw::VehicleState rolled;
+  touchdown::DroneState rolled;
   rolled.R_world_body = touchdown::rotation_from_rpy(0.2, 0.0, 0.0);
   EXPECT_LT(level.update(rolled, {0.0, 0.0}, 0.0, 0.7, true).torque.x(), 0.0);
-  tw::VehicleState yawed;
+  touchdown::DroneState yawed;
   yawed.R_world_body = touchdown::rotation_from_rpy(0.0, 0.0, 0.3);
   EXPECT_LT(level.update(yawed, {0.0, 0.0}, 0.0, 0.7, true).torque.z(), 0.0);
 }
@@ -134,9 +134,9 @@ TEST(LandController, LandModeIsTheSetpointCaseOfOneCascade) {
   sp.yaw = 0.4;
   sp.land = true;
   for (int k = 0; k < 50; ++k) {
-    tw::VehicleState s;
-    s.p_world = {0.01 * k, -0.02 * k, 1 - 0.01 * k};
-    s.v_world = {0.1, -0.05 * std::sin(k), -0.6};
+    touchdown::DroneState s;
+    s.position = {0.01 * k, -0.02 * k, 1 - 0.01 * k};
+    s.velocity = {0.1, -0.05 * std::sin(k), -0.6};
     s.R_world_body = touchdown::rotation_from_rpy(0.01 * k, -0.02, 0.3);
     s.w_body = {0.1, 0.0, -0.05};
     const auto u = a.update(s, {0.3, -0.2}, 0.4, 0.7, k > 40);
@@ -153,10 +153,10 @@ TEST(LandController, PositionModeAddsTheFeedForwardAndKeepsItsLimits) {
   const double m = af.total_mass();
   // At the setpoint, at rest: the thrust vector is m (a_ff + g).
   tw::LandController c(p, m, af.inertia_about_com(), 0.002);
-  tw::VehicleState s;
-  s.p_world = {1, 2, 3};
+  touchdown::DroneState s;
+  s.position = {1, 2, 3};
   tw::Setpoint sp;
-  sp.position = s.p_world;
+  sp.position = s.position;
   sp.acceleration = {1.0, -0.5, 0.2};
   const auto u = c.update(s, sp, false);
   EXPECT_TRUE(u.thrust_vector.isApprox(m * (sp.acceleration + Eigen::Vector3d(0, 0, tw::kStandardGravity)), 1e-12))
@@ -166,7 +166,7 @@ TEST(LandController, PositionModeAddsTheFeedForwardAndKeepsItsLimits) {
   // for MPC_TILTMAX_AIR, not the land mode's.
   tw::LandController d(p, m, af.inertia_about_com(), 0.002);
   tw::Setpoint fast;
-  fast.position = s.p_world;
+  fast.position = s.position;
   fast.velocity = {50, 0, 0};
   const auto f = d.update(s, fast, false);
   const double tilt = std::atan2(f.thrust_vector.head<2>().norm(), f.thrust_vector.z());

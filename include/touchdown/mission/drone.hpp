@@ -18,6 +18,7 @@
 #include <memory>
 #include <string>
 
+#include "touchdown/core/drone_state.hpp"
 #include "touchdown/twin/airframe.hpp"
 #include "touchdown/twin/flight_control.hpp"
 #include "touchdown/twin/landing.hpp"
@@ -43,14 +44,6 @@ struct DroneOptions {
 struct PadGeometry {
   Eigen::Vector2d size{0.43, 0.43};  ///< [m]
   double thickness = 0.02;           ///< [m]
-};
-
-struct DroneState {
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();  ///< centre of mass, world [m]
-  Eigen::Vector3d v = Eigen::Vector3d::Zero();  ///< [m/s]
-  Eigen::Vector3d a = Eigen::Vector3d::Zero();  ///< specific force + gravity over the last step [m/s²]
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d w_body = Eigen::Vector3d::Zero();  ///< [rad/s]
 };
 
 /// Which parts touched what in the last step.

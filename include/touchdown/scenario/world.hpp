@@ -16,6 +16,7 @@
 #include <string_view>
 #include <vector>
 
+#include "touchdown/core/drone_state.hpp"
 #include "touchdown/core/enum_names.hpp"
 #include "touchdown/scenario/geometry.hpp"
 #include "touchdown/scenario/scenario.hpp"
@@ -68,17 +69,12 @@ namespace touchdown::scenario {
 
 inline std::string_view to_string(ObjectAction action) { return enum_name(action); }
 
-struct DroneState {
-  double t = 0;
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();      ///< body centre [m]
-  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();      ///< [m/s]
-  Eigen::Vector3d acceleration = Eigen::Vector3d::Zero();  ///< [m/s²]
-  double yaw_deg = 0;
-  bool land_mode = false;
-  bool on_ground = false;
-  bool landed = false;                                   ///< land detector: on the ground for land_detect_time
-  [[nodiscard]] Eigen::Isometry3d T_world_body() const;  ///< attitude from the thrust direction and yaw
-};
+/// The test world's drone is a point mass with PX4-like velocity control;
+/// its attitude follows from the acceleration it flies plus gravity (the
+/// thrust direction) at its yaw (differential flatness, Mellinger & Kumar
+/// 2011). The World keeps DroneState::R_world_body equal to this after each
+/// step; w_body stays zero (the model has no rotational dynamics).
+[[nodiscard]] Eigen::Matrix3d thrust_attitude(const DroneState& state);
 
 struct CollisionEvent {
   double t = 0;

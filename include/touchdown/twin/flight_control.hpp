@@ -13,6 +13,8 @@
 #include <limits>
 #include <vector>
 
+#include "touchdown/core/drone_state.hpp"
+
 namespace touchdown::twin {
 
 struct ControllerParams;
@@ -20,14 +22,6 @@ struct Airframe;
 
 /// Standard gravity [m/s²], as the twin's ODE world uses.
 inline constexpr double kStandardGravity = 9.80665;
-
-/// What the controller measures each step (world frame z up).
-struct VehicleState {
-  Eigen::Vector3d p_world = Eigen::Vector3d::Zero();  ///< centre of mass [m]
-  Eigen::Vector3d v_world = Eigen::Vector3d::Zero();  ///< [m/s]
-  Eigen::Matrix3d R_world_body = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d w_body = Eigen::Vector3d::Zero();  ///< angular velocity in body axes [rad/s]
-};
 
 /// A trajectory setpoint, as PX4's `trajectory_setpoint` message: a NaN
 /// position axis is not position-controlled (its velocity is then the
@@ -66,10 +60,10 @@ class LandController {
 
   /// One control step towards `landing_point` at `heading` [rad],
   /// descending at `land_speed` [m/s].
-  Output update(const VehicleState& s, const Eigen::Vector2d& landing_point, double heading, double land_speed,
+  Output update(const DroneState& s, const Eigen::Vector2d& landing_point, double heading, double land_speed,
                 bool level);
   /// One control step towards a trajectory setpoint.
-  Output update(const VehicleState& s, const Setpoint& setpoint, bool level);
+  Output update(const DroneState& s, const Setpoint& setpoint, bool level);
   /// Restarts the integrators and the derivative's history (a new flight).
   void reset() {
     vel_int_.setZero();

@@ -23,7 +23,7 @@ class GpsLander final : public scenario::LandingSystem {
     descending_ = false;
   }
   scenario::SystemOutput update(const scenario::SystemInput& input) override {
-    const scenario::DroneState& s = input.state;
+    const DroneState& s = input.state;
     if (throw_after_ > 0 && s.t > throw_after_) throw std::runtime_error("gps-lander: planted fault");
     scenario::SystemOutput out;
     Eigen::Vector2d v = target_ - s.position.head<2>();
