@@ -194,9 +194,7 @@ bool MissionOptions::validate(std::string* why) const {
   if (perception == "render" && !render.validate(why)) return false;
   if (!(pad.size.allFinite() && pad.size.minCoeff() > 0)) return invalid(why, "pad.size: must be positive [m]");
   if (!(positive(pad.thickness))) return invalid(why, "pad.thickness: must be positive [m]");
-  if (!wind.mean.allFinite()) return invalid(why, "wind.mean: must be finite [m/s]");
-  if (!(wind.gust_sigma >= 0) || !std::isfinite(wind.gust_sigma)) return invalid(why, "wind.gust_sigma: must be >= 0");
-  if (!positive(wind.gust_time)) return invalid(why, "wind.gust_time: must be positive [s]");
+  if (!wind.validate(why)) return false;
   if (!(link.latency >= 0 && link.latency <= 1)) return invalid(why, "link.latency: must be in [0, 1] s");
   if (!probability(link.dropout)) return invalid(why, "link.dropout: must be in [0, 1)");
   if (!positive(link.setpoint_timeout)) return invalid(why, "link.setpoint_timeout: must be positive [s]");
@@ -247,7 +245,7 @@ class Flight {
         vehicle_(o.vehicle, Rng(seed, 8 * run).next()),
         perception_(make ? make(o, Rng(seed, 8 * run + 1).next())
                          : make_default_perception(o, Rng(seed, 8 * run + 1).next())),
-        wind_rng_(seed, 8 * run + 2),
+        wind_(o.wind, Rng(seed, 8 * run + 2), Rng(seed, 8 * run + 6)),
         link_rng_(seed, 8 * run + 3),
         fix_rng_(seed, 8 * run + 4),
         imu_rng_(seed, 8 * run + 5),
@@ -268,11 +266,8 @@ class Flight {
     Eigen::Isometry3d T_start = Eigen::Isometry3d::Identity();
     T_start.translation() = o.drone_start - o.drone.airframe.centre_of_mass();
     drone_.place(T_start, Eigen::Vector3d::Zero(), true);
-    // Errors of the fix (Gauss–Markov per axis) and the wind's gusts.
+    // Errors of the fix (Gauss–Markov per axis).
     fix_error_ = normal_vector3(fix_rng_) * o.fix.sigma;
-    Eigen::Vector3d gust = normal_vector3(wind_rng_);
-    gust.z() *= 0.5;  // vertical gusts are half as strong
-    gust_ = gust * o.wind.gust_sigma;
     estimator_ = DroneEstimator(drone_.state().position + fix_error_, Eigen::Vector3d::Zero(),
                                 std::max(o.fix.sigma, 0.05), std::max(o.imu_accel_sigma, 0.05), dt_);
     active_.setpoint.position = drone_.state().position;
@@ -455,17 +450,14 @@ class Flight {
         flown.acceleration.setZero();
       }
     }
-    const double ga = std::exp(-dt_ / o_.wind.gust_time), gb = std::sqrt(1 - ga * ga);
-    for (int i = 0; i < 3; ++i) {
-      gust_[i] = ga * gust_[i] + gb * o_.wind.gust_sigma * (i == 2 ? 0.5 : 1.0) * wind_rng_.normal();
-    }
+    const Eigen::Vector3d wind = wind_.step(t, dt_, truth_.position.z(), truth_.velocity);
     const Eigen::Vector3d accel = truth_.acceleration + o_.imu_accel_sigma * normal_vector3(imu_rng_);
     estimator_.predict(t, accel);
     vehicle_.step(dt_);
     last_pad_v_ = pad_.velocity;
     read_pad();
     drone_.set_pad(pad_.T_world_pad, pad_.velocity, vehicle_.pad_angular_velocity());
-    drone_.step(flown, estimator_.p(), estimator_.v(), armed_, o_.wind.mean + gust_);
+    drone_.step(flown, estimator_.p(), estimator_.v(), armed_, wind);
     return flown;
   }
 
@@ -531,7 +523,8 @@ class Flight {
   MissionResult res_;
   GroundVehicle vehicle_;
   std::unique_ptr<Perception> perception_;
-  Rng wind_rng_, link_rng_, fix_rng_, imu_rng_;
+  WindModel wind_;
+  Rng link_rng_, fix_rng_, imu_rng_;
   DroneSimulation drone_;
   StateMachine machine_;
   const double landed_com_height_;
@@ -541,7 +534,7 @@ class Flight {
   DroneEstimator estimator_;
   PadState pad_;
   Eigen::Vector3d last_pad_v_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d fix_error_ = Eigen::Vector3d::Zero(), gust_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d fix_error_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d p_fix_pad_ = Eigen::Vector3d::Zero();
   DroneState truth_;
   plan::KinematicState rel_truth_;

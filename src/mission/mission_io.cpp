@@ -231,8 +231,10 @@ void read_mission(const YamlReader& r, const YAML::Node& root, std::string_view 
       section("wind",
               [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
                 read_fields(rr, n, k + ".",
-                            {vec3("mean", o.wind.mean), num("gust_sigma", o.wind.gust_sigma),
-                             num("gust_time", o.wind.gust_time)});
+                            {vec3("mean", o.wind.mean), num("turn_rate_deg", o.wind.turn_rate_deg),
+                             num("gust_sigma", o.wind.gust_sigma), num("gust_time", o.wind.gust_time),
+                             named("turbulence", o.wind.turbulence), num("w20", o.wind.w20),
+                             num("min_airspeed", o.wind.min_airspeed)});
               }),
       section("link",
               [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {

@@ -8,11 +8,13 @@
 #include "touchdown/mission/mission.hpp"
 #include "touchdown/mission/state_machine.hpp"
 #include "touchdown/mission/vehicle.hpp"
+#include "touchdown/mission/wind.hpp"
 
 namespace td = touchdown;
 namespace tmi = touchdown::mission;
 
-using MissionEnums = ::testing::Types<tmi::VehiclePath, tmi::MissionOutcome, tmi::MissionState, tmi::TransitionReason>;
+using MissionEnums = ::testing::Types<tmi::VehiclePath, tmi::MissionOutcome, tmi::MissionState, tmi::TransitionReason,
+                                      tmi::TurbulenceLevel>;
 namespace touchdown::test {
 INSTANTIATE_TYPED_TEST_SUITE_P(Mission, EnumNamesSuite, MissionEnums);
 }  // namespace touchdown::test

@@ -34,16 +34,9 @@
 #include "touchdown/mission/perception_render.hpp"
 #include "touchdown/mission/state_machine.hpp"
 #include "touchdown/mission/vehicle.hpp"
+#include "touchdown/mission/wind.hpp"
 
 namespace touchdown::mission {
-
-/// Wind: a mean plus gusts (a first-order Gauss–Markov process per axis,
-/// the Dryden model's low-order form).
-struct WindOptions {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();  ///< world [m/s]
-  double gust_sigma = 0;                           ///< per horizontal axis [m/s] (vertical: half)
-  double gust_time = 2.0;                          ///< correlation time [s], > 0
-};
 
 /// The radio link between the ground station and the drone (both ways).
 struct LinkOptions {
