@@ -44,6 +44,8 @@ Deadline after(double seconds) {
 
 /// Non-blocking reads tried before a wait in poll().
 constexpr int kSpins = 200;
+/// How often a wait looks whether the child has ended [s].
+constexpr double kEndedCheck_s = 0.1;
 
 /// A payload in place: bytes the caller keeps alive while they are sent.
 struct Bytes {
@@ -123,6 +125,9 @@ class ProcessSystem final : public LandingSystem {
       // The child: async-signal-safe calls only.
       ::prctl(PR_SET_PDEATHSIG, SIGKILL);
       if (::getppid() != parent) ::_exit(126);
+      // Its own process group: what it starts (a wrapper's children, a
+      // launcher's nodes) is ended with it (stop()).
+      ::setpgid(0, 0);
       // A host app blocks SIGINT/SIGTERM/SIGHUP to wait for them in one
       // thread (apps/app_common.hpp); the system gets the default mask.
       sigset_t none;
@@ -135,8 +140,9 @@ class ProcessSystem final : public LandingSystem {
       ::_exit(127);
     }
     ::close(fds[1]);
+    (void)::setpgid(pid, pid);  // also here: whichever runs first (EACCES once it has exec'd)
     fd_ = fds[0];
-    pid_ = pid;
+    pid_ = pgid_ = pid;
     buffer_.clear();
     const std::string version =
         protocol::header("touchdown-system", {static_cast<std::size_t>(kSystemProtocolVersion)});
@@ -153,22 +159,20 @@ class ProcessSystem final : public LandingSystem {
 
   // Ends the child: bye and a moment to exit when it is well, then SIGKILL.
   void stop(bool polite) noexcept {
-    if (pid_ <= 0) {
-      if (fd_ >= 0) ::close(fd_);
-      fd_ = -1;
-      return;
-    }
-    if (polite && fd_ >= 0) {
+    if (pid_ > 0 && polite && fd_ >= 0) {
       const std::string bye = protocol::header("bye");
       (void)::send(fd_, bye.data(), bye.size(), MSG_NOSIGNAL);
       ::shutdown(fd_, SHUT_WR);
       for (int i = 0; i < 50 && ::waitpid(pid_, nullptr, WNOHANG) == 0; ++i) ::usleep(10000);
     }
-    if (::waitpid(pid_, nullptr, WNOHANG) == 0) {
+    // The whole group, also when the child itself has ended: nothing it
+    // started outlives it.
+    if (pgid_ > 0) ::kill(-pgid_, SIGKILL);
+    if (pid_ > 0 && ::waitpid(pid_, nullptr, WNOHANG) == 0) {
       ::kill(pid_, SIGKILL);
       ::waitpid(pid_, nullptr, 0);
     }
-    pid_ = -1;
+    pid_ = pgid_ = -1;
     if (fd_ >= 0) ::close(fd_);
     fd_ = -1;
   }
@@ -188,6 +192,9 @@ class ProcessSystem final : public LandingSystem {
     for (int i = 0; i < 100 && (r = ::waitpid(pid_, &status, WNOHANG)) == 0; ++i) ::usleep(10000);
     if (r != pid_) return "closed its output";
     pid_ = -1;
+    return describe_end(status);
+  }
+  static std::string describe_end(int status) {
     if (WIFEXITED(status)) return "exited with status " + std::to_string(WEXITSTATUS(status));
     if (WIFSIGNALED(status)) return "was killed by signal " + std::to_string(WTERMSIG(status));
     return "ended";
@@ -243,16 +250,29 @@ class ProcessSystem final : public LandingSystem {
 
   // Waits for `events` on the socket until the deadline (first `spins`
   // polls that do not sleep: detail::wait_fd).
+  // Waits in slices of kEndedCheck_s, looking between them whether the
+  // child has ended: something it started may hold the socket open, and
+  // its end is then the answer, not the timeout.
   void wait_for(short events, int spins, Deadline deadline, double timeout_s, const std::string& what) {
-    bool ready = false;
-    try {
-      ready = detail::wait_fd(fd_, events, spins, std::chrono::duration<double>(deadline - Clock::now()).count());
-    } catch (const Error& e) {
-      throw SystemFault(e.what());
-    }
-    if (!ready) {
-      throw SystemFault("no answer from the system within " + format_fixed(timeout_s, 1) + " s (waiting for it " +
-                        what + ")");
+    for (;;) {
+      const double left = std::chrono::duration<double>(deadline - Clock::now()).count();
+      bool ready = false;
+      try {
+        ready = detail::wait_fd(fd_, events, spins, std::min(left, kEndedCheck_s));
+      } catch (const Error& e) {
+        throw SystemFault(e.what());
+      }
+      if (ready) return;
+      spins = 0;
+      if (left <= kEndedCheck_s) {
+        throw SystemFault("no answer from the system within " + format_fixed(timeout_s, 1) + " s (waiting for it " +
+                          what + ")");
+      }
+      int status = 0;
+      if (pid_ > 0 && ::waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        throw SystemFault("the system's process " + describe_end(status) + " (while " + what + ")");
+      }
     }
   }
 
@@ -311,6 +331,7 @@ class ProcessSystem final : public LandingSystem {
   std::string phase_;
   std::string buffer_;
   pid_t pid_ = -1;
+  pid_t pgid_ = -1;  // the child's process group (its pid), until stop()
   int fd_ = -1;
 };
 

@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <iterator>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -104,6 +106,40 @@ TEST(ProcessSystem, EveryFaultIsSystemFailedWithItsReasonAndLeavesNoProcess) {
       EXPECT_TRUE(mentions(again.failure, "(step 40)")) << again.failure;
     }
   }
+  EXPECT_EQ(children(), 0);
+}
+
+// Processes whose command line contains `tag` (any parent).
+int processes_with(const std::string& tag) {
+  int n = 0;
+  DIR* proc = ::opendir("/proc");
+  if (proc == nullptr) return -1;
+  while (const dirent* e = ::readdir(proc)) {
+    std::ifstream in(std::string("/proc/") + e->d_name + "/cmdline");
+    std::string cmd((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::replace(cmd.begin(), cmd.end(), '\0', ' ');
+    n += cmd.find(tag) != std::string::npos && cmd.find("sh -c") == std::string::npos ? 1 : 0;
+  }
+  ::closedir(proc);
+  return n;
+}
+
+// A wrapper that starts something of its own and then runs the system (as
+// a launch script, ros2 launch or docker run would): when the system ends,
+// its end is the reason (not a timeout on the socket the other process
+// still holds), and what it started is gone too.
+TEST(ProcessSystem, WhatTheSystemStartedEndsWithIt) {
+  const std::string tag = "47.3" + std::to_string(::getpid() % 1000);
+  ProcessOptions o;
+  o.command = "sh -c 'sleep " + tag + " & exec " + kChild + " exit 40'";
+  o.start_timeout_s = o.step_timeout_s = 5.0;
+  auto system = make_process_system(o);
+  const auto t0 = std::chrono::steady_clock::now();
+  const ScenarioResult r = run_scenario(contract::clear_scenario(20), *system, {});
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 4);
+  EXPECT_TRUE(mentions(r.failure, "the system's process exited with status 3 (while answering step)")) << r.failure;
+  for (int i = 0; i < 100 && processes_with("sleep " + tag) > 0; ++i) ::usleep(10000);  // SIGKILL is asynchronous
+  EXPECT_EQ(processes_with("sleep " + tag), 0);
   EXPECT_EQ(children(), 0);
 }
 
