@@ -49,6 +49,9 @@ bool DroneOptions::validate(std::string* why) const {
   if (!(ground_friction >= 0) || !std::isfinite(ground_friction)) {
     return invalid(why, "drone.ground_friction: must be >= 0");
   }
+  if (!(wind_observer_time >= 0 && wind_observer_time <= 10)) {
+    return invalid(why, "drone.wind_observer_time: must be in [0, 10] s (0 = no wind estimate)");
+  }
   return true;
 }
 

@@ -453,11 +453,22 @@ class Flight {
     const Eigen::Vector3d wind = wind_.step(t, dt_, truth_.position.z(), truth_.velocity);
     const Eigen::Vector3d accel = truth_.acceleration + o_.imu_accel_sigma * normal_vector3(imu_rng_);
     estimator_.predict(t, accel);
+    // The wind (wind.hpp): estimated in free flight from the last step's
+    // acceleration and thrust, its drag flown as acceleration feed-forward.
+    twin::Setpoint commanded = flown;
+    if (o_.drone.wind_observer_time > 0) {
+      if (armed_ && thrust_axis_known_ && drone_.contacts().contacts == 0) {
+        observer_.update(dt_, accel, thrust_axis_ * drone_.motor_thrusts().sum() / mass_, estimator_.v());
+      }
+      thrust_axis_ = truth_.R_world_body.col(2);
+      thrust_axis_known_ = true;
+      commanded.acceleration += observer_.feed_forward(estimator_.v());
+    }
     vehicle_.step(dt_);
     last_pad_v_ = pad_.velocity;
     read_pad();
     drone_.set_pad(pad_.T_world_pad, pad_.velocity, vehicle_.pad_angular_velocity());
-    drone_.step(flown, estimator_.p(), estimator_.v(), armed_, wind);
+    drone_.step(commanded, estimator_.p(), estimator_.v(), armed_, wind);
     return flown;
   }
 
@@ -524,6 +535,10 @@ class Flight {
   GroundVehicle vehicle_;
   std::unique_ptr<Perception> perception_;
   WindModel wind_;
+  double mass_ = o_.drone.airframe.total_mass();
+  WindObserver observer_{o_.drone.wind_observer_time, mass_, o_.drone.drag_linear, o_.drone.drag_quadratic};
+  Eigen::Vector3d thrust_axis_ = Eigen::Vector3d::UnitZ();  // body z over the last step
+  bool thrust_axis_known_ = false;
   Rng link_rng_, fix_rng_, imu_rng_;
   DroneSimulation drone_;
   StateMachine machine_;

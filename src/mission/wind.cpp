@@ -11,6 +11,7 @@
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random_vector.hpp"
 #include "touchdown/core/units.hpp"
+#include "touchdown/twin/flight_control.hpp"
 
 namespace touchdown::mission {
 
@@ -166,6 +167,28 @@ Eigen::Vector3d WindModel::step(double t, double dt, double altitude, const Eige
   u = u.norm() > 1e-9 ? Eigen::Vector2d(u.normalized()) : Eigen::Vector2d::UnitX();
   const Eigen::Vector3d turbulence(u.x() * uvw_.x() - u.y() * uvw_.y(), u.y() * uvw_.x() + u.x() * uvw_.y(), uvw_.z());
   return m + gust_ + turbulence;
+}
+
+void WindObserver::update(double dt, const Eigen::Vector3d& measured, const Eigen::Vector3d& thrust_specific,
+                          const Eigen::Vector3d& velocity) {
+  const Eigen::Vector3d force =
+      mass_ * (measured - thrust_specific + Eigen::Vector3d(0, 0, twin::kStandardGravity));  // = D(air)
+  const double f = force.norm();
+  // |air| from c₂ a² + c₁ a = |F| (the root ≥ 0); air against the force.
+  double a = 0;
+  if (c2_ > 0) {
+    a = (-c1_ + std::sqrt(c1_ * c1_ + 4 * c2_ * f)) / (2 * c2_);
+  } else if (c1_ > 0) {
+    a = f / c1_;
+  } else {
+    return;  // no drag: the wind does nothing to the drone, nothing to estimate
+  }
+  const Eigen::Vector3d air = f > 0 ? Eigen::Vector3d(-force / f * a) : Eigen::Vector3d::Zero();
+  w_ += std::min(1.0, dt / tau_) * (velocity - air - w_);
+}
+
+Eigen::Vector3d WindObserver::feed_forward(const Eigen::Vector3d& velocity) const {
+  return -(drag(velocity - w_) - drag(velocity)) / mass_;
 }
 
 }  // namespace touchdown::mission

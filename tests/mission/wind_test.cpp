@@ -146,6 +146,34 @@ TEST(WindModel, TurbulenceIsInTheMeanWindsAxesAndSeeded) {
   EXPECT_GT(a.turbulence_uvw().norm(), 0);
 }
 
+// A drone at velocity v in a steady wind w: the thrust balances gravity,
+// drag and whatever acceleration it has; the observer recovers w exactly
+// (the inversion of the quadratic drag) and flies the drag the wind adds.
+TEST(WindObserver, RecoversASteadyWindThroughTheDrag) {
+  const double m = 0.6, c1 = 0.05, c2 = 0.01, g = 9.80665;
+  WindObserver obs(0.05, m, c1, c2);
+  const Eigen::Vector3d w(5, -3, 0.5), v(2, 1, -0.4), a(0.3, -0.2, 0.1);
+  const Eigen::Vector3d drag = obs.drag(v - w);
+  // m a = T + D − m g e_z  ⇒  T / m = a − D / m + g e_z.
+  const Eigen::Vector3d thrust = a - drag / m + Eigen::Vector3d(0, 0, g);
+  for (int k = 0; k < 2000; ++k) obs.update(0.002, a, thrust, v);
+  EXPECT_LT((obs.wind() - w).norm(), 1e-9);
+  EXPECT_LT((obs.feed_forward(v) - (-(drag - obs.drag(v)) / m)).norm(), 1e-9);
+  // Still air: nothing to fly against.
+  WindObserver calm(0.05, m, c1, c2);
+  const Eigen::Vector3d thrust_calm = a - calm.drag(v) / m + Eigen::Vector3d(0, 0, g);
+  for (int k = 0; k < 2000; ++k) calm.update(0.002, a, thrust_calm, v);
+  EXPECT_LT(calm.wind().norm(), 1e-9);
+  EXPECT_LT(calm.feed_forward(v).norm(), 1e-9);
+  // Linear drag only, and no drag at all (nothing to estimate).
+  WindObserver linear(0.05, m, c1, 0);
+  for (int k = 0; k < 2000; ++k) linear.update(0.002, a, a - linear.drag(v - w) / m + Eigen::Vector3d(0, 0, g), v);
+  EXPECT_LT((linear.wind() - w).norm(), 1e-9);
+  WindObserver none(0.05, m, 0, 0);
+  none.update(0.002, a, thrust, v);
+  EXPECT_EQ(none.wind(), Eigen::Vector3d::Zero());
+}
+
 TEST(WindOptions, RefusesWhatIsOutOfRange) {
   std::string why;
   WindOptions o;

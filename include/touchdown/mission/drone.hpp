@@ -35,6 +35,9 @@ struct DroneOptions {
   double contact_damping = 150.0;    ///< N s/m per contact
   double pad_friction = 0.8;         ///< Coulomb μ on the pad
   double ground_friction = 0.8;      ///< on the ground
+  /// The wind observer's time constant (wind.hpp: WindObserver) [s], ≥ 0; 0 = no
+  /// wind estimate (the integrators alone).
+  double wind_observer_time = 0.05;
   /// False (with "drone.key: problem" in *why) for an invalid value.
   [[nodiscard]] bool validate(std::string* why) const;
 };

@@ -45,6 +45,44 @@ namespace touchdown::mission {
 
 enum class TurbulenceLevel { None, Light, Moderate, Severe };
 
+/// The flight controller's wind estimate. Each control step in free flight
+/// the force its thrust and gravity do not explain, F = m (a_measured − g)
+/// − R e_z T, is taken as the airframe's drag, F = −(c₁ + c₂|air|) air,
+/// and inverted for the air's velocity relative to the drone; the wind is
+/// the drone's velocity minus it, low-passed with time constant τ:
+///   ŵ ← ŵ + (dt / τ) (v − air(F) − ŵ).
+/// The controller flies the drag the wind adds, −(D(v − ŵ) − D(v)) / m, as
+/// acceleration feed-forward (feed_forward), so its integrators keep only
+/// what the estimate misses, and in still air it flies as it did without
+/// one. Why a wind state and not the raw disturbance: feeding the whole
+/// unexplained acceleration forward, lagged by τ, cancels the airframe's own
+/// drag a moment late and took the damping out of the touchdown (median
+/// error 0.014 → 0.066 m, 95th-percentile touchdown speed 0.28 → 0.74 m/s in
+/// still air); the wind changes slowly, the drone's own drag does not.
+/// The drag coefficients are the airframe's (DroneOptions): the flight
+/// controller is assumed to know them, as from a system identification.
+class WindObserver {
+ public:
+  WindObserver(double time_constant, double mass, double drag_linear, double drag_quadratic)
+      : tau_(time_constant), mass_(mass), c1_(drag_linear), c2_(drag_quadratic) {}
+  /// One control step: the world acceleration measured over the last step,
+  /// the thrust's specific force (world) that acted in it [m/s²] and the
+  /// drone's (estimated) velocity [m/s].
+  void update(double dt, const Eigen::Vector3d& measured, const Eigen::Vector3d& thrust_specific,
+              const Eigen::Vector3d& velocity);
+  /// The wind estimate, world [m/s].
+  [[nodiscard]] const Eigen::Vector3d& wind() const { return w_; }
+  /// The acceleration to fly against the drag the estimated wind adds at
+  /// `velocity` [m/s²].
+  [[nodiscard]] Eigen::Vector3d feed_forward(const Eigen::Vector3d& velocity) const;
+  /// The airframe's drag force at this velocity relative to the air [N].
+  [[nodiscard]] Eigen::Vector3d drag(const Eigen::Vector3d& air) const { return -(c1_ + c2_ * air.norm()) * air; }
+
+ private:
+  double tau_, mass_, c1_, c2_;
+  Eigen::Vector3d w_ = Eigen::Vector3d::Zero();
+};
+
 }  // namespace touchdown::mission
 
 template <>
