@@ -45,7 +45,7 @@ Deadline after(double seconds) {
 /// Non-blocking reads tried before a wait in poll().
 constexpr int kSpins = 200;
 /// How often a wait looks whether the child has ended [s].
-constexpr double kEndedCheck_s = 0.1;
+constexpr double kEndedCheckSeconds = 0.1;
 
 /// A payload in place: bytes the caller keeps alive while they are sent.
 struct Bytes {
@@ -250,7 +250,7 @@ class ProcessSystem final : public LandingSystem {
 
   // Waits for `events` on the socket until the deadline (first `spins`
   // polls that do not sleep: detail::wait_fd).
-  // Waits in slices of kEndedCheck_s, looking between them whether the
+  // Waits in slices of kEndedCheckSeconds, looking between them whether the
   // child has ended: something it started may hold the socket open, and
   // its end is then the answer, not the timeout.
   void wait_for(short events, int spins, Deadline deadline, double timeout_s, const std::string& what) {
@@ -258,13 +258,13 @@ class ProcessSystem final : public LandingSystem {
       const double left = std::chrono::duration<double>(deadline - Clock::now()).count();
       bool ready = false;
       try {
-        ready = detail::wait_fd(fd_, events, spins, std::min(left, kEndedCheck_s));
+        ready = detail::wait_fd(fd_, events, spins, std::min(left, kEndedCheckSeconds));
       } catch (const Error& e) {
         throw SystemFault(e.what());
       }
       if (ready) return;
       spins = 0;
-      if (left <= kEndedCheck_s) {
+      if (left <= kEndedCheckSeconds) {
         throw SystemFault("no answer from the system within " + format_fixed(timeout_s, 1) + " s (waiting for it " +
                           what + ")");
       }

@@ -61,7 +61,6 @@ bool SearchOptions::validate(std::string* why) const {
   if (!chromosome.validate(&w)) return invalid(why, "chromosome." + w);
   if (!base.validate(&w)) return invalid(why, "base." + w);
   if (!(violation_radius > 0)) return invalid(why, "violation_radius: must be > 0");
-  if (system.empty()) return invalid(why, "system: empty");
   if (diversity && method == Method::Random) return invalid(why, "diversity: needs a GA method, not random");
   if (near_miss && (method == Method::Random || method == Method::ManyObjectiveGa)) {
     return invalid(why, "near_miss: needs a method with a scalar fitness (rlaga or diverse-ga), not " +
@@ -630,12 +629,23 @@ SearchResult run_search(const SearchOptions& options, Evaluator& evaluator, cons
   std::string why;
   if (!options.validate(&why)) throw InvalidArgument("search options: " + why);
   const auto t0 = std::chrono::steady_clock::now();
-  Directory dir(out_dir, resume, detail::campaign_config(options));
+  // What campaign.json records is the system the evaluator runs.
+  SearchOptions recorded = options;
+  if (const std::string evaluated = evaluator.system_name(); !evaluated.empty()) {
+    if (recorded.system.empty()) {
+      recorded.system = evaluated;
+    } else if (recorded.system != evaluated) {
+      throw InvalidArgument("search options: system '" + recorded.system + "' is not the evaluator's system '" +
+                            evaluated + "' (leave it empty to record the evaluator's)");
+    }
+  }
+  if (recorded.system.empty()) recorded.system = "unknown";  // an evaluator of one's own that names none
+  Directory dir(out_dir, resume, detail::campaign_config(recorded));
   if (static_cast<int>(dir.existing().size()) > options.budget) {
     throw InvalidArgument((out_dir / "results.jsonl").string() + ": holds " + std::to_string(dir.existing().size()) +
                           " records, more than the budget");
   }
-  Campaign campaign(options, evaluator, dir, progress);
+  Campaign campaign(recorded, evaluator, dir, progress);
   SearchResult result;
   result.records = campaign.run();
   result.resumed = static_cast<int>(std::min(dir.existing().size(), result.records.size()));

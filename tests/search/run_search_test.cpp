@@ -114,6 +114,20 @@ TEST(LocalEvaluator, AFailingSystemScoresNothingAndIsNoViolation) {
   const SearchMetrics m = compute_metrics(read);
   EXPECT_EQ(m.violations, 0);
   EXPECT_EQ(m.system_failed, 4);
+  // campaign.json names the system that ran (the factory's name), and a
+  // SearchOptions::system naming another is refused before anything runs.
+  EXPECT_NE(test::read_text(dir.path() / "campaign.json").find("\"system\": \"faulty\""), std::string::npos);
+  o.system = "opencv-mls";
+  const test::TempDir other;
+  try {
+    (void)run_search(o, evaluator, other.path(), false);
+    ADD_FAILURE() << "a system the evaluator does not run was accepted";
+  } catch (const InvalidArgument& refused) {
+    EXPECT_NE(std::string(refused.what()).find("system 'opencv-mls' is not the evaluator's system 'faulty'"),
+              std::string::npos)
+        << refused.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(other.path() / "results.jsonl"));
 }
 
 // A box over the marker hides it (Type II); light fog, rain, a far tree and

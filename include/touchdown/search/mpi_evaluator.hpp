@@ -57,6 +57,7 @@ class MpiEvaluator final : public Evaluator {
   /// other ranks' when their share arrives.
   std::vector<Evaluation> evaluate(const std::vector<scenario::Scenario>& scenarios,
                                    const std::function<void(std::size_t, const Evaluation&)>& on_done) override;
+  [[nodiscard]] std::string system_name() const override { return local_.system_name(); }
   [[nodiscard]] bool coordinator() const override { return rank_ == 0; }
   /// Ranks other than 0: evaluates shares until rank 0 says stop.
   void serve() override;

@@ -86,6 +86,10 @@ class Evaluator {
   /// For a worker only: evaluates the coordinator's batches until it says
   /// stop (the base class has no workers and returns at once).
   virtual void serve() {}
+  /// The system it evaluates (SystemFactory::name()): run_search records
+  /// it and refuses a SearchOptions::system that names another; empty for
+  /// an evaluator that does not say.
+  [[nodiscard]] virtual std::string system_name() const { return {}; }
 };
 
 struct EvaluatorOptions {
@@ -120,6 +124,7 @@ class LocalEvaluator final : public Evaluator {
   std::vector<Evaluation> evaluate(const std::vector<scenario::Scenario>& scenarios,
                                    const std::function<void(std::size_t, const Evaluation&)>& on_done) override;
   [[nodiscard]] const EvaluatorOptions& options() const { return options_; }
+  [[nodiscard]] std::string system_name() const override { return options_.system.name(); }
 
  private:
   EvaluatorOptions options_;
@@ -127,8 +132,12 @@ class LocalEvaluator final : public Evaluator {
 
 struct SearchOptions {
   Method method = Method::Rlaga;
-  std::string system = "opencv-mls";  ///< recorded in campaign.json (the evaluator runs it)
-  std::string detector = "aruco";     ///< the system's marker detector, recorded likewise
+  /// Recorded in campaign.json: the evaluator's system (Evaluator::
+  /// system_name()). Empty: taken from the evaluator ("unknown" when it
+  /// names none); a different name is refused, so campaign.json never
+  /// names a system that did not run.
+  std::string system;
+  std::string detector = "aruco";  ///< the system's marker detector, recorded likewise
   /// The learned detector's model (scenario::learned_model_id), recorded
   /// likewise so a campaign never resumes on another model; empty: none.
   std::string detector_model;
