@@ -114,9 +114,16 @@ std::string run_summary(const ScenarioResult& r, std::string_view scenario, MapK
   out << "scenario   " << scenario << " (" << to_string(map) << ")\n"
       << "system     " << system
       << (detector != "aruco" && system != "learned-mls" ? " (" + std::string(detector) + " detector)" : "") << "\n"
-      << "outcome    " << (r.violation() ? "VIOLATION" : "ok") << ": " << r.message << "\n"
-      << "DTL        " << format_fixed(r.dtl, 2) << " m   TTL " << format_fixed(r.ttl, 1) << " s\n"
-      << "frames     " << r.frames.size() << "   steps " << r.trajectory.size() << "\n";
+      << "outcome    "
+      << (r.violation()                         ? "VIOLATION"
+          : r.status == Violation::SystemFailed ? "SYSTEM FAILED (no verdict)"
+                                                : "ok")
+      << ": " << r.message << "\n";
+  // A failed system's run has no DTL or TTL that mean anything.
+  if (r.status != Violation::SystemFailed) {
+    out << "DTL        " << format_fixed(r.dtl, 2) << " m   TTL " << format_fixed(r.ttl, 1) << " s\n";
+  }
+  out << "frames     " << r.frames.size() << "   steps " << r.trajectory.size() << "\n";
   const Observability& o = r.observability;
   if (o.measured) {
     out << "target     observable " << format_fixed(o.observable_s, 1) << " s (longest " << format_fixed(o.longest_s, 1)

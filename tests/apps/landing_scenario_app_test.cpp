@@ -205,6 +205,11 @@ TEST(LandingScenarioApp, ContractCommandPassesASoundSystemAndNamesTheBrokenClaus
   const AppRun faulty = scenario_app("contract --max-time 6 --system " + plugin + "test-gps-lander-faulty", dir);
   EXPECT_EQ(faulty.code, 1);
   EXPECT_NE(faulty.out.find("the system failed: update() threw at t = 3.00 s"), std::string::npos) << faulty.out;
+  // A run of it says it failed, not "ok", and gives no DTL/TTL (they would be the time limit's).
+  const AppRun failed_run =
+      scenario_app("run " + bundled_scenario() + " --system " + plugin + "test-gps-lander-faulty", dir);
+  EXPECT_NE(failed_run.out.find("outcome    SYSTEM FAILED (no verdict): "), std::string::npos) << failed_run.out;
+  EXPECT_EQ(failed_run.out.find("DTL"), std::string::npos) << failed_run.out;
 
   const AppRun unknown = scenario_app("contract --system plugin:/nonexistent.so", dir);
   EXPECT_EQ(unknown.code, 2);
