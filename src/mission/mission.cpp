@@ -401,6 +401,12 @@ class Flight {
     in.vehicle_acceleration = pad_.acceleration.head<2>().norm();
     in.vehicle_yaw_rate = vehicle_.state().yaw_rate;
     in.tracking_point = o_.guidance.tracking_point;
+    // What would push the landed, unpowered drone across the pad: the drag
+    // of the (estimated) wind relative to the pad, and the pad's own
+    // acceleration; against what the pad's friction holds.
+    const Eigen::Vector3d air = pad_.velocity - observer_.wind();
+    const double side = observer_.drag(air).head<2>().norm() + mass_ * pad_.acceleration.head<2>().norm();
+    in.slide_ratio = side / (o_.drone.pad_friction * mass_ * twin::kStandardGravity);
     if (state_ == MissionState::Tracking) in.tracking_error = (o_.guidance.tracking_point - est.p).norm();
     const StateMachineOutput sm = machine_.step(in);
     if (sm.transitioned) res_.transitions.push_back(sm.transition);

@@ -26,6 +26,7 @@ bool StateMachineOptions::validate(std::string* why) const {
   if (!positive(pose_timeout)) return invalid(why, "pose_timeout: must be positive [s]");
   if (max_plan_failures < 1) return invalid(why, "max_plan_failures: must be >= 1");
   if (!positive(max_vehicle_acceleration)) return invalid(why, "max_vehicle_acceleration: must be positive [m/s^2]");
+  if (!(max_slide_ratio > 0 && max_slide_ratio <= 1)) return invalid(why, "max_slide_ratio: must be in (0, 1]");
   if (!positive(max_vehicle_yaw_rate)) return invalid(why, "max_vehicle_yaw_rate: must be positive [rad/s]");
   if (!(min_height_without_plan >= 0) || !std::isfinite(min_height_without_plan)) {
     return invalid(why, "min_height_without_plan: must be >= 0 [m]");
@@ -115,7 +116,7 @@ StateMachineOutput StateMachine::step(const StateMachineInputs& in) {
       const bool stable =
           in.tracking_error <= o.stable_error && (in.p_estimate - in.tracking_point).norm() <= o.stable_error &&
           in.v_estimate.norm() <= o.stable_speed && in.vehicle_acceleration <= o.max_vehicle_acceleration &&
-          std::abs(in.vehicle_yaw_rate) <= o.max_vehicle_yaw_rate;
+          std::abs(in.vehicle_yaw_rate) <= o.max_vehicle_yaw_rate && in.slide_ratio <= o.max_slide_ratio;
       if (!stable) {
         stable_since_ = -1;
       } else if (stable_since_ < 0) {
@@ -136,6 +137,9 @@ StateMachineOutput StateMachine::step(const StateMachineInputs& in) {
       }
       if (std::abs(in.vehicle_yaw_rate) > o.max_vehicle_yaw_rate) {
         return abort_landing(MissionState::Tracking, TransitionReason::VehicleTurning);
+      }
+      if (in.slide_ratio > o.max_slide_ratio) {
+        return abort_landing(MissionState::Tracking, TransitionReason::WindTooStrong);
       }
       if (in.height > o.contact_height || std::abs(in.v_estimate.z()) >= o.contact_speed) {
         stalled_since_ = -1;

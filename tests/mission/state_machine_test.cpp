@@ -143,6 +143,11 @@ TEST(StateMachine, TrackingWaitsForStableErrorAndSpeed) {
   s.step();
   s.in.tracking_error = 0;
   EXPECT_FALSE(s.run(1.0).has_value());
+  // A wind that would blow the landed drone off the pad: no landing.
+  s.in.slide_ratio = s.options.max_slide_ratio * 1.1;
+  EXPECT_FALSE(s.run(3).has_value());
+  s.in.slide_ratio = 0;
+  EXPECT_FALSE(s.run(1.0).has_value());
   EXPECT_EQ(s.run(1.0), TransitionReason::TrackingStable);
 }
 
@@ -165,6 +170,7 @@ TEST(StateMachine, EachLandingAbortNamesItsGuard) {
                        Case{TransitionReason::PlanInfeasible, MissionState::Tracking},
                        Case{TransitionReason::VehicleAccelerating, MissionState::Tracking},
                        Case{TransitionReason::VehicleTurning, MissionState::Tracking},
+                       Case{TransitionReason::WindTooStrong, MissionState::Tracking},
                        Case{TransitionReason::LowWithoutPlan, MissionState::Tracking},
                        Case{TransitionReason::LowOffCentre, MissionState::Tracking}}) {
     SCOPED_TRACE(std::string(tdm::to_string(c.reason)));
@@ -196,6 +202,9 @@ TEST(StateMachine, EachLandingAbortNamesItsGuard) {
         break;
       case TransitionReason::VehicleTurning:
         s.in.vehicle_yaw_rate = -s.options.max_vehicle_yaw_rate * 1.1;
+        break;
+      case TransitionReason::WindTooStrong:
+        s.in.slide_ratio = s.options.max_slide_ratio * 1.1;
         break;
       case TransitionReason::LowWithoutPlan:
         // Low with a plan is fine; low without one aborts.

@@ -48,6 +48,7 @@ enum class TransitionReason {
   LowWithoutPlan,       ///< below min_height_without_plan with no valid plan
   LowOffCentre,         ///< down to shutdown_height but beyond shutdown_radius: climb back
   GaveUp,               ///< max_landing_attempts landings aborted
+  WindTooStrong,        ///< slide_ratio above max_slide_ratio: the landed drone would be blown off the pad
 };
 
 /// The outcome of the guidance's replan at this step, if it replanned.
@@ -61,10 +62,11 @@ struct touchdown::EnumNames<touchdown::mission::MissionState> {
 };
 template <>
 struct touchdown::EnumNames<touchdown::mission::TransitionReason> {
-  static constexpr std::array<std::string_view, 12> names{
+  static constexpr std::array<std::string_view, 13> names{
       "arrived_at_rendezvous", "tracker_locked",   "tracking_stable", "touchdown_zone",
       "rendezvous_timeout",    "pose_lost",        "plan_infeasible", "vehicle_accelerating",
-      "vehicle_turning",       "low_without_plan", "low_off_centre",  "gave_up"};
+      "vehicle_turning",       "low_without_plan", "low_off_centre",  "gave_up",
+      "wind_too_strong"};
 };
 
 namespace touchdown::mission {
@@ -98,6 +100,12 @@ struct StateMachineOptions {
   double contact_speed = 0.1;
   double contact_time = 0.2;
   int max_landing_attempts = 3;  ///< aborted landings before giving up, ≥ 1
+  /// Land only while the side force on the landed, unpowered drone (the
+  /// drag of the wind relative to the pad plus its mass times the pad's
+  /// acceleration) stays below this share of what the pad's friction holds
+  /// (μ m g); above it: no landing from tracking, and in landing → tracking.
+  /// In (0, 1]; the rest is the margin for gusts.
+  double max_slide_ratio = 0.7;
   /// False (with "key: problem" in *why) for an invalid value.
   [[nodiscard]] bool validate(std::string* why) const;
 };
@@ -121,6 +129,9 @@ struct StateMachineInputs {
   double vehicle_acceleration = 0;                           ///< [m/s²] magnitude, from the vehicle's odometry
   double vehicle_yaw_rate = 0;                               ///< [rad/s]
   Eigen::Vector3d tracking_point = Eigen::Vector3d::Zero();  ///< where tracking holds the drone (pad frame)
+  /// The landed drone's side force over what friction holds (see
+  /// StateMachineOptions::max_slide_ratio), from the wind estimate.
+  double slide_ratio = 0;
 };
 
 struct Transition {
