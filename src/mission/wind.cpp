@@ -85,16 +85,31 @@ double DrydenFilter::step(double dt, double sigma, double length, double airspee
   const bool remake =
       key_[0] != dt || std::abs(key_[1] - length) > 0.01 * length || std::abs(key_[2] - airspeed) > 0.01 * airspeed;
   if (axis_ == 0) {
-    // u: x' = −x/T + √(2/T) ξ (unit variance), exactly: a = e^{−dt/T}.
+    // u: x' = −x/T + √(2/T) ξ (unit variance), exactly: a = e^{−dt/T};
+    // a stationary start.
     if (remake) {
       key_ = key;
       phi_(0, 0) = std::exp(-dt / T);
       chol_(0, 0) = std::sqrt(std::max(0.0, 1 - phi_(0, 0) * phi_(0, 0)));
     }
+    if (!started_) {
+      started_ = true;
+      x_(0) = rng.normal();
+      return sigma * x_(0);
+    }
     x_(0) = phi_(0, 0) * x_(0) + chol_(0, 0) * rng.normal();
     return sigma * x_(0);
   }
   if (remake) {
+    // The state's stationary covariance, diag(T⁴/4, T²/4), depends on T:
+    // rescaled to the new T so the output keeps unit variance (and does not
+    // jump) when the airspeed or the height changes.
+    if (started_ && T_ > 0) {
+      const double r = T / T_;
+      x_(0) *= r * r;
+      x_(1) *= r;
+    }
+    T_ = T;
     // v, w: (1 + √3 T s) / (1 + T s)² in controllable canonical form,
     // driven by white noise of intensity q = T (unit output variance):
     // A = [0 1; −1/T² −2/T], B = [0 1]ᵀ, C = [1/T² √3/T]. Exact step by
@@ -119,7 +134,8 @@ double DrydenFilter::step(double dt, double sigma, double length, double airspee
     const double l22 = std::sqrt(std::max(0.0, Q(1, 1) - l21 * l21));
     chol_ << l11, 0, l21, l22;
     c_ << 1 / (T * T), std::sqrt(3.0) / T;
-    if (x_.isZero()) {
+    if (!started_) {
+      started_ = true;
       // A stationary start: P∞ = diag(q / (2 a b), q / (2 b)), a = 1/T², b = 2/T.
       const double p22 = T * T / 4, p11 = p22 * T * T;
       x_ = Eigen::Vector2d(std::sqrt(p11) * rng.normal(), std::sqrt(p22) * rng.normal());

@@ -256,6 +256,10 @@ class ProcessSystem final : public LandingSystem {
   void wait_for(short events, int spins, Deadline deadline, double timeout_s, const std::string& what) {
     for (;;) {
       const double left = std::chrono::duration<double>(deadline - Clock::now()).count();
+      if (left <= 0) {  // a negative timeout would wait for ever
+        throw SystemFault("no answer from the system within " + format_fixed(timeout_s, 1) + " s (waiting for it " +
+                          what + ")");
+      }
       bool ready = false;
       try {
         ready = detail::wait_fd(fd_, events, spins, std::min(left, kEndedCheckSeconds));

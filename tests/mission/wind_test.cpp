@@ -117,6 +117,29 @@ TEST(Dryden, SteppedFiltersHaveTheModelsAutocorrelationAndSpectrum) {
   }
 }
 
+// Over an ensemble of filters: every component starts stationary (the
+// first sample has variance σ²), and stays so while the airspeed changes
+// (the state follows the time constant, it does not jump).
+TEST(Dryden, StationaryFromTheStartAndWhileTheAirspeedChanges) {
+  const DrydenParameters p = dryden_low_altitude(10.0, 30 * kKnot);
+  const int n = 4000;
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<std::size_t>(axis);
+    double first = 0, last = 0;
+    for (int k = 0; k < n; ++k) {
+      DrydenFilter f(axis);
+      Rng rng(11, static_cast<std::uint64_t>(k));
+      double x = f.step(0.01, p.sigma[a], p.length[a], 1.0, rng);
+      first += x * x;
+      for (int i = 1; i <= 200; ++i) x = f.step(0.01, p.sigma[a], p.length[a], 1.0 + 5.0 * i / 200, rng);  // 1 → 6 m/s
+      last += x * x;
+    }
+    const double s2 = p.sigma[a] * p.sigma[a];
+    EXPECT_NEAR(first / n / s2, 1.0, 0.08) << "axis " << axis;  // 4 000 samples: σ of the ratio ≈ 0.022
+    EXPECT_NEAR(last / n / s2, 1.0, 0.08) << "axis " << axis;
+  }
+}
+
 TEST(WindModel, NoTurbulenceIsTheMeanPlusGustsAndTheMeanTurns) {
   WindOptions o;
   o.mean = {4, 0, 0.5};

@@ -142,12 +142,14 @@ class DrydenFilter {
   /// The next sample after `dt` seconds, for intensity σ, scale length L
   /// and airspeed V; `rng` gives the white noise.
   double step(double dt, double sigma, double length, double airspeed, Rng& rng);
-  void reset() { x_.setZero(), key_ = {}; }
+  void reset() { x_.setZero(), key_ = {}, started_ = false, T_ = 0; }
 
  private:
   int axis_;
   Eigen::Vector2d x_ = Eigen::Vector2d::Zero();  // unit-σ state (u: first element only)
   std::array<double, 3> key_{};                  // dt, L, V the transition below was made for
+  bool started_ = false;                         // drawn from the stationary distribution once
+  double T_ = 0;                                 // the time constant the state is scaled for (v, w)
   Eigen::Matrix2d phi_ = Eigen::Matrix2d::Zero(), chol_ = Eigen::Matrix2d::Zero();
   Eigen::RowVector2d c_ = Eigen::RowVector2d::Zero();
 };
