@@ -29,6 +29,7 @@
 #include "core/io_util.hpp"
 #include "core/json_number.hpp"
 #include "touchdown/core/atomic_file.hpp"
+#include "touchdown/core/child_processes.hpp"
 #include "touchdown/core/enum_names.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/units.hpp"
@@ -514,6 +515,7 @@ inline void remove_temporaries_on_signal(const std::string& app) {
     int sig = 0;
     if (::sigwait(&set, &sig) != 0) return;
     const std::size_t removed = touchdown::remove_live_temporaries();
+    (void)touchdown::kill_live_process_groups();  // exec: systems and what they started
     const char* name = sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "SIGHUP";
     std::string line = (::isatty(2) != 0 ? "\n" : "") + app + ": interrupted (" + name + ")";
     if (removed > 0) line += ": removed " + std::to_string(removed) + " unfinished output(s)";

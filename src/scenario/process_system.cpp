@@ -27,6 +27,7 @@
 
 #include "core/format.hpp"
 #include "scenario/fd_wait.hpp"
+#include "touchdown/core/child_processes.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/scenario/system_protocol.hpp"
 
@@ -127,7 +128,7 @@ class ProcessSystem final : public LandingSystem {
       if (::getppid() != parent) ::_exit(126);
       // Its own process group: what it starts (a wrapper's children, a
       // launcher's nodes) is ended with it (stop()).
-      ::setpgid(0, 0);
+      if (::setpgid(0, 0) != 0) ::_exit(125);
       // A host app blocks SIGINT/SIGTERM/SIGHUP to wait for them in one
       // thread (apps/app_common.hpp); the system gets the default mask.
       sigset_t none;
@@ -140,7 +141,8 @@ class ProcessSystem final : public LandingSystem {
       ::_exit(127);
     }
     ::close(fds[1]);
-    (void)::setpgid(pid, pid);  // also here: whichever runs first (EACCES once it has exec'd)
+    (void)::setpgid(pid, pid);    // also here: whichever runs first (EACCES once it has exec'd)
+    register_process_group(pid);  // an app ending by a signal kills it too
     fd_ = fds[0];
     pid_ = pgid_ = pid;
     buffer_.clear();
@@ -167,7 +169,10 @@ class ProcessSystem final : public LandingSystem {
     }
     // The whole group, also when the child itself has ended: nothing it
     // started outlives it.
-    if (pgid_ > 0) ::kill(-pgid_, SIGKILL);
+    if (pgid_ > 0) {
+      ::kill(-pgid_, SIGKILL);
+      unregister_process_group(pgid_);
+    }
     if (pid_ > 0 && ::waitpid(pid_, nullptr, WNOHANG) == 0) {
       ::kill(pid_, SIGKILL);
       ::waitpid(pid_, nullptr, 0);

@@ -2,6 +2,7 @@
 // --snapshot outputs, random scenarios are valid and replay, bad input is
 // one line naming the key with exit 2 and no output file.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -230,6 +231,16 @@ TEST(LandingScenarioApp, AnInterruptedExecCampaignLeavesNoProcess) {
   // "[x]yz" matches "xyz" but not the shell's own command line, which holds "[x]yz".
   const AppRun left = td::test::run_app("pgrep", "-f 'sleep 5 [" + tag.substr(0, 1) + "]" + tag.substr(1) + "'", dir);
   EXPECT_EQ(left.code, 1) << "still running: " << left.out;  // pgrep: 1 = no process matched
+  // A system behind a wrapper that started something of its own: that goes too.
+  const std::string stamp = "41." + std::to_string(::getpid());
+  const std::string wrapped =
+      std::string("\"exec:sh -c 'sleep ") + stamp + " & exec " + TOUCHDOWN_EXEC_CHILD + " sleep 5 " + tag + "'\"";
+  const AppRun w = td::test::run_app("timeout -s INT 3 " + std::string(LANDING_SCENARIO_EXE),
+                                     "campaign --system " + wrapped + " --count 50 --map ground --threads 2", dir);
+  EXPECT_NE(w.code, 0);
+  const std::string pattern = "sleep " + stamp.substr(0, 2) + "[.]" + stamp.substr(3);
+  const AppRun stray = td::test::run_app("pgrep", "-f '" + pattern + "'", dir);
+  EXPECT_EQ(stray.code, 1) << "still running: " << stray.out;
 }
 
 TEST(LandingScenarioApp, BadInputIsOneLineNamingTheKey) {
