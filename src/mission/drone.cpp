@@ -45,7 +45,8 @@ bool DroneOptions::validate(std::string* why) const {
   if (!(contact_damping >= 0) || !std::isfinite(contact_damping)) {
     return invalid(why, "drone.contact_damping: must be >= 0 [N s/m]");
   }
-  if (!(pad_friction >= 0) || !std::isfinite(pad_friction)) return invalid(why, "drone.pad_friction: must be >= 0");
+  // > 0: the landed, unpowered drone must be held (the slide guard divides by it).
+  if (!positive(pad_friction)) return invalid(why, "drone.pad_friction: must be > 0 (what holds the landed drone)");
   if (!(ground_friction >= 0) || !std::isfinite(ground_friction)) {
     return invalid(why, "drone.ground_friction: must be >= 0");
   }
