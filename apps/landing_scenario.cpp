@@ -199,7 +199,7 @@ int campaign_command(CampaignArgs& a) {
   if (a.json) {
     std::cout << ts::campaign_json(c, source, a.campaign) << "\n";
   } else {
-    std::cout << ts::campaign_summary(c, source, a.campaign);
+    std::cout << ts::campaign_summary(c, source, a.campaign, names);
   }
   return kExitOk;
 }

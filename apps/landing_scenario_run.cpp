@@ -72,12 +72,17 @@ cv::Mat overlay(const ts::CameraFrame& frame, const ts::SystemOutput& out, const
 }
 
 void banner(cv::Mat& img, const ts::ScenarioResult& r) {
-  const std::string text =
-      r.violation() ? "VIOLATION Type " + std::string(ts::to_string(r.status)) : "LANDED (no violation)";
-  const cv::Scalar colour = r.violation() ? cv::Scalar(0, 0, 200) : cv::Scalar(0, 140, 0);
+  // A failed system has no verdict and no DTL: the banner says so in grey.
+  const bool failed = r.status == ts::Violation::SystemFailed;
+  const std::string text = failed          ? "SYSTEM FAILED (no verdict)"
+                           : r.violation() ? "VIOLATION Type " + std::string(ts::to_string(r.status)) + "  DTL " +
+                                                 format_fixed(r.dtl, 2) + " m"
+                                           : "LANDED (no violation)  DTL " + format_fixed(r.dtl, 2) + " m";
+  const cv::Scalar colour = failed          ? cv::Scalar(90, 90, 90)
+                            : r.violation() ? cv::Scalar(0, 0, 200)
+                                            : cv::Scalar(0, 140, 0);
   cv::rectangle(img, cv::Rect(0, img.rows - 40, img.cols, 40), colour, cv::FILLED);
-  cv::putText(img, text + "  DTL " + format_fixed(r.dtl, 2) + " m", cv::Point(8, img.rows - 13),
-              cv::FONT_HERSHEY_SIMPLEX, 0.7, cv::Scalar(255, 255, 255), 2);
+  cv::putText(img, text, cv::Point(8, img.rows - 13), cv::FONT_HERSHEY_SIMPLEX, 0.7, cv::Scalar(255, 255, 255), 2);
 }
 
 using Video = td::app::VideoFile;

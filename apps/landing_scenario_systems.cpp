@@ -139,11 +139,19 @@ int systems_command(const SystemsArgs& a) {
     const auto it = origin.find(e.name);
     const std::string spec = it != origin.end() ? it->second : e.name;
     if (a.json) {
-      std::cout << Json{{"name", e.name}, {"spec", spec}, {"description", e.description}}.dump() << "\n";
+      std::cout << Json{{"name", e.name}, {"spec", spec}, {"description", e.description}, {"options", e.options}}.dump()
+                << "\n";
     } else {
+      const std::string indent(width + 2, ' ');
       std::cout << e.name << std::string(width + 2 - e.name.size(), ' ') << e.description << "\n";
-      if (it != origin.end()) std::cout << std::string(width + 2, ' ') << "--system " << spec << "\n";
+      if (!e.options.empty()) std::cout << indent << "options: " << e.options << "\n";
+      if (it != origin.end()) std::cout << indent << "--system " << spec << "\n";
     }
+  }
+  if (!a.json) {
+    std::cout << "\nand any system in another process: --system exec:COMMAND, or "
+                 "exec,step-timeout=SECONDS,start-timeout=SECONDS:COMMAND (defaults 10 and 30 s; docs/formats.md, "
+                 "\"System protocol\")\n";
   }
   return 0;
 }

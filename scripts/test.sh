@@ -42,7 +42,7 @@ if [ "$full" = 0 ]; then
 fi
 fuzzers=(fuzz_pcd fuzz_ply fuzz_xyz fuzz_extrinsics fuzz_ground_truth fuzz_attitude fuzz_camera fuzz_constellation
   fuzz_airframe fuzz_plan_problem fuzz_mission fuzz_scenario fuzz_model_manifest fuzz_bench_labels fuzz_sequence_info
-  fuzz_results_record fuzz_dqn_weights fuzz_system_protocol)
+  fuzz_results_record fuzz_dqn_weights fuzz_system_protocol fuzz_vehicle_log)
 
 scripts/setup-deps.sh
 

@@ -106,6 +106,7 @@ class EagerLander final : public ts::LandingSystem {
 
 void register_systems(ts::PluginRegistrar& registrar) {
   registrar.add("eager-lander", "ArUco, no search, descends after 1 s of sighting (examples/plugin_system)",
+                "none (its gains are constants of eager_lander.cpp)",
                 [](const ts::MlsOptions&) { return std::make_unique<EagerLander>(); });
 }
 

@@ -214,11 +214,14 @@ bool MissionOptions::validate(std::string* why) const {
   // and the controller's.
   const double turn = vehicle.path == VehiclePath::Line ? 0.0 : 1.0 / vehicle.radius;
   const double offset = std::max(machine.rendezvous_point.head<2>().norm(), guidance.tracking_point.head<2>().norm());
+  const bool log = vehicle.path == VehiclePath::Log;
   const double top_speed =
-      (vehicle.speed + (vehicle.path == VehiclePath::Random ? 2 * vehicle.random_speed_sigma : 0)) *
-      (1 + turn * offset);
+      log ? vehicle.log->top_speed(offset)
+          : (vehicle.speed + (vehicle.path == VehiclePath::Random ? 2 * vehicle.random_speed_sigma : 0)) *
+                (1 + turn * offset);
   if (top_speed > guidance.planner.v_max * std::sqrt(2.0) || top_speed > drone.controller.xy_vel_max) {
-    return invalid(why, "vehicle.speed: the drone would need " + std::to_string(top_speed) +
+    return invalid(why, std::string(log ? "vehicle.log" : "vehicle.speed") + ": the drone would need " +
+                            std::to_string(top_speed) +
                             " m/s to follow, beyond guidance.planner.v_max per axis or the controller's xy_vel_max");
   }
   // The camera must see the points the drone waits at.

@@ -3,7 +3,9 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <functional>
+#include <memory>
 #include <utility>
 
 #include "core/io_util.hpp"
@@ -16,6 +18,7 @@
 namespace touchdown::mission {
 namespace {
 
+using touchdown::detail::format_general;
 using touchdown::detail::YamlReader;
 
 // One key of a section: how to read it.
@@ -117,6 +120,9 @@ void read_mission(const YamlReader& r, const YAML::Node& root, std::string_view 
                   const std::filesystem::path& base, MissionFile& file) {
   MissionOptions& o = file.options;
   VehicleOptions& v = o.vehicle;
+  std::string log_name;
+  double log_max_gap = 1.0;
+  YAML::Node log_node, gap_node, path_node;
   DroneOptions& d = o.drone;
   twin::ControllerParams& c = d.controller;
   StateMachineOptions& m = o.machine;
@@ -152,7 +158,12 @@ void read_mission(const YamlReader& r, const YAML::Node& root, std::string_view 
                      num("max_wheel_speed", v.max_wheel_speed), num("track_width", v.track_width),
                      num("drive_time_constant", v.drive_time_constant), num("lookahead", v.lookahead),
                      flag("start_at_speed", v.start_at_speed), num("random_speed_sigma", v.random_speed_sigma),
-                     num("random_change_time", v.random_change_time), vec3("pad_position", v.pad_position)});
+                     num("random_change_time", v.random_change_time), vec3("pad_position", v.pad_position),
+                     word("log", log_name), num("log_max_gap", log_max_gap)});
+                // Where the log's messages point: its key, else the section.
+                log_node = n["log"] ? n["log"] : n;
+                gap_node = n["log_max_gap"] ? n["log_max_gap"] : n;
+                path_node = n["path"] ? n["path"] : n;
               }),
       section("pad",
               [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
@@ -260,6 +271,30 @@ void read_mission(const YamlReader& r, const YAML::Node& root, std::string_view 
       num("ground_rate_hz", o.ground_rate_hz),
       num("timeout", o.timeout)};
   read_fields(r, root, "", top);
+  // The vehicle's log, once its keys are read (log_max_gap may come after
+  // log): beside the mission first, then touchdown's data directories.
+  if (!(log_max_gap > 0) || !std::isfinite(log_max_gap)) {
+    r.fail(gap_node, "vehicle.log_max_gap", "must be positive [s]");
+  }
+  if (log_name.empty()) {
+    if (v.path == VehiclePath::Log) r.fail(path_node, "vehicle.log", "path log needs a log file");
+    return;
+  }
+  if (v.path != VehiclePath::Log) r.fail(log_node, "vehicle.log", "a log is only read with path: log");
+  std::filesystem::path path;
+  try {
+    path = resolve_data_file(base, log_name, "vehicle_logs");
+  } catch (const Error& e) {
+    r.fail(log_node, "vehicle.log", e.what());
+  }
+  // A log's own errors name its file and line (ParseError, exit 2).
+  v.log = std::make_shared<const VehicleLog>(VehicleLog::load(path, log_max_gap));
+  file.vehicle_log = path;
+  if (v.log->duration() < o.timeout) {
+    file.warnings.push_back("vehicle.log: " + path.string() + " covers " + format_general(v.log->duration()) +
+                            " s, the mission's timeout " + format_general(o.timeout) +
+                            " s: after it the vehicle keeps its last speed and turn rate");
+  }
 }
 
 }  // namespace

@@ -7,11 +7,13 @@
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "core/format.hpp"
 #include "core/json_number.hpp"
+#include "touchdown/core/error.hpp"
 #include "touchdown/core/statistics.hpp"
 
 namespace touchdown::mission {
@@ -157,9 +159,15 @@ std::string reasons_text(const FailureCounts& reasons) {
 
 std::string summary_text(const MissionRunInfo& info, const MissionOptions& o, const MissionSummary& s, double wall) {
   std::string out;
-  appendf(out, "%s: %d mission%s, vehicle %s at %.2f m/s, perception %s, seed %llu\n", info.source.c_str(), s.runs,
-          s.runs == 1 ? "" : "s", std::string(to_string(o.vehicle.path)).c_str(), o.vehicle.speed,
-          info.perception.c_str(), static_cast<unsigned long long>(info.seed));
+  std::string vehicle = std::string(to_string(o.vehicle.path));
+  if (o.vehicle.path == VehiclePath::Log && o.vehicle.log) {
+    vehicle += " " + std::filesystem::path(o.vehicle.log->source()).filename().string() + " (" +
+               fixed(o.vehicle.log->duration(), 0) + " s, up to " + fixed(o.vehicle.log->top_speed(0), 1) + " m/s)";
+  } else {
+    vehicle += " at " + fixed(o.vehicle.speed, 2) + " m/s";
+  }
+  appendf(out, "%s: %d mission%s, vehicle %s, perception %s, seed %llu\n", info.source.c_str(), s.runs,
+          s.runs == 1 ? "" : "s", vehicle.c_str(), info.perception.c_str(), static_cast<unsigned long long>(info.seed));
   appendf(out, "  landed %d (%.1f %%), crashed %d, aborted %d, timeout %d\n", s.landed, 100 * s.success(), s.crashed,
           s.aborted, s.timeout);
   if (!s.reasons.empty()) appendf(out, "  why not landed: %s\n", reasons_text(s.reasons).c_str());
@@ -206,6 +214,11 @@ std::string missions_json(const MissionRunInfo& info, const std::vector<MissionR
 
 Envelope run_envelope(const MissionOptions& base, const std::vector<double>& speeds, const std::vector<double>& winds,
                       int runs, std::uint64_t seed, int threads, const ProgressCallback& progress) {
+  if (base.vehicle.path == VehiclePath::Log) {
+    throw InvalidArgument(
+        "envelope: vehicle.path is log, whose speeds are the log's; the envelope varies the speed of a path the "
+        "vehicle drives itself (circle, line, figure_eight, random)");
+  }
   Envelope e;
   e.speeds = speeds;
   e.winds = winds;

@@ -21,6 +21,13 @@ double wrap_pi(double a) { return std::remainder(a, 2 * kPi); }
 }  // namespace
 
 bool VehicleOptions::validate(std::string* why) const {
+  if (path == VehiclePath::Log) {
+    if (!log) return invalid(why, "vehicle.log: path log needs a log (a CSV file)");
+    if (!pad_position.allFinite() || !(pad_position.z() > 0)) {
+      return invalid(why, "vehicle.pad_position: must be finite with z (height above the ground) > 0");
+    }
+    return true;
+  }
   if (!positive(speed)) return invalid(why, "vehicle.speed: must be positive [m/s]");
   if (!positive(radius)) return invalid(why, "vehicle.radius: must be positive [m]");
   if (!positive(max_acceleration)) return invalid(why, "vehicle.max_acceleration: must be positive [m/s^2]");
@@ -62,7 +69,9 @@ GroundVehicle::GroundVehicle(const VehicleOptions& options, std::uint64_t seed) 
   std::string why;
   if (!options_.validate(&why)) throw InvalidArgument(why);
   random_speed_ = options_.speed;
-  if (options_.start_at_speed) {
+  if (options_.path == VehiclePath::Log) {
+    replay();
+  } else if (options_.start_at_speed) {
     const double v = options_.speed, k = path_curvature(0);
     state_.speed = speed_command_ = v;
     state_.yaw_rate = k * v;
@@ -87,6 +96,7 @@ Eigen::Vector2d GroundVehicle::path_point(double s) const {
       return {R * std::sin(a), side * R * (1 - std::cos(a))};
     }
     case VehiclePath::Random:
+    case VehiclePath::Log:
       return state_.position;
   }
   return state_.position;
@@ -106,6 +116,8 @@ double GroundVehicle::path_curvature(double s) const {
     }
     case VehiclePath::Random:
       return random_curvature_;
+    case VehiclePath::Log:
+      return std::abs(state_.speed) > 1e-6 ? state_.yaw_rate / state_.speed : 0.0;
   }
   return 0;
 }
@@ -146,6 +158,11 @@ void GroundVehicle::commands(double dt, double* v_cmd, double* w_cmd) {
 
 void GroundVehicle::step(double dt) {
   if (!(dt > 0) || !std::isfinite(dt)) throw InvalidArgument("vehicle step: dt must be positive");
+  if (options_.path == VehiclePath::Log) {
+    state_.t += dt;
+    replay();
+    return;
+  }
   const VehicleOptions& o = options_;
   double v_cmd = 0, w_cmd = 0;
   commands(dt, &v_cmd, &w_cmd);
@@ -172,6 +189,16 @@ void GroundVehicle::step(double dt) {
   s.speed = v;
   s.yaw_rate = w;
   s.t += dt;
+}
+
+void GroundVehicle::replay() {
+  const LogSample m = options_.log->sample(state_.t);
+  state_.position = m.position;
+  state_.yaw = m.yaw;
+  state_.speed = m.speed;
+  state_.yaw_rate = m.yaw_rate;
+  state_.acceleration = m.acceleration;
+  state_.wheel_left = state_.wheel_right = m.speed;  // no drives: the log is what the vehicle did
 }
 
 Eigen::Isometry3d GroundVehicle::T_world_pad() const {

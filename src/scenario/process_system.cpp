@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "core/format.hpp"
+#include "core/io_util.hpp"
 #include "scenario/fd_wait.hpp"
 #include "touchdown/core/child_processes.hpp"
 #include "touchdown/core/error.hpp"
@@ -165,16 +166,17 @@ class ProcessSystem final : public LandingSystem {
       const std::string bye = protocol::header("bye");
       (void)::send(fd_, bye.data(), bye.size(), MSG_NOSIGNAL);
       ::shutdown(fd_, SHUT_WR);
-      for (int i = 0; i < 50 && ::waitpid(pid_, nullptr, WNOHANG) == 0; ++i) ::usleep(10000);
+      for (int i = 0; i < 50 && !ended(nullptr); ++i) ::usleep(10000);
     }
     // The whole group, also when the child itself has ended: nothing it
-    // started outlives it.
+    // started outlives it. The child is reaped only after that, so its pid
+    // (the group's id) cannot have gone to another process in between.
     if (pgid_ > 0) {
       ::kill(-pgid_, SIGKILL);
       unregister_process_group(pgid_);
     }
-    if (pid_ > 0 && ::waitpid(pid_, nullptr, WNOHANG) == 0) {
-      ::kill(pid_, SIGKILL);
+    if (pid_ > 0) {
+      ::kill(pid_, SIGKILL);  // also when it left its group
       ::waitpid(pid_, nullptr, 0);
     }
     pid_ = pgid_ = -1;
@@ -190,19 +192,29 @@ class ProcessSystem final : public LandingSystem {
     throw SystemFault("the system answered '" + h.verb + "' where '" + wanted + "' was due");
   }
 
-  // How the child ended, once it has (waits up to 1 s for it).
-  std::string exit_status() {
-    int status = 0;
-    pid_t r = 0;
-    for (int i = 0; i < 100 && (r = ::waitpid(pid_, &status, WNOHANG)) == 0; ++i) ::usleep(10000);
-    if (r != pid_) return "closed its output";
-    pid_ = -1;
-    return describe_end(status);
+  // Whether the child has ended, and how, without reaping it (waitid with
+  // WNOWAIT): stop() reaps it once its group is killed.
+  bool ended(std::string* how) const {
+    if (pid_ <= 0) return false;
+    siginfo_t info{};
+    if (::waitid(P_PID, static_cast<id_t>(pid_), &info, WEXITED | WNOHANG | WNOWAIT) != 0 || info.si_pid != pid_) {
+      return false;
+    }
+    if (how != nullptr) {
+      *how = info.si_code == CLD_EXITED ? "exited with status " + std::to_string(info.si_status)
+                                        : "was killed by signal " + std::to_string(info.si_status);
+    }
+    return true;
   }
-  static std::string describe_end(int status) {
-    if (WIFEXITED(status)) return "exited with status " + std::to_string(WEXITSTATUS(status));
-    if (WIFSIGNALED(status)) return "was killed by signal " + std::to_string(WTERMSIG(status));
-    return "ended";
+
+  // How the child ended, once it has (waits up to 1 s for it).
+  std::string exit_status() const {
+    std::string how;
+    for (int i = 0; i < 100; ++i) {
+      if (ended(&how)) return how;
+      ::usleep(10000);
+    }
+    return "closed its output";
   }
 
   // Writes the pieces in order, as one stream (sendmsg: no copy into one buffer).
@@ -225,7 +237,7 @@ class ProcessSystem final : public LandingSystem {
       const ssize_t n = ::sendmsg(fd_, &m, MSG_NOSIGNAL | MSG_DONTWAIT);
       if (n < 0 && errno == EINTR) continue;
       if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
-        wait_for(POLLOUT, 0, deadline, options_.step_timeout_s, "to read its input");
+        wait_for(POLLOUT, 0, deadline, options_.step_timeout_s, "reading its input");
         continue;
       }
       if (n < 0) {
@@ -262,7 +274,7 @@ class ProcessSystem final : public LandingSystem {
     for (;;) {
       const double left = std::chrono::duration<double>(deadline - Clock::now()).count();
       if (left <= 0) {  // a negative timeout would wait for ever
-        throw SystemFault("no answer from the system within " + format_fixed(timeout_s, 1) + " s (waiting for it " +
+        throw SystemFault("no answer from the system within " + format_fixed(timeout_s, 1) + " s (while it was " +
                           what + ")");
       }
       bool ready = false;
@@ -274,14 +286,10 @@ class ProcessSystem final : public LandingSystem {
       if (ready) return;
       spins = 0;
       if (left <= kEndedCheckSeconds) {
-        throw SystemFault("no answer from the system within " + format_fixed(timeout_s, 1) + " s (waiting for it " +
+        throw SystemFault("no answer from the system within " + format_fixed(timeout_s, 1) + " s (while it was " +
                           what + ")");
       }
-      int status = 0;
-      if (pid_ > 0 && ::waitpid(pid_, &status, WNOHANG) == pid_) {
-        pid_ = -1;
-        throw SystemFault("the system's process " + describe_end(status) + " (while " + what + ")");
-      }
+      if (std::string how; ended(&how)) throw SystemFault("the system's process " + how + " (while " + what + ")");
     }
   }
 
@@ -355,6 +363,38 @@ bool ProcessOptions::validate(std::string* why) const {
   if (!(start_timeout_s > 0 && start_timeout_s <= 3600)) return bad("start_timeout_s: must be in (0, 3600] s");
   if (!(step_timeout_s > 0 && step_timeout_s <= 3600)) return bad("step_timeout_s: must be in (0, 3600] s");
   return true;
+}
+
+ProcessOptions parse_exec_spec(std::string_view spec) {
+  constexpr std::string_view kPrefix = "exec";
+  const std::string where(spec);
+  const auto colon = spec.find(':');
+  if (spec.substr(0, kPrefix.size()) != kPrefix || colon == std::string_view::npos ||
+      (colon != kPrefix.size() && spec[kPrefix.size()] != ',')) {
+    throw InvalidArgument(where + ": not exec:COMMAND nor exec,KEY=SECONDS,...:COMMAND");
+  }
+  ProcessOptions o;
+  o.command = std::string(spec.substr(colon + 1));
+  std::string_view keys = spec.substr(kPrefix.size(), colon - kPrefix.size());
+  while (!keys.empty()) {
+    keys.remove_prefix(1);  // the ','
+    const std::string_view item = keys.substr(0, keys.find(','));
+    keys.remove_prefix(item.size());
+    const auto eq = item.find('=');
+    const std::string key(item.substr(0, eq));
+    double* value = key == "step-timeout" ? &o.step_timeout_s : key == "start-timeout" ? &o.start_timeout_s : nullptr;
+    if (value == nullptr || eq == std::string_view::npos) {
+      throw InvalidArgument(where + ": option '" + std::string(item) +
+                            "': the options are step-timeout=SECONDS and start-timeout=SECONDS");
+    }
+    const std::string_view text = item.substr(eq + 1);
+    if (!touchdown::detail::parse_double(text, *value)) {
+      throw InvalidArgument(where + ": " + key + ": '" + std::string(text) + "' is not a number");
+    }
+  }
+  std::string why;
+  if (!o.validate(&why)) throw InvalidArgument(where + ": " + why);
+  return o;
 }
 
 std::unique_ptr<LandingSystem> make_process_system(const ProcessOptions& options) {

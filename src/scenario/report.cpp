@@ -115,10 +115,10 @@ std::string run_summary(const ScenarioResult& r, std::string_view scenario, MapK
       << "system     " << system
       << (detector != "aruco" && system != "learned-mls" ? " (" + std::string(detector) + " detector)" : "") << "\n"
       << "outcome    "
-      << (r.violation()                         ? "VIOLATION"
-          : r.status == Violation::SystemFailed ? "SYSTEM FAILED (no verdict)"
-                                                : "ok")
-      << ": " << r.message << "\n";
+      << (r.violation()                         ? "VIOLATION: " + r.message
+          : r.status == Violation::SystemFailed ? "SYSTEM FAILED (no verdict): " + r.failure
+                                                : "ok: " + r.message)
+      << "\n";
   // A failed system's run has no DTL or TTL that mean anything.
   if (r.status != Violation::SystemFailed) {
     out << "DTL        " << format_fixed(r.dtl, 2) << " m   TTL " << format_fixed(r.ttl, 1) << " s\n";
@@ -198,7 +198,8 @@ std::string campaign_json(const CampaignResult& c, std::string_view source, cons
   return j.dump();
 }
 
-std::string campaign_summary(const CampaignResult& c, std::string_view source, const CampaignOptions& o) {
+std::string campaign_summary(const CampaignResult& c, std::string_view source, const CampaignOptions& o,
+                             const std::vector<std::string>& names) {
   const CampaignSummary& s = c.summary;
   std::vector<double> dtl, ttl;
   for (const auto& e : c.entries) {
@@ -223,11 +224,15 @@ std::string campaign_summary(const CampaignResult& c, std::string_view source, c
   if (s.system_failed > 0) {
     const auto first = std::find_if(c.entries.begin(), c.entries.end(),
                                     [](const CampaignEntry& e) { return e.outcome.status == Violation::SystemFailed; });
-    out << "failed     " << s.system_failed << " runs: the system under test failed (first, scenario "
-        << (first - c.entries.begin()) << ": " << first->outcome.failure << ")\n";
+    const auto i = static_cast<std::size_t>(first - c.entries.begin());
+    out << "failed     " << s.system_failed << " runs: the system under test failed (first, "
+        << (i < names.size() ? names[i] : "scenario " + std::to_string(i)) << ": " << first->outcome.failure << ")\n";
   }
-  out << "landed     " << dtl.size() << ": median DTL " << format_fixed(median(dtl), 2) << " m, median TTL "
-      << format_fixed(median(ttl), 1) << " s\n"
+  out << "landed     " << dtl.size();
+  if (!dtl.empty()) {
+    out << ": median DTL " << format_fixed(median(dtl), 2) << " m, median TTL " << format_fixed(median(ttl), 1) << " s";
+  }
+  out << "\n"
       << "time       " << format_fixed(s.wall_s, 1) << " s wall on " << resolve_threads(o.threads) << " threads for "
       << format_fixed(s.flight_s, 0) << " s of flight (" << format_fixed(s.wall_s > 0 ? s.flight_s / s.wall_s : 0.0, 0)
       << "x real time); per scenario " << format_fixed(s.scenarios > 0 ? s.timing.total_s / s.scenarios : 0.0, 2)

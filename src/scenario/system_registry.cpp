@@ -25,6 +25,7 @@ namespace {
 
 constexpr std::string_view kPluginPrefix = "plugin:";
 constexpr std::string_view kExecPrefix = "exec:";
+constexpr std::string_view kExecOptions = "exec,";
 
 const MlsOptions& checked(const MlsOptions& o) {
   std::string why;
@@ -33,17 +34,22 @@ const MlsOptions& checked(const MlsOptions& o) {
 }
 
 void add_builtins(Registry<MakeSystem>& r) {
+  // What the command line sets of MlsOptions (the library takes all of it).
+  const std::string detector =
+      "--detector aruco|learned, --whole-frame-detection (landing_scenario); from C++ every MlsOptions field";
   r.add("opencv-mls", "ArUco marker detection; lands after 5 s of continuous sighting (the source's OpenCV-MLS)",
-        [](const MlsOptions& o) -> std::unique_ptr<LandingSystem> {
+        detector, [](const MlsOptions& o) -> std::unique_ptr<LandingSystem> {
           return std::make_unique<detail::OpencvMls>(checked(o), "opencv-mls");
         });
   r.add("learned-mls", "opencv-mls on the learned marker detector (OpenCV DNN; the source's TPHYoLo-MLS)",
+        "the model (data/models/, or TOUCHDOWN_MODEL), --whole-frame-detection (landing_scenario); from C++ every "
+        "MlsOptions field",
         [](const MlsOptions& o) -> std::unique_ptr<LandingSystem> {
           MlsOptions learned = checked(o);
           learned.detector.kind = "learned";
           return std::make_unique<detail::OpencvMls>(learned, "learned-mls");
         });
-  r.add("mm-mls", "opencv-mls plus a depth obstacle map and planned descents (the source's MM-MLS)",
+  r.add("mm-mls", "opencv-mls plus a depth obstacle map and planned descents (the source's MM-MLS)", detector,
         [](const MlsOptions& o) -> std::unique_ptr<LandingSystem> {
           return std::make_unique<detail::MmMls>(checked(o));
         });
@@ -53,9 +59,9 @@ void add_builtins(Registry<MakeSystem>& r) {
 class Registrar final : public PluginRegistrar {
  public:
   explicit Registrar(std::string path) : path_(std::move(path)) {}
-  void add(std::string name, std::string description, MakeSystem make) override {
+  void add(std::string name, std::string description, std::string options, MakeSystem make) override {
     if (!make) throw InvalidArgument("plugin:" + path_ + ": system '" + name + "' has an empty factory");
-    added_.push_back({std::move(name), std::move(description), std::move(make)});
+    added_.push_back({std::move(name), std::move(description), std::move(make), std::move(options)});
   }
   std::vector<Registry<MakeSystem>::Entry>& added() { return added_; }
 
@@ -128,7 +134,7 @@ std::vector<std::string> load_locked(const std::string& path, const std::string&
   }
   for (auto& e : registrar.added()) {
     names.push_back(e.name);
-    registry.add(std::move(e.name), std::move(e.description), std::move(e.factory));
+    registry.add(std::move(e.name), std::move(e.description), std::move(e.options), std::move(e.factory));
   }
   return names;  // the handle stays open for the process's life
 }
@@ -159,11 +165,8 @@ std::vector<std::string> load_system_plugin(const std::string& path) {
 }
 
 MakeSystem resolve_system(std::string_view spec) {
-  if (spec.substr(0, kExecPrefix.size()) == kExecPrefix) {
-    ProcessOptions o;
-    o.command = std::string(spec.substr(kExecPrefix.size()));
-    std::string why;
-    if (!o.validate(&why)) throw InvalidArgument(std::string(spec) + ": " + why);
+  if (spec.substr(0, kExecPrefix.size()) == kExecPrefix || spec.substr(0, kExecOptions.size()) == kExecOptions) {
+    const ProcessOptions o = parse_exec_spec(spec);
     return [o](const MlsOptions&) { return make_process_system(o); };
   }
   if (spec.substr(0, kPluginPrefix.size()) != kPluginPrefix) return system_registry().get(spec).factory;

@@ -24,6 +24,6 @@ TEST(MissionEnumNames, NamesAreTheFilesAndOutputsSpellings) {
   EXPECT_EQ(tmi::to_string(tmi::MissionOutcome::Timeout), "timeout");
   EXPECT_EQ(tmi::to_string(tmi::MissionState::Rendezvous), "rendezvous");
   EXPECT_EQ(tmi::to_string(tmi::TransitionReason::TrackerLocked), "tracker_locked");
-  td::test::expect_bad_name<tmi::VehiclePath>("figure-eight",
-                                              "expected one of circle, line, figure_eight, random; got 'figure-eight'");
+  td::test::expect_bad_name<tmi::VehiclePath>(
+      "figure-eight", "expected one of circle, line, figure_eight, random, log; got 'figure-eight'");
 }

@@ -76,13 +76,13 @@ struct Fault {
 TEST(ProcessSystem, EveryFaultIsSystemFailedWithItsReasonAndLeavesNoProcess) {
   const std::vector<Fault> faults{
       {"exit 40", "the system's process exited with status 3 (while answering step)"},
-      {"sleep 40", "no answer from the system within 1.0 s (waiting for it answering step)"},
+      {"sleep 40", "no answer from the system within 1.0 s (while it was answering step)"},
       {"garbage 40", "the system answered a malformed header: header: '!!! this is not a header' has no verb"},
       {"truncate 40", "the system's process exited with status 0 (while sending a payload): 11 of 100 bytes came"},
       {"wrong-size 40", "the system answered a bad command: command: not JSON"},
       {"error 40", "the system reported an error: planted error at step 40"},
       {"version", "hello: the system speaks protocol version 2, the host version 1"},
-      {"silent", "no answer from the system within 1.0 s (waiting for it answering hello)"},
+      {"silent", "no answer from the system within 1.0 s (while it was answering hello)"},
   };
   for (const Fault& f : faults) {
     ProcessOptions o;
@@ -153,6 +153,37 @@ TEST(ProcessSystem, ACommandThatCannotRunFailsItsFirstRun) {
   o.command = "true";
   o.step_timeout_s = 0;
   EXPECT_THROW((void)make_process_system(o), InvalidArgument);
+  EXPECT_EQ(children(), 0);
+}
+
+TEST(ProcessSystem, TheSpecSetsTheTimeoutsOrSaysWhatIsWrong) {
+  const ProcessOptions plain = parse_exec_spec("exec:a b:c");
+  EXPECT_EQ(plain.command, "a b:c");  // the options end at the first ':'
+  EXPECT_EQ(plain.step_timeout_s, ProcessOptions{}.step_timeout_s);
+  const ProcessOptions set = parse_exec_spec("exec,step-timeout=0.5,start-timeout=60:x --y");
+  EXPECT_EQ(set.command, "x --y");
+  EXPECT_EQ(set.step_timeout_s, 0.5);
+  EXPECT_EQ(set.start_timeout_s, 60);
+  const auto message = [](const std::string& spec) {
+    try {
+      (void)resolve_system(spec);
+    } catch (const InvalidArgument& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  EXPECT_TRUE(
+      mentions(message("exec,step-timeout=abc:x"), "exec,step-timeout=abc:x: step-timeout: 'abc' is not a number"));
+  EXPECT_TRUE(mentions(message("exec,step-timeout=0:x"), "step_timeout_s: must be in (0, 3600] s"));
+  EXPECT_TRUE(mentions(message("exec,stepp-timeout=1:x"), "option 'stepp-timeout=1': the options are"));
+  EXPECT_TRUE(mentions(message("exec,step-timeout=1"), "not exec:COMMAND nor exec,KEY=SECONDS"));
+  EXPECT_TRUE(mentions(message("exec,step-timeout=nan:x"), "must be in (0, 3600] s"));
+  // The timeout set in the spec is the one a run waits for.
+  auto system = SystemFactory("exec,step-timeout=0.3:" + kChild + " sleep 40").make();
+  const auto t0 = std::chrono::steady_clock::now();
+  const ScenarioResult r = run_scenario(contract::clear_scenario(20), *system, {});
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5);
+  EXPECT_TRUE(mentions(r.failure, "no answer from the system within 0.3 s")) << r.failure;
   EXPECT_EQ(children(), 0);
 }
 

@@ -46,6 +46,8 @@ TEST(Registry, RefusesDuplicatesAndBadNamesAndListsTheKnownOnes) {
   EXPECT_TRUE(contains(message_of([&] { r.add("", "x", 0); }), "empty name"));
   EXPECT_TRUE(contains(message_of([&] { r.add("a:b", "x", 0); }), "names use only"));
   EXPECT_TRUE(contains(message_of([&] { r.add("c", "two\nlines", 0); }), "one line"));
+  EXPECT_TRUE(contains(message_of([&] { r.add("c", "one line", "options\non two", 0); }), "options must be one line"));
+  EXPECT_EQ(r.get("b-1").options, "");  // added without options
   EXPECT_EQ(r.names().size(), 2U);
   EXPECT_TRUE(r.remove("a.0"));
   EXPECT_FALSE(r.remove("a.0"));
@@ -61,6 +63,8 @@ TEST(SystemRegistry, HoldsTheBuiltInsWithDescriptions) {
     names.push_back(e.name);
     EXPECT_FALSE(e.description.empty()) << e.name;
   }
+  EXPECT_TRUE(contains(system_registry().get("opencv-mls").options, "--detector"))
+      << "the built-ins list their options";
   for (const char* builtin : {"learned-mls", "mm-mls", "opencv-mls"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), builtin), names.end()) << builtin;
   }
@@ -140,6 +144,8 @@ TEST(Plugin, LoadsItsSystemsOnceAndResolvesSpecs) {
             (std::vector<std::string>{"test-gps-lander", "test-gps-lander-faulty", "test-stateful", "test-shared"}));
   EXPECT_EQ(load_system_plugin(kGood), names);  // loaded once: no "already registered"
   EXPECT_TRUE(system_registry().find("test-gps-lander").has_value());
+  EXPECT_EQ(system_registry().get("test-gps-lander").options, "none: fixed gains");
+  EXPECT_EQ(system_registry().get("test-stateful").options, "");  // the registrar's add without options
   EXPECT_EQ(SystemFactory("plugin:" + kGood + ":test-gps-lander").make()->name(), "test-gps-lander");
   EXPECT_EQ(SystemFactory("test-gps-lander-faulty").make()->name(), "test-gps-lander-faulty");  // registered now
   const std::string which = message_of([] { (void)resolve_system("plugin:" + kGood); });
@@ -157,7 +163,9 @@ TEST(Plugin, RefusesAnotherVersionOrAbiBeforeRunningItsCode) {
   EXPECT_TRUE(contains(version, "this is touchdown " TOUCHDOWN_VERSION)) << version;
   EXPECT_TRUE(contains(version, "rebuild it against this touchdown")) << version;
   const std::string abi = message_of([] { (void)load_system_plugin(bad_plugin(2)); });
-  EXPECT_TRUE(contains(abi, "plug-in ABI 42, this touchdown loads ABI 1")) << abi;
+  EXPECT_TRUE(contains(abi, "plug-in ABI " + std::to_string(kPluginAbiVersion + 41) + ", this touchdown loads ABI " +
+                                std::to_string(kPluginAbiVersion)))
+      << abi;
 }
 
 TEST(Plugin, RefusesWhatIsNotAPluginOrRegistersBadly) {

@@ -91,6 +91,7 @@ class FakeEvaluator final : public Evaluator {
   bool facts = false;                  // fake_with_facts instead of fake_evaluation
   bool crowd = false;                  // with facts: a landing without a near miss is a fair Type II instead
   std::chrono::milliseconds pause{0};  // per batch: a stand-in for the runs' time
+  bool flaky = false;                  // the system under test fails in every scenario whose seed is a multiple of 3
   std::vector<Evaluation> evaluate(const std::vector<scenario::Scenario>& scenarios,
                                    const std::function<void(std::size_t, const Evaluation&)>& on_done) override {
     std::vector<Evaluation> out(scenarios.size());
@@ -102,6 +103,13 @@ class FakeEvaluator final : public Evaluator {
         out[k].violation = scenario::Violation::TypeII;
         out[k].ttl = out[k].time_limit;
         out[k].facts.fair = true;
+      }
+      if (flaky && scenarios[k].seed % 3 == 0) {
+        out[k] = Evaluation{};
+        out[k].violation = scenario::Violation::SystemFailed;
+        out[k].message = "system failed: update() threw at step 12: planted";
+        out[k].time_limit = scenarios[k].time_limit;
+        out[k].ttl = scenarios[k].time_limit;
       }
       ++evaluated;
       if (on_done) on_done(k, out[k]);
@@ -249,6 +257,41 @@ TEST_F(SearchDir, AKilledCampaignResumesToTheSameResultsFile) {
       EXPECT_EQ(r.resumed, written) << name << " " << kill;
       EXPECT_EQ(rest.evaluated, 30 - written) << name << " " << kill;
     }
+  }
+}
+
+// Runs whose system failed are results like any other: written, read back
+// as failed (not as a landing), scored 0, and not run again on resume.
+TEST_F(SearchDir, SystemFailedRunsAreKeptAndResumed) {
+  FakeEvaluator whole;
+  whole.flaky = true;
+  const SearchResult w = run_search(small(Method::Rlaga), whole, root_ / "whole", false);
+  int failed = 0;
+  for (const auto& rec : w.records) {
+    if (!rec.evaluation.system_failed()) continue;
+    ++failed;
+    EXPECT_EQ(rec.fitness, 0.0);
+    EXPECT_FALSE(rec.evaluation.violation_found());
+  }
+  ASSERT_GT(failed, 0);
+  ASSERT_LT(failed, 30);
+  for (int kill : {5, 17}) {
+    const fs::path dir = root_ / ("killed-" + std::to_string(kill));
+    FakeEvaluator killed;
+    killed.flaky = true;
+    killed.fail_after = kill;
+    EXPECT_THROW(run_search(small(Method::Rlaga), killed, dir, false), std::runtime_error);
+    FakeEvaluator rest;
+    rest.flaky = true;
+    const SearchResult r = run_search(small(Method::Rlaga), rest, dir, true);
+    EXPECT_EQ(test::read_text(dir / "results.jsonl"), test::read_text(root_ / "whole" / "results.jsonl")) << kill;
+    EXPECT_EQ(rest.evaluated, 30 - r.resumed) << kill;
+    int failed_again = 0;
+    for (std::size_t i = 0; i < r.records.size(); ++i) {
+      failed_again += r.records[i].evaluation.system_failed() ? 1 : 0;
+      EXPECT_EQ(r.records[i].evaluation.message, w.records[i].evaluation.message) << kill << " " << i;
+    }
+    EXPECT_EQ(failed_again, failed) << kill;
   }
 }
 

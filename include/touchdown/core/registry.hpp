@@ -25,16 +25,23 @@ class Registry {
     std::string name;
     std::string description;  ///< one line, for listings and --help
     Factory factory;
+    /// One line: the options the factory reads (empty: none), for listings.
+    std::string options;
   };
 
   /// `what` names the kind of thing in messages ("landing system").
   explicit Registry(std::string what) : what_(std::move(what)) {}
 
+  /// Adds an entry with no options.
+  void add(std::string name, std::string description, Factory factory) {
+    add(std::move(name), std::move(description), std::string(), std::move(factory));
+  }
+
   /// Adds an entry. Throws InvalidArgument for an empty name, a name with
   /// a character outside [A-Za-z0-9._-] (names go on command lines and
-  /// into spec strings such as plugin:PATH:NAME), a description with a
-  /// line break, or a name that is already registered.
-  void add(std::string name, std::string description, Factory factory) {
+  /// into spec strings such as plugin:PATH:NAME), a description or options
+  /// with a line break, or a name that is already registered.
+  void add(std::string name, std::string description, std::string options, Factory factory) {
     if (name.empty()) throw InvalidArgument(what_ + ": empty name");
     const auto bad = std::find_if_not(name.begin(), name.end(), [](char c) {
       return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' || c == '_' ||
@@ -46,9 +53,12 @@ class Registry {
     if (description.find_first_of("\r\n") != std::string::npos) {
       throw InvalidArgument(what_ + " '" + name + "': the description must be one line");
     }
+    if (options.find_first_of("\r\n") != std::string::npos) {
+      throw InvalidArgument(what_ + " '" + name + "': the options must be one line");
+    }
     const std::lock_guard lock(mutex_);
     if (find_locked(name) != nullptr) throw InvalidArgument(what_ + " '" + name + "' is already registered");
-    entries_.push_back(Entry{std::move(name), std::move(description), std::move(factory)});
+    entries_.push_back(Entry{std::move(name), std::move(description), std::move(factory), std::move(options)});
   }
 
   /// Removes the entry named `name`; false when there was none. For a

@@ -23,6 +23,7 @@ namespace touchdown::mission {
 struct MissionFile {
   MissionOptions options;
   std::filesystem::path airframe;     ///< the airframe file read (empty: the built-in 180 mm quadrotor)
+  std::filesystem::path vehicle_log;  ///< the vehicle log read (path log), else empty
   std::vector<std::string> warnings;  ///< values that parse but look wrong (degrees that look like radians)
 };
 

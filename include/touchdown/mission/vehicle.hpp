@@ -4,8 +4,10 @@
 /// platform (like the paper's AgileX Scout Mini) driven by its own path
 /// follower (pure pursuit on the path, Coulter 1992) and speed controller,
 /// with acceleration and wheel-speed limits and first-order wheel drives.
-/// Paths: a circle, a straight line, a figure-eight (two tangent circles)
-/// and a seeded random drive (curvature and speed as bounded random walks).
+/// Paths: a circle, a straight line, a figure-eight (two tangent circles),
+/// a seeded random drive (curvature and speed as bounded random walks) and
+/// a recorded drive replayed as it was (vehicle_log.hpp: the vehicle is
+/// where the log says, its drives and limits play no part).
 ///
 /// World frame: z up, the vehicle starts at the origin heading +x. Vehicle
 /// frame: x forward, y left, z up, origin on the ground under the centre.
@@ -15,21 +17,23 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 
 #include "touchdown/core/enum_names.hpp"
 #include "touchdown/core/random.hpp"
+#include "touchdown/mission/vehicle_log.hpp"
 
 namespace touchdown::mission {
 
-enum class VehiclePath { Circle, Line, FigureEight, Random };
+enum class VehiclePath { Circle, Line, FigureEight, Random, Log };
 
 }  // namespace touchdown::mission
 
 template <>
 struct touchdown::EnumNames<touchdown::mission::VehiclePath> {
-  static constexpr std::array<std::string_view, 4> names{"circle", "line", "figure_eight", "random"};
+  static constexpr std::array<std::string_view, 5> names{"circle", "line", "figure_eight", "random", "log"};
 };
 
 namespace touchdown::mission {
@@ -49,6 +53,8 @@ struct VehicleOptions {
   bool start_at_speed = true;          ///< the mission starts with the vehicle on its path at `speed`
   double random_speed_sigma = 0.3;     ///< random drive: speed varies ± this [m/s]
   double random_change_time = 4.0;     ///< random drive: time scale of its changes [s]
+  /// path log: the drive (vehicle_log.hpp); `speed` is then not used.
+  std::shared_ptr<const VehicleLog> log;
   /// Pad centre (on its surface) in the vehicle frame [m]: height above the
   /// ground in z.
   Eigen::Vector3d pad_position{-0.1, 0.0, 0.40};
@@ -93,6 +99,7 @@ class GroundVehicle {
 
  private:
   void commands(double dt, double* v_cmd, double* w_cmd);
+  void replay();  // path log: the state at state_.t from the log
 
   VehicleOptions options_;
   VehicleState state_;

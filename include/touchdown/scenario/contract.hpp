@@ -266,9 +266,9 @@ Verdict guarded(const char* what, Body&& body) {
   try {
     return body();
   } catch (const std::exception& e) {
-    return detail::Failure() << what << ": threw " << e.what();
+    return detail::Failure() << what << " threw: " << e.what();
   } catch (...) {
-    return detail::Failure() << what << ": threw a non-standard exception";
+    return detail::Failure() << what << " threw a non-standard exception";
   }
 }
 

@@ -35,16 +35,23 @@
 
 namespace touchdown::scenario {
 
-/// The entry point's ABI: bumped when PluginInfo or PluginRegistrar change.
-inline constexpr std::uint32_t kPluginAbiVersion = 1;
+/// The entry point's ABI: bumped when PluginInfo or PluginRegistrar change
+/// (2: options).
+inline constexpr std::uint32_t kPluginAbiVersion = 2;
 
 /// What a plug-in's register function is given: add each system with a
-/// name (letters, digits, '.', '_', '-'), a one-line description and its
-/// factory. A name already registered is refused (the load fails).
+/// name (letters, digits, '.', '_', '-'), a one-line description, one line
+/// on the options it reads (MlsOptions' keys, or how else it is set up;
+/// `landing_scenario systems` lists it) and its factory. A name already
+/// registered is refused (the load fails).
 class PluginRegistrar {
  public:
   virtual ~PluginRegistrar() = default;
-  virtual void add(std::string name, std::string description, MakeSystem make) = 0;
+  virtual void add(std::string name, std::string description, std::string options, MakeSystem make) = 0;
+  /// A system that reads no options.
+  void add(std::string name, std::string description, MakeSystem make) {
+    add(std::move(name), std::move(description), std::string(), std::move(make));
+  }
 
  protected:
   PluginRegistrar() = default;

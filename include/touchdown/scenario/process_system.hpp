@@ -20,6 +20,7 @@
 /// systems from the worker threads that use them.
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "touchdown/scenario/landing_system.hpp"
 
@@ -37,6 +38,12 @@ struct ProcessOptions {
   /// outside (0, 3600] s.
   [[nodiscard]] bool validate(std::string* why) const;
 };
+
+/// Reads a spec `exec:COMMAND` or `exec,KEY=SECONDS,…:COMMAND` (KEY:
+/// step-timeout, start-timeout; the options end at the first ':').
+/// Throws InvalidArgument naming the spec and the key for an unknown key, a
+/// value that is not a number, or options that do not validate.
+ProcessOptions parse_exec_spec(std::string_view spec);
 
 /// A system in another process. The process starts at the first reset().
 /// Throws InvalidArgument for invalid options.

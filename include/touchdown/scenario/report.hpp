@@ -43,6 +43,8 @@ namespace touchdown::scenario {
 
 /// The same figures for a person: violations by type, the first failure,
 /// median DTL/TTL of the landings, and where the time went. Ends in a newline.
-[[nodiscard]] std::string campaign_summary(const CampaignResult& c, std::string_view source, const CampaignOptions& o);
+/// `names`: each scenario's name, as campaign_csv's (empty: its index).
+[[nodiscard]] std::string campaign_summary(const CampaignResult& c, std::string_view source, const CampaignOptions& o,
+                                           const std::vector<std::string>& names = {});
 
 }  // namespace touchdown::scenario

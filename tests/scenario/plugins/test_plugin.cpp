@@ -42,7 +42,7 @@ class Shared final : public ts::LandingSystem {
 
 void register_systems(touchdown::scenario::PluginRegistrar& r) {
   using touchdown::test_plugin::GpsLander;
-  r.add("test-gps-lander", "flies to the GPS target and lands there, camera unused",
+  r.add("test-gps-lander", "flies to the GPS target and lands there, camera unused", "none: fixed gains",
         [](const touchdown::scenario::MlsOptions&) { return std::make_unique<GpsLander>("test-gps-lander"); });
   r.add("test-gps-lander-faulty", "test-gps-lander that throws from update() after 3 s",
         [](const touchdown::scenario::MlsOptions&) {
