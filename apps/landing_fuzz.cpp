@@ -226,7 +226,10 @@ int campaign_command(CampaignArgs& a, const tsr::MpiSession& mpi) {
   a.search.base.map = a.map;
   if (a.source_chromosome) a.search.chromosome = tsr::ChromosomeOptions::source();
   std::string why;
-  if (!a.search.validate(&why)) throw td::InvalidArgument(why);  // before any rank starts serving
+  // Before any rank starts serving (rlaga's weights, loaded below, have their id then).
+  tsr::SearchOptions check = a.search;
+  if (check.method == tsr::Method::Rlaga) check.weights_id = "(loaded below)";
+  if (!check.validate(&why)) throw td::InvalidArgument(why);
   const fs::path dir = a.out;
   const bool rank0 = mpi.rank() == 0;
   require_parent_directory(a.out, "--out");

@@ -54,9 +54,17 @@ bool SearchOptions::validate(std::string* why) const {
   std::string w;
   if (!ga.validate(&w)) return invalid(why, "ga." + w);
   if (budget < 1) return invalid(why, "budget: must be ≥ 1");
+  if (method == Method::Rlaga && weights_id.empty()) {
+    return invalid(why,
+                   "weights_id: rlaga moves the scenarios' objects with a DQN, and none is given (they would stand "
+                   "still): give the evaluator its policy (EvaluatorOptions::policy, search::campaign_policy) and "
+                   "its id here");
+  }
   if (budget < ga.population) {
     return invalid(why, "budget: " + std::to_string(budget) + " is less than the population (" +
-                            std::to_string(ga.population) + "): the seed pool alone needs a whole population");
+                            std::to_string(ga.population) +
+                            "): the seed pool alone needs a whole population (a smaller one: ga.population, "
+                            "landing_fuzz --population)");
   }
   if (!chromosome.validate(&w)) return invalid(why, "chromosome." + w);
   if (!base.validate(&w)) return invalid(why, "base." + w);

@@ -130,6 +130,7 @@ SearchOptions small(Method m) {
   o.budget = 30;
   o.ga.population = 6;
   o.seed = 7;
+  if (m == Method::Rlaga) o.weights_id = "fake-dqn";  // FakeEvaluator moves nothing
   return o;
 }
 
@@ -740,6 +741,12 @@ TEST_F(SearchDir, TheNearMissFrontierKeepsAQuarterOfThePool) {
 TEST(SearchOptions, BadOptionsAreRefusedNamingTheKey) {
   SearchOptions o;
   std::string why;
+  // rlaga (the default method) without the DQN that moves its objects.
+  EXPECT_FALSE(o.validate(&why));
+  EXPECT_NE(why.find("weights_id: rlaga moves the scenarios' objects with a DQN, and none is given"),
+            std::string::npos)
+      << why;
+  o.weights_id = "dqn";
   EXPECT_TRUE(o.validate(&why)) << why;
   EXPECT_EQ(o.generations(), 15);
   o.budget = 19;
@@ -765,6 +772,7 @@ TEST(SearchOptions, BadOptionsAreRefusedNamingTheKey) {
   EXPECT_THROW(run_search(o, e, fs::temp_directory_path() / "td_search_never", false), InvalidArgument);
   EXPECT_FALSE(fs::exists(fs::temp_directory_path() / "td_search_never"));
   SearchOptions d;
+  d.weights_id = "dqn";
   d.method = Method::Random;
   d.diversity = true;
   EXPECT_FALSE(d.validate(&why));
