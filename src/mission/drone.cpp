@@ -209,6 +209,8 @@ DroneSimulation::DroneSimulation(DroneOptions options, PadGeometry pad) {
   if (!(pad.size.allFinite() && pad.size.minCoeff() > 0 && pad.thickness > 0 && std::isfinite(pad.thickness))) {
     throw InvalidArgument("pad: size and thickness must be positive");
   }
+  if (!(pad.hold_force >= 0) || !std::isfinite(pad.hold_force))
+    throw InvalidArgument("pad.hold_force: must be >= 0 [N]");
   impl_ = std::make_unique<Impl>(std::move(options), pad);
 }
 
@@ -263,6 +265,15 @@ void DroneSimulation::step(const twin::Setpoint& setpoint, const Eigen::Vector3d
     const Eigen::Vector3d& r = m.motor_r[static_cast<std::size_t>(i)];
     dBodyAddRelForceAtRelPos(m.body, 0, 0, m.motor[i], r.x(), r.y(), r.z());
     dBodyAddRelTorque(m.body, 0, 0, -m.af.spin[static_cast<std::size_t>(i)] * m.af.torque_coefficient * m.motor[i]);
+  }
+  // The pad's magnets, once the motors are off and a foot touched it in the
+  // last step: pulled along the pad's -z at every support point.
+  if (!armed && m.pad.hold_force > 0 && m.contact_state.support_on_pad) {
+    const Eigen::Vector3d pull = -m.T_pad.linear().col(2) * (m.pad.hold_force / static_cast<double>(m.support.size()));
+    for (const Eigen::Vector3d& q : m.support) {
+      const Eigen::Vector3d r = q - m.com;
+      dBodyAddForceAtRelPos(m.body, pull.x(), pull.y(), pull.z(), r.x(), r.y(), r.z());
+    }
   }
   // Drag against the air: linear + quadratic in the airspeed.
   const Eigen::Vector3d air = s.velocity - wind;

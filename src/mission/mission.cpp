@@ -193,6 +193,7 @@ bool MissionOptions::validate(std::string* why) const {
   }
   if (perception == "render" && !render.validate(why)) return false;
   if (!(pad.size.allFinite() && pad.size.minCoeff() > 0)) return invalid(why, "pad.size: must be positive [m]");
+  if (!(pad.hold_force >= 0) || !std::isfinite(pad.hold_force)) return invalid(why, "pad.hold_force: must be >= 0 [N]");
   if (!(positive(pad.thickness))) return invalid(why, "pad.thickness: must be positive [m]");
   if (!wind.validate(why)) return false;
   if (!(link.latency >= 0 && link.latency <= 1)) return invalid(why, "link.latency: must be in [0, 1] s");
@@ -237,6 +238,39 @@ bool MissionOptions::validate(std::string* why) const {
 
 namespace {
 
+// The distance from the centre of mass to the nearest edge of the support
+// polygon (the convex hull of the support points seen from above, by
+// Andrew's monotone chain), widened by the feet's radius [m]; 1 mm when the
+// centre of mass is not above it.
+double support_inradius(const twin::Airframe& af) {
+  std::vector<Eigen::Vector2d> p;
+  for (const Eigen::Vector3d& q : af.support_points()) p.emplace_back(q.head<2>());
+  std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  const auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  std::vector<Eigen::Vector2d> hull;
+  for (int pass = 0; pass < 2; ++pass) {
+    const std::size_t start = hull.size();
+    for (const Eigen::Vector2d& q : p) {
+      while (hull.size() >= start + 2 && cross(hull[hull.size() - 2], hull.back(), q) <= 0) hull.pop_back();
+      hull.push_back(q);
+    }
+    hull.pop_back();
+    std::reverse(p.begin(), p.end());
+  }
+  const Eigen::Vector2d c = af.centre_of_mass().head<2>();
+  double nearest = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const Eigen::Vector2d& a = hull[i];
+    const Eigen::Vector2d& b = hull[(i + 1) % hull.size()];
+    nearest = std::min(nearest, cross(a, b, c) / std::max((b - a).norm(), 1e-12));  // > 0 inside (counter-clockwise)
+  }
+  return hull.size() >= 3 && nearest > 0 ? nearest + af.support_radius() : 1e-3;
+}
+
 // One mission in flight: the loop of mission.hpp at the physics step, its
 // parts one method each (camera frames, the fix, the ground station, the
 // drone, the bookkeeping, the end).
@@ -255,6 +289,7 @@ class Flight {
         drone_(o.drone, o.pad),
         machine_(o.machine),
         landed_com_height_(o.drone.airframe.centre_of_mass().z() - o.drone.airframe.ground_z()),
+        support_inradius_(support_inradius(o.drone.airframe)),
         guidance_(o.guidance, landed_com_height_),
         dt_(o.drone.step),
         ground_every_(every(1.0 / o.ground_rate_hz)),
@@ -404,18 +439,26 @@ class Flight {
     in.vehicle_acceleration = pad_.acceleration.head<2>().norm();
     in.vehicle_yaw_rate = vehicle_.state().yaw_rate;
     in.tracking_point = o_.guidance.tracking_point;
-    // What would push the landed, unpowered drone across the pad: the drag
-    // of the (estimated) wind relative to the pad, and the pad's own
-    // acceleration; against what the pad's friction holds.
+    // What would push the landed, unpowered drone across the pad or over:
+    // the drag of the (estimated) wind relative to the pad, and the pad's
+    // own acceleration, against what the pad's friction holds (sliding) and
+    // against the weight's and the magnets' moment about the nearest edge of
+    // the support polygon (tipping: the side force acts at the centre of
+    // mass, landed_com_height_ above the feet).
     const Eigen::Vector3d air = pad_.velocity - observer_.wind();
     const double side = observer_.drag(air).head<2>().norm() + mass_ * pad_.acceleration.head<2>().norm();
-    in.slide_ratio = side / (o_.drone.pad_friction * mass_ * twin::kStandardGravity);
+    const double down = mass_ * twin::kStandardGravity + o_.pad.hold_force;
+    in.slide_ratio =
+        std::max(side / (o_.drone.pad_friction * down), side * landed_com_height_ / (down * support_inradius_));
     if (state_ == MissionState::Tracking) in.tracking_error = (o_.guidance.tracking_point - est.p).norm();
     const StateMachineOutput sm = machine_.step(in);
     if (sm.transitioned) res_.transitions.push_back(sm.transition);
     state_ = sm.state;
     if (sm.gave_up) {
-      end(MissionOutcome::Aborted, "gave up after " + std::to_string(machine_.landing_attempts()) + " aborted landings",
+      end(MissionOutcome::Aborted,
+          sm.transitioned && sm.transition.reason == TransitionReason::NotStable
+              ? "never stable in tracking within state_machine.max_tracking_time"
+              : "gave up after " + std::to_string(machine_.landing_attempts()) + " aborted landings",
           t);
       return false;
     }
@@ -471,8 +514,9 @@ class Flight {
       }
       thrust_axis_ = truth_.R_world_body.col(2);
       thrust_axis_known_ = true;
-      commanded.acceleration += observer_.feed_forward(estimator_.v());
+      if (!o_.drone.drag_feed_forward) commanded.acceleration += observer_.feed_forward(estimator_.v());
     }
+    if (o_.drone.drag_feed_forward) commanded.acceleration -= observer_.drag(flown.velocity - observer_.wind()) / mass_;
     vehicle_.step(dt_);
     last_pad_v_ = pad_.velocity;
     read_pad();
@@ -507,6 +551,8 @@ class Flight {
     s.relative = rel_truth_.p;
     s.pose_error = last_pose_error_;
     s.tracking_error = tracking_error;
+    s.tilt = std::acos(std::clamp(truth_.R_world_body(2, 2), -1.0, 1.0));
+    s.thrust = drone_.motor_thrusts().sum();
     res_.trace.push_back(s);
   }
 
@@ -552,6 +598,7 @@ class Flight {
   DroneSimulation drone_;
   StateMachine machine_;
   const double landed_com_height_;
+  const double support_inradius_;  ///< centre of mass to the support polygon's nearest edge [m]
   Guidance guidance_;
   const double dt_;
   const long ground_every_, frame_every_, fix_every_, sample_every_;
@@ -610,6 +657,8 @@ bool is_abort(TransitionReason r) {
     case TransitionReason::VehicleTurning:
     case TransitionReason::LowWithoutPlan:
     case TransitionReason::LowOffCentre:
+    case TransitionReason::WindTooStrong:
+    case TransitionReason::NotStable:
       return true;
     default:
       return false;

@@ -151,15 +151,29 @@ void read_mission(const YamlReader& r, const YAML::Node& root, std::string_view 
   const std::vector<Field> top = {
       section("vehicle",
               [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
-                read_fields(
-                    rr, n, k + ".",
-                    {named("path", v.path), num("speed", v.speed), num("radius", v.radius),
-                     flag("counter_clockwise", v.counter_clockwise), num("max_acceleration", v.max_acceleration),
-                     num("max_wheel_speed", v.max_wheel_speed), num("track_width", v.track_width),
-                     num("drive_time_constant", v.drive_time_constant), num("lookahead", v.lookahead),
-                     flag("start_at_speed", v.start_at_speed), num("random_speed_sigma", v.random_speed_sigma),
-                     num("random_change_time", v.random_change_time), vec3("pad_position", v.pad_position),
-                     word("log", log_name), num("log_max_gap", log_max_gap)});
+                read_fields(rr, n, k + ".",
+                            {named("path", v.path),
+                             num("speed", v.speed),
+                             num("radius", v.radius),
+                             flag("counter_clockwise", v.counter_clockwise),
+                             num("max_acceleration", v.max_acceleration),
+                             num("max_wheel_speed", v.max_wheel_speed),
+                             num("track_width", v.track_width),
+                             num("drive_time_constant", v.drive_time_constant),
+                             num("lookahead", v.lookahead),
+                             flag("start_at_speed", v.start_at_speed),
+                             num("random_speed_sigma", v.random_speed_sigma),
+                             num("random_change_time", v.random_change_time),
+                             vec3("pad_position", v.pad_position),
+                             word("log", log_name),
+                             num("log_max_gap", log_max_gap),
+                             named("model", v.model),
+                             num("wheelbase", v.wheelbase),
+                             deg("max_steer_deg", v.max_steer),
+                             deg("max_steer_rate_deg", v.max_steer_rate),
+                             num("road_straight", v.road_straight),
+                             num("lane_width", v.lane_width),
+                             num("lane_change_length", v.lane_change_length)});
                 // Where the log's messages point: its key, else the section.
                 log_node = n["log"] ? n["log"] : n;
                 gap_node = n["log_max_gap"] ? n["log_max_gap"] : n;
@@ -167,7 +181,9 @@ void read_mission(const YamlReader& r, const YAML::Node& root, std::string_view 
               }),
       section("pad",
               [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
-                read_fields(rr, n, k + ".", {vec2("size", o.pad.size), num("thickness", o.pad.thickness)});
+                read_fields(
+                    rr, n, k + ".",
+                    {vec2("size", o.pad.size), num("thickness", o.pad.thickness), num("hold_force", o.pad.hold_force)});
               }),
       section("drone",
               [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
@@ -194,6 +210,7 @@ void read_mission(const YamlReader& r, const YAML::Node& root, std::string_view 
                      num("pad_friction", d.pad_friction),
                      num("ground_friction", d.ground_friction),
                      num("wind_observer_time", d.wind_observer_time),
+                     flag("drag_feed_forward", d.drag_feed_forward),
                      vec3("start", o.drone_start),
                      num("imu_accel_sigma", o.imu_accel_sigma),
                      section("controller", [&](const YamlReader& r2, const YAML::Node& cn, const std::string& ck) {
@@ -215,6 +232,7 @@ void read_mission(const YamlReader& r, const YAML::Node& root, std::string_view 
                              integer("max_plan_failures", m.max_plan_failures),
                              num("max_vehicle_acceleration", m.max_vehicle_acceleration),
                              num("max_slide_ratio", m.max_slide_ratio),
+                             num("max_tracking_time", m.max_tracking_time),
                              deg("max_vehicle_yaw_rate_deg", m.max_vehicle_yaw_rate),
                              num("min_height_without_plan", m.min_height_without_plan),
                              num("shutdown_radius", m.shutdown_radius),

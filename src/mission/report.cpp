@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <sstream>
 
 #include "core/format.hpp"
@@ -188,14 +189,15 @@ std::string trace_csv(const MissionResult& r) {
   std::ostringstream os;
   os.precision(6);
   os << "t_s,state,x_m,y_m,z_m,vx_mps,vy_mps,vz_mps,est_x_m,est_y_m,est_z_m,sp_x_m,sp_y_m,sp_z_m,sp_vx_mps,sp_vy_mps,"
-        "sp_vz_mps,pad_x_m,pad_y_m,pad_z_m,pad_yaw_rad,rel_x_m,rel_y_m,rel_z_m,pose_error_m,tracking_error_m\n";
+        "sp_vz_mps,pad_x_m,pad_y_m,pad_z_m,pad_yaw_rad,rel_x_m,rel_y_m,rel_z_m,pose_error_m,tracking_error_m,tilt_deg,"
+        "thrust_n\n";
   for (const auto& s : r.trace) {
     os << s.t << "," << to_string(s.state);
     for (const Eigen::Vector3d* v : {&s.drone, &s.drone_v, &s.estimate, &s.setpoint, &s.setpoint_v, &s.pad}) {
       os << "," << v->x() << "," << v->y() << "," << v->z();
     }
     os << "," << s.pad_yaw << "," << s.relative.x() << "," << s.relative.y() << "," << s.relative.z() << ","
-       << s.pose_error << "," << s.tracking_error << "\n";
+       << s.pose_error << "," << s.tracking_error << "," << s.tilt * 180 / std::numbers::pi << "," << s.thrust << "\n";
   }
   return os.str();
 }

@@ -27,6 +27,7 @@ bool StateMachineOptions::validate(std::string* why) const {
   if (max_plan_failures < 1) return invalid(why, "max_plan_failures: must be >= 1");
   if (!positive(max_vehicle_acceleration)) return invalid(why, "max_vehicle_acceleration: must be positive [m/s^2]");
   if (!(max_slide_ratio > 0 && max_slide_ratio <= 1)) return invalid(why, "max_slide_ratio: must be in (0, 1]");
+  if (!positive(max_tracking_time)) return invalid(why, "max_tracking_time: must be positive [s]");
   if (!positive(max_vehicle_yaw_rate)) return invalid(why, "max_vehicle_yaw_rate: must be positive [rad/s]");
   if (!(min_height_without_plan >= 0) || !std::isfinite(min_height_without_plan)) {
     return invalid(why, "min_height_without_plan: must be >= 0 [m]");
@@ -124,6 +125,10 @@ StateMachineOutput StateMachine::step(const StateMachineInputs& in) {
       }
       if (stable_since_ >= 0 && in.t - stable_since_ >= o.stable_time) {
         return go(MissionState::Landing, TransitionReason::TrackingStable, in.t);
+      }
+      if (stable_since_ < 0 && in.t - entered_ > o.max_tracking_time) {
+        gave_up_ = true;  // it will not be: hold at the rendezvous point
+        return go(MissionState::Rendezvous, TransitionReason::NotStable, in.t);
       }
       break;
     }

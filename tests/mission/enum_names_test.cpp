@@ -25,5 +25,5 @@ TEST(MissionEnumNames, NamesAreTheFilesAndOutputsSpellings) {
   EXPECT_EQ(tmi::to_string(tmi::MissionState::Rendezvous), "rendezvous");
   EXPECT_EQ(tmi::to_string(tmi::TransitionReason::TrackerLocked), "tracker_locked");
   td::test::expect_bad_name<tmi::VehiclePath>(
-      "figure-eight", "expected one of circle, line, figure_eight, random, log; got 'figure-eight'");
+      "figure-eight", "expected one of circle, line, figure_eight, random, log, road; got 'figure-eight'");
 }

@@ -151,6 +151,39 @@ TEST(StateMachine, TrackingWaitsForStableErrorAndSpeed) {
   EXPECT_EQ(s.run(1.0), TransitionReason::TrackingStable);
 }
 
+// A drone that never holds the tracking point (a vehicle too fast for its
+// limits, a wind too strong) gives up after max_tracking_time, not at the
+// mission's timeout; being stable for a moment restarts nothing.
+TEST(StateMachine, TrackingNeverStableGivesUp) {
+  Script s;
+  s.options.max_tracking_time = 10;
+  s.machine = tdm::StateMachine(s.options);
+  s.reach(MissionState::Tracking);
+  s.in.tracking_point = {-1, 0, 1};
+  s.in.p_estimate = {-1.5, 0, 1};  // 0.5 m off: never stable
+  s.in.height = 1;
+  EXPECT_FALSE(s.run(9.9).has_value());
+  const tdm::StateMachineOutput before = s.step();
+  EXPECT_FALSE(before.gave_up);
+  EXPECT_EQ(s.run(0.2), TransitionReason::NotStable);
+  EXPECT_EQ(s.machine.state(), MissionState::Rendezvous);
+  EXPECT_TRUE(s.step().gave_up);
+  // Held there: nothing follows.
+  s.in.p_estimate = s.in.tracking_point;
+  EXPECT_FALSE(s.run(5).has_value());
+  // Stable in time: it lands as before.
+  Script t;
+  t.options.max_tracking_time = 10;
+  t.machine = tdm::StateMachine(t.options);
+  t.reach(MissionState::Tracking);
+  t.in.tracking_point = {-1, 0, 1};
+  t.in.p_estimate = {-1.5, 0, 1};
+  t.in.height = 1;
+  EXPECT_FALSE(t.run(8).has_value());
+  t.in.p_estimate = t.in.tracking_point;
+  EXPECT_EQ(t.run(t.options.stable_time + 0.5), TransitionReason::TrackingStable);
+}
+
 TEST(StateMachine, TrackingLosesThePoseBackToRendezvous) {
   Script s;
   s.reach(MissionState::Tracking);

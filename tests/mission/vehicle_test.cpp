@@ -5,8 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <string>
 
 #include "touchdown/core/error.hpp"
 
@@ -139,4 +141,94 @@ TEST(GroundVehicle, InvalidOptionsNameTheKey) {
   refused([](auto& o) { o.speed = 10; }, "vehicle.speed");  // beyond the wheels
   refused([](auto& o) { o.pad_position.z() = 0; }, "vehicle.pad_position");
   refused([](auto& o) { o.lookahead = 0; }, "vehicle.lookahead");
+}
+
+// The kinematic bicycle turns on the circle of radius L / tan(δ) (Rajamani
+// §2.2, about the rear axle): the circle through three of its positions,
+// with the steering angle held, has that radius.
+TEST(GroundVehicle, BicycleTurnsOnItsClosedFormRadius) {
+  tdm::VehicleOptions o;
+  o.model = tdm::VehicleModel::Bicycle;
+  o.path = tdm::VehiclePath::Circle;
+  o.radius = 25;
+  o.speed = 10;
+  o.lookahead = 8;
+  tdm::GroundVehicle v(o, 1);
+  for (int k = 0; k < 3000; ++k) v.step(kDt);  // 30 s: steady on the circle
+  const double steer = v.steer();
+  std::array<Eigen::Vector2d, 3> p;
+  for (auto& q : p) {
+    q = v.state().position;
+    for (int k = 0; k < 70; ++k) v.step(kDt);
+  }
+  ASSERT_NEAR(v.steer(), steer, 1e-9) << "the steering must be steady for the closed form";
+  const double a = (p[1] - p[0]).norm(), b = (p[2] - p[1]).norm(), c = (p[2] - p[0]).norm();
+  const Eigen::Vector2d u = p[1] - p[0], w = p[2] - p[0];
+  const double circumradius = a * b * c / (2 * std::abs(u.x() * w.y() - u.y() * w.x()));
+  EXPECT_NEAR(circumradius, o.wheelbase / std::tan(steer), 1e-6);
+  EXPECT_NEAR(v.state().yaw_rate, o.speed * std::tan(steer) / o.wheelbase, 1e-9);
+  // Pure pursuit from the rear axle holds the 25 m circle to within a few cm.
+  EXPECT_NEAR((v.state().position - Eigen::Vector2d(0, o.radius)).norm(), o.radius, 0.1);
+}
+
+TEST(GroundVehicle, BicycleSteersWithinItsAngleAndRateLimits) {
+  tdm::VehicleOptions o;
+  o.model = tdm::VehicleModel::Bicycle;
+  o.path = tdm::VehiclePath::Circle;
+  o.radius = 3;  // tighter than a 2.7 m car turns at 35 degrees (3.86 m): refused
+  std::string why;
+  EXPECT_FALSE(o.validate(&why));
+  EXPECT_NE(why.find("vehicle.radius: tighter than the car turns"), std::string::npos) << why;
+  o.radius = 12;
+  o.speed = 5;
+  o.start_at_speed = false;  // from rest, straight: the wheels turn at the rate limit
+  tdm::GroundVehicle v(o, 1);
+  double previous = v.steer(), fastest = 0, largest = 0;
+  for (int k = 0; k < 2000; ++k) {
+    v.step(kDt);
+    fastest = std::max(fastest, std::abs(v.steer() - previous) / kDt);
+    largest = std::max(largest, std::abs(v.steer()));
+    previous = v.steer();
+  }
+  EXPECT_LE(fastest, o.max_steer_rate + 1e-9);
+  EXPECT_GT(fastest, 0.99 * o.max_steer_rate);  // the limit was reached: the test shows it
+  EXPECT_LE(largest, o.max_steer + 1e-12);
+}
+
+// The road: 150 m straight along x, a lane change of 3.5 m, then a 90-degree
+// bend left; one period ends heading +x again; a car at 14 m/s follows it.
+TEST(GroundVehicle, RoadHasItsStraightsLaneChangesAndBendsAndACarFollowsIt) {
+  tdm::VehicleOptions o;
+  o.model = tdm::VehicleModel::Bicycle;
+  o.path = tdm::VehiclePath::Road;
+  o.radius = 150;
+  o.speed = 14;
+  o.lookahead = 14;
+  o.max_acceleration = 3;
+  tdm::GroundVehicle v(o, 1);
+  EXPECT_NEAR(v.path_point(100).x(), 100, 1e-9);
+  EXPECT_NEAR(v.path_point(100).y(), 0, 1e-9);
+  const double after_lane = o.road_straight + o.lane_change_length;
+  EXPECT_NEAR(v.path_point(after_lane).y(), o.lane_width, 0.01 * o.lane_width);  // small-angle step
+  // After the bend left the road heads +y.
+  const double bend = 1.5 * o.road_straight + o.lane_change_length + 0.5 * std::numbers::pi * o.radius + 20;
+  const Eigen::Vector2d t = v.path_point(bend + 10) - v.path_point(bend);
+  EXPECT_NEAR(t.normalized().x(), 0, 1e-3);
+  EXPECT_GT(t.y(), 0);
+  EXPECT_NEAR(v.path_curvature(bend - 60), 1 / o.radius, 1e-9);
+  // The car at 14 m/s keeps within 0.3 m of the road over 70 s (about 1 km).
+  double worst = 0, previous_s = 0;
+  for (int k = 0; k < 7000; ++k) {
+    v.step(kDt);
+    // The distance to the road, searched near the arc length so far.
+    double best = 1e9;
+    for (double s = previous_s - 5; s < previous_s + 20; s += 0.05) {
+      const double d = (v.path_point(s) - v.state().position).norm();
+      if (d < best) best = d, previous_s = s;
+    }
+    worst = std::max(worst, best);
+  }
+  EXPECT_LT(worst, 0.3);
+  EXPECT_NEAR(v.state().speed, o.speed, 0.05);
+  EXPECT_GT(previous_s, 900);
 }

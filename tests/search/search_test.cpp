@@ -743,8 +743,7 @@ TEST(SearchOptions, BadOptionsAreRefusedNamingTheKey) {
   std::string why;
   // rlaga (the default method) without the DQN that moves its objects.
   EXPECT_FALSE(o.validate(&why));
-  EXPECT_NE(why.find("weights_id: rlaga moves the scenarios' objects with a DQN, and none is given"),
-            std::string::npos)
+  EXPECT_NE(why.find("weights_id: rlaga moves the scenarios' objects with a DQN, and none is given"), std::string::npos)
       << why;
   o.weights_id = "dqn";
   EXPECT_TRUE(o.validate(&why)) << why;

@@ -38,6 +38,13 @@ struct DroneOptions {
   /// The wind observer's time constant (wind.hpp: WindObserver) [s], ≥ 0; 0 = no
   /// wind estimate (the integrators alone).
   double wind_observer_time = 0.05;
+  /// Fly the airframe's whole drag at the setpoint's velocity relative to
+  /// the estimated air, −D(v_sp − ŵ) / m, as acceleration feed-forward
+  /// (instead of the wind's share only): what a fast chase needs, where
+  /// the drag at 14 m/s (4 m/s² on the racing preset) is beyond the
+  /// velocity integrator's limit. The setpoint's velocity, not the
+  /// measured one: the airframe's own damping stays.
+  bool drag_feed_forward = false;
   /// False (with "drone.key: problem" in *why) for an invalid value.
   [[nodiscard]] bool validate(std::string* why) const;
 };
@@ -47,6 +54,11 @@ struct DroneOptions {
 struct PadGeometry {
   Eigen::Vector2d size{0.43, 0.43};  ///< [m]
   double thickness = 0.02;           ///< [m]
+  /// Magnets that hold the landed drone (as MBZIRC's truck-landing teams'
+  /// electro-permanent magnets): once the motors are off, each support
+  /// point touching the pad is pulled into it with hold_force / (number of
+  /// support points) [N], ≥ 0; 0 = none, the drone stays by friction alone.
+  double hold_force = 0;
 };
 
 /// Which parts touched what in the last step.

@@ -111,6 +111,8 @@ struct MissionSample {
   Eigen::Vector3d relative = Eigen::Vector3d::Zero();  ///< the drone in the pad frame (truth)
   double pose_error = -1;                              ///< the last Ok measurement's error [m]; < 0: none yet
   double tracking_error = 0;                           ///< |the guidance's reference − true position| (pad frame) [m]
+  double tilt = 0;                                     ///< the body's z axis from the vertical [rad]
+  double thrust = 0;                                   ///< of all motors [N]
 };
 
 struct MissionResult {

@@ -48,7 +48,8 @@ enum class TransitionReason {
   LowWithoutPlan,       ///< below min_height_without_plan with no valid plan
   LowOffCentre,         ///< down to shutdown_height but beyond shutdown_radius: climb back
   GaveUp,               ///< max_landing_attempts landings aborted
-  WindTooStrong,        ///< slide_ratio above max_slide_ratio: the landed drone would be blown off the pad
+  WindTooStrong,        ///< slide_ratio above max_slide_ratio: the landed drone would be blown off or over
+  NotStable,            ///< in tracking for max_tracking_time without becoming stable: gives up
 };
 
 /// The outcome of the guidance's replan at this step, if it replanned.
@@ -62,11 +63,11 @@ struct touchdown::EnumNames<touchdown::mission::MissionState> {
 };
 template <>
 struct touchdown::EnumNames<touchdown::mission::TransitionReason> {
-  static constexpr std::array<std::string_view, 13> names{
+  static constexpr std::array<std::string_view, 14> names{
       "arrived_at_rendezvous", "tracker_locked",   "tracking_stable", "touchdown_zone",
       "rendezvous_timeout",    "pose_lost",        "plan_infeasible", "vehicle_accelerating",
       "vehicle_turning",       "low_without_plan", "low_off_centre",  "gave_up",
-      "wind_too_strong"};
+      "wind_too_strong",       "not_stable"};
 };
 
 namespace touchdown::mission {
@@ -102,10 +103,16 @@ struct StateMachineOptions {
   int max_landing_attempts = 3;  ///< aborted landings before giving up, ≥ 1
   /// Land only while the side force on the landed, unpowered drone (the
   /// drag of the wind relative to the pad plus its mass times the pad's
-  /// acceleration) stays below this share of what the pad's friction holds
-  /// (μ m g); above it: no landing from tracking, and in landing → tracking.
-  /// In (0, 1]; the rest is the margin for gusts.
+  /// acceleration) stays below this share of what holds it: the pad's
+  /// friction (μ (m g + the pad's hold force)) and, against tipping, the
+  /// weight's and hold force's moment about the support polygon's nearest
+  /// edge over the centre of mass's height; above it: no landing from
+  /// tracking, and in landing → tracking. In (0, 1]; the rest is the
+  /// margin for gusts.
   double max_slide_ratio = 0.7;
+  /// In tracking this long [s] without becoming stable: give up (not_stable)
+  /// rather than follow the vehicle until the mission's timeout; > 0.
+  double max_tracking_time = 30;
   /// False (with "key: problem" in *why) for an invalid value.
   [[nodiscard]] bool validate(std::string* why) const;
 };

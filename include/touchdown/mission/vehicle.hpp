@@ -4,8 +4,11 @@
 /// platform (like the paper's AgileX Scout Mini) driven by its own path
 /// follower (pure pursuit on the path, Coulter 1992) and speed controller,
 /// with acceleration and wheel-speed limits and first-order wheel drives.
+/// Or a car: a kinematic bicycle (Rajamani, "Vehicle Dynamics and Control",
+/// 2nd ed., §2.2, about the rear axle) with steering angle and rate limits.
 /// Paths: a circle, a straight line, a figure-eight (two tangent circles),
-/// a seeded random drive (curvature and speed as bounded random walks) and
+/// a road (straights, lane changes and long bends, repeating), a seeded
+/// random drive (curvature and speed as bounded random walks) and
 /// a recorded drive replayed as it was (vehicle_log.hpp: the vehicle is
 /// where the log says, its drives and limits play no part).
 ///
@@ -20,6 +23,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "touchdown/core/enum_names.hpp"
 #include "touchdown/core/random.hpp"
@@ -27,21 +31,32 @@
 
 namespace touchdown::mission {
 
-enum class VehiclePath { Circle, Line, FigureEight, Random, Log };
+enum class VehiclePath { Circle, Line, FigureEight, Random, Log, Road };
+
+/// How the vehicle steers: the Scout Mini's skid steering, or a car's front
+/// wheels (kinematic bicycle).
+enum class VehicleModel { SkidSteer, Bicycle };
 
 }  // namespace touchdown::mission
 
 template <>
 struct touchdown::EnumNames<touchdown::mission::VehiclePath> {
-  static constexpr std::array<std::string_view, 5> names{"circle", "line", "figure_eight", "random", "log"};
+  static constexpr std::array<std::string_view, 6> names{"circle", "line", "figure_eight", "random", "log", "road"};
+};
+
+template <>
+struct touchdown::EnumNames<touchdown::mission::VehicleModel> {
+  static constexpr std::array<std::string_view, 2> names{"skid_steer", "bicycle"};
 };
 
 namespace touchdown::mission {
 
 inline std::string_view to_string(VehiclePath p) { return enum_name(p); }
+inline std::string_view to_string(VehicleModel m) { return enum_name(m); }
 
 struct VehicleOptions {
   VehiclePath path = VehiclePath::Circle;
+  VehicleModel model = VehicleModel::SkidSteer;
   double speed = 2.0;                  ///< commanded speed [m/s], > 0 (random: the mean)
   double radius = 8.0;                 ///< circle radius, figure-eight lobe radius, random drive's tightest turn [m]
   bool counter_clockwise = true;       ///< the circle's (and the figure-eight's first lobe's) sense
@@ -53,6 +68,19 @@ struct VehicleOptions {
   bool start_at_speed = true;          ///< the mission starts with the vehicle on its path at `speed`
   double random_speed_sigma = 0.3;     ///< random drive: speed varies ± this [m/s]
   double random_change_time = 4.0;     ///< random drive: time scale of its changes [s]
+  /// bicycle: rear axle to front axle [m]; the vehicle frame's origin is
+  /// then on the ground under the rear axle's centre (it moves forward
+  /// only, as the skid-steer's centre does).
+  double wheelbase = 2.7;
+  double max_steer = 0.61;       ///< bicycle: front wheels' largest angle [rad] (35°)
+  double max_steer_rate = 0.70;  ///< bicycle: how fast they turn [rad/s] (40°/s)
+  /// road: the length of its straights [m]; the road repeats straight,
+  /// lane change left, straight / 2, a 90° bend left (radius `radius`,
+  /// entered and left on 20 m clothoids), straight, lane change right,
+  /// straight / 2, a 90° bend right.
+  double road_straight = 150;
+  double lane_width = 3.5;           ///< road: the lane change's sideways step [m]
+  double lane_change_length = 60.0;  ///< road: along the road [m]
   /// path log: the drive (vehicle_log.hpp); `speed` is then not used.
   std::shared_ptr<const VehicleLog> log;
   /// Pad centre (on its surface) in the vehicle frame [m]: height above the
@@ -96,6 +124,8 @@ class GroundVehicle {
   [[nodiscard]] Eigen::Vector2d path_point(double s) const;
   /// The path's curvature at arc length s [1/m] (signed, left positive).
   [[nodiscard]] double path_curvature(double s) const;
+  /// bicycle: the front wheels' angle [rad] (left positive).
+  [[nodiscard]] double steer() const { return steer_; }
 
  private:
   void commands(double dt, double* v_cmd, double* w_cmd);
@@ -108,6 +138,11 @@ class GroundVehicle {
   double random_speed_ = 0;  ///< random drive's current speed target
   double random_curvature_ = 0;
   double speed_command_ = 0;  ///< the ramped speed command [m/s]
+  double steer_ = 0;          ///< bicycle: front wheels' angle [rad]
+  /// road: one period of it, about every 0.1 m of arc (arc length, x, y,
+  /// heading, curvature), and where a period ends relative to its start.
+  std::vector<std::array<double, 5>> road_;
+  Eigen::Vector2d road_shift_ = Eigen::Vector2d::Zero();
 };
 
 }  // namespace touchdown::mission
