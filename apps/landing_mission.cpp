@@ -36,6 +36,8 @@ struct Args {
   std::string perception = "model";
   bool json = false;
   std::string plot_dir, log_path, video_path;
+  std::vector<double> wind;  ///< --wind: the mission file's wind.mean replaced
+  std::string turbulence;    ///< --turbulence: the file's wind.turbulence replaced
   // envelope
   std::vector<double> speeds{0, 3, 0.5}, winds{0, 8, 2};
   std::string envelope_plot;
@@ -170,6 +172,14 @@ int main(int argc, char** argv) {
           ->check(td::app::one_of_names(tdm::perception_registry().names()))
           ->default_str("the file's");
   app.add_flag("--json", a.json, "one JSON object on stdout");
+  app.add_option("--wind", a.wind, "mean wind VX,VY,VZ in the world [m/s] instead of the mission file's wind.mean")
+      ->delimiter(',')
+      ->expected(3)
+      ->check(td::app::number_in(-50, 50))
+      ->default_str("the file's");
+  app.add_option("--turbulence", a.turbulence, "Dryden turbulence level instead of the file's wind.turbulence")
+      ->check(td::app::one_of<tdm::TurbulenceLevel>())
+      ->default_str("the file's");
   app.add_option("--plot", a.plot_dir, "write positions/velocities/errors/top_view SVGs of run 0 to this directory")
       ->default_str("off");
   app.add_option("--log", a.log_path, "write run 0's trace (50 Hz) as CSV")
@@ -210,6 +220,8 @@ int main(int argc, char** argv) {
     }
     tdm::MissionFile file = load(a);
     td::app::print_warnings(app.get_name(), file.warnings);
+    if (!a.wind.empty()) file.options.wind.mean = {a.wind[0], a.wind[1], a.wind[2]};
+    if (!a.turbulence.empty()) file.options.wind.turbulence = td::from_string<tdm::TurbulenceLevel>(a.turbulence);
     if (perception->count() == 0) a.perception = file.options.perception;
     file.options.perception = a.perception;
     if (!a.video_path.empty() && a.perception != "render") {

@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "core/checks.hpp"
+#include "mission/stance.hpp"
 #include "touchdown/core/batch.hpp"
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random.hpp"
@@ -238,39 +239,6 @@ bool MissionOptions::validate(std::string* why) const {
 
 namespace {
 
-// The distance from the centre of mass to the nearest edge of the support
-// polygon (the convex hull of the support points seen from above, by
-// Andrew's monotone chain), widened by the feet's radius [m]; 1 mm when the
-// centre of mass is not above it.
-double support_inradius(const twin::Airframe& af) {
-  std::vector<Eigen::Vector2d> p;
-  for (const Eigen::Vector3d& q : af.support_points()) p.emplace_back(q.head<2>());
-  std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  const auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-  };
-  std::vector<Eigen::Vector2d> hull;
-  for (int pass = 0; pass < 2; ++pass) {
-    const std::size_t start = hull.size();
-    for (const Eigen::Vector2d& q : p) {
-      while (hull.size() >= start + 2 && cross(hull[hull.size() - 2], hull.back(), q) <= 0) hull.pop_back();
-      hull.push_back(q);
-    }
-    hull.pop_back();
-    std::reverse(p.begin(), p.end());
-  }
-  const Eigen::Vector2d c = af.centre_of_mass().head<2>();
-  double nearest = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < hull.size(); ++i) {
-    const Eigen::Vector2d& a = hull[i];
-    const Eigen::Vector2d& b = hull[(i + 1) % hull.size()];
-    nearest = std::min(nearest, cross(a, b, c) / std::max((b - a).norm(), 1e-12));  // > 0 inside (counter-clockwise)
-  }
-  return hull.size() >= 3 && nearest > 0 ? nearest + af.support_radius() : 1e-3;
-}
-
 // One mission in flight: the loop of mission.hpp at the physics step, its
 // parts one method each (camera frames, the fix, the ground station, the
 // drone, the bookkeeping, the end).
@@ -289,7 +257,7 @@ class Flight {
         drone_(o.drone, o.pad),
         machine_(o.machine),
         landed_com_height_(o.drone.airframe.centre_of_mass().z() - o.drone.airframe.ground_z()),
-        support_inradius_(support_inradius(o.drone.airframe)),
+        stance_(detail::stance_of(o.drone.airframe)),
         guidance_(o.guidance, landed_com_height_),
         dt_(o.drone.step),
         ground_every_(every(1.0 / o.ground_rate_hz)),
@@ -439,17 +407,14 @@ class Flight {
     in.vehicle_acceleration = pad_.acceleration.head<2>().norm();
     in.vehicle_yaw_rate = vehicle_.state().yaw_rate;
     in.tracking_point = o_.guidance.tracking_point;
-    // What would push the landed, unpowered drone across the pad or over:
-    // the drag of the (estimated) wind relative to the pad, and the pad's
-    // own acceleration, against what the pad's friction holds (sliding) and
-    // against the weight's and the magnets' moment about the nearest edge of
-    // the support polygon (tipping: the side force acts at the centre of
-    // mass, landed_com_height_ above the feet).
+    // What would upset the drone on the pad: the drag of the (estimated)
+    // wind relative to the pad and the pad's own acceleration, against what
+    // holds the landed, unpowered drone (friction, its stance) and against
+    // the tilt that would put a propeller on the pad while it flies down
+    // holding station (stance.hpp).
     const Eigen::Vector3d air = pad_.velocity - observer_.wind();
     const double side = observer_.drag(air).head<2>().norm() + mass_ * pad_.acceleration.head<2>().norm();
-    const double down = mass_ * twin::kStandardGravity + o_.pad.hold_force;
-    in.slide_ratio =
-        std::max(side / (o_.drone.pad_friction * down), side * landed_com_height_ / (down * support_inradius_));
+    in.slide_ratio = detail::upset_ratio(stance_, side, mass_, o_.drone.pad_friction, o_.pad.hold_force);
     if (state_ == MissionState::Tracking) in.tracking_error = (o_.guidance.tracking_point - est.p).norm();
     const StateMachineOutput sm = machine_.step(in);
     if (sm.transitioned) res_.transitions.push_back(sm.transition);
@@ -598,7 +563,7 @@ class Flight {
   DroneSimulation drone_;
   StateMachine machine_;
   const double landed_com_height_;
-  const double support_inradius_;  ///< centre of mass to the support polygon's nearest edge [m]
+  const detail::Stance stance_;  ///< how the landed drone stands (the upset guard)
   Guidance guidance_;
   const double dt_;
   const long ground_every_, frame_every_, fix_every_, sample_every_;

@@ -167,8 +167,18 @@ std::string summary_text(const MissionRunInfo& info, const MissionOptions& o, co
   } else {
     vehicle += " at " + fixed(o.vehicle.speed, 2) + " m/s";
   }
-  appendf(out, "%s: %d mission%s, vehicle %s, perception %s, seed %llu\n", info.source.c_str(), s.runs,
-          s.runs == 1 ? "" : "s", vehicle.c_str(), info.perception.c_str(), static_cast<unsigned long long>(info.seed));
+  // The wind, when there is any.
+  std::string wind;
+  if (o.wind.mean.norm() > 0) {
+    wind += ", wind [" + touchdown::detail::format_trimmed(o.wind.mean.x(), 2) + ", " +
+            touchdown::detail::format_trimmed(o.wind.mean.y(), 2) + ", " +
+            touchdown::detail::format_trimmed(o.wind.mean.z(), 2) + "] m/s";
+  }
+  if (o.wind.turbulence != TurbulenceLevel::None)
+    wind += ", " + std::string(to_string(o.wind.turbulence)) + " turbulence";
+  appendf(out, "%s: %d mission%s, vehicle %s%s, perception %s, seed %llu\n", info.source.c_str(), s.runs,
+          s.runs == 1 ? "" : "s", vehicle.c_str(), wind.c_str(), info.perception.c_str(),
+          static_cast<unsigned long long>(info.seed));
   appendf(out, "  landed %d (%.1f %%), crashed %d, aborted %d, timeout %d\n", s.landed, 100 * s.success(), s.crashed,
           s.aborted, s.timeout);
   if (!s.reasons.empty()) appendf(out, "  why not landed: %s\n", reasons_text(s.reasons).c_str());

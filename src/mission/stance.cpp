@@ -1,0 +1,118 @@
+// The landed drone's stance (stance.hpp).
+#include "mission/stance.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+#include "touchdown/twin/flight_control.hpp"
+
+namespace touchdown::mission::detail {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// A point with the radius of the sphere around it (a foot, a capsule's
+// end, a disk's rim at its half thickness).
+struct Ball {
+  Eigen::Vector3d p;
+  double r;
+};
+
+// How far the lowest strike part is above the support's plane, tilted by
+// `tilt` about the horizontal axis at angle `phi` [m]: ≤ 0 strikes.
+double clearance(const std::vector<Ball>& support, const std::vector<Ball>& parts, double phi, double tilt) {
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(phi), std::sin(phi), 0)).toRotationMatrix();
+  const Eigen::RowVector3d z = R.row(2);
+  double feet = std::numeric_limits<double>::infinity(), rest = feet;
+  for (const Ball& b : support) feet = std::min(feet, z.dot(b.p) - b.r);
+  for (const Ball& b : parts) rest = std::min(rest, z.dot(b.p) - b.r);
+  return rest - feet;
+}
+
+}  // namespace
+
+Stance stance_of(const twin::Airframe& af) {
+  Stance s;
+  std::vector<Ball> support, parts;
+  for (const Eigen::Vector3d& q : af.support_points()) support.push_back({q, af.support_radius()});
+  for (std::size_t i = 0; i < af.motor_count(); ++i) {
+    const twin::Disk d = af.propeller(i);
+    // The rim, 24 points, each with the disk's half thickness.
+    const Eigen::Vector3d u = d.axis.unitOrthogonal(), v = d.axis.cross(u);
+    for (int k = 0; k < 24; ++k) {
+      const double a = 2 * kPi * k / 24;
+      parts.push_back({d.centre + d.radius * (std::cos(a) * u + std::sin(a) * v), d.half_thickness});
+    }
+    const twin::Capsule arm = af.arm(i);
+    parts.push_back({arm.a, arm.radius});
+    parts.push_back({arm.b, arm.radius});
+  }
+  if (af.has_landing_gear()) {
+    const twin::Box b = af.body_box();
+    for (int k = 0; k < 8; ++k) {
+      const Eigen::Vector3d c((k & 1) ? 1 : -1, (k & 2) ? 1 : -1, (k & 4) ? 1 : -1);
+      parts.push_back({b.centre + b.half_extents.cwiseProduct(c), 0.0});
+    }
+  }
+  // The support polygon seen from above (Andrew's monotone chain) and the
+  // centre of mass's distance to its nearest edge.
+  std::vector<Eigen::Vector2d> p;
+  for (const Ball& b : support) p.emplace_back(b.p.head<2>());
+  std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  const auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  std::vector<Eigen::Vector2d> hull;
+  for (int pass = 0; pass < 2; ++pass) {
+    const std::size_t start = hull.size();
+    for (const Eigen::Vector2d& q : p) {
+      while (hull.size() >= start + 2 && cross(hull[hull.size() - 2], hull.back(), q) <= 0) hull.pop_back();
+      hull.push_back(q);
+    }
+    hull.pop_back();
+    std::reverse(p.begin(), p.end());
+  }
+  const Eigen::Vector3d com = af.centre_of_mass();
+  double nearest = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const Eigen::Vector2d &a = hull[i], &b = hull[(i + 1) % hull.size()];
+    nearest = std::min(nearest, cross(a, b, com.head<2>()) / std::max((b - a).norm(), 1e-12));  // > 0 inside
+  }
+  s.inradius = hull.size() >= 3 && nearest > 0 ? nearest + af.support_radius() : 1e-3;
+  s.com_height = com.z() - af.ground_z();
+  // The strike tilt: per direction the first tilt (0.25° steps) that
+  // strikes, refined by bisection; the smallest over directions.
+  double best = 0.5 * kPi;
+  for (int k = 0; k < 72; ++k) {
+    const double phi = 2 * kPi * k / 72;
+    double lo = 0, hi = -1;
+    for (double t = 0.25 * kPi / 180; t < best; t += 0.25 * kPi / 180) {
+      if (clearance(support, parts, phi, t) <= 0) {
+        hi = t;
+        break;
+      }
+      lo = t;
+    }
+    if (hi < 0) continue;
+    while (hi - lo > 1e-4) {
+      const double mid = 0.5 * (lo + hi);
+      (clearance(support, parts, phi, mid) <= 0 ? hi : lo) = mid;
+    }
+    best = std::min(best, hi);
+  }
+  s.strike_tilt = best;
+  return s;
+}
+
+double upset_ratio(const Stance& s, double side, double mass, double friction, double hold_force) {
+  const double weight = mass * twin::kStandardGravity, down = weight + hold_force;
+  return std::max({side / (friction * down), side * s.com_height / (down * s.inradius),
+                   side / (weight * std::tan(s.strike_tilt))});
+}
+
+}  // namespace touchdown::mission::detail
