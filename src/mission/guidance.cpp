@@ -269,12 +269,12 @@ GuidanceOutput Guidance::compute(double t, MissionState state, bool entered, con
     // the descent rate changes at no more than terminal_acceleration.
     const double h = t - terminal_last_t_;
     terminal_last_t_ = t;
-    const bool centred = estimate.p.head<2>().norm() <= options_.terminal_centre_tolerance;
+    const bool centred = (estimate.p.head<2>() - touchdown_point_).norm() <= options_.terminal_centre_tolerance;
     const double target = centred ? options_.terminal_speed : 0.0;
     terminal_rate_ +=
         std::clamp(target - terminal_rate_, -options_.terminal_acceleration * h, options_.terminal_acceleration * h);
     terminal_z_ = std::max(terminal_z_ - terminal_rate_ * h, landed_com_height_ - 0.1);
-    out = hold(pad, Eigen::Vector3d(0, 0, terminal_z_));
+    out = hold(pad, Eigen::Vector3d(touchdown_point_.x(), touchdown_point_.y(), terminal_z_));
     out.reference.v = Eigen::Vector3d(0, 0, -terminal_rate_);
     const plan::KinematicState w = pad_to_world(pad, out.reference);
     out.setpoint.position = w.p;

@@ -400,10 +400,15 @@ class Flight {
     const plan::KinematicState est = world_to_pad(pad_, {estimator_.p(), estimator_.v(), Eigen::Vector3d::Zero()});
     in.p_estimate = est.p;
     in.v_estimate = est.v;
-    in.height = est.p.z() - landed_com_height_;
+    // The lowest foot above the pad, from the estimate and the attitude (the
+    // IMU's): a drone leaning into the airflow touches with a leading foot
+    // while its centre of mass is still well above its landed height.
+    const Eigen::Matrix3d R_pad_body = pad_.T_world_pad.linear().transpose() * truth_.R_world_body;
+    in.height = est.p.z() + detail::lowest_support(stance_, R_pad_body);
     in.tracking_error = (guide_.reference.p - est.p).norm();
     in.replan = guide_.replan;
     in.have_plan = guide_.have_plan;
+    in.commanded_descent = -guide_.reference.v.z();
     in.vehicle_acceleration = pad_.acceleration.head<2>().norm();
     in.vehicle_yaw_rate = vehicle_.state().yaw_rate;
     in.tracking_point = o_.guidance.tracking_point;
@@ -412,9 +417,30 @@ class Flight {
     // holds the landed, unpowered drone (friction, its stance) and against
     // the tilt that would put a propeller on the pad while it flies down
     // holding station (stance.hpp).
-    const Eigen::Vector3d air = pad_.velocity - observer_.wind();
-    const double side = observer_.drag(air).head<2>().norm() + mass_ * pad_.acceleration.head<2>().norm();
+    // The wind is its 2 s mean and, as a margin, a gust of twice the
+    // estimate's spread about that mean along the air's direction.
+    const double k = std::min(1.0, 1.0 / (2.0 * o_.ground_rate_hz));
+    wind_mean_ += k * (observer_.wind() - wind_mean_);
+    gust_variance_ += k * ((observer_.wind() - wind_mean_).head<2>().squaredNorm() - gust_variance_);
+    const Eigen::Vector3d air = pad_.velocity - wind_mean_;
+    const double gust = 2 * std::sqrt(gust_variance_);
+    const Eigen::Vector3d gusty =
+        air + gust * (air.norm() > 1e-9 ? Eigen::Vector3d(air.normalized()) : Eigen::Vector3d::UnitX());
+    const double side = observer_.drag(gusty).head<2>().norm() + mass_ * pad_.acceleration.head<2>().norm();
     in.slide_ratio = detail::upset_ratio(stance_, side, mass_, o_.drone.pad_friction, o_.pad.hold_force);
+    // Where to put the drone down: it flies tilted to hold station over the
+    // pad (its thrust's horizontal part m a_pad − D(air)), touches with its
+    // leading feet and levels about them, its centre of mass moving back by
+    // d (1 − cos θ) + h sin θ (stance.hpp): aim that far ahead (low-passed).
+    const Eigen::Vector3d lean = mass_ * pad_.acceleration - observer_.drag(air);
+    const Eigen::Vector2d lean_pad = (pad_.T_world_pad.linear().transpose() * lean).head<2>();
+    const double tilt = std::atan2(lean_pad.norm(), mass_ * twin::kStandardGravity);
+    const Eigen::Vector2d aim = lean_pad.norm() > 1e-9
+                                    ? Eigen::Vector2d(lean_pad.normalized() * detail::levelling_shift(stance_, tilt))
+                                    : Eigen::Vector2d::Zero();
+    touchdown_point_ += std::min(1.0, 1.0 / (0.5 * o_.ground_rate_hz)) * (aim - touchdown_point_);
+    in.touchdown_point = touchdown_point_;
+    guidance_.set_touchdown_point(touchdown_point_);
     if (state_ == MissionState::Tracking) in.tracking_error = (o_.guidance.tracking_point - est.p).norm();
     const StateMachineOutput sm = machine_.step(in);
     if (sm.transitioned) res_.transitions.push_back(sm.transition);
@@ -563,7 +589,10 @@ class Flight {
   DroneSimulation drone_;
   StateMachine machine_;
   const double landed_com_height_;
-  const detail::Stance stance_;  ///< how the landed drone stands (the upset guard)
+  const detail::Stance stance_;                                ///< how the landed drone stands (the upset guard)
+  Eigen::Vector2d touchdown_point_ = Eigen::Vector2d::Zero();  ///< pad frame
+  Eigen::Vector3d wind_mean_ = Eigen::Vector3d::Zero();        ///< the wind estimate's 2 s mean (world)
+  double gust_variance_ = 0;                                   ///< of the estimate about it, horizontal [m²/s²]
   Guidance guidance_;
   const double dt_;
   const long ground_every_, frame_every_, fix_every_, sample_every_;

@@ -24,7 +24,8 @@ struct Ball {
 // How far the lowest strike part is above the support's plane, tilted by
 // `tilt` about the horizontal axis at angle `phi` [m]: ≤ 0 strikes.
 double clearance(const std::vector<Ball>& support, const std::vector<Ball>& parts, double phi, double tilt) {
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(phi), std::sin(phi), 0)).toRotationMatrix();
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(phi), std::sin(phi), 0)).toRotationMatrix();
   const Eigen::RowVector3d z = R.row(2);
   double feet = std::numeric_limits<double>::infinity(), rest = feet;
   for (const Ball& b : support) feet = std::min(feet, z.dot(b.p) - b.r);
@@ -85,6 +86,8 @@ Stance stance_of(const twin::Airframe& af) {
   }
   s.inradius = hull.size() >= 3 && nearest > 0 ? nearest + af.support_radius() : 1e-3;
   s.com_height = com.z() - af.ground_z();
+  for (const Ball& b : support) s.support.push_back(b.p - com);
+  s.support_radius = af.support_radius();
   // The strike tilt: per direction the first tilt (0.25° steps) that
   // strikes, refined by bisection; the smallest over directions.
   double best = 0.5 * kPi;
@@ -111,8 +114,18 @@ Stance stance_of(const twin::Airframe& af) {
 
 double upset_ratio(const Stance& s, double side, double mass, double friction, double hold_force) {
   const double weight = mass * twin::kStandardGravity, down = weight + hold_force;
-  return std::max({side / (friction * down), side * s.com_height / (down * s.inradius),
-                   side / (weight * std::tan(s.strike_tilt))});
+  return std::max(
+      {side / (friction * down), side * s.com_height / (down * s.inradius), side / (weight * std::tan(s.strike_tilt))});
+}
+
+double lowest_support(const Stance& s, const Eigen::Matrix3d& R) {
+  double lowest = 0;
+  for (const Eigen::Vector3d& q : s.support) lowest = std::min(lowest, R.row(2).dot(q));
+  return lowest - s.support_radius;
+}
+
+double levelling_shift(const Stance& s, double tilt) {
+  return s.inradius * (1 - std::cos(tilt)) + s.com_height * std::sin(tilt);
 }
 
 }  // namespace touchdown::mission::detail

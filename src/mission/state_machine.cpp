@@ -146,13 +146,14 @@ StateMachineOutput StateMachine::step(const StateMachineInputs& in) {
       if (in.slide_ratio > o.max_slide_ratio) {
         return abort_landing(MissionState::Tracking, TransitionReason::WindTooStrong);
       }
-      if (in.height > o.contact_height || std::abs(in.v_estimate.z()) >= o.contact_speed) {
+      if (in.commanded_descent < o.contact_speed || in.height > o.contact_height ||
+          std::abs(in.v_estimate.z()) >= o.contact_speed) {
         stalled_since_ = -1;
       } else if (stalled_since_ < 0) {
         stalled_since_ = in.t;
       }
       if (in.height <= o.shutdown_height || (stalled_since_ >= 0 && in.t - stalled_since_ >= o.contact_time)) {
-        if (in.p_estimate.head<2>().norm() <= o.shutdown_radius) {
+        if ((in.p_estimate.head<2>() - in.touchdown_point).norm() <= o.shutdown_radius) {
           return go(MissionState::Shutdown, TransitionReason::TouchdownZone, in.t);
         }
         return abort_landing(MissionState::Tracking, TransitionReason::LowOffCentre);

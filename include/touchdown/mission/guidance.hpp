@@ -118,6 +118,10 @@ class Guidance {
   [[nodiscard]] const std::string& message() const { return message_; }
   /// The terminal point, pad frame.
   [[nodiscard]] Eigen::Vector3d terminal_point() const;
+  /// Where the terminal rule puts the centre of mass down (pad frame, x y):
+  /// the pad centre, or ahead of it by what the drone will move when it
+  /// levels after touching down tilted (the mission sets it each step).
+  void set_touchdown_point(const Eigen::Vector2d& p) { touchdown_point_ = p; }
 
  private:
   GuidanceOutput compute(double t, MissionState state, bool entered, const PadState& pad,
@@ -128,6 +132,7 @@ class Guidance {
 
   GuidanceOptions options_;
   double landed_com_height_;
+  Eigen::Vector2d touchdown_point_ = Eigen::Vector2d::Zero();
   plan::PiecewiseBezier trajectory_;
   bool have_plan_ = false;
   double plan_t0_ = 0;

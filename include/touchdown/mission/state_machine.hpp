@@ -25,6 +25,7 @@
 /// safety: one instance per mission.
 #include <Eigen/Core>
 #include <array>
+#include <limits>
 #include <string>
 #include <string_view>
 
@@ -132,10 +133,18 @@ struct StateMachineInputs {
   double height = 0;
   double tracking_error = 0;  ///< [m] |setpoint − estimate|
   ReplanOutcome replan = ReplanOutcome::None;
-  bool have_plan = false;                                    ///< the guidance holds a valid plan
+  bool have_plan = false;  ///< the guidance holds a valid plan
+  /// The descent the guidance commands relative to the pad [m/s]: contact
+  /// is felt only while it is at least contact_speed (a stop where the
+  /// guidance holds the height, or is only starting down, is not a
+  /// touchdown); infinite: not known.
+  double commanded_descent = std::numeric_limits<double>::infinity();
   double vehicle_acceleration = 0;                           ///< [m/s²] magnitude, from the vehicle's odometry
   double vehicle_yaw_rate = 0;                               ///< [rad/s]
   Eigen::Vector3d tracking_point = Eigen::Vector3d::Zero();  ///< where tracking holds the drone (pad frame)
+  /// Where the terminal rule puts the drone down (pad frame, x y): the
+  /// shutdown radius is counted from it.
+  Eigen::Vector2d touchdown_point = Eigen::Vector2d::Zero();
   /// The landed drone's side force over what friction holds (see
   /// StateMachineOptions::max_slide_ratio), from the wind estimate.
   double slide_ratio = 0;
