@@ -266,13 +266,16 @@ std::string plot_envelope(const std::vector<EnvelopeCell>& cells, const std::str
       continue;
     }
     svg.rect(x, y, cw, ch, " fill='" + detail::rgb_colour(red, green, 60) + "' stroke='white'");
-    svg.text(x + cw / 2, y + ch / 2 + (c.reasons.empty() ? 4 : 0), detail::format_trimmed(100 * s, 0) + " %",
+    svg.text(x + cw / 2, y + ch / 2 + (c.reasons.empty() ? 4 : -4), detail::format_trimmed(100 * s, 0) + " %",
              " text-anchor='middle' font-size='12'");
     if (!c.reasons.empty()) {
-      // The most frequent reason the others did not land, shortened to fit.
-      svg.text(x + cw / 2, y + ch / 2 + 14,
-               std::to_string(c.reasons.front().second) + " \u00d7 " + short_reason(c.reasons.front().first),
+      // The most frequent reason the others did not land, shortened to fit:
+      // its count, then the reason in words on a line of its own.
+      std::string why = short_reason(c.reasons.front().first);
+      std::replace(why.begin(), why.end(), '_', ' ');
+      svg.text(x + cw / 2, y + ch / 2 + 9, std::to_string(c.reasons.front().second) + " \u00d7",
                " text-anchor='middle' font-size='9'");
+      svg.text(x + cw / 2, y + ch / 2 + 19, why, " text-anchor='middle' font-size='8.5'");
     }
   }
   svg.rect(L, T, W, H, " fill='none' stroke='black'");
