@@ -87,7 +87,7 @@ TEST(StateMachine, NominalPathThroughAllFiveStates) {
   EXPECT_FALSE(s.run(5).has_value());
 }
 
-TEST(StateMachine, LockNeedsConsecutiveOkFrames) {
+TEST(StateMachine, LockNeedsOkFramesWithoutAGap) {
   tdm::StateMachineOptions o;
   o.lock_frames = 10;
   Script s(o);
@@ -96,12 +96,11 @@ TEST(StateMachine, LockNeedsConsecutiveOkFrames) {
   s.frames = true;
   s.frames_ok = false;
   EXPECT_FALSE(s.run(1).has_value());
-  // Nine Ok frames then a bad one: the count restarts.
+  // Nine Ok frames, then one without an Ok pose (dropped): it does not
+  // count and does not reset; the tenth Ok frame locks.
   s.frames_ok = true;
   for (int k = 0; k < 9;) k += s.step().state == MissionState::Rendezvous && s.in.new_pose ? 1 : 0;
   s.frames_ok = false;
-  while (!s.in.new_pose) s.step();
-  s.step();
   while (!s.in.new_pose) s.step();
   s.frames_ok = true;
   int frames = 0;
@@ -109,8 +108,22 @@ TEST(StateMachine, LockNeedsConsecutiveOkFrames) {
     s.step();
     frames += s.in.new_pose ? 1 : 0;
   }
-  EXPECT_EQ(frames, o.lock_frames);
+  EXPECT_EQ(frames, 1);
   EXPECT_EQ(s.log.back().reason, TransitionReason::TrackerLocked);
+  // A gap longer than lock_max_gap restarts the count.
+  Script g(o);
+  g.reach(MissionState::Rendezvous);
+  g.frames = true;
+  for (int k = 0; k < 9;) k += g.step().state == MissionState::Rendezvous && g.in.new_pose ? 1 : 0;
+  g.frames = false;
+  g.run(o.lock_max_gap + 0.05);
+  g.frames = true;
+  frames = 0;
+  while (g.machine.state() == MissionState::Rendezvous) {
+    g.step();
+    frames += g.in.new_pose ? 1 : 0;
+  }
+  EXPECT_EQ(frames, o.lock_frames);
 }
 
 TEST(StateMachine, RendezvousTimesOutBackToSearching) {

@@ -12,7 +12,8 @@
 /// - searching: fly to the rendezvous point behind the vehicle on the
 ///   external position fix (GNSS or the vehicle's odometry);
 /// - rendezvous: hold there while the LED tracker initialises; after
-///   `lock_frames` consecutive Ok pose frames → tracking;
+///   `lock_frames` Ok pose frames, none more than `lock_max_gap` after the
+///   one before (frames without an Ok pose in between do not count) → tracking;
 /// - tracking: follow the pad on the tracker's pose until the tracking
 ///   error and the relative speed have stayed small for `stable_time`;
 /// - landing: the guidance plans and flies the trajectory in the pad frame;
@@ -38,7 +39,7 @@ enum class MissionState { Searching, Rendezvous, Tracking, Landing, Shutdown };
 /// Why a transition happened (each abort names the guard's option).
 enum class TransitionReason {
   ArrivedAtRendezvous,  ///< within rendezvous_radius of the rendezvous point (fix)
-  TrackerLocked,        ///< lock_frames consecutive Ok pose frames
+  TrackerLocked,        ///< lock_frames Ok pose frames without a gap
   TrackingStable,       ///< tracking error and relative speed small for stable_time
   TouchdownZone,        ///< within shutdown_radius and shutdown_height (or contact felt): motors off
   RendezvousTimeout,    ///< no lock within rendezvous_timeout: approach again
@@ -81,8 +82,8 @@ inline std::string_view to_string(TransitionReason r) { return enum_name(r); }
 struct StateMachineOptions {
   Eigen::Vector3d rendezvous_point{-2.5, 0.0, 1.5};  ///< pad frame [m], behind and above the pad
   double rendezvous_radius = 0.5;                    ///< [m] "arrived" on the fix
-  int lock_frames = 10;                              ///< consecutive Ok pose frames that lock the tracker, ≥ 1
-  double lock_max_gap = 0.2;                         ///< [s] Ok frames further apart than this are not consecutive
+  int lock_frames = 10;       ///< Ok pose frames that lock the tracker, ≥ 1
+  double lock_max_gap = 0.2;  ///< [s] Ok frames further apart restart the count
   double rendezvous_timeout = 20;                    ///< [s] in rendezvous without a lock → searching
   double stable_error = 0.15;             ///< [m] tracking error (setpoint − estimate) that counts as stable
   double stable_speed = 0.4;              ///< [m/s] relative speed to the tracking point that counts as stable
@@ -182,7 +183,7 @@ class StateMachine {
   MissionState state_ = MissionState::Searching;
   double entered_ = 0;         ///< time the state was entered
   bool started_ = false;       ///< entered_ set from the first step
-  int ok_run_ = 0;             ///< consecutive Ok frames
+  int ok_run_ = 0;             ///< Ok frames since the last gap
   double last_ok_ = -1e300;    ///< time of the last Ok frame
   double stable_since_ = -1;   ///< < 0: not stable
   double stalled_since_ = -1;  ///< < 0: no contact felt
