@@ -7,6 +7,7 @@
 #include <numbers>
 #include <vector>
 
+#include "core/convex_hull.hpp"
 #include "touchdown/twin/flight_control.hpp"
 
 namespace touchdown::mission::detail {
@@ -58,31 +59,17 @@ Stance stance_of(const twin::Airframe& af) {
       parts.push_back({b.centre + b.half_extents.cwiseProduct(c), 0.0});
     }
   }
-  // The support polygon seen from above (Andrew's monotone chain) and the
-  // centre of mass's distance to its nearest edge.
-  std::vector<Eigen::Vector2d> p;
-  for (const Ball& b : support) p.emplace_back(b.p.head<2>());
-  std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  const auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-  };
-  std::vector<Eigen::Vector2d> hull;
-  for (int pass = 0; pass < 2; ++pass) {
-    const std::size_t start = hull.size();
-    for (const Eigen::Vector2d& q : p) {
-      while (hull.size() >= start + 2 && cross(hull[hull.size() - 2], hull.back(), q) <= 0) hull.pop_back();
-      hull.push_back(q);
-    }
-    hull.pop_back();
-    std::reverse(p.begin(), p.end());
-  }
+  // The support polygon seen from above and the centre of mass's distance
+  // to its nearest edge.
+  std::vector<Eigen::Vector2d> feet;
+  for (const Ball& b : support) feet.emplace_back(b.p.head<2>());
+  const std::vector<Eigen::Vector2d> hull = touchdown::detail::convex_hull(feet);  // counter-clockwise
   const Eigen::Vector3d com = af.centre_of_mass();
   double nearest = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < hull.size(); ++i) {
     const Eigen::Vector2d &a = hull[i], &b = hull[(i + 1) % hull.size()];
-    nearest = std::min(nearest, cross(a, b, com.head<2>()) / std::max((b - a).norm(), 1e-12));  // > 0 inside
+    nearest = std::min(nearest,
+                       touchdown::detail::cross(a, b, com.head<2>()) / std::max((b - a).norm(), 1e-12));  // > 0 inside
   }
   s.inradius = hull.size() >= 3 && nearest > 0 ? nearest + af.support_radius() : 1e-3;
   s.com_height = com.z() - af.ground_z();

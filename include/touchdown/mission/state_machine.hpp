@@ -82,8 +82,8 @@ inline std::string_view to_string(TransitionReason r) { return enum_name(r); }
 struct StateMachineOptions {
   Eigen::Vector3d rendezvous_point{-2.5, 0.0, 1.5};  ///< pad frame [m], behind and above the pad
   double rendezvous_radius = 0.5;                    ///< [m] "arrived" on the fix
-  int lock_frames = 10;       ///< Ok pose frames that lock the tracker, ≥ 1
-  double lock_max_gap = 0.2;  ///< [s] Ok frames further apart restart the count
+  int lock_frames = 10;                              ///< Ok pose frames that lock the tracker, ≥ 1
+  double lock_max_gap = 0.2;                         ///< [s] Ok frames further apart restart the count
   double rendezvous_timeout = 20;                    ///< [s] in rendezvous without a lock → searching
   double stable_error = 0.15;             ///< [m] tracking error (setpoint − estimate) that counts as stable
   double stable_speed = 0.4;              ///< [m/s] relative speed to the tracking point that counts as stable
