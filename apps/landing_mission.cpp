@@ -138,6 +138,7 @@ std::vector<double> range_of(const std::vector<double>& r) {
 int run_envelope(const Args& a) {
   tdm::MissionFile file = load(a);
   td::app::print_warnings("landing_mission", file.warnings);
+  if (!a.turbulence.empty()) file.options.wind.turbulence = td::from_string<tdm::TurbulenceLevel>(a.turbulence);
   td::StagedOutputs staged;
   std::filesystem::path plot;
   if (!a.envelope_plot.empty()) plot = staged.add(a.envelope_plot, "--plot");
@@ -200,6 +201,9 @@ int main(int argc, char** argv) {
       ->expected(3)
       ->check(td::app::number_in(0, 50))
       ->capture_default_str();
+  envelope->add_option("--turbulence", a.turbulence, "Dryden turbulence level in every cell instead of the file's")
+      ->check(td::app::one_of<tdm::TurbulenceLevel>())
+      ->default_str("the file's");
   envelope->add_option("--runs", a.runs, "missions per cell")->check(CLI::Range(1, 100000))->capture_default_str();
   td::app::add_seed_option(*envelope, "--seed", a.seed, "seed");
   envelope->add_option("--threads", a.threads, "worker threads (0 = every core)")->check(CLI::Range(0, 1024));

@@ -234,6 +234,7 @@ Envelope run_envelope(const MissionOptions& base, const std::vector<double>& spe
   Envelope e;
   e.speeds = speeds;
   e.winds = winds;
+  e.turbulence = base.wind.turbulence;
   e.runs = runs;
   const auto start = std::chrono::steady_clock::now();
   const std::size_t total = speeds.size() * winds.size() * static_cast<std::size_t>(std::max(0, runs));
@@ -298,8 +299,11 @@ std::string envelope_json(const Envelope& e, std::string_view source, std::uint6
 
 std::string envelope_text(const Envelope& e, std::string_view source) {
   std::string out;
-  appendf(out, "%s: share landed over vehicle speed x wind, %d runs per cell (gusts 25 %% of the wind)\n",
-          std::string(source).c_str(), e.runs);
+  appendf(out, "%s: share landed over vehicle speed x wind, %d runs per cell (gusts 25 %% of the wind%s)\n",
+          std::string(source).c_str(), e.runs,
+          e.turbulence == TurbulenceLevel::None
+              ? ""
+              : (", " + std::string(to_string(e.turbulence)) + " turbulence").c_str());
   appendf(out, "%10s", "wind \\ v");
   for (const double s : e.speeds) appendf(out, " %6.2f ", s);
   appendf(out, "\n");

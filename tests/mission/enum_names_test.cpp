@@ -14,7 +14,7 @@ namespace td = touchdown;
 namespace tmi = touchdown::mission;
 
 using MissionEnums = ::testing::Types<tmi::VehiclePath, tmi::MissionOutcome, tmi::MissionState, tmi::TransitionReason,
-                                      tmi::TurbulenceLevel>;
+                                      tmi::TurbulenceLevel, tmi::VehicleModel>;
 namespace touchdown::test {
 INSTANTIATE_TYPED_TEST_SUITE_P(Mission, EnumNamesSuite, MissionEnums);
 }  // namespace touchdown::test

@@ -65,6 +65,7 @@ struct MissionRunInfo {
 struct Envelope {
   std::vector<double> speeds, winds;
   int runs = 0;
+  TurbulenceLevel turbulence = TurbulenceLevel::None;  ///< in every cell
   std::vector<EnvelopeCell> cells;
   std::vector<std::pair<double, std::string>> refused;  ///< speed, why
 };
