@@ -116,18 +116,104 @@ int line_of(const YAML::Node& root, const std::string& path) {
   return node.Mark().line >= 0 ? node.Mark().line + 1 : -1;
 }
 
+// The keys of the vehicle's log, read with the vehicle section.
+struct LogKeys {
+  std::string name;
+  double max_gap = 1.0;
+  YAML::Node log_node, gap_node, path_node;  ///< where messages point: the key, else the section
+};
+
+void load_log(const YamlReader& r, const LogKeys& k, const std::filesystem::path& base, MissionFile& file) {
+  MissionOptions& o = file.options;
+  VehicleOptions& v = o.vehicle;
+  // The vehicle's log, once its keys are read (log_max_gap may come after
+  // log): beside the mission first, then touchdown's data directories.
+  if (!(k.max_gap > 0) || !std::isfinite(k.max_gap)) {
+    r.fail(k.gap_node, "vehicle.log_max_gap", "must be positive [s]");
+  }
+  if (k.name.empty()) {
+    if (v.path == VehiclePath::Log) r.fail(k.path_node, "vehicle.log", "path log needs a log file");
+    return;
+  }
+  if (v.path != VehiclePath::Log) r.fail(k.log_node, "vehicle.log", "a log is only read with path: log");
+  std::filesystem::path path;
+  try {
+    path = resolve_data_file(base, k.name, "vehicle_logs");
+  } catch (const Error& e) {
+    r.fail(k.log_node, "vehicle.log", e.what());
+  }
+  // A log's own errors name its file and line (ParseError, exit 2).
+  v.log = std::make_shared<const VehicleLog>(VehicleLog::load(path, k.max_gap));
+  file.vehicle_log = path;
+  if (v.log->duration() < o.timeout) {
+    file.warnings.push_back("vehicle.log: " + path.string() + " covers " + format_general(v.log->duration()) +
+                            " s, the mission's timeout " + format_general(o.timeout) +
+                            " s: after it the vehicle keeps its last speed and turn rate");
+  }
+}
+
+// The vehicle section's keys.
+std::vector<Field> vehicle_fields(VehicleOptions& v, LogKeys& log) {
+  return {named("path", v.path),
+          num("speed", v.speed),
+          num("radius", v.radius),
+          flag("counter_clockwise", v.counter_clockwise),
+          num("max_acceleration", v.max_acceleration),
+          num("max_wheel_speed", v.max_wheel_speed),
+          num("track_width", v.track_width),
+          num("drive_time_constant", v.drive_time_constant),
+          num("lookahead", v.lookahead),
+          flag("start_at_speed", v.start_at_speed),
+          num("random_speed_sigma", v.random_speed_sigma),
+          num("random_change_time", v.random_change_time),
+          vec3("pad_position", v.pad_position),
+          word("log", log.name),
+          num("log_max_gap", log.max_gap),
+          named("model", v.model),
+          num("wheelbase", v.wheelbase),
+          deg("max_steer_deg", v.max_steer),
+          deg("max_steer_rate_deg", v.max_steer_rate),
+          num("road_straight", v.road_straight),
+          num("lane_width", v.lane_width),
+          num("lane_change_length", v.lane_change_length)};
+}
+
+// The perception section's keys (the model's, the mode, the render mode's
+// camera errors).
+std::vector<Field> perception_fields(MissionOptions& o) {
+  PerceptionModelOptions& p = o.perception_model;
+  CameraErrors& e = o.render.errors;
+  return {word("mode", o.perception),
+          num("rate_hz", p.rate_hz),
+          num("latency", p.latency),
+          num("sigma_a", p.sigma_a),
+          num("sigma_b", p.sigma_b),
+          num("bias_sigma", p.bias_sigma),
+          num("dropout", p.dropout),
+          num("dropout_b", p.dropout_b),
+          num("min_range", p.min_range),
+          num("max_range", p.max_range),
+          num("fov_margin", p.fov_margin),
+          section("camera_errors", [&e](const YamlReader& r, const YAML::Node& n, const std::string& k) {
+            read_fields(
+                r, n, k + ".",
+                {num("focal_sigma", e.focal_sigma), num("principal_sigma_px", e.principal_sigma_px),
+                 num("extrinsic_position_sigma", e.extrinsic_position_sigma),
+                 num("extrinsic_angle_sigma_deg", e.extrinsic_angle_sigma_deg),
+                 num("clock_offset_sigma", e.clock_offset_sigma), num("clock_jitter_sigma", e.clock_jitter_sigma),
+                 num("frame_drop", e.frame_drop), num("rolling_shutter_s", e.rolling_shutter_s)});
+          })};
+}
+
 void read_mission(const YamlReader& r, const YAML::Node& root, std::string_view yaml_text,
                   const std::filesystem::path& base, MissionFile& file) {
   MissionOptions& o = file.options;
   VehicleOptions& v = o.vehicle;
-  std::string log_name;
-  double log_max_gap = 1.0;
-  YAML::Node log_node, gap_node, path_node;
+  LogKeys log;
   DroneOptions& d = o.drone;
   twin::ControllerParams& c = d.controller;
   StateMachineOptions& m = o.machine;
   GuidanceOptions& g = o.guidance;
-  PerceptionModelOptions& p = o.perception_model;
   const std::vector<Field> controller = {num("xy_p", c.xy_p),
                                          num("xy_vel_p", c.xy_vel_p),
                                          num("xy_vel_i", c.xy_vel_i),
@@ -151,33 +237,10 @@ void read_mission(const YamlReader& r, const YAML::Node& root, std::string_view 
   const std::vector<Field> top = {
       section("vehicle",
               [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
-                read_fields(rr, n, k + ".",
-                            {named("path", v.path),
-                             num("speed", v.speed),
-                             num("radius", v.radius),
-                             flag("counter_clockwise", v.counter_clockwise),
-                             num("max_acceleration", v.max_acceleration),
-                             num("max_wheel_speed", v.max_wheel_speed),
-                             num("track_width", v.track_width),
-                             num("drive_time_constant", v.drive_time_constant),
-                             num("lookahead", v.lookahead),
-                             flag("start_at_speed", v.start_at_speed),
-                             num("random_speed_sigma", v.random_speed_sigma),
-                             num("random_change_time", v.random_change_time),
-                             vec3("pad_position", v.pad_position),
-                             word("log", log_name),
-                             num("log_max_gap", log_max_gap),
-                             named("model", v.model),
-                             num("wheelbase", v.wheelbase),
-                             deg("max_steer_deg", v.max_steer),
-                             deg("max_steer_rate_deg", v.max_steer_rate),
-                             num("road_straight", v.road_straight),
-                             num("lane_width", v.lane_width),
-                             num("lane_change_length", v.lane_change_length)});
-                // Where the log's messages point: its key, else the section.
-                log_node = n["log"] ? n["log"] : n;
-                gap_node = n["log_max_gap"] ? n["log_max_gap"] : n;
-                path_node = n["path"] ? n["path"] : n;
+                read_fields(rr, n, k + ".", vehicle_fields(v, log));
+                log.log_node = n["log"] ? n["log"] : n;
+                log.gap_node = n["log_max_gap"] ? n["log_max_gap"] : n;
+                log.path_node = n["path"] ? n["path"] : n;
               }),
       section("pad",
               [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
@@ -258,14 +321,8 @@ void read_mission(const YamlReader& r, const YAML::Node& root, std::string_view 
                        plan::parse_planner_section(yaml_text, r2.source, pk, g.planner, file.warnings);
                      })});
               }),
-      section("perception",
-              [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
-                read_fields(rr, n, k + ".",
-                            {word("mode", o.perception), num("rate_hz", p.rate_hz), num("latency", p.latency),
-                             num("sigma_a", p.sigma_a), num("sigma_b", p.sigma_b), num("bias_sigma", p.bias_sigma),
-                             num("dropout", p.dropout), num("dropout_b", p.dropout_b), num("min_range", p.min_range),
-                             num("max_range", p.max_range), num("fov_margin", p.fov_margin)});
-              }),
+      section("perception", [&](const YamlReader& rr, const YAML::Node& n,
+                                const std::string& k) { read_fields(rr, n, k + ".", perception_fields(o)); }),
       section("wind",
               [&](const YamlReader& rr, const YAML::Node& n, const std::string& k) {
                 read_fields(rr, n, k + ".",
@@ -289,30 +346,7 @@ void read_mission(const YamlReader& r, const YAML::Node& root, std::string_view 
       num("ground_rate_hz", o.ground_rate_hz),
       num("timeout", o.timeout)};
   read_fields(r, root, "", top);
-  // The vehicle's log, once its keys are read (log_max_gap may come after
-  // log): beside the mission first, then touchdown's data directories.
-  if (!(log_max_gap > 0) || !std::isfinite(log_max_gap)) {
-    r.fail(gap_node, "vehicle.log_max_gap", "must be positive [s]");
-  }
-  if (log_name.empty()) {
-    if (v.path == VehiclePath::Log) r.fail(path_node, "vehicle.log", "path log needs a log file");
-    return;
-  }
-  if (v.path != VehiclePath::Log) r.fail(log_node, "vehicle.log", "a log is only read with path: log");
-  std::filesystem::path path;
-  try {
-    path = resolve_data_file(base, log_name, "vehicle_logs");
-  } catch (const Error& e) {
-    r.fail(log_node, "vehicle.log", e.what());
-  }
-  // A log's own errors name its file and line (ParseError, exit 2).
-  v.log = std::make_shared<const VehicleLog>(VehicleLog::load(path, log_max_gap));
-  file.vehicle_log = path;
-  if (v.log->duration() < o.timeout) {
-    file.warnings.push_back("vehicle.log: " + path.string() + " covers " + format_general(v.log->duration()) +
-                            " s, the mission's timeout " + format_general(o.timeout) +
-                            " s: after it the vehicle keeps its last speed and turn rate");
-  }
+  load_log(r, log, base, file);
 }
 
 }  // namespace

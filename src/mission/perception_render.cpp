@@ -2,8 +2,11 @@
 // the real LedTracker in the mission's loop.
 #include "touchdown/mission/perception_render.hpp"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <utility>
 
 #include "touchdown/core/error.hpp"
 #include "touchdown/core/random_vector.hpp"
@@ -62,6 +65,25 @@ bool RenderPerceptionOptions::validate(std::string* why) const {
   if (!(attitude_sigma_deg > 0) || !std::isfinite(attitude_sigma_deg)) {
     return invalid(why, "perception.attitude_sigma_deg: must be positive [deg]");
   }
+  return errors.validate(why);
+}
+
+bool CameraErrors::validate(std::string* why) const {
+  const std::array<std::pair<const char*, double>, 7> values{{{"focal_sigma", focal_sigma},
+                                                              {"principal_sigma_px", principal_sigma_px},
+                                                              {"extrinsic_position_sigma", extrinsic_position_sigma},
+                                                              {"extrinsic_angle_sigma_deg", extrinsic_angle_sigma_deg},
+                                                              {"clock_offset_sigma", clock_offset_sigma},
+                                                              {"clock_jitter_sigma", clock_jitter_sigma},
+                                                              {"rolling_shutter_s", rolling_shutter_s}}};
+  for (const auto& [key, v] : values) {
+    if (!(v >= 0) || !std::isfinite(v)) {
+      return invalid(why, std::string("perception.camera_errors.") + key + ": must be finite and >= 0");
+    }
+  }
+  if (!(focal_sigma < 0.2)) return invalid(why, "perception.camera_errors.focal_sigma: must be below 0.2");
+  if (!(frame_drop >= 0 && frame_drop < 1))
+    return invalid(why, "perception.camera_errors.frame_drop: must be in [0, 1)");
   return true;
 }
 
@@ -77,17 +99,40 @@ RenderPerception::RenderPerception(RenderPerceptionOptions options, const Eigen:
   std::string why;
   if (!options_.validate(&why)) throw InvalidArgument(why);
   options_.render.frame_rate_hz = rate_hz_;
+  options_.render.rolling_shutter_s = options_.errors.rolling_shutter_s;
+  if (!options_.render.validate(&why)) throw InvalidArgument("perception.camera_errors: " + why);
+  // The renderer sees the true camera; the tracker and the pad-frame
+  // conversion use the calibration, drawn per mission from its own stream.
+  const CameraErrors& err = options_.errors;
+  Rng calibration(seed, 3);
+  pose::CameraModel calibrated = options_.camera;
+  calibrated.fx *= 1 + err.focal_sigma * calibration.normal();
+  calibrated.fy *= 1 + err.focal_sigma * calibration.normal();
+  calibrated.cx += err.principal_sigma_px * calibration.normal();
+  calibrated.cy += err.principal_sigma_px * calibration.normal();
+  const Eigen::Vector3d dp = err.extrinsic_position_sigma * normal_vector3(calibration);
+  const Eigen::Vector3d dr = deg_to_rad(err.extrinsic_angle_sigma_deg) * normal_vector3(calibration);
+  T_pad_camera_calibrated_ = T_pad_camera_;
+  T_pad_camera_calibrated_.translation() += dp;
+  if (dr.norm() > 0)
+    T_pad_camera_calibrated_.linear() = T_pad_camera_.linear() * Eigen::AngleAxisd(dr.norm(), dr.normalized());
+  clock_offset_ = err.clock_offset_sigma * calibration.normal();
   renderer_ = std::make_unique<pose::SyntheticCamera>(options_.camera, options_.constellation, options_.render);
-  tracker_ = std::make_unique<pose::LedTracker>(options_.camera, options_.constellation, options_.tracker);
+  tracker_ = std::make_unique<pose::LedTracker>(calibrated, options_.constellation, options_.tracker);
 }
 
 RenderPerception::~RenderPerception() = default;
 
 PoseMeasurement RenderPerception::capture(const PerceptionTruth& truth) {
   PoseMeasurement m;
-  m.t_capture = truth.t;
   m.t_available = truth.t + latency_;
   const std::uint64_t frame = frame_++;
+  // The frame's stamp on the camera's clock, and whether it arrives: a
+  // stream of their own per frame, so that they shift no other draw.
+  Rng timing(seed_ ^ 0x74696d696e67ULL /* "timing" */, frame);
+  const double jitter = options_.errors.clock_jitter_sigma * timing.normal();
+  m.t_capture = std::min(truth.t + clock_offset_ + jitter, m.t_available);
+  const bool dropped = options_.errors.frame_drop > 0 && timing.uniform() < options_.errors.frame_drop;
   const Eigen::Isometry3d T_camera_body = T_pad_camera_.inverse() * truth.T_pad_body;
   const Eigen::Isometry3d previous = have_previous_ ? previous_ : T_camera_body;
   previous_ = T_camera_body;
@@ -101,6 +146,7 @@ PoseMeasurement RenderPerception::capture(const PerceptionTruth& truth) {
   // Far beyond the tracker's reach (behind the camera or past 10 m): no
   // frame worth rendering; the track restarts when the drone comes back.
   const Eigen::Vector3d c = T_camera_body.translation();
+  if (dropped) return m;  // the tracker keeps its track: the next frame may still follow it
   if (!(c.z() > 0.05) || c.norm() > 10) {
     tracker_->reset();
     return m;
@@ -117,7 +163,7 @@ PoseMeasurement RenderPerception::capture(const PerceptionTruth& truth) {
   render_s_ += std::chrono::duration<double>(t1 - t0).count();
   track_s_ += std::chrono::duration<double>(t2 - t1).count();
   if (e.ok()) {
-    const Eigen::Isometry3d T_pad_body = T_pad_camera_ * e.T_camera_body;
+    const Eigen::Isometry3d T_pad_body = T_pad_camera_calibrated_ * e.T_camera_body;
     m.ok = true;
     m.p_pad = T_pad_body * com_body_;
     m.sigma = e.sigma_position_m;

@@ -23,7 +23,8 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kMaxJumpSpeed = 100;  // [m/s]: faster between rows is a broken log
 constexpr double kMinDuration = 1.0;   // [s]
 
-enum Column { kT, kX, kY, kYaw, kSpeed, kColumns };
+// The columns, as indices into a row's values.
+constexpr std::size_t kT = 0, kX = 1, kY = 2, kYaw = 3, kSpeed = 4, kColumns = 5;
 
 // The slope at t0, t1 or t2 (at = 0, 1, 2) of the parabola through (t0, f0),
 // (t1, f1), (t2, f2): second-order derivatives on non-uniform rows, the
@@ -85,25 +86,25 @@ VehicleLog VehicleLog::parse(std::string_view text, std::string_view source, dou
       } else {
         for (std::size_t i = 0; i < parts.size(); ++i) {
           const std::string_view name = parts[i];
-          int c = -1;
+          std::size_t c = kColumns;  // none
           if (name == "t" || name == "time") c = kT;
           if (name == "x") c = kX;
           if (name == "y") c = kY;
           if (name == "yaw" || name == "yaw_deg") c = kYaw;
           if (name == "speed") c = kSpeed;
-          if (c < 0) {
+          if (c == kColumns) {
             parse_fail_line(source, line_no,
                             "unknown column '" + std::string(name) +
                                 "' (the columns: t or time, x, y, yaw [rad] or "
                                 "yaw_deg, speed [m/s] optional)");
           }
-          if (where[static_cast<std::size_t>(c)] >= 0) {
+          if (where[c] >= 0) {
             parse_fail_line(source, line_no, "column '" + std::string(name) + "' given twice");
           }
-          where[static_cast<std::size_t>(c)] = static_cast<int>(i);
+          where[c] = static_cast<int>(i);
           degrees = degrees || name == "yaw_deg";
         }
-        static constexpr std::array<std::pair<Column, const char*>, 4> kNeeded{
+        static constexpr std::array<std::pair<std::size_t, const char*>, 4> kNeeded{
             {{kT, "t (or time)"}, {kX, "x"}, {kY, "y"}, {kYaw, "yaw (or yaw_deg)"}}};
         for (const auto& [c, name] : kNeeded) {
           if (where[c] < 0) parse_fail_line(source, line_no, std::string("no column ") + name);

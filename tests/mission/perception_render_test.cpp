@@ -88,3 +88,57 @@ TEST(RenderPerception, ShortMissionWithTheTrackerInTheLoopLands) {
   EXPECT_GT(r.pose_ok, 0.9 * r.pose_frames);
   EXPECT_LT(r.pose_error_max, 0.05);
 }
+
+// A real camera's errors: an extrinsic calibration error moves every
+// measurement by about that error (the renderer sees the true camera, the
+// conversion uses the calibration), the clock offset shifts every capture
+// stamp by one per-mission draw, dropped frames return no pose; all off, the
+// measurements are the ideal camera's, bit for bit.
+TEST(RenderPerception, CameraErrorsBiasTheMeasurementsAsCalibrated) {
+  const tdm::MissionOptions o;
+  const auto m = o.perception_options();
+  const auto run = [&](const tdm::CameraErrors& e) {
+    tdm::RenderPerceptionOptions r = o.render;
+    r.errors = e;
+    tdm::RenderPerception p(r, m.camera.T_pad_camera, o.drone.airframe.centre_of_mass(), m.rate_hz, m.latency, 5);
+    std::vector<tdm::PoseMeasurement> out;
+    for (const auto& t : approach()) out.push_back(p.capture(t));
+    return out;
+  };
+  const auto ideal = run({});
+  const auto same = run({});
+  tdm::CameraErrors shifted;
+  shifted.extrinsic_position_sigma = 0.02;
+  shifted.clock_offset_sigma = 0.01;
+  const auto biased = run(shifted);
+  tdm::CameraErrors dropping;
+  dropping.frame_drop = 0.5;
+  const auto dropped = run(dropping);
+  int ok = 0, dropped_ok = 0;
+  double offset = 0;
+  Eigen::Vector3d bias = Eigen::Vector3d::Zero();
+  const auto path = approach();
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    EXPECT_EQ(ideal[i].ok, same[i].ok);
+    if (ideal[i].ok) {
+      EXPECT_EQ(ideal[i].p_pad, same[i].p_pad);
+    }
+    EXPECT_DOUBLE_EQ(ideal[i].t_capture, path[i].t);
+    dropped_ok += dropped[i].ok ? 1 : 0;
+    if (!ideal[i].ok || !biased[i].ok) continue;
+    ++ok;
+    bias += biased[i].p_pad - ideal[i].p_pad;
+    if (i == 0) offset = biased[i].t_capture - path[i].t;
+    EXPECT_NEAR(biased[i].t_capture - path[i].t, offset, 1e-12);  // one offset per mission
+  }
+  ASSERT_GT(ok, 40);
+  bias /= ok;
+  // A 2 cm per-axis position error of the camera: the measurements move by
+  // centimetres, consistently (the mean shift is of that size, not zero).
+  EXPECT_GT(bias.norm(), 0.005);
+  EXPECT_LT(bias.norm(), 0.2);
+  EXPECT_GT(std::abs(offset), 1e-5);
+  EXPECT_LT(std::abs(offset), 0.05);
+  EXPECT_LT(dropped_ok, 0.75 * ok);  // about half of the frames never arrive
+  EXPECT_GT(dropped_ok, 0.25 * ok);
+}

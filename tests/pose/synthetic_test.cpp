@@ -837,3 +837,41 @@ TEST(RandomConstellation, ValidDeterministicAndVaried) {
   EXPECT_EQ(sizes.size(), 4u);
   EXPECT_NE(tp::random_constellation(1).leds[0].normal, tp::random_constellation(2).leds[0].normal);
 }
+
+// Rolling shutter: a LED moving sideways at v is drawn where it was when
+// its row was read, δ = readout (v_row / (h − 1) − ½) after the frame's
+// time: shifted by fx v δ / z against a global shutter (a pinhole, no blur).
+TEST(SyntheticCamera, RollingShutterShiftsAMovingLedByItsRowsReadoutTime) {
+  tp::CameraModel cam = d435();
+  cam.distortion = {0, 0, 0, 0, 0};
+  const tp::Constellation k = single_led(tp::LedColor::Red);
+  tp::RenderOptions o = clean();
+  o.bloom_fraction = 0;
+  o.motion_blur_samples = 1;
+  tp::RenderOptions rs = o;
+  rs.rolling_shutter_s = 0.03;
+  std::string why;
+  ASSERT_TRUE(rs.validate(&why)) << why;
+  const double z = 0.6, v = 3.0;
+  for (const double y : {0.2, -0.15}) {  // below and above the image centre
+    Eigen::Isometry3d T = ahead(z);
+    T.translation().y() = y;
+    Eigen::Isometry3d T_prev = T;
+    T_prev.translation().x() -= v / o.frame_rate_hz;  // moving along the camera's x at v
+    tp::RenderedFrame global, rolling;
+    tp::SyntheticCamera(cam, k, o).render(T, T_prev, 1, 0, global);
+    tp::SyntheticCamera(cam, k, rs).render(T, T_prev, 1, 0, rolling);
+    const Eigen::Vector2d uv = cam.project(T * k.leds[0].p_body);
+    const Eigen::Vector2d g = blob_centroid(global.colour, uv, 2, o.background_level);
+    const double delta = rs.rolling_shutter_s * (uv.y() / (cam.height - 1) - 0.5);
+    const Eigen::Vector2d expected = g + Eigen::Vector2d(cam.fx * v * delta / z, 0);
+    const Eigen::Vector2d r = blob_centroid(rolling.colour, expected, 2, o.background_level);
+    EXPECT_GT(std::abs(cam.fx * v * delta / z), 5.0) << "the shift must be visible for the test to show anything";
+    EXPECT_NEAR(r.x(), expected.x(), 0.3) << y;
+    EXPECT_NEAR(r.y(), expected.y(), 0.3) << y;
+  }
+  tp::RenderOptions bad = o;
+  bad.rolling_shutter_s = 0.05;  // longer than a frame at 30 Hz
+  EXPECT_FALSE(bad.validate(&why));
+  EXPECT_NE(why.find("rolling_shutter_s"), std::string::npos) << why;
+}

@@ -43,6 +43,25 @@ struct PerceptionFrame {
   std::vector<Eigen::Vector2d> reprojected;
 };
 
+/// A real camera's errors (issue 56 item 5), all 0 = the ideal camera.
+/// Calibration errors are drawn once per mission: the renderer uses the
+/// true camera, the tracker and the pad-frame conversion the calibrated
+/// (wrong) one. Timing errors shift the frames' capture stamps against the
+/// drone's clock; dropped frames never reach the ground station.
+struct CameraErrors {
+  double focal_sigma = 0;                ///< relative error of fx and fy (one draw each), per mission
+  double principal_sigma_px = 0;         ///< of cx and cy [px], per mission
+  double extrinsic_position_sigma = 0;   ///< of the camera's position on the pad, per axis [m], per mission
+  double extrinsic_angle_sigma_deg = 0;  ///< of its orientation, per axis [deg], per mission
+  double clock_offset_sigma = 0;         ///< the camera's clock against the drone's [s], per mission
+  double clock_jitter_sigma = 0;         ///< of each frame's stamp [s]
+  double frame_drop = 0;                 ///< probability a frame never arrives, [0, 1)
+  double rolling_shutter_s = 0;          ///< readout from the first row to the last [s] (pose::RenderOptions)
+  /// False (with "perception.camera_errors.key: what") for a negative or
+  /// non-finite value.
+  [[nodiscard]] bool validate(std::string* why) const;
+};
+
 struct RenderPerceptionOptions {
   pose::CameraModel camera = d455_camera();
   pose::Constellation constellation = quad180_constellation();
@@ -50,6 +69,7 @@ struct RenderPerceptionOptions {
   pose::TrackerOptions tracker{};
   bool attitude_prior = true;       ///< give the tracker both IMUs' gravity directions
   double attitude_sigma_deg = 1.0;  ///< each IMU's tilt noise, 1-σ per axis [deg], > 0
+  CameraErrors errors;
   /// The renderer's options for the mission: no ArUco card, the 180 mm
   /// quadrotor's body (8 cm square) in the depth image.
   static pose::RenderOptions default_render();
@@ -75,6 +95,8 @@ class RenderPerception final : public Perception {
  private:
   RenderPerceptionOptions options_;
   Eigen::Isometry3d T_pad_camera_;
+  Eigen::Isometry3d T_pad_camera_calibrated_;  ///< what the ground station believes (errors drawn per mission)
+  double clock_offset_ = 0;                    ///< [s], drawn per mission
   Eigen::Vector3d com_body_;
   double rate_hz_, latency_;
   std::uint64_t seed_;

@@ -43,6 +43,9 @@ bool RenderOptions::validate(std::string* why) const {
   if (!finite_nonneg(exposure_s) || exposure_s > 1) return fail("exposure_s: must be in [0, 1] s");
   if (!positive(frame_rate_hz) || frame_rate_hz > 10000) return fail("frame_rate_hz: must be in (0, 10000] Hz");
   if (exposure_s * frame_rate_hz > 1) return fail("exposure_s: longer than the frame interval 1/frame_rate_hz");
+  if (!finite_nonneg(rolling_shutter_s) || rolling_shutter_s * frame_rate_hz > 1) {
+    return fail("rolling_shutter_s: must be in [0, 1/frame_rate_hz] s");
+  }
   if (motion_blur_samples < 1 || motion_blur_samples > kMaxBlurSamples) {
     return fail("motion_blur_samples: must be in 1.." + std::to_string(kMaxBlurSamples));
   }
@@ -290,7 +293,7 @@ void SyntheticCamera::render(const Eigen::Isometry3d& T_camera_body, const Eigen
   const double exposure = im.exposure(seed, frame_index);
   im.render_depth_body(T_camera_body, extras, s.zbuf);
   im.render_lamps(seed, exposure, s.signal, s.zbuf);
-  im.render_leds(poses.data(), n, extras, exposure, s.signal, out);
+  im.render_leds(poses.data(), n, xi, extras, exposure, s.signal, out);
   out.marker_visible = o.render_marker && im.render_marker(poses.data(), n, exposure, s.signal, s);
 
   const std::vector<float>& table = normal_table();

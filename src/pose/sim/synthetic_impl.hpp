@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "touchdown/core/random.hpp"
+#include "touchdown/pose/se3.hpp"
 #include "touchdown/pose/sim/synthetic.hpp"
 
 namespace touchdown::pose {
@@ -166,7 +167,9 @@ struct SyntheticCamera::Impl {
 
   void render_depth_body(const Eigen::Isometry3d& T, const Extras& extras, std::vector<float>& zbuf) const;
   void render_lamps(std::uint64_t seed, double exposure, std::vector<float>& signal, std::vector<float>& zbuf) const;
-  void render_leds(const Eigen::Isometry3d* poses, int n, const Extras& extras, double exposure,
+  /// `xi`: the motion over one frame interval (the motion blur's), for the
+  /// rolling shutter.
+  void render_leds(const Eigen::Isometry3d* poses, int n, const Vector6d& xi, const Extras& extras, double exposure,
                    std::vector<float>& signal, RenderedFrame& out) const;
   bool render_marker(const Eigen::Isometry3d* poses, int n, double exposure, std::vector<float>& signal,
                      render_detail::Scratch& s) const;

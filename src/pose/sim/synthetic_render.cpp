@@ -135,8 +135,8 @@ void SyntheticCamera::Impl::render_lamps(std::uint64_t seed, double exposure, st
   }
 }
 
-void SyntheticCamera::Impl::render_leds(const Eigen::Isometry3d* poses, int n, const Extras& extras, double exposure,
-                                        std::vector<float>& signal, RenderedFrame& out) const {
+void SyntheticCamera::Impl::render_leds(const Eigen::Isometry3d* poses, int n, const Vector6d& xi, const Extras& extras,
+                                        double exposure, std::vector<float>& signal, RenderedFrame& out) const {
   const RenderOptions& o = options;
   const int w = camera.width, h = camera.height;
   const Eigen::Isometry3d& T = poses[n / 2];  // the frame's pose (centre of the exposure)
@@ -169,8 +169,15 @@ void SyntheticCamera::Impl::render_leds(const Eigen::Isometry3d* poses, int n, c
   auto draw_spot = [&](const Eigen::Vector3d& p_body, const Eigen::Vector2d& uv, double sigma, double gain,
                        double bloom_fraction, Bgr c) {
     double umin = uv.x(), umax = uv.x(), vmin = uv.y(), vmax = uv.y();
+    // Rolling shutter: the spot's row was read δ after the frame's time;
+    // its poses move on by δ along the same constant velocity.
+    Eigen::Isometry3d shift = Eigen::Isometry3d::Identity();
+    if (o.rolling_shutter_s > 0 && h > 1) {
+      const double delta = o.rolling_shutter_s * (uv.y() / (h - 1) - 0.5);
+      shift = se3_exp(delta * o.frame_rate_hz * xi);
+    }
     for (int k = 0; k < n; ++k) {
-      const Eigen::Vector3d pk = poses[k] * p_body;
+      const Eigen::Vector3d pk = poses[k] * (shift * p_body);
       centres[static_cast<std::size_t>(k)] = pk.z() >= kMinDepth ? camera.project(pk) : uv;
       umin = std::min(umin, centres[static_cast<std::size_t>(k)].x());
       umax = std::max(umax, centres[static_cast<std::size_t>(k)].x());

@@ -71,6 +71,12 @@ struct RenderOptions {
   double exposure_s = 0.004;
   double frame_rate_hz = 30.0;  ///< frame rate the previous pose was taken at
   int motion_blur_samples = 5;  ///< poses summed over the exposure (1 = no blur; rounded up to odd)
+  /// [s] rolling shutter: the readout from the first row to the last (0: a
+  /// global shutter). Row v is exposed δ = rolling_shutter_s (v / (h − 1) −
+  /// ½) after the frame's time, at the pose extrapolated as for the motion
+  /// blur: a LED moving across the image is drawn where it was when its row
+  /// was read, ≤ 1 / frame_rate_hz.
+  double rolling_shutter_s = 0;
 
   // --- depth ---
   /// Depth noise sigma = k·z² [m]; 0.0025 = 2.5 mm at 1 m (stereo depth).
