@@ -237,6 +237,23 @@ std::string short_reason(const std::string& why) {
   return why;
 }
 
+// The failure mix's colour of a reason (failure_reason's text): one per
+// guard that most often ends a mission, crashes black, the rest grey.
+const char* mix_colour(const std::string& why) {
+  static const std::array<std::pair<const char*, const char*>, 7> kColours{{{"crashed", "#000000"},
+                                                                            {"not_stable", "#6a3d9a"},
+                                                                            {"wind_too_strong", "#1f78b4"},
+                                                                            {"plan_infeasible", "#ff7f00"},
+                                                                            {"pose_lost", "#b15928"},
+                                                                            {"low_off_centre", "#e31a1c"},
+                                                                            {"timeout", "#bdbdbd"}}};
+  const std::string key = short_reason(why);
+  for (const auto& [name, colour] : kColours) {
+    if (key.rfind(name, 0) == 0) return colour;
+  }
+  return "#bdbdbd";  // timeout / other
+}
+
 }  // namespace
 
 std::string plot_envelope(const std::vector<EnvelopeCell>& cells, const std::string& title) {
@@ -276,6 +293,17 @@ std::string plot_envelope(const std::vector<EnvelopeCell>& cells, const std::str
       svg.text(x + cw / 2, y + ch / 2 + 9, std::to_string(c.reasons.front().second) + " \u00d7",
                " text-anchor='middle' font-size='9'");
       svg.text(x + cw / 2, y + ch / 2 + 19, why, " text-anchor='middle' font-size='8.5'");
+      // The failure mix: a bar of every run, landed first, then each reason.
+      const double bx = x + 4, bw = cw - 8, by = y + ch - 10;
+      double at = bx;
+      const auto segment = [&](int n, const std::string& colour) {
+        const double width = bw * n / std::max(1, c.runs);
+        svg.rect(at, by, width, 6, " fill='" + colour + "' stroke='none'");
+        at += width;
+      };
+      segment(c.landed, "#1b7837");
+      for (const auto& [reason, n] : c.reasons) segment(n, mix_colour(reason));
+      svg.rect(bx, by, bw, 6, " fill='none' stroke='white' stroke-width='0.5'");
     }
   }
   svg.rect(L, T, W, H, " fill='none' stroke='black'");
@@ -294,7 +322,21 @@ std::string plot_envelope(const std::vector<EnvelopeCell>& cells, const std::str
   svg.text(L + W + 14, T + 30, "below it, the most");
   svg.text(L + W + 14, T + 46, "frequent reason the");
   svg.text(L + W + 14, T + 62, "others did not land");
-  svg.text(L + W + 14, T + 78, "(--json: all of them)");
+  svg.text(L + W + 14, T + 78, "(--json: all of them);");
+  svg.text(L + W + 14, T + 94, "at the bottom, the mix:");
+  const std::array<std::pair<const char*, const char*>, 8> legend{{{"landed", "#1b7837"},
+                                                                   {"crashed", "#000000"},
+                                                                   {"not stable", "#6a3d9a"},
+                                                                   {"wind too strong", "#1f78b4"},
+                                                                   {"plan infeasible", "#ff7f00"},
+                                                                   {"pose lost", "#b15928"},
+                                                                   {"low off centre", "#e31a1c"},
+                                                                   {"timeout / other", "#bdbdbd"}}};
+  for (std::size_t k = 0; k < legend.size(); ++k) {
+    const double ly = T + 108 + 16 * static_cast<double>(k);
+    svg.rect(L + W + 14, ly - 8, 12, 8, std::string(" fill='") + legend[k].second + "'");
+    svg.text(L + W + 30, ly, legend[k].first, " font-size='11'");
+  }
   return svg.finish();
 }
 
