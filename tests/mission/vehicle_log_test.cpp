@@ -43,16 +43,6 @@ std::string circle_log(double R, double v, double h, double duration, bool speed
   return out.str();
 }
 
-template <class F>
-std::string message_of(F&& f) {
-  try {
-    f();
-  } catch (const td::Error& e) {
-    return e.what();
-  }
-  return "(accepted)";
-}
-
 std::string error_of(const std::string& text) {
   try {
     (void)tdm::VehicleLog::parse(text, "drive.csv", 1.0);
@@ -195,17 +185,17 @@ TEST(VehicleLog, AMissionFliesOnALogAndItsVehicleIsWhereTheLogSays) {
   // The log's own errors name the log and its line; the mission's keys theirs.
   std::ofstream(dir / "bad.csv") << "t,x,y,yaw\n0,0,0,0\n1,nan,0,0\n";
   std::ofstream(dir / "b.yaml") << "vehicle:\n  path: log\n  log: bad.csv\n";
-  const std::string bad = message_of([&] { (void)tdm::load_mission(dir / "b.yaml"); });
+  const std::string bad = td::test::error_of([&] { (void)tdm::load_mission(dir / "b.yaml"); });
   EXPECT_NE(bad.find("bad.csv:3: x: 'nan' is not a finite number"), std::string::npos) << bad;
   std::ofstream(dir / "n.yaml") << "vehicle:\n  path: log\n";
-  const std::string none = message_of([&] { (void)tdm::load_mission(dir / "n.yaml"); });
+  const std::string none = td::test::error_of([&] { (void)tdm::load_mission(dir / "n.yaml"); });
   EXPECT_NE(none.find("n.yaml:2: vehicle.log: path log needs a log file"), std::string::npos) << none;
   std::ofstream(dir / "c.yaml") << "vehicle:\n  path: circle\n  log: drive.csv\n";
-  const std::string circle = message_of([&] { (void)tdm::load_mission(dir / "c.yaml"); });
+  const std::string circle = td::test::error_of([&] { (void)tdm::load_mission(dir / "c.yaml"); });
   EXPECT_NE(circle.find("c.yaml:3: vehicle.log: a log is only read with path: log"), std::string::npos) << circle;
   // A drive the drone cannot follow is refused by its top speed.
   std::ofstream(dir / "fast.csv") << circle_log(30, 12, 0.1, 100, true);
   std::ofstream(dir / "f.yaml") << "vehicle:\n  path: log\n  log: fast.csv\n";
-  const std::string fast = message_of([&] { (void)tdm::load_mission(dir / "f.yaml"); });
+  const std::string fast = td::test::error_of([&] { (void)tdm::load_mission(dir / "f.yaml"); });
   EXPECT_NE(fast.find("vehicle.log: the drone would need"), std::string::npos) << fast;
 }
