@@ -32,6 +32,7 @@ struct Args {
   std::string mission_path;
   int runs = 1;
   std::uint64_t seed = 1;
+  int record_run = 0;  ///< --record-run: the run --plot/--log/--video show
   int threads = 0;
   std::string perception = "model";
   bool json = false;
@@ -51,7 +52,7 @@ tdm::MissionFile load(const Args& a) {
 std::string source_name(const Args& a) { return a.mission_path.empty() ? "built-in circle mission" : a.mission_path; }
 
 // --plot DIR and --log FILE: staged before any work (a run that fails
-// leaves nothing), written from run 0 flown again with its trace recorded.
+// leaves nothing), written from the --record-run run flown again with its trace recorded.
 struct Recorded {
   td::StagedOutputs staged;
   std::filesystem::path log, video;
@@ -99,7 +100,7 @@ void write_recorded(const Args& a, const tdm::MissionOptions& o, Recorded& out) 
   std::optional<td::app::VideoFile> video;
   tdm::PerceptionFactory factory;
   if (!out.video.empty()) {
-    // Run 0 again with a render perception that hands each frame to the video.
+    // The run again with a render perception that hands each frame to the video.
     factory = [&](const tdm::MissionOptions& mo, std::uint64_t seed) {
       const tdm::PerceptionModelOptions m = mo.perception_options();
       auto p = std::make_unique<tdm::RenderPerception>(mo.render, m.camera.T_pad_camera,
@@ -112,10 +113,11 @@ void write_recorded(const Args& a, const tdm::MissionOptions& o, Recorded& out) 
       return p;
     };
   }
-  const tdm::MissionResult r = tdm::run_mission(o, a.seed, 0, true, factory);
+  const auto run = static_cast<std::uint64_t>(a.record_run);
+  const tdm::MissionResult r = tdm::run_mission(o, a.seed, run, true, factory);
   if (video) video->finish();
   // The outcome and, when it did not land, why (issue 58 item 8).
-  const std::string title = source_name(a) + ", run 0, seed " + std::to_string(a.seed) + " (" +
+  const std::string title = source_name(a) + ", run " + std::to_string(run) + ", seed " + std::to_string(a.seed) + " (" +
                             (r.landed() ? std::string("landed") : tdm::failure_reason(r)) + ")";
   for (const auto& [name, tmp] : out.plots) {
     const std::string svg = name == "positions.svg"    ? tdm::plot_positions(r, title)
@@ -181,14 +183,18 @@ int main(int argc, char** argv) {
   app.add_option("--turbulence", a.turbulence, "Dryden turbulence level instead of the file's wind.turbulence")
       ->check(td::app::one_of<tdm::TurbulenceLevel>())
       ->default_str("the file's");
-  app.add_option("--plot", a.plot_dir, "write positions/velocities/errors/top_view SVGs of run 0 to this directory")
+  app.add_option("--plot", a.plot_dir, "write positions/velocities/errors/top_view SVGs of one run to this directory")
       ->default_str("off");
-  app.add_option("--log", a.log_path, "write run 0's trace (50 Hz) as CSV")
+  app.add_option("--log", a.log_path, "write one run's trace (50 Hz) as CSV")
       ->check(td::app::output_extension(".csv"))
       ->default_str("off");
-  app.add_option("--video", a.video_path, "render mode: the vehicle camera's view of run 0 (MP4)")
+  app.add_option("--video", a.video_path, "render mode: the vehicle camera's view of one run (MP4)")
       ->check(td::app::output_extension(".mp4"))
       ->default_str("off");
+  app.add_option("--record-run", a.record_run,
+                 "the run --plot/--log/--video show (0 .. runs-1: replay a failure from a batch with its index)")
+      ->check(CLI::Range(0, 999999))
+      ->capture_default_str();
   CLI::App* envelope = app.add_subcommand("envelope", "success rate over vehicle speed x wind");
   envelope->add_option("mission", a.mission_path, "MISSION.yaml")->check(td::app::existing_file());
   envelope->add_option("--speeds", a.speeds, "vehicle speeds lo hi step [m/s]")
@@ -226,6 +232,10 @@ int main(int argc, char** argv) {
     td::app::print_warnings(app.get_name(), file.warnings);
     if (!a.wind.empty()) file.options.wind.mean = {a.wind[0], a.wind[1], a.wind[2]};
     if (!a.turbulence.empty()) file.options.wind.turbulence = td::from_string<tdm::TurbulenceLevel>(a.turbulence);
+    if (a.record_run >= a.runs) {
+      throw td::InvalidArgument("--record-run: " + std::to_string(a.record_run) + " is not one of the " +
+                                std::to_string(a.runs) + " runs (0 .. --runs - 1)");
+    }
     if (perception->count() == 0) a.perception = file.options.perception;
     file.options.perception = a.perception;
     if (!a.video_path.empty() && a.perception != "render") {

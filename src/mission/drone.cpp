@@ -53,6 +53,7 @@ bool DroneOptions::validate(std::string* why) const {
   if (!(wind_observer_time >= 0 && wind_observer_time <= 10)) {
     return invalid(why, "drone.wind_observer_time: must be in [0, 10] s (0 = no wind estimate)");
   }
+  if (!(spool_down >= 0 && spool_down <= 5)) return invalid(why, "drone.spool_down: must be in [0, 5] s (0 = cut)");
   return true;
 }
 
@@ -200,6 +201,10 @@ struct DroneSimulation::Impl {
   Eigen::Isometry3d T_pad = Eigen::Isometry3d::Identity();
   Eigen::Vector3d accel = Eigen::Vector3d::Zero();
   double t = 0;  // since place() [s]
+  // The spool-down after the motors-off command: its time so far (< 0:
+  // armed), the collective thrust it ramps from, a foot touched since.
+  double spool_time = 0, spool_thrust = 0;
+  bool spool_touched = false;
   ContactState contact_state;
 };
 
@@ -227,6 +232,7 @@ void DroneSimulation::place(const Eigen::Isometry3d& T_world_body, const Eigen::
   dBodySetAngularVel(m.body, 0, 0, 0);
   const double hover = m.af.total_mass() * twin::kStandardGravity / static_cast<double>(m.motor.size());
   m.motor.setConstant(armed ? hover : 0.0);
+  m.spool_time = armed ? -1.0 : m.options.spool_down;
   m.controller.reset();
   m.controller.idle(v);
   m.accel.setZero();
@@ -257,6 +263,23 @@ void DroneSimulation::step(const twin::Setpoint& setpoint, const Eigen::Vector3d
         false);
     const Eigen::VectorXd& cmd = m.mixer.mix_in_place(u.thrust, u.torque);
     m.motor += (cmd - m.motor) * m.motor_alpha;
+    m.spool_time = -1;
+  } else if (m.spool_time < m.options.spool_down) {
+    // Spool-down: the collective thrust ramped from what it was to 0, the
+    // commanded attitude until a foot touches, then level.
+    if (m.spool_time < 0) {
+      m.spool_time = 0;
+      m.spool_thrust = m.motor.sum();
+      m.spool_touched = false;
+    }
+    m.spool_touched = m.spool_touched || m.contact_state.support_on_pad;
+    const twin::LandController::Output u = m.controller.update(
+        {.position = p_estimate, .velocity = v_estimate, .R_world_body = s.R_world_body, .w_body = s.w_body}, setpoint,
+        false);
+    const double thrust = m.spool_thrust * std::max(0.0, 1.0 - m.spool_time / m.options.spool_down);
+    const Eigen::VectorXd& cmd = m.mixer.mix_in_place(thrust, u.torque);
+    m.motor += (cmd - m.motor) * m.motor_alpha;
+    m.spool_time += dt;
   } else {
     m.controller.idle(v_estimate);
     m.motor -= m.motor * m.motor_alpha;  // disarmed: spin down

@@ -74,7 +74,9 @@ TEST(Drone, DisarmedFallsFreelyThenAtTheDragTerminalSpeed) {
 }
 
 TEST(Drone, MotorsSpinDownWithTheirTimeConstant) {
-  tdm::DroneSimulation d(options(), {});
+  tdm::DroneOptions o = options();
+  o.spool_down = 0;  // cut at once
+  tdm::DroneSimulation d(o, {});
   pad_away(d);
   d.place(at({0, 0, 50}), Eigen::Vector3d::Zero(), true);
   const double hover = d.motor_thrusts()[0];
@@ -82,6 +84,30 @@ TEST(Drone, MotorsSpinDownWithTheirTimeConstant) {
   fly(d, {}, tau, false);
   // First order: exp(−t/τ) after t = τ (exactly, in the discrete lag's steps).
   EXPECT_NEAR(d.motor_thrusts()[0] / hover, std::exp(-1.0), 1e-9);
+}
+
+TEST(Drone, SpoolDownRampsTheThrustThroughTheMotorLag) {
+  // After the motors-off command the collective command ramps from the
+  // hover thrust T0 to 0 over T; through the motors' first-order lag τ the
+  // thrust is T0 − (T0 / T) (t − τ (1 − e^{−t/τ})) for t ≤ T (the ramp's
+  // response), and e^{−(t − T)/τ}-small after it.
+  tdm::DroneOptions o = options();
+  o.spool_down = 0.25;
+  tdm::DroneSimulation d(o, {});
+  pad_away(d);
+  d.place(at({0, 0, 50}), Eigen::Vector3d::Zero(), true);
+  tw::Setpoint sp;
+  sp.position = d.state().position;
+  fly(d, sp, 0.5);  // settle the controller at hover
+  const double T0 = d.motor_thrusts().sum(), T = o.spool_down, tau = quad180().motor_time_constant;
+  ASSERT_NEAR(T0, quad180().total_mass() * tw::kStandardGravity, 1e-3);
+  const double t = 0.5 * T;
+  fly(d, sp, t, false);
+  const double ramp = T0 - (T0 / T) * (t - tau * (1 - std::exp(-t / tau)));
+  EXPECT_NEAR(d.motor_thrusts().sum(), ramp, 0.02 * T0);
+  EXPECT_GT(d.motor_thrusts().sum(), 0.4 * T0);  // not the cut's e^{−t/τ} (1.5e-2)
+  fly(d, sp, 0.5 * T + 10 * tau, false);
+  EXPECT_LT(d.motor_thrusts().sum(), 1e-3 * T0);
 }
 
 TEST(Drone, HoversAtItsSetpointWithHoverThrust) {
@@ -216,4 +242,8 @@ TEST(Drone, InvalidOptionsNameTheKey) {
   o.pad_friction = -1;
   EXPECT_FALSE(o.validate(&why));
   EXPECT_NE(why.find("drone.pad_friction"), std::string::npos) << why;
+  o = options();
+  o.spool_down = -0.1;
+  EXPECT_FALSE(o.validate(&why));
+  EXPECT_NE(why.find("drone.spool_down"), std::string::npos) << why;
 }

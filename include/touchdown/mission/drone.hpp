@@ -45,6 +45,14 @@ struct DroneOptions {
   /// velocity integrator's limit. The setpoint's velocity, not the
   /// measured one: the airframe's own damping stays.
   bool drag_feed_forward = false;
+  /// After the motors-off command the collective thrust ramps from what it
+  /// was to zero over this time [s], in [0, 5] (0 = cut at once; the motors
+  /// spin down with their time constant), as PX4's land detector's ramp;
+  /// the attitude is held as commanded until a foot touches, then level
+  /// (limit_thrust_during_landing): a drone that touched leaning into the
+  /// airflow levels under control about its leading feet instead of
+  /// falling onto its trailing ones and rocking over them.
+  double spool_down = 0.25;
   /// False (with "drone.key: problem" in *why) for an invalid value.
   [[nodiscard]] bool validate(std::string* why) const;
 };
