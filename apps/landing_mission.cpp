@@ -42,6 +42,7 @@ struct Args {
   // envelope
   std::vector<double> speeds{0, 3, 0.5}, winds{0, 8, 2};
   std::string envelope_plot;
+  std::vector<std::string> envelope_paths, envelope_turbulence;  ///< empty: the file's
 };
 
 tdm::MissionFile load(const Args& a) {
@@ -117,8 +118,8 @@ void write_recorded(const Args& a, const tdm::MissionOptions& o, Recorded& out) 
   const tdm::MissionResult r = tdm::run_mission(o, a.seed, run, true, factory);
   if (video) video->finish();
   // The outcome and, when it did not land, why (issue 58 item 8).
-  const std::string title = source_name(a) + ", run " + std::to_string(run) + ", seed " + std::to_string(a.seed) + " (" +
-                            (r.landed() ? std::string("landed") : tdm::failure_reason(r)) + ")";
+  const std::string title = source_name(a) + ", run " + std::to_string(run) + ", seed " + std::to_string(a.seed) +
+                            " (" + (r.landed() ? std::string("landed") : tdm::failure_reason(r)) + ")";
   for (const auto& [name, tmp] : out.plots) {
     const std::string svg = name == "positions.svg"    ? tdm::plot_positions(r, title)
                             : name == "velocities.svg" ? tdm::plot_velocities(r, title)
@@ -137,23 +138,69 @@ std::vector<double> range_of(const std::vector<double>& r) {
   return v;
 }
 
+// envelope.svg → envelope_road_moderate.svg when several blocks are flown.
+std::string block_plot_path(const std::string& plot, const std::string& suffix) {
+  const std::filesystem::path p(plot);
+  return (p.parent_path() / (p.stem().string() + suffix + p.extension().string())).string();
+}
+
 int run_envelope(const Args& a) {
   tdm::MissionFile file = load(a);
   td::app::print_warnings("landing_mission", file.warnings);
-  if (!a.turbulence.empty()) file.options.wind.turbulence = td::from_string<tdm::TurbulenceLevel>(a.turbulence);
-  td::StagedOutputs staged;
-  std::filesystem::path plot;
-  if (!a.envelope_plot.empty()) plot = staged.add(a.envelope_plot, "--plot");
-  td::app::ProgressBar bar("landing_mission", "missions");
-  const tdm::Envelope e = tdm::run_envelope(file.options, range_of(a.speeds), range_of(a.winds), a.runs, a.seed,
-                                            a.threads, [&bar](const td::Progress& p) { bar.draw(p.done, p.total); });
-  bar.close();
-  if (!plot.empty()) {
-    td::app::write_text(
-        plot, tdm::plot_envelope(e.cells, source_name(a) + ", " + std::to_string(a.runs) + " runs per cell"), "--plot");
+  // One block per path × turbulence level (each the file's when not given).
+  std::vector<std::pair<tdm::VehiclePath, tdm::TurbulenceLevel>> blocks;
+  const auto paths = a.envelope_paths.empty()
+                         ? std::vector<std::string>{std::string(to_string(file.options.vehicle.path))}
+                         : a.envelope_paths;
+  const auto levels = a.envelope_turbulence.empty()
+                          ? std::vector<std::string>{std::string(to_string(file.options.wind.turbulence))}
+                          : a.envelope_turbulence;
+  for (const auto& p : paths) {
+    for (const auto& t : levels) {
+      blocks.emplace_back(td::from_string<tdm::VehiclePath>(p), td::from_string<tdm::TurbulenceLevel>(t));
+    }
   }
+  const bool several = blocks.size() > 1;
+  td::StagedOutputs staged;
+  std::vector<std::filesystem::path> plots;
+  for (const auto& [path, level] : blocks) {
+    if (a.envelope_plot.empty()) break;
+    const std::string suffix = "_" + std::string(to_string(path)) + "_" + std::string(to_string(level));
+    plots.push_back(staged.add(several ? block_plot_path(a.envelope_plot, suffix) : a.envelope_plot, "--plot"));
+  }
+  td::app::ProgressBar bar("landing_mission", "missions");
+  const std::size_t per_block = range_of(a.speeds).size() * range_of(a.winds).size() * static_cast<std::size_t>(a.runs);
+  std::string text;
+  nlohmann::json blocks_json = nlohmann::json::array();
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    tdm::MissionOptions o = file.options;
+    o.vehicle.path = blocks[b].first;
+    o.wind.turbulence = blocks[b].second;
+    const std::string name =
+        several ? source_name(a) + ", path " + std::string(to_string(o.vehicle.path)) : source_name(a);
+    const tdm::Envelope e =
+        tdm::run_envelope(o, range_of(a.speeds), range_of(a.winds), a.runs, a.seed, a.threads,
+                          [&](const td::Progress& p) { bar.draw(b * per_block + p.done, blocks.size() * per_block); });
+    if (!plots.empty()) {
+      td::app::write_text(
+          plots[b], tdm::plot_envelope(e.cells, name + ", " + std::to_string(a.runs) + " runs per cell"), "--plot");
+    }
+    text += (b > 0 ? "\n" : "") + tdm::envelope_text(e, name);
+    nlohmann::json j = nlohmann::json::parse(tdm::envelope_json(e, name, a.seed));
+    j["path"] = to_string(o.vehicle.path);
+    j["turbulence"] = to_string(o.wind.turbulence);
+    blocks_json.push_back(std::move(j));
+  }
+  bar.close();
   staged.commit();
-  std::cout << (a.json ? tdm::envelope_json(e, source_name(a), a.seed) + "\n" : tdm::envelope_text(e, source_name(a)));
+  if (a.json) {
+    std::cout << (several ? nlohmann::json{{"mission", source_name(a)}, {"seed", a.seed}, {"envelopes", blocks_json}}
+                          : blocks_json[0])
+                     .dump()
+              << "\n";
+  } else {
+    std::cout << text;
+  }
   return td::app::kExitOk;
 }
 
@@ -207,8 +254,17 @@ int main(int argc, char** argv) {
       ->expected(3)
       ->check(td::app::number_in(0, 50))
       ->capture_default_str();
-  envelope->add_option("--turbulence", a.turbulence, "Dryden turbulence level in every cell instead of the file's")
+  envelope
+      ->add_option("--turbulence", a.envelope_turbulence,
+                   "Dryden turbulence levels, comma-separated (one envelope each) instead of the file's")
+      ->delimiter(',')
       ->check(td::app::one_of<tdm::TurbulenceLevel>())
+      ->default_str("the file's");
+  envelope
+      ->add_option("--paths", a.envelope_paths,
+                   "vehicle paths, comma-separated (one envelope each; not log) instead of the file's")
+      ->delimiter(',')
+      ->check(td::app::one_of<tdm::VehiclePath>())
       ->default_str("the file's");
   envelope->add_option("--runs", a.runs, "missions per cell")->check(CLI::Range(1, 100000))->capture_default_str();
   td::app::add_seed_option(*envelope, "--seed", a.seed, "seed");

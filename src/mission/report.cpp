@@ -261,6 +261,11 @@ Envelope run_envelope(const MissionOptions& base, const std::vector<double>& spe
         cell.crashed = static_cast<int>(std::count_if(
             results.begin(), results.end(), [](const auto& r) { return r.outcome == MissionOutcome::Crashed; }));
         cell.reasons = count_failure_reasons(results);
+        const MissionSummary sum = summarise(results);
+        cell.error_median = sum.error_median;
+        cell.error_p95 = sum.error_p95;
+        cell.speed_median = sum.speed_median;
+        cell.speed_p95 = sum.speed_p95;
       } else {
         done += static_cast<std::size_t>(runs);  // beyond what the drone's options allow: not flown
         if (progress) progress(progress_since(start, done, total, done - 1));
@@ -283,7 +288,13 @@ std::string envelope_json(const Envelope& e, std::string_view source, std::uint6
                    {"landed", c.landed},
                    {"crashed", c.crashed},
                    {"reasons", reasons_json(c.reasons)},
-                   {"success_rate", round3(c.success())}});
+                   {"success_rate", round3(c.success())},
+                   {"touchdown_error_m",
+                    c.landed > 0 ? nlohmann::json{{"median", round3(c.error_median)}, {"p95", round3(c.error_p95)}}
+                                 : nlohmann::json(nullptr)},
+                   {"touchdown_speed_mps",
+                    c.landed > 0 ? nlohmann::json{{"median", round3(c.speed_median)}, {"p95", round3(c.speed_p95)}}
+                                 : nlohmann::json(nullptr)}});
     } else {
       j.push_back({{"speed_mps", c.speed},
                    {"wind_mps", c.wind},
@@ -291,7 +302,9 @@ std::string envelope_json(const Envelope& e, std::string_view source, std::uint6
                    {"landed", 0},
                    {"crashed", 0},
                    {"reasons", nlohmann::json::array()},
-                   {"success_rate", nullptr}});
+                   {"success_rate", nullptr},
+                   {"touchdown_error_m", nullptr},
+                   {"touchdown_speed_mps", nullptr}});
     }
   }
   return nlohmann::json{{"mission", source}, {"seed", seed}, {"cells", j}}.dump();
@@ -304,21 +317,36 @@ std::string envelope_text(const Envelope& e, std::string_view source) {
           e.turbulence == TurbulenceLevel::None
               ? ""
               : (", " + std::string(to_string(e.turbulence)) + " turbulence").c_str());
-  appendf(out, "%10s", "wind \\ v");
-  for (const double s : e.speeds) appendf(out, " %6.2f ", s);
-  appendf(out, "\n");
-  for (std::size_t j = e.winds.size(); j-- > 0;) {
-    appendf(out, "%6.2f m/s", e.winds[j]);
-    for (std::size_t i = 0; i < e.speeds.size(); ++i) {
-      const auto& c = e.cells[j * e.speeds.size() + i];
-      if (c.valid) {
-        appendf(out, " %5.0f%%%s", 100 * c.success(), c.crashed > 0 ? "*" : " ");
-      } else {
-        appendf(out, " %6s ", "n/a");
-      }
-    }
+  // One grid per figure: the share landed, then of the landed runs the
+  // touchdown error's and the touchdown speed's 95th percentiles.
+  const auto grid = [&](const char* title, const auto& cell_text) {
+    appendf(out, "%s\n%10s", title, "wind \\ v");
+    for (const double s : e.speeds) appendf(out, " %6.2f ", s);
     appendf(out, "\n");
-  }
+    for (std::size_t j = e.winds.size(); j-- > 0;) {
+      appendf(out, "%6.2f m/s", e.winds[j]);
+      for (std::size_t i = 0; i < e.speeds.size(); ++i) {
+        const auto& c = e.cells[j * e.speeds.size() + i];
+        appendf(out, " %s", c.valid ? cell_text(c).c_str() : "   n/a ");
+      }
+      appendf(out, "\n");
+    }
+  };
+  grid("  share landed", [](const EnvelopeCell& c) {
+    std::string t;
+    appendf(t, "%5.0f%%%s", 100 * c.success(), c.crashed > 0 ? "*" : " ");
+    return t;
+  });
+  grid("  touchdown error, 95th percentile of the landed [m]", [](const EnvelopeCell& c) {
+    std::string t;
+    appendf(t, "%6.3f ", c.error_p95);
+    return c.landed > 0 ? t : std::string("     - ");
+  });
+  grid("  touchdown speed relative to the pad, 95th percentile of the landed [m/s]", [](const EnvelopeCell& c) {
+    std::string t;
+    appendf(t, "%6.2f ", c.speed_p95);
+    return c.landed > 0 ? t : std::string("     - ");
+  });
   if (std::any_of(e.cells.begin(), e.cells.end(), [](const auto& c) { return c.crashed > 0; })) {
     appendf(out, "  * some missions of the cell crashed (--json has the counts per cell)\n");
   }

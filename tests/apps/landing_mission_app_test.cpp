@@ -89,6 +89,40 @@ TEST(LandingMissionApp, EnvelopeOverSpeedAndWind) {
   EXPECT_NE(td::test::read_text(svg).find("Landing envelope"), std::string::npos);
 }
 
+// Issue 56 item 6: one envelope per path x turbulence level, each with its
+// plot; the landed cells carry their touchdown error and speed.
+TEST(LandingMissionApp, EnvelopeOverPathsAndTurbulenceLevels) {
+  TempDir dir;
+  const auto svg = dir / "env.svg";
+  const AppRun r =
+      run("envelope --speeds 1:1:1 --winds 0:0:1 --runs 2 --paths circle,line --turbulence none,light "
+          "--json --plot " +
+              svg.string(),
+          dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["envelopes"].size(), 4u);
+  std::vector<std::string> seen;
+  for (const auto& e : j["envelopes"]) {
+    seen.push_back(e["path"].get<std::string>() + "/" + e["turbulence"].get<std::string>());
+    ASSERT_EQ(e["cells"].size(), 1u);
+    const auto& c = e["cells"][0];
+    if (c["landed"].get<int>() > 0) {
+      EXPECT_GE(c["touchdown_error_m"]["p95"].get<double>(), c["touchdown_error_m"]["median"].get<double>());
+      EXPECT_GT(c["touchdown_speed_mps"]["median"].get<double>(), 0.0);
+    } else {
+      EXPECT_TRUE(c["touchdown_error_m"].is_null());
+    }
+    EXPECT_TRUE(std::filesystem::exists(
+        dir / ("env_" + e["path"].get<std::string>() + "_" + e["turbulence"].get<std::string>() + ".svg")));
+  }
+  EXPECT_EQ(seen, (std::vector<std::string>{"circle/none", "circle/light", "line/none", "line/light"}));
+  EXPECT_FALSE(std::filesystem::exists(svg));
+  const AppRun bad = run("envelope --paths circle,nowhere", dir);
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("--paths"), std::string::npos) << bad.err;
+}
+
 // Issue 58 item 8: the summary says why missions did not land, not only
 // "timeout"; the JSON has the reason per mission and the counts.
 TEST(LandingMissionApp, TheSummaryNamesWhyMissionsDidNotLand) {

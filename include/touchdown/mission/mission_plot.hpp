@@ -31,6 +31,10 @@ struct EnvelopeCell {
   /// Why the runs that did not land did not (failure_reason), most
   /// frequent first.
   FailureCounts reasons;
+  /// Of the landed runs (0 when none landed): touchdown error from the pad
+  /// centre [m] and relative speed at touchdown [m/s], median and 95th
+  /// percentile.
+  double error_median = 0, error_p95 = 0, speed_median = 0, speed_p95 = 0;
   [[nodiscard]] double success() const { return runs > 0 ? static_cast<double>(landed) / runs : 0.0; }
 };
 /// The success rate over vehicle speed × wind as a coloured grid (each
