@@ -494,6 +494,7 @@ class Flight {
       }
     }
     const Eigen::Vector3d wind = wind_.step(t, dt_, truth_.position.z(), truth_.velocity);
+    wind_now_ = wind;
     const Eigen::Vector3d accel = truth_.acceleration + o_.imu_accel_sigma * normal_vector3(imu_rng_);
     estimator_.predict(t, accel);
     // The wind (wind.hpp): estimated in free flight from the last step's
@@ -544,6 +545,8 @@ class Flight {
     s.tracking_error = tracking_error;
     s.tilt = std::acos(std::clamp(truth_.R_world_body(2, 2), -1.0, 1.0));
     s.thrust = drone_.motor_thrusts().sum();
+    s.wind = wind_now_;
+    s.wind_estimate = observer_.wind();
     res_.trace.push_back(s);
   }
 
@@ -613,6 +616,7 @@ class Flight {
   MissionState state_ = MissionState::Searching;
   std::vector<double> replan_ms_, pose_errors_;
   double last_pose_error_ = -1, rest_timer_ = 0, shutdown_time_ = -1;
+  Eigen::Vector3d wind_now_ = Eigen::Vector3d::Zero();  ///< the wind at the drone in the last step (the trace's)
 };
 
 }  // namespace

@@ -200,14 +200,16 @@ std::string trace_csv(const MissionResult& r) {
   os.precision(6);
   os << "t_s,state,x_m,y_m,z_m,vx_mps,vy_mps,vz_mps,est_x_m,est_y_m,est_z_m,sp_x_m,sp_y_m,sp_z_m,sp_vx_mps,sp_vy_mps,"
         "sp_vz_mps,pad_x_m,pad_y_m,pad_z_m,pad_yaw_rad,rel_x_m,rel_y_m,rel_z_m,pose_error_m,tracking_error_m,tilt_deg,"
-        "thrust_n\n";
+        "thrust_n,wind_x_mps,wind_y_mps,wind_z_mps,wind_est_x_mps,wind_est_y_mps,wind_est_z_mps\n";
   for (const auto& s : r.trace) {
     os << s.t << "," << to_string(s.state);
     for (const Eigen::Vector3d* v : {&s.drone, &s.drone_v, &s.estimate, &s.setpoint, &s.setpoint_v, &s.pad}) {
       os << "," << v->x() << "," << v->y() << "," << v->z();
     }
     os << "," << s.pad_yaw << "," << s.relative.x() << "," << s.relative.y() << "," << s.relative.z() << ","
-       << s.pose_error << "," << s.tracking_error << "," << s.tilt * 180 / std::numbers::pi << "," << s.thrust << "\n";
+       << s.pose_error << "," << s.tracking_error << "," << s.tilt * 180 / std::numbers::pi << "," << s.thrust;
+    for (const Eigen::Vector3d* v : {&s.wind, &s.wind_estimate}) os << "," << v->x() << "," << v->y() << "," << v->z();
+    os << "\n";
   }
   return os.str();
 }

@@ -81,6 +81,48 @@ TEST(Mission, SameSeedSameBitsForAnyThreadCount) {
   EXPECT_NE(other[0].duration, one[0].duration);
 }
 
+// Issue 56, Done when: the wind estimate (drone.wind_observer_time, the
+// force thrust and gravity leave unexplained, through the drag) converges
+// to a constant wind within a stated time, hovering over a pad that stands
+// still and chasing one at 2 and 4 m/s, in the closed loop with its IMU
+// noise: from 1 s on and until the motors stop, every 1 s window's mean
+// horizontal error is within 0.2 m/s and no sample's beyond 0.5 m/s (seed
+// 5: 0.09 / 0.11 / 0.16 and 0.21 / 0.21 / 0.33 at 0 / 2 / 4 m/s; the
+// IMU's noise through the 0.05 s observer is most of it).
+TEST(Mission, TheWindEstimateConvergesInHoverAndInAChase) {
+  for (const double speed : {1e-3, 2.0, 4.0}) {
+    SCOPED_TRACE(speed);
+    tdm::MissionOptions o;
+    o.vehicle.speed = speed;
+    o.vehicle.max_wheel_speed = 6;
+    if (speed > 3) {
+      o.guidance.planner.v_max = 6;
+      o.guidance.planner.a_max = 5;
+    }
+    o.wind.mean = {3.0, -4.0, 0.0};
+    const tdm::MissionResult r = tdm::run_mission(o, 5, 0, true);
+    double window = 0, worst_window = 0, worst = 0;
+    int n = 0, samples = 0;
+    for (const auto& s : r.trace) {
+      if (s.state == tdm::MissionState::Shutdown) break;
+      if (s.t < 1.0) continue;
+      const double e = (s.wind_estimate - s.wind).head<2>().norm();
+      worst = std::max(worst, e);
+      window += e;
+      ++samples;
+      if (++n == 50) {  // 1 s at 50 Hz
+        worst_window = std::max(worst_window, window / n);
+        window = 0;
+        n = 0;
+      }
+    }
+    EXPECT_GT(samples, 400);  // flew for more than 8 s
+    EXPECT_LT(worst_window, 0.2);
+    EXPECT_LT(worst, 0.5);
+    EXPECT_TRUE(r.landed()) << r.message;
+  }
+}
+
 TEST(Mission, RecordedTraceFollowsTheRun) {
   const tdm::MissionResult r = tdm::run_mission(tdm::MissionOptions{}, 3, 0, true);
   ASSERT_FALSE(r.trace.empty());

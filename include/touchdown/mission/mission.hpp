@@ -113,6 +113,9 @@ struct MissionSample {
   double tracking_error = 0;                           ///< |the guidance's reference − true position| (pad frame) [m]
   double tilt = 0;                                     ///< the body's z axis from the vertical [rad]
   double thrust = 0;                                   ///< of all motors [N]
+  /// The wind at the drone (truth: mean, gusts, turbulence) and the flight
+  /// controller's estimate of it (drone.wind_observer_time; 0 without) [m/s].
+  Eigen::Vector3d wind = Eigen::Vector3d::Zero(), wind_estimate = Eigen::Vector3d::Zero();
 };
 
 struct MissionResult {
