@@ -383,6 +383,7 @@ class Flight {
       if (!m.ok) continue;
       last_pose_error_ = (m.p_pad - at_capture).norm();
       pose_errors_.push_back(last_pose_error_);
+      if (record_) res_.poses.push_back({m.t_capture, at_capture, m.p_pad});
       res_.pose_ok += counted ? 1 : 0;
       if (link_rng_.uniform() >= o_.link.dropout && state_ != MissionState::Searching) {
         to_drone_fixes_.push_back({t + o_.link.latency, {m.t_capture, T_pad_then * m.p_pad, m.sigma}});

@@ -118,6 +118,14 @@ struct MissionSample {
   Eigen::Vector3d wind = Eigen::Vector3d::Zero(), wind_estimate = Eigen::Vector3d::Zero();
 };
 
+/// One Ok pose measurement of a recorded mission: the drone's centre of
+/// mass in the pad frame as measured against the truth at its capture.
+struct PoseSample {
+  double t_capture = 0;                                ///< [s]
+  Eigen::Vector3d truth = Eigen::Vector3d::Zero();     ///< pad frame [m]
+  Eigen::Vector3d measured = Eigen::Vector3d::Zero();  ///< pad frame [m]
+};
+
 struct MissionResult {
   MissionOutcome outcome = MissionOutcome::Timeout;
   std::string message;  ///< why (crash cause, abort reason)
@@ -141,6 +149,7 @@ struct MissionResult {
   int landing_attempts = 0;
   std::vector<Transition> transitions;
   std::vector<MissionSample> trace;  ///< when recorded
+  std::vector<PoseSample> poses;     ///< every Ok pose measurement, when recorded (a perception's error by range)
   [[nodiscard]] bool landed() const { return outcome == MissionOutcome::Landed; }
   [[nodiscard]] double touchdown_speed() const { return touchdown_velocity.norm(); }
 };
