@@ -204,7 +204,7 @@ struct DroneSimulation::Impl {
   // The spool-down after the motors-off command: its time so far (< 0:
   // armed), the collective thrust it ramps from, a foot touched since.
   double spool_time = 0, spool_thrust = 0;
-  bool spool_touched = false;
+  Eigen::Matrix3d spool_attitude = Eigen::Matrix3d::Identity();
   ContactState contact_state;
 };
 
@@ -266,18 +266,17 @@ void DroneSimulation::step(const twin::Setpoint& setpoint, const Eigen::Vector3d
     m.spool_time = -1;
   } else if (m.spool_time < m.options.spool_down) {
     // Spool-down: the collective thrust ramped from what it was to 0, the
-    // commanded attitude until a foot touches, then level.
+    // attitude held where it was at the command (its lean keeps the share
+    // of the side force friction cannot take yet).
     if (m.spool_time < 0) {
       m.spool_time = 0;
       m.spool_thrust = m.motor.sum();
-      m.spool_touched = false;
+      m.spool_attitude = s.R_world_body;
     }
-    m.spool_touched = m.spool_touched || m.contact_state.support_on_pad;
-    const twin::LandController::Output u = m.controller.update(
-        {.position = p_estimate, .velocity = v_estimate, .R_world_body = s.R_world_body, .w_body = s.w_body}, setpoint,
-        false);
+    m.controller.idle(v_estimate);
     const double thrust = m.spool_thrust * std::max(0.0, 1.0 - m.spool_time / m.options.spool_down);
-    const Eigen::VectorXd& cmd = m.mixer.mix_in_place(thrust, u.torque);
+    const Eigen::VectorXd& cmd =
+        m.mixer.mix_in_place(thrust, m.controller.attitude_torque(s.R_world_body, s.w_body, m.spool_attitude, true));
     m.motor += (cmd - m.motor) * m.motor_alpha;
     m.spool_time += dt;
   } else {

@@ -111,24 +111,30 @@ LandController::Output LandController::update(const DroneState& s, const Setpoin
     Rd.col(1) = Eigen::Vector3d::UnitZ().cross(xc2).normalized();
     Rd.col(0) = Rd.col(1).cross(Rd.col(2));
   }
-  // Attitude → rates (geometric error), rates → torque.
+  out.torque = attitude_torque(R, w, Rd, !sp.land);
+  out.thrust = std::max(0.0, F.dot(R.col(2)));
+  out.thrust_vector = F;
+  out.vz_setpoint = vz_sp;
+  v_prev_ = v;
+  return out;
+}
+
+// Attitude → rates (geometric error), rates → torque.
+Eigen::Vector3d LandController::attitude_torque(const Eigen::Matrix3d& R, const Eigen::Vector3d& w,
+                                                const Eigen::Matrix3d& Rd, bool rate_limited) const {
+  const auto& cp = p_;
   const Eigen::Vector3d e_R = 0.5 * vee(Rd.transpose() * R - R.transpose() * Rd);
   Eigen::Vector3d w_sp(-cp.roll_p * e_R.x(), -cp.pitch_p * e_R.y(), -cp.yaw_p * e_R.z());
   const double yaw_rate_max = deg_to_rad(cp.yaw_rate_max_deg);
   w_sp.z() = std::clamp(w_sp.z(), -yaw_rate_max, yaw_rate_max);
-  if (!sp.land) {
+  if (rate_limited) {
     const double rate_max = deg_to_rad(cp.roll_pitch_rate_max_deg);
     w_sp.head<2>() = w_sp.head<2>().cwiseMax(-rate_max).cwiseMin(rate_max);
   }
   const Eigen::Vector3d alpha(cp.rate_p_roll_pitch * (w_sp.x() - w.x()), cp.rate_p_roll_pitch * (w_sp.y() - w.y()),
                               cp.rate_p_yaw * (w_sp.z() - w.z()));
   const Eigen::Matrix3d& J = inertia_;
-  out.torque = J * alpha + w.cross(J * w);
-  out.thrust = std::max(0.0, F.dot(R.col(2)));
-  out.thrust_vector = F;
-  out.vz_setpoint = vz_sp;
-  v_prev_ = v;
-  return out;
+  return J * alpha + w.cross(J * w);
 }
 
 LandDetector::LandDetector(const ControllerParams& params, double hover_thrust, double dt, bool armed)

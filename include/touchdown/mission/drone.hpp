@@ -48,10 +48,10 @@ struct DroneOptions {
   /// After the motors-off command the collective thrust ramps from what it
   /// was to zero over this time [s], in [0, 5] (0 = cut at once; the motors
   /// spin down with their time constant), as PX4's land detector's ramp;
-  /// the attitude is held as commanded until a foot touches, then level
-  /// (limit_thrust_during_landing): a drone that touched leaning into the
-  /// airflow levels under control about its leading feet instead of
-  /// falling onto its trailing ones and rocking over them.
+  /// the attitude is held where it was at the command, so the lean keeps
+  /// the share of the side force that friction cannot take yet. The drone
+  /// meets the pad at its descent speed instead of dropping the last
+  /// centimetres unpowered.
   double spool_down = 0.25;
   /// False (with "drone.key: problem" in *why) for an invalid value.
   [[nodiscard]] bool validate(std::string* why) const;

@@ -99,7 +99,7 @@ struct StateMachineOptions {
   /// contact_height [m] the relative vertical speed has stayed under
   /// contact_speed [m/s] for contact_time [s] — the feet are on the pad even
   /// if the estimate's height has a bias.
-  double contact_height = 0.08;
+  double contact_height = 0.05;
   double contact_speed = 0.1;
   double contact_time = 0.2;
   int max_landing_attempts = 3;  ///< aborted landings before giving up, ≥ 1

@@ -64,6 +64,11 @@ class LandController {
                 bool level);
   /// One control step towards a trajectory setpoint.
   Output update(const DroneState& s, const Setpoint& setpoint, bool level);
+  /// The attitude loop alone: the body torque [N m] that turns attitude R
+  /// (body rates w) towards Rd (geometric error → rates, with the rate
+  /// limits when `rate_limited`, → torque).
+  [[nodiscard]] Eigen::Vector3d attitude_torque(const Eigen::Matrix3d& R, const Eigen::Vector3d& w,
+                                                const Eigen::Matrix3d& Rd, bool rate_limited) const;
   /// Restarts the integrators and the derivative's history (a new flight).
   void reset() {
     vel_int_.setZero();
