@@ -149,6 +149,9 @@ ReplanOutcome Guidance::replan(double t, const PadState& pad, const plan::Kinema
     plan_t0_ = t;
     return ReplanOutcome::Ok;
   };
+  // A new corridor plans within what the wind leaves (set_acceleration_capacity).
+  plan::PlannerOptions limited = options_.planner;
+  limited.a_max = std::min(limited.a_max, std::max(0.5 * limited.a_max, capacity_));
   const std::size_t segments = static_cast<std::size_t>(options_.planner.segments);
   if (!fresh && have_plan_ && polytopes_.size() == segments && replanner_) {
     // The start in the first polytope it lies in; both segments in the
@@ -158,7 +161,7 @@ ReplanOutcome Guidance::replan(double t, const PadState& pad, const plan::Kinema
       r = replanner_.get();
     } else if (polytopes_.back().contains(from.p, 1e-9)) {
       if (!replanner_low_) {
-        replanner_low_ = std::make_unique<plan::Replanner>(options_.planner,
+        replanner_low_ = std::make_unique<plan::Replanner>(replanner_->options(),
                                                            std::vector<plan::Polytope>(segments, polytopes_.back()));
       }
       r = replanner_low_.get();
@@ -178,20 +181,19 @@ ReplanOutcome Guidance::replan(double t, const PadState& pad, const plan::Kinema
       }
       if (r->plan(from, goal, motion, durations_) == plan::PlanStatus::Ok) return take(r->trajectory());
       // Those durations fail: a new time allocation in the same polytopes.
-      plan::PlannerOptions o = options_.planner;
-      const plan::PlanResult next = solve(o, r->segment_polytopes());
+      const plan::PlanResult next = solve(r->options(), r->segment_polytopes());
       if (next.ok()) return take(next.trajectory);
     }
   }
   // A new corridor and time allocation (the landing's first plan, or the
   // start has left the corridor): its polytopes are kept for the replans.
-  plan::PlanResult next = solve(options_.planner, {});
+  plan::PlanResult next = solve(limited, {});
   if (!next.ok()) {
     message_ = next.message;
     return ReplanOutcome::Failed;
   }
   polytopes_ = next.segment_polytopes;
-  replanner_ = std::make_unique<plan::Replanner>(options_.planner, polytopes_);
+  replanner_ = std::make_unique<plan::Replanner>(limited, polytopes_);
   replanner_low_.reset();
   // Size the replanner's work space now, with the plan just found (this
   // plan allocates anyway): the replans that follow do not.

@@ -15,6 +15,7 @@
 #include "touchdown/core/random.hpp"
 #include "touchdown/core/random_vector.hpp"
 #include "touchdown/core/statistics.hpp"
+#include "touchdown/core/units.hpp"
 
 namespace touchdown::mission {
 namespace {
@@ -442,6 +443,11 @@ class Flight {
     touchdown_point_ += std::min(1.0, 1.0 / (0.5 * o_.ground_rate_hz)) * (aim - touchdown_point_);
     in.touchdown_point = touchdown_point_;
     guidance_.set_touchdown_point(touchdown_point_);
+    // The wind in the guidance's prediction: what the airframe's tilt limit
+    // leaves beyond the estimated wind's drag at the pad's speed.
+    guidance_.set_acceleration_capacity(twin::kStandardGravity *
+                                            std::tan(touchdown::deg_to_rad(o_.drone.controller.tilt_max_air_deg)) -
+                                        observer_.drag(air).head<2>().norm() / mass_);
     if (state_ == MissionState::Tracking) in.tracking_error = (o_.guidance.tracking_point - est.p).norm();
     const StateMachineOutput sm = machine_.step(in);
     if (sm.transitioned) res_.transitions.push_back(sm.transition);

@@ -492,5 +492,6 @@ const PiecewiseBezier& Replanner::trajectory() const { return impl_->trajectory;
 double Replanner::cost() const { return impl_->cost; }
 int Replanner::iterations() const { return impl_->runner.iterations(); }
 const std::vector<Polytope>& Replanner::segment_polytopes() const { return impl_->polytopes; }
+const PlannerOptions& Replanner::options() const { return impl_->options; }
 
 }  // namespace touchdown::plan

@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
   double bias = 0;
   for (const double v : bias_sq) bias += v;
   bias = bias_sq.empty() ? 0 : std::sqrt(bias / static_cast<double>(bias_sq.size()));
-  std::printf("\nperception: {sigma_a: %.4f, sigma_b: %.4f, bias_sigma: %.4f}   # %d render missions, %s\n", a, b,
-              bias, runs, argv[1]);
+  std::printf("\nperception: {sigma_a: %.4f, sigma_b: %.4f, bias_sigma: %.4f}   # %d render missions, %s\n", a, b, bias,
+              runs, argv[1]);
   return 0;
 }

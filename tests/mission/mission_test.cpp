@@ -255,6 +255,38 @@ TEST(Guidance, LandingPlanEndsAtTheTerminalPointGoingDown) {
   EXPECT_NEAR(g.plan_start() + g.trajectory().total_duration(), end, 1e-9);
 }
 
+// The wind in the prediction: a new corridor plans within the acceleration
+// the estimated wind's drag leaves (floored at half of planner.a_max).
+TEST(Guidance, ANewPlanKeepsWithinTheAccelerationTheWindLeaves) {
+  tdm::GuidanceOptions options;
+  options.planner.time.rho = 1e5;  // time dear: the plan uses what it may
+  options.planner.a_max = 2.5;
+  const auto peak = [&options](double capacity) {
+    const tdm::GuidanceOptions& o = options;
+    tdm::Guidance g(o, 0.06);
+    g.set_acceleration_capacity(capacity);
+    tdm::PadState pad;
+    pad.velocity = Eigen::Vector3d(2, 0, 0);
+    touchdown::plan::KinematicState at_tracking;
+    at_tracking.p = o.tracking_point;
+    at_tracking.v = Eigen::Vector3d(0.8, -0.5, 0.3);  // overshooting: it must turn back hard
+    const auto out = g.update(0, tdm::MissionState::Landing, true, pad, at_tracking, {}, {});
+    EXPECT_EQ(out.replan, tdm::ReplanOutcome::Ok) << capacity << ": " << g.message();
+    double a = 0;
+    const auto& traj = g.trajectory();
+    for (int i = 0; i <= 400; ++i) {
+      a = std::max(a, traj.evaluate(traj.total_duration() * i / 400, 2).cwiseAbs().maxCoeff());
+    }
+    return a;
+  };
+  const double a_max = options.planner.a_max;
+  const double free = peak(std::numeric_limits<double>::infinity());
+  ASSERT_GT(free, 0.6 * a_max) << free;  // the limit below binds
+  EXPECT_LE(free, a_max * (1 + 1e-6));
+  EXPECT_LE(peak(0.6 * a_max), 0.6 * a_max * (1 + 1e-6));
+  EXPECT_LE(peak(0.1 * a_max), 0.5 * a_max * (1 + 1e-6));  // the floor
+}
+
 TEST(PerceptionModel, NoiseGrowsWithRangeAsModelled) {
   tdm::MissionOptions mo;
   tdm::PerceptionModelOptions o = mo.perception_options();

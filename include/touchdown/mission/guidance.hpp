@@ -30,6 +30,7 @@
 /// durations do not (plan::Replanner keeps its work space).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -122,6 +123,12 @@ class Guidance {
   /// the pad centre, or ahead of it by what the drone will move when it
   /// levels after touching down tilted (the mission sets it each step).
   void set_touchdown_point(const Eigen::Vector2d& p) { touchdown_point_ = p; }
+  /// The wind in the prediction: the acceleration [m/s²] the airframe has
+  /// beyond what the estimated wind's drag takes at the pad's speed (its
+  /// tilt limit's g tan θ less |D(v_pad − ŵ)| / m). The next new corridor
+  /// plans within min(planner.a_max, this), floored at half of a_max (a
+  /// wind that leaves less is the upset guard's to refuse).
+  void set_acceleration_capacity(double a) { capacity_ = a; }
 
  private:
   GuidanceOutput compute(double t, MissionState state, bool entered, const PadState& pad,
@@ -133,6 +140,7 @@ class Guidance {
   GuidanceOptions options_;
   double landed_com_height_;
   Eigen::Vector2d touchdown_point_ = Eigen::Vector2d::Zero();
+  double capacity_ = std::numeric_limits<double>::infinity();  ///< set_acceleration_capacity
   plan::PiecewiseBezier trajectory_;
   bool have_plan_ = false;
   double plan_t0_ = 0;

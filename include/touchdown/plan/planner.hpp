@@ -235,6 +235,7 @@ class Replanner {
   [[nodiscard]] double cost() const;  ///< its jerk cost [m²/s⁵]
   [[nodiscard]] int iterations() const;
   [[nodiscard]] const std::vector<Polytope>& segment_polytopes() const;
+  [[nodiscard]] const PlannerOptions& options() const;  ///< what it plans with
 
  private:
   struct Impl;
