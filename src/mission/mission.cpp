@@ -453,10 +453,11 @@ class Flight {
     if (sm.transitioned) res_.transitions.push_back(sm.transition);
     state_ = sm.state;
     if (sm.gave_up) {
+      const bool from_tracking = sm.transitioned && sm.transition.from == MissionState::Tracking;
       end(MissionOutcome::Aborted,
-          sm.transitioned && sm.transition.reason == TransitionReason::NotStable
-              ? "never stable in tracking within state_machine.max_tracking_time"
-              : "gave up after " + std::to_string(machine_.landing_attempts()) + " aborted landings",
+          from_tracking ? "never cleared to land in tracking within state_machine.max_tracking_time (most often: " +
+                              std::string(to_string(sm.transition.reason)) + ")"
+                        : "gave up after " + std::to_string(machine_.landing_attempts()) + " aborted landings",
           t);
       return false;
     }

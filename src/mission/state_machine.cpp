@@ -58,6 +58,7 @@ StateMachineOutput StateMachine::go(MissionState to, TransitionReason why, doubl
   state_ = to;
   entered_ = t;
   stable_since_ = -1;
+  blocked_.fill(0);
   stalled_since_ = -1;
   plan_failures_ = 0;
   if (to == MissionState::Rendezvous) ok_run_ = 0;  // the tracker initialises here
@@ -113,10 +114,13 @@ StateMachineOutput StateMachine::step(const StateMachineInputs& in) {
       break;
     case MissionState::Tracking: {
       if (pose_lost) return go(MissionState::Rendezvous, TransitionReason::PoseLost, in.t);
-      const bool stable =
+      const std::array<bool, 4> clear{
           in.tracking_error <= o.stable_error && (in.p_estimate - in.tracking_point).norm() <= o.stable_error &&
-          in.v_estimate.norm() <= o.stable_speed && in.vehicle_acceleration <= o.max_vehicle_acceleration &&
-          std::abs(in.vehicle_yaw_rate) <= o.max_vehicle_yaw_rate && in.slide_ratio <= o.max_slide_ratio;
+              in.v_estimate.norm() <= o.stable_speed,
+          in.vehicle_acceleration <= o.max_vehicle_acceleration,
+          std::abs(in.vehicle_yaw_rate) <= o.max_vehicle_yaw_rate, in.slide_ratio <= o.max_slide_ratio};
+      const bool stable = clear[0] && clear[1] && clear[2] && clear[3];
+      for (std::size_t i = 0; i < clear.size(); ++i) blocked_[i] += clear[i] ? 0 : 1;
       if (!stable) {
         stable_since_ = -1;
       } else if (stable_since_ < 0) {
@@ -127,7 +131,12 @@ StateMachineOutput StateMachine::step(const StateMachineInputs& in) {
       }
       if (stable_since_ < 0 && in.t - entered_ > o.max_tracking_time) {
         gave_up_ = true;  // it will not be: hold at the rendezvous point
-        return go(MissionState::Rendezvous, TransitionReason::NotStable, in.t);
+        // Named by what held it most often (ties: the drone's own first).
+        static constexpr std::array<TransitionReason, 4> kWhy{
+            TransitionReason::NotStable, TransitionReason::VehicleAccelerating, TransitionReason::VehicleTurning,
+            TransitionReason::WindTooStrong};
+        const auto most = std::max_element(blocked_.begin(), blocked_.end()) - blocked_.begin();
+        return go(MissionState::Rendezvous, kWhy[static_cast<std::size_t>(most)], in.t);
       }
       break;
     }

@@ -184,6 +184,20 @@ TEST(StateMachine, TrackingNeverStableGivesUp) {
   // Held there: nothing follows.
   s.in.p_estimate = s.in.tracking_point;
   EXPECT_FALSE(s.run(5).has_value());
+  // Holding its point well but never cleared by the wind (the upset guard)
+  // or a turning vehicle: the give-up names what held it most often.
+  for (const auto& [why, blocker] :
+       {std::pair{TransitionReason::WindTooStrong, 0}, std::pair{TransitionReason::VehicleTurning, 1}}) {
+    Script w;
+    w.options.max_tracking_time = 10;
+    w.machine = tdm::StateMachine(w.options);
+    w.reach(MissionState::Tracking);
+    w.in.tracking_point = w.in.p_estimate = {-1, 0, 1};
+    w.in.height = 1;
+    w.in.slide_ratio = blocker == 0 ? 2 * w.options.max_slide_ratio : 0;
+    w.in.vehicle_yaw_rate = blocker == 1 ? 2 * w.options.max_vehicle_yaw_rate : 0;
+    EXPECT_EQ(w.run(10.2), why);
+  }
   // Stable in time: it lands as before.
   Script t;
   t.options.max_tracking_time = 10;

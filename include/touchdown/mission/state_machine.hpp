@@ -112,7 +112,9 @@ struct StateMachineOptions {
   /// tracking, and in landing → tracking. In (0, 1]; the rest is the
   /// margin for gusts.
   double max_slide_ratio = 0.7;
-  /// In tracking this long [s] without becoming stable: give up (not_stable)
+  /// In tracking this long [s] without becoming stable: give up, named by
+  /// what held it most often — its own error or speed (not_stable), the
+  /// vehicle accelerating or turning, the wind (wind_too_strong)
   /// rather than follow the vehicle until the mission's timeout; > 0.
   double max_tracking_time = 30;
   /// False (with "key: problem" in *why) for an invalid value.
@@ -181,11 +183,15 @@ class StateMachine {
 
   StateMachineOptions options_;
   MissionState state_ = MissionState::Searching;
-  double entered_ = 0;         ///< time the state was entered
-  bool started_ = false;       ///< entered_ set from the first step
-  int ok_run_ = 0;             ///< Ok frames since the last gap
-  double last_ok_ = -1e300;    ///< time of the last Ok frame
-  double stable_since_ = -1;   ///< < 0: not stable
+  double entered_ = 0;        ///< time the state was entered
+  bool started_ = false;      ///< entered_ set from the first step
+  int ok_run_ = 0;            ///< Ok frames since the last gap
+  double last_ok_ = -1e300;   ///< time of the last Ok frame
+  double stable_since_ = -1;  ///< < 0: not stable
+  /// Tracking steps each clearance failed since the state was entered: the
+  /// drone's own error or speed, the vehicle accelerating, turning, the
+  /// wind (the upset guard); the most frequent names a give-up.
+  std::array<long, 4> blocked_{};
   double stalled_since_ = -1;  ///< < 0: no contact felt
   int plan_failures_ = 0;
   int attempts_ = 0;
