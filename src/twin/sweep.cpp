@@ -15,6 +15,7 @@
 #include "touchdown/core/random_vector.hpp"
 #include "touchdown/core/statistics.hpp"
 #include "touchdown/core/units.hpp"
+#include "twin/sweep_decide.hpp"
 
 namespace touchdown::twin {
 namespace {
@@ -165,6 +166,11 @@ bool SweepOptions::validate(std::string* why) const {
   if (!(p.friction_min > 0 && p.friction_max >= p.friction_min)) return fail("friction range must be 0 < min <= max");
   if (!check_threads(threads, "threads", why)) return false;
   if (!(time_budget >= 0)) return fail("time budget must be >= 0");
+  if (!(deadline >= 0) || !std::isfinite(deadline)) return fail("deadline must be >= 0 s");
+  if (deadline > 0 && !decide) return fail("a deadline needs the decision mode (the full sweep flies every landing)");
+  if (decide && time_budget > 0) {
+    return fail("the time budget is the full sweep's anytime mode; the decision mode has a deadline instead");
+  }
   return true;
 }
 
@@ -321,7 +327,9 @@ void classify_headings(SweepResult& out, const SweepOptions& o) {
     } else if (!(h.score < threshold)) {
       h.reason = UnsafeReason::AboveThreshold;
     }
-    h.safe = h.reason == UnsafeReason::None;
+    // Decision mode: safe only with every run flown (a heading stopped by
+    // the deadline or outranked is not known to be safe).
+    h.safe = h.reason == UnsafeReason::None && h.flown == HeadingFlown::All;
   }
 }
 
@@ -381,12 +389,16 @@ SweepResult run_sweep(const Airframe& airframe, std::shared_ptr<const TerrainMod
   const double yaw_max = deg_to_rad(o.yaw_max_deg > 0 ? o.yaw_max_deg : 360.0 / airframe.symmetry_order());
   out.yaw_max = yaw_max;
   plan_runs(out, o, yaw_max);
-  fly_runs(out, sim, o, t0);
+  place_headings(out, *terrain, airframe, o, footprint);
+  if (o.decide) {
+    internal::fly_decisive(out, sim, o, t0);
+  } else {
+    fly_runs(out, sim, o, t0);
+  }
 
   // Scores (eq. 3 per run, eq. 6 per heading, eq. 7 overall). Only settled
   // runs have a final nutation to score; any other run makes its heading
   // unsafe (and says why) without inventing a nutation for it.
-  place_headings(out, *terrain, airframe, o, footprint);
   add_runs_to_headings(out);
   classify_headings(out, o);
   choose_best_heading(out, o.headings);

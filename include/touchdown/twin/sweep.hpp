@@ -69,12 +69,46 @@ struct SweepOptions {
   /// Anytime use: stop after the round (one run per heading) that exceeds
   /// this many wall seconds; 0 = no limit. The result says how complete it is.
   double time_budget = 0;
+  /// Decision mode: fly only the landings that can change the decision —
+  /// a heading stops at its first run that makes it unsafe or once its
+  /// worst run so far ranks it behind the best complete safe heading. The
+  /// decision, the chosen heading and its S are the full sweep's, bit for
+  /// bit, for any thread count; the other headings' scores are partial
+  /// (HeadingScore::flown says how far each went). Not with time_budget.
+  bool decide = false;
+  /// With `decide`: no wave of landings starts after this many wall
+  /// seconds since the call; 0 = none. The headings not settled by then
+  /// are HeadingFlown::UntilDeadline and SweepResult::decided is false; a
+  /// safe answer is a complete safe heading (safe in the full sweep too),
+  /// not necessarily its best; "do not land" when none is complete and
+  /// safe. Not deterministic (it depends on the wall clock).
+  double deadline = 0;
   SimulationOptions simulation{};  ///< tip_nutation is set from the threshold
   /// Called after each finished landing (from worker threads, serialised).
   ProgressCallback progress;
 
   [[nodiscard]] bool validate(std::string* why) const;
 };
+
+/// How far the decision mode flew a heading's runs (SweepOptions::decide).
+enum class HeadingFlown {
+  All,             ///< every run (the full sweep flies every heading so)
+  UntilUnsafe,     ///< until a run made it unsafe: settled
+  UntilOutranked,  ///< until its worst run ranked it behind the chosen heading: it cannot be chosen, its safety unknown
+  UntilDeadline,   ///< the deadline came first: not settled
+};
+
+}  // namespace touchdown::twin
+
+template <>
+struct touchdown::EnumNames<touchdown::twin::HeadingFlown> {
+  static constexpr std::array<std::string_view, 4> names{"all", "until unsafe", "until outranked",
+                                                         "until the deadline"};
+};
+
+namespace touchdown::twin {
+
+inline std::string_view to_string(HeadingFlown flown) { return enum_name(flown); }
 
 struct HeadingScore {
   double yaw = 0;  ///< ψ_j [rad]
@@ -96,7 +130,8 @@ struct HeadingScore {
   /// camera never observed (TerrainModel::unknown_under): never safe.
   bool unobserved = false;
   double max_offset = 0;  ///< [m]
-  bool safe = false;      ///< under the threshold and clean by the chosen metric
+  bool safe = false;      ///< under the threshold and clean by the chosen metric (decision mode: and every run flown)
+  HeadingFlown flown = HeadingFlown::All;  ///< decision mode: how far its runs were flown (`runs` of them)
   /// Why the heading is unsafe (the most severe reason, a fixed phrase:
   /// see to_string(UnsafeReason)); None when safe.
   enum class UnsafeReason {
@@ -166,8 +201,13 @@ struct SweepResult {
   int best = -1;
   bool safe = false;             ///< ψ* is safe: land there; false: do not land
   std::vector<RunRecord> runs;   ///< heading-major
-  int rounds_completed = 0;      ///< runs per heading actually flown (anytime)
-  double completeness = 0;       ///< rounds_completed / runs
+  int rounds_completed = 0;      ///< runs per heading actually flown (anytime; 0 in decision mode)
+  /// rounds_completed / runs; in decision mode the share of the full
+  /// sweep's landings flown.
+  double completeness = 0;
+  /// The decision is the full sweep's (false only when a decision mode's
+  /// deadline stopped it first).
+  bool decided = true;
   double seconds = 0;            ///< wall time
   double simulated_seconds = 0;  ///< sum over runs
   double run_sim_to_wall = 0;    ///< median over runs of simulated / wall time of one run
