@@ -31,6 +31,7 @@ struct Args {
   std::vector<double> landing_point, friction;
   double sigma_speed = o.perturbation.sigma_land_speed;
   bool json = false;
+  bool full = false;  // --full: every landing (default: the decision mode)
   bool assume_world = false;
   double search_radius = 0, search_spacing = 0;
   tw::SearchPreference search_prefer = tw::SearchPreference::LowestScore;
@@ -87,7 +88,16 @@ void add_options(CLI::App& app, Args& a) {
                            "full: strikes and tip-overs are unsafe; seed: the paper's final-nutation rule");
   td::app::add_seed_option(app, "--seed", o.seed, "random seed (same seed -> same result for any thread count)");
   app.add_option("--threads", o.threads, "worker threads (0 = every core)")->capture_default_str();
-  app.add_option("--time-budget", o.time_budget, "anytime: stop after the round that passes this many seconds, 0 = off")
+  app.add_flag("--full", a.full,
+               "fly every heading x run and print the full table (default: the decision mode, which flies only the "
+               "landings that can change the decision: the same decision, heading and S)");
+  app.add_option("--deadline", o.deadline,
+                 "decision mode: start no landing after this many seconds; say which headings are settled, \"do not "
+                 "land\" when none is settled safe; 0 = none")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--time-budget", o.time_budget,
+                 "with --full, anytime: stop after the round that passes this many seconds, 0 = off")
       ->capture_default_str();
   app.add_option("--search-radius", a.search_radius,
                  "also try landing points on a grid within this radius [m] and report the best (x, y, psi)")
@@ -122,6 +132,11 @@ void finish_sweep_options(Args& a) {
     o.perturbation.friction_max = a.friction[1];
   }
   o.perturbation.sigma_land_speed = a.sigma_speed;
+  if (o.time_budget > 0 && !a.full) {
+    throw td::InvalidArgument("--time-budget: the full sweep's anytime mode: add --full, or use --deadline");
+  }
+  if (o.deadline > 0 && a.full) throw td::InvalidArgument("--deadline: the decision mode's; not with --full");
+  o.decide = !a.full;
   std::string why;
   if (!o.validate(&why)) throw td::InvalidArgument(why);
 }

@@ -13,11 +13,11 @@ namespace {
 
 // What the waves know of one heading.
 struct Track {
-  int flown = 0;                                               // runs 0..flown-1 flown
-  double worst = -std::numeric_limits<double>::infinity();     // max final nutation of its settled runs
-  bool scored = false;                                         // a run settled
-  bool unsafe = false;                                         // a run disqualified it (or unobserved terrain)
-  bool outranked = false;                                      // cannot be chosen
+  int flown = 0;                                            // runs 0..flown-1 flown
+  double worst = -std::numeric_limits<double>::infinity();  // max final nutation of its settled runs
+  bool scored = false;                                      // a run settled
+  bool unsafe = false;                                      // a run disqualified it (or unobserved terrain)
+  bool outranked = false;                                   // cannot be chosen
   [[nodiscard]] bool complete(int m) const { return flown == m; }
 };
 
@@ -29,8 +29,7 @@ bool ranks_before(const Track& a, int ia, const Track& b, int ib) {
 // Does this settled or unsettled run make its heading unsafe?
 bool disqualifies(const RunResult& r, const SweepOptions& o, double threshold) {
   if (!r.ok()) return true;
-  if (o.metric == SafetyMetric::Full &&
-      (r.tipped || r.body_strike > 0 || r.arm_strike > 0 || r.prop_strike > 0)) {
+  if (o.metric == SafetyMetric::Full && (r.tipped || r.body_strike > 0 || r.arm_strike > 0 || r.prop_strike > 0)) {
     return true;
   }
   return !(r.nutation < threshold);
@@ -43,7 +42,8 @@ void fly_decisive(SweepResult& out, const LandingSimulator& sim, const SweepOpti
   const int n = o.headings, m = o.runs;
   const double threshold = out.threshold.value();
   std::vector<Track> tracks(static_cast<std::size_t>(n));
-  for (int j = 0; j < n; ++j) tracks[static_cast<std::size_t>(j)].unsafe = out.headings[static_cast<std::size_t>(j)].unobserved;
+  for (int j = 0; j < n; ++j)
+    tracks[static_cast<std::size_t>(j)].unsafe = out.headings[static_cast<std::size_t>(j)].unobserved;
   std::vector<char> flown(out.runs.size(), 0);
   const std::size_t total = out.runs.size();
   std::size_t done = 0;
@@ -53,7 +53,9 @@ void fly_decisive(SweepResult& out, const LandingSimulator& sim, const SweepOpti
     batch.progress = [&](const Progress& p) { o.progress(progress_since(t0, ++done, total, p.index)); };
   }
   const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
-  const auto at = [m](int j, int i) { return static_cast<std::size_t>(j) * static_cast<std::size_t>(m) + static_cast<std::size_t>(i); };
+  const auto at = [m](int j, int i) {
+    return static_cast<std::size_t>(j) * static_cast<std::size_t>(m) + static_cast<std::size_t>(i);
+  };
 
   bool second_phase = false, stopped = false;
   std::vector<std::size_t> wave;

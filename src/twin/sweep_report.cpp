@@ -57,7 +57,8 @@ nlohmann::json headings_json(const SweepResult& r) {
                   {"feet_not_all_down_runs", h.feet_not_all_down_runs},
                   {"max_offset_m", round6(h.max_offset)},
                   {"safe", h.safe},
-                  {"reason", std::string(to_string(h.reason))}});
+                  {"reason", std::string(to_string(h.reason))},
+                  {"flown", std::string(to_string(h.flown))}});
   }
   return hs;
 }
@@ -110,6 +111,9 @@ std::string sweep_json(const SearchResult& search, const SweepReportInfo& info) 
   j["ground_z"] = round6(r.ground_z);
   j["landing_point"] = {{"x", round6(o.landing_point.x())}, {"y", round6(o.landing_point.y())}};
   j["land"] = r.safe;
+  j["mode"] = o.decide ? "decide" : "full";
+  j["decided"] = r.decided;
+  j["deadline_s"] = round6(o.deadline);
   j["unsafe_reasons"] = unsafe_summary(r);
   if (best) {
     j["best"] = {{"yaw_deg", round6(rad_to_deg(best->yaw))},
@@ -159,7 +163,11 @@ std::string sweep_summary(const SearchResult& search, const SweepReportInfo& inf
   out << std::fixed << std::setprecision(3);
   out << "landing_sweep: " << info.terrain << ", " << detail::count_noun(static_cast<long long>(t.landings), "landing")
       << " (";
-  if (search.candidates.empty()) {
+  if (search.candidates.empty() && o.decide) {
+    out << "decision mode: " << detail::count_noun(static_cast<long long>(r.headings.size()), "heading") << " x "
+        << "up to " << detail::count_noun(o.runs, "run") << ", " << std::setprecision(0) << 100 * r.completeness
+        << " % of the full sweep";
+  } else if (search.candidates.empty()) {
     out << detail::count_noun(static_cast<long long>(r.headings.size()), "heading") << " x "
         << detail::count_noun(r.rounds_completed, "run");
   } else {
@@ -167,8 +175,8 @@ std::string sweep_summary(const SearchResult& search, const SweepReportInfo& inf
         << detail::count_noun(o.headings, "heading") << " x " << (t.completeness < 1 ? "up to " : "")
         << detail::count_noun(o.runs, "run");
   }
-  out << ") in " << t.seconds << " s (" << std::setprecision(0) << lps << " landings/s; one landing simulates "
-      << t.run_sim_to_wall << "x faster than real time)\n";
+  out << std::setprecision(3) << ") in " << t.seconds << " s (" << std::setprecision(0) << lps
+      << " landings/s; one landing simulates " << t.run_sim_to_wall << "x faster than real time)\n";
   if (!search.candidates.empty()) {
     out << std::setprecision(3) << "  chosen point (" << o.landing_point.x() << ", " << o.landing_point.y()
         << "): " << detail::count_noun(static_cast<long long>(r.landings()), "landing") << " ("
@@ -177,16 +185,24 @@ std::string sweep_summary(const SearchResult& search, const SweepReportInfo& inf
   }
   out << std::setprecision(3) << "  safety threshold " << r.threshold.value() << " rad (tip-over "
       << r.threshold.tip_rad << ", propeller or arm strike " << r.threshold.prop_strike_rad << ")\n"
-      << "  heading  S(psi)    mean  touchdown   prop   arm  body  tipped  invalid  verdict\n"
-      << "    [deg]   [rad]   [rad]      [rad]   (runs with a strike, of " << r.rounds_completed << ")\n";
+      << "  heading  S(psi)    mean  touchdown  runs  prop   arm  body  tipped  invalid  verdict\n"
+      << "    [deg]   [rad]   [rad]      [rad]        (runs with a strike)\n";
   for (const auto& h : r.headings) {
     std::string verdict = h.safe ? "safe" : "unsafe: " + std::string(to_string(h.reason));
     if (h.reason == UnsafeReason::InvalidRuns) verdict = "invalid (" + h.invalid_reason + ")";
+    // The decision mode's partial headings: S so far is a lower bound.
+    const bool partial = h.flown != HeadingFlown::All;
+    if (h.flown == HeadingFlown::UntilOutranked) {
+      verdict = "outranked: cannot beat the chosen heading" +
+                (h.reason == UnsafeReason::None ? std::string() : "; " + verdict);
+    } else if (h.flown == HeadingFlown::UntilDeadline) {
+      verdict = "not settled by the deadline";
+    }
     out << "  " << std::setw(7) << std::setprecision(1) << rad_to_deg(h.yaw) << std::setprecision(3) << " "
-        << std::setw(7) << rad_text(h.score) << " " << std::setw(7) << rad_text(h.mean) << " " << std::setw(10)
-        << rad_text(h.max_touchdown) << " " << std::setw(6) << h.prop_strike_runs << std::setw(6) << h.arm_strike_runs
-        << std::setw(6) << h.body_strike_runs << std::setw(8) << h.tipped_runs << std::setw(9) << h.invalid_runs << "  "
-        << verdict << "\n";
+        << std::setw(7) << ((partial && !std::isnan(h.score) ? ">=" : "") + rad_text(h.score)) << " " << std::setw(7)
+        << rad_text(h.mean) << " " << std::setw(10) << rad_text(h.max_touchdown) << std::setw(6) << h.runs << " "
+        << std::setw(6) << h.prop_strike_runs << std::setw(6) << h.arm_strike_runs << std::setw(6) << h.body_strike_runs
+        << std::setw(8) << h.tipped_runs << std::setw(9) << h.invalid_runs << "  " << verdict << "\n";
   }
   for (const auto& c : search.candidates) {
     if (!c.covered) continue;
@@ -197,10 +213,20 @@ std::string sweep_summary(const SearchResult& search, const SweepReportInfo& inf
                            : " (unsafe)")
         << "\n";
   }
+  int unsettled = 0;
+  for (const auto& h : r.headings) unsettled += h.flown == HeadingFlown::UntilDeadline ? 1 : 0;
+  if (!r.decided) {
+    out << "  deadline " << std::setprecision(3) << o.deadline
+        << " s reached: " << detail::count_noun(unsettled, "heading") << " not settled\n";
+  }
   if (r.safe) {
     out << "  decision: land at (" << o.landing_point.x() << ", " << o.landing_point.y() << "), heading "
         << std::setprecision(1) << rad_to_deg(best->yaw) << " deg (S = " << std::setprecision(3) << best->score
-        << " rad, threshold " << r.threshold.value() << " rad)\n";
+        << " rad, threshold " << r.threshold.value() << " rad"
+        << (r.decided ? "" : "; complete and safe, not proven the best") << ")\n";
+  } else if (!r.decided) {
+    out << "  decision: do not land at (" << o.landing_point.x() << ", " << o.landing_point.y()
+        << "): no heading settled safe by the deadline\n";
   } else {
     out << "  decision: do not land at (" << o.landing_point.x() << ", " << o.landing_point.y()
         << "): no safe heading (" << unsafe_summary(r) << ")";

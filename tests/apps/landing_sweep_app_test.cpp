@@ -51,7 +51,7 @@ void expect_one_line(const AppRun& r) { EXPECT_EQ(std::count(r.err.begin(), r.er
 TEST(LandingSweepApp, JsonCsvAndPlot) {
   TempDir dir;
   const auto terrain = flat_stl(dir);
-  const AppRun r = run(terrain + " --headings 4 --runs 2 --json --runs-csv " + (dir / "runs.csv").string() +
+  const AppRun r = run(terrain + " --full --headings 4 --runs 2 --json --runs-csv " + (dir / "runs.csv").string() +
                            " --plot " + (dir / "s.svg").string(),
                        dir);
   ASSERT_EQ(r.code, 0) << r.err;
@@ -89,12 +89,53 @@ TEST(LandingSweepApp, JsonCsvAndPlot) {
 TEST(LandingSweepApp, HeaderCountsInTheSingular) {
   TempDir dir;
   const auto terrain = flat_stl(dir);
-  const AppRun one = run(terrain + " --headings 1 --runs 1", dir);
+  const AppRun one = run(terrain + " --full --headings 1 --runs 1", dir);
   ASSERT_EQ(one.code, 0) << one.err;
   EXPECT_NE(one.out.find(", 1 landing (1 heading x 1 run) in "), std::string::npos) << one.out;
-  const AppRun two = run(terrain + " --headings 2 --runs 1", dir);
+  const AppRun two = run(terrain + " --full --headings 2 --runs 1", dir);
   ASSERT_EQ(two.code, 0) << two.err;
   EXPECT_NE(two.out.find(", 2 landings (2 headings x 1 run) in "), std::string::npos) << two.out;
+}
+
+// Issue 57: the decision mode is the default; it says how much of the full
+// sweep it flew and why each heading stopped, and decides as --full does.
+TEST(LandingSweepApp, DecisionModeDecidesAsTheFullSweepWithFewerLandings) {
+  TempDir dir;
+  const auto data = std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/terrains";
+  const std::string args = (data / "step.pcd").string() + " --extrinsics " + (data / "step.extrinsics.yaml").string() +
+                           " --landing-point 0.12,0 --json";
+  const AppRun d = run(args, dir), f = run(args + " --full", dir);
+  ASSERT_EQ(d.code, 0) << d.err;
+  ASSERT_EQ(f.code, 0) << f.err;
+  const auto jd = nlohmann::json::parse(d.out), jf = nlohmann::json::parse(f.out);
+  EXPECT_EQ(jd["mode"], "decide");
+  EXPECT_EQ(jf["mode"], "full");
+  EXPECT_TRUE(jd["decided"].get<bool>());
+  EXPECT_EQ(jd["land"], jf["land"]);
+  EXPECT_EQ(jd["best"], jf["best"]);
+  EXPECT_LT(jd["runs"].get<int>(), jf["runs"].get<int>());
+  for (const auto& h : jd["headings"]) {
+    const std::string flown = h["flown"];
+    EXPECT_TRUE(flown == "all" || flown == "until unsafe" || flown == "until outranked") << flown;
+  }
+  // The text names the mode and the share flown.
+  const AppRun text = run(args.substr(0, args.size() - 7), dir);
+  EXPECT_NE(text.out.find("(decision mode: 20 headings x up to 10 runs, "), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("outranked: cannot beat the chosen heading"), std::string::npos) << text.out;
+  // A deadline before the first landing settles nothing: do not land.
+  const AppRun late = run(args.substr(0, args.size() - 7) + " --deadline 0.000001", dir);
+  ASSERT_EQ(late.code, 0) << late.err;
+  EXPECT_NE(late.out.find("20 headings not settled"), std::string::npos) << late.out;
+  EXPECT_NE(late.out.find("decision: do not land at (0.120, 0.000): no heading settled safe by the deadline"),
+            std::string::npos)
+      << late.out;
+  // The two time limits belong to their modes.
+  for (const std::string& bad : {std::string(" --time-budget 1"), std::string(" --full --deadline 1")}) {
+    const AppRun r = run(args + bad, dir);
+    EXPECT_EQ(r.code, 2) << bad;
+    expect_one_line(r);
+    EXPECT_TRUE(r.out.empty());
+  }
 }
 
 TEST(LandingSweepAppBadInput, AirframeKeyIsNamed) {
@@ -252,7 +293,7 @@ TEST(LandingSweepKnownAnswers, SteepSlopeNothingIsSafe) {
 
 TEST(LandingSweepKnownAnswers, GentleSlopeEverythingIsSafe) {
   TempDir dir;
-  const auto j = sweep_bundled("slope_gentle", "", dir);
+  const auto j = sweep_bundled("slope_gentle", "--full", dir);
   EXPECT_TRUE(j["best"]["safe"].get<bool>());
   EXPECT_EQ(j["safe_headings_deg"].size(), 20u);
   for (const auto& h : j["headings"]) EXPECT_NEAR(h["score_rad"].get<double>(), 5 * M_PI / 180, 0.08);
@@ -459,7 +500,7 @@ TEST(LandingSweepApp, SearchTotalsCoverEveryPointFlown) {
   TempDir dir;
   const auto data = std::filesystem::path(TOUCHDOWN_SOURCE_DIR) / "data/terrains";
   const std::string args = (data / "step.pcd").string() + " --extrinsics " + (data / "step.extrinsics.yaml").string() +
-                           " --search-radius 0.2 --search-spacing 0.1 --headings 4 --runs 2";
+                           " --search-radius 0.2 --search-spacing 0.1 --headings 4 --runs 2 --full";
   const AppRun r = run(args + " --json", dir);
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);

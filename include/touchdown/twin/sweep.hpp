@@ -199,9 +199,9 @@ struct SweepResult {
   /// Index of ψ*: the lowest score among safe headings, else the lowest
   /// score among scored headings; -1 when no run at any heading settled.
   int best = -1;
-  bool safe = false;             ///< ψ* is safe: land there; false: do not land
-  std::vector<RunRecord> runs;   ///< heading-major
-  int rounds_completed = 0;      ///< runs per heading actually flown (anytime; 0 in decision mode)
+  bool safe = false;            ///< ψ* is safe: land there; false: do not land
+  std::vector<RunRecord> runs;  ///< heading-major
+  int rounds_completed = 0;     ///< runs per heading actually flown (anytime; 0 in decision mode)
   /// rounds_completed / runs; in decision mode the share of the full
   /// sweep's landings flown.
   double completeness = 0;
