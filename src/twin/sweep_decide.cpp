@@ -85,8 +85,11 @@ void fly_decisive(SweepResult& out, const LandingSimulator& sim, const SweepOpti
       live.push_back(j);
     }
     if (live.empty()) {
-      if (second_phase || bound >= 0) break;
-      second_phase = true;  // no safe heading: the lowest S among the scored ones, as the full sweep reports
+      // No safe heading: "do not land" is settled. Without a deadline, on
+      // to the lowest S among the scored headings, as the full sweep
+      // reports it; with one, that is not worth the time.
+      if (second_phase || bound >= 0 || o.deadline > 0) break;
+      second_phase = true;
       continue;
     }
     if (o.deadline > 0 && elapsed() >= o.deadline) {

@@ -31,6 +31,9 @@ namespace touchdown::twin::internal {
 ///
 /// `deadline` > 0: no wave starts after that many seconds since `t0`; the
 /// headings still in play are HeadingFlown::UntilDeadline, `decided` false.
+/// With a deadline the second phase is not flown: "do not land" is settled
+/// when every heading is unsafe, and the lowest S reported is the lowest so
+/// far.
 void fly_decisive(SweepResult& out, const LandingSimulator& sim, const SweepOptions& o,
                   std::chrono::steady_clock::time_point t0);
 

@@ -6,18 +6,26 @@
 # second, simulated-to-wall time ratio (all runs, and one run: the median
 # over the 200), speed-up. Then, with --terrains, the same sweep on every
 # bundled terrain (2 threads, median wall of the process).
-# Usage: tests/bench/landing_sweep_bench.sh [build-dir] [repeats] [--terrains]
+# MODE (issue 57): "--full" (every landing, the default before the decision
+# mode) or "decide" (landing_sweep's default: only the landings that can
+# change the decision); its "sweep" time is the decision's.
+# Usage: tests/bench/landing_sweep_bench.sh [build-dir] [repeats] [--terrains|-] [--full|decide]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 build=${1:-build}
 repeats=${2:-5}
 terrains=${3:-}
+mode=${4:---full}
+mode_flag=()
+[ "$mode" = "--full" ] && mode_flag=(--full)
+echo "mode: $mode"
+
 median() { sort -g | awk '{a[NR]=$1} END{print a[int((NR+1)/2)]}'; }
 # One sweep: prints "process_wall sweep_seconds landings/s sim/wall best_yaw run_sim/wall".
 sweep() {
   local t0 t1 json
   t0=$(date +%s.%N)
-  json=$("$build/apps/landing_sweep" "$@" --json)
+  json=$("$build/apps/landing_sweep" "$@" "${mode_flag[@]}" --json)
   t1=$(date +%s.%N)
   python3 -c 'import json,sys; d=json.loads(sys.argv[2]); print(float(sys.argv[1]), d["seconds"], d["landings_per_second"], d["simulated_to_wall"], d["best"]["yaw_deg"], d["run_simulated_to_wall"])' \
     "$(awk "BEGIN{print $t1 - $t0}")" "$json"

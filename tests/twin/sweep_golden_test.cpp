@@ -1,4 +1,5 @@
-// The sweep's decisions on every bundled terrain (the app's default options)
+// The sweep's decisions on every bundled terrain (the app's default options;
+// the decision mode's against the full sweep's)
 // and on a perturbed variant of a sweep-test terrain, against the golden file
 // recorded before the twin was made faster (issue 35; sweep_golden.hpp says
 // how to re-record). The twin's own tests check their sweeps against the
@@ -7,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <iostream>
 #include <string>
 
 #include "test_util.hpp"
@@ -34,7 +36,21 @@ tw::SweepResult bundled(const std::string& terrain, double x = 0.0, const std::s
   const tw::Airframe af =
       airframe.empty() ? tw::Airframe::f450()
                        : tw::load_airframe(std::string(TOUCHDOWN_SOURCE_DIR) + "/data/airframes/" + airframe + ".yaml");
-  return tw::run_sweep(af, tw::load_terrain_model(base + ".pcd", cloud), o);
+  const auto model = tw::load_terrain_model(base + ".pcd", cloud);
+  tw::SweepResult full = tw::run_sweep(af, model, o);
+  // Issue 57: the decision mode decides the same, bit for bit.
+  o.decide = true;
+  const tw::SweepResult d = tw::run_sweep(af, model, o);
+  EXPECT_EQ(d.safe, full.safe) << terrain;
+  EXPECT_EQ(d.best, full.best) << terrain;
+  if (d.best >= 0 && d.best == full.best) {
+    EXPECT_EQ(d.headings[static_cast<std::size_t>(d.best)].score, full.headings[static_cast<std::size_t>(full.best)].score)
+        << terrain;
+  }
+  EXPECT_LE(d.landings(), full.landings());
+  std::cout << terrain << " x " << x << ": the decision mode flew " << d.landings() << " of " << full.landings()
+            << " landings\n";
+  return full;
 }
 
 tw::SweepResult small(const std::shared_ptr<const tw::TerrainModel>& terrain, int headings, int runs) {

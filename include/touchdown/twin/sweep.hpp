@@ -81,7 +81,9 @@ struct SweepOptions {
   /// are HeadingFlown::UntilDeadline and SweepResult::decided is false; a
   /// safe answer is a complete safe heading (safe in the full sweep too),
   /// not necessarily its best; "do not land" when none is complete and
-  /// safe. Not deterministic (it depends on the wall clock).
+  /// safe. Not deterministic (it depends on the wall clock). Once every
+  /// heading is unsafe it stops: "do not land" is settled (the lowest S
+  /// reported is then the lowest so far, not necessarily the full sweep's).
   double deadline = 0;
   SimulationOptions simulation{};  ///< tip_nutation is set from the threshold
   /// Called after each finished landing (from worker threads, serialised).
