@@ -426,10 +426,13 @@ class Flight {
     gust_variance_ += k * ((observer_.wind() - wind_mean_).head<2>().squaredNorm() - gust_variance_);
     const Eigen::Vector3d air = pad_.velocity - wind_mean_;
     const double gust = 2 * std::sqrt(gust_variance_);
-    const Eigen::Vector3d gusty =
-        air + gust * (air.norm() > 1e-9 ? Eigen::Vector3d(air.normalized()) : Eigen::Vector3d::UnitX());
-    const double side = observer_.drag(gusty).head<2>().norm() + mass_ * pad_.acceleration.head<2>().norm();
-    in.slide_ratio = detail::upset_ratio(stance_, side, mass_, o_.drone.pad_friction, o_.pad.hold_force);
+    const double pad_push = mass_ * pad_.acceleration.head<2>().norm();
+    // Landed, it rides the vehicle on: a vehicle that turns meets the wind
+    // from every side, so the air it must stand is the vehicle's speed plus
+    // the wind's (and the gust), whatever their directions now.
+    const double worst_air = pad_.velocity.head<2>().norm() + wind_mean_.head<2>().norm() + gust;
+    const double side_landed = observer_.drag(Eigen::Vector3d(worst_air, 0, 0)).norm() + pad_push;
+    in.slide_ratio = detail::upset_ratio(stance_, side_landed, mass_, o_.drone.pad_friction, o_.pad.hold_force);
     // Where to put the drone down: it flies tilted to hold station over the
     // pad (its thrust's horizontal part m a_pad − D(air)), touches with its
     // leading feet and levels about them, its centre of mass moving back by

@@ -71,7 +71,9 @@ Stance stance_of(const twin::Airframe& af) {
     nearest = std::min(nearest,
                        touchdown::detail::cross(a, b, com.head<2>()) / std::max((b - a).norm(), 1e-12));  // > 0 inside
   }
-  s.inradius = hull.size() >= 3 && nearest > 0 ? nearest + af.support_radius() : 1e-3;
+  // A round foot touches the pad below its centre: the drone starts to tip
+  // about the line through the feet's centres, not their rims.
+  s.inradius = hull.size() >= 3 && nearest > 0 ? nearest : 1e-3;
   s.com_height = com.z() - af.ground_z();
   for (const Ball& b : support) s.support.push_back(b.p - com);
   s.support_radius = af.support_radius();

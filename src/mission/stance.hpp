@@ -13,7 +13,7 @@ namespace touchdown::mission::detail {
 
 struct Stance {
   double com_height = 0;   ///< centre of mass above the lowest support point, level [m]
-  double inradius = 0;     ///< centre of mass to the support polygon's nearest edge (+ foot radius) [m]
+  double inradius = 0;     ///< centre of mass to the support polygon's nearest edge (feet centres) [m]
   double strike_tilt = 0;  ///< the smallest tilt, about any horizontal axis, at which a part other than the support
                            ///< reaches the support's plane [rad]
   std::vector<Eigen::Vector3d> support;  ///< the support points from the centre of mass, body frame [m]

@@ -49,10 +49,11 @@ TEST(Stance, StrikeTiltAndInradiusOfAPlusQuadAreTheClosedForms) {
   const double closed = std::atan2(0.12, 0.2) + std::asin(0.008 / std::hypot(0.2, 0.12));
   EXPECT_NEAR(s.strike_tilt, closed, 2e-4) << s.strike_tilt * 180 / std::numbers::pi << " deg";
   // The support polygon is the square with corners 0.1 m out on the axes:
-  // its edges are 0.1 / sqrt(2) from the centre, plus the foot radius.
+  // its edges are 0.1 / sqrt(2) from the centre (a round foot touches
+  // below its centre: the tipping edge joins the feet's centres).
   const Eigen::Vector3d com = af.centre_of_mass();
   EXPECT_NEAR(std::hypot(com.x(), com.y()), 0, 1e-12);
-  EXPECT_NEAR(s.inradius, 0.1 / std::sqrt(2.0) + 0.01, 1e-12);
+  EXPECT_NEAR(s.inradius, 0.1 / std::sqrt(2.0), 1e-12);
   EXPECT_NEAR(s.com_height, com.z() + 0.11, 1e-12);
 }
 

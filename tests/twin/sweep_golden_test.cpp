@@ -44,7 +44,8 @@ tw::SweepResult bundled(const std::string& terrain, double x = 0.0, const std::s
   EXPECT_EQ(d.safe, full.safe) << terrain;
   EXPECT_EQ(d.best, full.best) << terrain;
   if (d.best >= 0 && d.best == full.best) {
-    EXPECT_EQ(d.headings[static_cast<std::size_t>(d.best)].score, full.headings[static_cast<std::size_t>(full.best)].score)
+    EXPECT_EQ(d.headings[static_cast<std::size_t>(d.best)].score,
+              full.headings[static_cast<std::size_t>(full.best)].score)
         << terrain;
   }
   EXPECT_LE(d.landings(), full.landings());
