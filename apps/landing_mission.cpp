@@ -282,6 +282,14 @@ int main(int argc, char** argv) {
                                     ": expected lo:hi:step with lo <= hi and step > 0");
         }
       }
+      // A grid a person reads (and a run that ends): at most 10 000 cells.
+      if (const std::size_t cells = range_of(a.speeds).size() * range_of(a.winds).size() *
+                                    std::max<std::size_t>(1, a.envelope_paths.size()) *
+                                    std::max<std::size_t>(1, a.envelope_turbulence.size());
+          cells > 10000) {
+        throw td::InvalidArgument("--speeds/--winds: " + std::to_string(cells) +
+                                  " cells (speeds x winds x paths x levels); at most 10000: use larger steps");
+      }
       return run_envelope(a);
     }
     tdm::MissionFile file = load(a);

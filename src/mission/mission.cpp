@@ -285,8 +285,13 @@ class Flight {
 
   MissionResult fly() {
     const long max_steps = static_cast<long>(std::ceil(o_.timeout / dt_));
+    // Motors off before the timeout: the verdict waits for the drone to
+    // rest (at most 3 s), a landing is not a timeout for ending late.
+    const long settle_steps = static_cast<long>(std::ceil(3.2 / dt_));
     long step = 0;
-    for (; step < max_steps && !done_; ++step) this->step(step);
+    for (; !done_ && (step < max_steps || (shutdown_time_ >= 0 && step < max_steps + settle_steps)); ++step) {
+      this->step(step);
+    }
     if (!done_) {
       res_.duration = static_cast<double>(step) * dt_;
       res_.message = "no landing within the timeout";

@@ -354,16 +354,29 @@ std::string envelope_text(const Envelope& e, std::string_view source) {
   }
   FailureCounts all;
   for (const auto& c : e.cells) all = merge_failure_reasons(all, c.reasons);
-  if (all.empty()) {
+  if (std::none_of(e.cells.begin(), e.cells.end(), [](const auto& c) { return c.valid; })) {
+    appendf(out, "  no mission flown: every cell is beyond the drone's options (n/a below)\n");
+  } else if (all.empty()) {
     appendf(out, "  every mission flown landed\n");
   } else {
     appendf(out, "  why not landed (all cells): %s\n", reasons_text(all).c_str());
   }
+  // Each reason once, with the speeds it holds at.
+  std::vector<std::pair<std::string, std::string>> refused;  // reason, speeds
   double last = -1;
   for (const auto& [speed, why] : e.refused) {
-    if (speed != last) appendf(out, "  n/a at %.2f m/s: %s\n", speed, why.c_str());
+    if (speed == last) continue;
     last = speed;
+    std::string at;
+    appendf(at, "%.2f", speed);
+    const auto it = std::find_if(refused.begin(), refused.end(), [&](const auto& r) { return r.first == why; });
+    if (it == refused.end()) {
+      refused.emplace_back(why, at);
+    } else {
+      it->second += ", " + at;
+    }
   }
+  for (const auto& [why, speeds] : refused) appendf(out, "  n/a at %s m/s: %s\n", speeds.c_str(), why.c_str());
   return out;
 }
 

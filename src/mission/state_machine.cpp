@@ -91,8 +91,9 @@ StateMachineOutput StateMachine::step(const StateMachineInputs& in) {
   auto abort_landing = [&](MissionState to, TransitionReason why) {
     ++attempts_;
     if (attempts_ >= o.max_landing_attempts) {
+      // The last landing's guard names the give-up (gave_up says it ends).
       gave_up_ = true;
-      return go(MissionState::Rendezvous, TransitionReason::GaveUp, in.t);
+      return go(MissionState::Rendezvous, why, in.t);
     }
     return go(to, why, in.t);
   };

@@ -57,7 +57,8 @@ VehicleLog VehicleLog::parse(std::string_view text, std::string_view source, dou
   std::size_t previous_line = 0;
   std::vector<std::string_view> parts;
   std::size_t line_no = 0;
-  std::size_t start = 0;
+  // A UTF-8 byte-order mark (spreadsheets write one) is not part of the header.
+  std::size_t start = text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;
   while (start < text.size()) {
     const std::size_t end = std::min(text.find('\n', start), text.size());
     const std::string_view line = touchdown::detail::trim(text.substr(start, end - start));

@@ -121,6 +121,15 @@ TEST(LandingMissionApp, EnvelopeOverPathsAndTurbulenceLevels) {
   const AppRun bad = run("envelope --paths circle,nowhere", dir);
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("--paths"), std::string::npos) << bad.err;
+  // A grid no one reads and no run ends: refused before anything flies.
+  const AppRun huge = run("envelope --winds 0:8:0.0001", dir);
+  EXPECT_EQ(huge.code, 2);
+  EXPECT_NE(huge.err.find("at most 10000"), std::string::npos) << huge.err;
+  // The road's bends on the built-in 8 m circle mission: nothing flown, and said so.
+  const AppRun none = run("envelope --speeds 1:1:1 --winds 0:0:1 --runs 1 --paths road", dir);
+  ASSERT_EQ(none.code, 0) << none.err;
+  EXPECT_NE(none.out.find("no mission flown"), std::string::npos) << none.out;
+  EXPECT_EQ(none.out.find("every mission flown landed"), std::string::npos) << none.out;
 }
 
 // Issue 58 item 8: the summary says why missions did not land, not only

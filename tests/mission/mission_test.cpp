@@ -65,6 +65,21 @@ TEST(Mission, StraightLinePerfectPerceptionLandsWithinTwoCentimetres) {
   EXPECT_GT(r.replans, 5);
 }
 
+// Motors off just before the timeout: the verdict waits for the drone to
+// come to rest (it was "timeout in shutdown" for a landing 0.38 s early).
+TEST(Mission, ALandingJustBeforeTheTimeoutIsALanding) {
+  tdm::MissionOptions o = perfect(tdm::VehiclePath::Line);
+  const tdm::MissionResult first = tdm::run_mission(o, 1);
+  ASSERT_EQ(first.outcome, tdm::MissionOutcome::Landed) << first.message;
+  ASSERT_EQ(first.transitions.back().to, tdm::MissionState::Shutdown);
+  o.timeout = first.transitions.back().t + 0.05;
+  const tdm::MissionResult late = tdm::run_mission(o, 1);
+  EXPECT_EQ(late.outcome, tdm::MissionOutcome::Landed) << late.message;
+  EXPECT_EQ(late.touchdown_error, first.touchdown_error);
+  o.timeout = first.transitions.back().t - 0.05;  // before the cut: a timeout
+  EXPECT_EQ(tdm::run_mission(o, 1).outcome, tdm::MissionOutcome::Timeout);
+}
+
 TEST(Mission, SameSeedSameBitsForAnyThreadCount) {
   tdm::MissionOptions o;  // the default (noisy) circle mission
   const auto one = tdm::run_missions(o, 4, 9, 1);

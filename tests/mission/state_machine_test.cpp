@@ -359,7 +359,8 @@ TEST(StateMachine, GivesUpAfterMaxLandingAttempts) {
   s.in.vehicle_yaw_rate = 5;
   const auto out = s.step();
   ASSERT_TRUE(out.transitioned);
-  EXPECT_EQ(out.transition.reason, TransitionReason::GaveUp);
+  EXPECT_EQ(out.transition.reason, TransitionReason::VehicleTurning);  // the guard that aborted the last landing
+  EXPECT_EQ(out.transition.from, MissionState::Landing);
   EXPECT_TRUE(out.gave_up);
   EXPECT_EQ(s.machine.state(), MissionState::Rendezvous);
   // It holds there: no lock, no timeout, whatever comes.

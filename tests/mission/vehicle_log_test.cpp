@@ -126,6 +126,9 @@ TEST(VehicleLog, RoundTripsThroughItsCsv) {
   EXPECT_TRUE(bare.has_speed());
   EXPECT_DOUBLE_EQ(bare.sample(0.75).position.x(), 0.75);
   EXPECT_DOUBLE_EQ(bare.sample(3).position.x(), 3);  // extrapolated at its last speed
+  // A spreadsheet's UTF-8 byte-order mark before the header is not a column's.
+  const tdm::VehicleLog bom = tdm::VehicleLog::parse("\xEF\xBB\xBFt,x,y,yaw\n0,0,0,0\n1,1,0,0\n", "bom.csv");
+  EXPECT_DOUBLE_EQ(bom.sample(0.5).position.x(), 0.5);
 }
 
 TEST(VehicleLog, BadLogsNameTheLine) {

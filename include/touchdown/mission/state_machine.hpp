@@ -49,7 +49,7 @@ enum class TransitionReason {
   VehicleTurning,       ///< the vehicle's yaw rate above max_vehicle_yaw_rate
   LowWithoutPlan,       ///< below min_height_without_plan with no valid plan
   LowOffCentre,         ///< down to shutdown_height but beyond shutdown_radius: climb back
-  GaveUp,               ///< max_landing_attempts landings aborted
+  GaveUp,               ///< unused since 2026-12-07 (a give-up names the guard that aborted the last landing)
   WindTooStrong,        ///< slide_ratio above max_slide_ratio: the landed drone would be blown off or over
   NotStable,            ///< in tracking for max_tracking_time without becoming stable: gives up
 };
