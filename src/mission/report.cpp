@@ -364,12 +364,14 @@ std::string envelope_text(const Envelope& e, std::string_view source) {
   // Each reason once, with the speeds it holds at.
   std::vector<std::pair<std::string, std::string>> refused;  // reason, speeds
   double last = -1;
-  for (const auto& [speed, why] : e.refused) {
+  for (const auto& cell : e.refused) {
+    const double speed = cell.first;
+    const std::string& why = cell.second;
     if (speed == last) continue;
     last = speed;
     std::string at;
     appendf(at, "%.2f", speed);
-    const auto it = std::find_if(refused.begin(), refused.end(), [&](const auto& r) { return r.first == why; });
+    const auto it = std::find_if(refused.begin(), refused.end(), [&why](const auto& r) { return r.first == why; });
     if (it == refused.end()) {
       refused.emplace_back(why, at);
     } else {

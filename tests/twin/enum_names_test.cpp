@@ -10,8 +10,8 @@
 namespace td = touchdown;
 namespace tw = touchdown::twin;
 
-using TwinEnums =
-    ::testing::Types<tw::RunStatus, tw::SafetyMetric, tw::UnsafeReason, tw::SweepStatus, tw::SearchPreference>;
+using TwinEnums = ::testing::Types<tw::RunStatus, tw::SafetyMetric, tw::UnsafeReason, tw::SweepStatus,
+                                   tw::SearchPreference, tw::HeadingFlown>;
 namespace touchdown::test {
 INSTANTIATE_TYPED_TEST_SUITE_P(Twin, EnumNamesSuite, TwinEnums);
 }  // namespace touchdown::test
