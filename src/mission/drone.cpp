@@ -202,7 +202,7 @@ struct DroneSimulation::Impl {
   Eigen::Vector3d accel = Eigen::Vector3d::Zero();
   double t = 0;  // since place() [s]
   // The spool-down after the motors-off command: its time so far (< 0:
-  // armed), the collective thrust it ramps from, a foot touched since.
+  // armed), the collective thrust it ramps from, the attitude it holds.
   double spool_time = 0, spool_thrust = 0;
   Eigen::Matrix3d spool_attitude = Eigen::Matrix3d::Identity();
   ContactState contact_state;

@@ -259,6 +259,7 @@ class Flight {
         machine_(o.machine),
         landed_com_height_(o.drone.airframe.centre_of_mass().z() - o.drone.airframe.ground_z()),
         stance_(detail::stance_of(o.drone.airframe)),
+        tilt_acceleration_(twin::kStandardGravity * std::tan(deg_to_rad(o.drone.controller.tilt_max_air_deg))),
         guidance_(o.guidance, landed_com_height_),
         dt_(o.drone.step),
         ground_every_(every(1.0 / o.ground_rate_hz)),
@@ -442,7 +443,8 @@ class Flight {
     // pad (its thrust's horizontal part m a_pad − D(air)), touches with its
     // leading feet and levels about them, its centre of mass moving back by
     // d (1 − cos θ) + h sin θ (stance.hpp): aim that far ahead (low-passed).
-    const Eigen::Vector3d lean = mass_ * pad_.acceleration - observer_.drag(air);
+    const Eigen::Vector3d drag_now = observer_.drag(air);
+    const Eigen::Vector3d lean = mass_ * pad_.acceleration - drag_now;
     const Eigen::Vector2d lean_pad = (pad_.T_world_pad.linear().transpose() * lean).head<2>();
     const double tilt = std::atan2(lean_pad.norm(), mass_ * twin::kStandardGravity);
     const Eigen::Vector2d aim = lean_pad.norm() > 1e-9
@@ -453,9 +455,7 @@ class Flight {
     guidance_.set_touchdown_point(touchdown_point_);
     // The wind in the guidance's prediction: what the airframe's tilt limit
     // leaves beyond the estimated wind's drag at the pad's speed.
-    guidance_.set_acceleration_capacity(twin::kStandardGravity *
-                                            std::tan(touchdown::deg_to_rad(o_.drone.controller.tilt_max_air_deg)) -
-                                        observer_.drag(air).head<2>().norm() / mass_);
+    guidance_.set_acceleration_capacity(tilt_acceleration_ - drag_now.head<2>().norm() / mass_);
     if (state_ == MissionState::Tracking) in.tracking_error = (o_.guidance.tracking_point - est.p).norm();
     const StateMachineOutput sm = machine_.step(in);
     if (sm.transitioned) res_.transitions.push_back(sm.transition);
@@ -608,7 +608,8 @@ class Flight {
   DroneSimulation drone_;
   StateMachine machine_;
   const double landed_com_height_;
-  const detail::Stance stance_;                                ///< how the landed drone stands (the upset guard)
+  const detail::Stance stance_;     ///< how the landed drone stands (the upset guard)
+  const double tilt_acceleration_;  ///< g tan(tilt_max_air): the horizontal acceleration the tilt limit allows
   Eigen::Vector2d touchdown_point_ = Eigen::Vector2d::Zero();  ///< pad frame
   Eigen::Vector3d wind_mean_ = Eigen::Vector3d::Zero();        ///< the wind estimate's 2 s mean (world)
   double gust_variance_ = 0;                                   ///< of the estimate about it, horizontal [m²/s²]

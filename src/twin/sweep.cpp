@@ -225,12 +225,7 @@ void fly_runs(SweepResult& out, const LandingSimulator& sim, const SweepOptions&
       o.progress(progress_since(t0, ++done, total, k));
     };
   }
-  auto fly = [&](std::size_t k) {
-    auto& r = out.runs[k];
-    const auto start = std::chrono::steady_clock::now();
-    r.result = sim.land(r.conditions);
-    r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
+  auto fly = [&](std::size_t k) { internal::fly_run(out.runs[k], sim); };
   // Rounds: run i of every heading, so that an interrupted (anytime) sweep
   // has the same number of runs at every heading.
   int rounds = 0;

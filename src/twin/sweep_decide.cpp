@@ -37,6 +37,12 @@ bool disqualifies(const RunResult& r, const SweepOptions& o, double threshold) {
 
 }  // namespace
 
+void fly_run(RunRecord& run, const LandingSimulator& sim) {
+  const auto start = std::chrono::steady_clock::now();
+  run.result = sim.land(run.conditions);
+  run.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 void fly_decisive(SweepResult& out, const LandingSimulator& sim, const SweepOptions& o,
                   std::chrono::steady_clock::time_point t0) {
   const int n = o.headings, m = o.runs;
@@ -109,12 +115,7 @@ void fly_decisive(SweepResult& out, const LandingSimulator& sim, const SweepOpti
     } else if (wave.empty()) {
       for (const int j : live) wave.push_back(at(j, tracks[static_cast<std::size_t>(j)].flown));
     }
-    run_batch(wave.size(), batch, [&](std::size_t k, std::size_t) {
-      RunRecord& r = out.runs[wave[k]];
-      const auto start = std::chrono::steady_clock::now();
-      r.result = sim.land(r.conditions);
-      r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    });
+    run_batch(wave.size(), batch, [&](std::size_t k, std::size_t) { fly_run(out.runs[wave[k]], sim); });
     for (const std::size_t k : wave) {
       const RunRecord& r = out.runs[k];
       Track& t = tracks[static_cast<std::size_t>(r.heading)];

@@ -7,6 +7,10 @@
 
 namespace touchdown::twin::internal {
 
+/// Lands one run in the twin, its result and wall time into the record
+/// (what both the full sweep and the decision mode fly).
+void fly_run(RunRecord& run, const LandingSimulator& sim);
+
 /// Flies `out.runs` (planned for every heading × run, heading-major) in
 /// waves and keeps only the landings flown, heading-major; sets each
 /// heading's HeadingScore::flown, `out.decided`, `out.completeness` (the
