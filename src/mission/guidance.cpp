@@ -28,21 +28,21 @@ plan::PadMotion motion_of(const PadState& pad) {
 
 plan::KinematicState pad_to_world(const PadState& pad, const plan::KinematicState& rel) {
   const Eigen::Matrix3d& R = pad.T_world_pad.linear();
-  const Eigen::Vector3d w(0, 0, pad.yaw_rate);
+  const Eigen::Vector3d w(0, 0, pad.yaw_rate), wdot(0, 0, pad.yaw_acceleration);
   plan::KinematicState out;
   out.p = pad.T_world_pad * rel.p;
   out.v = pad.velocity + R * (rel.v + w.cross(rel.p));
-  out.a = pad.acceleration + R * (rel.a + 2 * w.cross(rel.v) + w.cross(w.cross(rel.p)));
+  out.a = pad.acceleration + R * (rel.a + 2 * w.cross(rel.v) + w.cross(w.cross(rel.p)) + wdot.cross(rel.p));
   return out;
 }
 
 plan::KinematicState world_to_pad(const PadState& pad, const plan::KinematicState& world) {
   const Eigen::Matrix3d Rt = pad.T_world_pad.linear().transpose();
-  const Eigen::Vector3d w(0, 0, pad.yaw_rate);
+  const Eigen::Vector3d w(0, 0, pad.yaw_rate), wdot(0, 0, pad.yaw_acceleration);
   plan::KinematicState rel;
   rel.p = pad.T_world_pad.inverse() * world.p;
   rel.v = Rt * (world.v - pad.velocity) - w.cross(rel.p);
-  rel.a = Rt * (world.a - pad.acceleration) - 2 * w.cross(rel.v) - w.cross(w.cross(rel.p));
+  rel.a = Rt * (world.a - pad.acceleration) - 2 * w.cross(rel.v) - w.cross(w.cross(rel.p)) - wdot.cross(rel.p);
   return rel;
 }
 
@@ -221,9 +221,17 @@ GuidanceOutput Guidance::update(double t, MissionState state, bool entered, cons
     const Eigen::Vector2d error = (out.reference.p - estimate.p).head<2>();
     if (error.norm() < options_.pad_integral_window) offset_ += options_.pad_integral_gain * h * error;
     if (offset_.norm() > options_.pad_integral_limit) offset_ *= options_.pad_integral_limit / offset_.norm();
+    // The offset moves with the pad: its point's world velocity and
+    // acceleration (ω × offset, ω × (ω × offset)) are fed forward with it,
+    // else a turning pad leaves the shifted point's own motion to the
+    // position loop, which lags it by a rotation that made this integral
+    // ring (a 10 s swing of ±0.3 m on the figure-eight at 4 m/s).
     plan::KinematicState shifted = out.reference;
     shifted.p.head<2>() += offset_;
-    out.setpoint.position = pad_to_world(pad, shifted).p;
+    const plan::KinematicState w = pad_to_world(pad, shifted);
+    out.setpoint.position = w.p;
+    out.setpoint.velocity = w.v;
+    out.setpoint.acceleration = w.a;
   } else {
     offset_.setZero();
   }

@@ -270,6 +270,7 @@ class Flight {
     last_pad_v_ = vehicle_.pad_velocity();
     read_pad();
     pad_.acceleration = Eigen::Vector3d::Zero();
+    pad_.yaw_acceleration = 0;
     drone_.set_pad(pad_.T_world_pad, pad_.velocity, vehicle_.pad_angular_velocity());
     Eigen::Isometry3d T_start = Eigen::Isometry3d::Identity();
     T_start.translation() = o.drone_start - o.drone.airframe.centre_of_mass();
@@ -322,6 +323,7 @@ class Flight {
     pad_.T_world_pad = vehicle_.T_world_pad();
     pad_.velocity = vehicle_.pad_velocity();
     pad_.acceleration = (pad_.velocity - last_pad_v_) / dt_;
+    pad_.yaw_acceleration = (vehicle_.state().yaw_rate - pad_.yaw_rate) / dt_;
     pad_.yaw_rate = vehicle_.state().yaw_rate;
   }
 
@@ -405,7 +407,13 @@ class Flight {
     in.t = t;
     in.p_fix = p_fix_pad_;
     receive_frames(t, in);
-    const plan::KinematicState est = world_to_pad(pad_, {estimator_.p(), estimator_.v(), Eigen::Vector3d::Zero()});
+    // The drone's acceleration is not estimated: relative to the pad it is
+    // taken as what the guidance asks of it (zero while it holds a point),
+    // not as a world-frame zero, which in a turning frame reads as the
+    // pad's centripetal acceleration backwards and started every landing's
+    // first plan swinging outward (0.4 m sideways at 4 m/s on the 8 m circle).
+    plan::KinematicState est = world_to_pad(pad_, {estimator_.p(), estimator_.v(), Eigen::Vector3d::Zero()});
+    est.a = guide_.reference.a;
     in.p_estimate = est.p;
     in.v_estimate = est.v;
     // The lowest foot above the pad, from the estimate and the attitude (the
@@ -525,6 +533,15 @@ class Flight {
       if (!o_.drone.drag_feed_forward) commanded.acceleration += observer_.feed_forward(estimator_.v());
     }
     if (o_.drone.drag_feed_forward) commanded.acceleration -= observer_.drag(flown.velocity - observer_.wind()) / mass_;
+    if (o_.drone.turn_feed_forward) {
+      // The velocity loop's derivative acts on the measured acceleration,
+      // low-passed at MPC_VELD_LP: the setpoint's own acceleration through
+      // the same low-pass, times its gain, is added back, so the derivative
+      // damps the acceleration error, not the acceleration the setpoint asks.
+      const double lp = 1.0 - std::exp(-2.0 * std::numbers::pi * o_.drone.controller.vel_deriv_lp_hz * dt_);
+      setpoint_accel_lp_ += lp * (flown.acceleration.head<2>() - setpoint_accel_lp_);
+      commanded.acceleration.head<2>() += o_.drone.controller.xy_vel_d * setpoint_accel_lp_;
+    }
     vehicle_.step(dt_);
     last_pad_v_ = pad_.velocity;
     read_pad();
@@ -619,6 +636,7 @@ class Flight {
   DroneEstimator estimator_;
   PadState pad_;
   Eigen::Vector3d last_pad_v_ = Eigen::Vector3d::Zero();
+  Eigen::Vector2d setpoint_accel_lp_ = Eigen::Vector2d::Zero();  ///< drone.turn_feed_forward's low-pass
   Eigen::Vector3d fix_error_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d p_fix_pad_ = Eigen::Vector3d::Zero();
   DroneState truth_;

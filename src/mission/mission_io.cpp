@@ -274,6 +274,7 @@ void read_mission(const YamlReader& r, const YAML::Node& root, std::string_view 
                      num("ground_friction", d.ground_friction),
                      num("wind_observer_time", d.wind_observer_time),
                      flag("drag_feed_forward", d.drag_feed_forward),
+                     flag("turn_feed_forward", d.turn_feed_forward),
                      num("spool_down", d.spool_down),
                      vec3("start", o.drone_start),
                      num("imu_accel_sigma", o.imu_accel_sigma),

@@ -45,6 +45,14 @@ struct DroneOptions {
   /// velocity integrator's limit. The setpoint's velocity, not the
   /// measured one: the airframe's own damping stays.
   bool drag_feed_forward = false;
+  /// Raise the setpoint's horizontal acceleration feed-forward by
+  /// MPC_XY_VEL_D_ACC times itself: the velocity loop's derivative term
+  /// acts on the measured acceleration (PX4), so in a steady turn it brakes
+  /// the centripetal acceleration the setpoint asks for, and the drone
+  /// flies outside the turn (0.27 m at 4 m/s on the 8 m circle, which the
+  /// world-frame integrator cannot hold as it turns with the pad). With it
+  /// the derivative acts on the acceleration error.
+  bool turn_feed_forward = true;
   /// After the motors-off command the collective thrust ramps from what it
   /// was to zero over this time [s], in [0, 5] (0 = cut at once; the motors
   /// spin down with their time constant), as PX4's land detector's ramp;

@@ -47,12 +47,16 @@ struct PadState {
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();      ///< of the pad origin [m/s]
   Eigen::Vector3d acceleration = Eigen::Vector3d::Zero();  ///< of the pad origin [m/s²]
   double yaw_rate = 0;                                     ///< [rad/s]
+  /// [rad/s²]: a vehicle changing its turn (a figure-eight's lobe switch,
+  /// 1.6 rad/s² at 4 m/s) swings a point 1.2 m behind the pad sideways at
+  /// ω̇ × p, 2 m/s², which the setpoint must carry.
+  double yaw_acceleration = 0;
 };
 
 /// A pad-frame state (position, velocity, acceleration relative to the
 /// moving pad) in the world, and back (rigid-body kinematics of a frame
 /// turning about z: v = v_pad + R(v_rel + ω × p), a = a_pad + R(a_rel + 2ω ×
-/// v_rel + ω × (ω × p))).
+/// v_rel + ω × (ω × p) + ω̇ × p)).
 plan::KinematicState pad_to_world(const PadState& pad, const plan::KinematicState& relative);
 plan::KinematicState world_to_pad(const PadState& pad, const plan::KinematicState& world);
 
