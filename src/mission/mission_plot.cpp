@@ -237,19 +237,28 @@ std::string short_reason(const std::string& why) {
   return why;
 }
 
-// The failure mix's colour of a reason (failure_reason's text): one per
-// guard that most often ends a mission, crashes black, the rest grey.
+// The failure mix's colours: one per guard that most often ends a
+// mission, crashes black, the rest grey (legend text, failure_reason key).
+struct MixColour {
+  const char* legend;
+  const char* key;
+  const char* colour;
+};
+constexpr std::array<MixColour, 9> kMix{{{"landed", "", "#1b7837"},
+                                         {"crashed", "crashed", "#000000"},
+                                         {"not stable", "not_stable", "#6a3d9a"},
+                                         {"wind too strong", "wind_too_strong", "#1f78b4"},
+                                         {"vehicle accelerating", "vehicle_accelerating", "#a6cee3"},
+                                         {"plan infeasible", "plan_infeasible", "#ff7f00"},
+                                         {"pose lost", "pose_lost", "#b15928"},
+                                         {"low off centre", "low_off_centre", "#e31a1c"},
+                                         {"timeout / other", "timeout", "#bdbdbd"}}};
+
+// The failure mix's colour of a reason (failure_reason's text).
 const char* mix_colour(const std::string& why) {
-  static const std::array<std::pair<const char*, const char*>, 7> kColours{{{"crashed", "#000000"},
-                                                                            {"not_stable", "#6a3d9a"},
-                                                                            {"wind_too_strong", "#1f78b4"},
-                                                                            {"plan_infeasible", "#ff7f00"},
-                                                                            {"pose_lost", "#b15928"},
-                                                                            {"low_off_centre", "#e31a1c"},
-                                                                            {"timeout", "#bdbdbd"}}};
   const std::string key = short_reason(why);
-  for (const auto& [name, colour] : kColours) {
-    if (key.rfind(name, 0) == 0) return colour;
+  for (const MixColour& m : kMix) {
+    if (*m.key != '\0' && key.rfind(m.key, 0) == 0) return m.colour;
   }
   return "#bdbdbd";  // timeout / other
 }
@@ -292,7 +301,8 @@ std::string plot_envelope(const std::vector<EnvelopeCell>& cells, const std::str
       std::replace(why.begin(), why.end(), '_', ' ');
       svg.text(x + cw / 2, y + ch / 2 + 9, std::to_string(c.reasons.front().second) + " \u00d7",
                " text-anchor='middle' font-size='9'");
-      svg.text(x + cw / 2, y + ch / 2 + 19, why, " text-anchor='middle' font-size='8.5'");
+      svg.text(x + cw / 2, y + ch / 2 + 19, why,
+               std::string(" text-anchor='middle' font-size='") + (why.size() > 17 ? "7.5" : "8.5") + "'");
       // The failure mix: a bar of every run, landed first, then each reason.
       const double bx = x + 4, bw = cw - 8, by = y + ch - 10;
       double at = bx;
@@ -324,18 +334,10 @@ std::string plot_envelope(const std::vector<EnvelopeCell>& cells, const std::str
   svg.text(L + W + 14, T + 62, "others did not land");
   svg.text(L + W + 14, T + 78, "(--json: all of them);");
   svg.text(L + W + 14, T + 94, "at the bottom, the mix:");
-  const std::array<std::pair<const char*, const char*>, 8> legend{{{"landed", "#1b7837"},
-                                                                   {"crashed", "#000000"},
-                                                                   {"not stable", "#6a3d9a"},
-                                                                   {"wind too strong", "#1f78b4"},
-                                                                   {"plan infeasible", "#ff7f00"},
-                                                                   {"pose lost", "#b15928"},
-                                                                   {"low off centre", "#e31a1c"},
-                                                                   {"timeout / other", "#bdbdbd"}}};
-  for (std::size_t k = 0; k < legend.size(); ++k) {
+  for (std::size_t k = 0; k < kMix.size(); ++k) {
     const double ly = T + 108 + 16 * static_cast<double>(k);
-    svg.rect(L + W + 14, ly - 8, 12, 8, std::string(" fill='") + legend[k].second + "'");
-    svg.text(L + W + 30, ly, legend[k].first, " font-size='11'");
+    svg.rect(L + W + 14, ly - 8, 12, 8, std::string(" fill='") + kMix[k].colour + "'");
+    svg.text(L + W + 30, ly, kMix[k].legend, " font-size='11'");
   }
   return svg.finish();
 }

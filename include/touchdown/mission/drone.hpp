@@ -45,13 +45,15 @@ struct DroneOptions {
   /// velocity integrator's limit. The setpoint's velocity, not the
   /// measured one: the airframe's own damping stays.
   bool drag_feed_forward = false;
-  /// Raise the setpoint's horizontal acceleration feed-forward by
-  /// MPC_XY_VEL_D_ACC times itself: the velocity loop's derivative term
-  /// acts on the measured acceleration (PX4), so in a steady turn it brakes
-  /// the centripetal acceleration the setpoint asks for, and the drone
-  /// flies outside the turn (0.27 m at 4 m/s on the 8 m circle, which the
-  /// world-frame integrator cannot hold as it turns with the pad). With it
-  /// the derivative acts on the acceleration error.
+  /// Add back what the velocity loop's derivative takes from the setpoint's
+  /// horizontal acceleration: that term acts on the measured acceleration
+  /// (PX4's MPC_XY_VEL_D_ACC, low-passed at MPC_VELD_LP), so in a steady
+  /// turn it brakes the centripetal acceleration the setpoint asks for and
+  /// the drone flies outside the turn (0.27 m at 4 m/s on the 8 m circle,
+  /// which the world-frame integrator cannot hold as it turns with the
+  /// pad). The setpoint's acceleration through the same low-pass, times the
+  /// gain, is added to the feed-forward: the derivative then damps the
+  /// acceleration error.
   bool turn_feed_forward = true;
   /// After the motors-off command the collective thrust ramps from what it
   /// was to zero over this time [s], in [0, 5] (0 = cut at once; the motors
