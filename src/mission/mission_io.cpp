@@ -120,7 +120,8 @@ int line_of(const YAML::Node& root, const std::string& path) {
 struct LogKeys {
   std::string name;
   double max_gap = 1.0;
-  YAML::Node log_node, gap_node, path_node;  ///< where messages point: the key, else the section
+  double smoothing = 2.0;                                    ///< [s] vehicle.log_smoothing (VehicleLog::parse)
+  YAML::Node log_node, gap_node, smoothing_node, path_node;  ///< where messages point: the key, else the section
 };
 
 void load_log(const YamlReader& r, const LogKeys& k, const std::filesystem::path& base, MissionFile& file) {
@@ -130,6 +131,9 @@ void load_log(const YamlReader& r, const LogKeys& k, const std::filesystem::path
   // log): beside the mission first, then touchdown's data directories.
   if (!(k.max_gap > 0) || !std::isfinite(k.max_gap)) {
     r.fail(k.gap_node, "vehicle.log_max_gap", "must be positive [s]");
+  }
+  if (!(k.smoothing >= 0) || !std::isfinite(k.smoothing) || k.smoothing > 10) {
+    r.fail(k.smoothing_node, "vehicle.log_smoothing", "must be in [0, 10] s");
   }
   if (k.name.empty()) {
     if (v.path == VehiclePath::Log) r.fail(k.path_node, "vehicle.log", "path log needs a log file");
@@ -143,7 +147,7 @@ void load_log(const YamlReader& r, const LogKeys& k, const std::filesystem::path
     r.fail(k.log_node, "vehicle.log", e.what());
   }
   // A log's own errors name its file and line (ParseError, exit 2).
-  v.log = std::make_shared<const VehicleLog>(VehicleLog::load(path, k.max_gap));
+  v.log = std::make_shared<const VehicleLog>(VehicleLog::load(path, k.max_gap, k.smoothing));
   file.vehicle_log = path;
   if (v.log->duration() < o.timeout) {
     file.warnings.push_back("vehicle.log: " + path.string() + " covers " + format_general(v.log->duration()) +
@@ -169,6 +173,7 @@ std::vector<Field> vehicle_fields(VehicleOptions& v, LogKeys& log) {
           vec3("pad_position", v.pad_position),
           word("log", log.name),
           num("log_max_gap", log.max_gap),
+          num("log_smoothing", log.smoothing),
           named("model", v.model),
           num("wheelbase", v.wheelbase),
           deg("max_steer_deg", v.max_steer),
@@ -240,6 +245,7 @@ void read_mission(const YamlReader& r, const YAML::Node& root, std::string_view 
                 read_fields(rr, n, k + ".", vehicle_fields(v, log));
                 log.log_node = n["log"] ? n["log"] : n;
                 log.gap_node = n["log_max_gap"] ? n["log_max_gap"] : n;
+                log.smoothing_node = n["log_smoothing"] ? n["log_smoothing"] : n;
                 log.path_node = n["path"] ? n["path"] : n;
               }),
       section("pad",

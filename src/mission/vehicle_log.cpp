@@ -3,9 +3,11 @@
 // ch. IV) and constant-turn-rate extrapolation after the last row.
 #include "touchdown/mission/vehicle_log.hpp"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <utility>
 
@@ -47,8 +49,9 @@ struct Hermite {
 
 }  // namespace
 
-VehicleLog VehicleLog::parse(std::string_view text, std::string_view source, double max_gap) {
+VehicleLog VehicleLog::parse(std::string_view text, std::string_view source, double max_gap, double smoothing) {
   if (!(max_gap > 0) || !std::isfinite(max_gap)) throw InvalidArgument("vehicle log: max_gap must be positive [s]");
+  if (!(smoothing >= 0) || !std::isfinite(smoothing)) throw InvalidArgument("vehicle log: smoothing must be >= 0 [s]");
   VehicleLog log;
   log.source_ = std::string(source);
   std::array<int, kColumns> where{-1, -1, -1, -1, -1};  // the field index of each column
@@ -171,50 +174,81 @@ VehicleLog VehicleLog::parse(std::string_view text, std::string_view source, dou
     parse_fail(source, "too short: " + touchdown::detail::format_general(log.duration()) + " s (at least " +
                            touchdown::detail::format_general(kMinDuration) + " s)");
   }
-  log.prepare();
+  log.prepare(smoothing);
   return log;
 }
 
-VehicleLog VehicleLog::load(const std::filesystem::path& path, double max_gap) {
-  return parse(touchdown::detail::read_text_file(path), path.string(), max_gap);
+VehicleLog VehicleLog::load(const std::filesystem::path& path, double max_gap, double smoothing) {
+  return parse(touchdown::detail::read_text_file(path), path.string(), max_gap, smoothing);
 }
 
-void VehicleLog::prepare() {
+void VehicleLog::prepare(double smoothing) {
   const std::size_t n = rows_.size();
+  smooth_ = rows_;
   velocity_.resize(n);
   yaw_rate_.resize(n);
+  // Smoothing: each row's value and rate from the least-squares parabola
+  // over the rows within ±smoothing/2 (times relative to the row's own).
+  std::vector<Eigen::Vector4d> rate(n, Eigen::Vector4d::Constant(std::numeric_limits<double>::quiet_NaN()));
+  if (smoothing > 0) {
+    std::size_t lo = 0, hi = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double t = rows_[i].t;
+      while (rows_[lo].t < t - 0.5 * smoothing) ++lo;
+      while (hi + 1 < n && rows_[hi + 1].t <= t + 0.5 * smoothing) ++hi;
+      if (hi - lo + 1 < 4) continue;
+      Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+      Eigen::Matrix<double, 3, 4> b = Eigen::Matrix<double, 3, 4>::Zero();
+      for (std::size_t j = lo; j <= hi; ++j) {
+        const Row& r = rows_[j];
+        const double tau = r.t - t;
+        const Eigen::Vector3d phi(1, tau, tau * tau);
+        A += phi * phi.transpose();
+        b += phi * Eigen::RowVector4d(r.x, r.y, r.yaw, has_speed_ ? r.speed : 0.0);
+      }
+      const Eigen::Matrix<double, 3, 4> c = A.ldlt().solve(b);
+      if (!c.allFinite()) continue;
+      Row& s = smooth_[i];
+      s.x = c(0, 0);
+      s.y = c(0, 1);
+      s.yaw = c(0, 2);
+      if (has_speed_) s.speed = std::max(0.0, c(0, 3));
+      rate[i] = c.row(1).transpose();
+    }
+  }
   for (std::size_t i = 0; i < n; ++i) {
-    Row& r = rows_[i];
-    // The three rows around row i (two rows: the chord).
-    const auto derivative = [&](double Row::*f) {
-      if (n == 2) return (rows_[1].*f - rows_[0].*f) / (rows_[1].t - rows_[0].t);
+    const Row& r = smooth_[i];
+    // The three rows around row i (two rows: the chord), or the fit's rate.
+    const auto derivative = [&](double Row::*f, int k) {
+      if (std::isfinite(rate[i][k])) return rate[i][k];
+      if (n == 2) return (smooth_[1].*f - smooth_[0].*f) / (smooth_[1].t - smooth_[0].t);
       const std::size_t a = std::clamp<std::size_t>(i, 1, n - 2) - 1;
-      const Row &r0 = rows_[a], &r1 = rows_[a + 1], &r2 = rows_[a + 2];
+      const Row &r0 = smooth_[a], &r1 = smooth_[a + 1], &r2 = smooth_[a + 2];
       return three_point(r0.t, r0.*f, r1.t, r1.*f, r2.t, r2.*f, static_cast<int>(i - a));
     };
-    yaw_rate_[i] = derivative(&Row::yaw);
+    yaw_rate_[i] = derivative(&Row::yaw, 2);
     velocity_[i] = has_speed_ ? Eigen::Vector2d(r.speed * std::cos(r.yaw), r.speed * std::sin(r.yaw))
-                              : Eigen::Vector2d(derivative(&Row::x), derivative(&Row::y));
+                              : Eigen::Vector2d(derivative(&Row::x, 0), derivative(&Row::y, 1));
   }
   // Without a speed column: the speed at each row is the velocity along the
   // heading there, interpolated between rows as a logged one would be.
   if (!has_speed_) {
     for (std::size_t i = 0; i < n; ++i) {
-      speed_.push_back(velocity_[i].dot(Eigen::Vector2d(std::cos(rows_[i].yaw), std::sin(rows_[i].yaw))));
+      speed_.push_back(velocity_[i].dot(Eigen::Vector2d(std::cos(smooth_[i].yaw), std::sin(smooth_[i].yaw))));
     }
   }
 }
 
-double VehicleLog::row_speed(std::size_t i) const { return has_speed_ ? rows_[i].speed : speed_[i]; }
+double VehicleLog::row_speed(std::size_t i) const { return has_speed_ ? smooth_[i].speed : speed_[i]; }
 
 LogSample VehicleLog::sample(double t) const {
-  const double tt = rows_.front().t + std::max(t, 0.0);
+  const double tt = smooth_.front().t + std::max(t, 0.0);
   LogSample out;
-  if (tt >= rows_.back().t) {
+  if (tt >= smooth_.back().t) {
     // Constant turn rate and velocity from the last row.
-    const Row& r = rows_.back();
+    const Row& r = smooth_.back();
     const Eigen::Vector2d heading(std::cos(r.yaw), std::sin(r.yaw));
-    const double v = row_speed(rows_.size() - 1), w = yaw_rate_.back(), dt = tt - r.t;
+    const double v = row_speed(smooth_.size() - 1), w = yaw_rate_.back(), dt = tt - r.t;
     const double yaw = r.yaw + w * dt;
     const Eigen::Vector2d travelled =
         std::abs(w * dt) > 1e-9
@@ -226,9 +260,9 @@ LogSample VehicleLog::sample(double t) const {
     out.yaw_rate = w;
     return out;
   }
-  const auto it = std::upper_bound(rows_.begin(), rows_.end(), tt, [](double x, const Row& r) { return x < r.t; });
-  const std::size_t i = static_cast<std::size_t>(it - rows_.begin()) - 1;
-  const Row &r0 = rows_[i], &r1 = rows_[i + 1];
+  const auto it = std::upper_bound(smooth_.begin(), smooth_.end(), tt, [](double x, const Row& r) { return x < r.t; });
+  const std::size_t i = static_cast<std::size_t>(it - smooth_.begin()) - 1;
+  const Row &r0 = smooth_[i], &r1 = smooth_[i + 1];
   const double h = r1.t - r0.t;
   const Hermite b((tt - r0.t) / h);
   const Eigen::Vector2d p0(r0.x, r0.y), p1(r1.x, r1.y), m0 = h * velocity_[i], m1 = h * velocity_[i + 1];

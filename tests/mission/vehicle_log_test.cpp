@@ -15,6 +15,7 @@
 
 #include "test_util.hpp"
 #include "touchdown/core/error.hpp"
+#include "touchdown/core/random.hpp"
 #include "touchdown/mission/mission.hpp"
 #include "touchdown/mission/mission_io.hpp"
 #include "touchdown/mission/vehicle.hpp"
@@ -53,6 +54,81 @@ std::string error_of(const std::string& text) {
 }
 
 }  // namespace
+
+// Smoothing (vehicle.log_smoothing): a least-squares parabola over the
+// window is exact for a motion of constant acceleration; on a circle it is
+// biased by R ω⁴ w⁴ / 4480 in position (the fit of τ⁴ over ±h misses it by
+// 3h⁴/35) and by ω² w² / 40 in the speed (the slope fitted to τ³ is 3h²/5);
+// and it takes most of a logger's noise out of the replayed motion.
+TEST(VehicleLog, SmoothingKeepsAConstantAccelerationAndACircle) {
+  std::ostringstream ramp;
+  ramp.precision(17);
+  ramp << "t,x,y,yaw\n";
+  for (int i = 0; i <= 100; ++i) {
+    const double t = 0.1 * i;
+    ramp << t << "," << 1 + 2 * t + 0.4 * t * t << ",0,0\n";
+  }
+  const tdm::VehicleLog exact = tdm::VehicleLog::parse(ramp.str(), "ramp.csv", 1.0, 2.0);
+  for (const double t : {0.0, 0.33, 4.05, 9.99}) {
+    const tdm::LogSample s = exact.sample(t);
+    EXPECT_NEAR(s.position.x(), 1 + 2 * t + 0.4 * t * t, 1e-9) << t;
+    EXPECT_NEAR(s.speed, 2 + 0.8 * t, 1e-6) << t;
+  }
+  const double R = 8, v = 2, w = 0.25, window = 2.0;
+  const tdm::VehicleLog circle = tdm::VehicleLog::parse(circle_log(R, v, 0.1, 30, false), "c.csv", 1.0, window);
+  const double bias = R * std::pow(w, 4) * std::pow(window, 4) / 4480;  // 0.11 mm
+  const double rate_bias = w * w * window * window / 40;                // 0.63 %
+  for (double t = 2; t < 28; t += 0.37) {
+    const tdm::LogSample s = circle.sample(t);
+    const double a = w * t;
+    // Between rows the Hermite curve follows the rows' (slower) tangents:
+    // up to a row interval's share of the speed's bias more.
+    EXPECT_LT((s.position - Eigen::Vector2d(R * std::sin(a), R * (1 - std::cos(a)))).norm(),
+              1.1 * bias + 0.1 * rate_bias * v)
+        << t;
+    EXPECT_NEAR(s.yaw_rate, w, 1e-9) << t;  // a heading turning at a constant rate: exact
+    EXPECT_NEAR(s.speed, v * (1 - rate_bias), 0.1 * rate_bias * v) << t;
+  }
+}
+
+TEST(VehicleLog, SmoothingTakesALoggersNoiseOutOfTheMotion) {
+  // A straight drive at 3 m/s logged at 10 Hz with 2 cm of position and
+  // 0.01 rad of heading noise, no speed column.
+  td::Rng rng(7);
+  std::ostringstream noisy;
+  noisy.precision(17);
+  noisy << "t,x,y,yaw\n";
+  for (int i = 0; i <= 600; ++i) {
+    const double t = 0.1 * i;
+    noisy << t << "," << 3 * t + 0.02 * rng.normal() << "," << 0.02 * rng.normal() << "," << 0.01 * rng.normal()
+          << "\n";
+  }
+  const auto rms = [](const tdm::VehicleLog& log) {
+    double e_speed = 0, e_rate = 0, e_pos = 0;
+    int n = 0;
+    for (double t = 3; t < 57; t += 0.013, ++n) {
+      const tdm::LogSample s = log.sample(t);
+      e_speed += std::pow(s.speed - 3, 2);
+      e_rate += std::pow(s.yaw_rate, 2);
+      e_pos += (s.position - Eigen::Vector2d(3 * t, 0)).squaredNorm();
+    }
+    return Eigen::Vector3d(std::sqrt(e_speed / n), std::sqrt(e_rate / n), std::sqrt(e_pos / n));
+  };
+  const Eigen::Vector3d raw = rms(tdm::VehicleLog::parse(noisy.str(), "n.csv", 1.0, 0.0));
+  const Eigen::Vector3d smooth = rms(tdm::VehicleLog::parse(noisy.str(), "n.csv", 1.0, 2.0));
+  // 21 rows a window: the value's noise √(9/84) ≈ 0.33 of σ; a rate's
+  // σ/√(Σ τ²) (the heading's: 0.011 rad/s) against σ√2/0.2 s from three
+  // rows (0.07 rad/s).
+  EXPECT_GT(raw.x(), 0.1);
+  EXPECT_LT(smooth.x(), 0.03);
+  EXPECT_GT(raw.y(), 0.05);
+  EXPECT_LT(smooth.y(), 0.015);
+  EXPECT_LT(smooth.z(), 0.5 * raw.z());
+  // The logged rows themselves are kept (to_csv round-trips them).
+  EXPECT_EQ(tdm::VehicleLog::parse(noisy.str(), "n.csv", 1.0, 2.0).to_csv(),
+            tdm::VehicleLog::parse(noisy.str(), "n.csv", 1.0, 0.0).to_csv());
+  EXPECT_THROW((void)tdm::VehicleLog::parse(noisy.str(), "n.csv", 1.0, -1.0), td::InvalidArgument);
+}
 
 TEST(VehicleLog, ReplaysACircleBetweenAndAfterItsRows) {
   const double R = 20, v = 10;  // 0.5 rad/s
