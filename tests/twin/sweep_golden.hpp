@@ -123,15 +123,35 @@ void check_golden(const std::string& name, const Result& r) {
   ASSERT_EQ(was.verdicts.size(), is.verdicts.size()) << name;
   double moved = 0;
   std::size_t where = 0;
+#if defined(__x86_64__)
+  constexpr bool kReference = true;
+#else
+  // The file is x86-64's. On another architecture (arm64: ODE, OpenCV and
+  // Eigen fuse multiply-adds whatever our flags say) a drone that tumbles
+  // lands elsewhere: the decision must hold — each heading safe or not, and
+  // a landing's chosen heading — while why an unsafe heading failed, and
+  // which unsafe heading is least bad when none is safe, may differ
+  // (scripts/test-arm64.sh: slope_steep's headings 8 and 9 tip or run off,
+  // its least-bad heading 5 or 18).
+  constexpr bool kReference = false;
+#endif
+  bool lands = false;
   for (std::size_t k = 0; k < is.verdicts.size(); ++k) {
-    EXPECT_EQ(was.verdicts[k], is.verdicts[k]) << name << ": heading or candidate " << k;
+    lands = lands || was.verdicts[k] == "safe";
+    if (kReference) {
+      EXPECT_EQ(was.verdicts[k], is.verdicts[k]) << name << ": heading or candidate " << k;
+    } else {
+      EXPECT_EQ(was.verdicts[k] == "safe", is.verdicts[k] == "safe") << name << ": heading or candidate " << k;
+    }
     const double change = std::abs(was.scores[k] - is.scores[k]);
     if (std::isfinite(change) && change > moved) {
       moved = change;
       where = k;
     }
   }
-  EXPECT_EQ(was.choice, is.choice) << name << ": the chosen heading or point";
+  if (kReference || lands) {
+    EXPECT_EQ(was.choice, is.choice) << name << ": the chosen heading or point";
+  }
   std::cout << name << ": largest change of S " << moved << " rad (index " << where << ")\n";
 }
 
