@@ -183,10 +183,13 @@ StagedDirectory::StagedDirectory(const fs::path& target) : target_(target.lexica
   (void)remove_stale_temporaries(target_);  // what a killed run left
   staging_ = temporary_beside(target_, "", kDirectoryKind);
   fs::remove_all(staging_, ec);
+  // Registered before it exists: a signal between its creation and its
+  // registration left it behind (an interrupt that came just as it appeared).
+  register_temporary(staging_);
   if (!fs::create_directory(staging_, ec) || ec) {
+    unregister_temporary(staging_);
     throw IoError(staging_.string() + ": cannot create the staging directory: " + ec.message());
   }
-  register_temporary(staging_);
 }
 
 StagedDirectory::~StagedDirectory() {
