@@ -538,8 +538,7 @@ class Flight {
       // low-passed at MPC_VELD_LP: the setpoint's own acceleration through
       // the same low-pass, times its gain, is added back, so the derivative
       // damps the acceleration error, not the acceleration the setpoint asks.
-      const double lp = 1.0 - std::exp(-2.0 * std::numbers::pi * o_.drone.controller.vel_deriv_lp_hz * dt_);
-      setpoint_accel_lp_ += lp * (flown.acceleration.head<2>() - setpoint_accel_lp_);
+      setpoint_accel_lp_ += setpoint_accel_gain_ * (flown.acceleration.head<2>() - setpoint_accel_lp_);
       commanded.acceleration.head<2>() += o_.drone.controller.xy_vel_d * setpoint_accel_lp_;
     }
     vehicle_.step(dt_);
@@ -637,6 +636,9 @@ class Flight {
   PadState pad_;
   Eigen::Vector3d last_pad_v_ = Eigen::Vector3d::Zero();
   Eigen::Vector2d setpoint_accel_lp_ = Eigen::Vector2d::Zero();  ///< drone.turn_feed_forward's low-pass
+  /// Its gain per step: the controller's derivative low-pass (flight_control.cpp).
+  const double setpoint_accel_gain_ =
+      1.0 - std::exp(-2.0 * std::numbers::pi * o_.drone.controller.vel_deriv_lp_hz * o_.drone.step);
   Eigen::Vector3d fix_error_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d p_fix_pad_ = Eigen::Vector3d::Zero();
   DroneState truth_;
