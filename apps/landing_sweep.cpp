@@ -113,6 +113,10 @@ void add_options(CLI::App& app, Args& a) {
                            "point clouds: fill regions the camera never observed as a block up to their highest rim "
                            "or as a pit (either way a heading over them is unsafe: unobserved terrain)");
   app.add_option("--step", o.simulation.step, "physics step [s]")->capture_default_str();
+  td::app::add_enum_option(app, "--contact", o.simulation.contact,
+                           "trimesh: contacts from the terrain's triangles (the default); height-field: on a terrain "
+                           "that is one (a depth cloud, or a mesh made from one) candidates by grid index and one "
+                           "contact per patch of surface, faster (docs/benchmarks.md), else as trimesh");
   app.add_option("--timeout", o.simulation.timeout,
                  "simulated seconds a landing may take; a run still moving then is invalid (timeout), not scored")
       ->check(CLI::Range(0.1, 600.0))
@@ -221,7 +225,10 @@ int main(int argc, char** argv) {
     const tw::SearchResult search = sweep_or_search(airframe, terrain, a);
     bar.close();  // e.g. a --time-budget stop: the summary gets its own line
     write_files(a, out, search, requested, airframe, *terrain);
-    const tw::SweepReportInfo info{a.terrain_path, a.airframe_path.empty() ? "built-in f450" : a.airframe_path, a.o};
+    tw::SweepReportInfo info{a.terrain_path, a.airframe_path.empty() ? "built-in f450" : a.airframe_path, a.o};
+    if (a.o.simulation.contact == tw::TerrainContact::HeightField && terrain->height_field() != nullptr) {
+      info.contact = std::string(tw::to_string(tw::TerrainContact::HeightField));
+    }
     std::cout << (a.json ? tw::sweep_json(search, info) + "\n" : tw::sweep_summary(search, info));
     return td::app::kExitOk;
   });

@@ -150,8 +150,7 @@ double extent_along(const BoxShape& s, const Eigen::Vector3d& n) {
 template <typename Shape>
 void collide_convex(const TerrainModel& terrain, const Shape& shape, const Eigen::AlignedBox3d& aabb,
                     ccd_support_fn support, ccd_center_fn center, Scratch& scratch, std::vector<Contact>& out) {
-  scratch.triangles.clear();
-  terrain.triangles_overlapping(aabb, scratch.triangles);
+  candidate_triangles(terrain, aabb, scratch);
   const std::size_t first = out.size();
   ccd_t ccd;
   CCD_INIT(&ccd);
@@ -184,6 +183,32 @@ void collide_convex(const TerrainModel& terrain, const Shape& shape, const Eigen
 }
 
 }  // namespace
+
+void candidate_triangles(const TerrainModel& terrain, const Eigen::AlignedBox3d& box, Scratch& scratch) {
+  scratch.triangles.clear();
+  if (box.min().z() > scratch.z_top) return;
+  if (scratch.height_field != nullptr) {
+    scratch.height_field->triangles_overlapping(box, scratch.triangles);
+  } else {
+    terrain.triangles_overlapping(box, scratch.triangles);
+  }
+}
+
+void merge_patch_contacts(std::vector<Contact>& out, std::size_t first, double distance, double cos_angle) {
+  if (out.size() - first < 2) return;
+  const auto begin = out.begin() + static_cast<std::ptrdiff_t>(first);
+  std::stable_sort(begin, out.end(), [](const Contact& a, const Contact& b) { return a.depth > b.depth; });
+  std::size_t kept = first;
+  const double d2 = distance * distance;
+  for (std::size_t k = first; k < out.size(); ++k) {
+    bool merged = false;
+    for (std::size_t m = first; m < kept && !merged; ++m) {
+      merged = (out[m].position - out[k].position).squaredNorm() <= d2 && out[m].normal.dot(out[k].normal) >= cos_angle;
+    }
+    if (!merged) out[kept++] = out[k];
+  }
+  out.resize(kept);
+}
 
 Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                           const Eigen::Vector3d& c) {
@@ -246,9 +271,8 @@ double closest_segment_triangle(const Eigen::Vector3d& p0, const Eigen::Vector3d
 
 void collide_sphere(const TerrainModel& terrain, const Eigen::Vector3d& centre, double radius, Scratch& scratch,
                     std::vector<Contact>& out) {
-  scratch.triangles.clear();
   const Eigen::Vector3d r = Eigen::Vector3d::Constant(radius);
-  terrain.triangles_overlapping(Eigen::AlignedBox3d(centre - r, centre + r), scratch.triangles);
+  candidate_triangles(terrain, Eigen::AlignedBox3d(centre - r, centre + r), scratch);
   const std::size_t first = out.size();
   for (std::uint32_t t : scratch.triangles) {
     const Eigen::Vector3d &a = terrain.vertex(t, 0), &b = terrain.vertex(t, 1), &c = terrain.vertex(t, 2);
@@ -267,11 +291,10 @@ void collide_sphere(const TerrainModel& terrain, const Eigen::Vector3d& centre, 
 
 void collide_capsule(const TerrainModel& terrain, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double radius,
                      Scratch& scratch, std::vector<Contact>& out) {
-  scratch.triangles.clear();
   Eigen::AlignedBox3d box(a.cwiseMin(b), a.cwiseMax(b));
   box.min().array() -= radius;
   box.max().array() += radius;
-  terrain.triangles_overlapping(box, scratch.triangles);
+  candidate_triangles(terrain, box, scratch);
   const std::size_t first = out.size();
   for (std::uint32_t t : scratch.triangles) {
     const Eigen::Vector3d &v0 = terrain.vertex(t, 0), &v1 = terrain.vertex(t, 1), &v2 = terrain.vertex(t, 2);
@@ -324,8 +347,7 @@ void collide_box(const TerrainModel& terrain, const Eigen::Vector3d& centre, con
   // vertices inside the box.
   std::vector<Contact>& found = scratch.contacts;
   found.clear();
-  scratch.triangles.clear();
-  terrain.triangles_overlapping(aabb, scratch.triangles);
+  candidate_triangles(terrain, aabb, scratch);
   // A corner inside the terrain solid leaves through the nearest face it is
   // behind (its projection inside the triangle, no deeper than the box's
   // smallest half extent).

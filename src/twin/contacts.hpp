@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -35,12 +36,30 @@ double closest_segment_triangle(const Eigen::Vector3d& p0, const Eigen::Vector3d
                                 Eigen::Vector3d& on_triangle);
 
 struct Scratch {
+  /// The run's candidate query: the terrain's height field (issue 57), or
+  /// nullptr for its buckets. Either gives the same triangles near the top
+  /// surface; the height field leaves out the solid's bottom.
+  const HeightField* height_field = nullptr;
+  /// This step's highest terrain point (or above) under the whole twin
+  /// (TerrainModel::max_z_near): a part's query above it finds nothing
+  /// and is not made.
+  double z_top = std::numeric_limits<double>::infinity();
   std::vector<std::uint32_t> triangles;
   std::vector<std::pair<std::uint32_t, Eigen::Vector3d>> vertex_normals;
   std::vector<Contact> contacts;
   std::vector<double> gap;  // collide_box's farthest-point sampling
   std::vector<bool> taken;
 };
+
+/// The terrain triangles whose boxes overlap `box`, into scratch.triangles
+/// (cleared first), by the query scratch.height_field picks.
+void candidate_triangles(const TerrainModel& terrain, const Eigen::AlignedBox3d& box, Scratch& scratch);
+
+/// Merges the contacts of one part (out[first..]) that stand for one patch
+/// of surface: within `distance` of a deeper one with a normal within the
+/// angle whose cosine is `cos_angle` of it. Keeps the deepest of each, in
+/// order of depth (ties in the order found).
+void merge_patch_contacts(std::vector<Contact>& out, std::size_t first, double distance, double cos_angle);
 
 /// World-frame primitives → contacts appended to `out`.
 void collide_sphere(const TerrainModel& terrain, const Eigen::Vector3d& centre, double radius, Scratch& scratch,

@@ -31,6 +31,9 @@ double nutation_of(const Eigen::Matrix3d& R) { return std::acos(std::clamp(R(2, 
 
 enum class PartKind { Foot, Leg, Arm, Propeller, Body };
 
+// cos 25°: the widest angle between the normals of one patch's contacts.
+constexpr double kPatchCos = 0.9063077870366499;
+
 // Everything of one run: ODE objects, controller state, bookkeeping.
 class Run {
  public:
@@ -96,6 +99,7 @@ class Run {
   // still long enough after disarm, the timeout or an unstable state.
   RunResult fly(const LandingConditions& lc, bool armed) {
     Flight f(opt_, af_, hover_thrust_, sim_.terrain().bounds().min.z() - 1.0, armed);
+    f.scratch.height_field = opt_.contact == TerrainContact::HeightField ? sim_.terrain().height_field() : nullptr;
     for (long step = 0; step < f.max_steps; ++step) {
       const DroneState s = body_state(step, f.dt);
       if (const char* why = instability_of(s, f.terrain_floor)) return f.unstable(step, why);
@@ -228,6 +232,14 @@ class Run {
   // Keeps the deepest contacts of one part (those from `before` on) and
   // tags them with the part.
   static void tag_contacts(Flight& f, std::size_t before, PartKind kind, int foot) {
+    // On a height field a part's contacts within a cell and 25° of a
+    // deeper one are one patch of the sampled surface (a foot on noisy
+    // ground touches several triangles a few millimetres apart, each with
+    // about the same normal): one contact each. Rows that repeat another
+    // only slow ODE's LCP (about 5 rows → 16 µs a step, 4 → 8).
+    if (f.scratch.height_field != nullptr && kind != PartKind::Body) {
+      detail::merge_patch_contacts(f.contacts, before, f.scratch.height_field->cell(), kPatchCos);
+    }
     // At most 4 contacts per part (the body box: what collide_box
     // chose), the deepest: enough for a stable support, and ODE's LCP
     // cost grows with the cube of the contact count.
@@ -251,9 +263,11 @@ class Run {
     const auto& terrain = sim_.terrain();
     // Whole-twin broad phase: a sphere around the centre of mass holding
     // every part; nothing to do while it is above all terrain below it.
+    // Every part lies inside that sphere, so a part above the highest
+    // terrain point under it has no candidate either (Scratch::z_top).
     const Eigen::Vector3d reach = Eigen::Vector3d::Constant(reach_);
-    const bool near =
-        terrain.max_z_near(Eigen::AlignedBox3d(s.position - reach, s.position + reach)) >= s.position.z() - reach_;
+    f.scratch.z_top = terrain.max_z_near(Eigen::AlignedBox3d(s.position - reach, s.position + reach));
+    const bool near = f.scratch.z_top >= s.position.z() - reach_;
     for (std::size_t i = 0; near && i < af_.legs.size(); ++i) {
       std::size_t before = f.contacts.size();
       const Sphere& sphere = feet_[i];

@@ -105,6 +105,7 @@ std::string sweep_json(const SearchResult& search, const SweepReportInfo& info) 
   nlohmann::json j;
   j["terrain"] = info.terrain;
   j["airframe"] = info.airframe;
+  j["contact"] = info.contact;
   j["threshold_rad"] = round6(r.threshold.value());
   j["threshold_parts"] = {{"tip_rad", round6(r.threshold.tip_rad)},
                           {"prop_strike_rad", round6(r.threshold.prop_strike_rad)}};
@@ -176,7 +177,8 @@ std::string sweep_summary(const SearchResult& search, const SweepReportInfo& inf
         << detail::count_noun(o.runs, "run");
   }
   out << std::setprecision(3) << ") in " << t.seconds << " s (" << std::setprecision(0) << lps
-      << " landings/s; one landing simulates " << t.run_sim_to_wall << "x faster than real time)\n";
+      << " landings/s; one landing simulates " << t.run_sim_to_wall << "x faster than real time"
+      << (info.contact == "trimesh" ? "" : "; " + info.contact + " contact") << ")\n";
   if (!search.candidates.empty()) {
     out << std::setprecision(3) << "  chosen point (" << o.landing_point.x() << ", " << o.landing_point.y()
         << "): " << detail::count_noun(static_cast<long long>(r.landings()), "landing") << " ("

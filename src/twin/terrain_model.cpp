@@ -43,6 +43,11 @@ TerrainModel::TerrainModel(TriangleMesh mesh, UnknownCells unknown)
     const double len = normal.norm();
     g.n = len > 0 ? Eigen::Vector3d(normal / len) : Eigen::Vector3d::UnitZ();
   }
+  {
+    std::vector<Eigen::Vector3d> normals(n);
+    for (std::size_t t = 0; t < n; ++t) normals[t] = geometry_[t].n;
+    height_field_ = HeightField::detect(mesh_, normals);
+  }
   std::vector<Eigen::AlignedBox3f> tri_box(n);  // construction only: the buckets keep their own copies
   double edge_sum = 0;
   for (std::size_t t = 0; t < n; ++t) {

@@ -56,6 +56,32 @@ struct ControllerParams {
   double thrust_ramp_time = 0.25;    ///< [s] thrust ramps to zero after ground contact
 };
 
+/// How the twin's parts meet the terrain (issue 57, item 3;
+/// docs/architecture.md, "Contacts").
+enum class TerrainContact {
+  /// The bucket grid over the triangles, every distinct contact kept (up to
+  /// 4 a part): the default, whose decisions
+  /// tests/twin/golden/sweep_decisions.txt freezes.
+  Trimesh,
+  /// The height field when the terrain is one (TerrainModel::height_field:
+  /// a depth camera's cloud, or a mesh made from one): candidates by grid
+  /// index, and the contacts of one part that stand for one patch of
+  /// surface (within a cell and 25° of a deeper one) merged into it. As
+  /// Trimesh on any other terrain.
+  HeightField,
+};
+
+}  // namespace touchdown::twin
+
+template <>
+struct touchdown::EnumNames<touchdown::twin::TerrainContact> {
+  static constexpr std::array<std::string_view, 2> names{"trimesh", "height-field"};
+};
+
+namespace touchdown::twin {
+
+inline std::string_view to_string(TerrainContact contact) { return enum_name(contact); }
+
 /// Physics settings of a run.
 struct SimulationOptions {
   double step = 0.002;          ///< s (the step-halving test in tests/twin justifies 2 ms)
@@ -78,6 +104,7 @@ struct SimulationOptions {
   /// Nutation above which a run counts as tipped over (the tip threshold).
   double tip_nutation = 0.5;
   ControllerParams controller{};
+  TerrainContact contact = TerrainContact::Trimesh;
   bool record_trace = false;  ///< keep a 50 Hz trace of the run
   /// False (with the offending field and why in *why) for an invalid value.
   [[nodiscard]] bool validate(std::string* why) const;

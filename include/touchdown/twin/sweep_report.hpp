@@ -15,6 +15,10 @@ struct SweepReportInfo {
   std::string terrain;
   std::string airframe = "built-in f450";
   SweepOptions options;
+  /// The contact the landings used: options.simulation.contact, except
+  /// "trimesh" when the height field was asked for on a terrain that is
+  /// not one (TerrainModel::height_field).
+  std::string contact = "trimesh";
 };
 
 /// One row per run: heading, run, status and reason, the final attitude,

@@ -15,6 +15,7 @@
 #include "touchdown/core/mesh.hpp"
 #include "touchdown/core/point_cloud.hpp"
 #include "touchdown/terrain/terrain_mesher.hpp"
+#include "touchdown/twin/height_field.hpp"
 
 namespace touchdown::twin {
 
@@ -58,6 +59,10 @@ class TerrainModel {
   /// whose bucket overlaps the x-y extent of `box`; -inf where there is none.
   /// A cheap test whether anything at all can touch a body in `box`.
   [[nodiscard]] double max_z_near(const Eigen::AlignedBox3d& box) const;
+
+  /// The mesh as a height field (HeightField::detect), or nullptr when it
+  /// is not one: contact generation then walks the buckets.
+  [[nodiscard]] const HeightField* height_field() const { return height_field_.get(); }
 
   [[nodiscard]] const UnknownCells& unknown_cells() const { return unknown_; }
   /// True when an unknown cell's square comes within `radius` of the
@@ -108,6 +113,7 @@ class TerrainModel {
   static constexpr int kBlock = 8;
   int bx_ = 1, by_ = 1;
   std::vector<float> block_max_z_;
+  std::shared_ptr<const HeightField> height_field_;
 };
 
 /// A terrain file as read: a mesh (.stl, .obj, .ply with faces) or a point
