@@ -38,8 +38,20 @@ std::shared_ptr<const HeightField> HeightField::detect(const TriangleMesh& mesh,
     lo = std::min(lo, static_cast<double>(vert(top[0], k).x()));
     hi = std::max(hi, static_cast<double>(vert(top[0], k).x()));
   }
-  const double cell = hi - lo;
-  if (!(cell > 0) || !std::isfinite(cell)) return nullptr;
+  // Refined over the whole extent (one triangle's float width is off by
+  // up to an ulp, which 300 cells multiply past the tolerance below).
+  double xmax = -std::numeric_limits<double>::infinity(), ymax = xmax;
+  for (std::uint32_t t : top) {
+    for (int k = 0; k < 3; ++k) {
+      xmax = std::max(xmax, static_cast<double>(vert(t, k).x()));
+      ymax = std::max(ymax, static_cast<double>(vert(t, k).y()));
+    }
+  }
+  const double cell0 = hi - lo;
+  if (!(cell0 > 0) || !std::isfinite(cell0)) return nullptr;
+  const double span = std::max(xmax - x0, ymax - y0);
+  const double cells = std::round(span / cell0);
+  const double cell = cells >= 1 ? span / cells : cell0;
   // Float vertices: within a thousandth of a cell of a grid line.
   const double tol = 1e-3;
   auto on_grid = [&](double v, double origin, int& index) {

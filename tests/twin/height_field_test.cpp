@@ -131,8 +131,8 @@ TEST(HeightField, AMeshThatIsNotAGridIsNotOne) {
 TEST(HeightField, ASphereOnFlatGroundHasOneContactOfItsDepth) {
   const auto flat = touchdown::test::flat_terrain(0.0);
   ASSERT_NE(flat->height_field(), nullptr);
-  for (const Eigen::Vector3d& c : {Eigen::Vector3d(0.0, 0.0, 0.007), Eigen::Vector3d(0.025, 0.025, 0.004),
-                                  Eigen::Vector3d(0.0125, -0.3, 0.009)}) {
+  for (const Eigen::Vector3d& c :
+       {Eigen::Vector3d(0.0, 0.0, 0.007), Eigen::Vector3d(0.025, 0.025, 0.004), Eigen::Vector3d(0.0125, -0.3, 0.009)}) {
     for (bool grid : {false, true}) {
       tw::detail::Scratch scratch;
       scratch.height_field = grid ? flat->height_field() : nullptr;
@@ -183,8 +183,8 @@ TEST(HeightField, AFootOnAStepEdgeIsPushedAsTheTrimeshPushesIt) {
     EXPECT_GT(push(mesh).dot(push(grid)), std::cos(25 * kRadPerDeg)) << cx;
     for (const auto& k : mesh) {
       const bool kept = std::any_of(grid.begin(), grid.end(), [&](const tw::detail::Contact& q) {
-        return (q.position - k.position).norm() <= 0.01 + 1e-12 && q.normal.dot(k.normal) >= std::cos(25 * kRadPerDeg) &&
-               q.depth >= k.depth - 1e-12;
+        return (q.position - k.position).norm() <= 0.01 + 1e-12 &&
+               q.normal.dot(k.normal) >= std::cos(25 * kRadPerDeg) && q.depth >= k.depth - 1e-12;
       });
       EXPECT_TRUE(kept) << cx;
     }

@@ -24,7 +24,8 @@ class HeightField {
   /// grid, a quad with one triangle or two that do not tile it, a wall that
   /// is not a vertical strip along a grid edge, or a downward face above the
   /// lowest top vertex.
-  static std::shared_ptr<const HeightField> detect(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& normals);
+  static std::shared_ptr<const HeightField> detect(const TriangleMesh& mesh,
+                                                   const std::vector<Eigen::Vector3d>& normals);
 
   /// Appends the top and wall triangles whose bounding box overlaps `box`
   /// (each once, in the grid's order). The solid's bottom is left out: a
@@ -40,7 +41,7 @@ class HeightField {
   HeightField() = default;
   double x0_ = 0, y0_ = 0, cell_ = 1;  // grid vertex (i, j) at (x0 + i·cell, y0 + j·cell)
   double inv_cell_ = 1;
-  int qx_ = 0, qy_ = 0;                // quads (i, j) span vertices i..i+1, j..j+1
+  int qx_ = 0, qy_ = 0;  // quads (i, j) span vertices i..i+1, j..j+1
   static constexpr std::uint32_t kNone = 0xffffffffU;
   struct Quad {
     std::uint32_t tri[2] = {kNone, kNone};  // its two top triangles, or none
