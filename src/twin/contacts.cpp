@@ -129,14 +129,12 @@ bool beyond_reach(const Tri& t, const Eigen::Vector3d& centre, double reach) {
   const double r = reach + kSeparationMargin;
   return (closest_point_on_triangle(centre, *t.v[0], *t.v[1], *t.v[2]) - centre).squaredNorm() > r * r;
 }
-bool separated(const DiskShape& s, const Tri& t) {
-  return separated_on_axis(t, s.n, s.n.dot(s.c), s.h) || beyond_reach(t, s.c, s.reach);
-}
-bool separated(const BoxShape& s, const Tri& t) {
+bool separated_on_own_axes(const DiskShape& s, const Tri& t) { return separated_on_axis(t, s.n, s.n.dot(s.c), s.h); }
+bool separated_on_own_axes(const BoxShape& s, const Tri& t) {
   for (int k = 0; k < 3; ++k) {
     if (separated_on_axis(t, s.axes.col(k), s.axes.col(k).dot(s.c), s.half[k])) return true;
   }
-  return beyond_reach(t, s.c, s.reach);
+  return false;
 }
 
 double extent_along(const DiskShape& s, const Eigen::Vector3d& n) {
@@ -162,10 +160,14 @@ void collide_convex(const TerrainModel& terrain, const Shape& shape, const Eigen
   ccd.mpr_tolerance = 1e-6;
   for (std::uint32_t t : scratch.triangles) {
     const Tri tri{{&terrain.vertex(t, 0), &terrain.vertex(t, 1), &terrain.vertex(t, 2)}};
-    // Cheap separation test before MPR: the shape's extent along the
-    // triangle's normal must reach the triangle's plane.
+    // Exact separation tests before MPR, cheapest first (the outcome does
+    // not depend on their order): the shape's own axes, the shape's extent
+    // along the triangle's normal against its plane, the holding sphere.
     const Eigen::Vector3d& n = terrain.normal(t);
-    if (std::abs(n.dot(shape.c - *tri.v[0])) > extent_along(shape, n) || separated(shape, tri)) continue;
+    if (separated_on_own_axes(shape, tri) || std::abs(n.dot(shape.c - *tri.v[0])) > extent_along(shape, n) ||
+        beyond_reach(tri, shape.c, shape.reach)) {
+      continue;
+    }
     ccd_real_t depth;
     ccd_vec3_t dir, pos;
     if (ccdMPRPenetration(&shape, &tri, &ccd, &depth, &dir, &pos) != 0) continue;
@@ -204,6 +206,7 @@ void merge_patch_contacts(std::vector<Contact>& out, std::size_t first, double d
     bool merged = false;
     for (std::size_t m = first; m < kept && !merged; ++m) {
       merged = (out[m].position - out[k].position).squaredNorm() <= d2 && out[m].normal.dot(out[k].normal) >= cos_angle;
+      if (merged) out[m].weight += out[k].weight * out[k].depth / out[m].depth;
     }
     if (!merged) out[kept++] = out[k];
   }

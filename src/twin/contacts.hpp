@@ -23,6 +23,10 @@ struct Contact {
   Eigen::Vector3d position;
   Eigen::Vector3d normal;  // unit, from the terrain into the drone part
   double depth = 0;        // penetration, > 0
+  /// Its spring as a multiple of one contact's: a merged patch
+  /// (merge_patch_contacts) pushes as hard as the contacts it stands for,
+  /// Σ depth_i / depth (continuous as one of them comes or goes).
+  double weight = 1;
 };
 
 /// Closest point of triangle (a, b, c) to p.
@@ -58,7 +62,7 @@ void candidate_triangles(const TerrainModel& terrain, const Eigen::AlignedBox3d&
 /// Merges the contacts of one part (out[first..]) that stand for one patch
 /// of surface: within `distance` of a deeper one with a normal within the
 /// angle whose cosine is `cos_angle` of it. Keeps the deepest of each, in
-/// order of depth (ties in the order found).
+/// order of depth (ties in the order found), its weight grown by theirs.
 void merge_patch_contacts(std::vector<Contact>& out, std::size_t first, double distance, double cos_angle);
 
 /// World-frame primitives → contacts appended to `out`.

@@ -338,6 +338,12 @@ class Run {
       c.surface.mu = friction_;
       c.surface.soft_erp = erp_;
       c.surface.soft_cfm = cfm_;
+      if (contact.weight != 1) {
+        // A merged patch keeps the springs of the contacts it stands for.
+        const double w = contact.weight;
+        touchdown::detail::soft_params(opt_.step, w * opt_.contact_stiffness, w * opt_.contact_damping,
+                                       c.surface.soft_erp, c.surface.soft_cfm);
+      }
       for (int a = 0; a < 3; ++a) {
         c.geom.pos[a] = contact.position[a];
         c.geom.normal[a] = contact.normal[a];

@@ -39,6 +39,11 @@ class HeightField {
 
  private:
   HeightField() = default;
+  struct Lattice;
+  static bool fit_lattice(const std::vector<std::uint32_t>& top, Lattice& g);
+  bool place_top(const std::vector<std::uint32_t>& top, const Lattice& g);
+  bool place_walls(const std::vector<std::uint32_t>& wall, const Lattice& g);
+  void build_blocks();
   double x0_ = 0, y0_ = 0, cell_ = 1;  // grid vertex (i, j) at (x0 + i·cell, y0 + j·cell)
   double inv_cell_ = 1;
   int qx_ = 0, qy_ = 0;  // quads (i, j) span vertices i..i+1, j..j+1
