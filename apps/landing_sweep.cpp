@@ -114,9 +114,9 @@ void add_options(CLI::App& app, Args& a) {
                            "or as a pit (either way a heading over them is unsafe: unobserved terrain)");
   app.add_option("--step", o.simulation.step, "physics step [s]")->capture_default_str();
   td::app::add_enum_option(app, "--contact", o.simulation.contact,
-                           "trimesh: contacts from the terrain's triangles (the default); height-field: on a terrain "
-                           "that is one (a depth cloud, or a mesh made from one) candidates by grid index and one "
-                           "contact per patch of surface, faster (docs/benchmarks.md), else as trimesh");
+                           "height-field (the default): on a terrain that is one (a depth cloud, or a mesh made from "
+                           "one) contact candidates by grid index and one contact per patch of surface, else as "
+                           "trimesh; trimesh: contacts from every triangle (the twin before issue 57)");
   app.add_option("--timeout", o.simulation.timeout,
                  "simulated seconds a landing may take; a run still moving then is invalid (timeout), not scored")
       ->check(CLI::Range(0.1, 600.0))

@@ -1,10 +1,14 @@
 #pragma once
-// The sweep's decisions, frozen (issue 35): tests/twin/golden/sweep_decisions.txt
+// The sweep's decisions, frozen: tests/twin/golden/sweep_decisions.txt
 // holds, for every sweep and landing-point search the twin's tests and the
-// golden test run, the verdict and reason per heading (per candidate point
-// for a search) and the choice, recorded from the code before the twin was
-// made faster (3ff8bad). check_golden() fails on any changed verdict,
-// reason or choice and prints how far each S moved, without failing on it.
+// golden test run with the default (height-field) contact, the verdict and
+// reason per heading (per candidate point for a search) and the choice;
+// sweep_decisions_trimesh.txt the same with the trimesh contact, recorded
+// from the code before the twin was made faster (3ff8bad, issue 35).
+// check_golden() fails on any changed verdict, reason or choice and prints
+// how far each S moved, without failing on it; a default-contact case must
+// also land or not as the trimesh's line says (issue 57: the height field
+// decides as the trimesh does, on every bundled and test terrain).
 //
 //   TOUCHDOWN_GOLDEN_WRITE=1 build/tests/twin_golden_tests   (and twin_tests)
 //
@@ -26,8 +30,11 @@
 
 namespace touchdown::test {
 
-inline std::string golden_path() {
-  return std::string(TOUCHDOWN_SOURCE_DIR) + "/tests/twin/golden/sweep_decisions.txt";
+inline constexpr const char* kGoldenDefault = "sweep_decisions.txt";
+inline constexpr const char* kGoldenTrimesh = "sweep_decisions_trimesh.txt";
+
+inline std::string golden_path(const std::string& file = kGoldenDefault) {
+  return std::string(TOUCHDOWN_SOURCE_DIR) + "/tests/twin/golden/" + file;
 }
 
 // A decision as one word: "safe", or the reason with '_' for spaces.
@@ -93,9 +100,9 @@ inline GoldenDecisions parse_golden_line(const std::string& line) {
   return d;
 }
 
-inline std::map<std::string, std::string> read_golden() {
+inline std::map<std::string, std::string> read_golden(const std::string& file = kGoldenDefault) {
   std::map<std::string, std::string> lines;
-  std::ifstream in(golden_path());
+  std::ifstream in(golden_path(file));
   for (std::string line; std::getline(in, line);) {
     if (line.empty() || line[0] == '#') continue;
     lines[line.substr(0, line.find(' '))] = line;
@@ -103,22 +110,36 @@ inline std::map<std::string, std::string> read_golden() {
   return lines;
 }
 
-// Compares (or, with TOUCHDOWN_GOLDEN_WRITE set, records) one case.
+// Whether a recorded sweep lands: its choice is a safe heading or point.
+inline bool golden_lands(const GoldenDecisions& d) {
+  return d.choice >= 0 && static_cast<std::size_t>(d.choice) < d.verdicts.size() &&
+         d.verdicts[static_cast<std::size_t>(d.choice)] == "safe";
+}
+
+// Compares (or, with TOUCHDOWN_GOLDEN_WRITE set, records) one case, in
+// `file` (kGoldenDefault: the default contact's decisions; kGoldenTrimesh).
 template <class Result>
-void check_golden(const std::string& name, const Result& r) {
+void check_golden(const std::string& name, const Result& r, const std::string& file = kGoldenDefault) {
   const GoldenDecisions is = golden_of(r);
+  if (file == kGoldenDefault) {
+    const auto trimesh = read_golden(kGoldenTrimesh);
+    if (const auto t = trimesh.find(name); t != trimesh.end()) {
+      EXPECT_EQ(golden_lands(parse_golden_line(t->second)), golden_lands(is))
+          << name << ": lands or not as with the trimesh contact";
+    }
+  }
   if (std::getenv("TOUCHDOWN_GOLDEN_WRITE") != nullptr) {
-    auto lines = read_golden();
+    auto lines = read_golden(file);
     lines[name] = golden_line(name, is);
-    std::ofstream out(golden_path());
+    std::ofstream out(golden_path(file));
     out << "# case choice count  verdict:S[rad] per heading or candidate (tests/twin/sweep_golden.hpp)\n";
     for (const auto& [key, line] : lines) out << line << '\n';
-    std::cout << "recorded " << name << " in " << golden_path() << '\n';
+    std::cout << "recorded " << name << " in " << golden_path(file) << '\n';
     return;
   }
-  const auto lines = read_golden();
+  const auto lines = read_golden(file);
   const auto it = lines.find(name);
-  ASSERT_TRUE(it != lines.end()) << name << " is not in " << golden_path();
+  ASSERT_TRUE(it != lines.end()) << name << " is not in " << golden_path(file);
   const GoldenDecisions was = parse_golden_line(it->second);
   ASSERT_EQ(was.verdicts.size(), is.verdicts.size()) << name;
   double moved = 0;
