@@ -198,8 +198,15 @@ void candidate_triangles(const TerrainModel& terrain, const Eigen::AlignedBox3d&
 
 void merge_patch_contacts(std::vector<Contact>& out, std::size_t first, double distance, double cos_angle) {
   if (out.size() - first < 2) return;
-  const auto begin = out.begin() + static_cast<std::ptrdiff_t>(first);
-  std::stable_sort(begin, out.end(), [](const Contact& a, const Contact& b) { return a.depth > b.depth; });
+  // Deepest first, ties in the order found: an insertion sort (a part has
+  // a handful of contacts, and std::stable_sort allocates: no allocation
+  // per step, tests/twin/landing_allocation_test.cpp).
+  for (std::size_t k = first + 1; k < out.size(); ++k) {
+    const Contact c = out[k];
+    std::size_t m = k;
+    for (; m > first && out[m - 1].depth < c.depth; --m) out[m] = out[m - 1];
+    out[m] = c;
+  }
   std::size_t kept = first;
   const double d2 = distance * distance;
   for (std::size_t k = first; k < out.size(); ++k) {

@@ -9,16 +9,18 @@
 # MODE (issue 57): "--full" (every landing, the default before the decision
 # mode) or "decide" (landing_sweep's default: only the landings that can
 # change the decision); its "sweep" time is the decision's.
-# Usage: tests/bench/landing_sweep_bench.sh [build-dir] [repeats] [--terrains|-] [--full|decide]
+# CONTACT (issue 57): "height-field" (the default) or "trimesh".
+# Usage: tests/bench/landing_sweep_bench.sh [build-dir] [repeats] [--terrains|-] [--full|decide] [height-field|trimesh]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 build=${1:-build}
 repeats=${2:-5}
 terrains=${3:-}
 mode=${4:---full}
-mode_flag=()
-[ "$mode" = "--full" ] && mode_flag=(--full)
-echo "mode: $mode"
+contact=${5:-height-field}
+mode_flag=(--contact "$contact")
+[ "$mode" = "--full" ] && mode_flag+=(--full)
+echo "mode: $mode, contact: $contact"
 
 median() { sort -g | awk '{a[NR]=$1} END{print a[int((NR+1)/2)]}'; }
 # One sweep: prints "process_wall sweep_seconds landings/s sim/wall best_yaw run_sim/wall".

@@ -11,7 +11,7 @@ namespace td = touchdown;
 namespace tw = touchdown::twin;
 
 using TwinEnums = ::testing::Types<tw::RunStatus, tw::SafetyMetric, tw::UnsafeReason, tw::SweepStatus,
-                                   tw::SearchPreference, tw::HeadingFlown>;
+                                   tw::SearchPreference, tw::HeadingFlown, tw::TerrainContact>;
 namespace touchdown::test {
 INSTANTIATE_TYPED_TEST_SUITE_P(Twin, EnumNamesSuite, TwinEnums);
 }  // namespace touchdown::test
