@@ -165,10 +165,20 @@ void heading_panel(SvgWriter& svg, const SweepResult& r, double ox, double oy, d
   if (!text_line.empty()) svg.text(lx, ly, text_line, colour);
 }
 
+int most_runs(const SweepResult& r) {
+  int m = 0;
+  for (const auto& h : r.headings) m = std::max(m, h.runs);
+  return m;
+}
+
 std::string title(const SweepResult& r, const SweepPlotLabels& labels) {
   return "Landing sweep: " + labels.terrain + ", " + labels.airframe + ", landing point (" +
          format_trimmed(r.landing_point.x(), 3) + ", " + format_trimmed(r.landing_point.y(), 3) + ") m, " +
-         std::to_string(r.headings.size()) + " headings x " + std::to_string(r.rounds_completed) + " runs";
+         std::to_string(r.headings.size()) + " headings x " +
+         // The decision mode flies no whole rounds: say how many landings.
+         (r.rounds_completed > 0 ? std::to_string(r.rounds_completed) + " runs"
+                                 : "up to " + std::to_string(most_runs(r)) + " runs (decision mode, " +
+                                       std::to_string(r.landings()) + " landings)");
 }
 
 }  // namespace
